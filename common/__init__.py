@@ -1,0 +1,11 @@
+"""Lowest layer shared by every stage: errors, failure values, atomic writes, built-in data.
+
+Nothing here imports any other toonface package; every package may import this one.
+"""
+
+from common.atomic import atomic_path, atomic_dir
+from common.data import data_path
+from common.errors import InputError, ToonfaceError
+from common.failure import Failure
+
+__all__ = ["Failure", "InputError", "ToonfaceError", "atomic_dir", "atomic_path", "data_path"]

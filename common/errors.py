@@ -1,0 +1,39 @@
+"""The one exception family the CLI turns into a one-line message and a non-zero exit."""
+
+from __future__ import annotations
+
+import os
+
+
+class ToonfaceError(Exception):
+    """Base class of every error that is the user's to fix (bad file, bad option, bad value)."""
+
+
+class InputError(ToonfaceError, ValueError):
+    """A file or value that cannot be used, with where the problem is.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong, quoting the offending value.
+    source : str or os.PathLike, optional
+        The file (or other named input) the problem is in.
+    field : str, optional
+        The path of the bad field inside it, such as ``polygons[3].attach`` or ``line 12``.
+
+    Examples
+    --------
+    >>> str(InputError('unknown control point "Mx"', "face.json", "polygons[3].point"))
+    'face.json: polygons[3].point: unknown control point "Mx"'
+    """
+
+    def __init__(self, message: str, source: str | os.PathLike | None = None,
+                 field: str | None = None) -> None:
+        self.message = message
+        self.source = None if source is None else os.fspath(source)
+        self.field = field
+        super().__init__(self._render())
+
+    def _render(self) -> str:
+        parts = [p for p in (self.source, self.field) if p]
+        return ": ".join([*parts, self.message])
