@@ -1,0 +1,121 @@
+"""The 21 ToonFace motors (appendix A1.2.1): codes, the control point each moves, directions.
+
+A motor moves one coordinate of one control point between a minimum and a maximum position set
+by the face; its value is that position as a fraction ``P_CTRL`` in ``[0, 1]`` (formula A1.5).
+
+Directions (DESIGN.md; the seed leaves some open). Right/left are the character's own:
+- vertical motors: 1 is higher on the face (brows up, upper lid open, lower lid raised, mouth
+  corner up), except ``MB``, the mouth's bottom point, where 1 is fully open (lowest);
+- pupils and head horizontal: 1 is toward the character's own left (ToonFace: "left is
+  positive"); head vertical: 1 is chin up;
+- mouth corners horizontal: 1 is outward from the midline, so a symmetric smile raises MLH and
+  MRH alike.
+
+The seed's list calls PLH "PUPIL/RIGHT/HORIZONTAL"; the code and its neighbour PLV say left, so
+PLH is the left pupil here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class MotorSpec:
+    """One motor: its code, the control point it moves, the axis, and which way 1 points.
+
+    ``increasing`` is +1 when the motor's maximum lies at a larger face coordinate than its
+    minimum on a face drawn with the character's right on the viewer's left (x to the viewer's
+    right, y up), -1 when smaller.
+    """
+
+    code: str
+    point: str
+    axis: str  # "x" or "y"
+    increasing: int
+    description: str
+
+
+MOTORS: tuple[MotorSpec, ...] = (
+    MotorSpec("BRL", "BRL", "y", +1, "brow right lateral [3]"),
+    MotorSpec("BRC", "BRC", "y", +1, "brow right central [2]"),
+    MotorSpec("BRM", "BRM", "y", +1, "brow right medial [1]"),
+    MotorSpec("BLL", "BLL", "y", +1, "brow left lateral [6]"),
+    MotorSpec("BLC", "BLC", "y", +1, "brow left central [5]"),
+    MotorSpec("BLM", "BLM", "y", +1, "brow left medial [4]"),
+    MotorSpec("ERU", "ERU", "y", +1, "eye right upper lid [7]"),
+    MotorSpec("ERL", "ERL", "y", +1, "eye right lower lid [9]"),
+    MotorSpec("ELU", "ELU", "y", +1, "eye left upper lid [8]"),
+    MotorSpec("ELL", "ELL", "y", +1, "eye left lower lid [10]"),
+    MotorSpec("PLH", "PL", "x", +1, "pupil left horizontal [15]"),
+    MotorSpec("PLV", "PL", "y", +1, "pupil left vertical [15]"),
+    MotorSpec("PRH", "PR", "x", +1, "pupil right horizontal [16-H]"),
+    MotorSpec("PRV", "PR", "y", +1, "pupil right vertical [16-V]"),
+    MotorSpec("MLH", "ML", "x", +1, "mouth left corner horizontal, outward [14-H]"),
+    MotorSpec("MLV", "ML", "y", +1, "mouth left corner vertical [14-V]"),
+    MotorSpec("MRH", "MR", "x", -1, "mouth right corner horizontal, outward [13-H]"),
+    MotorSpec("MRV", "MR", "y", +1, "mouth right corner vertical [13-V]"),
+    MotorSpec("MB", "MB", "y", -1, "mouth bottom, 1 = fully open [12]"),
+    MotorSpec("HH", "HEAD", "x", +1, "head horizontal (turn), degrees [17-H]"),
+    MotorSpec("HV", "HEAD", "y", +1, "head vertical (tilt, 1 = chin up), degrees [17-V]"),
+)
+
+MOTOR_CODES: tuple[str, ...] = tuple(m.code for m in MOTORS)
+N_MOTORS: int = len(MOTORS)
+MOTOR_INDEX: MappingProxyType[str, int] = MappingProxyType({c: i for i, c in enumerate(MOTOR_CODES)})
+HEAD_MOTORS: tuple[str, ...] = ("HH", "HV")
+
+# The neutral pose every built-in face is drawn in, so that one motor track reads the same on
+# all of them: brows a little below the middle (room to raise), upper lids mostly open, lower
+# lids low, pupils and head centred, mouth corners a third of the way out, mouth nearly closed.
+_STANDARD_NEUTRAL = {
+    "BRL": 0.4, "BRC": 0.4, "BRM": 0.4, "BLL": 0.4, "BLC": 0.4, "BLM": 0.4,
+    "ERU": 0.8, "ERL": 0.2, "ELU": 0.8, "ELL": 0.2,
+    "PLH": 0.5, "PLV": 0.5, "PRH": 0.5, "PRV": 0.5,
+    "MLH": 0.35, "MLV": 0.5, "MRH": 0.35, "MRV": 0.5, "MB": 0.1,
+    "HH": 0.5, "HV": 0.5,
+}
+
+
+def standard_neutral() -> np.ndarray:
+    """The standard neutral motor values, shape ``(21,)``, in motor-code order (a fresh copy)."""
+    return np.array([_STANDARD_NEUTRAL[c] for c in MOTOR_CODES], dtype=np.float64)
+
+
+def motor_index(code: str) -> int:
+    """Column of a motor code in a ``(frames, 21)`` array; raises ``KeyError`` naming the code."""
+    try:
+        return MOTOR_INDEX[code]
+    except KeyError:
+        raise KeyError(f'unknown motor code "{code}" (expected one of {" ".join(MOTOR_CODES)})') from None
+
+
+#: Right/left motor pairs swapped by mirroring.
+MIRROR_PAIRS: tuple[tuple[str, str], ...] = (
+    ("BRL", "BLL"), ("BRC", "BLC"), ("BRM", "BLM"), ("ERU", "ELU"), ("ERL", "ELL"),
+    ("PRH", "PLH"), ("PRV", "PLV"), ("MRH", "MLH"), ("MRV", "MLV"),
+)
+#: Motors whose direction (toward the character's left) flips in a mirror image.
+MIRROR_REFLECTED: tuple[str, ...] = ("PLH", "PRH", "HH")
+
+
+def mirror_values(values: np.ndarray, neutral: np.ndarray) -> np.ndarray:
+    """The mirror image of motor values: sides swapped, leftward motions made rightward.
+
+    Parameters
+    ----------
+    values : ndarray, shape (frames, 21)
+    neutral : ndarray, shape (21,)
+        Reflected motors are reflected about their neutral value (then clipped to [0, 1]).
+    """
+    out = np.array(values, dtype=np.float64, copy=True)
+    for right, left in MIRROR_PAIRS:
+        i, j = MOTOR_INDEX[right], MOTOR_INDEX[left]
+        out[:, [i, j]] = out[:, [j, i]]
+    for code in MIRROR_REFLECTED:
+        i = MOTOR_INDEX[code]
+        out[:, i] = 2 * neutral[i] - out[:, i]
+    return np.clip(out, 0.0, 1.0)

@@ -1,0 +1,105 @@
+"""Motor track files: CharToon's CSV "movie script" and the project's ``.npz``.
+
+The movie script has a header ``time,BRL,BRC,...,HV`` and one row per frame: the time in
+seconds, then the 21 motor values. Frames must be evenly spaced; the rate is read from them.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from common import InputError, atomic_path
+from toon.motors import MOTOR_CODES, N_MOTORS
+from toon.track import MotorTrack
+
+_SUFFIXES = (".csv", ".npz")
+
+
+def save_track(track: MotorTrack, path: str | os.PathLike) -> Path:
+    """Write ``track`` to ``path`` (``.csv`` movie script or ``.npz``), atomically."""
+    path = Path(path)
+    if path.suffix.lower() not in _SUFFIXES:
+        raise InputError(f"unknown motor track format {path.suffix!r} (use .csv or .npz)", path)
+    with atomic_path(path) as tmp:
+        if path.suffix.lower() == ".csv":
+            tmp.write_text(_to_csv(track), encoding="utf-8")
+        else:
+            extra = {} if track.confidence is None else {"confidence": track.confidence}
+            with open(tmp, "wb") as fh:
+                np.savez_compressed(fh, values=track.values, rate=np.float64(track.rate),
+                                    codes=np.array(MOTOR_CODES), meta=json.dumps(track.meta), **extra)
+    return path
+
+
+def load_track(path: str | os.PathLike) -> MotorTrack:
+    """Read a motor track written by :func:`save_track` (or any conforming movie script)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in _SUFFIXES:
+        raise InputError(f"unknown motor track format {path.suffix!r} (use .csv or .npz)", path)
+    if not path.is_file():
+        raise InputError("no such file", path)
+    if suffix == ".csv":
+        return _from_csv(path)
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            codes = tuple(str(c) for c in z["codes"])
+            conf = z["confidence"] if "confidence" in z.files else None
+            meta = json.loads(str(z["meta"])) if "meta" in z.files else {}
+            return MotorTrack.from_columns(codes, z["values"], float(z["rate"]),
+                                           confidence=None if conf is None else conf[:, [codes.index(c) for c in MOTOR_CODES]],
+                                           meta=meta)
+    except InputError as exc:
+        raise InputError(exc.message, path) from None
+    except (OSError, ValueError, KeyError) as exc:
+        raise InputError(f"not a toonface motor track .npz ({exc})", path) from None
+
+
+def _to_csv(track: MotorTrack) -> str:
+    buf = io.StringIO()
+    buf.write(",".join(("time", *MOTOR_CODES)) + "\n")
+    table = np.column_stack([track.times, track.values])
+    np.savetxt(buf, table, delimiter=",", fmt="%.6f")
+    return buf.getvalue()
+
+
+def _from_csv(path: Path) -> MotorTrack:
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.reader(fh))
+    if not rows:
+        raise InputError("empty file; expected a header time,BRL,...,HV", path)
+    header = [h.strip() for h in rows[0]]
+    if not header or header[0].lower() not in ("time", "time_s"):
+        raise InputError(f'first column must be "time", got {header[0]!r}', path, "line 1")
+    codes = header[1:]
+    unknown = [c for c in codes if c not in MOTOR_CODES]
+    if unknown or len(set(codes)) != N_MOTORS:
+        raise InputError(f"header must name the 21 motors once each; unknown {unknown}, "
+                         f"missing {[c for c in MOTOR_CODES if c not in codes]}", path, "line 1")
+    data = np.empty((len(rows) - 1, N_MOTORS + 1))
+    for i, row in enumerate(rows[1:]):
+        if len(row) != N_MOTORS + 1:
+            raise InputError(f"expected {N_MOTORS + 1} fields, found {len(row)}", path, f"line {i + 2}")
+        try:
+            data[i] = [float(x) for x in row]
+        except ValueError:
+            raise InputError(f"not a number in {row!r}", path, f"line {i + 2}") from None
+    if len(data) < 2:
+        raise InputError("a movie script needs at least two frames to know its rate", path)
+    times = data[:, 0]
+    step = (times[-1] - times[0]) / (len(times) - 1)
+    steps = np.diff(times)
+    if step <= 0 or np.max(np.abs(steps - step)) > max(2e-6, 1e-3 * step):
+        line = int(np.argmax(np.abs(steps - step))) + 3
+        raise InputError("frame times are not evenly spaced", path, f"line {line}")
+    rate = round(1.0 / step, 4)  # times are written with 6 decimals
+    try:
+        return MotorTrack.from_columns(codes, data[:, 1:], rate, meta={"source": str(path)})
+    except InputError as exc:
+        raise InputError(exc.message, path) from None
