@@ -1,0 +1,106 @@
+"""``Take``: marker trajectories, the output of every capture source."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from common import InputError
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Take:
+    """Marker positions over time.
+
+    Parameters
+    ----------
+    positions : array_like, shape (frames, markers, 3)
+        Millimetres; NaN where a marker was not seen (all three coordinates together).
+        2-D sources fill z with 0 and set ``dims=2``.
+    labels : sequence of str, length markers
+        Unique marker names.
+    rate : float
+        Frames per second.
+    times : array_like, shape (frames,), optional
+        Seconds, strictly increasing; defaults to ``frame / rate``.
+    dims : int
+        3, or 2 for planar sources.
+    meta : dict
+        Free-form provenance (source file, vendor, ...).
+    """
+
+    positions: np.ndarray
+    labels: tuple[str, ...]
+    rate: float
+    times: np.ndarray | None = None
+    dims: int = 3
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        pos = np.asarray(self.positions, dtype=np.float64)
+        if pos.ndim != 3 or pos.shape[2] != 3:
+            raise InputError(f"positions must have shape (frames, markers, 3), got {pos.shape}")
+        labels = tuple(str(x) for x in self.labels)
+        if len(labels) != pos.shape[1]:
+            raise InputError(f"{len(labels)} labels for {pos.shape[1]} markers")
+        dupes = sorted({x for x in labels if labels.count(x) > 1})
+        if dupes:
+            raise InputError(f"marker labels must be unique; repeated: {dupes}")
+        if not (np.isfinite(self.rate) and self.rate > 0):
+            raise InputError(f"rate must be a positive number of frames per second, got {self.rate!r}")
+        if self.dims not in (2, 3):
+            raise InputError(f"dims must be 2 or 3, got {self.dims!r}")
+        if np.isinf(pos).any():
+            raise InputError("positions contain infinities; use NaN for unseen markers")
+        pos = pos.copy()
+        pos[np.isnan(pos).any(axis=2)] = np.nan  # a marker is seen in all coordinates or none
+        times = np.arange(pos.shape[0]) / float(self.rate) if self.times is None else np.asarray(self.times, float)
+        if times.shape != (pos.shape[0],):
+            raise InputError(f"times must have shape ({pos.shape[0]},), got {times.shape}")
+        if times.size > 1 and not np.all(np.diff(times) > 0):
+            raise InputError("times must be strictly increasing")
+        object.__setattr__(self, "positions", _readonly(pos))
+        object.__setattr__(self, "labels", labels)
+        object.__setattr__(self, "rate", float(self.rate))
+        object.__setattr__(self, "times", _readonly(times))
+
+    @property
+    def frames(self) -> int:
+        """Number of frames."""
+        return self.positions.shape[0]
+
+    @property
+    def markers(self) -> int:
+        """Number of markers."""
+        return self.positions.shape[1]
+
+    @property
+    def valid(self) -> np.ndarray:
+        """Where each marker was seen, bool ``(frames, markers)``."""
+        return ~np.isnan(self.positions[:, :, 0])
+
+    def index(self, label: str) -> int:
+        """Column of a marker; raises :class:`InputError` naming the missing label."""
+        try:
+            return self.labels.index(label)
+        except ValueError:
+            raise InputError(f'no marker "{label}" in this take') from None
+
+    def marker(self, label: str) -> np.ndarray:
+        """One marker's trajectory, shape ``(frames, 3)``."""
+        return self.positions[:, self.index(label)]
+
+    def select(self, labels: list[str] | tuple[str, ...]) -> np.ndarray:
+        """Several markers' trajectories in the given order, shape ``(frames, len(labels), 3)``."""
+        return self.positions[:, [self.index(x) for x in labels]]
+
+    def window(self, start: float, end: float) -> np.ndarray:
+        """Boolean frame mask for times in ``[start, end)`` seconds, shape ``(frames,)``."""
+        return (self.times >= start) & (self.times < end)
