@@ -1,0 +1,28 @@
+"""``python -m bench [--quick] [NAME ...]``: run benchmark groups, one JSON line per figure."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+GROUPS = ("render", "pipeline")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the named groups (all by default); returns the exit status."""
+    parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__)
+    parser.add_argument("names", nargs="*", metavar="NAME", help=f"groups to run: {', '.join(GROUPS)} (default: all)")
+    parser.add_argument("--quick", action="store_true", help="fewer frames and repeats (a smoke test, not a measure)")
+    args = parser.parse_args(argv)
+    unknown = [n for n in args.names if n not in GROUPS]
+    if unknown:
+        parser.error(f"unknown benchmark group(s) {unknown}; known: {', '.join(GROUPS)}")
+    for name in args.names or GROUPS:
+        for figure in importlib.import_module(f"bench.{name}").run(quick=args.quick):
+            print(figure.to_json(), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

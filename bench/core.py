@@ -1,0 +1,50 @@
+"""Shared benchmark helpers: the figure record and median timing."""
+
+from __future__ import annotations
+
+import json
+import statistics
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One benchmark figure, printed as one JSON line."""
+
+    name: str
+    value: float
+    unit: str
+    goal: float | None
+    higher_is_better: bool
+    detail: dict = field(default_factory=dict)
+
+    @property
+    def met(self) -> bool | None:
+        """Whether the goal is reached (None without a goal)."""
+        if self.goal is None:
+            return None
+        return self.value >= self.goal if self.higher_is_better else self.value <= self.goal
+
+    def to_json(self) -> str:
+        """The figure as a JSON line (with ``met`` added to ``detail``)."""
+        record = asdict(self)
+        record["value"] = round(self.value, 4)
+        record["detail"] = {**self.detail, "goal_met": self.met}
+        return json.dumps(record)
+
+
+def median_rate(run: Callable[[], int], repeats: int, warmup: int = 1) -> tuple[float, list[float]]:
+    """Median items per second of ``run`` (which returns how many items it processed).
+
+    Returns the median and every repeat's rate.
+    """
+    for _ in range(warmup):
+        run()
+    rates = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        items = run()
+        rates.append(items / (time.perf_counter() - start))
+    return statistics.median(rates), rates

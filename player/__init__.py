@@ -1,0 +1,12 @@
+"""player: motor values over time into pictures (offscreen OpenGL through moderngl).
+
+Imports ``toon``, never ``capture`` or ``mapping``.
+"""
+
+from player.gl import RenderError, create_context
+from player.offline import render_track, resample
+from player.renderer import Renderer, triangulate
+from player.sinks import Mp4Sink, PngSink, open_sink
+
+__all__ = ["Mp4Sink", "PngSink", "RenderError", "Renderer", "create_context", "open_sink", "render_track",
+           "resample", "triangulate"]

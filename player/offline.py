@@ -1,0 +1,38 @@
+"""Offline playback: a motor track drawn frame by frame into a sink, as fast as it renders."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from player.renderer import Renderer
+from player.sinks import FrameSink
+from toon import FaceRig, MotorTrack
+
+
+def resample(track: MotorTrack, fps: float) -> np.ndarray:
+    """Motor values at the frame times of a ``fps`` video of the same duration; ``(frames, 21)``.
+
+    Linear interpolation between the track's frames (CharToon's knot points interpolate
+    linearly too); the track's own rate returns its values unchanged.
+    """
+    if abs(fps - track.rate) < 1e-9:
+        return track.values
+    times = np.arange(int(round(track.duration * fps))) / fps
+    return np.column_stack([np.interp(times, track.times, col) for col in track.values.T])
+
+
+def render_track(track: MotorTrack, rig: FaceRig, renderer: Renderer, sink: FrameSink, fps: float | None = None,
+                 progress: Callable[[int], None] | None = None) -> int:
+    """Render every frame of ``track`` on ``rig``'s face into ``sink``; returns the frame count.
+
+    ``progress`` is called with the number of frames just finished (1) after each frame. The sink
+    is not closed here: the caller decides whether the output is complete.
+    """
+    values = resample(track, fps or track.rate)
+    for row in values:
+        sink.write(renderer.render(rig.geometry(row)))
+        if progress is not None:
+            progress(1)
+    return len(values)

@@ -1,0 +1,142 @@
+"""Where rendered frames go: an H.264 MP4 (PyAV) or a folder of PNG frames.
+
+Both appear atomically: the MP4 is written to a temporary file and renamed on :meth:`close`; the
+PNG folder is filled under a temporary name and renamed. :meth:`abort` (or leaving the ``with``
+block by an exception) removes the partial output.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from fractions import Fraction
+from pathlib import Path
+from typing import Protocol
+
+import av
+import cv2
+import numpy as np
+
+from common import InputError, atomic_dir, atomic_path
+
+
+class FrameSink(Protocol):
+    """Anything that takes RGB frames of shape ``(height, width, 3)``."""
+
+    def write(self, frame: np.ndarray) -> None: ...
+    def close(self) -> None: ...
+    def abort(self) -> None: ...
+
+
+class _AtomicSink:
+    """Shared lifetime: an atomic-output guard, left committed by :meth:`close` or rolled back."""
+
+    def __init__(self, guard: contextlib.AbstractContextManager) -> None:
+        self._guard = guard
+        self._tmp: Path = guard.__enter__()
+        self.frames = 0
+        self._done = False
+
+    def _finish(self) -> None:
+        """Flush the format's trailer; overridden where there is one."""
+
+    def close(self) -> None:
+        """Finish the output and move it into place."""
+        if self._done:
+            return
+        self._done = True
+        try:
+            self._finish()
+        except BaseException as exc:
+            self._guard.__exit__(type(exc), exc, exc.__traceback__)
+            raise
+        self._guard.__exit__(None, None, None)
+
+    def abort(self) -> None:
+        """Drop the partial output."""
+        if self._done:
+            return
+        self._done = True
+        with contextlib.suppress(Exception):
+            self._finish()
+        reason = RuntimeError("output aborted")
+        self._guard.__exit__(RuntimeError, reason, None)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
+
+
+class Mp4Sink(_AtomicSink):
+    """H.264 (yuv420p, browser-playable) MP4 through PyAV.
+
+    Parameters
+    ----------
+    path : path-like
+        Output ``.mp4``.
+    fps : float
+        Frame rate; non-integer rates are stored as exact fractions (29.97 -> 2997/100).
+    size : (width, height)
+        Must be even (yuv420p).
+    crf : int
+        x264 quality, 0 (lossless) to 51; 18 is visually lossless.
+    """
+
+    def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 18) -> None:
+        width, height = size
+        if width % 2 or height % 2:
+            raise InputError(f"H.264 needs an even frame size, got {width}x{height}", path)
+        super().__init__(atomic_path(path))
+        self.size = (width, height)
+        self._container = av.open(str(self._tmp), mode="w", format="mp4")
+        rate = Fraction(fps).limit_denominator(1001)
+        self._stream = self._container.add_stream("libx264", rate=rate)
+        self._stream.width, self._stream.height = width, height
+        self._stream.pix_fmt = "yuv420p"
+        self._stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart"}
+
+    def write(self, frame: np.ndarray) -> None:
+        """Encode one RGB frame."""
+        if frame.shape != (self.size[1], self.size[0], 3):
+            raise ValueError(f"frame shape {frame.shape} does not match {self.size}")
+        video_frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="rgb24")
+        for packet in self._stream.encode(video_frame):
+            self._container.mux(packet)
+        self.frames += 1
+
+    def _finish(self) -> None:
+        try:
+            for packet in self._stream.encode():
+                self._container.mux(packet)
+        finally:
+            self._container.close()
+
+
+class PngSink(_AtomicSink):
+    """A folder of ``frame_000000.png`` files (replaced whole if it exists)."""
+
+    def __init__(self, directory: str | os.PathLike) -> None:
+        super().__init__(atomic_dir(directory))
+
+    def write(self, frame: np.ndarray) -> None:
+        """Write one RGB frame as the next PNG."""
+        path = self._tmp / f"frame_{self.frames:06d}.png"
+        if not cv2.imwrite(str(path), np.ascontiguousarray(frame[:, :, ::-1])):
+            raise OSError(f"cannot write {path}")
+        self.frames += 1
+
+
+def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int]) -> Mp4Sink | PngSink:
+    """An MP4 sink for ``*.mp4``, otherwise a PNG folder sink."""
+    target = Path(target)
+    if target.suffix.lower() == ".mp4":
+        return Mp4Sink(target, fps, size)
+    if target.suffix:
+        raise InputError(f"unknown output type {target.suffix!r}: give a .mp4 file or a folder for PNG frames",
+                         target)
+    return PngSink(target)

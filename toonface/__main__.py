@@ -1,0 +1,7 @@
+"""``python -m toonface`` runs the command line."""
+
+import sys
+
+from toonface.cli import main
+
+sys.exit(main())

@@ -1,0 +1,213 @@
+"""The ``toonface`` command. Arguments are parsed in :func:`main`, never at import.
+
+Every subcommand exits 0 on success and non-zero with a one-line ``toonface: error: ...``
+message (no traceback) on bad input; set ``TOONFACE_DEBUG=1`` to see tracebacks.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import click
+from tqdm import tqdm
+
+from capture import load_take, save_take, synthesize
+from common import ToonfaceError
+from toon import builtin_faces, load_face, load_track, save_track
+from toonface.pipeline import map_take, render, run_demo, truth_track
+
+log = logging.getLogger("toonface")
+
+
+class _ProgressBar:
+    """A per-frame progress callback drawing a bar on stderr (only when stderr is a terminal)."""
+
+    def __init__(self, total: int, desc: str) -> None:
+        self.total = total
+        self.bar = tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=None, leave=False)
+
+    def __call__(self, frames: int) -> None:
+        self.bar.update(frames)
+        if self.bar.n >= self.total:
+            self.bar.close()
+
+
+def _progress(desc: str) -> Callable[[int], Callable[[int], None]]:
+    """A factory of progress callbacks, given the total number of frames."""
+    return lambda total: _ProgressBar(total, desc)
+
+
+def _parse_size(value: str) -> tuple[int, int]:
+    try:
+        w, _, h = value.lower().partition("x")
+        size = (int(w), int(h or w))
+    except ValueError:
+        raise click.BadParameter(f"expected N or WxH pixels, got {value!r}") from None
+    if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
+        raise click.BadParameter(f"each side must be 16..8192 pixels, got {value!r}")
+    return size
+
+
+def _parse_window(value: str) -> tuple[float, float]:
+    try:
+        start, end = (float(x) for x in value.split(":"))
+    except ValueError:
+        raise click.BadParameter(f"expected START:END in seconds, got {value!r}") from None
+    if not end > start >= 0:
+        raise click.BadParameter(f"expected 0 <= START < END, got {value!r}")
+    return start, end
+
+
+_FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",
+                     help="A built-in face (see `toonface faces`) or a face JSON file.")
+_NEUTRAL = click.option("--neutral", "neutral", default="0:1", show_default=True, metavar="START:END",
+                        help="Seconds of the take where the performer holds a neutral face.")
+_SIZE = click.option("--size", default="512", show_default=True, metavar="N|WxH", help="Frame size in pixels.")
+_MIRROR = click.option("--mirror", is_flag=True, help="Mirror image: the performer's right drives the character's left.")
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
+@click.version_option(package_name="toonface")
+@click.option("-v", "--verbose", is_flag=True, help="Log diagnostics to stderr.")
+def cli(verbose: bool) -> None:
+    """Turn a performer's face into a cartoon face.
+
+    Marker takes are cleaned, calibrated and mapped onto the 21 motors of a ToonFace face, then
+    drawn offscreen with OpenGL into a video or frames. Start with `toonface demo`.
+    """
+    logging.basicConfig(level=logging.INFO if verbose else logging.WARNING, format="toonface: %(message)s")
+
+
+@cli.command()
+@click.option("--out", "out_dir", default="toonface-demo", show_default=True, type=click.Path(file_okay=False),
+              help="Folder for demo.mp4, take.npz, motors.csv and truth.csv.")
+@click.option("--seconds", default=10.0, show_default=True, type=click.FloatRange(min=1.0, max=600.0))
+@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=240.0), help="Frames per second.")
+@click.option("--size", default=512, show_default=True, type=click.IntRange(16, 4096), help="Square frame size, even.")
+@_FACE
+@click.option("--seed", default=0, show_default=True, type=int)
+def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: int) -> None:
+    """The whole pipeline on built-in data: a synthetic performer, mapped and rendered to MP4."""
+    if size % 2:
+        raise click.BadParameter(f"H.264 needs an even size, got {size}", param_hint="--size")
+    load_face(face)  # fail before any work on a bad face
+    result = run_demo(out_dir, seconds=seconds, rate=rate, size=size, face=face, seed=seed,
+                      progress_factory=_progress("render"))
+    for label, path in (("video", result.video), ("take", result.take), ("motors", result.motors),
+                        ("truth", result.truth)):
+        click.echo(f"wrote {label:<7}{path}")
+    click.echo(f"{result.frames} frames at {size}x{size}; mapped motors differ from the truth by "
+               f"{result.mean_abs_error:.4f} on average (0-1 scale)")
+    for stage, secs in result.times.seconds.items():
+        click.echo(f"  {stage:<22}{secs:7.2f} s")
+    click.echo(f"  {'total':<22}{sum(result.times.seconds.values()):7.2f} s")
+
+
+@cli.command()
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Take file to write (.npz).")
+@click.option("--seconds", default=10.0, show_default=True, type=click.FloatRange(min=0.1, max=3600.0))
+@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=1000.0))
+@click.option("--noise", default=0.2, show_default=True, type=click.FloatRange(min=0.0), help="Jitter, mm (σ).")
+@click.option("--seed", default=0, show_default=True, type=int)
+def synth(output: str, seconds: float, rate: float, noise: float, seed: int) -> None:
+    """A synthetic performer with the toon32 markers; also writes the true motors beside it."""
+    synthetic = synthesize(seconds=seconds, rate=rate, noise_mm=noise, seed=seed)
+    path = save_take(synthetic.take, output)
+    truth = save_track(truth_track(synthetic), path.with_name(f"{path.stem}.truth.csv"))
+    click.echo(f"wrote {path} ({synthetic.take.frames} frames, {synthetic.take.markers} markers) and {truth}")
+
+
+@cli.command("map")
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Motor track (.csv or .npz).")
+@_NEUTRAL
+@click.option("--face", default=None, metavar="NAME|FILE", help="Map the performer's neutral onto this face's rest pose.")
+@_MIRROR
+def map_cmd(take: str, output: str, neutral: str, face: str | None, mirror: bool) -> None:
+    """Map a toon32 take onto the 21 motors (neutral calibrated on a window of the take)."""
+    window = _parse_window(neutral)
+    track = map_take(load_take(take), window, load_face(face) if face else None, mirror)
+    click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz)")
+
+
+@cli.command("render")
+@click.argument("motors", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(), help="A .mp4 file, or a folder for PNG frames.")
+@_FACE
+@_SIZE
+@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the track's].")
+def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
+    """Draw a motor track (.csv movie script or .npz) on a face."""
+    dims = _parse_size(size)
+    track, face_obj = load_track(motors), load_face(face)
+    frames = render(track, face_obj, output, dims, fps, progress=_progress("render")(track.frames))
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
+
+
+@cli.command()
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(), help="A .mp4 file, or a folder for PNG frames.")
+@_FACE
+@_NEUTRAL
+@_SIZE
+@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the take's].")
+@_MIRROR
+def retarget(take: str, output: str, face: str, neutral: str, size: str, fps: float | None, mirror: bool) -> None:
+    """Map a toon32 take and render it on a face, in one go."""
+    dims, window = _parse_size(size), _parse_window(neutral)
+    face_obj = load_face(face)
+    track = map_take(load_take(take), window, face_obj, mirror)
+    frames = render(track, face_obj, output, dims, fps, progress=_progress("render")(track.frames))
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
+
+
+@cli.command()
+def faces() -> None:
+    """List the built-in faces."""
+    for name in builtin_faces():
+        click.echo(f"{name:<12}{load_face(name).description}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    debug = os.environ.get("TOONFACE_DEBUG") == "1"
+    try:
+        cli.main(args=argv, prog_name="toonface", standalone_mode=False)
+    except click.exceptions.Exit as exc:
+        return exc.exit_code
+    except click.UsageError as exc:
+        where = f" (see 'toonface {exc.ctx.info_name} --help')" if exc.ctx and exc.ctx.parent else ""
+        click.echo(f"toonface: error: {exc.format_message()}{where}".replace("\n", " "), err=True)
+        return 2
+    except click.ClickException as exc:
+        click.echo(f"toonface: error: {exc.format_message()}".replace("\n", " "), err=True)
+        return exc.exit_code
+    except click.Abort:
+        click.echo("toonface: aborted", err=True)
+        return 130
+    except ToonfaceError as exc:
+        if debug:
+            raise
+        click.echo(f"toonface: error: {exc}".replace("\n", " "), err=True)
+        return 1
+    except OSError as exc:
+        if debug:
+            raise
+        where = f"{exc.filename}: " if exc.filename else ""
+        click.echo(f"toonface: error: {where}{exc.strerror or exc}", err=True)
+        return 1
+    except Exception as exc:  # a bug: still one line for the user, the traceback on request
+        if debug:
+            raise
+        click.echo(f"toonface: internal error: {type(exc).__name__}: {exc} (TOONFACE_DEBUG=1 shows the traceback)",
+                   err=True)
+        return 70
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
