@@ -1,0 +1,112 @@
+"""The command line: entry points, --help, one-line errors, and the demo end to end."""
+
+import importlib
+import importlib.metadata
+import json
+import subprocess
+import sys
+
+import av
+import numpy as np
+import pytest
+
+from capture import load_take
+from toon import load_track
+from toonface.cli import cli, main
+
+SUBCOMMANDS = ["demo", "synth", "map", "render", "retarget", "faces"]
+
+
+def test_every_console_script_entry_point_imports():
+    scripts = [ep for ep in importlib.metadata.entry_points(group="console_scripts") if ep.value.startswith("toonface")]
+    assert [ep.name for ep in scripts] == ["toonface"]
+    for ep in scripts:
+        assert callable(ep.load())
+
+
+def test_help_lists_the_subcommands(capsys):
+    assert main(["--help"]) == 0
+    out = capsys.readouterr().out
+    for name in SUBCOMMANDS:
+        assert f"  {name} " in out
+    assert set(cli.commands) == set(SUBCOMMANDS)
+
+
+@pytest.mark.parametrize("name", SUBCOMMANDS)
+def test_each_subcommand_has_help(capsys, name):
+    assert main([name, "--help"]) == 0
+    assert "Usage: toonface " + name in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["nonsense"], "No such command 'nonsense'"),
+    (["demo", "--bogus"], "No such option"),
+    (["demo", "--size", "333"], "even size"),
+    (["map"], "Missing argument 'TAKE'"),
+    (["map", "missing.npz", "-o", "m.csv"], "missing.npz: no such file"),
+    (["map", "t.xyz", "-o", "m.csv"], "unknown take format '.xyz'"),
+    (["render", "missing.csv", "-o", "v.mp4"], "missing.csv: no such file"),
+    (["render", "m.csv", "-o", "v.mp4", "--size", "big"], "expected N or WxH"),
+    (["retarget", "t.npz", "-o", "v.mp4", "--neutral", "2:1"], "START < END"),
+    (["demo", "--face", "nobody"], 'no built-in face "nobody"'),
+])
+def test_bad_input_is_one_line_and_nonzero(tmp_path, monkeypatch, capsys, argv, fragment):
+    monkeypatch.chdir(tmp_path)
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code != 0
+    assert err.count("\n") == 1 and err.startswith("toonface: error: "), err
+    assert fragment in err
+
+
+def test_synth_map_render_chain(tmp_path, capsys):
+    take, motors, video = tmp_path / "t.npz", tmp_path / "m.csv", tmp_path / "frames"
+    assert main(["synth", "-o", str(take), "--seconds", "2", "--noise", "0"]) == 0
+    assert (tmp_path / "t.truth.csv").is_file()
+    assert main(["map", str(take), "-o", str(motors)]) == 0
+    truth, mapped = load_track(tmp_path / "t.truth.csv"), load_track(motors)
+    np.testing.assert_allclose(mapped.values, truth.values, atol=2e-6)
+    assert main(["render", str(motors), "-o", str(video), "--size", "64x48", "--fps", "15"]) == 0
+    assert len(list(video.glob("frame_*.png"))) == 30
+    assert load_take(take).frames == 60
+
+
+def test_a_corrupt_track_writes_nothing(tmp_path, capsys):
+    (tmp_path / "m.csv").write_text("time,BRL\n0,0\n")
+    assert main(["render", str(tmp_path / "m.csv"), "-o", str(tmp_path / "v.mp4")]) == 1
+    assert not (tmp_path / "v.mp4").exists()
+
+
+def test_demo_end_to_end(tmp_path):
+    """The real command, in its own process: a 300-frame 512x512 H.264 file and its inputs."""
+    out = tmp_path / "demo"
+    result = subprocess.run([sys.executable, "-m", "toonface", "demo", "--out", str(out)],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "wrote video" in result.stdout and "render" in result.stdout
+    with av.open(str(out / "demo.mp4")) as c:
+        stream = c.streams.video[0]
+        assert stream.codec_context.name == "h264"
+        frames = [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+    assert len(frames) == 300 and frames[0].shape == (512, 512, 3)
+    assert load_take(out / "take.npz").frames == 300
+    assert load_track(out / "motors.csv").frames == 300 and load_track(out / "truth.csv").frames == 300
+    # The face moves: frames during a blink, the smile and a head turn differ from the neutral one.
+    neutral = frames[15].astype(int)
+    for moving in (48, 90, 250):
+        assert np.abs(frames[moving].astype(int) - neutral).max(axis=2).mean() > 1.0
+
+
+def test_bench_prints_one_json_figure_per_line():
+    result = subprocess.run([sys.executable, "-m", "bench", "--quick", "render", "pipeline"],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    figures = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [f["name"] for f in figures] == ["render.fps", "render.floor_fps", "render.ratio", "pipeline.fps"]
+    for f in figures:
+        assert set(f) == {"name", "value", "unit", "goal", "higher_is_better", "detail"}
+        assert f["value"] > 0
+    ratio = figures[2]["value"]
+    assert ratio == pytest.approx(figures[0]["value"] / figures[1]["value"], rel=1e-3)
+    bad = subprocess.run([sys.executable, "-m", "bench", "nope"], capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2 and "unknown benchmark group" in bad.stderr

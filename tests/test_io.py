@@ -1,0 +1,92 @@
+"""File round trips and errors: takes (.npz), motor tracks (.csv, .npz), atomic writes."""
+
+import numpy as np
+import pytest
+
+from capture import Take, load_take, save_take, synthesize
+from common import InputError, atomic_path
+from toon import MotorTrack, load_track, save_track
+
+
+def test_take_npz_round_trip(tmp_path):
+    take = synthesize(seconds=1.0, rate=50.0, seed=3).take
+    pos = take.positions.copy()
+    pos[5:9, 2] = np.nan
+    take = Take(pos, take.labels, take.rate, meta={"note": "gap"})
+    back = load_take(save_take(take, tmp_path / "t.npz"))
+    np.testing.assert_array_equal(back.positions, take.positions)
+    assert back.labels == take.labels and back.rate == 50.0 and back.meta == {"note": "gap"}
+    np.testing.assert_array_equal(back.times, take.times)
+    assert int((~back.valid).sum()) == 4
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".npz"])
+def test_motor_track_round_trip(tmp_path, suffix):
+    rng = np.random.default_rng(0)
+    track = MotorTrack(rng.uniform(0, 1, (40, 21)), 29.97, confidence=rng.uniform(0, 1, (40, 21)))
+    back = load_track(save_track(track, tmp_path / f"m{suffix}"))
+    np.testing.assert_allclose(back.values, track.values, atol=5e-7)  # the CSV keeps 6 decimals
+    assert back.rate == pytest.approx(29.97, rel=1e-5)
+    if suffix == ".npz":
+        np.testing.assert_array_equal(back.confidence, track.confidence)
+
+
+def test_movie_script_header_and_first_rows(tmp_path):
+    values = np.full((3, 21), 0.25)
+    text = save_track(MotorTrack(values, 10.0), tmp_path / "m.csv").read_text().splitlines()
+    assert text[0] == "time,BRL,BRC,BRM,BLL,BLC,BLM,ERU,ERL,ELU,ELL,PLH,PLV,PRH,PRV,MLH,MLV,MRH,MRV,MB,HH,HV"
+    assert text[2].startswith("0.100000,0.250000,")
+    assert len(text) == 4
+
+
+@pytest.mark.parametrize("content, message", [
+    ("", "empty file"),
+    ("frame,BRL\n", 'first column must be "time"'),
+    ("time,BRL,BRC\n0,0,0\n", "header must name the 21 motors"),
+    ("time," + ",".join(["BRL"] * 21) + "\n", "header must name the 21 motors"),
+])
+def test_movie_script_errors(tmp_path, content, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    with pytest.raises(InputError, match=message) as info:
+        load_track(path)
+    assert str(path) in str(info.value)
+
+
+def test_movie_script_errors_name_the_line(tmp_path):
+    good = save_track(MotorTrack(np.full((4, 21), 0.5), 10.0), tmp_path / "m.csv").read_text().splitlines()
+    bad = good[:3] + [good[3].replace("0.500000", "abc", 1)]
+    (tmp_path / "b.csv").write_text("\n".join(bad) + "\n")
+    with pytest.raises(InputError, match="line 4: not a number"):
+        load_track(tmp_path / "b.csv")
+    uneven = good[:2] + [good[2].replace("0.100000", "0.150000", 1)] + good[3:]
+    (tmp_path / "u.csv").write_text("\n".join(uneven) + "\n")
+    with pytest.raises(InputError, match="not evenly spaced"):
+        load_track(tmp_path / "u.csv")
+
+
+def test_unknown_formats_and_missing_files(tmp_path):
+    with pytest.raises(InputError, match="unknown take format '.xyz'"):
+        load_take(tmp_path / "a.xyz")
+    with pytest.raises(InputError, match="no such file"):
+        load_take(tmp_path / "missing.npz")
+    (tmp_path / "junk.npz").write_bytes(b"not a zip")
+    with pytest.raises(InputError, match="junk.npz"):
+        load_take(tmp_path / "junk.npz")
+    with pytest.raises(InputError, match="unknown motor track format"):
+        save_track(MotorTrack(np.zeros((2, 21)), 1.0), tmp_path / "m.txt")
+
+
+def test_atomic_write_leaves_nothing_on_failure(tmp_path):
+    target = tmp_path / "out.bin"
+    with pytest.raises(RuntimeError):
+        with atomic_path(target) as tmp:
+            tmp.write_bytes(b"half")
+            raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []
+    target.write_bytes(b"old")
+    with pytest.raises(RuntimeError):
+        with atomic_path(target) as tmp:
+            tmp.write_bytes(b"new")
+            raise RuntimeError("boom")
+    assert target.read_bytes() == b"old" and list(tmp_path.iterdir()) == [target]

@@ -1,0 +1,67 @@
+"""Frame sinks: a decodable H.264 MP4 with the right frame count, PNG folders, atomic outputs."""
+
+import av
+import cv2
+import numpy as np
+import pytest
+
+from common import InputError
+from player import Mp4Sink, PngSink, open_sink
+
+
+def _frames(n, size=(32, 24)):
+    w, h = size
+    for i in range(n):
+        frame = np.zeros((h, w, 3), np.uint8)
+        frame[:, : (i + 1) * w // n] = (200, 60, 30)
+        yield frame
+
+
+def test_mp4_is_h264_with_every_frame(tmp_path):
+    path = tmp_path / "v.mp4"
+    with Mp4Sink(path, 30.0, (32, 24)) as sink:
+        for f in _frames(12):
+            sink.write(f)
+    with av.open(str(path)) as c:
+        stream = c.streams.video[0]
+        assert stream.codec_context.name == "h264" and stream.codec_context.pix_fmt == "yuv420p"
+        assert stream.average_rate == 30
+        decoded = [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+    assert len(decoded) == 12 and decoded[0].shape == (24, 32, 3)
+    assert abs(int(decoded[-1][12, 16, 0]) - 200) < 12  # the last frame is filled, colour kept
+    assert list(tmp_path.iterdir()) == [path]  # no temporary left behind
+
+
+def test_failed_render_leaves_no_video(tmp_path):
+    path = tmp_path / "v.mp4"
+    with pytest.raises(RuntimeError):
+        with Mp4Sink(path, 30.0, (32, 24)) as sink:
+            sink.write(next(_frames(1)))
+            raise RuntimeError("renderer died")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_png_folder_round_trip_and_replacement(tmp_path):
+    out = tmp_path / "frames"
+    frames = list(_frames(3))
+    with PngSink(out) as sink:
+        for f in frames:
+            sink.write(f)
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["frame_000000.png", "frame_000001.png", "frame_000002.png"]
+    back = cv2.imread(str(out / "frame_000001.png"))[:, :, ::-1]
+    np.testing.assert_array_equal(back, frames[1])
+    with PngSink(out) as sink:  # a re-run replaces the folder whole
+        sink.write(frames[0])
+    assert sorted(p.name for p in out.iterdir()) == ["frame_000000.png"]
+
+
+def test_odd_sizes_and_unknown_types_are_refused(tmp_path):
+    with pytest.raises(InputError, match="even frame size"):
+        Mp4Sink(tmp_path / "v.mp4", 30, (31, 24))
+    with pytest.raises(InputError, match="unknown output type '.gif'"):
+        open_sink(tmp_path / "v.gif", 30, (32, 24))
+    sink = open_sink(tmp_path / "dir", 30, (32, 24))
+    assert isinstance(sink, PngSink)
+    sink.abort()
+    assert list(tmp_path.iterdir()) == []
