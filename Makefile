@@ -24,7 +24,7 @@ $(STAMP): pyproject.toml scripts/ensure-system-deps.sh
 install: $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/toonface demo --out demo-out
+	$(VENV)/bin/toonface demo
 
 test: $(STAMP)
 	$(PY) -m pytest
@@ -36,4 +36,4 @@ bench: $(STAMP)
 	$(PY) -m bench
 
 clean:
-	rm -rf $(VENV) demo-out .pytest_cache *.egg-info
+	rm -rf $(VENV) toonface-demo .pytest_cache *.egg-info
