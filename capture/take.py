@@ -6,13 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from common import InputError
+from common import InputError, readonly
 
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=np.float64, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,10 +61,10 @@ class Take:
             raise InputError(f"times must have shape ({pos.shape[0]},), got {times.shape}")
         if times.size > 1 and not np.all(np.diff(times) > 0):
             raise InputError("times must be strictly increasing")
-        object.__setattr__(self, "positions", _readonly(pos))
+        object.__setattr__(self, "positions", readonly(pos))
         object.__setattr__(self, "labels", labels)
         object.__setattr__(self, "rate", float(self.rate))
-        object.__setattr__(self, "times", _readonly(times))
+        object.__setattr__(self, "times", readonly(times))
 
     @property
     def frames(self) -> int:

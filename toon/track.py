@@ -6,14 +6,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from common import InputError
+from common import InputError, readonly
 from toon.motors import MOTOR_CODES, N_MOTORS, motor_index
 
-
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=np.float64, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,13 +46,13 @@ class MotorTrack:
                              "outside [0, 1]")
         if not (np.isfinite(self.rate) and self.rate > 0):
             raise InputError(f"rate must be a positive number of frames per second, got {self.rate!r}")
-        object.__setattr__(self, "values", _frozen(values))
+        object.__setattr__(self, "values", readonly(values))
         object.__setattr__(self, "rate", float(self.rate))
         if self.confidence is not None:
             conf = np.asarray(self.confidence, dtype=np.float64)
             if conf.shape != values.shape:
                 raise InputError(f"confidence shape {conf.shape} differs from values shape {values.shape}")
-            object.__setattr__(self, "confidence", _frozen(conf))
+            object.__setattr__(self, "confidence", readonly(conf))
 
     @classmethod
     def from_columns(cls, codes: tuple[str, ...] | list[str], values: np.ndarray, rate: float,
