@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import InputError, data_path
+from common import InputError, resolve_builtin
 
 FORMAT = "toonface.markerset/1"
 
@@ -42,11 +42,7 @@ class MarkerSet:
 
 def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     """Load a built-in marker set by name (``"toon32"``) or a TOML file."""
-    path = Path(name_or_path)
-    if not path.suffix and not path.exists():
-        path = data_path("markersets", f"{name_or_path}.toml")
-    if not path.is_file():
-        raise InputError("no such marker set file", path)
+    path = resolve_builtin(name_or_path, "markersets", ".toml", "marker set")
     try:
         doc = tomllib.loads(path.read_text(encoding="utf-8"))
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:

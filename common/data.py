@@ -6,6 +6,8 @@ import os
 import sys
 from pathlib import Path
 
+from common.errors import InputError
+
 
 def data_path(*parts: str) -> Path:
     """Path of a built-in data file, such as ``data_path("faces", "classic.json")``.
@@ -22,3 +24,30 @@ def data_path(*parts: str) -> Path:
         if root.is_dir():
             return root.joinpath(*parts)
     return candidates[-1].joinpath(*parts)
+
+
+def builtin_names(folder: str, suffix: str) -> list[str]:
+    """Names of the built-in files in ``data/<folder>`` with ``suffix``, sorted."""
+    return sorted(p.stem for p in data_path(folder).glob(f"*{suffix}"))
+
+
+def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, what: str) -> Path:
+    """The file a user named: a bare name means the built-in ``data/<folder>/<name><suffix>``.
+
+    Anything with a suffix, a directory part, or that exists as given is taken as a path.
+
+    Raises
+    ------
+    InputError
+        Naming the missing file, or listing the built-ins when a bare name matches none.
+    """
+    text = os.fspath(name_or_path)
+    path = Path(text)
+    if not path.suffix and os.sep not in text and not path.exists():
+        path = data_path(folder, f"{text}{suffix}")
+        if not path.is_file():
+            known = ", ".join(builtin_names(folder, suffix)) or "none"
+            raise InputError(f'no built-in {what} "{text}" (built-in: {known})')
+    if not path.is_file():
+        raise InputError(f"no such {what} file", path)
+    return path

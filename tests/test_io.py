@@ -90,3 +90,16 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
             tmp.write_bytes(b"new")
             raise RuntimeError("boom")
     assert target.read_bytes() == b"old" and list(tmp_path.iterdir()) == [target]
+
+
+def test_builtin_names_and_paths_resolve_the_same_way_for_faces_and_marker_sets(tmp_path):
+    from capture import load_markerset
+    from toon import load_face
+
+    assert load_markerset("toon32").labels[0] == "FOREHEAD"
+    with pytest.raises(InputError, match=r'no built-in marker set "toon99" \(built-in: toon32\)'):
+        load_markerset("toon99")
+    with pytest.raises(InputError, match=r'no built-in face "toon99" \(built-in: .*classic'):
+        load_face("toon99")
+    with pytest.raises(InputError, match="no such marker set file"):
+        load_markerset(tmp_path / "sub" / "mine.toml")

@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from common import InputError, atomic_path, data_path
+from common import InputError, atomic_path, builtin_names, resolve_builtin
 from toon.motors import MOTORS, MOTOR_CODES
 
 FORMAT = "toonface.face/1"
@@ -120,18 +120,12 @@ class Face:
 
 def builtin_faces() -> list[str]:
     """Names of the faces shipped in ``data/faces``."""
-    return sorted(p.stem for p in data_path("faces").glob("*.json"))
+    return builtin_names("faces", ".json")
 
 
 def load_face(name_or_path: str | os.PathLike) -> Face:
     """Load a face by built-in name (``"classic"``) or from a JSON file; validate it."""
-    path = Path(name_or_path)
-    if not path.suffix and not path.exists() and os.sep not in str(name_or_path):
-        path = data_path("faces", f"{name_or_path}.json")
-        if not path.is_file():
-            raise InputError(f'no built-in face "{name_or_path}" (built-in: {", ".join(builtin_faces())})')
-    if not path.is_file():
-        raise InputError("no such face file", path)
+    path = resolve_builtin(name_or_path, "faces", ".json", "face")
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
