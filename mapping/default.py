@@ -51,6 +51,8 @@ class DefaultMapping:
 
     Attributes
     ----------
+    markerset_ : MarkerSet
+        The resolved marker set (loaded once, by :meth:`fit`).
     calibration_ : NeutralCalibration
         Set by :meth:`fit`.
     """
@@ -62,31 +64,43 @@ class DefaultMapping:
         self.mirror = mirror
         self.markerset = markerset
 
-    def _markerset(self) -> MarkerSet:
-        return self.markerset if isinstance(self.markerset, MarkerSet) else load_markerset(self.markerset)
-
     def fit(self, take: Take) -> DefaultMapping:
         """Calibrate the neutral pose on ``take``; raises :class:`InputError` saying why if it cannot."""
-        missing = sorted({marker for _, marker, _, _ in CHANNELS} - set(take.labels))
-        if missing:
-            raise InputError(f"the default mapping needs toon32 markers missing from the take: {missing}")
-        calibration = calibrate_neutral(take, self._markerset(), self.neutral_window)
-        if not calibration:
-            raise InputError(f"cannot calibrate: {calibration}")
-        self.calibration_: NeutralCalibration = calibration
+        self._fit(take)
         return self
 
     def transform(self, take: Take) -> MotorTrack:
         """Map a take (of the same performer and marker set) onto a :class:`MotorTrack`."""
         if not hasattr(self, "calibration_"):
             raise RuntimeError("call fit() before transform()")
-        pose = head_pose(take, self._markerset())
+        pose = head_pose(take, self.markerset_)
         if not pose:
             raise InputError(f"cannot remove head motion: {pose}")
-        assert isinstance(pose, HeadPose)
+        return self._transform(take, pose)
+
+    def fit_transform(self, take: Take) -> MotorTrack:
+        """:meth:`fit` then :meth:`transform` on the same take, fitting its head pose once."""
+        return self._transform(take, self._fit(take))
+
+    def _fit(self, take: Take) -> HeadPose:
+        """Resolve the marker set, fit the head pose, calibrate; returns the pose for reuse."""
+        missing = sorted({marker for _, marker, _, _ in CHANNELS} - set(take.labels))
+        if missing:
+            raise InputError(f"the default mapping needs toon32 markers missing from the take: {missing}")
+        markerset = self.markerset if isinstance(self.markerset, MarkerSet) else load_markerset(self.markerset)
+        pose = head_pose(take, markerset)
+        if not pose:
+            raise InputError(f"cannot calibrate: {pose}")
+        calibration = calibrate_neutral(take, markerset, self.neutral_window, pose)
+        if not calibration:
+            raise InputError(f"cannot calibrate: {calibration}")
+        self.markerset_: MarkerSet = markerset
+        self.calibration_: NeutralCalibration = calibration
+        return pose
+
+    def _transform(self, take: Take, pose: HeadPose) -> MotorTrack:
         target = standard_neutral() if self.target_neutral is None else np.asarray(self.target_neutral, float)
         values = np.tile(target, (take.frames, 1))
-        seen = np.zeros_like(values, dtype=bool)
         local = to_head_frame(take.positions, pose.rotation, pose.translation)
         cal = self.calibration_
         for code, marker, axis, mm in CHANNELS:
@@ -97,18 +111,13 @@ class DefaultMapping:
         yaw, pitch = yaw_pitch_degrees(relative)
         values[:, motor_index("HH")] = target[motor_index("HH")] + yaw / HEAD_DEGREES_PER_UNIT
         values[:, motor_index("HV")] = target[motor_index("HV")] + pitch / HEAD_DEGREES_PER_UNIT
-        seen[:] = ~np.isnan(values)
-        values = _hold_last(values, target)
-        values = np.clip(values, 0.0, 1.0)
+        seen = ~np.isnan(values)
+        values = np.clip(_hold_last(values, target), 0.0, 1.0)
         if self.mirror:
             values = mirror_values(values, target)
         meta = {"mapping": "toon32-default-v1", "neutral_window": list(cal.window), "mirror": self.mirror,
                 **{k: v for k, v in take.meta.items() if k == "source"}}
         return MotorTrack(values, take.rate, confidence=seen.astype(float), meta=meta)
-
-    def fit_transform(self, take: Take) -> MotorTrack:
-        """:meth:`fit` then :meth:`transform` on the same take."""
-        return self.fit(take).transform(take)
 
     def describe(self) -> str:
         """The channels, one line each."""
