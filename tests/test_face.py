@@ -126,3 +126,14 @@ def test_drawing_order_follows_a122():
     order = ["hole", "pupil", "face", "free", "point", "feature"]
     assert kinds == sorted(kinds, key=order.index)
     assert set(kinds) == set(order)
+
+
+def test_a_feature_whose_lines_are_all_vertical_is_a_clear_error(classic_doc, tmp_path):
+    doc = copy.deepcopy(classic_doc)
+    for name in ("BRM", "BRC", "BRL"):  # stack the right brow's points on one vertical line
+        doc["points"][name][0] = -80.0
+    path = tmp_path / "stacked.json"
+    path.write_text(json.dumps(doc))
+    brow = next(i for i, p in enumerate(doc["polygons"]) if p.get("feature") == "brow_right")
+    with pytest.raises(InputError, match=rf"stacked.json: polygons\[{brow}\].feature: feature brow_right: every line"):
+        FaceRig(load_face(path))

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common import InputError
 from toon.face import FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
 from toon.motors import MOTORS, N_MOTORS, motor_index
 
@@ -169,8 +170,8 @@ class FaceRig:
                          *face.ranges[m.code]) for m in MOTORS if m.point != "HEAD"]
         self._head = [face.ranges["HH"], face.ranges["HV"]]
         self._pivot = np.array(face.head_pivot)
-        ordered = sorted(face.polygons, key=lambda p: KINDS.index(p.kind))  # stable: file order within a kind
-        self._polygons = [self._prepare(p) for p in ordered]
+        order = sorted(range(len(face.polygons)), key=lambda i: KINDS.index(face.polygons[i].kind))  # stable
+        self._polygons = [self._prepare(face.polygons[i], i) for i in order]
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
@@ -208,7 +209,7 @@ class FaceRig:
     def _lerp(bounds: tuple[float, float], value: float) -> float:
         return bounds[0] + value * (bounds[1] - bounds[0])
 
-    def _prepare(self, spec: PolygonSpec) -> _Prepared:
+    def _prepare(self, spec: PolygonSpec, index: int) -> _Prepared:
         rest = np.array(spec.vertices, dtype=np.float64)
         flat = spec.kind in ("face", "free")
         depth = spec.depth if spec.depth is not None else (0.0 if flat else self.face.feature_depth)
@@ -217,7 +218,11 @@ class FaceRig:
         if spec.kind in ("hole", "feature"):
             names, closed = FEATURES[spec.feature]
             line_rows = np.array([self._index[n] for n in names])
-            binding = bind_to_lines(rest, self._rest[line_rows], closed)
+            try:
+                binding = bind_to_lines(rest, self._rest[line_rows], closed)
+            except ValueError as exc:  # the face file is at fault, so say where
+                raise InputError(f"feature {spec.feature}: {exc}", self.face.meta.get("source"),
+                                 f"polygons[{index}].feature") from None
         if spec.kind == "hole":
             mask = MASK_GROUPS[spec.feature]
         elif spec.kind == "pupil":
