@@ -40,12 +40,11 @@ def run(quick: bool = False) -> list[Figure]:
 
             fps, fps_runs = median_rate(face_frames, repeats)
             rest = rig.geometry(standard_neutral())
-            floor_draw, release = _one_call_scene(ctx, renderer, rest, frames)
+            floor_draw, release, corners = _one_call_scene(ctx, renderer, rest, frames)
             try:
                 floor, floor_runs = median_rate(floor_draw, repeats)
             finally:
                 release()
-            corners = len(triangles_of(rest)[0])
     finally:
         ctx.release()
     detail = {"size": list(size), "samples": 4, "frames_per_repeat": len(values), "repeats": repeats,
@@ -58,8 +57,8 @@ def run(quick: bool = False) -> list[Figure]:
 
 
 def _one_call_scene(ctx: moderngl.Context, renderer: Renderer, geometry, frames: int
-                    ) -> tuple[Callable[[], int], Callable[[], None]]:
-    """A callable drawing ``geometry``'s triangles, static, in one call ``frames`` times; and its release."""
+                    ) -> tuple[Callable[[], int], Callable[[], None], int]:
+    """Draw ``geometry``'s triangles, static, in one call ``frames`` times: (draw, release, corner count)."""
     data, _ = triangles_of(geometry)
     data[:, 2] = 1.0
     vbo = ctx.buffer(data.tobytes())
@@ -78,7 +77,7 @@ def _one_call_scene(ctx: moderngl.Context, renderer: Renderer, geometry, frames:
         vao.release()
         vbo.release()
 
-    return draw, release
+    return draw, release, len(data)
 
 
 def _rounded(values: list[float]) -> list[float]:

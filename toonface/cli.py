@@ -94,7 +94,6 @@ def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: 
     """The whole pipeline on built-in data: a synthetic performer, mapped and rendered to MP4."""
     if size % 2:
         raise click.BadParameter(f"H.264 needs an even size, got {size}", param_hint="--size")
-    load_face(face)  # fail before any work on a bad face
     result = run_demo(out_dir, seconds=seconds, rate=rate, size=size, face=face, seed=seed,
                       progress_factory=_progress("render"))
     for label, path in (("video", result.video), ("take", result.take), ("motors", result.motors),

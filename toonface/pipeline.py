@@ -78,7 +78,7 @@ class DemoResult:
 
 
 def run_demo(out_dir: str | os.PathLike, seconds: float = 10.0, rate: float = 30.0, size: int = 512,
-             face: str = "classic", seed: int = 0,
+             face: Face | str = "classic", seed: int = 0,
              progress_factory: Callable[[int], Callable[[int], None]] | None = None) -> DemoResult:
     """The whole pipeline on built-in data: synthesise, map, render.
 
@@ -86,6 +86,7 @@ def run_demo(out_dir: str | os.PathLike, seconds: float = 10.0, rate: float = 30
     ``truth.csv`` (the motors that drove the synthetic performer) into ``out_dir``.
     ``progress_factory(total_frames)`` may return a per-frame progress callback.
     """
+    face_obj = load_face(face) if isinstance(face, str) else face  # a bad face fails before any work
     out = Path(out_dir)
     times = StageTimes()
     with times.stage("synthesise"):
@@ -96,7 +97,6 @@ def run_demo(out_dir: str | os.PathLike, seconds: float = 10.0, rate: float = 30
     with times.stage("write take and tracks"):
         paths = (save_take(synthetic.take, out / "take.npz"), save_track(track, out / "motors.csv"),
                  save_track(truth, out / "truth.csv"))
-    face_obj = load_face(face)
     progress = progress_factory(track.frames) if progress_factory else None
     with times.stage("render"):
         frames = render(track, face_obj, out / "demo.mp4", (size, size), progress=progress)
