@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import os
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from common import InputError, resolve_builtin
+from common import InputError, read_document, resolve_builtin
 
 FORMAT = "toonface.markerset/1"
 
@@ -43,10 +42,7 @@ class MarkerSet:
 def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     """Load a built-in marker set by name (``"toon32"``) or a TOML file."""
     path = resolve_builtin(name_or_path, "markersets", ".toml", "marker set")
-    try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise InputError(f"not valid TOML ({exc})", path) from None
+    doc = read_document(path)
     if doc.get("format") != FORMAT:
         raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
     markers = doc.get("markers")

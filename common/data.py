@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import json
 import os
 import sys
+import tomllib
 from pathlib import Path
 
 from common.errors import InputError
@@ -51,3 +53,16 @@ def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, w
     if not path.is_file():
         raise InputError(f"no such {what} file", path)
     return path
+
+
+def read_document(path: Path) -> dict:
+    """Parse a ``.json`` or ``.toml`` file into a dict; an undecodable file is an :class:`InputError`."""
+    kind = "TOML" if path.suffix.lower() == ".toml" else "JSON"
+    try:
+        text = path.read_text(encoding="utf-8")
+        doc = tomllib.loads(text) if kind == "TOML" else json.loads(text)
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"not valid {kind} ({exc})", path) from None
+    if not isinstance(doc, dict):
+        raise InputError(f"expected a {kind} object at the top level, got {type(doc).__name__}", path)
+    return doc

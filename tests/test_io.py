@@ -103,3 +103,18 @@ def test_builtin_names_and_paths_resolve_the_same_way_for_faces_and_marker_sets(
         load_face("toon99")
     with pytest.raises(InputError, match="no such marker set file"):
         load_markerset(tmp_path / "sub" / "mine.toml")
+
+
+def test_undecodable_documents_name_the_file_and_the_format(tmp_path):
+    from capture import load_markerset
+    from toon import load_face
+
+    (tmp_path / "bad.toml").write_text("format = [unclosed\n")
+    with pytest.raises(InputError, match=r"bad.toml: not valid TOML"):
+        load_markerset(tmp_path / "bad.toml")
+    (tmp_path / "list.json").write_text("[1, 2]")
+    with pytest.raises(InputError, match=r"list.json: expected a JSON object at the top level, got list"):
+        load_face(tmp_path / "list.json")
+    (tmp_path / "latin.json").write_bytes(b'{"name": "caf\xe9"}')
+    with pytest.raises(InputError, match=r"latin.json: not valid JSON"):
+        load_face(tmp_path / "latin.json")

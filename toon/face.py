@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from common import InputError, atomic_path, builtin_names, resolve_builtin
+from common import InputError, atomic_path, builtin_names, read_document, resolve_builtin
 from toon.motors import MOTORS, MOTOR_CODES
 
 FORMAT = "toonface.face/1"
@@ -126,10 +126,7 @@ def builtin_faces() -> list[str]:
 def load_face(name_or_path: str | os.PathLike) -> Face:
     """Load a face by built-in name (``"classic"``) or from a JSON file; validate it."""
     path = resolve_builtin(name_or_path, "faces", ".json", "face")
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"not valid JSON ({exc})", path) from None
+    doc = read_document(path)
     return face_from_dict(doc, source=path)
 
 
