@@ -1,11 +1,15 @@
 """The offscreen renderer: face geometry to RGB frames with moderngl.
 
-Polygons may be concave, so each is triangulated (mapbox earcut) every frame; all triangles of a
-frame go into one vertex buffer, drawn in four calls that differ only in depth state.
+Fills may be concave, so each outline is triangulated with mapbox earcut; a triangulation is kept
+from frame to frame and re-used while every one of its triangles keeps the outline's orientation
+(for a simple outline that proves it still tiles it), so most frames triangulate nothing. Strokes
+are the triangles of :func:`toon.curves.stroke_triangles`. All triangles of a frame go into one
+vertex buffer, drawn in runs that differ only in depth state.
+
 moderngl has no stencil API, so the depth buffer carries the masks of A1.2.2: holes write a depth
-for their group (eye right, eye left, mouth), pupils are drawn only where the depth equals their
-eye's group, and the face polygon only where no hole was drawn (the cleared depth). Later
-polygons ignore depth. Antialiasing is multisampling, resolved before readback.
+for their group (eye right, eye left, mouth), pupils and clipped components are drawn only where
+the depth equals their group, and the face polygon only where no hole was drawn (the cleared
+depth). Everything else ignores depth. Antialiasing is multisampling, resolved before readback.
 """
 
 from __future__ import annotations
@@ -14,7 +18,8 @@ import mapbox_earcut
 import moderngl
 import numpy as np
 
-from toon import Geometry, fit_viewbox
+from toon import DrawItem, Geometry, fit_viewbox
+from toon.curves import stroke_triangles
 
 _VERTEX_SHADER = """
 #version 330
@@ -48,37 +53,85 @@ def triangulate(vertices: np.ndarray) -> np.ndarray:
                                              np.array([len(vertices)], dtype=np.uint32))
 
 
-def triangles_of(geometry: Geometry) -> tuple[np.ndarray, list[tuple[str, int, int]]]:
-    """All triangle vertices of a frame and the draw ranges of each drawing step.
+def _orientation_kept(vertices: np.ndarray, indices: np.ndarray) -> bool:
+    """Whether every triangle has the same, non-zero orientation as the outline."""
+    x, y = vertices[:, 0], vertices[:, 1]
+    area = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    if abs(area) < 1e-9:
+        return False
+    t = vertices[indices].reshape(-1, 3, 2)
+    e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+    cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    return bool(np.all(cross * np.sign(area) > 0))
+
+
+class Triangulator:
+    """Fill triangulations of a face's items, kept by item key and re-used while still valid."""
+
+    def __init__(self) -> None:
+        self._cache: dict[int, np.ndarray] = {}
+        self.reused = 0
+        self.computed = 0
+
+    def fill(self, item: DrawItem) -> np.ndarray:
+        """Triangle corner indices ``(3 * T,)`` that fill ``item``'s outline."""
+        known = self._cache.get(item.key)
+        if known is not None and len(known) and int(known.max()) < len(item.vertices) \
+                and _orientation_kept(item.vertices, known):
+            self.reused += 1
+            return known
+        indices = triangulate(item.vertices)
+        self._cache[item.key] = indices
+        self.computed += 1
+        return indices
+
+
+def _mode(item: DrawItem, stroke: bool) -> str:
+    if item.mask_write and not stroke:
+        return "write"
+    return "none" if item.mask_test is None else "test"
+
+
+def triangles_of(geometry: Geometry, triangulator: Triangulator | None = None
+                 ) -> tuple[np.ndarray, list[tuple[str, int, int]]]:
+    """All triangle corners of a frame and the draw runs of each depth mode.
 
     Returns
     -------
     vertices : ndarray of float32, shape (V, 7)
-        ``x, y, z, r, g, b, a`` per triangle corner.
-    steps : list of (kind, first, count)
-        Consecutive runs of the same drawing step, in drawing order.
+        ``x, y, z, r, g, b, a`` per triangle corner; ``z`` is the mask depth written or tested.
+    runs : list of (mode, first, count)
+        Consecutive corners drawn with the same depth mode (``write``, ``test`` or ``none``).
     """
-    chunks, steps = [], []
+    triangulator = triangulator or Triangulator()
+    chunks, runs = [], []
     start = 0
-    for poly in geometry.polygons:
-        idx = triangulate(poly.vertices)
-        if len(idx) == 0:
-            continue
-        corners = poly.vertices[idx]
-        block = np.empty((len(idx), _FLOATS_PER_VERTEX), dtype=np.float32)
-        block[:, :2] = corners
-        block[:, 2] = mask_depth(poly.mask) if poly.kind in ("hole", "pupil") else _CLEAR_DEPTH
-        block[:, 3:] = poly.color
-        chunks.append(block)
-        step = "rest" if poly.kind in ("free", "point", "feature") else poly.kind
-        if steps and steps[-1][0] == step:
-            steps[-1] = (step, steps[-1][1], steps[-1][2] + len(idx))
-        else:
-            steps.append((step, start, len(idx)))
-        start += len(idx)
+    for item in geometry.items:
+        parts = []
+        if item.fill is not None and item.closed:
+            idx = triangulator.fill(item)
+            if len(idx):
+                parts.append((item.vertices[idx], item.fill, False))
+        if item.stroke is not None and item.width > 0:
+            corners = stroke_triangles(item.vertices, item.width, item.closed, item.edge_visible)
+            if len(corners):
+                parts.append((corners, item.stroke, True))
+        for corners, color, stroke in parts:
+            mode = _mode(item, stroke)
+            group = item.mask_write if mode == "write" else (item.mask_test or 0)
+            block = np.empty((len(corners), _FLOATS_PER_VERTEX), dtype=np.float32)
+            block[:, :2] = corners
+            block[:, 2] = mask_depth(group) if group else _CLEAR_DEPTH
+            block[:, 3:] = color
+            chunks.append(block)
+            if runs and runs[-1][0] == mode:
+                runs[-1] = (mode, runs[-1][1], runs[-1][2] + len(corners))
+            else:
+                runs.append((mode, start, len(corners)))
+            start += len(corners)
     if not chunks:
         return np.empty((0, _FLOATS_PER_VERTEX), dtype=np.float32), []
-    return np.concatenate(chunks), steps
+    return np.concatenate(chunks), runs
 
 
 class Renderer:
@@ -102,6 +155,7 @@ class Renderer:
         if min(self.size) < 1 or max(self.size) > 8192:
             raise ValueError(f"frame size must be 1..8192 pixels per side, got {self.size}")
         self.samples = min(max(samples, 0), ctx.max_samples) if samples > 1 else 0
+        self.triangulator = Triangulator()
         self._objects: list = []
         self.program = self._own(ctx.program(vertex_shader=_VERTEX_SHADER, fragment_shader=_FRAGMENT_SHADER))
         self._capacity = 0
@@ -140,7 +194,7 @@ class Renderer:
         """Draw one frame; returns RGB ``uint8`` of shape ``(height, width, 3)``, row 0 at the top."""
         if self._closed:
             raise RuntimeError("renderer is closed")
-        data, steps = triangles_of(geometry)
+        data, runs = triangles_of(geometry, self.triangulator)
         self.set_view(geometry.viewbox)
         self.fbo.use()
         self.fbo.clear(*geometry.background[:3], 1.0, depth=_CLEAR_DEPTH)
@@ -148,18 +202,18 @@ class Renderer:
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         if len(data):
             self._upload(data)
-        for step, first, count in steps:
-            self._depth_state(step)
+        for mode, first, count in runs:
+            self._depth_state(mode)
             self.vao.render(moderngl.TRIANGLES, vertices=count, first=first)
         self.fbo.depth_mask = True
         self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
         return self.read()
 
-    def _depth_state(self, step: str) -> None:
+    def _depth_state(self, mode: str) -> None:
         """Depth as the mask of A1.2.2 (see the module docstring)."""
-        if step == "hole":
+        if mode == "write":
             self.ctx.depth_func, self.fbo.depth_mask = "1", True  # always pass, write the group
-        elif step in ("pupil", "face"):
+        elif mode == "test":
             self.ctx.depth_func, self.fbo.depth_mask = "==", False  # own group / no hole
         else:
             self.ctx.depth_func, self.fbo.depth_mask = "1", False

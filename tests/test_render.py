@@ -5,14 +5,16 @@ import pytest
 
 from player import Renderer
 from player.renderer import triangulate
-from toon import DrawPolygon, FaceRig, Geometry, load_face, motor_index, rasterize_polygon, render_cpu, standard_neutral
+from toon import DrawItem, FaceRig, Geometry, load_face, motor_index, rasterize_polygon, render_cpu, standard_neutral
 
 VIEW = (0.0, 0.0, 16.0, 16.0)
 WHITE = (1.0, 1.0, 1.0, 1.0)
 
 
 def _poly(vertices, color, kind="free", mask=0):
-    return DrawPolygon(np.asarray(vertices, dtype=float), color, kind, mask)
+    write = mask if kind == "hole" else 0
+    test = mask if kind == "pupil" else (0 if kind == "face" else None)
+    return DrawItem(np.asarray(vertices, dtype=float), color, kind=kind, mask_write=write, mask_test=test)
 
 
 def test_a_concave_polygon_fills_exactly_like_the_cpu(ctx):

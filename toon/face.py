@@ -1,4 +1,4 @@
-"""Face files: the ToonFace face description, versioned JSON, validated on load.
+"""Face files: the ToonFace face description plus CharToon components, versioned JSON.
 
 A face (``"format": "toonface.face/1"``) holds:
 
@@ -6,30 +6,35 @@ A face (``"format": "toonface.face/1"``) holds:
   character's right is on the viewer's left;
 - ``points``: the rest position of every control point (:data:`CONTROL_POINTS`); the face is
   drawn at rest, so a motor's neutral value is where its point rests within its range;
-- ``motors``: ``[min, max]`` for each of the 21 motors: the coordinate of its point at value 0
-  and 1 (degrees for the head motors HH and HV);
+- ``motors``: ``[min, max]`` for each of the 21 motors (A1.2.1): the coordinate of its point at
+  value 0 and 1, except that the pupils' and the head's limits are in degrees, (0, 0) straight
+  out of the screen, left and up positive: a pupil moves ``eyes.radius * sin(angle)`` from its
+  rest point and narrows by ``cos(angle)``;
 - ``head``: ``pivot`` of the head turn and ``feature_depth``, how far features stand in front of
-  the outline (see :mod:`toon.rig`);
-- ``polygons``: filled polygons with a ``kind`` that fixes how they move and when they are drawn
-  (A1.2.2): ``hole`` (attached to an eye or the mouth), ``pupil`` (moves with PR or PL, clipped
-  to its eye's holes), ``face`` (exactly one, drawn minus the holes), ``free`` (never moves),
-  ``point`` (two states interpolated by one motor, A1.5-A1.6), ``feature`` (follows a feature's
-  control-point lines, A1.1-A1.4).
+  the outline (see :mod:`toon.rig`); ``eyes``: ``radius`` of the eyeballs;
+- ``polygons``: ToonFace's filled polygons, each with a ``kind`` that fixes how it moves and when
+  it is drawn (A1.2.2) and what ``attach`` names: ``hole`` (a feature: an eye or the mouth),
+  ``pupil`` (its control point, PR or PL; clipped to its eye's holes), ``face`` (at most one,
+  drawn minus the holes), ``free`` (never moves), ``point`` (a motor; two states ``vertices``
+  at 0 and ``vertices_max`` at 1, A1.5-A1.6), ``feature`` (a feature; follows its control-point
+  lines, A1.1-A1.4); optional ``stroke`` colour and ``width`` draw its outline;
+- ``components``: CharToon's components (:mod:`toon.components`), drawn in their layers.
 """
 
 from __future__ import annotations
 
 import json
 import os
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from common import InputError, atomic_path, builtin_names, read_document, resolve_builtin
-from toon.motors import MOTORS, MOTOR_CODES
+from common import atomic_path, builtin_names, read_document, resolve_builtin
+from toon.components import Component, ComponentParser, flatten
+from toon.motors import MOTOR_CODES, MOTORS
+from toon.validate import Color, Validator, Vertices, format_color
 
 FORMAT = "toonface.face/1"
 
@@ -47,9 +52,8 @@ CONTROL_POINTS: tuple[str, ...] = tuple(p for pts, _ in FEATURES.values() for p 
 #: Drawing order of A1.2.2.
 KINDS: tuple[str, ...] = ("hole", "pupil", "face", "free", "point", "feature")
 HOLE_FEATURES: tuple[str, ...] = ("eye_right", "eye_left", "mouth")
-
-Color = tuple[float, float, float, float]
-Vertices = tuple[tuple[float, float], ...]
+#: Motors whose limits are angles in degrees (A1.2.1: "for the eyes and head").
+ANGLE_MOTORS: tuple[str, ...] = ("PLH", "PLV", "PRH", "PRV", "HH", "HV")
 
 
 @dataclass(frozen=True)
@@ -60,11 +64,11 @@ class PolygonSpec:
     color: Color
     vertices: Vertices
     name: str = ""
-    feature: str = ""  # hole, feature
-    point: str = ""  # pupil
-    motor: str = ""  # point
+    attach: str = ""  # hole, feature: a feature; pupil: PR or PL; point: a motor
     vertices_max: Vertices = ()  # point: the state at motor value 1 (``vertices`` is value 0)
     depth: float | None = None  # head parallax; None = the face's default for the kind
+    stroke: Color | None = None
+    width: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -79,15 +83,21 @@ class Face:
     polygons: tuple[PolygonSpec, ...]
     head_pivot: tuple[float, float] = (0.0, 0.0)
     feature_depth: float = 0.0
+    eye_radius: float = 0.0
+    components: tuple[Component, ...] = ()
     description: str = ""
     meta: dict = field(default_factory=dict, compare=False)
+
+    def basic_components(self) -> list[Component]:
+        """Every basic component, composites expanded and placed, in file order."""
+        return flatten(self.components)
 
     def neutral(self) -> np.ndarray:
         """Motor values at which the face shows its rest drawing, shape ``(21,)``."""
         out = np.empty(len(MOTORS))
         for i, m in enumerate(MOTORS):
             lo, hi = self.ranges[m.code]
-            rest = 0.0 if m.point == "HEAD" else self.points[m.point][0 if m.axis == "x" else 1]
+            rest = 0.0 if m.code in ANGLE_MOTORS else self.points[m.point][0 if m.axis == "x" else 1]
             out[i] = (rest - lo) / (hi - lo)
         return out
 
@@ -98,24 +108,29 @@ class Face:
             d: dict[str, Any] = {"kind": p.kind}
             if p.name:
                 d["name"] = p.name
-            for key in ("feature", "point", "motor"):
-                if getattr(p, key):
-                    d[key] = getattr(p, key)
-            d["color"] = _format_color(p.color)
+            if p.attach:
+                d["attach"] = p.attach
+            d["color"] = format_color(p.color)
+            if p.stroke is not None:
+                d["stroke"], d["width"] = format_color(p.stroke), p.width
             if p.depth is not None:
                 d["depth"] = p.depth
             d["vertices"] = [list(v) for v in p.vertices]
             if p.vertices_max:
                 d["vertices_max"] = [list(v) for v in p.vertices_max]
             polys.append(d)
-        return {
+        doc = {
             "format": FORMAT, "name": self.name, "description": self.description,
-            "viewbox": list(self.viewbox), "background": _format_color(self.background),
+            "viewbox": list(self.viewbox), "background": format_color(self.background),
             "head": {"pivot": list(self.head_pivot), "feature_depth": self.feature_depth},
+            "eyes": {"radius": self.eye_radius},
             "points": {k: list(v) for k, v in self.points.items()},
             "motors": {k: list(v) for k, v in self.ranges.items()},
             "polygons": polys,
         }
+        if self.components:
+            doc["components"] = [c.to_dict() for c in self.components]
+        return doc
 
 
 def builtin_faces() -> list[str]:
@@ -140,23 +155,28 @@ def save_face(face: Face, path: str | os.PathLike) -> Path:
 
 def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     """Validate a face document; errors name ``source`` and the path of the bad field."""
-    v = _Validator(source)
+    v = Validator(source)
     v.require(isinstance(doc, dict), "a face file must hold a JSON object", "")
     v.require(doc.get("format") == FORMAT, f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")',
               "format")
+    v.fields(doc, {"format", "name", "description", "viewbox", "background", "head", "eyes", "points", "motors",
+                   "polygons", "components"}, "", "a face")
     v.require(isinstance(doc.get("points"), dict), "missing object", "points")
-    points = {name: v.point(doc["points"].get(name), f"points.{name}") for name in CONTROL_POINTS}
+    for name in CONTROL_POINTS:
+        v.require(name in doc["points"], "missing control point", f"points.{name}")
+    points = {name: v.point(doc["points"][name], f"points.{name}") for name in CONTROL_POINTS}
     extra = sorted(set(doc["points"]) - set(CONTROL_POINTS))
     v.require(not extra, f"unknown control point(s) {extra} (known: {' '.join(CONTROL_POINTS)})", "points")
     v.require(isinstance(doc.get("motors"), dict), "missing object", "motors")
-    ranges = {code: v.motor_range(doc["motors"].get(code), f"motors.{code}") for code in MOTOR_CODES}
+    ranges = {code: _motor_range(v, doc["motors"].get(code), f"motors.{code}") for code in MOTOR_CODES}
     extra = sorted(set(doc["motors"]) - set(MOTOR_CODES))
     v.require(not extra, f"unknown motor(s) {extra}", "motors")
     for m in MOTORS:
         lo, hi = ranges[m.code]
         where = f"motors.{m.code}"
-        if m.point == "HEAD":
-            v.require(lo < 0 < hi, f"head range must run from negative to positive degrees, got [{lo}, {hi}]", where)
+        if m.code in ANGLE_MOTORS:
+            v.require(lo < 0 < hi and hi - lo <= 180,
+                      f"an angle range runs from negative to positive degrees, within 180, got [{lo}, {hi}]", where)
             continue
         v.require(np.sign(hi - lo) == m.increasing,
                   f"[min, max] = [{lo}, {hi}] runs the wrong way: value 1 must be "
@@ -167,100 +187,76 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     viewbox = tuple(v.numbers(doc.get("viewbox"), 4, "viewbox"))
     v.require(viewbox[2] > viewbox[0] and viewbox[3] > viewbox[1], "must be [xmin, ymin, xmax, ymax]", "viewbox")
     head = doc.get("head", {})
-    v.require(isinstance(head, dict), "must be an object", "head")
-    raw_polys = doc.get("polygons")
-    v.require(isinstance(raw_polys, list) and raw_polys, "must be a non-empty list", "polygons")
-    polygons = tuple(v.polygon(p, f"polygons[{i}]") for i, p in enumerate(raw_polys))
+    v.fields(head, {"pivot", "feature_depth"}, "head", "head")
+    eyes = doc.get("eyes", {})
+    v.fields(eyes, {"radius"}, "eyes", "eyes")
+    raw_polys = doc.get("polygons", [])
+    v.require(isinstance(raw_polys, list), "must be a list", "polygons")
+    polygons = tuple(_polygon(v, p, f"polygons[{i}]") for i, p in enumerate(raw_polys))
     n_face = sum(p.kind == "face" for p in polygons)
-    v.require(n_face == 1, f"a face needs exactly one polygon of kind \"face\", found {n_face}", "polygons")
+    v.require(n_face <= 1, f'a face has at most one polygon of kind "face", found {n_face}', "polygons")
     names = [p.name for p in polygons if p.name]
     v.require(len(names) == len(set(names)), "polygon names must be unique", "polygons")
+    parser = ComponentParser(CONTROL_POINTS, HOLE_FEATURES, Path(source).parent if source is not None else None)
+    components = parser.parse_list(doc.get("components", []), v, "components")
+    v.require(bool(polygons) or bool(components), "a face needs at least one polygon or component", "polygons")
     return Face(
         name=str(doc.get("name") or Path(source or "face").stem), viewbox=viewbox,  # type: ignore[arg-type]
         background=v.color(doc.get("background", "#ffffff"), "background"),
         points=points, ranges=ranges, polygons=polygons,
         head_pivot=tuple(v.numbers(head.get("pivot", [0, 0]), 2, "head.pivot")),  # type: ignore[arg-type]
-        feature_depth=v.numbers([head.get("feature_depth", 0.0)], 1, "head.feature_depth")[0],
+        feature_depth=v.number(head.get("feature_depth", 0.0), "head.feature_depth"),
+        eye_radius=v.number(eyes.get("radius", 0.0), "eyes.radius", 0.0),
+        components=components,
         description=str(doc.get("description", "")),
         meta={} if source is None else {"source": str(source)},
     )
 
 
-_HEX = re.compile(r"^#([0-9a-fA-F]{6})([0-9a-fA-F]{2})?$")
+def _motor_range(v: Validator, value: Any, where: str) -> tuple[float, float]:
+    v.require(value is not None, "missing motor range [min, max]", where)
+    lo, hi = v.numbers(value, 2, where)
+    v.require(lo != hi, f"min and max are both {lo}", where)
+    return (lo, hi)
 
 
-def _format_color(c: Color) -> str:
-    rgb = "".join(f"{round(x * 255):02x}" for x in c[:3])
-    return f"#{rgb}" if c[3] >= 1.0 else f"#{rgb}{round(c[3] * 255):02x}"
-
-
-class _Validator:
-    """Checks pieces of a face document, raising :class:`InputError` with the field's path."""
-
-    def __init__(self, source: str | os.PathLike | None) -> None:
-        self.source = source
-
-    def require(self, ok: bool, message: str, where: str) -> None:
-        if not ok:
-            raise InputError(message, self.source, where or None)
-
-    def numbers(self, value: Any, n: int, where: str) -> list[float]:
-        ok = (isinstance(value, list) and len(value) == n
-              and all(isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x) for x in value))
-        self.require(ok, f"expected {n} finite number{'s' if n > 1 else ''}, got {value!r}", where)
-        return [float(x) for x in value]
-
-    def point(self, value: Any, where: str) -> tuple[float, float]:
-        self.require(value is not None, "missing control point", where)
-        x, y = self.numbers(value, 2, where)
-        return (x, y)
-
-    def motor_range(self, value: Any, where: str) -> tuple[float, float]:
-        self.require(value is not None, "missing motor range [min, max]", where)
-        lo, hi = self.numbers(value, 2, where)
-        self.require(lo != hi, f"min and max are both {lo}", where)
-        return (lo, hi)
-
-    def color(self, value: Any, where: str) -> Color:
-        m = _HEX.match(value) if isinstance(value, str) else None
-        self.require(m is not None, f'expected a colour "#rrggbb" or "#rrggbbaa", got {value!r}', where)
-        rgb = m.group(1)  # type: ignore[union-attr]
-        alpha = int(m.group(2), 16) / 255 if m.group(2) else 1.0  # type: ignore[union-attr]
-        return (int(rgb[0:2], 16) / 255, int(rgb[2:4], 16) / 255, int(rgb[4:6], 16) / 255, alpha)
-
-    def vertices(self, value: Any, where: str) -> Vertices:
-        self.require(isinstance(value, list) and len(value) >= 3, "a polygon needs a list of at least 3 [x, y]",
-                     where)
-        return tuple(tuple(self.numbers(p, 2, f"{where}[{i}]")) for i, p in enumerate(value))  # type: ignore[misc]
-
-    def polygon(self, p: Any, where: str) -> PolygonSpec:
-        self.require(isinstance(p, dict), "must be an object", where)
-        kind = p.get("kind")
-        self.require(kind in KINDS, f"unknown kind {kind!r} (one of {', '.join(KINDS)})", f"{where}.kind")
-        allowed = {"kind", "name", "color", "vertices", "depth"} | {
-            "hole": {"feature"}, "feature": {"feature"}, "pupil": {"point"},
-            "point": {"motor", "vertices_max"}}.get(kind, set())
-        extra = sorted(set(p) - allowed)
-        self.require(not extra, f"unexpected field(s) {extra} for a {kind} polygon", where)
-        spec: dict[str, Any] = {"kind": kind, "name": str(p.get("name", "")),
-                                "color": self.color(p.get("color"), f"{where}.color"),
-                                "vertices": self.vertices(p.get("vertices"), f"{where}.vertices")}
-        if "depth" in p:
-            spec["depth"] = self.numbers([p["depth"]], 1, f"{where}.depth")[0]
-        if kind in ("hole", "feature"):
-            options = HOLE_FEATURES if kind == "hole" else tuple(FEATURES)
-            self.require(p.get("feature") in options,
-                         f'unknown feature {p.get("feature")!r} (one of {", ".join(options)})', f"{where}.feature")
-            spec["feature"] = p["feature"]
-        elif kind == "pupil":
-            self.require(p.get("point") in PUPIL_EYES,
-                         f'unknown control point {p.get("point")!r} for a pupil (PR or PL)', f"{where}.point")
-            spec["point"] = p["point"]
-        elif kind == "point":
-            self.require(p.get("motor") in MOTOR_CODES, f'unknown motor {p.get("motor")!r}', f"{where}.motor")
-            spec["motor"] = p["motor"]
-            spec["vertices_max"] = self.vertices(p.get("vertices_max"), f"{where}.vertices_max")
-            self.require(len(spec["vertices_max"]) == len(spec["vertices"]),
-                         f"vertices_max has {len(spec['vertices_max'])} points, vertices {len(spec['vertices'])}",
-                         f"{where}.vertices_max")
-        return PolygonSpec(**spec)
+def _polygon(v: Validator, p: Any, where: str) -> PolygonSpec:
+    v.require(isinstance(p, dict), "must be an object", where)
+    kind = v.choice(p.get("kind"), KINDS, f"{where}.kind", "kind")
+    attached = kind in ("hole", "feature", "pupil", "point")
+    allowed = {"kind", "name", "color", "vertices", "depth", "stroke", "width"}
+    allowed |= {"attach"} if attached else set()
+    allowed |= {"vertices_max"} if kind == "point" else set()
+    v.fields(p, allowed, where, f"a {kind} polygon")
+    spec: dict[str, Any] = {"kind": kind, "name": str(p.get("name", "")),
+                            "color": v.color(p.get("color"), f"{where}.color"),
+                            "vertices": v.vertices(p.get("vertices"), f"{where}.vertices")}
+    if "depth" in p:
+        spec["depth"] = v.number(p["depth"], f"{where}.depth")
+    if "stroke" in p:
+        spec["stroke"] = v.color(p["stroke"], f"{where}.stroke")
+        spec["width"] = v.number(p.get("width"), f"{where}.width", 0.0, 1e4)
+    else:
+        v.require("width" not in p, "a width needs a stroke colour", f"{where}.width")
+    attach = p.get("attach")
+    if kind in ("hole", "feature"):
+        options = HOLE_FEATURES if kind == "hole" else tuple(FEATURES)
+        spec["attach"] = v.choice(attach, options, f"{where}.attach", "feature")
+    elif kind == "pupil":
+        v.require(attach in PUPIL_EYES, f'unknown control point "{attach}" for a pupil (PR or PL)', f"{where}.attach")
+        spec["attach"] = attach
+    elif kind == "point":
+        if isinstance(attach, str) and attach in CONTROL_POINTS and attach not in MOTOR_CODES:
+            moving = [m.code for m in MOTORS if m.point == attach]
+            v.require(False, f'control point "{attach}" ' + (f"moves in 2-D: attach to one of its motors {moving}"
+                      if moving else "never moves: use a free polygon"), f"{where}.attach")
+        v.require(attach in MOTOR_CODES, f'unknown control point "{attach}" (a point polygon attaches to a '
+                  f'motor: {" ".join(MOTOR_CODES)})', f"{where}.attach")
+        spec["attach"] = attach
+        spec["vertices_max"] = v.vertices(p.get("vertices_max"), f"{where}.vertices_max")
+        v.require(len(spec["vertices_max"]) == len(spec["vertices"]),
+                  f"vertices_max has {len(spec['vertices_max'])} points, vertices {len(spec['vertices'])}",
+                  f"{where}.vertices_max")
+        v.not_degenerate(spec["vertices_max"], f"{where}.vertices_max")
+    v.not_degenerate(spec["vertices"], f"{where}.vertices")
+    return PolygonSpec(**spec)

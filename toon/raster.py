@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from toon.curves import stroke_triangles
 from toon.rig import Geometry
 
 
@@ -79,12 +80,26 @@ def rasterize_polygon(vertices: np.ndarray, shape: tuple[int, int]) -> np.ndarra
     return (count % 2) == 1
 
 
+def rasterize_triangles(corners: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Pixels whose centres lie inside any of the triangles ``corners`` ``(3 * T, 2)`` (pixels)."""
+    out = np.zeros(shape, dtype=bool)
+    for tri in corners.reshape(-1, 3, 2):
+        lo = np.maximum(np.floor(tri.min(axis=0) - 0.5).astype(int), 0)
+        hi = np.minimum(np.ceil(tri.max(axis=0) + 0.5).astype(int), [shape[1], shape[0]])
+        if (hi <= lo).any():
+            continue
+        local = rasterize_polygon(tri - lo, (hi[1] - lo[1], hi[0] - lo[0]))
+        out[lo[1]:hi[1], lo[0]:hi[0]] |= local
+    return out
+
+
 def render_cpu(geometry: Geometry, size: tuple[int, int]) -> np.ndarray:
     """Draw one frame on the CPU, without antialiasing: the GL renderer's oracle.
 
     Follows the same drawing order and masking (A1.2.2): holes open their mask group, pupils
-    are drawn only inside their group, the face polygon everywhere except in holes, the rest
-    everywhere. Colours are alpha-blended over the background.
+    and clipped components are drawn only inside their group, the face polygon everywhere except
+    in holes, the rest everywhere. Fills use the even-odd rule; strokes are the triangles of
+    :func:`toon.curves.stroke_triangles`. Colours are alpha-blended over the background.
 
     Returns
     -------
@@ -94,14 +109,21 @@ def render_cpu(geometry: Geometry, size: tuple[int, int]) -> np.ndarray:
     image = np.empty((height, width, 3))
     image[:] = geometry.background[:3]
     groups = np.zeros((height, width), dtype=np.int32)
-    for poly in geometry.polygons:
-        inside = rasterize_polygon(to_pixels(poly.vertices, geometry.viewbox, size), (height, width))
-        if poly.kind == "hole":
-            groups[inside] = poly.mask
-        elif poly.kind == "pupil":
-            inside &= groups == poly.mask
-        elif poly.kind == "face":
-            inside &= groups == 0
-        alpha = poly.color[3]
-        image[inside] = image[inside] * (1 - alpha) + np.asarray(poly.color[:3]) * alpha
+    scale = fit_viewbox(geometry.viewbox, size)[0]
+    for item in geometry.items:
+        pixels = to_pixels(item.vertices, geometry.viewbox, size)
+        allowed = np.ones((height, width), dtype=bool) if item.mask_test is None else groups == item.mask_test
+        if item.fill is not None and item.closed:
+            inside = rasterize_polygon(pixels, (height, width))
+            if item.mask_write:
+                groups[inside] = item.mask_write
+            _blend(image, inside & allowed, item.fill)
+        if item.stroke is not None and item.width > 0:
+            corners = stroke_triangles(pixels, item.width * scale, item.closed, item.edge_visible)
+            _blend(image, rasterize_triangles(corners, (height, width)) & allowed, item.stroke)
     return np.clip(np.round(image * 255), 0, 255).astype(np.uint8)
+
+
+def _blend(image: np.ndarray, where: np.ndarray, color: tuple[float, float, float, float]) -> None:
+    alpha = color[3]
+    image[where] = image[where] * (1 - alpha) + np.asarray(color[:3]) * alpha

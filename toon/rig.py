@@ -10,6 +10,15 @@ at rest cannot carry a binding (A1.1 divides by ``h1 - h0``); vertices go to the
 
 Point-attached vertices (A1.5-A1.6): ``V = V_min + P_CTRL * (V_max - V_min)``.
 
+Pupils: a pupil's control point sits ``eyes.radius * sin(angle)`` from its rest position for the
+gaze angles of its two motors, and its polygons narrow by ``cos(angle)`` about that point, as the
+disc of a turning eyeball would.
+
+Drawing order: background layers -10..-1 (CharToon components that never move), then A1.2.2's
+six steps (holes, pupils, the face polygon minus the holes, free, point- and feature-attached
+polygons), then foreground layers 1..10; file order within each. CharToon components are
+evaluated by :mod:`toon.components` and :mod:`toon.skeleton`.
+
 Head turns (HH, HV). A 2-D face has no 3-D head, so each polygon is given a depth ``z`` in front
 of the outline (the face's ``feature_depth`` for holes, pupils, point- and feature-attached
 polygons; 0 for the face polygon and free polygons, unless a polygon sets its own). Polygons at
@@ -27,47 +36,70 @@ from dataclasses import dataclass
 import numpy as np
 
 from common import InputError
-from toon.face import FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
+from toon.components import Component
+from toon.curves import ellipse_operator, outline_operator
+from toon.face import ANGLE_MOTORS, FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
 from toon.motors import MOTORS, N_MOTORS, motor_index
+from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
+from toon.validate import Color
 
-#: Mask groups: holes write their group, pupils draw only inside their eye's group.
+#: Mask groups: holes write their group; pupils and clipped components draw only inside it.
 MASK_GROUPS: dict[str, int] = {name: i + 1 for i, name in enumerate(HOLE_FEATURES)}
 
 
 @dataclass(frozen=True)
-class DrawPolygon:
-    """A polygon ready to fill.
+class DrawItem:
+    """One thing to draw: an outline, filled and/or stroked.
 
     Attributes
     ----------
     vertices : ndarray, shape (N, 2)
-        Face units, y up.
-    color : tuple of 4 float
-        RGBA in ``[0, 1]``.
+        The outline in face units, y up.
+    fill, stroke : RGBA tuple or None
+        Colours in ``[0, 1]``; ``None`` draws no fill or no stroke.
+    width : float
+        Stroke width in face units.
+    closed : bool
+        Whether the outline closes (only closed outlines are filled).
+    edge_visible : ndarray of bool or None
+        Per stroked edge (``N`` closed, ``N - 1`` open), whether it is drawn; ``None``: all.
     kind : str
-        Its drawing step (A1.2.2).
-    mask : int
-        For holes, the mask group they open; for pupils, the group they are clipped to; else 0.
+        Its A1.2.2 step (``hole``, ``pupil``, ``face``, ``free``, ``point``, ``feature``) or
+        ``component``.
+    mask_write : int
+        Mask group a hole opens (0: none).
+    mask_test : int or None
+        Draw only where the mask is this group (0: where no hole is); ``None``: everywhere.
+    key : int
+        The item's place in its face's drawing order, stable from frame to frame.
+    name : str
     """
 
     vertices: np.ndarray
-    color: tuple[float, float, float, float]
-    kind: str
-    mask: int = 0
+    fill: Color | None
+    stroke: Color | None = None
+    width: float = 0.0
+    closed: bool = True
+    edge_visible: np.ndarray | None = None
+    kind: str = "free"
+    mask_write: int = 0
+    mask_test: int | None = None
+    key: int = 0
+    name: str = ""
 
 
 @dataclass(frozen=True)
 class Geometry:
-    """One frame of a face: polygons in drawing order plus the view."""
+    """One frame of a face: items in drawing order plus the view."""
 
-    polygons: tuple[DrawPolygon, ...]
+    items: tuple[DrawItem, ...]
     viewbox: tuple[float, float, float, float]
-    background: tuple[float, float, float, float]
+    background: Color
 
     @property
     def vertex_count(self) -> int:
-        """Total polygon vertices."""
-        return sum(len(p.vertices) for p in self.polygons)
+        """Total outline vertices."""
+        return sum(len(p.vertices) for p in self.items)
 
 
 @dataclass(frozen=True)
@@ -92,7 +124,7 @@ def bind_to_lines(vertices: np.ndarray, line_points: np.ndarray, closed: bool) -
         Whether a line also joins the last point to the first.
     """
     k = len(line_points)
-    starts = np.arange(k if closed else k - 1)
+    starts = np.arange(k if closed and k > 2 else k - 1)
     ends = (starts + 1) % k
     h0, v0 = line_points[starts, 0], line_points[starts, 1]
     h1, v1 = line_points[ends, 0], line_points[ends, 1]
@@ -141,16 +173,34 @@ def head_turn(vertices: np.ndarray, depth: float, pivot: np.ndarray, yaw_deg: fl
 
 
 @dataclass(frozen=True)
-class _Prepared:
-    """A polygon's rest vertices plus what moves them."""
+class _Polygon:
+    """A ToonFace polygon's rest vertices plus what moves it."""
 
     spec: PolygonSpec
     rest: np.ndarray
     depth: float
-    mask: int
-    line_rows: np.ndarray | None
-    binding: _FeatureBinding | None
-    v_max: np.ndarray | None
+    mask_write: int
+    mask_test: int | None
+    line_rows: np.ndarray | None = None
+    binding: _FeatureBinding | None = None
+    v_max: np.ndarray | None = None
+    pupil_row: int = -1
+
+
+@dataclass(frozen=True)
+class _Component:
+    """A basic CharToon component bound for animation (see :mod:`toon.components`)."""
+
+    spec: Component
+    rows: np.ndarray  # (N,) control-point row per defining point; -1 for frozen and fixed points
+    offset: np.ndarray  # (N, 2) added to that row's position (or to zero)
+    depth: float
+    mask_test: int | None
+    operator: np.ndarray | None  # (S, N) outline operator; None: the points themselves
+    edge_visible: np.ndarray | None
+    body_rest: np.ndarray | None = None
+    skeleton_rest: np.ndarray | None = None
+    coupling: PointCoupling | EdgeCoupling | None = None
 
 
 class FaceRig:
@@ -167,66 +217,161 @@ class FaceRig:
         self._rest = np.array([face.points[n] for n in self._point_names], dtype=np.float64)
         self._index = {n: i for i, n in enumerate(self._point_names)}
         self._driven = [(motor_index(m.code), self._index[m.point], 0 if m.axis == "x" else 1,
-                         *face.ranges[m.code]) for m in MOTORS if m.point != "HEAD"]
+                         *face.ranges[m.code]) for m in MOTORS if m.code not in ANGLE_MOTORS]
+        self._gaze = [(motor_index(m.code), self._index[m.point], 0 if m.axis == "x" else 1,
+                       *face.ranges[m.code]) for m in MOTORS if m.code in ANGLE_MOTORS and m.point != "HEAD"]
         self._head = [face.ranges["HH"], face.ranges["HV"]]
         self._pivot = np.array(face.head_pivot)
         order = sorted(range(len(face.polygons)), key=lambda i: KINDS.index(face.polygons[i].kind))  # stable
-        self._polygons = [self._prepare(face.polygons[i], i) for i in order]
+        polygons = [self._prepare_polygon(face.polygons[i], i) for i in order]
+        components = [self._prepare_component(c, i) for i, c in enumerate(face.basic_components())]
+        back = sorted((c for c in components if c.spec.layer < 0), key=lambda c: c.spec.layer)
+        front = sorted((c for c in components if c.spec.layer > 0), key=lambda c: c.spec.layer)
+        self._order: list[_Polygon | _Component] = [*back, *polygons, *front]
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
         pts = self._rest.copy()
         for col, row, axis, lo, hi in self._driven:
             pts[row, axis] = lo + values[col] * (hi - lo)
+        radius = self.face.eye_radius
+        for col, row, axis, lo, hi in self._gaze:
+            pts[row, axis] += radius * np.sin(np.radians(lo + values[col] * (hi - lo)))
         return pts
 
+    def gaze_degrees(self, values: np.ndarray, point: str) -> tuple[float, float]:
+        """Horizontal and vertical gaze angles of pupil ``point`` (PR or PL) in degrees."""
+        side = "R" if point == "PR" else "L"
+        h, v = (self._lerp(self.face.ranges[f"P{side}{a}"], values[motor_index(f"P{side}{a}")]) for a in "HV")
+        return h, v
+
     def geometry(self, values: np.ndarray) -> Geometry:
-        """The polygons of one frame, in drawing order, for motor values of shape ``(21,)``."""
+        """The items of one frame, in drawing order, for motor values of shape ``(21,)``."""
         values = np.asarray(values, dtype=np.float64)
         if values.shape != (N_MOTORS,):
             raise ValueError(f"expected {N_MOTORS} motor values, got shape {values.shape}")
         pts = self.control_points(values)
+        moved = np.vstack([pts, np.zeros((1, 2))])  # row -1: the origin, for frozen and fixed points
         yaw = self._lerp(self._head[0], values[motor_index("HH")])
         pitch = self._lerp(self._head[1], values[motor_index("HV")])
+        squash = {p: np.cos(np.radians(self.gaze_degrees(values, p))) for p in PUPIL_EYES}
         out = []
-        for prep in self._polygons:
-            spec = prep.spec
-            if prep.binding is not None:
-                verts = follow_lines(prep.binding, pts[prep.line_rows])
-            elif spec.kind == "pupil":
-                row = self._index[spec.point]
-                verts = prep.rest + (pts[row] - self._rest[row])
-            elif prep.v_max is not None:
-                verts = interpolate_states(prep.rest, prep.v_max, values[motor_index(spec.motor)])
+        for key, prep in enumerate(self._order):
+            if isinstance(prep, _Polygon):
+                item = self._polygon_item(prep, pts, values, squash, key)
             else:
-                verts = prep.rest
+                item = self._component_item(prep, moved, values, key)
+                if item is None:
+                    continue
             if prep.depth and (yaw or pitch):
-                verts = head_turn(verts, prep.depth, self._pivot, yaw, pitch)
-            out.append(DrawPolygon(verts, spec.color, spec.kind, prep.mask))
+                item = _with_vertices(item, head_turn(item.vertices, prep.depth, self._pivot, yaw, pitch))
+            out.append(item)
         return Geometry(tuple(out), self.face.viewbox, self.face.background)
+
+    def _polygon_item(self, prep: _Polygon, pts: np.ndarray, values: np.ndarray,
+                      squash: dict[str, np.ndarray], key: int) -> DrawItem:
+        spec = prep.spec
+        if prep.binding is not None:
+            verts = follow_lines(prep.binding, pts[prep.line_rows])
+        elif prep.pupil_row >= 0:
+            centre = self._rest[prep.pupil_row]
+            verts = centre + (prep.rest - centre) * squash[spec.attach] + (pts[prep.pupil_row] - centre)
+        elif prep.v_max is not None:
+            verts = interpolate_states(prep.rest, prep.v_max, values[motor_index(spec.attach)])
+        else:
+            verts = prep.rest
+        return DrawItem(verts, spec.color, spec.stroke, spec.width, True, None, spec.kind, prep.mask_write,
+                        prep.mask_test, key, spec.name)
+
+    def _component_item(self, prep: _Component, moved: np.ndarray, values: np.ndarray, key: int
+                        ) -> DrawItem | None:
+        spec = prep.spec
+        if spec.visible is not None:
+            v = values[motor_index(spec.visible.motor)]
+            if not spec.visible.low <= v <= spec.visible.high:
+                return None
+        pts = moved[prep.rows] + prep.offset
+        if prep.coupling is not None:
+            pts = prep.coupling.apply(prep.body_rest, prep.skeleton_rest, pts)
+        if prep.operator is not None:
+            pts = prep.operator @ pts
+        if spec.scale is not None:
+            factor = np.asarray(spec.scale.at0) + values[motor_index(spec.scale.motor)] * (
+                np.asarray(spec.scale.at1) - spec.scale.at0)
+            pts = np.asarray(spec.scale.origin) + (pts - spec.scale.origin) * factor
+        if spec.translate is not None:
+            pts = pts + np.asarray(spec.translate.at0) + values[motor_index(spec.translate.motor)] * (
+                np.asarray(spec.translate.at1) - spec.translate.at0)
+        return DrawItem(pts, spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible, "component", 0,
+                        prep.mask_test, key, spec.name)
 
     @staticmethod
     def _lerp(bounds: tuple[float, float], value: float) -> float:
         return bounds[0] + value * (bounds[1] - bounds[0])
 
-    def _prepare(self, spec: PolygonSpec, index: int) -> _Prepared:
+    def _prepare_polygon(self, spec: PolygonSpec, index: int) -> _Polygon:
         rest = np.array(spec.vertices, dtype=np.float64)
         flat = spec.kind in ("face", "free")
         depth = spec.depth if spec.depth is not None else (0.0 if flat else self.face.feature_depth)
-        line_rows = binding = v_max = None
-        mask = 0
+        extra: dict = {}
+        mask_write, mask_test = 0, None
         if spec.kind in ("hole", "feature"):
-            names, closed = FEATURES[spec.feature]
+            names, closed = FEATURES[spec.attach]
             line_rows = np.array([self._index[n] for n in names])
             try:
-                binding = bind_to_lines(rest, self._rest[line_rows], closed)
+                extra["binding"] = bind_to_lines(rest, self._rest[line_rows], closed)
             except ValueError as exc:  # the face file is at fault, so say where
-                raise InputError(f"feature {spec.feature}: {exc}", self.face.meta.get("source"),
-                                 f"polygons[{index}].feature") from None
+                raise InputError(f"feature {spec.attach}: {exc}", self.face.meta.get("source"),
+                                 f"polygons[{index}].attach") from None
+            extra["line_rows"] = line_rows
         if spec.kind == "hole":
-            mask = MASK_GROUPS[spec.feature]
+            mask_write = MASK_GROUPS[spec.attach]
         elif spec.kind == "pupil":
-            mask = MASK_GROUPS[PUPIL_EYES[spec.point]]
+            mask_test = MASK_GROUPS[PUPIL_EYES[spec.attach]]
+            extra["pupil_row"] = self._index[spec.attach]
+        elif spec.kind == "face":
+            mask_test = 0
         elif spec.kind == "point":
-            v_max = np.array(spec.vertices_max, dtype=np.float64)
-        return _Prepared(spec, rest, depth, mask, line_rows, binding, v_max)
+            extra["v_max"] = np.array(spec.vertices_max, dtype=np.float64)
+        return _Polygon(spec, rest, depth, mask_write, mask_test, **extra)
+
+    def _prepare_component(self, spec: Component, index: int) -> _Component:
+        refs = spec.points
+        rows = np.array([self._index[p.master] if p.animated else -1 for p in refs], dtype=np.int64)
+        at = np.array([p.at for p in refs], dtype=np.float64).reshape(-1, 2)
+        masters = self._rest[np.maximum(rows, 0)]
+        offset = np.where((rows >= 0)[:, None], np.where(np.array([p.kind == "slave" for p in refs])[:, None],
+                                                          at - masters, 0.0), at)
+        rest_pts = np.where((rows >= 0)[:, None], masters, 0.0) + offset
+        extra: dict = {}
+        outline_rest = rest_pts
+        if spec.kind == "skeleton":
+            body = np.array([p.at for p in spec.body], dtype=np.float64)
+            fixed = np.array([p.kind == "fixed" for p in spec.body])
+            if spec.coupling == "point":
+                coupling: PointCoupling | EdgeCoupling = bind_point_skeleton(body, rest_pts, fixed, rows >= 0)
+            else:
+                try:
+                    coupling = bind_edge_skeleton(body, rest_pts, fixed, spec.skeleton_closed)
+                except ValueError as exc:
+                    raise InputError(str(exc), self.face.meta.get("source"), f"components[{index}].skeleton") from None
+            extra = {"body_rest": body, "skeleton_rest": rest_pts, "coupling": coupling}
+            outline_rest = body
+        if spec.kind == "ellipse":
+            operator: np.ndarray | None = ellipse_operator()
+            edges = np.zeros(len(operator), dtype=np.int64)
+        else:
+            operator, edges = outline_operator(outline_rest, spec.closed, spec.smooth)
+            if not spec.smooth:
+                operator = None
+        edge_visible = ~np.isin(edges, spec.hidden) if spec.hidden else None
+        animated = spec.animated and spec.layer > 0
+        depth = 0.0 if spec.layer < 0 else (spec.depth if spec.depth is not None
+                                            else (self.face.feature_depth if animated else 0.0))
+        mask_test = MASK_GROUPS[spec.clip] if spec.clip else None
+        return _Component(spec, rows, offset, depth, mask_test, operator, edge_visible, **extra)
+
+
+def _with_vertices(item: DrawItem, vertices: np.ndarray) -> DrawItem:
+    return DrawItem(vertices, item.fill, item.stroke, item.width, item.closed, item.edge_visible, item.kind,
+                    item.mask_write, item.mask_test, item.key, item.name)

@@ -1,0 +1,215 @@
+"""Outlines as linear operators on their points, and strokes as triangles.
+
+A component's drawn outline is a fixed linear function of its defining points: a spline through
+them (CharToon's smoothing, over all or part of an outline) or an ellipse through four contour
+points. Each is built once as a matrix ``M`` of shape ``(S, N)`` so that a frame's outline is
+``M @ points``; scipy's cubic spline evaluated on the identity basis gives the spline matrix.
+
+Strokes (outlines with a width) become triangles: one quad per visible segment with butt ends,
+plus miter joins on the outer side of each turn, falling back to a bevel beyond SVG's default
+miter limit of 4, so the GL picture matches the SVG export's ``stroke-linejoin="miter"``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+#: Output segments per input segment of a smoothed stretch.
+SPLINE_STEPS = 8
+#: Points on an ellipse outline.
+ELLIPSE_STEPS = 48
+#: SVG's default ``stroke-miterlimit``: miter length over stroke width.
+MITER_LIMIT = 4.0
+
+
+def _spline_basis(params: np.ndarray, closed: bool, samples: np.ndarray) -> np.ndarray:
+    """Matrix ``(len(samples), K)`` of the cubic spline through K unit impulses at ``params``.
+
+    Closed: ``params`` has ``K + 1`` entries, the last one where the loop returns to point 0.
+    """
+    k = len(params) - 1 if closed else len(params)
+    basis = np.eye(k)
+    if closed:
+        spline = CubicSpline(params, np.vstack([basis, basis[:1]]), bc_type="periodic")
+    elif k >= 4:
+        spline = CubicSpline(params, basis, bc_type="not-a-knot")
+    else:
+        spline = CubicSpline(params, basis, bc_type="natural")
+    return spline(samples)
+
+
+def outline_operator(rest: np.ndarray, closed: bool, smooth: tuple[tuple[int, int], ...]
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """The matrix that turns an outline's points into the drawn outline, and each edge's origin.
+
+    Parameters
+    ----------
+    rest : ndarray, shape (N, 2)
+        The points at rest; chord lengths at rest parameterise the splines.
+    closed : bool
+        Whether the outline closes (a polygon) or not (a polyline).
+    smooth : tuple of (first, last)
+        Inclusive point-index stretches drawn as a spline instead of straight lines; ``(0, N - 1)``
+        on a closed outline smooths it all the way round, without a corner at point 0.
+
+    Returns
+    -------
+    operator : ndarray, shape (S, N)
+        Drawn outline = ``operator @ points``.
+    edge_origin : ndarray of int, shape (E,)
+        For each drawn edge (``E = S`` closed, ``S - 1`` open), the input segment it belongs to
+        (segment ``i`` runs from point ``i`` to point ``i + 1``), so invisible segments stay so.
+    """
+    n = len(rest)
+    if not smooth:
+        edges = np.arange(n if closed else n - 1)
+        return np.eye(n), edges
+    whole = closed and any(a == 0 and b == n - 1 for a, b in smooth)
+    rows: list[np.ndarray] = []
+    origin: list[int] = []
+    if whole:
+        chords = np.linalg.norm(np.diff(np.vstack([rest, rest[:1]]), axis=0), axis=1)
+        params = np.concatenate([[0.0], np.cumsum(np.maximum(chords, 1e-9))])
+        samples = np.concatenate([np.linspace(params[i], params[i + 1], SPLINE_STEPS, endpoint=False)
+                                  for i in range(n)])
+        basis = _spline_basis(params, True, samples)
+        return basis, np.repeat(np.arange(n), SPLINE_STEPS)
+    stretch_at = {a: b for a, b in smooth}
+    i = 0
+    last = n - 1
+    while i < last or (i == last and not rows):
+        if i in stretch_at:
+            a, b = i, stretch_at[i]
+            idx = np.arange(a, b + 1)
+            chords = np.linalg.norm(np.diff(rest[idx], axis=0), axis=1)
+            params = np.concatenate([[0.0], np.cumsum(np.maximum(chords, 1e-9))])
+            samples = np.concatenate([np.linspace(params[j], params[j + 1], SPLINE_STEPS, endpoint=False)
+                                      for j in range(len(idx) - 1)])
+            local = _spline_basis(params, False, samples)
+            block = np.zeros((len(samples), n))
+            block[:, idx] = local
+            rows.append(block)
+            origin.extend(np.repeat(np.arange(a, b), SPLINE_STEPS))
+            i = b
+        else:
+            row = np.zeros((1, n))
+            row[0, i] = 1.0
+            rows.append(row)
+            origin.append(i)
+            i += 1
+    final = np.zeros((1, n))
+    final[0, last] = 1.0
+    rows.append(final)
+    operator = np.vstack(rows)
+    if closed:
+        origin.append(last)  # the closing segment, from the last point back to the first
+    return operator, np.asarray(origin, dtype=np.int64)
+
+
+def ellipse_operator() -> np.ndarray:
+    """Matrix ``(ELLIPSE_STEPS, 4)`` for an ellipse through contour points left, top, right, bottom.
+
+    The ellipse is ``c + cos(t) u + sin(t) v`` with ``c`` the mean of the four points,
+    ``u = (right - left) / 2`` and ``v = (top - bottom) / 2``: an affine image of a circle, so it
+    may be tilted or sheared, and it passes through all four points whenever the left-right and
+    top-bottom chords share their midpoint.
+    """
+    t = np.linspace(0.0, 2 * np.pi, ELLIPSE_STEPS, endpoint=False)[:, None]
+    centre = np.full((1, 4), 0.25)
+    u = np.array([[-0.5, 0.0, 0.5, 0.0]])
+    v = np.array([[0.0, 0.5, 0.0, -0.5]])
+    return centre + np.cos(t) * u + np.sin(t) * v
+
+
+def stroke_triangles(points: np.ndarray, width: float, closed: bool,
+                     visible: np.ndarray | None = None) -> np.ndarray:
+    """Triangles covering a stroked outline: butt ends, miter joins with SVG's limit.
+
+    Parameters
+    ----------
+    points : ndarray, shape (N, 2)
+    width : float
+        Stroke width in the same units.
+    closed : bool
+        Whether a segment joins the last point back to the first.
+    visible : ndarray of bool, shape (E,), optional
+        Which segments are drawn (``E = N`` closed, ``N - 1`` open); all by default.
+
+    Returns
+    -------
+    ndarray, shape (3 * T, 2)
+        Triangle corners; the triangles may overlap (draw them opaque).
+    """
+    n = len(points)
+    if n < 2 or width <= 0:
+        return np.empty((0, 2))
+    a = points
+    b = np.roll(points, -1, axis=0)
+    if not closed:
+        a, b = a[:-1], b[:-1]
+    seg = b - a
+    length = np.linalg.norm(seg, axis=1)
+    shown = length > 1e-12
+    if visible is not None:
+        shown &= np.asarray(visible, dtype=bool)
+    direction = seg / np.where(length > 1e-12, length, 1.0)[:, None]
+    normal = np.column_stack([-direction[:, 1], direction[:, 0]]) * (width / 2)
+    quads = np.stack([a + normal, b + normal, b - normal, a + normal, b - normal, a - normal], axis=1)[shown]
+    tris = [quads.reshape(-1, 2)]
+    # Joins: at the end of segment i where segment i + 1 (cyclically, if closed) is also shown.
+    m = len(seg)
+    nxt = (np.arange(m) + 1) % m if closed else np.arange(1, m)
+    cur = np.arange(m) if closed else np.arange(m - 1)
+    both = shown[cur] & shown[nxt]
+    cur, nxt = cur[both], nxt[both]
+    if len(cur):
+        cross = direction[cur, 0] * direction[nxt, 1] - direction[cur, 1] * direction[nxt, 0]
+        turning = np.abs(cross) > 1e-9
+        cur, nxt, cross = cur[turning], nxt[turning], cross[turning]
+        vertex = b[cur]
+        side = -np.sign(cross)[:, None]  # the outer side of the turn
+        p0 = vertex + side * normal[cur]
+        p1 = vertex + side * normal[nxt]
+        bisector = normal[cur] + normal[nxt]
+        cos_half = np.einsum("ij,ij->i", bisector, normal[cur]) / np.maximum(
+            np.linalg.norm(bisector, axis=1) * (width / 2), 1e-12)
+        ratio = 1.0 / np.maximum(cos_half, 1e-12)
+        miter = ratio <= MITER_LIMIT
+        tip = vertex + side * bisector / np.maximum(np.linalg.norm(bisector, axis=1), 1e-12)[:, None] * (
+            (width / 2) * ratio)[:, None]
+        tris.append(np.stack([vertex, p0, np.where(miter[:, None], tip, p1)], axis=1).reshape(-1, 2))
+        tris.append(np.stack([vertex[miter], tip[miter], p1[miter]], axis=1).reshape(-1, 2))
+    return np.concatenate(tris)
+
+
+def visible_runs(edge_visible: np.ndarray, closed: bool) -> list[tuple[int, int]]:
+    """Maximal runs of visible edges as ``(first_point, last_point)`` inclusive, for export.
+
+    On a closed outline a run may wrap past point 0; then ``last_point < first_point``.
+    ``(0, 0)`` with every edge of a closed outline visible means the whole closed loop.
+
+    >>> visible_runs(np.array([True, True, False, True]), closed=False)
+    [(0, 2), (3, 4)]
+    >>> visible_runs(np.array([True, False, True, True]), closed=True)
+    [(2, 1)]
+    """
+    e = len(edge_visible)
+    if closed and edge_visible.all():
+        return [(0, 0)]
+    runs: list[tuple[int, int]] = []
+    start = None
+    order = range(e)
+    if closed:
+        first_hidden = int(np.flatnonzero(~edge_visible)[0]) if (~edge_visible).any() else 0
+        order = [(first_hidden + 1 + k) % e for k in range(e)]
+    for i in order:
+        if edge_visible[i] and start is None:
+            start = i
+        if not edge_visible[i] and start is not None:
+            runs.append((start, i))
+            start = None
+    if start is not None:
+        last = order[-1] + 1
+        runs.append((start, last % e if closed else last))
+    return runs

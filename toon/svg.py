@@ -1,0 +1,117 @@
+"""SVG export of one frame, from :class:`toon.Geometry` alone (no GL), for inspection and print.
+
+The SVG draws exactly what the renderer draws, in the same order: the face polygon through a
+mask that removes every hole, pupils and clipped components through a clip path made of their
+group's holes, fills with the even-odd rule, strokes with miter joins (SVG's default limit of 4)
+and butt ends, and invisible segments left out of the stroke paths.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from common import atomic_path
+from toon.curves import visible_runs
+from toon.rig import DrawItem, Geometry
+from toon.validate import Color
+
+
+def _fmt(x: float) -> str:
+    text = f"{x:.3f}".rstrip("0").rstrip(".")
+    return "0" if text == "-0" else text
+
+
+def _coords(points: np.ndarray) -> str:
+    return " ".join(f"{_fmt(x)},{_fmt(-y)}" for x, y in points)  # y up in face units, down in SVG
+
+
+def _paint(color: Color | None) -> str:
+    if color is None:
+        return "none"
+    return "#" + "".join(f"{round(c * 255):02x}" for c in color[:3])
+
+
+def _opacity(attr: str, color: Color | None) -> str:
+    return f' {attr}="{_fmt(color[3])}"' if color is not None and color[3] < 1.0 else ""
+
+
+def _stroke_paths(item: DrawItem) -> list[str]:
+    pts = item.vertices
+    n = len(pts)
+    edges = n if item.closed else n - 1
+    visible = item.edge_visible if item.edge_visible is not None else np.ones(edges, dtype=bool)
+    paths = []
+    for first, last in visible_runs(visible, item.closed):
+        if item.closed and visible.all():
+            paths.append(f"M{_coords(pts)}Z")
+            continue
+        idx = np.arange(first, first + ((last - first) % n if item.closed else last - first) + 1) % n
+        paths.append(f"M{_coords(pts[idx])}")
+    return paths
+
+
+def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512)) -> str:
+    """The frame as an SVG document (a string).
+
+    Parameters
+    ----------
+    geometry : Geometry
+        One frame, as from :meth:`toon.FaceRig.geometry`.
+    size : (width, height)
+        The drawing's size in pixels; the viewbox is fitted centred, aspect kept, as on screen.
+    """
+    xmin, ymin, xmax, ymax = geometry.viewbox
+    w, h = xmax - xmin, ymax - ymin
+    view = f"{_fmt(xmin)} {_fmt(-ymax)} {_fmt(w)} {_fmt(h)}"
+    holes: dict[int, list[str]] = {}
+    for item in geometry.items:
+        if item.mask_write:
+            holes.setdefault(item.mask_write, []).append(f'<polygon points="{_coords(item.vertices)}"/>')
+    big = f'x="{_fmt(xmin - 10 * w)}" y="{_fmt(-ymax - 10 * h)}" width="{_fmt(21 * w)}" height="{_fmt(21 * h)}"'
+    defs = []
+    if holes:
+        black = "".join(p.replace("<polygon ", '<polygon fill="black" fill-rule="evenodd" ') for ps in holes.values()
+                        for p in ps)
+        defs.append(f'<mask id="no-holes" maskUnits="userSpaceOnUse" {big}><rect {big} fill="white"/>{black}</mask>')
+        for group, polys in holes.items():
+            defs.append(f'<clipPath id="group-{group}">'
+                        + "".join(p.replace("<polygon ", '<polygon clip-rule="evenodd" ') for p in polys)
+                        + "</clipPath>")
+    body = [f'<rect {big} fill="{_paint(geometry.background)}"/>']
+    for item in geometry.items:
+        name = f" data-name={quoteattr(item.name)}" if item.name else ""
+        if item.mask_test == 0:
+            wrap = ' mask="url(#no-holes)"' if holes else ""
+        elif item.mask_test is not None:
+            wrap = f' clip-path="url(#group-{item.mask_test})"' if item.mask_test in holes else None
+            if wrap is None:  # clipped to a group with no holes: nothing shows
+                continue
+        else:
+            wrap = ""
+        parts = []
+        if item.fill is not None and item.closed:
+            parts.append(f'<polygon points="{_coords(item.vertices)}" fill="{_paint(item.fill)}"'
+                         f'{_opacity("fill-opacity", item.fill)} fill-rule="evenodd"/>')
+        if item.stroke is not None and item.width > 0:
+            for d in _stroke_paths(item):
+                parts.append(f'<path d="{d}" fill="none" stroke="{_paint(item.stroke)}"'
+                             f'{_opacity("stroke-opacity", item.stroke)} stroke-width="{_fmt(item.width)}" '
+                             'stroke-linejoin="miter" stroke-miterlimit="4" stroke-linecap="butt"/>')
+        if parts:
+            body.append(f'<g class="{item.kind}"{name}{wrap}>' + "".join(parts) + "</g>")
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{size[0]}" height="{size[1]}" viewBox="{view}" '
+            'preserveAspectRatio="xMidYMid meet">\n'
+            + (f"<defs>{''.join(defs)}</defs>\n" if defs else "")
+            + "\n".join(body) + "\n</svg>\n")
+
+
+def save_svg(geometry: Geometry, path: str | os.PathLike, size: tuple[int, int] = (512, 512)) -> Path:
+    """Write one frame as an SVG file, atomically."""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(geometry_svg(geometry, size), encoding="utf-8")
+    return path
