@@ -53,37 +53,51 @@ def triangulate(vertices: np.ndarray) -> np.ndarray:
                                              np.array([len(vertices)], dtype=np.uint32))
 
 
-def _orientation_kept(vertices: np.ndarray, indices: np.ndarray) -> bool:
-    """Whether every triangle has the same, non-zero orientation as the outline."""
-    x, y = vertices[:, 0], vertices[:, 1]
-    area = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-    if abs(area) < 1e-9:
-        return False
-    t = vertices[indices].reshape(-1, 3, 2)
-    e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
-    cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-    return bool(np.all(cross * np.sign(area) > 0))
-
-
 class Triangulator:
-    """Fill triangulations of a face's items, kept by item key and re-used while still valid."""
+    """Fill triangulations of a face's items, kept by item key from frame to frame.
+
+    A kept triangulation is re-used while every one of its triangles keeps the outline's
+    orientation; the check runs on all of a frame's kept triangulations at once.
+    """
 
     def __init__(self) -> None:
         self._cache: dict[int, np.ndarray] = {}
         self.reused = 0
         self.computed = 0
 
-    def fill(self, item: DrawItem) -> np.ndarray:
-        """Triangle corner indices ``(3 * T,)`` that fill ``item``'s outline."""
+    def kept(self, item: DrawItem) -> np.ndarray | None:
+        """The kept triangulation of ``item`` if it still indexes its outline, else ``None``."""
         known = self._cache.get(item.key)
-        if known is not None and len(known) and int(known.max()) < len(item.vertices) \
-                and _orientation_kept(item.vertices, known):
-            self.reused += 1
-            return known
+        if known is None or not len(known) or int(known.max()) >= len(item.vertices):
+            return None
+        return known
+
+    def compute(self, item: DrawItem) -> np.ndarray:
+        """Triangulate ``item``'s outline afresh and keep the result."""
         indices = triangulate(item.vertices)
         self._cache[item.key] = indices
         self.computed += 1
         return indices
+
+    def still_valid(self, items: list[DrawItem], corners: list[np.ndarray]) -> np.ndarray:
+        """For each item, whether its kept triangles ``corners`` (3T, 2) all keep its orientation."""
+        verts = np.concatenate([it.vertices for it in items])
+        sizes = np.array([len(it.vertices) for it in items])
+        starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        following = np.arange(len(verts)) + 1
+        following[starts + sizes - 1] = starts
+        x, y = verts[:, 0], verts[:, 1]
+        area = np.add.reduceat(x * y[following] - x[following] * y, starts)  # twice the signed area
+        tris = np.concatenate(corners).reshape(-1, 3, 2)
+        e1, e2 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+        cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        counts = np.array([len(c) // 3 for c in corners])
+        owner = np.repeat(np.arange(len(items)), counts)
+        good = cross * np.sign(area)[owner] > 0
+        valid = np.minimum.reduceat(good, np.concatenate([[0], np.cumsum(counts)[:-1]]))
+        valid &= np.abs(area) > 1e-9
+        self.reused += int(valid.sum())
+        return valid
 
 
 def _mode(item: DrawItem, stroke: bool) -> str:
@@ -93,45 +107,66 @@ def _mode(item: DrawItem, stroke: bool) -> str:
 
 
 def triangles_of(geometry: Geometry, triangulator: Triangulator | None = None
-                 ) -> tuple[np.ndarray, list[tuple[str, int, int]]]:
+                 ) -> tuple[np.ndarray, list[tuple[tuple[str, bool], int, int]]]:
     """All triangle corners of a frame and the draw runs of each depth mode.
 
     Returns
     -------
     vertices : ndarray of float32, shape (V, 7)
         ``x, y, z, r, g, b, a`` per triangle corner; ``z`` is the mask depth written or tested.
-    runs : list of (mode, first, count)
-        Consecutive corners drawn with the same depth mode (``write``, ``test`` or ``none``).
+    runs : list of ((mode, blend), first, count)
+        Consecutive corners drawn with the same depth mode (``write``, ``test`` or ``none``) and
+        the same need for blending (a colour that is not opaque).
     """
     triangulator = triangulator or Triangulator()
-    chunks, runs = [], []
-    start = 0
+    corners: list[np.ndarray] = []
+    attributes: list[tuple[float, float, float, float, float]] = []
+    modes: list[tuple[str, bool]] = []
+    to_check: list[tuple[int, DrawItem]] = []
     for item in geometry.items:
-        parts = []
         if item.fill is not None and item.closed:
-            idx = triangulator.fill(item)
-            if len(idx):
-                parts.append((item.vertices[idx], item.fill, False))
-        if item.stroke is not None and item.width > 0:
-            corners = stroke_triangles(item.vertices, item.width, item.closed, item.edge_visible)
-            if len(corners):
-                parts.append((corners, item.stroke, True))
-        for corners, color, stroke in parts:
-            mode = _mode(item, stroke)
-            group = item.mask_write if mode == "write" else (item.mask_test or 0)
-            block = np.empty((len(corners), _FLOATS_PER_VERTEX), dtype=np.float32)
-            block[:, :2] = corners
-            block[:, 2] = mask_depth(group) if group else _CLEAR_DEPTH
-            block[:, 3:] = color
-            chunks.append(block)
-            if runs and runs[-1][0] == mode:
-                runs[-1] = (mode, runs[-1][1], runs[-1][2] + len(corners))
+            idx = triangulator.kept(item)
+            if idx is None:
+                idx = triangulator.compute(item)
             else:
-                runs.append((mode, start, len(corners)))
-            start += len(corners)
-    if not chunks:
+                to_check.append((len(corners), item))
+            if len(idx):
+                _add(corners, attributes, modes, item, item.vertices[idx], item.fill, False)
+            else:
+                to_check = [c for c in to_check if c[0] != len(corners)]
+        if item.stroke is not None and item.width > 0:
+            tris = stroke_triangles(item.vertices, item.width, item.closed, item.edge_visible)
+            if len(tris):
+                _add(corners, attributes, modes, item, tris, item.stroke, True)
+    if to_check:
+        valid = triangulator.still_valid([it for _, it in to_check], [corners[k] for k, _ in to_check])
+        for (k, item), ok in zip(to_check, valid):
+            if not ok:
+                corners[k] = item.vertices[triangulator.compute(item)]
+    if not corners:
         return np.empty((0, _FLOATS_PER_VERTEX), dtype=np.float32), []
-    return np.concatenate(chunks), runs
+    counts = np.array([len(c) for c in corners])
+    data = np.empty((int(counts.sum()), _FLOATS_PER_VERTEX), dtype=np.float32)
+    data[:, :2] = np.concatenate(corners)
+    data[:, 2:] = np.repeat(np.array(attributes, dtype=np.float32), counts, axis=0)
+    runs: list[tuple[tuple[str, bool], int, int]] = []
+    start = 0
+    for mode, count in zip(modes, counts):
+        if runs and runs[-1][0] == mode:
+            runs[-1] = (mode, runs[-1][1], runs[-1][2] + int(count))
+        else:
+            runs.append((mode, start, int(count)))
+        start += int(count)
+    return data, runs
+
+
+def _add(corners: list, attributes: list, modes: list, item: DrawItem, tris: np.ndarray,
+         color: tuple[float, float, float, float], stroke: bool) -> None:
+    mode = _mode(item, stroke)
+    group = item.mask_write if mode == "write" else (item.mask_test or 0)
+    corners.append(tris)
+    attributes.append((mask_depth(group) if group else _CLEAR_DEPTH, *color))
+    modes.append((mode, color[3] < 1.0))
 
 
 class Renderer:
@@ -198,25 +233,34 @@ class Renderer:
         self.set_view(geometry.viewbox)
         self.fbo.use()
         self.fbo.clear(*geometry.background[:3], 1.0, depth=_CLEAR_DEPTH)
-        self.ctx.enable(moderngl.BLEND | moderngl.DEPTH_TEST)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         if len(data):
             self._upload(data)
-        for mode, first, count in runs:
-            self._depth_state(mode)
+        for (mode, blend), first, count in runs:
+            self._set_state(mode, blend)
             self.vao.render(moderngl.TRIANGLES, vertices=count, first=first)
         self.fbo.depth_mask = True
         self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
         return self.read()
 
-    def _depth_state(self, mode: str) -> None:
-        """Depth as the mask of A1.2.2 (see the module docstring)."""
-        if mode == "write":
-            self.ctx.depth_func, self.fbo.depth_mask = "1", True  # always pass, write the group
-        elif mode == "test":
-            self.ctx.depth_func, self.fbo.depth_mask = "==", False  # own group / no hole
+    def _set_state(self, mode: str, blend: bool) -> None:
+        """Depth as the mask of A1.2.2 (see the module docstring); blending only where needed.
+
+        Depth testing and blending cost per sample on a software rasteriser, so runs that need
+        neither (opaque, unmasked) draw with both off.
+        """
+        if mode == "none":
+            self.ctx.disable(moderngl.DEPTH_TEST)
         else:
-            self.ctx.depth_func, self.fbo.depth_mask = "1", False
+            self.ctx.enable(moderngl.DEPTH_TEST)
+            if mode == "write":
+                self.ctx.depth_func, self.fbo.depth_mask = "1", True  # always pass, write the group
+            else:
+                self.ctx.depth_func, self.fbo.depth_mask = "==", False  # own group / no hole
+        if blend:
+            self.ctx.enable(moderngl.BLEND)
+        else:
+            self.ctx.disable(moderngl.BLEND)
 
     def read(self) -> np.ndarray:
         """Resolve and read back the framebuffer: RGB ``uint8`` ``(height, width, 3)``, row 0 on top."""

@@ -12,7 +12,8 @@ A face's ``components`` list holds, besides ToonFace's polygons:
   the edge and its distance from it.
 - ``composite``: a group of components, inline (``components``) or re-used from a library file
   (``use`` and ``library``), placed with a ``transform`` (``scale`` ``[sx, sy]``, negative to flip,
-  then ``translate``) and with its control points renamed by ``controls`` (``{"M": "BRM"}``).
+  then ``translate``) and with its control points, holes and clips renamed by ``controls``
+  (``{"M": "BRM", "E": "eye_right"}``).
 
 Points are written as: ``"BRC"``, a **master** control point (its position comes from the motors);
 ``{"slave": "BRC", "at": [x, y]}``, a **slave** that moves as its master does; ``[x, y]``, a
@@ -23,7 +24,8 @@ Further fields: ``layer`` (-10..-1 background, drawn before the face and never a
 foreground, drawn after it; default 1), ``smooth`` (``true`` or inclusive point ranges
 ``[[i, j], ...]``: spline interpolation instead of straight lines), ``hidden`` (indices of
 invisible segments, segment ``i`` from point ``i`` to ``i + 1``), ``clip`` (draw only inside an
-eye's or the mouth's holes), ``depth`` (head-turn parallax), and the animatable parameters
+eye's or the mouth's holes), ``hole`` (the component's fill opens that feature's hole, like a
+ToonFace hole polygon, for the pupils and clipped components drawn after it), ``depth`` (head-turn parallax), and the animatable parameters
 ``visible`` (``{"motor": "MB", "range": [0.3, 1]}``), ``translate``
 (``{"motor": "HH", "at0": [dx, dy], "at1": [dx, dy]}``) and ``scale``
 (``{"motor": "ERU", "at0": [sx, sy], "at1": [sx, sy], "origin": [x, y]}``), each linear in its
@@ -112,6 +114,7 @@ class Component:
     smooth: tuple[tuple[int, int], ...] = ()
     hidden: tuple[int, ...] = ()
     clip: str = ""
+    hole: str = ""
     depth: float | None = None
     visible: Visibility | None = None
     translate: MotorParam | None = None
@@ -167,6 +170,8 @@ class Component:
             d["hidden"] = list(self.hidden)
         if self.clip:
             d["clip"] = self.clip
+        if self.hole:
+            d["hole"] = self.hole
         if self.depth is not None:
             d["depth"] = self.depth
         if self.visible:
@@ -215,7 +220,7 @@ class ComponentParser:
             return self._composite(c, v, where, depth, rename)
         shape = {"skeleton": {"coupling", "skeleton", "body", "skeleton_closed", "closed"},
                  "polyline": {"points", "closed"}}.get(kind, {"points"})
-        common = {"kind", "name", "layer", "fill", "stroke", "width", "smooth", "hidden", "clip", "depth",
+        common = {"kind", "name", "layer", "fill", "stroke", "width", "smooth", "hidden", "clip", "hole", "depth",
                   "visible", "translate", "scale"}
         v.fields(c, common | shape, where, f"a {kind} component")
         spec: dict[str, Any] = {"kind": kind, "name": str(c.get("name", ""))}
@@ -251,8 +256,11 @@ class ComponentParser:
         v.require(isinstance(hidden, list), "must be a list of segment indices", f"{where}.hidden")
         spec["hidden"] = tuple(sorted({v.integer(h, f"{where}.hidden[{i}]", 0, segments - 1)
                                        for i, h in enumerate(hidden)}))
-        if "clip" in c:
-            spec["clip"] = v.choice(c["clip"], self.clip_groups, f"{where}.clip", "hole feature")
+        for key in ("clip", "hole"):
+            if key in c:
+                name = rename.get(c[key], c[key]) if isinstance(c[key], str) else c[key]
+                spec[key] = v.choice(name, self.clip_groups, f"{where}.{key}", "hole feature")
+        v.require(not spec.get("hole") or spec["fill"] is not None, "a hole needs a fill", f"{where}.hole")
         if "depth" in c:
             spec["depth"] = v.number(c["depth"], f"{where}.depth")
         if "visible" in c:
@@ -275,7 +283,7 @@ class ComponentParser:
                  "a composite component")
         controls = c.get("controls", {})
         v.require(isinstance(controls, dict) and all(isinstance(x, str) for x in controls.values()),
-                  'must map names to control points, like {"M": "BRM"}', f"{where}.controls")
+                  'must map names to control points or hole features, like {"M": "BRM"}', f"{where}.controls")
         inner = {name: rename.get(target, target) for name, target in controls.items()}
         transform = c.get("transform", {})
         v.fields(transform, {"scale", "translate"}, f"{where}.transform", "a transform")

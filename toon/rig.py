@@ -195,6 +195,7 @@ class _Component:
     rows: np.ndarray  # (N,) control-point row per defining point; -1 for frozen and fixed points
     offset: np.ndarray  # (N, 2) added to that row's position (or to zero)
     depth: float
+    mask_write: int
     mask_test: int | None
     operator: np.ndarray | None  # (S, N) outline operator; None: the points themselves
     edge_visible: np.ndarray | None
@@ -302,8 +303,8 @@ class FaceRig:
         if spec.translate is not None:
             pts = pts + np.asarray(spec.translate.at0) + values[motor_index(spec.translate.motor)] * (
                 np.asarray(spec.translate.at1) - spec.translate.at0)
-        return DrawItem(pts, spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible, "component", 0,
-                        prep.mask_test, key, spec.name)
+        return DrawItem(pts, spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible, "component",
+                        prep.mask_write, prep.mask_test, key, spec.name)
 
     @staticmethod
     def _lerp(bounds: tuple[float, float], value: float) -> float:
@@ -368,8 +369,9 @@ class FaceRig:
         animated = spec.animated and spec.layer > 0
         depth = 0.0 if spec.layer < 0 else (spec.depth if spec.depth is not None
                                             else (self.face.feature_depth if animated else 0.0))
+        mask_write = MASK_GROUPS[spec.hole] if spec.hole else 0
         mask_test = MASK_GROUPS[spec.clip] if spec.clip else None
-        return _Component(spec, rows, offset, depth, mask_test, operator, edge_visible, **extra)
+        return _Component(spec, rows, offset, depth, mask_write, mask_test, operator, edge_visible, **extra)
 
 
 def _with_vertices(item: DrawItem, vertices: np.ndarray) -> DrawItem:

@@ -17,7 +17,8 @@ from tqdm import tqdm
 
 from capture import load_take, save_take, synthesize
 from common import ToonfaceError
-from toon import builtin_faces, load_face, load_track, save_track
+from player.sheet import expression_sheet, save_png
+from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
 from toonface.pipeline import map_take, render, run_demo, truth_track
 
 log = logging.getLogger("toonface")
@@ -169,6 +170,41 @@ def faces() -> None:
     """List the built-in faces."""
     for name in builtin_faces():
         click.echo(f"{name:<12}{load_face(name).description}")
+
+
+@cli.command()
+@click.argument("name")
+@click.option("--sheet", "sheet_path", type=click.Path(dir_okay=False),
+              help="Write a contact sheet of every expression on the face, labelled (PNG).")
+@click.option("--svg", "svg_path", type=click.Path(dir_okay=False),
+              help="Write one expression of the face as SVG (no OpenGL needed).")
+@click.option("--expression", default="neutral", show_default=True, help="The expression --svg draws.")
+@click.option("--expressions", "repertoire", default="expressions", show_default=True,
+              help="Expression repertoire: built-in name or TOML file.")
+@click.option("--size", default="256", show_default=True, help="Pixels per face picture, N or WxH.")
+def face(name: str, sheet_path: str | None, svg_path: str | None, expression: str, repertoire: str,
+         size: str) -> None:
+    """Check a face (built-in NAME or a JSON file) and draw it.
+
+    Without options, validates the face and prints a summary. With --sheet, renders every
+    expression of the repertoire (neutral, the six basic ones, blink, wink) into one labelled PNG.
+    """
+    loaded = load_face(name)
+    rig = FaceRig(loaded)  # binds skeletons and features: reports a bad face even without output
+    expressions = load_expressions(repertoire)
+    cell = _parse_size(size)
+    if expression not in expressions:
+        raise click.BadParameter(f"unknown expression {expression!r} (one of {', '.join(expressions)})",
+                                 param_hint="--expression")
+    if sheet_path:
+        save_png(expression_sheet(loaded, expressions, cell=cell[0]), sheet_path)
+        click.echo(f"wrote {sheet_path} ({len(expressions)} expressions on {loaded.name})")
+    if svg_path:
+        save_svg(rig.geometry(expressions[expression].pose(loaded.neutral())), svg_path, cell)
+        click.echo(f"wrote {svg_path} ({expression} on {loaded.name})")
+    if not sheet_path and not svg_path:
+        counts = f"{len(loaded.polygons)} polygons, {len(loaded.basic_components())} components"
+        click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
 def main(argv: list[str] | None = None) -> int:
