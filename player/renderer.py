@@ -19,7 +19,7 @@ import moderngl
 import numpy as np
 
 from toon import DrawItem, Geometry, fit_viewbox
-from toon.curves import stroke_triangles
+from toon.curves import stroke_many
 
 _VERTEX_SHADER = """
 #version 330
@@ -123,21 +123,23 @@ def triangles_of(geometry: Geometry, triangulator: Triangulator | None = None
     attributes: list[tuple[float, float, float, float, float]] = []
     modes: list[tuple[str, bool]] = []
     to_check: list[tuple[int, DrawItem]] = []
+    strokes: list[tuple[int, DrawItem]] = []
     for item in geometry.items:
         if item.fill is not None and item.closed:
             idx = triangulator.kept(item)
             if idx is None:
                 idx = triangulator.compute(item)
-            else:
+            elif len(idx):
                 to_check.append((len(corners), item))
             if len(idx):
                 _add(corners, attributes, modes, item, item.vertices[idx], item.fill, False)
-            else:
-                to_check = [c for c in to_check if c[0] != len(corners)]
         if item.stroke is not None and item.width > 0:
-            tris = stroke_triangles(item.vertices, item.width, item.closed, item.edge_visible)
-            if len(tris):
-                _add(corners, attributes, modes, item, tris, item.stroke, True)
+            strokes.append((len(corners), item))
+            _add(corners, attributes, modes, item, np.empty((0, 2)), item.stroke, True)
+    if strokes:
+        stroked = stroke_many([(it.vertices, it.width, it.closed, it.edge_visible) for _, it in strokes])
+        for (k, _), tris in zip(strokes, stroked):
+            corners[k] = tris
     if to_check:
         valid = triangulator.still_valid([it for _, it in to_check], [corners[k] for k, _ in to_check])
         for (k, item), ok in zip(to_check, valid):
@@ -152,6 +154,8 @@ def triangles_of(geometry: Geometry, triangulator: Triangulator | None = None
     runs: list[tuple[tuple[str, bool], int, int]] = []
     start = 0
     for mode, count in zip(modes, counts):
+        if not count:
+            continue
         if runs and runs[-1][0] == mode:
             runs[-1] = (mode, runs[-1][1], runs[-1][2] + int(count))
         else:

@@ -141,46 +141,82 @@ def stroke_triangles(points: np.ndarray, width: float, closed: bool,
     ndarray, shape (3 * T, 2)
         Triangle corners; the triangles may overlap (draw them opaque).
     """
-    n = len(points)
-    if n < 2 or width <= 0:
-        return np.empty((0, 2))
-    a = points
-    b = np.roll(points, -1, axis=0)
-    if not closed:
-        a, b = a[:-1], b[:-1]
+    return stroke_many([(points, width, closed, visible)])[0]
+
+
+def stroke_many(strokes: list[tuple[np.ndarray, float, bool, np.ndarray | None]]) -> list[np.ndarray]:
+    """:func:`stroke_triangles` for many outlines at once (one set of array operations).
+
+    Parameters
+    ----------
+    strokes : list of (points, width, closed, visible)
+        As the arguments of :func:`stroke_triangles`.
+
+    Returns
+    -------
+    list of ndarray, each shape (3 * T_i, 2)
+        The triangle corners of each outline, in the order given.
+    """
+    a_parts, b_parts, half, shown, owner, follow = [], [], [], [], [], []
+    base = 0
+    for k, (points, width, closed, visible) in enumerate(strokes):
+        n = len(points)
+        m = n if closed else n - 1
+        if n < 2 or width <= 0:
+            continue
+        a_parts.append(points[:m])
+        b_parts.append(points[np.arange(1, m + 1) % n])
+        half.append(np.full(m, width / 2))
+        shown.append(np.ones(m, dtype=bool) if visible is None else np.asarray(visible, dtype=bool)[:m])
+        owner.append(np.full(m, k))
+        nxt = np.arange(1, m + 1) + base
+        if closed:
+            nxt[-1] = base
+        else:
+            nxt[-1] = -1
+        follow.append(nxt)
+        base += m
+    out = [np.empty((0, 2)) for _ in strokes]
+    if not a_parts:
+        return out
+    a, b = np.concatenate(a_parts), np.concatenate(b_parts)
+    h, vis = np.concatenate(half), np.concatenate(shown)
+    who, nxt = np.concatenate(owner), np.concatenate(follow)
     seg = b - a
-    length = np.linalg.norm(seg, axis=1)
-    shown = length > 1e-12
-    if visible is not None:
-        shown &= np.asarray(visible, dtype=bool)
+    length = np.hypot(seg[:, 0], seg[:, 1])
+    vis &= length > 1e-12
     direction = seg / np.where(length > 1e-12, length, 1.0)[:, None]
-    normal = np.column_stack([-direction[:, 1], direction[:, 0]]) * (width / 2)
-    quads = np.stack([a + normal, b + normal, b - normal, a + normal, b - normal, a - normal], axis=1)[shown]
-    tris = [quads.reshape(-1, 2)]
-    # Joins: at the end of segment i where segment i + 1 (cyclically, if closed) is also shown.
-    m = len(seg)
-    nxt = (np.arange(m) + 1) % m if closed else np.arange(1, m)
-    cur = np.arange(m) if closed else np.arange(m - 1)
-    both = shown[cur] & shown[nxt]
-    cur, nxt = cur[both], nxt[both]
-    if len(cur):
-        cross = direction[cur, 0] * direction[nxt, 1] - direction[cur, 1] * direction[nxt, 0]
-        turning = np.abs(cross) > 1e-9
-        cur, nxt, cross = cur[turning], nxt[turning], cross[turning]
-        vertex = b[cur]
-        side = -np.sign(cross)[:, None]  # the outer side of the turn
-        p0 = vertex + side * normal[cur]
-        p1 = vertex + side * normal[nxt]
-        bisector = normal[cur] + normal[nxt]
-        cos_half = np.einsum("ij,ij->i", bisector, normal[cur]) / np.maximum(
-            np.linalg.norm(bisector, axis=1) * (width / 2), 1e-12)
-        ratio = 1.0 / np.maximum(cos_half, 1e-12)
-        miter = ratio <= MITER_LIMIT
-        tip = vertex + side * bisector / np.maximum(np.linalg.norm(bisector, axis=1), 1e-12)[:, None] * (
-            (width / 2) * ratio)[:, None]
-        tris.append(np.stack([vertex, p0, np.where(miter[:, None], tip, p1)], axis=1).reshape(-1, 2))
-        tris.append(np.stack([vertex[miter], tip[miter], p1[miter]], axis=1).reshape(-1, 2))
-    return np.concatenate(tris)
+    normal = np.column_stack([-direction[:, 1], direction[:, 0]]) * h[:, None]
+    quads = np.stack([a + normal, b + normal, b - normal, a + normal, b - normal, a - normal], axis=1)[vis]
+    quad_owner = who[vis]
+    # Joins: at the end of segment i where the next segment of the same outline is also shown.
+    cur = np.flatnonzero((nxt >= 0) & vis)
+    cur = cur[vis[nxt[cur]]]
+    nx = nxt[cur]
+    cross = direction[cur, 0] * direction[nx, 1] - direction[cur, 1] * direction[nx, 0]
+    turning = np.abs(cross) > 1e-9
+    cur, nx, cross = cur[turning], nx[turning], cross[turning]
+    vertex = b[cur]
+    side = -np.sign(cross)[:, None]  # the outer side of the turn
+    p0 = vertex + side * normal[cur]
+    p1 = vertex + side * normal[nx]
+    bisector = normal[cur] + normal[nx]
+    bis_len = np.maximum(np.hypot(bisector[:, 0], bisector[:, 1]), 1e-12)
+    cos_half = np.einsum("ij,ij->i", bisector, normal[cur]) / (bis_len * h[cur])
+    ratio = 1.0 / np.maximum(cos_half, 1e-12)
+    miter = ratio <= MITER_LIMIT
+    tip = vertex + side * bisector / bis_len[:, None] * (h[cur] * ratio)[:, None]
+    first = np.stack([vertex, p0, np.where(miter[:, None], tip, p1)], axis=1)
+    second = np.stack([vertex[miter], tip[miter], p1[miter]], axis=1)
+    tris = np.concatenate([quads.reshape(-1, 3, 2), first, second])
+    tri_owner = np.concatenate([np.repeat(quad_owner, 2), who[cur], who[cur][miter]])
+    order = np.argsort(tri_owner, kind="stable")
+    tris, tri_owner = tris[order], tri_owner[order]
+    bounds = np.searchsorted(tri_owner, np.arange(len(strokes) + 1))
+    for k in range(len(strokes)):
+        if bounds[k + 1] > bounds[k]:
+            out[k] = tris[bounds[k]:bounds[k + 1]].reshape(-1, 2)
+    return out
 
 
 def visible_runs(edge_visible: np.ndarray, closed: bool) -> list[tuple[int, int]]:

@@ -161,9 +161,9 @@ def interpolate_states(v_min: np.ndarray, v_max: np.ndarray, p_ctrl: float) -> n
     return v_min + p_ctrl * (v_max - v_min)
 
 
-def head_turn(vertices: np.ndarray, depth: float, pivot: np.ndarray, yaw_deg: float,
+def head_turn(vertices: np.ndarray, depth: float | np.ndarray, pivot: np.ndarray, yaw_deg: float,
               pitch_deg: float) -> np.ndarray:
-    """Turn vertices standing ``depth`` in front of the outline about ``pivot``; ``(N, 2)``."""
+    """Turn vertices standing ``depth`` (scalar or per vertex) in front of the outline about ``pivot``; ``(N, 2)``."""
     yaw, pitch = np.radians(yaw_deg), np.radians(pitch_deg)
     x, y = vertices[:, 0] - pivot[0], vertices[:, 1] - pivot[1]
     y2 = y * np.cos(pitch) + depth * np.sin(pitch)
@@ -229,6 +229,19 @@ class FaceRig:
         back = sorted((c for c in components if c.spec.layer < 0), key=lambda c: c.spec.layer)
         front = sorted((c for c in components if c.spec.layer > 0), key=lambda c: c.spec.layer)
         self._order: list[_Polygon | _Component] = [*back, *polygons, *front]
+        self._depths = np.array([prep.depth for prep in self._order])
+        # Every feature-attached vertex of the face in one binding, on control-point rows, so that
+        # A1.1-A1.4 run once per frame for all of them; each polygon keeps its slice.
+        self._line_slices: dict[int, slice] = {}
+        parts, start = [], 0
+        for key, prep in enumerate(self._order):
+            if isinstance(prep, _Polygon) and prep.binding is not None:
+                b = prep.binding
+                parts.append(_FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
+                self._line_slices[key] = slice(start, start + len(b.vrl))
+                start += len(b.vrl)
+        self._all_lines = _FeatureBinding(*(np.concatenate([getattr(p, f) for p in parts])
+                                            for f in ("start", "end", "vrl", "d"))) if parts else None
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
@@ -256,24 +269,39 @@ class FaceRig:
         yaw = self._lerp(self._head[0], values[motor_index("HH")])
         pitch = self._lerp(self._head[1], values[motor_index("HV")])
         squash = {p: np.cos(np.radians(self.gaze_degrees(values, p))) for p in PUPIL_EYES}
+        lines = follow_lines(self._all_lines, pts) if self._all_lines is not None else None
         out = []
         for key, prep in enumerate(self._order):
             if isinstance(prep, _Polygon):
-                item = self._polygon_item(prep, pts, values, squash, key)
+                item = self._polygon_item(prep, pts, values, squash, key, lines)
             else:
                 item = self._component_item(prep, moved, values, key)
                 if item is None:
                     continue
-            if prep.depth and (yaw or pitch):
-                item = _with_vertices(item, head_turn(item.vertices, prep.depth, self._pivot, yaw, pitch))
             out.append(item)
+        if yaw or pitch:
+            out = self._turned(out, yaw, pitch)
         return Geometry(tuple(out), self.face.viewbox, self.face.background)
 
+    def _turned(self, items: list[DrawItem], yaw: float, pitch: float) -> list[DrawItem]:
+        """Items with every vertex standing in front of the outline turned (one vectorised pass)."""
+        moving = [i for i, item in enumerate(items) if self._depths[item.key]]
+        if not moving:
+            return items
+        counts = [len(items[i].vertices) for i in moving]
+        stacked = np.concatenate([items[i].vertices for i in moving])
+        depth = np.repeat(self._depths[[items[i].key for i in moving]], counts)
+        turned = np.split(head_turn(stacked, depth, self._pivot, yaw, pitch), np.cumsum(counts)[:-1])
+        out = list(items)
+        for i, verts in zip(moving, turned):
+            out[i] = _with_vertices(items[i], verts)
+        return out
+
     def _polygon_item(self, prep: _Polygon, pts: np.ndarray, values: np.ndarray,
-                      squash: dict[str, np.ndarray], key: int) -> DrawItem:
+                      squash: dict[str, np.ndarray], key: int, lines: np.ndarray | None) -> DrawItem:
         spec = prep.spec
         if prep.binding is not None:
-            verts = follow_lines(prep.binding, pts[prep.line_rows])
+            verts = lines[self._line_slices[key]]  # type: ignore[index]
         elif prep.pupil_row >= 0:
             centre = self._rest[prep.pupil_row]
             verts = centre + (prep.rest - centre) * squash[spec.attach] + (pts[prep.pupil_row] - centre)
