@@ -5,7 +5,7 @@ import pytest
 
 from player import Renderer
 from player.renderer import triangulate
-from toon import DrawItem, FaceRig, Geometry, load_face, motor_index, rasterize_polygon, render_cpu, standard_neutral
+from toon import DrawItem, FaceRig, Geometry, load_face, motor_index, render_cpu, standard_neutral
 
 VIEW = (0.0, 0.0, 16.0, 16.0)
 WHITE = (1.0, 1.0, 1.0, 1.0)

@@ -32,7 +32,8 @@ from typing import Any
 import numpy as np
 
 from common import atomic_path, builtin_names, read_document, resolve_builtin
-from toon.components import Component, ComponentParser, flatten
+from toon.component_parser import ComponentParser
+from toon.components import Component, flatten
 from toon.motors import MOTOR_CODES, MOTORS
 from toon.validate import Color, Validator, Vertices, format_color
 

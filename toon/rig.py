@@ -39,6 +39,7 @@ from common import InputError
 from toon.components import Component
 from toon.curves import ellipse_operator, outline_operator
 from toon.face import ANGLE_MOTORS, FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
+from toon.formulas import FeatureBinding, bind_to_lines, follow_lines, head_turn, interpolate_states
 from toon.motors import MOTORS, N_MOTORS, motor_index
 from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
 from toon.validate import Color
@@ -103,76 +104,6 @@ class Geometry:
 
 
 @dataclass(frozen=True)
-class _FeatureBinding:
-    """Per-vertex line bindings: start/end control-point indices, ``vrl`` and ``d``, each (N,)."""
-
-    start: np.ndarray
-    end: np.ndarray
-    vrl: np.ndarray
-    d: np.ndarray
-
-
-def bind_to_lines(vertices: np.ndarray, line_points: np.ndarray, closed: bool) -> _FeatureBinding:
-    """Bind vertices to the lines between consecutive control points (A1.3-A1.4 inverted).
-
-    Parameters
-    ----------
-    vertices : ndarray, shape (N, 2)
-    line_points : ndarray, shape (K, 2)
-        The feature's control points at rest, in line order, ``K >= 2``.
-    closed : bool
-        Whether a line also joins the last point to the first.
-    """
-    k = len(line_points)
-    starts = np.arange(k if closed and k > 2 else k - 1)
-    ends = (starts + 1) % k
-    h0, v0 = line_points[starts, 0], line_points[starts, 1]
-    h1, v1 = line_points[ends, 0], line_points[ends, 1]
-    dh = h1 - h0
-    usable = np.abs(dh) > 1e-9
-    if not usable.any():
-        raise ValueError("every line of the feature is vertical; A1.1 needs h1 != h0")
-    safe = np.where(usable, dh, 1.0)
-    x, y = vertices[:, :1], vertices[:, 1:]  # (N, 1) against lines (L,)
-    vrl = (x - h0) / safe
-    slope = (v1 - v0) / safe
-    d = y - (slope * x + (v0 - slope * h0))
-    outside = np.maximum(0.0, np.maximum(-vrl, vrl - 1.0)) * np.abs(safe)
-    cost = np.where(usable, np.hypot(outside, d), np.inf)
-    best = np.argmin(cost, axis=1)
-    rows = np.arange(len(vertices))
-    return _FeatureBinding(starts[best], ends[best], vrl[rows, best], d[rows, best])
-
-
-def follow_lines(binding: _FeatureBinding, line_points: np.ndarray) -> np.ndarray:
-    """Vertex positions for moved control points (A1.1-A1.4), shape ``(N, 2)``."""
-    h0, v0 = line_points[binding.start, 0], line_points[binding.start, 1]
-    h1, v1 = line_points[binding.end, 0], line_points[binding.end, 1]
-    dh = np.where(np.abs(h1 - h0) > 1e-9, h1 - h0, 1e-9)
-    slope = (v1 - v0) / dh  # A1.1
-    intercept = v0 - slope * h0  # A1.2
-    x = h0 + binding.vrl * (h1 - h0)  # A1.3
-    y = x * slope + intercept + binding.d  # A1.4
-    return np.column_stack([x, y])
-
-
-def interpolate_states(v_min: np.ndarray, v_max: np.ndarray, p_ctrl: float) -> np.ndarray:
-    """Point-attached polygon vertices (A1.5-A1.6), shape ``(N, 2)``."""
-    return v_min + p_ctrl * (v_max - v_min)
-
-
-def head_turn(vertices: np.ndarray, depth: float | np.ndarray, pivot: np.ndarray, yaw_deg: float,
-              pitch_deg: float) -> np.ndarray:
-    """Turn vertices standing ``depth`` (scalar or per vertex) in front of the outline about ``pivot``; ``(N, 2)``."""
-    yaw, pitch = np.radians(yaw_deg), np.radians(pitch_deg)
-    x, y = vertices[:, 0] - pivot[0], vertices[:, 1] - pivot[1]
-    y2 = y * np.cos(pitch) + depth * np.sin(pitch)
-    z2 = -y * np.sin(pitch) + depth * np.cos(pitch)
-    x2 = x * np.cos(yaw) + z2 * np.sin(yaw)
-    return np.column_stack([x2 + pivot[0], y2 + pivot[1]])
-
-
-@dataclass(frozen=True)
 class _Polygon:
     """A ToonFace polygon's rest vertices plus what moves it."""
 
@@ -182,7 +113,7 @@ class _Polygon:
     mask_write: int
     mask_test: int | None
     line_rows: np.ndarray | None = None
-    binding: _FeatureBinding | None = None
+    binding: FeatureBinding | None = None
     v_max: np.ndarray | None = None
     pupil_row: int = -1
 
@@ -237,10 +168,10 @@ class FaceRig:
         for key, prep in enumerate(self._order):
             if isinstance(prep, _Polygon) and prep.binding is not None:
                 b = prep.binding
-                parts.append(_FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
+                parts.append(FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
                 self._line_slices[key] = slice(start, start + len(b.vrl))
                 start += len(b.vrl)
-        self._all_lines = _FeatureBinding(*(np.concatenate([getattr(p, f) for p in parts])
+        self._all_lines = FeatureBinding(*(np.concatenate([getattr(p, f) for p in parts])
                                             for f in ("start", "end", "vrl", "d"))) if parts else None
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
