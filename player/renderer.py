@@ -56,26 +56,28 @@ def triangulate(vertices: np.ndarray) -> np.ndarray:
 class Triangulator:
     """Fill triangulations of a face's items, kept by item key from frame to frame.
 
-    A kept triangulation is re-used while every one of its triangles keeps the outline's
-    orientation; the check runs on all of a frame's kept triangulations at once.
+    A kept triangulation is re-used while the outline has the same number of vertices and every
+    one of its triangles keeps the outline's orientation: index triangles that tile an N-gon tile
+    any simple N-gon whose vertices leave them all positively oriented (their winding numbers add
+    up to the outline's). The check runs on all of a frame's kept triangulations at once.
     """
 
     def __init__(self) -> None:
-        self._cache: dict[int, np.ndarray] = {}
+        self._cache: dict[int, tuple[int, np.ndarray]] = {}
         self.reused = 0
         self.computed = 0
 
     def kept(self, item: DrawItem) -> np.ndarray | None:
         """The kept triangulation of ``item`` if it still indexes its outline, else ``None``."""
         known = self._cache.get(item.key)
-        if known is None or not len(known) or int(known.max()) >= len(item.vertices):
+        if known is None or known[0] != len(item.vertices) or not len(known[1]):
             return None
-        return known
+        return known[1]
 
     def compute(self, item: DrawItem) -> np.ndarray:
         """Triangulate ``item``'s outline afresh and keep the result."""
         indices = triangulate(item.vertices)
-        self._cache[item.key] = indices
+        self._cache[item.key] = (len(item.vertices), indices)
         self.computed += 1
         return indices
 

@@ -96,3 +96,25 @@ def test_triangulation_covers_the_polygon_area():
     u, v = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
     area = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum() / 2
     assert area == pytest.approx(16 - 4 * 3 / 2)
+
+
+def test_a_kept_triangulation_is_reused_only_while_it_still_tiles_the_outline():
+    from player.renderer import Triangulator, triangles_of
+
+    def area(geom, tri):
+        data, _ = triangles_of(geom, tri)
+        t = data[:, :2].astype(float).reshape(-1, 3, 2)
+        u, v = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+        return np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum() / 2
+
+    tri = Triangulator()
+    square = _poly([[0, 0], [4, 0], [4, 4], [0, 4]], WHITE)
+    assert area(Geometry((square,), VIEW, WHITE), tri) == pytest.approx(16)
+    moved = _poly([[0, 0], [6, 0], [6, 5], [0, 4]], WHITE)  # same topology: re-used
+    assert area(Geometry((moved,), VIEW, WHITE), tri) == pytest.approx(27) and tri.reused == 1
+    # A dart: the kept diagonal 0-2 would leave a flipped triangle (covered area 10, not 6).
+    dart = _poly([[0, 0], [4, 2], [0, 4], [1, 2]], WHITE)
+    assert area(Geometry((dart,), VIEW, WHITE), tri) == pytest.approx(6)
+    computed = tri.computed
+    notch = _poly([[0, 0], [4, 0], [4, 4], [2, 1], [0, 4]], WHITE)  # more vertices: triangulated afresh
+    assert area(Geometry((notch,), VIEW, WHITE), tri) == pytest.approx(10) and tri.computed == computed + 1
