@@ -144,3 +144,13 @@ def test_face_command_sheet_svg_and_bad_file(tmp_path, capsys):
     assert main(["face", str(bad)]) != 0
     err = capsys.readouterr().err.strip()
     assert err.startswith("toonface: error:") and "bad.json" in err and "\n" not in err
+
+
+def test_the_same_input_gives_the_same_pixels(ctx):
+    face = load_face("round")
+    geom = FaceRig(face).geometry(load_expressions()["fear"].pose(face.neutral()))
+    frames = []
+    for _ in range(2):
+        with Renderer(ctx, (100, 70), samples=4) as r:  # any size, not only squares
+            frames.append(r.render(geom))
+    assert frames[0].shape == (70, 100, 3) and np.array_equal(frames[0], frames[1])
