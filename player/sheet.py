@@ -12,42 +12,43 @@ import numpy as np
 from common import atomic_path
 from player.gl import create_context
 from player.renderer import Renderer
-from toon import Expression, Face, FaceRig
+from toon import Expression, FaceRig
 
 _LABEL_HEIGHT = 28
 
 
-def expression_sheet(face: Face, expressions: dict[str, Expression], cell: int = 256, columns: int = 0,
-                     samples: int = 4) -> np.ndarray:
-    """Render each expression on ``face`` into a labelled grid.
+def expression_sheet(rig: FaceRig, expressions: dict[str, Expression], cell: tuple[int, int] = (256, 256),
+                     columns: int = 0, samples: int = 4) -> np.ndarray:
+    """Render each expression on a face into a labelled grid.
 
     Parameters
     ----------
-    face : Face
+    rig : FaceRig
+        The face, prepared.
     expressions : dict of name to Expression
         In the order to show them.
-    cell : int
-        Pixels per side of each face picture.
+    cell : (width, height)
+        Pixels of each face picture.
     columns : int
         Pictures per row; 0 picks a near-square grid.
 
     Returns
     -------
-    ndarray of uint8, shape (rows * (cell + 28), columns * cell, 3)
+    ndarray of uint8, shape (rows * (height + 28), columns * width, 3)
         RGB; each picture has its expression's name written under it.
     """
+    width, height = cell
     columns = columns or math.ceil(math.sqrt(len(expressions)))
     rows = math.ceil(len(expressions) / columns)
-    sheet = np.full((rows * (cell + _LABEL_HEIGHT), columns * cell, 3), 255, dtype=np.uint8)
-    rig = FaceRig(face)
-    neutral = face.neutral()
+    sheet = np.full((rows * (height + _LABEL_HEIGHT), columns * width, 3), 255, dtype=np.uint8)
+    neutral = rig.face.neutral()
     ctx = create_context()
     try:
-        with Renderer(ctx, (cell, cell), samples=samples) as renderer:
+        with Renderer(ctx, cell, samples=samples) as renderer:
             for i, (name, expression) in enumerate(expressions.items()):
-                top, left = (i // columns) * (cell + _LABEL_HEIGHT), (i % columns) * cell
-                sheet[top:top + cell, left:left + cell] = renderer.render(rig.geometry(expression.pose(neutral)))
-                _label(sheet, name, left, top + cell, cell)
+                top, left = (i // columns) * (height + _LABEL_HEIGHT), (i % columns) * width
+                sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(expression.pose(neutral)))
+                _label(sheet, name, left, top + height, width)
     finally:
         ctx.release()
     return sheet

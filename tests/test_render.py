@@ -112,8 +112,14 @@ def test_a_kept_triangulation_is_reused_only_while_it_still_tiles_the_outline():
     assert area(Geometry((square,), VIEW, WHITE), tri) == pytest.approx(16)
     moved = _poly([[0, 0], [6, 0], [6, 5], [0, 4]], WHITE)  # same topology: re-used
     assert area(Geometry((moved,), VIEW, WHITE), tri) == pytest.approx(27) and tri.reused == 1
-    # A dart: the kept diagonal 0-2 would leave a flipped triangle (covered area 10, not 6).
-    dart = _poly([[0, 0], [4, 2], [0, 4], [1, 2]], WHITE)
+    # A dart whose reflex vertex puts the kept diagonal outside it: re-using that triangulation
+    # would leave a flipped triangle (covered area 10, not 6).
+    kept = tri.kept(moved).reshape(-1, 3)
+    shared = sorted(set(kept[0]) & set(kept[1]))
+    dart = [[0, 0], [4, 2], [0, 4], [1, 2]]  # reflex at 3: diagonal 0-2 lies outside
+    if shared == [1, 3]:
+        dart = dart[-1:] + dart[:-1]  # reflex at 0: diagonal 1-3 lies outside
+    dart = _poly(dart, WHITE)
     assert area(Geometry((dart,), VIEW, WHITE), tri) == pytest.approx(6)
     computed = tri.computed
     notch = _poly([[0, 0], [4, 0], [4, 4], [2, 1], [0, 4]], WHITE)  # more vertices: triangulated afresh

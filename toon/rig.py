@@ -16,8 +16,9 @@ disc of a turning eyeball would.
 
 Drawing order: background layers -10..-1 (CharToon components that never move), then A1.2.2's
 six steps (holes, pupils, the face polygon minus the holes, free, point- and feature-attached
-polygons), then foreground layers 1..10; file order within each. CharToon components are
-evaluated by :mod:`toon.components` and :mod:`toon.skeleton`.
+polygons), then foreground layers 1..10; file order within each. CharToon components (described
+in :mod:`toon.components`) are evaluated here, with the couplings of :mod:`toon.skeleton` and the
+outline operators of :mod:`toon.curves`.
 
 Head turns (HH, HV). A 2-D face has no 3-D head, so each polygon is given a depth ``z`` in front
 of the outline (the face's ``feature_depth`` for holes, pupils, point- and feature-attached
@@ -31,7 +32,7 @@ orthographically, so features slide across the outline by ``z * sin(angle)`` and
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -97,11 +98,6 @@ class Geometry:
     viewbox: tuple[float, float, float, float]
     background: Color
 
-    @property
-    def vertex_count(self) -> int:
-        """Total outline vertices."""
-        return sum(len(p.vertices) for p in self.items)
-
 
 @dataclass(frozen=True)
 class _Polygon:
@@ -150,8 +146,6 @@ class FaceRig:
         self._index = {n: i for i, n in enumerate(self._point_names)}
         self._driven = [(motor_index(m.code), self._index[m.point], 0 if m.axis == "x" else 1,
                          *face.ranges[m.code]) for m in MOTORS if m.code not in ANGLE_MOTORS]
-        self._gaze = [(motor_index(m.code), self._index[m.point], 0 if m.axis == "x" else 1,
-                       *face.ranges[m.code]) for m in MOTORS if m.code in ANGLE_MOTORS and m.point != "HEAD"]
         self._head = [face.ranges["HH"], face.ranges["HV"]]
         self._pivot = np.array(face.head_pivot)
         order = sorted(range(len(face.polygons)), key=lambda i: KINDS.index(face.polygons[i].kind))  # stable
@@ -179,16 +173,15 @@ class FaceRig:
         pts = self._rest.copy()
         for col, row, axis, lo, hi in self._driven:
             pts[row, axis] = lo + values[col] * (hi - lo)
-        radius = self.face.eye_radius
-        for col, row, axis, lo, hi in self._gaze:
-            pts[row, axis] += radius * np.sin(np.radians(lo + values[col] * (hi - lo)))
+        for point in PUPIL_EYES:
+            pts[self._index[point]] += self.face.eye_radius * np.sin(np.radians(self.gaze_degrees(values, point)))
         return pts
 
-    def gaze_degrees(self, values: np.ndarray, point: str) -> tuple[float, float]:
-        """Horizontal and vertical gaze angles of pupil ``point`` (PR or PL) in degrees."""
+    def gaze_degrees(self, values: np.ndarray, point: str) -> np.ndarray:
+        """Horizontal and vertical gaze angles of pupil ``point`` (PR or PL) in degrees, shape ``(2,)``."""
         side = "R" if point == "PR" else "L"
-        h, v = (self._lerp(self.face.ranges[f"P{side}{a}"], values[motor_index(f"P{side}{a}")]) for a in "HV")
-        return h, v
+        return np.array([self._lerp(self.face.ranges[f"P{side}{a}"], values[motor_index(f"P{side}{a}")])
+                         for a in "HV"])
 
     def geometry(self, values: np.ndarray) -> Geometry:
         """The items of one frame, in drawing order, for motor values of shape ``(21,)``."""
@@ -225,7 +218,7 @@ class FaceRig:
         turned = np.split(head_turn(stacked, depth, self._pivot, yaw, pitch), np.cumsum(counts)[:-1])
         out = list(items)
         for i, verts in zip(moving, turned):
-            out[i] = _with_vertices(items[i], verts)
+            out[i] = replace(items[i], vertices=verts)
         return out
 
     def _polygon_item(self, prep: _Polygon, pts: np.ndarray, values: np.ndarray,
@@ -331,8 +324,3 @@ class FaceRig:
         mask_write = MASK_GROUPS[spec.hole] if spec.hole else 0
         mask_test = MASK_GROUPS[spec.clip] if spec.clip else None
         return _Component(spec, rows, offset, depth, mask_write, mask_test, operator, edge_visible, **extra)
-
-
-def _with_vertices(item: DrawItem, vertices: np.ndarray) -> DrawItem:
-    return DrawItem(vertices, item.fill, item.stroke, item.width, item.closed, item.edge_visible, item.kind,
-                    item.mask_write, item.mask_test, item.key, item.name)

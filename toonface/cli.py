@@ -196,7 +196,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         raise click.BadParameter(f"unknown expression {expression!r} (one of {', '.join(expressions)})",
                                  param_hint="--expression")
     if sheet_path:
-        save_png(expression_sheet(loaded, expressions, cell=cell[0]), sheet_path)
+        save_png(expression_sheet(rig, expressions, cell=cell), sheet_path)
         click.echo(f"wrote {sheet_path} ({len(expressions)} expressions on {loaded.name})")
     if svg_path:
         save_svg(rig.geometry(expressions[expression].pose(loaded.neutral())), svg_path, cell)
