@@ -57,13 +57,15 @@ class Triangulator:
     """Fill triangulations of a face's items, kept by item key from frame to frame.
 
     A kept triangulation is re-used while the outline has the same number of vertices and every
-    one of its triangles keeps the outline's orientation: index triangles that tile an N-gon tile
-    any simple N-gon whose vertices leave them all positively oriented (their winding numbers add
-    up to the outline's). The check runs on all of a frame's kept triangulations at once.
+    one of its triangles keeps the orientation it had against the outline when it was made (earcut
+    emits a clockwise outline's triangles counter-clockwise): index triangles that tile an N-gon
+    tile any simple N-gon whose vertices leave them all so oriented (their winding numbers add up
+    to the outline's). The check runs on all of a frame's kept triangulations at once.
     """
 
     def __init__(self) -> None:
         self._cache: dict[int, tuple[int, np.ndarray]] = {}
+        self._relation: dict[int, float] = {}  # +1: triangles wound like the outline, -1: against
         self.reused = 0
         self.computed = 0
 
@@ -78,11 +80,12 @@ class Triangulator:
         """Triangulate ``item``'s outline afresh and keep the result."""
         indices = triangulate(item.vertices)
         self._cache[item.key] = (len(item.vertices), indices)
+        self._relation[item.key] = _winding_relation(item.vertices, indices)
         self.computed += 1
         return indices
 
     def still_valid(self, items: list[DrawItem], corners: list[np.ndarray]) -> np.ndarray:
-        """For each item, whether its kept triangles ``corners`` (3T, 2) all keep its orientation."""
+        """For each item, whether its kept triangles ``corners`` (3T, 2) all keep their orientation."""
         verts = np.concatenate([it.vertices for it in items])
         sizes = np.array([len(it.vertices) for it in items])
         starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -95,11 +98,23 @@ class Triangulator:
         cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
         counts = np.array([len(c) // 3 for c in corners])
         owner = np.repeat(np.arange(len(items)), counts)
-        good = cross * np.sign(area)[owner] > 0
+        relation = np.array([self._relation[it.key] for it in items])
+        good = cross * (np.sign(area) * relation)[owner] > 0
         valid = np.minimum.reduceat(good, np.concatenate([[0], np.cumsum(counts)[:-1]]))
         valid &= np.abs(area) > 1e-9
         self.reused += int(valid.sum())
         return valid
+
+
+def _winding_relation(outline: np.ndarray, indices: np.ndarray) -> float:
+    """+1 if the triangles ``indices`` of ``outline`` (N, 2) wind as it does, -1 if against it."""
+    if not len(indices):
+        return 1.0
+    x, y = outline[:, 0], outline[:, 1]
+    area = np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+    a, b, c = (outline[indices[k::3]] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    return 1.0 if np.sum(cross) * area >= 0 else -1.0
 
 
 def _mode(item: DrawItem, stroke: bool) -> str:

@@ -124,3 +124,18 @@ def test_a_kept_triangulation_is_reused_only_while_it_still_tiles_the_outline():
     computed = tri.computed
     notch = _poly([[0, 0], [4, 0], [4, 4], [2, 1], [0, 4]], WHITE)  # more vertices: triangulated afresh
     assert area(Geometry((notch,), VIEW, WHITE), tri) == pytest.approx(10) and tri.computed == computed + 1
+
+
+def test_a_clockwise_outline_keeps_its_triangulation_too():
+    # earcut emits a clockwise outline's triangles counter-clockwise; the re-use check compares
+    # against the winding they had when made, so a clockwise fill is not triangulated every frame.
+    from player.renderer import Triangulator, triangles_of
+
+    tri = Triangulator()
+    for shift in (0.0, 0.5, 1.0):
+        clockwise = _poly([[0, 0], [0, 4], [4 + shift, 4], [4, 0]], WHITE)
+        triangles_of(Geometry((clockwise,), VIEW, WHITE), tri)
+    assert (tri.computed, tri.reused) == (1, 2)
+    folded = _poly([[0, 0], [0, 4], [-4, 4], [4, 0]], WHITE)  # a vertex swung across: not re-used
+    triangles_of(Geometry((folded,), VIEW, WHITE), tri)
+    assert tri.computed == 2
