@@ -1,19 +1,30 @@
-"""Take files. This version reads and writes the project's own ``.npz``; other formats plug in
-by suffix in :data:`_READERS` / :data:`_WRITERS`."""
+"""Take files: C3D, TRC, CSV and the project's own ``.npz``, chosen by suffix.
+
+``load_take`` reads any of them; ``save_take`` writes any of them atomically. Every format
+round-trips: read -> write -> read gives equal positions, labels, rate and (except C3D, which
+stores only a rate) times.
+"""
 
 from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 
-from common import InputError, atomic_path
+from capture.c3dfile import read_c3d, write_c3d
+from capture.csvfile import read_csv, write_csv
 from capture.take import Take
+from capture.trcfile import read_trc, write_trc
+from common import InputError, atomic_path
 
 NPZ_FORMAT = "toonface.take/1"
+READABLE = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
+WRITABLE = (".c3d", ".trc", ".csv", ".npz")
+_TABLES = (".csv", ".tsv", ".txt")
 
 
 def _write_npz(take: Take, path: Path) -> None:
@@ -25,38 +36,65 @@ def _write_npz(take: Take, path: Path) -> None:
 
 def _read_npz(path: Path) -> Take:
     try:
-        with np.load(path, allow_pickle=False) as z:
+        # np.load leaks the handle of a file it opened itself when the zip is corrupt: open it here.
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
+            if not hasattr(z, "files"):
+                raise InputError("a single .npy array, not a toonface take archive", path)
             if "format" not in z.files or str(z["format"]) != NPZ_FORMAT:
                 raise InputError(f'not a toonface take (missing format "{NPZ_FORMAT}")', path)
             return Take(z["positions"], tuple(str(x) for x in z["labels"]), float(z["rate"]),
                         times=z["times"], dims=int(z["dims"]), meta=json.loads(str(z["meta"])))
     except InputError as exc:
         raise InputError(exc.message, path) from None
-    except (OSError, ValueError, KeyError) as exc:
-        raise InputError(f"cannot read take ({exc})", path) from None
+    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error,
+            NotImplementedError, RuntimeError) as exc:
+        raise InputError(f"not a readable .npz take ({type(exc).__name__}: {exc})", path) from None
 
 
-_READERS: dict[str, Callable[[Path], Take]] = {".npz": _read_npz}
-_WRITERS: dict[str, Callable[[Take, Path], None]] = {".npz": _write_npz}
+def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[str] | None = None,
+              units: str | float | None = None) -> Take:
+    """Read a take file, choosing the reader by suffix.
 
+    Parameters
+    ----------
+    path : path-like
+        ``.c3d``, ``.trc``, ``.csv`` (also ``.tsv``, ``.txt``) or ``.npz``.
+    rate, labels, units
+        For CSV tables only, which may not say them (see :mod:`capture.csvfile`): the frame rate
+        in Hz, the marker names of a headerless table, and the units (``cm`` or millimetres per
+        unit). The other formats carry their own; giving these for them is an error.
 
-def load_take(path: str | os.PathLike) -> Take:
-    """Read a take file, choosing the reader by suffix."""
+    Raises
+    ------
+    InputError
+        Naming the file and what is wrong with it.
+    """
     path = Path(path)
-    reader = _READERS.get(path.suffix.lower())
-    if reader is None:
-        raise InputError(f"unknown take format {path.suffix!r} (readable: {', '.join(_READERS)})", path)
+    suffix = path.suffix.lower()
+    if suffix not in READABLE:
+        raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)})",
+                         path)
     if not path.is_file():
         raise InputError("no such file", path)
-    return reader(path)
+    if suffix in _TABLES:
+        return read_csv(path, rate=rate, labels=labels, units=units)
+    given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]
+    if given:
+        raise InputError(f"a {suffix} take carries its own {', '.join(given)}; those options are for CSV tables",
+                         path)
+    return {".c3d": read_c3d, ".trc": read_trc, ".npz": _read_npz}[suffix](path)
 
 
 def save_take(take: Take, path: str | os.PathLike) -> Path:
-    """Write a take file atomically, choosing the writer by suffix."""
+    """Write a take file atomically, choosing the writer by suffix (``.c3d .trc .csv .npz``)."""
     path = Path(path)
-    writer = _WRITERS.get(path.suffix.lower())
+    writers = {".c3d": write_c3d, ".trc": write_trc, ".csv": write_csv, ".npz": _write_npz}
+    writer = writers.get(path.suffix.lower())
     if writer is None:
-        raise InputError(f"unknown take format {path.suffix!r} (writable: {', '.join(_WRITERS)})", path)
+        raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (writable: {', '.join(WRITABLE)})",
+                         path)
+    if take.dims == 2 and path.suffix.lower() in (".c3d", ".trc"):
+        raise InputError("a planar (2-D) take can be written as .csv or .npz only", path)
     with atomic_path(path) as tmp:
         writer(take, tmp)
     return path

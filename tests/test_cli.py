@@ -14,7 +14,7 @@ from capture import load_take
 from toon import builtin_faces, load_track
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "map", "render", "retarget", "faces", "face"]
+SUBCOMMANDS = ["demo", "synth", "info", "map", "render", "retarget", "faces", "face"]
 
 
 def test_every_console_script_entry_point_imports():
@@ -73,7 +73,7 @@ def test_synth_map_render_chain(tmp_path, capsys):
 
 def test_a_corrupt_track_writes_nothing(tmp_path, capsys):
     (tmp_path / "m.csv").write_text("time,BRL\n0,0\n")
-    assert main(["render", str(tmp_path / "m.csv"), "-o", str(tmp_path / "v.mp4")]) == 1
+    assert main(["render", str(tmp_path / "m.csv"), "-o", str(tmp_path / "v.mp4")]) == 2
     assert not (tmp_path / "v.mp4").exists()
 
 

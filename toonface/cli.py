@@ -6,6 +6,7 @@ message (no traceback) on bad input; set ``TOONFACE_DEBUG=1`` to see tracebacks.
 
 from __future__ import annotations
 
+import json
 import logging
 import os
 import sys
@@ -14,7 +15,8 @@ from collections.abc import Callable
 import click
 from tqdm import tqdm
 
-from capture import load_take, save_take, synthesize
+from capture import Take, load_take, save_take, synthesize
+from capture.info import describe, summarize
 from common import ToonfaceError
 from player.sheet import expression_sheet, save_png
 from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
@@ -60,6 +62,21 @@ def _parse_window(value: str) -> tuple[float, float]:
     if not end > start >= 0:
         raise click.BadParameter(f"expected 0 <= START < END, got {value!r}")
     return start, end
+
+
+def _take_options(fn: Callable) -> Callable:
+    """--rate, --labels and --units: what a CSV table may not say about itself."""
+    fn = click.option("--units", default=None, metavar="mm|cm|m|in|N",
+                      help="CSV only: the table's units, or millimetres per unit [default: mm].")(fn)
+    fn = click.option("--labels", default=None, metavar="A,B,...",
+                      help="CSV only: marker names of a table without a header row.")(fn)
+    return click.option("--rate", "take_rate", default=None, type=float, metavar="HZ",
+                        help="CSV only: frame rate of a table without a time column.")(fn)
+
+
+def _load_take(path: str, take_rate: float | None, labels: str | None, units: str | None) -> Take:
+    names = [x.strip() for x in labels.split(",") if x.strip()] if labels else None
+    return load_take(path, rate=take_rate, labels=names, units=units)
 
 
 _FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",
@@ -118,6 +135,25 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int) -> 
     path = save_take(synthetic.take, output)
     truth = save_track(truth_track(synthetic), path.with_name(f"{path.stem}.truth.csv"))
     click.echo(f"wrote {path} ({synthetic.take.frames} frames, {synthetic.take.markers} markers) and {truth}")
+
+
+@cli.command()
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="One JSON object instead of text.")
+@_take_options
+def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Frames, markers, rate, duration, units and gaps of a take (.c3d .trc .csv .npz).
+
+    With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
+    labels, missing (total missing marker-samples), missing_per_marker, longest_gap and source.
+    """
+    summary = summarize(_load_take(take, take_rate, labels, units))
+    if as_json:
+        click.echo(json.dumps(summary))
+    else:
+        click.echo(f"{take}")
+        for line in describe(summary):
+            click.echo(f"  {line}" if line else "")
 
 
 @cli.command("map")
@@ -227,13 +263,13 @@ def main(argv: list[str] | None = None) -> int:
         if debug:
             raise
         click.echo(f"toonface: error: {exc}".replace("\n", " "), err=True)
-        return 1
+        return 2
     except OSError as exc:
         if debug:
             raise
         where = f"{exc.filename}: " if exc.filename else ""
         click.echo(f"toonface: error: {where}{exc.strerror or exc}", err=True)
-        return 1
+        return 2
     except Exception as exc:  # a bug: still one line for the user, the traceback on request
         if debug:
             raise

@@ -1,0 +1,221 @@
+"""CSV takes: Vicon Nexus "Trajectories" exports, wide marker tables and headerless tables.
+
+* **Nexus** — a ``Trajectories`` line, the rate, subject-prefixed marker names every third
+  column, ``Frame,Sub Frame,X,Y,Z...``, a units line, then rows; empty cells are gaps. Other
+  sections (``Devices``, ``Model Outputs``) are skipped.
+* **Wide** — a header of ``<marker>_x, <marker>_y[, <marker>_z]`` columns (also ``.x`` or
+  `` X``), any separator (``,`` ``;`` tab ``|``), ``NA`` or empty cells for gaps, and a ``time``
+  or ``time_s`` column in seconds, or a ``frame`` column with the rate given. Other columns
+  (``Stimulustype``) are ignored and named in ``meta["ignored_columns"]``. Without z columns
+  the take is planar (``dims=2``).
+* **Headerless** — rows of numbers only, given ``labels`` and ``rate``: 3 columns per label
+  (or 2 for planar data).
+
+Units are millimetres unless ``units`` says otherwise (``cm``, ``m``, ``in`` or a number of
+millimetres per unit): a CSV does not say its units, except Nexus's units line.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from capture.c3dfile import UNIT_MM, unique_labels
+from capture.take import Take
+from capture.textio import (check_rate, detect_separator, is_blank, is_number, numeric_rows, read_lines, split,
+                            times_from_column)
+from common import InputError
+
+_AXIS = re.compile(r"^(?P<marker>.+?)[ _.:-](?P<axis>[xyzXYZ])$")
+_TIME_NAMES = ("time", "time_s", "times", "t", "seconds", "time (s)")
+_FRAME_NAMES = ("frame", "frames", "frame#", "frame_no", "frame number")
+
+
+def read_csv(path: Path, rate: float | None = None, labels: list[str] | None = None,
+             units: str | float | None = None) -> Take:
+    """Read a CSV take; see the module docstring for the layouts and options."""
+    lines = read_lines(path)
+    first = next((i for i, line in enumerate(lines) if line.strip(" ,;\t|")), None)
+    if first is None:
+        raise InputError("no data (only blank lines)", path)
+    if split(lines[first], detect_separator(lines[first]))[0].lower() == "trajectories":
+        return _read_nexus(path, lines, first, units)
+    sep = detect_separator(lines[first])
+    header = split(lines[first], sep)
+    if labels is not None or all(is_number(c) for c in header if c):
+        return _read_headerless(path, lines, sep, rate, labels, units)
+    return _read_wide(path, lines, first, sep, header, rate, units)
+
+
+def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header: list[str],
+               rate: float | None, units: str | float | None) -> Take:
+    lowered = [h.lower() for h in header]
+    time_col = next((lowered.index(n) for n in _TIME_NAMES if n in lowered), None)
+    frame_col = next((lowered.index(n) for n in _FRAME_NAMES if n in lowered), None)
+    markers: dict[str, dict[str, int]] = {}
+    ignored = []
+    for c, name in enumerate(header):
+        match = _AXIS.match(name) if c not in (time_col, frame_col) else None
+        if match is None:
+            if name and c not in (time_col, frame_col):
+                ignored.append(name)
+            continue
+        axes = markers.setdefault(match["marker"], {})
+        axis = match["axis"].lower()
+        if axis in axes:
+            raise InputError(f'duplicate column "{name}" (marker "{match["marker"]}" axis {axis} twice)', path,
+                             f"line {first + 1}")
+        axes[axis] = c
+    markers = {m: a for m, a in markers.items() if "x" in a or "y" in a}
+    if not markers:
+        raise InputError(f"no marker columns (<marker>_x, _y, _z) in the header; read it as separated by "
+                         f"{_describe(sep)}", path, f"line {first + 1}")
+    incomplete = [m for m, a in markers.items() if not ("x" in a and "y" in a)]
+    if incomplete:
+        raise InputError(f"markers without both x and y columns: {incomplete[:5]}", path, f"line {first + 1}")
+    has_z = [("z" in a) for a in markers.values()]
+    if any(has_z) and not all(has_z):
+        raise InputError(f"some markers have z columns and some do not: {[m for m, a in markers.items() if 'z' not in a][:5]}",
+                         path, f"line {first + 1}")
+    dims = 3 if all(has_z) else 2
+    rows = _data_rows(lines, first + 1, sep, path)
+    columns, names = [], []
+    for m, a in markers.items():
+        for axis in "xyz"[:dims]:
+            columns.append(a[axis])
+            names.append(header[a[axis]])
+    data = numeric_rows(rows, columns, names, path)
+    positions = np.zeros((len(rows), len(markers), 3))
+    positions[:, :, :dims] = data.reshape(len(rows), len(markers), dims)
+    positions[np.isnan(positions).any(axis=2)] = np.nan
+    times = None
+    if time_col is not None:
+        times, implied = times_from_column(numeric_rows(rows, [time_col], [header[time_col]], path)[:, 0], path,
+                                           header[time_col])
+        rate = check_rate(rate if rate is not None else implied, path,
+                          "rate" if rate is not None else f'the rate implied by column "{header[time_col]}"')
+    elif frame_col is not None:
+        if rate is None:
+            raise InputError(f'a "{header[frame_col]}" column but no time column: give the frame rate (--rate)', path)
+        rate = check_rate(rate, path)
+        frame_numbers = numeric_rows(rows, [frame_col], [header[frame_col]], path)[:, 0]
+        times, _ = times_from_column(frame_numbers / rate, path, header[frame_col])
+    elif rate is None:
+        raise InputError("no time or frame column: give the frame rate (--rate)", path)
+    else:
+        rate = check_rate(rate, path)
+    clean, renamed = unique_labels(list(markers))
+    meta = {"source": "csv", "layout": "wide", "file": path.name, "separator": _describe(sep)}
+    if ignored:
+        meta["ignored_columns"] = ignored
+    if renamed:
+        meta["renamed"] = renamed
+    return Take(positions * _mm_per_unit(units, path), clean, rate, times=times, dims=dims, meta=meta)
+
+
+def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float | None,
+                     labels: list[str] | None, units: str | float | None) -> Take:
+    if not labels:
+        raise InputError("a table without a header needs the marker names (--labels A,B,C) and --rate", path)
+    if rate is None:
+        raise InputError("a table without a header needs the frame rate (--rate)", path)
+    rate = check_rate(rate, path)
+    rows = _data_rows(lines, 0, sep, path)
+    width = len(rows[0][1])
+    if width not in (2 * len(labels), 3 * len(labels)):
+        raise InputError(f"{width} columns for {len(labels)} labels; expected {3 * len(labels)} (x, y, z each) "
+                         f"or {2 * len(labels)} (x, y)", path, f"line {rows[0][0]}")
+    dims = width // len(labels)
+    ragged = next(((n, len(c)) for n, c in rows if len(c) != width), None)
+    if ragged:
+        raise InputError(f"{ragged[1]} columns where the first row has {width}", path, f"line {ragged[0]}")
+    names = [f"{m}_{a}" for m in labels for a in "xyz"[:dims]]
+    data = numeric_rows(rows, list(range(width)), names, path)
+    positions = np.zeros((len(rows), len(labels), 3))
+    positions[:, :, :dims] = data.reshape(len(rows), len(labels), dims)
+    positions[np.isnan(positions).any(axis=2)] = np.nan
+    meta = {"source": "csv", "layout": "headerless", "file": path.name, "separator": _describe(sep)}
+    return Take(positions * _mm_per_unit(units, path), tuple(labels), rate, dims=dims, meta=meta)
+
+
+def _read_nexus(path: Path, lines: list[str], first: int, units: str | float | None) -> Take:
+    if len(lines) < first + 5:
+        raise InputError("a Trajectories section needs a rate, names, columns and units lines", path)
+    sep = detect_separator(lines[first + 2]) or ","
+    rate_cells = split(lines[first + 1], sep)
+    try:
+        rate = float(rate_cells[0])
+    except ValueError:
+        raise InputError(f"expected the frame rate, got {rate_cells[0]!r}", path, f"line {first + 2}") from None
+    rate = check_rate(rate, path, f"the rate on line {first + 2}")
+    names = split(lines[first + 2], sep)
+    labels = [(c, names[c]) for c in range(2, len(names)) if names[c]]
+    if not labels:
+        raise InputError("no marker names after Trajectories", path, f"line {first + 3}")
+    unit_cells = split(lines[first + 4], sep)
+    file_units = next((u for u in unit_cells[2:] if u), "mm").lower()
+    if units is None and file_units not in UNIT_MM:
+        raise InputError(f'unknown units "{file_units}"', path, f"line {first + 5}")
+    rows = _data_rows(lines, first + 5, sep, path, stop_at_blank=True)
+    columns = [c + k for c, _ in labels for k in range(3)]
+    data = numeric_rows(rows, [0, *columns], ["Frame"] + [f"{m}.{a}" for _, m in labels for a in "XYZ"], path,
+                        short_ok=True)
+    frames = data[:, 0]
+    times, _ = times_from_column((frames - frames[0]) / rate, path, "Frame")
+    positions = data[:, 1:].reshape(len(rows), len(labels), 3)
+    positions[np.isnan(positions).any(axis=2)] = np.nan
+    scale = _mm_per_unit(units, path) if units is not None else UNIT_MM[file_units]
+    clean, renamed = unique_labels([m for _, m in labels])
+    meta = {"source": "csv", "layout": "nexus", "file": path.name, "units_in_file": file_units}
+    if renamed:
+        meta["renamed"] = renamed
+    return Take(positions * scale, clean, rate, times=times, meta=meta)
+
+
+def write_csv(take: Take, path: Path) -> None:
+    """Write ``take`` as a wide CSV: ``frame,time_s,<marker>_x,_y[,_z]`` in mm; gaps empty."""
+    axes = "xyz"[: take.dims]
+    header = ["frame", "time_s"] + [f"{m}_{a}" for m in take.labels for a in axes]
+    flat = take.positions[:, :, : take.dims].reshape(take.frames, -1)
+    out = [",".join(header)]
+    for f in range(take.frames):
+        cells = ["" if v != v else repr(float(v)) for v in flat[f]]
+        out.append(f"{f},{float(take.times[f])!r}," + ",".join(cells))
+    path.write_text("\n".join(out) + "\n", encoding="utf-8")
+
+
+def _data_rows(lines: list[str], start: int, sep: str | None, path: Path,
+               stop_at_blank: bool = False) -> list[tuple[int, list[str]]]:
+    rows = []
+    for i in range(start, len(lines)):
+        if is_blank(lines[i], sep):
+            if stop_at_blank and rows:
+                break
+            continue
+        rows.append((i + 1, split(lines[i], sep)))
+    if not rows:
+        raise InputError("no data rows (zero frames)", path)
+    return rows
+
+
+def _mm_per_unit(units: str | float | None, path: Path) -> float:
+    if units is None:
+        return 1.0
+    if isinstance(units, (int, float)):
+        value = float(units)
+    elif units.strip().lower() in UNIT_MM:
+        return UNIT_MM[units.strip().lower()]
+    else:
+        try:
+            value = float(units)
+        except ValueError:
+            raise InputError(f'unknown units "{units}" (mm, cm, m, in, or millimetres per unit)', path) from None
+    if not (np.isfinite(value) and value > 0):
+        raise InputError(f"units must be a positive number of millimetres per unit, got {units!r}", path)
+    return value
+
+
+def _describe(sep: str | None) -> str:
+    return {",": "commas", ";": "semicolons", "\t": "tabs", "|": "bars", None: "spaces"}[sep]
