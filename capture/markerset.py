@@ -1,16 +1,33 @@
-"""Marker sets: names, neutral positions and rigid head references, read from TOML."""
+"""Marker sets: names, neutral positions, rigid head references and aliases, read from TOML.
+
+Format ``toonface.markerset/1``::
+
+    format = "toonface.markerset/1"
+    name = "toon32"
+    description = "..."
+    head_reference = ["FOREHEAD", "TEMPLE_R", "TEMPLE_L"]   # at least 3, rigid with the skull
+
+    [markers]
+    BROW_R_MED = { neutral = [-17.0, 20.0, 12.0], aliases = ["RBRO_IN"], mpeg4 = "4.2" }
+
+``neutral`` is in the head frame, millimetres (x to the performer's left, y up, z out of the
+face, origin between the eyes). ``aliases`` are other names the marker goes by (another
+vendor's label); ``mpeg4`` is its MPEG-4 facial feature point ("group.index"). A take whose
+labels carry a subject prefix (Vicon's ``Subject:LABEL``) still matches.
+"""
 
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
-from pathlib import Path
+import re
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from common import InputError, read_document, resolve_builtin
 
 FORMAT = "toonface.markerset/1"
+_MPEG4 = re.compile(r"^\d{1,2}\.\d{1,2}$")
 
 
 @dataclass(frozen=True, eq=False)
@@ -26,6 +43,11 @@ class MarkerSet:
         the face, origin between the eyes).
     head_reference : tuple of str
         Markers that move rigidly with the skull, used to remove head motion.
+    description : str
+    aliases : dict of str to str
+        Other name -> label.
+    mpeg4 : dict of str to str
+        Label -> MPEG-4 feature point number, for the markers that have one.
     """
 
     name: str
@@ -33,14 +55,43 @@ class MarkerSet:
     neutral: np.ndarray
     head_reference: tuple[str, ...]
     description: str = ""
+    aliases: dict[str, str] = field(default_factory=dict)
+    mpeg4: dict[str, str] = field(default_factory=dict)
 
     def neutral_of(self, label: str) -> np.ndarray:
         """Rest position of one marker, shape ``(3,)``."""
-        return self.neutral[self.labels.index(label)]
+        return self.neutral[self.labels.index(self.canonical(label))]
+
+    def canonical(self, name: str) -> str:
+        """This set's label for ``name``: a label, an alias, or either behind a ``Subject:`` prefix.
+
+        Raises
+        ------
+        InputError
+            If the set has no such marker.
+        """
+        for candidate in (name, name.rsplit(":", 1)[-1]):
+            if candidate in self.labels:
+                return candidate
+            if candidate in self.aliases:
+                return self.aliases[candidate]
+        raise InputError(f'marker "{name}" is not in marker set "{self.name}"')
+
+    def match(self, take_labels: tuple[str, ...] | list[str]) -> dict[str, str]:
+        """For each of this set's labels found among ``take_labels`` (directly, by alias or behind a
+        subject prefix), the take's label: ``{set label: take label}``."""
+        found: dict[str, str] = {}
+        for take_label in take_labels:
+            try:
+                label = self.canonical(take_label)
+            except InputError:
+                continue
+            found.setdefault(label, take_label)
+        return found
 
 
 def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
-    """Load a built-in marker set by name (``"toon32"``) or a TOML file."""
+    """Load a built-in marker set by name (``"toon32"``, ``"animface41"``, ``"gluedots16"``) or a TOML file."""
     path = resolve_builtin(name_or_path, "markersets", ".toml", "marker set")
     doc = read_document(path)
     if doc.get("format") != FORMAT:
@@ -50,14 +101,39 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
         raise InputError("missing [markers] table", path, "markers")
     labels = tuple(markers)
     neutral = np.empty((len(labels), 3))
+    aliases: dict[str, str] = {}
+    mpeg4: dict[str, str] = {}
     for i, label in enumerate(labels):
-        value = markers[label].get("neutral") if isinstance(markers[label], dict) else None
-        if not (isinstance(value, list) and len(value) == 3 and all(isinstance(v, (int, float)) for v in value)):
-            raise InputError(f"expected neutral = [x, y, z] in mm, got {value!r}", path, f"markers.{label}.neutral")
+        entry = markers[label]
+        where = f"markers.{label}"
+        if not isinstance(entry, dict):
+            raise InputError(f"expected a table with neutral = [x, y, z], got {entry!r}", path, where)
+        unknown = sorted(set(entry) - {"neutral", "aliases", "mpeg4"})
+        if unknown:
+            raise InputError(f"unknown keys {unknown} (known: neutral, aliases, mpeg4)", path, where)
+        value = entry.get("neutral")
+        if not (isinstance(value, list) and len(value) == 3
+                and all(isinstance(v, (int, float)) and np.isfinite(v) for v in value)):
+            raise InputError(f"expected neutral = [x, y, z] in mm, got {value!r}", path, f"{where}.neutral")
         neutral[i] = value
+        names = entry.get("aliases", [])
+        if not (isinstance(names, list) and all(isinstance(n, str) and n for n in names)):
+            raise InputError(f"expected a list of names, got {names!r}", path, f"{where}.aliases")
+        for alias in names:
+            if alias in labels or alias in aliases:
+                raise InputError(f'alias "{alias}" is already a label or another marker\'s alias', path,
+                                 f"{where}.aliases")
+            aliases[alias] = label
+        if "mpeg4" in entry:
+            code = entry["mpeg4"]
+            if not (isinstance(code, str) and _MPEG4.match(code)):
+                raise InputError(f'expected an MPEG-4 feature point such as "4.1", got {code!r}', path, f"{where}.mpeg4")
+            mpeg4[label] = code
     refs = tuple(doc.get("head_reference", ()))
-    unknown = [r for r in refs if r not in labels]
-    if unknown or len(refs) < 3:
-        raise InputError(f"needs at least 3 known head reference markers; unknown {unknown}", path, "head_reference")
+    unknown_refs = [r for r in refs if r not in labels]
+    if unknown_refs or len(refs) < 3:
+        raise InputError(f"needs at least 3 known head reference markers; unknown {unknown_refs}", path,
+                         "head_reference")
     neutral.setflags(write=False)
-    return MarkerSet(str(doc.get("name", path.stem)), labels, neutral, refs, str(doc.get("description", "")))
+    return MarkerSet(str(doc.get("name", path.stem)), labels, neutral, refs, str(doc.get("description", "")),
+                     aliases, mpeg4)
