@@ -14,7 +14,7 @@ from capture import load_take
 from toon import builtin_faces, load_track
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "info", "map", "render", "retarget", "faces", "face"]
+SUBCOMMANDS = ["demo", "synth", "info", "track", "map", "render", "retarget", "faces", "face"]
 
 
 def test_every_console_script_entry_point_imports():

@@ -16,7 +16,9 @@ import click
 from tqdm import tqdm
 
 from capture import Take, load_take, save_take, synthesize
+from capture.dots import HUES
 from capture.info import describe, summarize
+from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
 from player.sheet import expression_sheet, save_png
 from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
@@ -154,6 +156,37 @@ def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, 
         click.echo(f"{take}")
         for line in describe(summary):
             click.echo(f"  {line}" if line else "")
+
+
+@cli.command()
+@click.argument("video", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
+              help="Take file to write (.npz or .csv: the take is planar).")
+@click.option("--markers", "method", type=click.Choice(["dots", "aruco"]), default="dots", show_default=True,
+              help="Coloured dots identified by a marker set's layout, or ArUco markers identified by id.")
+@click.option("--markerset", default="toon32", show_default=True, metavar="NAME|FILE",
+              help="Dots: the layout whose neutral pose identifies them (pupils excluded).")
+@click.option("--colour", default="blue", show_default=True, type=click.Choice(sorted(HUES)), help="Dots: their colour.")
+@click.option("--init", "start_frame", default=0, show_default=True, type=click.IntRange(min=0),
+              help="Dots: a frame where the face is neutral and every dot shows; earlier frames are NaN.")
+@click.option("--names", "names_file", type=click.Path(dir_okay=False),
+              help='ArUco: TOML [names] table, id = "marker name" [default: aruco_<id>].')
+@click.option("--corners", is_flag=True, help="ArUco: four corner points per marker instead of its centre.")
+@click.option("--dictionary", default="aruco_original", show_default=True, help="ArUco: OpenCV's predefined dictionary.")
+@click.option("--mm-per-pixel", type=click.FloatRange(min=0, min_open=True), help="ArUco: image scale.")
+@click.option("--marker-mm", type=click.FloatRange(min=0, min_open=True),
+              help="ArUco: printed side length, to measure the scale (with --corners).")
+def track(video: str, output: str, method: str, markerset: str, colour: str, start_frame: int,
+          names_file: str | None, corners: bool, dictionary: str, mm_per_pixel: float | None,
+          marker_mm: float | None) -> None:
+    """Track markers in a video (anything OpenCV or PyAV decodes) into a planar take."""
+    names = load_aruco_names(names_file) if names_file else None
+    take = track_video(video, method, markerset, colour, start_frame, names, corners, dictionary, mm_per_pixel,
+                       marker_mm, progress_factory=_progress("track"))
+    path = save_take(take, output)
+    seen = take.valid.any(axis=0).sum()
+    click.echo(f"wrote {path} ({take.frames} frames, {seen} of {take.markers} markers seen, "
+               f"{int((~take.valid).sum())} missing samples, {take.meta['mm_per_pixel']:.4g} mm per pixel)")
 
 
 @cli.command("map")

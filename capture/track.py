@@ -1,0 +1,102 @@
+"""Markers from a video file into a planar :class:`Take` (``toonface track``).
+
+Image positions (x right, y down, pixels) become millimetres with y up: ``(x s, -y s, 0)`` for a
+scale ``s`` in mm per pixel, with ``dims=2``. For dots, ``s`` and the origin come from fitting the
+marker set's neutral layout on the start frame, so the take lies in the marker set's frame. For
+ArUco markers, ``s`` is given (``mm_per_pixel``), or measured from the printed marker size
+(``marker_mm``, the median side length over the video), or 1 (the take is then in pixels, and its
+``meta`` says so).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from capture.aruco import track_aruco
+from capture.dots import DotStyle, track_dots
+from capture.markerset import load_markerset
+from capture.take import Take
+from capture.videoio import frames, probe
+from common import InputError, read_document
+
+
+def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = "toon32",
+                colour: str = "blue", start_frame: int = 0, names: dict[int, str] | None = None,
+                corners: bool = False, dictionary: str = "aruco_original", mm_per_pixel: float | None = None,
+                marker_mm: float | None = None, progress_factory: Callable[[int], Callable[[int], None]] | None = None
+                ) -> Take:
+    """Track ``method`` (``dots`` or ``aruco``) markers through a video; see the module docstring.
+
+    Raises
+    ------
+    InputError
+        An undecodable video, or one in which no markers are found.
+    """
+    info = probe(path)
+    rate = info.rate or 30.0
+    progress = progress_factory(info.frames) if progress_factory else None
+    meta = {"source": "video", "file": Path(path).name, "tracker": method, "image_size": [info.width, info.height],
+            "decoder": info.backend}
+    if method == "dots":
+        ms = load_markerset(markerset)
+        labels = [x for x in ms.labels if not x.startswith("PUPIL")]  # no sticker sits on an eye
+        layout = np.array([ms.neutral_of(x)[:2] for x in labels])
+        try:
+            pixels, tracker = track_dots(frames(info), layout, DotStyle.named(colour), start_frame,
+                                         progress=progress)
+        except ValueError as exc:
+            raise InputError(f"no {colour} dot markers found on frame {start_frame} ({exc})", path) from None
+        if not np.isfinite(pixels).any():
+            raise InputError(f"no {colour} dot markers found in {len(pixels)} frames", path)
+        scale, origin = tracker.mm_per_pixel, tracker.origin
+        meta.update(markerset=ms.name, dot_colour=colour, start_frame=start_frame)
+    elif method == "aruco":
+        try:
+            labels_t, pixels = track_aruco(frames(info), names, corners, dictionary, progress=progress)
+        except ValueError as exc:
+            raise InputError(str(exc), path) from None
+        labels = list(labels_t)
+        if not labels:
+            raise InputError(f"no ArUco markers ({dictionary}) found in the video", path)
+        origin = np.zeros(2)
+        scale = mm_per_pixel or (_aruco_scale(pixels, marker_mm, corners) if marker_mm else 1.0)
+        meta.update(dictionary=dictionary, corners=corners, scale_known=bool(mm_per_pixel or marker_mm))
+    else:
+        raise InputError(f"unknown marker kind {method!r} (dots or aruco)", path)
+    if len(pixels) == 0:
+        raise InputError("the video has no frames", path)
+    meta["mm_per_pixel"] = float(scale)
+    positions = np.zeros((len(pixels), len(labels), 3))
+    positions[:, :, 0] = (pixels[:, :, 0] - origin[0]) * scale
+    positions[:, :, 1] = -(pixels[:, :, 1] - origin[1]) * scale
+    positions[~np.isfinite(pixels).all(axis=2)] = np.nan
+    return Take(positions, tuple(labels), rate, dims=2, meta=meta)
+
+
+def _aruco_scale(pixels: np.ndarray, marker_mm: float, corners: bool) -> float:
+    if not corners:
+        raise InputError("--marker-mm measures the printed side from the corners: add --corners")
+    quads = pixels.reshape(len(pixels), -1, 4, 2)
+    sides = np.linalg.norm(quads - np.roll(quads, 1, axis=2), axis=3)
+    return float(marker_mm / np.nanmedian(sides))
+
+
+def load_aruco_names(path: str | os.PathLike) -> dict[int, str]:
+    """An id -> marker name table from TOML (``[names]`` with ``101 = "BROW_L_MED"``)."""
+    path = Path(path)
+    doc = read_document(path)
+    table = doc.get("names")
+    if not isinstance(table, dict) or not table:
+        raise InputError('expected a [names] table of id = "marker name"', path, "names")
+    out: dict[int, str] = {}
+    for key, value in table.items():
+        if not (key.isdigit() and isinstance(value, str) and value):
+            raise InputError(f"expected a marker id = \"name\", got {key} = {value!r}", path, f"names.{key}")
+        out[int(key)] = value
+    if len(set(out.values())) != len(out):
+        raise InputError("two ids share a marker name", path, "names")
+    return out

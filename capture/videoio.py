@@ -1,0 +1,101 @@
+"""Video frames in (OpenCV first, PyAV where OpenCV cannot decode) and out (PyAV, H.264)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import av
+import cv2
+import numpy as np
+
+from common import InputError
+
+
+@dataclass(frozen=True)
+class VideoInfo:
+    """What is known of a video before decoding it: ``frames`` may be 0 where the container does not say."""
+
+    path: Path
+    width: int
+    height: int
+    rate: float
+    frames: int
+    backend: str
+
+
+def probe(path: str | os.PathLike) -> VideoInfo:
+    """Size, rate and frame count of a video; an undecodable file is an :class:`InputError`."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("no such video file", path)
+    if path.stat().st_size == 0:
+        raise InputError("empty file (0 bytes), not a video", path)
+    cap = cv2.VideoCapture(str(path))
+    try:
+        if cap.isOpened():
+            ok, frame = cap.read()
+            if ok and frame is not None:
+                rate = cap.get(cv2.CAP_PROP_FPS) or 0.0
+                count = int(cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
+                return VideoInfo(path, frame.shape[1], frame.shape[0], _sane_rate(rate), max(count, 0), "opencv")
+    finally:
+        cap.release()
+    try:
+        with av.open(str(path)) as container:
+            if not container.streams.video:
+                raise InputError("no video stream in the file", path)
+            stream = container.streams.video[0]
+            rate = float(stream.average_rate) if stream.average_rate else 0.0
+            return VideoInfo(path, stream.codec_context.width, stream.codec_context.height, _sane_rate(rate),
+                             int(stream.frames or 0), "pyav")
+    except (av.error.FFmpegError, ValueError, OSError) as exc:
+        raise InputError(f"neither OpenCV nor PyAV can decode this video ({exc})", path) from None
+
+
+def frames(info: VideoInfo) -> Iterator[np.ndarray]:
+    """Decode every frame as BGR ``uint8`` ``(height, width, 3)``, with the backend :func:`probe` chose."""
+    if info.backend == "opencv":
+        cap = cv2.VideoCapture(str(info.path))
+        try:
+            while True:
+                ok, frame = cap.read()
+                if not ok:
+                    return
+                yield frame
+        finally:
+            cap.release()
+    else:
+        try:
+            with av.open(str(info.path)) as container:
+                for frame in container.decode(video=0):
+                    yield frame.to_ndarray(format="bgr24")
+        except av.error.FFmpegError as exc:
+            raise InputError(f"decoding failed part-way ({exc})", info.path) from None
+
+
+def write_video(images: list[np.ndarray] | Iterator[np.ndarray], path: str | os.PathLike, rate: float,
+                crf: int = 18) -> Path:
+    """Write BGR frames as H.264 (yuv420p) into ``path``; size from the first frame (even sides)."""
+    path = Path(path)
+    with av.open(str(path), mode="w") as container:
+        stream = None
+        for image in images:
+            if stream is None:
+                stream = container.add_stream("libx264", rate=round(rate))
+                stream.width, stream.height = image.shape[1], image.shape[0]
+                stream.pix_fmt = "yuv420p"
+                stream.options = {"crf": str(crf), "preset": "veryfast"}
+            frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(image), format="bgr24")
+            for packet in stream.encode(frame):
+                container.mux(packet)
+        if stream is not None:
+            for packet in stream.encode():
+                container.mux(packet)
+    return path
+
+
+def _sane_rate(rate: float) -> float:
+    return float(rate) if np.isfinite(rate) and 0 < rate <= 10_000 else 0.0
