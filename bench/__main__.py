@@ -6,7 +6,7 @@ import argparse
 import importlib
 import sys
 
-GROUPS = ("render", "pipeline")
+GROUPS = ("render", "pipeline", "track", "read")
 
 
 def main(argv: list[str] | None = None) -> int:

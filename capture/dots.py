@@ -36,7 +36,7 @@ class DotStyle:
 
     hue: tuple[int, int] = HUES["blue"]
     min_saturation: int = 90
-    min_value: int = 40
+    min_value: int = 90
     min_area: int = 4
     max_area: int = 2000
 
