@@ -17,6 +17,7 @@ from tqdm import tqdm
 
 from capture import Take, load_take, save_take, synthesize
 from capture.dots import HUES
+from capture.faults import Faults, apply_faults
 from capture.info import describe, summarize
 from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
@@ -131,12 +132,30 @@ def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: 
 @click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=1000.0))
 @click.option("--noise", default=0.2, show_default=True, type=click.FloatRange(min=0.0), help="Jitter, mm (σ).")
 @click.option("--seed", default=0, show_default=True, type=int)
-def synth(output: str, seconds: float, rate: float, noise: float, seed: int) -> None:
-    """A synthetic performer with the toon32 markers; also writes the true motors beside it."""
+@click.option("--gaps", default=0.0, show_default=True, type=click.FloatRange(min=0.0),
+              help="Occlusions per marker per second.")
+@click.option("--gap-seconds", default=0.3, show_default=True, type=click.FloatRange(min=0.0), help="Occlusion length.")
+@click.option("--spikes", default=0.0, show_default=True, type=click.FloatRange(0.0, 1.0),
+              help="Share of marker-samples with a one-frame 15 mm spike.")
+@click.option("--swaps", default=0.0, show_default=True, type=click.FloatRange(0.0, 1.0),
+              help="Chance per frame that two neighbouring markers swap labels for 10 frames.")
+@click.option("--drift", default=0.0, show_default=True, type=click.FloatRange(min=0.0), help="Slow drift, mm.")
+def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gaps: float, gap_seconds: float,
+          spikes: float, swaps: float, drift: float) -> None:
+    """A synthetic performer with the toon32 markers; also writes the true motors beside it.
+
+    Faults (each seeded by --seed and off by default) imitate real capture: occlusion gaps,
+    spikes, label swaps and drift, on top of the --noise jitter.
+    """
     synthetic = synthesize(seconds=seconds, rate=rate, noise_mm=noise, seed=seed)
-    path = save_take(synthetic.take, output)
+    take = synthetic.take
+    faults = Faults(gap_rate=gaps, gap_seconds=gap_seconds, spike_rate=spikes, swap_rate=swaps, drift_mm=drift)
+    if faults != Faults(gap_seconds=gap_seconds):
+        take, _ = apply_faults(take, faults, seed=seed)
+    path = save_take(take, output)
     truth = save_track(truth_track(synthetic), path.with_name(f"{path.stem}.truth.csv"))
-    click.echo(f"wrote {path} ({synthetic.take.frames} frames, {synthetic.take.markers} markers) and {truth}")
+    click.echo(f"wrote {path} ({take.frames} frames, {take.markers} markers, {int((~take.valid).sum())} missing "
+               f"samples) and {truth}")
 
 
 @cli.command()
