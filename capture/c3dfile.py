@@ -23,12 +23,9 @@ from pathlib import Path
 import c3d
 import numpy as np
 
-from capture.take import Take
+from capture.take import UNIT_MM, Take, unique_labels
 from common import InputError
 
-#: Millimetres per unit for the ``POINT:UNITS`` strings real files use.
-UNIT_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "cm": 10.0, "m": 1000.0, "meters": 1000.0,
-           "metres": 1000.0, "in": 25.4, "inch": 25.4, "inches": 25.4}
 _PARAMETER_MAGIC = 0x50  # the second byte of every C3D file
 
 
@@ -115,24 +112,3 @@ def _units(reader: c3d.Reader) -> str:
         return "mm"
     text = param.string_value if hasattr(param, "string_value") else param.bytes.decode("latin-1")
     return str(text).strip().lower() or "mm"
-
-
-def unique_labels(labels: list[str]) -> tuple[tuple[str, ...], dict[str, str]]:
-    """Trimmed labels made unique: empty ones named ``M001``..., repeats suffixed ``#2``, ``#3``...
-
-    Returns the labels and, for each changed column, ``{new: original}``.
-    """
-    out: list[str] = []
-    renamed: dict[str, str] = {}
-    taken: set[str] = set()
-    for i, raw in enumerate(labels):
-        name = raw.strip() or f"M{i + 1:03d}"
-        candidate, k = name, 1
-        while candidate in taken:
-            k += 1
-            candidate = f"{name}#{k}"
-        taken.add(candidate)
-        out.append(candidate)
-        if candidate != raw.strip():
-            renamed[candidate] = raw
-    return tuple(out), renamed

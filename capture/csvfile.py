@@ -22,8 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from capture.c3dfile import UNIT_MM, unique_labels
-from capture.take import Take
+from capture.take import UNIT_MM, Take, unique_labels
 from capture.textio import (check_rate, detect_separator, is_blank, is_number, numeric_rows, read_lines, split,
                             times_from_column)
 from common import InputError
@@ -80,32 +79,31 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
         raise InputError(f"some markers have z columns and some do not: {[m for m, a in markers.items() if 'z' not in a][:5]}",
                          path, f"line {first + 1}")
     dims = 3 if all(has_z) else 2
+    clock = time_col if time_col is not None else frame_col  # the column that says when each row is
+    if time_col is None and rate is None:
+        what = f'a "{header[frame_col]}" column but no time column' if frame_col is not None else "no time or frame column"
+        raise InputError(f"{what}: give the frame rate (--rate)", path)
     rows = _data_rows(lines, first + 1, sep, path)
-    columns, names = [], []
+    columns, names = ([clock], [header[clock]]) if clock is not None else ([], [])
     for m, a in markers.items():
         for axis in "xyz"[:dims]:
             columns.append(a[axis])
             names.append(header[a[axis]])
-    data = numeric_rows(rows, columns, names, path)
+    data = numeric_rows(rows, columns, names, path)  # one pass over the rows for every column
+    if clock is not None:
+        clock_values, data = data[:, 0], data[:, 1:]
     positions = np.zeros((len(rows), len(markers), 3))
     positions[:, :, :dims] = data.reshape(len(rows), len(markers), dims)
     positions[np.isnan(positions).any(axis=2)] = np.nan
     times = None
     if time_col is not None:
-        times, implied = times_from_column(numeric_rows(rows, [time_col], [header[time_col]], path)[:, 0], path,
-                                           header[time_col])
+        times, implied = times_from_column(clock_values, path, header[time_col])
         rate = check_rate(rate if rate is not None else implied, path,
                           "rate" if rate is not None else f'the rate implied by column "{header[time_col]}"')
-    elif frame_col is not None:
-        if rate is None:
-            raise InputError(f'a "{header[frame_col]}" column but no time column: give the frame rate (--rate)', path)
-        rate = check_rate(rate, path)
-        frame_numbers = numeric_rows(rows, [frame_col], [header[frame_col]], path)[:, 0]
-        times, _ = times_from_column(frame_numbers / rate, path, header[frame_col])
-    elif rate is None:
-        raise InputError("no time or frame column: give the frame rate (--rate)", path)
     else:
         rate = check_rate(rate, path)
+        if frame_col is not None:
+            times, _ = times_from_column(clock_values / rate, path, header[frame_col])
     clean, renamed = unique_labels(list(markers))
     meta = {"source": "csv", "layout": "wide", "file": path.name, "separator": _describe(sep)}
     if ignored:

@@ -119,8 +119,10 @@ class DotTracker:
         self._pos = np.full((len(layout), 2), np.nan)  # last known position of each track
         self._vel = np.zeros((len(layout), 2))
         self._unseen = np.zeros(len(layout), dtype=int)  # frames since a dot was last found
+        self._spacing = self._min_spacing()  # closest neutral distance between two markers, mm
         self._prev_gray: np.ndarray | None = None
         self._prev_image: np.ndarray | None = None
+        self._gray: np.ndarray | None = None  # this frame in grey, once flow has needed it
 
     def start(self, dots: np.ndarray) -> np.ndarray:
         """Give identities to the dots of a neutral frame; returns positions ``(M, 2)``, NaN where none."""
@@ -128,11 +130,10 @@ class DotTracker:
             raise ValueError(f"found {len(dots)} dots; at least 3 are needed to place the layout")
         scale = np.sqrt(((dots - dots.mean(0)) ** 2).sum(1).mean() / ((self.layout - self.layout.mean(0)) ** 2).sum(1).mean())
         rot, shift = np.eye(2), dots.mean(0) - scale * self.layout.mean(0)
-        spacing = self._min_spacing()
         match: dict[int, int] = {}
         for _ in range(20):
             predicted = scale * self.layout @ rot.T + shift
-            match = _assign(predicted, dots, np.full(len(predicted), 0.6 * spacing * scale))
+            match = _assign(predicted, dots, np.full(len(predicted), 0.6 * self._spacing * scale))
             if len(match) < 3:
                 break
             idx = np.array(list(match.items()))
@@ -153,7 +154,7 @@ class DotTracker:
 
     def step(self, image: np.ndarray, dots: np.ndarray) -> np.ndarray:
         """Follow the tracks into the next frame; returns positions ``(M, 2)``, NaN where unseen."""
-        gate_px = self._gate if self._gate is not None else 0.4 * self._min_spacing() / self.mm_per_pixel
+        gate_px = self._gate if self._gate is not None else 0.4 * self._spacing / self.mm_per_pixel
         lost = self._unseen > self.max_flow_frames
         predicted = self._pos + np.where(self._unseen[:, None] == 0, self._vel, 0.0)
         if lost.any():
@@ -187,7 +188,7 @@ class DotTracker:
         for t in range(len(out)):
             if t not in match and t not in missing:
                 self._unseen[t] += 1
-        self._prev_image, self._prev_gray = image, None
+        self._prev_image, self._prev_gray, self._gray = image, self._gray, None  # grey converted once per frame
         return out
 
     def remember(self, image: np.ndarray) -> None:
@@ -197,8 +198,8 @@ class DotTracker:
     def _flow(self, image: np.ndarray, points: np.ndarray) -> np.ndarray:
         if self._prev_gray is None:
             self._prev_gray = cv2.cvtColor(self._prev_image, cv2.COLOR_BGR2GRAY)
-        gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, gray, points.astype(np.float32).reshape(-1, 1, 2),
+        self._gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, points.astype(np.float32).reshape(-1, 1, 2),
                                                   None, winSize=(15, 15), maxLevel=2)
         new = new.reshape(-1, 2).astype(np.float64)
         new[status.ravel() == 0] = np.nan

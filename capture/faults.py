@@ -30,6 +30,16 @@ class Faults:
     swap_frames: int = 10
     drift_mm: float = 0.0
 
+    def active(self) -> dict[str, float]:
+        """The faults switched on, with their settings (``gap_seconds`` only with gaps, and so on)."""
+        on = {"jitter_mm": self.jitter_mm, "gap_rate": self.gap_rate, "spike_rate": self.spike_rate,
+              "swap_rate": self.swap_rate, "drift_mm": self.drift_mm}
+        on = {k: v for k, v in on.items() if v}
+        for switch, setting in (("gap_rate", "gap_seconds"), ("spike_rate", "spike_mm"), ("swap_rate", "swap_frames")):
+            if switch in on:
+                on[setting] = getattr(self, setting)
+        return on
+
 
 def apply_faults(take: Take, faults: Faults, seed: int = 0) -> tuple[Take, dict[str, np.ndarray]]:
     """A faulty copy of ``take`` and, per fault, a bool mask ``(frames, markers)`` of the samples it hit."""
@@ -63,5 +73,5 @@ def apply_faults(take: Take, faults: Faults, seed: int = 0) -> tuple[Take, dict[
         for f, m in zip(*np.nonzero(starts)):
             hit["gap"][f: f + length, m] = True
         pos[hit["gap"]] = np.nan
-    meta = {**take.meta, "faults": {k: v for k, v in vars(faults).items() if v}, "fault_seed": seed}
+    meta = {**take.meta, "faults": faults.active(), "fault_seed": seed}
     return Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta), hit

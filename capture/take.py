@@ -8,6 +8,9 @@ import numpy as np
 
 from common import InputError, readonly
 
+#: Millimetres per unit, for the unit names take files use (C3D POINT:UNITS, TRC Units, --units).
+UNIT_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "cm": 10.0, "m": 1000.0, "meters": 1000.0,
+           "metres": 1000.0, "in": 25.4, "inch": 25.4, "inches": 25.4}
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,3 +102,24 @@ class Take:
     def window(self, start: float, end: float) -> np.ndarray:
         """Boolean frame mask for times in ``[start, end)`` seconds, shape ``(frames,)``."""
         return (self.times >= start) & (self.times < end)
+
+
+def unique_labels(labels: list[str]) -> tuple[tuple[str, ...], dict[str, str]]:
+    """Trimmed labels made unique: empty ones named ``M001``..., repeats suffixed ``#2``, ``#3``...
+
+    Returns the labels and, for each changed column, ``{new: original}``.
+    """
+    out: list[str] = []
+    renamed: dict[str, str] = {}
+    taken: set[str] = set()
+    for i, raw in enumerate(labels):
+        name = raw.strip() or f"M{i + 1:03d}"
+        candidate, k = name, 1
+        while candidate in taken:
+            k += 1
+            candidate = f"{name}#{k}"
+        taken.add(candidate)
+        out.append(candidate)
+        if candidate != raw.strip():
+            renamed[candidate] = raw
+    return tuple(out), renamed

@@ -15,8 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from capture.c3dfile import UNIT_MM, unique_labels
-from capture.take import Take
+from capture.take import UNIT_MM, Take, unique_labels
 from capture.textio import check_rate, detect_separator, is_blank, numeric_rows, read_lines, split
 from common import InputError
 

@@ -93,7 +93,7 @@ def _frames(truth: DotVideo, hand_centre: np.ndarray, faults: VideoFaults, radiu
     ys = np.linspace(-1.0, 1.0, height, dtype=np.float32)[:, None, None]
     for f in range(len(truth.pixels)):
         image = background.copy()
-        for (x, y), seen in zip(truth.pixels[f], truth.visible[f]):
+        for x, y in truth.pixels[f]:  # every dot is drawn; the hand, drawn next, covers some
             if np.isfinite(x):
                 cv2.circle(image, (round(x * 16), round(y * 16)), round(radius * 16), DOT_BGR, -1,
                            cv2.LINE_AA, _SHIFT)

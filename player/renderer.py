@@ -1,7 +1,7 @@
 """The offscreen renderer: face geometry to RGB frames with moderngl.
 
 Fills may be concave, so each outline is triangulated with mapbox earcut; a triangulation is kept
-from frame to frame and re-used while every one of its triangles keeps the outline's orientation
+from frame to frame and re-used while every one of its triangles keeps the orientation it had when made
 (for a simple outline that proves it still tiles it), so most frames triangulate nothing. Strokes
 are the triangles of :func:`toon.curves.stroke_triangles`. All triangles of a frame go into one
 vertex buffer, drawn in runs that differ only in depth state.
@@ -93,9 +93,7 @@ class Triangulator:
         following[starts + sizes - 1] = starts
         x, y = verts[:, 0], verts[:, 1]
         area = np.add.reduceat(x * y[following] - x[following] * y, starts)  # twice the signed area
-        tris = np.concatenate(corners).reshape(-1, 3, 2)
-        e1, e2 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
-        cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        cross = _triangle_cross(np.concatenate(corners))
         counts = np.array([len(c) // 3 for c in corners])
         owner = np.repeat(np.arange(len(items)), counts)
         relation = np.array([self._relation[it.key] for it in items])
@@ -112,9 +110,14 @@ def _winding_relation(outline: np.ndarray, indices: np.ndarray) -> float:
         return 1.0
     x, y = outline[:, 0], outline[:, 1]
     area = np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
-    a, b, c = (outline[indices[k::3]] for k in range(3))
-    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-    return 1.0 if np.sum(cross) * area >= 0 else -1.0
+    return 1.0 if np.sum(_triangle_cross(outline[indices])) * area >= 0 else -1.0
+
+
+def _triangle_cross(corners: np.ndarray) -> np.ndarray:
+    """Twice the signed area of each triangle of ``corners`` ``(3T, 2)``; shape ``(T,)``."""
+    tris = corners.reshape(-1, 3, 2)
+    e1, e2 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    return e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
 
 
 def _mode(item: DrawItem, stroke: bool) -> str:
@@ -214,7 +217,6 @@ class Renderer:
         self.triangulator = Triangulator()
         self._objects: list = []
         self.program = self._own(ctx.program(vertex_shader=_VERTEX_SHADER, fragment_shader=_FRAGMENT_SHADER))
-        self._capacity = 0
         self.vbo = self._own(ctx.buffer(reserve=4096, dynamic=True))
         self.vao = self._own(ctx.vertex_array(self.program, [(self.vbo, "3f 4f", "in_pos", "in_color")]))
         color = self._own(ctx.renderbuffer(self.size, 4, samples=self.samples))

@@ -10,7 +10,7 @@ import av
 import numpy as np
 import pytest
 
-from capture import load_take
+from capture import load_take, save_take, synthesize
 from toon import builtin_faces, load_track
 from toonface.cli import cli, main
 
@@ -116,3 +116,12 @@ def test_bench_prints_one_json_figure_per_line():
     assert by_name["render.ratio"]["value"] == min(by_name[f"render.ratio.{face}"]["value"] for face in faces)
     bad = subprocess.run([sys.executable, "-m", "bench", "nope"], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2 and "unknown benchmark group" in bad.stderr
+
+
+def test_map_reads_any_take_format_and_passes_the_table_options(tmp_path, capsys):
+    take = synthesize(seconds=2, noise_mm=0).take
+    csv = save_take(take, tmp_path / "t.csv")
+    assert main(["map", str(csv), "-o", str(tmp_path / "m.csv")]) == 0
+    trc = save_take(take, tmp_path / "t.trc")
+    assert main(["map", str(trc), "-o", str(tmp_path / "m.csv"), "--rate", "30"]) == 2
+    assert "carries its own rate" in capsys.readouterr().err

@@ -23,6 +23,7 @@ def test_each_fault_lands_where_its_mask_says(clean):
     spiky, hit = apply_faults(clean, Faults(spike_rate=0.01, spike_mm=15.0), seed=1)
     moved = np.linalg.norm(spiky.positions - clean.positions, axis=2)
     assert hit["spike"].any() and np.allclose(moved[hit["spike"]], 15.0) and (moved[~hit["spike"]] == 0).all()
+    assert spiky.meta["faults"] == {"spike_rate": 0.01, "spike_mm": 15.0}  # only what is switched on
     holey, hit = apply_faults(clean, Faults(gap_rate=0.5, gap_seconds=0.2), seed=2)
     assert np.array_equal(~holey.valid, hit["gap"]) and hit["gap"].sum() >= 10
     swapped, hit = apply_faults(clean, Faults(swap_rate=0.02, swap_frames=5), seed=3)
@@ -40,7 +41,7 @@ def test_faults_are_seeded(clean):
     assert not np.array_equal(a.positions, c.positions, equal_nan=True)
 
 
-def test_synth_command_writes_a_faulty_take_beside_its_truth(tmp_path, capsys):
+def test_synth_command_writes_a_faulty_take_beside_its_truth(tmp_path):
     from capture import load_take
     from toonface.cli import main
 

@@ -35,7 +35,7 @@ def test_aruco_test_image_corners_match_the_library_reference(realdata):
 
 
 @pytest.mark.realdata
-def test_aruco_video_keeps_identities_and_leaves_unseen_markers_nan(realdata, tmp_path, capsys):
+def test_aruco_video_keeps_identities_and_leaves_unseen_markers_nan(realdata, tmp_path):
     out = tmp_path / "aruco.npz"
     assert main(["track", str(realdata / "video" / "aruco" / "video.avi"), "-o", str(out), "--markers", "aruco",
                  "--corners"]) == 0
@@ -130,7 +130,7 @@ def test_generated_video_file_through_the_track_command(generated, tmp_path):
     assert np.nanmedian(np.abs(take.positions[0, :, :2] - neutral)) < 1.0
 
 
-def test_faults_switch_off(generated):
+def test_faults_switch_off():
     take = synthesize(seconds=1, rate=10, noise_mm=0.0).take
     clean = VideoFaults(blur_sigma=0, noise_sigma=0, lighting=0, jpeg_quality=None, hand=None)
     truth, images = dot_video(take, faults=clean)

@@ -150,7 +150,7 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
     synthetic = synthesize(seconds=seconds, rate=rate, noise_mm=noise, seed=seed)
     take = synthetic.take
     faults = Faults(gap_rate=gaps, gap_seconds=gap_seconds, spike_rate=spikes, swap_rate=swaps, drift_mm=drift)
-    if faults != Faults(gap_seconds=gap_seconds):
+    if faults.active():
         take, _ = apply_faults(take, faults, seed=seed)
     path = save_take(take, output)
     truth = save_track(truth_track(synthetic), path.with_name(f"{path.stem}.truth.csv"))
@@ -214,10 +214,12 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 @_NEUTRAL
 @click.option("--face", default=None, metavar="NAME|FILE", help="Map the performer's neutral onto this face's rest pose.")
 @_MIRROR
-def map_cmd(take: str, output: str, neutral: str, face: str | None, mirror: bool) -> None:
+@_take_options
+def map_cmd(take: str, output: str, neutral: str, face: str | None, mirror: bool, take_rate: float | None,
+            labels: str | None, units: str | None) -> None:
     """Map a toon32 take onto the 21 motors (neutral calibrated on a window of the take)."""
     window = _parse_window(neutral)
-    track = map_take(load_take(take), window, load_face(face) if face else None, mirror)
+    track = map_take(_load_take(take, take_rate, labels, units), window, load_face(face) if face else None, mirror)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz)")
 
 
@@ -243,11 +245,13 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
 @_SIZE
 @click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the take's].")
 @_MIRROR
-def retarget(take: str, output: str, face: str, neutral: str, size: str, fps: float | None, mirror: bool) -> None:
+@_take_options
+def retarget(take: str, output: str, face: str, neutral: str, size: str, fps: float | None, mirror: bool,
+             take_rate: float | None, labels: str | None, units: str | None) -> None:
     """Map a toon32 take and render it on a face, in one go."""
     dims, window = _parse_size(size), _parse_window(neutral)
     face_obj = load_face(face)
-    track = map_take(load_take(take), window, face_obj, mirror)
+    track = map_take(_load_take(take, take_rate, labels, units), window, face_obj, mirror)
     frames = render(track, face_obj, output, dims, fps, progress=_progress("render")(track.frames))
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
 
