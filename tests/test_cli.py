@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from capture import load_take, save_take, synthesize
-from toon import builtin_faces, load_track
+from toon import builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
 
 SUBCOMMANDS = ["demo", "synth", "info", "track", "map", "render", "retarget", "faces", "face"]
@@ -125,3 +125,19 @@ def test_map_reads_any_take_format_and_passes_the_table_options(tmp_path, capsys
     trc = save_take(take, tmp_path / "t.trc")
     assert main(["map", str(trc), "-o", str(tmp_path / "m.csv"), "--rate", "30"]) == 2
     assert "carries its own rate" in capsys.readouterr().err
+
+
+def test_synth_follows_a_script_or_a_calibrated_repertoire(tmp_path, capsys):
+    script = tmp_path / "s.toml"
+    script.write_text('format = "toonface.performance/1"\nseconds = 2.5\n'
+                      '[[cue]]\nkind = "expression"\nname = "anger"\nstart = 0.5\nseconds = 1.5\n')
+    assert main(["synth", "-o", str(tmp_path / "a.npz"), "--script", str(script), "--rate", "20"]) == 0
+    truth = load_track(tmp_path / "a.truth.csv")
+    assert truth.frames == 50 and truth.values[25, motor_index("BRM")] == pytest.approx(0.0, abs=1e-6)
+    assert main(["synth", "-o", str(tmp_path / "b.npz"), "--calibration", "--seconds", "2", "--max-turn", "10",
+                 "--expressions", "fear"]) == 0
+    truth = load_track(tmp_path / "b.truth.csv")
+    assert truth.frames == round((1 + 12 * 1.2 + 2) * 30)
+    assert truth.values[:, motor_index("HH")].max() == pytest.approx(1.0)  # the calibration turns fully
+    assert main(["synth", "-o", str(tmp_path / "c.npz"), "--expressions", "fear,smirk"]) == 2
+    assert "not in the repertoire: smirk" in capsys.readouterr().err

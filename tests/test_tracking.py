@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from capture import load_markerset, load_take, synthesize
+from capture.performance import default_performance
 from capture.aruco import detect, make_detector, track_aruco
 from capture.dots import DotStyle, DotTracker, find_dots, fit_similarity, track_dots
 from capture.track import track_video
@@ -101,7 +102,8 @@ def test_a_lost_dot_is_carried_a_few_frames_then_nan_then_found_again():
 
 @pytest.fixture(scope="module")
 def generated():
-    take = synthesize(seconds=4, rate=30, noise_mm=0.0).take
+    # Front-facing: at ±30° the temple dots cross the outer brows in the picture.
+    take = synthesize(rate=30, noise_mm=0.0, performance=default_performance(4, max_turn_deg=20)).take
     truth, images = dot_video(take, seed=2)
     return truth, list(images)
 

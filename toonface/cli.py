@@ -19,6 +19,7 @@ from capture import Take, load_take, save_take, synthesize
 from capture.dots import HUES
 from capture.faults import Faults, apply_faults
 from capture.info import describe, summarize
+from capture.performance import default_performance, load_performance, load_poses
 from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
 from player.sheet import expression_sheet, save_png
@@ -140,14 +141,35 @@ def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: 
 @click.option("--swaps", default=0.0, show_default=True, type=click.FloatRange(0.0, 1.0),
               help="Chance per frame that two neighbouring markers swap labels for 10 frames.")
 @click.option("--drift", default=0.0, show_default=True, type=click.FloatRange(min=0.0), help="Slow drift, mm.")
+@click.option("--expressions", metavar="NAME,NAME,...",
+              help="Repertoire expressions to act in turn [default: happiness,surprise,sadness,anger,fear,disgust,wink].")
+@click.option("--calibration", is_flag=True,
+              help="Start with a calibration segment: 1 s neutral, then each motor group to its extremes (14.4 s).")
+@click.option("--max-turn", default=30.0, show_default=True, type=click.FloatRange(0.0, 30.0),
+              help="Largest head turn, degrees.")
+@click.option("--script", "script_file", type=click.Path(dir_okay=False),
+              help="A performance script (TOML, toonface.performance/1) instead of the generated one; "
+                   "it sets its own length.")
 def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gaps: float, gap_seconds: float,
-          spikes: float, swaps: float, drift: float) -> None:
+          spikes: float, swaps: float, drift: float, expressions: str | None, calibration: bool, max_turn: float,
+          script_file: str | None) -> None:
     """A synthetic performer with the toon32 markers; also writes the true motors beside it.
 
-    Faults (each seeded by --seed and off by default) imitate real capture: occlusion gaps,
+    The performance is generated (a neutral first second, then expressions, talking, blinks,
+    gaze shifts and head turns) or read from --script. --seed moves the jitter and the faults,
+    not the performance. Faults (each off by default) imitate real capture: occlusion gaps,
     spikes, label swaps and drift, on top of the --noise jitter.
     """
-    synthetic = synthesize(seconds=seconds, rate=rate, noise_mm=noise, seed=seed)
+    if script_file is not None:
+        performance = load_performance(script_file)
+    else:
+        names = None if expressions is None else tuple(n.strip() for n in expressions.split(",") if n.strip())
+        unknown = [n for n in names or () if n not in load_poses()]
+        if unknown:
+            raise click.BadParameter(f"not in the repertoire: {', '.join(unknown)} "
+                                     f"(known: {', '.join(load_poses())})", param_hint="--expressions")
+        performance = default_performance(seconds, names, calibration=calibration, max_turn_deg=max_turn)
+    synthetic = synthesize(rate=rate, noise_mm=noise, seed=seed, performance=performance)
     take = synthetic.take
     faults = Faults(gap_rate=gaps, gap_seconds=gap_seconds, spike_rate=spikes, swap_rate=swaps, drift_mm=drift)
     if faults.active():
