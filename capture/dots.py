@@ -56,24 +56,30 @@ def find_dots(image: np.ndarray, style: DotStyle = DotStyle()) -> np.ndarray:
     else:
         mask = cv2.inRange(hsv, (lo, style.min_saturation, style.min_value), (180, 255, 255)) | \
             cv2.inRange(hsv, (0, style.min_saturation, style.min_value), (hi, 255, 255))
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
-    height, width = mask.shape
-    centres = []
-    for k in range(1, count):
-        x, y, w, h, area = stats[k]
-        if not style.min_area <= area <= style.max_area:
-            continue
-        x0, y0, x1, y1 = max(x - 2, 0), max(y - 2, 0), min(x + w + 2, width), min(y + h + 2, height)
-        patch = hsv[y0:y1, x0:x1]
-        own = labels[y0:y1, x0:x1]
-        hue = patch[:, :, 0].astype(np.int16)
-        in_hue = (hue >= lo) & (hue <= hi) if lo <= hi else (hue >= lo) | (hue <= hi)
-        weight = patch[:, :, 1].astype(np.float64) - style.min_saturation / 2
-        weight[~in_hue | ((own != k) & (own != 0)) | (weight < 0)] = 0.0
-        total = weight.sum()
-        ys, xs = np.mgrid[y0:y1, x0:x1]
-        centres.append(((weight * xs).sum() / total, (weight * ys).sum() / total))
-    return np.array(centres, dtype=np.float64).reshape(-1, 2)
+    try:
+        count, labels = cv2.connectedComponents(mask, connectivity=8, ltype=cv2.CV_16U)
+    except cv2.error:  # more than 65535 specks: a noise image, not dots; labels as float32 then
+        count, labels = cv2.connectedComponents(mask, connectivity=8, ltype=cv2.CV_32S)
+        labels = labels.astype(np.float32)
+    if count <= 1:
+        return np.empty((0, 2))
+    # Each dot with a 2-pixel rim (where blur fades it out); a rim pixel between two dots goes to
+    # one of them. connectedComponentsWithStats costs ten times connectedComponents here.
+    grown = cv2.dilate(labels, np.ones((5, 5), np.uint8))
+    np.copyto(grown, labels, where=mask > 0)  # a dot's own pixels stay its own
+    points = cv2.findNonZero(grown).reshape(-1, 2)
+    xs, ys = points[:, 0], points[:, 1]
+    own = grown[ys, xs].astype(np.intp)
+    area = np.bincount(own, weights=(labels[ys, xs] > 0), minlength=count)
+    hue = hsv[ys, xs, 0].astype(np.int16)
+    in_hue = (hue >= lo) & (hue <= hi) if lo <= hi else (hue >= lo) | (hue <= hi)
+    weight = np.where(in_hue, hsv[ys, xs, 1].astype(np.float64) - style.min_saturation / 2, 0.0).clip(min=0.0)
+    total = np.bincount(own, weights=weight, minlength=count)
+    cx = np.bincount(own, weights=weight * xs, minlength=count)
+    cy = np.bincount(own, weights=weight * ys, minlength=count)
+    keep = (area >= style.min_area) & (area <= style.max_area) & (total > 0)
+    keep[0] = False
+    return np.column_stack([cx[keep] / total[keep], cy[keep] / total[keep]])
 
 
 def fit_similarity(src: np.ndarray, dst: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:

@@ -73,6 +73,23 @@ def test_find_dots_is_sub_pixel():
     assert np.abs(found[order] - true).max() < 0.1
 
 
+def test_find_dots_survives_a_frame_of_specks():
+    image = np.full((480, 640, 3), (120, 160, 215), dtype=np.uint8)
+    image[::2, ::2] = (205, 90, 25)  # 76,800 one-pixel blue specks: more labels than 16 bits hold
+    cv2.circle(image, (300 * 16, 200 * 16), 5 * 16, (205, 90, 25), -1, cv2.LINE_AA, 4)
+    found = find_dots(image, DotStyle())
+    assert len(found) == 1 and np.abs(found[0] - [300, 200]).max() < 0.5
+
+
+def test_two_dots_a_rim_apart_keep_their_own_centres():
+    image = np.full((60, 80, 3), (120, 160, 215), dtype=np.uint8)
+    true = np.array([[30.0, 30.0], [41.0, 30.0]])  # radius 4: 3 px of skin between them
+    for x, y in true:
+        cv2.circle(image, (round(x * 16), round(y * 16)), 4 * 16, (205, 90, 25), -1, cv2.LINE_AA, 4)
+    found = find_dots(cv2.GaussianBlur(image, (0, 0), 0.8), DotStyle())
+    assert np.abs(found[np.argsort(found[:, 0])] - true).max() < 0.15
+
+
 def test_similarity_fit_recovers_a_known_transform():
     rng = np.random.default_rng(1)
     src = rng.normal(size=(12, 2))
