@@ -1,0 +1,104 @@
+"""``fidelity``: how faithfully cleaning and mapping follow the performer.
+
+``fidelity.step_lag_frames``: the live One Euro filter (min_cutoff 1 Hz, beta 0.5, mm at 60 Hz)
+on three moving markers of the synthetic performer with 0.3 mm jitter; the delay, in whole
+frames, that best aligns its output with the clean motion (goal 1).
+``fidelity.still_jitter_reduction_x``: the same filter on a still marker: raw jitter over
+filtered jitter (no goal; reported beside the lag).
+``fidelity.gapfill_<ms>ms_ratio``: gaps of 250, 500 and 1000 ms cut at random from the real
+facial takes (``../shared/realdata/facial/animface/``) and filled; mean error over cubic
+spline's mean error on the same cuts (goal 0.5). ``fidelity.gapfill_4frames_ratio``: the same
+for 4-frame gaps (goal 1: never worse than a spline).
+``fidelity.motor_rmse_pct``: the synthetic performer with 0.3 mm jitter, 10 % of samples
+dropped, 0.5 s occlusions, spikes and ±20° head turns, mapped by the current default mapping
+(neutral from its first second; no cleaning stage yet); RMSE against the true motors, % of the
+0-1 range (goal 2).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from bench.core import Figure
+from capture import load_take, synthesize
+from capture.faults import Faults, apply_faults
+from capture.performance import default_performance
+from mapping.filters import OneEuro
+from mapping.gaps import GapFiller
+from toonface import map_take, truth_track
+
+REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
+LIVE = {"min_cutoff": 1.0, "beta": 0.5}
+
+
+def run(quick: bool = False) -> list[Figure]:
+    """Measure and return the ``fidelity.*`` figures."""
+    return [*_live_filter(), *_gap_filling(trials=5 if quick else 30), _motor_rmse(seconds=6 if quick else 20)]
+
+
+def _live_filter() -> list[Figure]:
+    syn = synthesize(rate=60.0, noise_mm=0.0, performance=default_performance(20, max_turn_deg=0))
+    labels = syn.take.labels
+    cols = [labels.index(m) for m in ("LIP_LOW", "BROW_R_CEN", "LID_R_UP")]
+    clean = syn.take.positions[:, cols, 1]
+    rng = np.random.default_rng(0)
+    noisy = clean + rng.normal(0.0, 0.3, clean.shape)
+    out = OneEuro(**LIVE, rate=60.0).apply(noisy, syn.take.times)
+    lags = [min(range(10), key=lambda k: float(np.mean((out[60 + k:, i] - clean[60:len(clean) - k, i]) ** 2)))
+            for i in range(clean.shape[1])]
+    still = 5.0 + rng.normal(0.0, 0.3, (1200, 1))
+    calm = OneEuro(**LIVE, rate=60.0).apply(still, np.arange(1200) / 60.0)
+    detail = {"filter": "one-euro", **LIVE, "rate": 60, "jitter_mm": 0.3, "markers": ["LIP_LOW", "BROW_R_CEN",
+                                                                                     "LID_R_UP"], "lags": lags}
+    return [Figure("fidelity.step_lag_frames", float(max(lags)), "frames", 1.0, False, detail),
+            Figure("fidelity.still_jitter_reduction_x", float(still[60:].std() / calm[60:].std()), "x", None, True,
+                   detail)]
+
+
+def _gap_filling(trials: int) -> list[Figure]:
+    folder = REALDATA / "facial" / "animface"
+    takes = [load_take(folder / name, units="cm") for name in ("JawMoCap.csv", "EyebrowsMoCap.csv")
+             if (folder / name).exists()]
+    if not takes:
+        return []
+    rng = np.random.default_rng(0)
+    figures = []
+    for label, seconds in (("4frames", 4 / 60), ("250ms", 0.25), ("500ms", 0.5), ("1000ms", 1.0)):
+        ours, spline = [], []
+        for take in takes:
+            n = int(round(seconds * take.rate))
+            for _ in range(trials):
+                m, start = int(rng.integers(take.markers)), int(rng.integers(10, take.frames - n - 10))
+                cut = take.positions.copy()
+                cut[start:start + n, m] = np.nan
+                seen = np.isfinite(cut[:, m, 0])
+                truth = take.positions[start:start + n, m]
+                filled = GapFiller().apply(cut, take.times).positions[start:start + n, m]
+                bridge = CubicSpline(take.times[seen], cut[seen, m], axis=0)(take.times[start:start + n])
+                ours.append(float(np.linalg.norm(filled - truth, axis=1).mean()))
+                spline.append(float(np.linalg.norm(bridge - truth, axis=1).mean()))
+        goal = 1.0 if label == "4frames" else 0.5
+        detail = {"cuts": len(ours), "mean_error_mm": round(float(np.mean(ours)), 4),
+                  "spline_mean_error_mm": round(float(np.mean(spline)), 4), "takes": "animface Jaw + Eyebrows"}
+        figures.append(Figure(f"fidelity.gapfill_{label}_ratio", float(np.mean(ours) / np.mean(spline)), "ratio",
+                              goal, False, detail))
+    return figures
+
+
+def _motor_rmse(seconds: float) -> Figure:
+    syn = synthesize(rate=60.0, noise_mm=0.3, seed=1, performance=default_performance(seconds, max_turn_deg=20))
+    faults = Faults(gap_rate=0.1, gap_seconds=0.5, spike_rate=0.01)
+    take, _ = apply_faults(syn.take, faults, seed=1)
+    rng = np.random.default_rng(1)
+    positions = take.positions.copy()
+    positions[rng.random(positions.shape[:2]) < 0.10] = np.nan  # 10 % dropout
+    take = type(take)(positions, take.labels, take.rate, times=take.times, meta=take.meta)
+    error = map_take(take).values - truth_track(syn).values
+    rmse = float(np.sqrt(np.mean(error ** 2)))
+    per_motor = np.sqrt(np.mean(error ** 2, axis=0))
+    detail = {"seconds": seconds, "worst_motor_pct": round(100 * float(per_motor.max()), 2),
+              "pipeline": "default mapping, neutral 0-1 s, hold last value; no cleaning or range calibration"}
+    return Figure("fidelity.motor_rmse_pct", 100 * rmse, "%", 2.0, False, detail)

@@ -1,0 +1,237 @@
+"""Smoothing filters, each in two forms that agree frame for frame.
+
+Every filter here works on many channels at once and has
+
+``apply(x, t)``
+    the whole recording: ``x`` of shape ``(frames, channels)`` (or ``(frames,)``), ``t`` the
+    frame times ``(frames,)`` in seconds; returns the filtered array, same shape;
+``step(sample, t)``
+    one live frame: ``sample`` of shape ``(channels,)``, NaN for "not seen this frame"; returns
+    the filtered frame. A NaN channel gives NaN and leaves that channel's state as it was;
+``reset()``
+    forget the past.
+
+``apply`` returns what feeding the frames to ``step`` one by one returns (the agreement the
+tests check). Where a better offline result needs the future (zero-phase Butterworth, a centred
+Savitzky-Golay window) it is the separate :meth:`smooth_offline`, which has no live twin.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import signal
+
+
+def _as_2d(x: np.ndarray) -> tuple[np.ndarray, bool]:
+    arr = np.asarray(x, dtype=np.float64)
+    return (arr[:, None], True) if arr.ndim == 1 else (arr, False)
+
+
+class _Stepwise:
+    """``apply`` as a loop over ``step`` (for recursive filters whose state depends on each sample)."""
+
+    def reset(self) -> None:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    def step(self, sample: np.ndarray, t: float) -> np.ndarray:  # pragma: no cover
+        raise NotImplementedError
+
+    def apply(self, x: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Filter a whole recording ``(frames, channels)`` from a fresh state; see the module docstring."""
+        arr, flat = _as_2d(x)
+        self.reset()
+        out = np.empty_like(arr)
+        for f in range(len(arr)):
+            out[f] = self.step(arr[f], float(t[f]))
+        self.reset()
+        return out[:, 0] if flat else out
+
+
+class OneEuro(_Stepwise):
+    """The One Euro filter (Casiez, Roussel and Vogel, CHI 2012), per channel.
+
+    A first-order low-pass whose cutoff rises with speed: ``cutoff = min_cutoff + beta * |dx|``,
+    where ``dx`` is the low-passed (at ``d_cutoff``) rate of change from the previous filtered
+    value to the new sample. Little jitter when still, little lag when moving. The smoothing
+    factor for a step of ``te`` seconds is ``1 / (1 + tau / te)`` with ``tau = 1 / (2 pi cutoff)``.
+    This reproduces the authors' reference output (``groundTruth.csv``) to 1e-4.
+
+    Parameters
+    ----------
+    min_cutoff : float
+        Hz; lower is smoother when still.
+    beta : float
+        Speed coefficient; higher is less lag when moving.
+    d_cutoff : float
+        Hz, for the derivative.
+    rate : float
+        Frame rate assumed for the very first step (later steps use the timestamps).
+    """
+
+    def __init__(self, min_cutoff: float = 1.0, beta: float = 0.0, d_cutoff: float = 1.0, rate: float = 60.0) -> None:
+        if min_cutoff <= 0 or d_cutoff <= 0 or beta < 0 or rate <= 0:
+            raise ValueError("One Euro needs min_cutoff > 0, d_cutoff > 0, beta >= 0 and rate > 0")
+        self.min_cutoff, self.beta, self.d_cutoff, self.rate = min_cutoff, beta, d_cutoff, rate
+        self.reset()
+
+    def reset(self) -> None:
+        self._x: np.ndarray | None = None  # filtered value per channel (NaN until first seen)
+        self._dx: np.ndarray | None = None  # filtered derivative per channel
+        self._t: np.ndarray | None = None  # time each channel was last seen
+
+    def step(self, sample: np.ndarray, t: float) -> np.ndarray:
+        """Filter one frame ``(channels,)``; NaN channels give NaN and keep their state."""
+        x = np.asarray(sample, dtype=np.float64)
+        if self._x is None:
+            shape = x.shape
+            self._x, self._dx = np.full(shape, np.nan), np.zeros(shape)
+            self._t = np.full(shape, np.nan)
+        seen = np.isfinite(x)
+        first = seen & np.isnan(self._x)
+        later = seen & ~first
+        out = np.full(x.shape, np.nan)
+        if first.any():
+            self._x[first], self._dx[first], self._t[first] = x[first], 0.0, t
+            out[first] = x[first]
+        if later.any():
+            dt = t - self._t[later]
+            te = np.where(dt > 0, dt, 1.0 / self.rate)
+            dx = (x[later] - self._x[later]) / te
+            edx = self._dx[later] + _alpha(self.d_cutoff, te) * (dx - self._dx[later])
+            cutoff = self.min_cutoff + self.beta * np.abs(edx)
+            filtered = self._x[later] + _alpha(cutoff, te) * (x[later] - self._x[later])
+            self._dx[later], self._x[later], self._t[later] = edx, filtered, t
+            out[later] = filtered
+        return out
+
+
+def _alpha(cutoff: float | np.ndarray, te: np.ndarray) -> np.ndarray:
+    tau = 1.0 / (2.0 * math.pi * np.asarray(cutoff))
+    return 1.0 / (1.0 + tau / te)
+
+
+class Butterworth:
+    """A low-pass Butterworth filter (second-order sections), per channel.
+
+    ``apply``/``step`` are the causal filter, started at rest on each channel's first value (no
+    step from zero). :meth:`smooth_offline` runs it forward and backward (zero phase, no lag)
+    for recordings. Assumes a steady frame rate ``rate``; NaN samples pass through as NaN.
+
+    Parameters
+    ----------
+    cutoff, rate : float
+        Hz; the cutoff must be below half the rate.
+    order : int
+    """
+
+    def __init__(self, cutoff: float = 6.0, rate: float = 60.0, order: int = 2) -> None:
+        if not 0 < cutoff < rate / 2:
+            raise ValueError(f"the cutoff must be between 0 and half the rate ({rate / 2:g} Hz), got {cutoff:g}")
+        self.cutoff, self.rate, self.order = cutoff, rate, order
+        self.sos = signal.butter(order, cutoff, fs=rate, output="sos")
+        self._zi_unit = signal.sosfilt_zi(self.sos)  # (sections, 2): steady state for a unit input
+        self.reset()
+
+    def reset(self) -> None:
+        self._z: np.ndarray | None = None  # (sections, 2, channels)
+
+    def step(self, sample: np.ndarray, t: float) -> np.ndarray:
+        """Filter one frame ``(channels,)``; NaN channels give NaN and keep their state."""
+        x = np.asarray(sample, dtype=np.float64)
+        seen = np.isfinite(x)
+        if self._z is None:
+            self._z = np.full((*self._zi_unit.shape, x.size), np.nan)
+        fresh = seen & np.isnan(self._z[0, 0])
+        self._z[:, :, fresh] = self._zi_unit[:, :, None] * x[fresh]
+        out = np.full(x.shape, np.nan)
+        if seen.any():
+            y, z = signal.sosfilt(self.sos, x[seen][None, :], axis=0, zi=self._z[:, :, seen])
+            out[seen] = y[0]
+            self._z[:, :, seen] = z
+        return out
+
+    def apply(self, x: np.ndarray, t: np.ndarray | None = None) -> np.ndarray:
+        """The causal filter over a recording; equal to stepping it (runs of NaN restart nothing:
+        a channel's state waits through them, as in :meth:`step`)."""
+        arr, flat = _as_2d(x)
+        out = np.full_like(arr, np.nan)
+        for c in range(arr.shape[1]):
+            seen = np.flatnonzero(np.isfinite(arr[:, c]))
+            if len(seen):
+                values = arr[seen, c]
+                out[seen, c], _ = signal.sosfilt(self.sos, values, zi=self._zi_unit * values[0])
+        return out[:, 0] if flat else out
+
+    def smooth_offline(self, x: np.ndarray) -> np.ndarray:
+        """Zero-phase (forward-backward) smoothing of each channel's seen samples; NaN stay NaN."""
+        arr, flat = _as_2d(x)
+        out = np.full_like(arr, np.nan)
+        for c in range(arr.shape[1]):
+            seen = np.flatnonzero(np.isfinite(arr[:, c]))
+            if len(seen) > 3 * (2 * len(self.sos) + 1):
+                out[seen, c] = signal.sosfiltfilt(self.sos, arr[seen, c])
+            else:
+                out[seen, c] = arr[seen, c]
+        return out[:, 0] if flat else out
+
+
+class SavitzkyGolay:
+    """Savitzky-Golay smoothing: a least-squares polynomial over a window of samples.
+
+    ``apply``/``step`` fit the trailing ``window`` samples and take the fit at the newest (a
+    causal filter: no future needed). :meth:`smooth_offline` centres the window (scipy's
+    ``savgol_filter``, zero lag). Until a channel has ``window`` samples, ``step`` returns the
+    sample unchanged. NaN samples give NaN and are left out of the window.
+    """
+
+    def __init__(self, window: int = 9, order: int = 2) -> None:
+        if window < 3 or order >= window:
+            raise ValueError(f"need window >= 3 and order < window, got window {window}, order {order}")
+        self.window, self.order = window, order
+        self._coef = signal.savgol_coeffs(window, order, pos=window - 1, use="dot")  # (window,)
+        self.reset()
+
+    def reset(self) -> None:
+        self._buf: np.ndarray | None = None  # (window, channels), newest last
+        self._count: np.ndarray | None = None
+
+    def step(self, sample: np.ndarray, t: float) -> np.ndarray:
+        """Filter one frame ``(channels,)``; NaN channels give NaN and keep their window."""
+        x = np.asarray(sample, dtype=np.float64)
+        if self._buf is None:
+            self._buf, self._count = np.zeros((self.window, x.size)), np.zeros(x.size, dtype=int)
+        seen = np.isfinite(x)
+        self._buf[:, seen] = np.roll(self._buf[:, seen], -1, axis=0)
+        self._buf[-1, seen] = x[seen]
+        self._count[seen] += 1
+        out = np.where(seen, x, np.nan)
+        full = seen & (self._count >= self.window)
+        out[full] = self._coef @ self._buf[:, full]
+        return out
+
+    def apply(self, x: np.ndarray, t: np.ndarray | None = None) -> np.ndarray:
+        """The causal filter over a recording, equal to stepping it."""
+        arr, flat = _as_2d(x)
+        out = np.full_like(arr, np.nan)
+        for c in range(arr.shape[1]):
+            seen = np.flatnonzero(np.isfinite(arr[:, c]))
+            values = arr[seen, c]
+            result = values.copy()
+            if len(values) >= self.window:
+                result[self.window - 1:] = np.correlate(values, self._coef, mode="valid")
+            out[seen, c] = result
+        return out[:, 0] if flat else out
+
+    def smooth_offline(self, x: np.ndarray) -> np.ndarray:
+        """Centred-window smoothing of each channel's seen samples (zero lag); NaN stay NaN."""
+        arr, flat = _as_2d(x)
+        out = np.full_like(arr, np.nan)
+        for c in range(arr.shape[1]):
+            seen = np.flatnonzero(np.isfinite(arr[:, c]))
+            if len(seen) >= self.window:
+                out[seen, c] = signal.savgol_filter(arr[seen, c], self.window, self.order, mode="interp")
+            else:
+                out[seen, c] = arr[seen, c]
+        return out[:, 0] if flat else out

@@ -1,0 +1,155 @@
+"""Cleaning filters: the One Euro reference, apply/step agreement, outliers and gap filling."""
+
+import numpy as np
+import pytest
+from scipy import signal
+from scipy.interpolate import CubicSpline
+
+from capture import load_take
+from mapping.filters import Butterworth, OneEuro, SavitzkyGolay
+from mapping.gaps import GapFiller, gap_runs
+from mapping.outliers import SpeedBound, SpikeFilter
+
+
+
+def test_one_euro_reproduces_the_authors_reference_output(realdata):
+    data = np.genfromtxt(realdata / "filters" / "groundTruth.csv", delimiter=",", names=True)
+    out = OneEuro(min_cutoff=1.0, beta=0.1, d_cutoff=1.0, rate=120).apply(data["noisy"], data["timestamp"])
+    assert np.abs(out - data["filtered"]).max() < 1e-4
+
+
+def _noisy_channels(frames=240, channels=5, seed=0):
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=(frames, channels)).cumsum(axis=0)
+    x[rng.random(x.shape) < 0.1] = np.nan
+    x[20:35, 1] = np.nan  # a long gap too
+    return x, np.arange(frames) / 60.0
+
+
+@pytest.mark.parametrize("make", [lambda: OneEuro(1.0, 0.05), lambda: Butterworth(6.0, 60.0),
+                                  lambda: SavitzkyGolay(9, 2)], ids=["one-euro", "butterworth", "savgol"])
+def test_channel_filters_apply_equals_step_frame_for_frame(make):
+    x, t = _noisy_channels()
+    flt = make()
+    whole = flt.apply(x, t)
+    live = np.array([flt.step(x[f], t[f]) for f in range(len(x))])
+    np.testing.assert_array_equal(np.isnan(whole), np.isnan(x))
+    np.testing.assert_allclose(whole, live, atol=1e-12, equal_nan=True)
+    flt.reset()
+    np.testing.assert_allclose(flt.step(x[0], t[0]), whole[0], equal_nan=True)  # reset forgets the past
+
+
+@pytest.mark.parametrize("make", [SpeedBound, SpikeFilter], ids=["speed", "spikes"])
+def test_marker_filters_apply_equals_step_frame_for_frame(make):
+    rng = np.random.default_rng(1)
+    t = np.arange(300) / 60.0
+    pos = rng.normal(0, 0.2, (300, 4, 3)) + np.sin(t)[:, None, None] * 5
+    pos[100, 1] += 15
+    pos[rng.random((300, 4)) < 0.05] = np.nan
+    flt = make()
+    whole = flt.apply(pos, t)
+    live = np.array([flt.step(pos[f], t[f]) for f in range(len(pos))])
+    np.testing.assert_array_equal(whole, live)
+    assert np.isnan(whole[100, 1]).all()
+
+
+def test_butterworth_passes_steady_values_and_halves_power_at_the_cutoff():
+    t = np.arange(1200) / 60.0
+    flt = Butterworth(cutoff=5.0, rate=60.0, order=2)
+    np.testing.assert_allclose(flt.apply(np.full(50, 7.0), t[:50]), 7.0)  # starts at rest, no step
+    out = flt.apply(np.sin(2 * np.pi * 5.0 * t), t)
+    assert np.abs(out[600:]).max() == pytest.approx(np.sqrt(0.5), abs=0.01)
+    slow = np.sin(2 * np.pi * 0.5 * t)
+    smooth = flt.smooth_offline(slow)  # zero phase: no lag
+    assert np.argmax(smooth[:120]) == np.argmax(slow[:120])
+    assert np.argmax(out := flt.apply(slow, t)[:150]) > np.argmax(slow[:150])  # the causal one lags
+    assert out.max() > 0.9
+
+
+def test_savitzky_golay_keeps_a_quadratic_exactly_and_matches_scipy_offline():
+    t = np.arange(100) / 60.0
+    quad = 3 + 2 * t - 5 * t ** 2
+    np.testing.assert_allclose(SavitzkyGolay(9, 2).apply(quad, t), quad, atol=1e-9)
+    noisy = quad + np.random.default_rng(2).normal(0, 0.1, 100)
+    np.testing.assert_allclose(SavitzkyGolay(11, 3).smooth_offline(noisy), signal.savgol_filter(noisy, 11, 3))
+
+
+def test_one_euro_holds_through_unseen_frames_and_follows_fast_motion_with_beta():
+    t = np.arange(600) / 60.0
+    step = np.where(t > 2, 10.0, 0.0)
+    slow, fast = OneEuro(1.0, 0.0).apply(step, t), OneEuro(1.0, 1.0).apply(step, t)
+    after = int(2.25 * 60)
+    assert fast[after] > 9.0 > slow[after]  # beta lets it keep up with a jump
+    flt = OneEuro(1.0, 0.0)
+    flt.step(np.array([1.0]), 0.0)
+    assert np.isnan(flt.step(np.array([np.nan]), 1 / 60))[0]
+    assert flt.step(np.array([1.0]), 2 / 60)[0] == pytest.approx(1.0)
+
+
+def test_speed_bound_allows_motion_under_it_and_takes_back_a_marker_that_moved():
+    t = np.arange(120) / 120.0
+    pos = np.zeros((120, 1, 3))
+    pos[:, 0, 0] = 50.0 * t  # 50 mm/s: fine
+    pos[60:, 0, 1] += 8.0  # then an 8 mm jump that stays
+    out = SpeedBound(max_speed=76.6, tolerance=2.0).apply(pos, t)
+    rejected = np.flatnonzero(np.isnan(out[:, 0, 0]))
+    # 8 mm is allowed after (8 - 2) / 76.6 s = 10 frames at 120 Hz
+    assert rejected[0] == 60 and 8 <= len(rejected) <= 11 and (rejected == np.arange(60, 60 + len(rejected))).all()
+
+
+def test_spike_filter_rejects_one_frame_spikes_and_accepts_a_real_jump():
+    rng = np.random.default_rng(3)
+    t = np.arange(200) / 60.0
+    pos = rng.normal(0, 0.2, (200, 1, 3))
+    pos[80, 0, 2] += 12.0
+    pos[150:, 0, 0] += 20.0
+    out = SpikeFilter(window=9).apply(pos, t)
+    bad = np.flatnonzero(np.isnan(out[:, 0, 0]))
+    assert bad.tolist() == [80, 150, 151, 152, 153]  # the run of 4 ends when the new place wins
+
+
+def test_short_gaps_are_exactly_the_cubic_spline_and_long_or_open_ones_stay_unseen():
+    t = np.arange(300) / 60.0
+    pos = np.stack([np.sin(t), np.cos(2 * t), t], axis=-1)[:, None, :].repeat(2, axis=1)
+    cut = pos.copy()
+    cut[100:104, 0] = np.nan  # short
+    cut[0:10, 1] = np.nan  # open at the start
+    cut[150:290, 1] = np.nan  # longer than max_gap_seconds
+    result = GapFiller(spline_frames=5, max_gap_seconds=2.0).apply(cut, t)
+    seen = np.isfinite(cut[:, 0, 0])
+    np.testing.assert_allclose(result.positions[100:104, 0], CubicSpline(t[seen], cut[seen, 0], axis=0)(t[100:104]))
+    assert np.isnan(result.positions[0:10, 1]).all() and np.isnan(result.positions[150:290, 1]).all()
+    assert result.filled.sum() == 4 and result.filled[100:104, 0].all()
+    assert gap_runs(np.isnan(cut[:, 1, 0])) == [(0, 10), (150, 290)]
+
+
+def test_a_long_gap_is_filled_from_markers_that_move_with_it():
+    rng = np.random.default_rng(4)
+    t = np.arange(600) / 60.0
+    drive = np.cumsum(rng.normal(0, 0.3, (600, 2)), axis=0)  # two hidden motions, not smooth
+    mix = rng.normal(size=(2, 5 * 3))
+    pos = (drive @ mix).reshape(600, 5, 3)
+    cut = pos.copy()
+    cut[200:260, 2] = np.nan  # one second
+    filled = GapFiller().apply(cut, t).positions[200:260, 2]
+    seen = np.isfinite(cut[:, 2, 0])
+    spline = CubicSpline(t[seen], cut[seen, 2], axis=0)(t[200:260])
+    ours, theirs = np.abs(filled - pos[200:260, 2]).max(), np.abs(spline - pos[200:260, 2]).max()
+    assert ours < 1e-6 < theirs
+
+
+def test_a_second_cut_from_real_facial_motion_is_filled_better_than_by_a_spline(realdata):
+    take = load_take(realdata / "facial" / "animface" / "JawMoCap.csv", units="cm")
+    rng = np.random.default_rng(5)
+    ours, spline = [], []
+    for _ in range(10):
+        m, start = rng.integers(take.markers), rng.integers(30, take.frames - 90)
+        cut = take.positions.copy()
+        cut[start:start + 60, m] = np.nan
+        seen = np.isfinite(cut[:, m, 0])
+        truth = take.positions[start:start + 60, m]
+        filled = GapFiller().apply(cut, take.times).positions[start:start + 60, m]
+        bridge = CubicSpline(take.times[seen], cut[seen, m], axis=0)(take.times[start:start + 60])
+        ours.append(np.linalg.norm(filled - truth, axis=1).mean())
+        spline.append(np.linalg.norm(bridge - truth, axis=1).mean())
+    assert np.mean(ours) < 0.8 * np.mean(spline)
