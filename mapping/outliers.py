@@ -75,20 +75,21 @@ class SpeedBound(_MarkerStepwise):
 
 
 class SpikeFilter(_MarkerStepwise):
-    """Reject samples far from the median of the marker's recent accepted samples.
+    """Reject samples far from where the marker's recent motion says it should be.
 
-    A sample is a spike when its distance from the per-coordinate median of the last ``window``
-    accepted samples exceeds ``threshold`` robust deviations (1.4826 × the median distance of
-    those samples from their median) plus ``floor`` mm. Until ``window`` samples are accepted,
-    everything is accepted. A marker that really jumped and stays is accepted again after
-    ``window // 2 + 1`` rejections in a row (the new place is then the majority).
+    The prediction extends the line through the marker's last two accepted samples to this
+    frame's time (so steady motion, a blink or a head turn, predicts itself). A sample is a spike
+    when it misses the prediction by more than ``threshold`` robust deviations (1.4826 × the
+    median miss over the last ``window`` accepted samples) plus ``floor`` mm. A marker back from
+    a gap of more than 3 frame intervals is not tested and starts a new history there, so a
+    marker that really jumped and stays is accepted again after 3 rejected frames.
 
     Parameters
     ----------
     window : int
     threshold : float
     floor : float
-        mm, so that a perfectly still marker does not reject its own jitter.
+        mm, so that a perfectly smooth marker does not reject its own jitter.
     """
 
     def __init__(self, window: int = 9, threshold: float = 6.0, floor: float = 3.0) -> None:
@@ -98,39 +99,35 @@ class SpikeFilter(_MarkerStepwise):
         self.reset()
 
     def reset(self) -> None:
-        self._buf: np.ndarray | None = None  # (window, markers, dims) accepted, newest last
-        self._count: np.ndarray | None = None
-        self._streak: np.ndarray | None = None  # rejections in a row
-        self._rejected: np.ndarray | None = None  # (window, markers, dims) the rejected ones
+        self._last: np.ndarray | None = None  # (2, markers, dims): the last two accepted, newest last
+        self._t: np.ndarray | None = None  # (2, markers)
+        self._miss: np.ndarray | None = None  # (window, markers): recent prediction misses, mm
 
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """One frame ``(markers, dims)``: the sample with spikes set to NaN."""
         x = np.asarray(sample, dtype=np.float64)
-        if self._buf is None:
-            self._buf = np.full((self.window, *x.shape), np.nan)
-            self._rejected = np.full((self.window, *x.shape), np.nan)
-            self._count, self._streak = np.zeros(len(x), dtype=int), np.zeros(len(x), dtype=int)
+        markers = len(x)
+        if self._last is None:
+            self._last, self._t = np.full((2, *x.shape), np.nan), np.full((2, markers), np.nan)
+            self._miss = np.full((self.window, markers), np.nan)
         seen = np.isfinite(x).all(axis=1)
-        ready = self._count >= self.window
-        median = np.median(self._buf, axis=0)  # (markers, dims); NaN where not ready
-        spread = np.median(np.linalg.norm(self._buf - median, axis=2), axis=0)
-        distance = np.linalg.norm(x - median, axis=1)
-        spike = seen & ready & (distance > self.threshold * 1.4826 * spread + self.floor)
-        self._streak = np.where(spike, self._streak + 1, np.where(seen, 0, self._streak))
-        moved = spike & (self._streak > self.window // 2)
-        if moved.any():  # the marker is somewhere new: restart its history from the rejected run
-            earlier = self.window // 2  # the rejections before this one
-            self._buf[:, moved] = np.nan
-            self._buf[-earlier:, moved] = self._rejected[-earlier:, moved]
-            self._count[moved] = earlier
-            spike &= ~moved
-            self._streak[moved] = 0
+        span = self._t[1] - self._t[0]
+        slope = (self._last[1] - self._last[0]) / np.where(span > 0, span, np.inf)[:, None]
+        predicted = np.where(np.isfinite(slope), self._last[1] + slope * (t - self._t[1])[:, None], self._last[1])
+        miss = np.linalg.norm(x - predicted, axis=1)
+        # Only a recent line predicts: after a gap the marker is taken where it reappears.
+        ready = np.isfinite(self._miss).all(axis=0) & (t - self._t[1] <= 3 * span)
+        spread = np.median(self._miss, axis=0)
+        spike = seen & ready & (miss > self.threshold * 1.4826 * spread + self.floor)
         accept = seen & ~spike
-        self._buf[:, accept] = np.roll(self._buf[:, accept], -1, axis=0)
-        self._buf[-1, accept] = x[accept]
-        self._count[accept] += 1
-        self._rejected[:, spike] = np.roll(self._rejected[:, spike], -1, axis=0)
-        self._rejected[-1, spike] = x[spike]
+        back = accept & (t - self._t[1] > 3 * span)  # back from a gap: its history restarts
+        self._miss[:, back] = np.nan
+        fresh = accept & ~back & np.isfinite(self._last[1, :, 0])
+        self._miss[:, fresh] = np.roll(self._miss[:, fresh], -1, axis=0)
+        self._miss[-1, fresh] = miss[fresh]
+        self._last[0, accept], self._t[0, accept] = self._last[1, accept], self._t[1, accept]
+        self._last[1, accept], self._t[1, accept] = x[accept], t
+        self._last[0, back], self._t[0, back] = np.nan, np.nan
         out = x.copy()
         out[~accept] = np.nan
         return out

@@ -14,7 +14,7 @@ from capture import load_take, save_take, synthesize
 from toon import builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "info", "track", "map", "render", "retarget", "faces", "face"]
+SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "map", "render", "retarget", "faces", "face"]
 
 
 def test_every_console_script_entry_point_imports():
@@ -141,3 +141,16 @@ def test_synth_follows_a_script_or_a_calibrated_repertoire(tmp_path, capsys):
     assert truth.values[:, motor_index("HH")].max() == pytest.approx(1.0)  # the calibration turns fully
     assert main(["synth", "-o", str(tmp_path / "c.npz"), "--expressions", "fear,smirk"]) == 2
     assert "not in the repertoire: smirk" in capsys.readouterr().err
+
+
+def test_clean_rejects_spikes_fills_gaps_and_writes_a_take(tmp_path, capsys):
+    syn = synthesize(seconds=4, rate=60, noise_mm=0.0)
+    pos = syn.take.positions.copy()
+    pos[100, 20] += 25.0  # a spike
+    pos[150:170, 12] = np.nan  # a third of a second unseen
+    source = save_take(type(syn.take)(pos, syn.take.labels, 60.0), tmp_path / "raw.npz")
+    assert main(["clean", str(source), "-o", str(tmp_path / "clean.npz")]) == 0
+    assert "1 spikes rejected, 21 samples filled, 0 still missing" in capsys.readouterr().out
+    cleaned = load_take(tmp_path / "clean.npz")
+    assert np.abs(cleaned.positions - syn.take.positions).max() < 1.0  # spike gone, gap bridged
+    assert main(["clean", str(tmp_path / "missing.npz"), "-o", str(tmp_path / "x.npz")]) == 2

@@ -105,7 +105,7 @@ def test_spike_filter_rejects_one_frame_spikes_and_accepts_a_real_jump():
     pos[150:, 0, 0] += 20.0
     out = SpikeFilter(window=9).apply(pos, t)
     bad = np.flatnonzero(np.isnan(out[:, 0, 0]))
-    assert bad.tolist() == [80, 150, 151, 152, 153]  # the run of 4 ends when the new place wins
+    assert bad.tolist() == [80, 150, 151, 152]  # after 3 rejected frames the new place is taken
 
 
 def test_short_gaps_are_exactly_the_cubic_spline_and_long_or_open_ones_stay_unseen():

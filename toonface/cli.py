@@ -22,6 +22,7 @@ from capture.info import describe, summarize
 from capture.performance import default_performance, load_performance, load_poses
 from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
+from mapping.clean import CleanSettings, clean_take
 from player.sheet import expression_sheet, save_png
 from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
 from toonface.pipeline import map_take, render, run_demo, truth_track
@@ -228,6 +229,30 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
     seen = take.valid.any(axis=0).sum()
     click.echo(f"wrote {path} ({take.frames} frames, {seen} of {take.markers} markers seen, "
                f"{int((~take.valid).sum())} missing samples, {take.meta['mm_per_pixel']:.4g} mm per pixel)")
+
+
+@cli.command()
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
+              help="Cleaned take (.npz .c3d .trc .csv).")
+@click.option("--no-spikes", is_flag=True, help="Keep one-frame spikes (no robust spike rejection).")
+@click.option("--max-gap", default=2.0, show_default=True, type=click.FloatRange(min=0.0),
+              help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")
+@click.option("--cutoff", default=8.0, show_default=True, type=click.FloatRange(min=0.0),
+              help="Zero-phase low-pass, Hz (0: no smoothing).")
+@_take_options
+def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, take_rate: float | None,
+          labels: str | None, units: str | None) -> None:
+    """Clean a take offline: reject spikes, fill gaps, smooth without lag.
+
+    Short gaps (up to 5 frames) are bridged by a cubic spline, longer ones from the other
+    markers' correlated motion; a marker missing longer than --max-gap stays unseen.
+    """
+    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
+    cleaned, report = clean_take(_load_take(take, take_rate, labels, units), settings)
+    path = save_take(cleaned, output)
+    click.echo(f"wrote {path}: {report.rejected} spikes rejected, {report.filled} samples filled, "
+               f"{report.still_missing} still missing")
 
 
 @cli.command("map")
