@@ -23,7 +23,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from bench.core import Figure
-from capture import load_take, synthesize
+from capture import Take, load_take, synthesize
 from capture.faults import Faults, apply_faults
 from capture.performance import default_performance
 from mapping.filters import OneEuro
@@ -95,7 +95,7 @@ def _motor_rmse(seconds: float) -> Figure:
     rng = np.random.default_rng(1)
     positions = take.positions.copy()
     positions[rng.random(positions.shape[:2]) < 0.10] = np.nan  # 10 % dropout
-    take = type(take)(positions, take.labels, take.rate, times=take.times, meta=take.meta)
+    take = Take(positions, take.labels, take.rate, times=take.times, meta=take.meta)
     error = map_take(take).values - truth_track(syn).values
     rmse = float(np.sqrt(np.mean(error ** 2)))
     per_motor = np.sqrt(np.mean(error ** 2, axis=0))

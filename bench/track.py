@@ -18,11 +18,10 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-import numpy as np
 
 from bench.core import Figure, median_rate
 from capture import load_markerset, synthesize
-from capture.dots import track_dots
+from capture.dots import front_layout, track_dots
 from capture.performance import default_performance
 from capture.videogen import dot_video, score_tracking
 from capture.videoio import frames, probe, write_video
@@ -37,7 +36,7 @@ def run(quick: bool = False) -> list[Figure]:
     take = synthesize(rate=30.0, noise_mm=0.0, performance=performance).take
     truth, images = dot_video(take, seed=0)
     ms = load_markerset("toon32")
-    layout = np.array([ms.neutral_of(x)[:2] for x in truth.labels])
+    layout = front_layout(ms, truth.labels)
     with tempfile.TemporaryDirectory() as tmp:
         info = probe(write_video(images, Path(tmp) / "dots.mp4", truth.rate))
         result: dict = {}

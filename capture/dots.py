@@ -24,6 +24,8 @@ import cv2
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from capture.markerset import MarkerSet
+
 #: OpenCV hue ranges (0-180) of the dot colours we know.
 HUES = {"blue": (95, 130), "green": (40, 85), "red": (170, 8), "yellow": (20, 35)}
 _FAR = 1e9
@@ -45,6 +47,16 @@ class DotStyle:
         if colour not in HUES:
             raise ValueError(f"unknown dot colour {colour!r} (known: {', '.join(HUES)})")
         return DotStyle(hue=HUES[colour])
+
+
+def sticker_labels(labels: Iterable[str]) -> list[str]:
+    """The markers that can carry a dot sticker: all but the pupils (none sits on an eye)."""
+    return [x for x in labels if not x.startswith("PUPIL")]
+
+
+def front_layout(markerset: MarkerSet, labels: Iterable[str]) -> np.ndarray:
+    """The ``labels``' neutral x, y in millimetres, shape ``(M, 2)``: the face seen from the front."""
+    return np.array([markerset.neutral_of(x)[:2] for x in labels]).reshape(-1, 2)
 
 
 def find_dots(image: np.ndarray, style: DotStyle = DotStyle()) -> np.ndarray:
@@ -71,9 +83,10 @@ def find_dots(image: np.ndarray, style: DotStyle = DotStyle()) -> np.ndarray:
     xs, ys = points[:, 0], points[:, 1]
     own = grown[ys, xs].astype(np.intp)
     area = np.bincount(own, weights=(labels[ys, xs] > 0), minlength=count)
-    hue = hsv[ys, xs, 0].astype(np.int16)
+    pixels = hsv[ys, xs]  # (N, 3) hue, saturation, value of the dots and their rims
+    hue = pixels[:, 0].astype(np.int16)
     in_hue = (hue >= lo) & (hue <= hi) if lo <= hi else (hue >= lo) | (hue <= hi)
-    weight = np.where(in_hue, hsv[ys, xs, 1].astype(np.float64) - style.min_saturation / 2, 0.0).clip(min=0.0)
+    weight = np.where(in_hue, pixels[:, 1].astype(np.float64) - style.min_saturation / 2, 0.0).clip(min=0.0)
     total = np.bincount(own, weights=weight, minlength=count)
     cx = np.bincount(own, weights=weight * xs, minlength=count)
     cy = np.bincount(own, weights=weight * ys, minlength=count)

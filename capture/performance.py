@@ -207,7 +207,11 @@ def _number(value: object, path: str | os.PathLike, where: str, low: float | Non
 
 
 def load_poses() -> dict[str, dict[str, float]]:
-    """The built-in expression repertoire's poses: name -> {motor code: value}."""
+    """The built-in expression repertoire's poses: name -> {motor code: value}.
+
+    ``capture`` may not import ``toon``, whose ``load_expressions`` validates the file fully;
+    callers above both layers (the ``synth`` command) pass its poses to :func:`perform` instead.
+    """
     path = data_path("expressions.toml")
     table = read_document(path).get("expressions", {})
     poses = {name: dict(entry.get("motors", {})) for name, entry in table.items()}
@@ -238,7 +242,7 @@ def perform(performance: Performance, times: np.ndarray,
             if name not in poses:
                 raise InputError(f'no expression "{name}" in the repertoire (known: {", ".join(poses)})')
             weight = w * cue.strength if cue.kind == "expression" else _bump(times, cue.start, cue.end)
-            targets = {c: v for c, v in poses[name].items() if c not in ("HH", "HV") or cue.kind == "expression"}
+            targets = poses[name]
         elif cue.kind == "gaze":
             weight = w
             targets = {f"P{s}H": 0.5 + 0.45 * cue.x for s in "RL"} | {f"P{s}V": 0.5 + 0.4 * cue.y for s in "RL"}

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from capture.aruco import track_aruco
-from capture.dots import DotStyle, track_dots
+from capture.dots import DotStyle, front_layout, sticker_labels, track_dots
 from capture.markerset import load_markerset
 from capture.take import Take
 from capture.videoio import frames, probe
@@ -43,8 +43,8 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
             "decoder": info.backend}
     if method == "dots":
         ms = load_markerset(markerset)
-        labels = [x for x in ms.labels if not x.startswith("PUPIL")]  # no sticker sits on an eye
-        layout = np.array([ms.neutral_of(x)[:2] for x in labels])
+        labels = sticker_labels(ms.labels)
+        layout = front_layout(ms, labels)
         try:
             pixels, tracker = track_dots(frames(info), layout, DotStyle.named(colour), start_frame,
                                          progress=progress)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from capture.dots import sticker_labels
 from capture.take import Take
 
 DOT_BGR = (205, 90, 25)
@@ -64,7 +65,7 @@ def dot_video(take: Take, labels: list[str] | None = None, size: tuple[int, int]
 
     ``labels`` defaults to every marker but the pupils (a sticker cannot sit on an eye).
     """
-    chosen = [x for x in take.labels if not x.startswith("PUPIL")] if labels is None else list(labels)
+    chosen = sticker_labels(take.labels) if labels is None else list(labels)
     pos = take.select(chosen)
     width, height = size
     ppm = 0.8 * height / 190.0  # the face, chin to hairline plus margin, fills 80 % of the height

@@ -19,18 +19,18 @@ Savitzky-Golay window) it is the separate :meth:`smooth_offline`, which has no l
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from scipy import signal
 
 
-def _as_2d(x: np.ndarray) -> tuple[np.ndarray, bool]:
-    arr = np.asarray(x, dtype=np.float64)
-    return (arr[:, None], True) if arr.ndim == 1 else (arr, False)
+class Stepwise:
+    """``apply`` as a loop over ``step``, for filters whose state depends on every sample.
 
-
-class _Stepwise:
-    """``apply`` as a loop over ``step`` (for recursive filters whose state depends on each sample)."""
+    Frames are axis 0; ``step`` takes one frame of any shape (``(channels,)`` here,
+    ``(markers, dims)`` for the outlier stages). A 1-D ``x`` is one channel.
+    """
 
     def reset(self) -> None:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
@@ -39,17 +39,33 @@ class _Stepwise:
         raise NotImplementedError
 
     def apply(self, x: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """Filter a whole recording ``(frames, channels)`` from a fresh state; see the module docstring."""
-        arr, flat = _as_2d(x)
+        """Filter a whole recording from a fresh state; equal to stepping it frame by frame."""
+        arr = np.asarray(x, dtype=np.float64)
+        frames = arr[:, None] if arr.ndim == 1 else arr
         self.reset()
-        out = np.empty_like(arr)
-        for f in range(len(arr)):
-            out[f] = self.step(arr[f], float(t[f]))
+        out = np.empty_like(frames)
+        for f in range(len(frames)):
+            out[f] = self.step(frames[f], float(t[f]))
         self.reset()
-        return out[:, 0] if flat else out
+        return out.reshape(arr.shape)
 
 
-class OneEuro(_Stepwise):
+def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """``filter_seen`` on each channel's seen samples (NaN dropped, then put back as NaN).
+
+    ``x`` is ``(frames, channels)`` or ``(frames,)``; the result has its shape.
+    """
+    arr = np.asarray(x, dtype=np.float64)
+    columns = arr[:, None] if arr.ndim == 1 else arr
+    out = np.full_like(columns, np.nan)
+    for c in range(columns.shape[1]):
+        seen = np.flatnonzero(np.isfinite(columns[:, c]))
+        if len(seen):
+            out[seen, c] = filter_seen(columns[seen, c])
+    return out.reshape(arr.shape)
+
+
+class OneEuro(Stepwise):
     """The One Euro filter (Casiez, Roussel and Vogel, CHI 2012), per channel.
 
     A first-order low-pass whose cutoff rises with speed: ``cutoff = min_cutoff + beta * |dx|``,
@@ -155,26 +171,15 @@ class Butterworth:
     def apply(self, x: np.ndarray, t: np.ndarray | None = None) -> np.ndarray:
         """The causal filter over a recording; equal to stepping it (runs of NaN restart nothing:
         a channel's state waits through them, as in :meth:`step`)."""
-        arr, flat = _as_2d(x)
-        out = np.full_like(arr, np.nan)
-        for c in range(arr.shape[1]):
-            seen = np.flatnonzero(np.isfinite(arr[:, c]))
-            if len(seen):
-                values = arr[seen, c]
-                out[seen, c], _ = signal.sosfilt(self.sos, values, zi=self._zi_unit * values[0])
-        return out[:, 0] if flat else out
+        return _each_channel(x, lambda v: signal.sosfilt(self.sos, v, zi=self._zi_unit * v[0])[0])
 
     def smooth_offline(self, x: np.ndarray) -> np.ndarray:
-        """Zero-phase (forward-backward) smoothing of each channel's seen samples; NaN stay NaN."""
-        arr, flat = _as_2d(x)
-        out = np.full_like(arr, np.nan)
-        for c in range(arr.shape[1]):
-            seen = np.flatnonzero(np.isfinite(arr[:, c]))
-            if len(seen) > 3 * (2 * len(self.sos) + 1):
-                out[seen, c] = signal.sosfiltfilt(self.sos, arr[seen, c])
-            else:
-                out[seen, c] = arr[seen, c]
-        return out[:, 0] if flat else out
+        """Zero-phase (forward-backward) smoothing of each channel's seen samples; NaN stay NaN.
+
+        A channel with too few samples for the filter's padding is left as it is.
+        """
+        pad = 3 * (2 * len(self.sos) + 1)
+        return _each_channel(x, lambda v: signal.sosfiltfilt(self.sos, v) if len(v) > pad else v)
 
 
 class SavitzkyGolay:
@@ -213,25 +218,18 @@ class SavitzkyGolay:
 
     def apply(self, x: np.ndarray, t: np.ndarray | None = None) -> np.ndarray:
         """The causal filter over a recording, equal to stepping it."""
-        arr, flat = _as_2d(x)
-        out = np.full_like(arr, np.nan)
-        for c in range(arr.shape[1]):
-            seen = np.flatnonzero(np.isfinite(arr[:, c]))
-            values = arr[seen, c]
-            result = values.copy()
-            if len(values) >= self.window:
-                result[self.window - 1:] = np.correlate(values, self._coef, mode="valid")
-            out[seen, c] = result
-        return out[:, 0] if flat else out
+        return _each_channel(x, self._trailing_fit)
+
+    def _trailing_fit(self, values: np.ndarray) -> np.ndarray:
+        out = values.copy()
+        if len(values) >= self.window:
+            out[self.window - 1:] = np.correlate(values, self._coef, mode="valid")
+        return out
 
     def smooth_offline(self, x: np.ndarray) -> np.ndarray:
-        """Centred-window smoothing of each channel's seen samples (zero lag); NaN stay NaN."""
-        arr, flat = _as_2d(x)
-        out = np.full_like(arr, np.nan)
-        for c in range(arr.shape[1]):
-            seen = np.flatnonzero(np.isfinite(arr[:, c]))
-            if len(seen) >= self.window:
-                out[seen, c] = signal.savgol_filter(arr[seen, c], self.window, self.order, mode="interp")
-            else:
-                out[seen, c] = arr[seen, c]
-        return out[:, 0] if flat else out
+        """Centred-window smoothing of each channel's seen samples (zero lag); NaN stay NaN.
+
+        A channel shorter than the window is left as it is.
+        """
+        return _each_channel(x, lambda v: signal.savgol_filter(v, self.window, self.order, mode="interp")
+                             if len(v) >= self.window else v)

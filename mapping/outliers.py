@@ -10,29 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from mapping.filters import Stepwise
+
 #: The fastest plausible facial motion, mm/s (0.0766 mm/ms, ``../shared/realdata/README.md``).
 FACE_SPEED_MM_S = 76.6
 
 
-class _MarkerStepwise:
-    def reset(self) -> None:  # pragma: no cover - every subclass defines it
-        raise NotImplementedError
-
-    def step(self, sample: np.ndarray, t: float) -> np.ndarray:  # pragma: no cover
-        raise NotImplementedError
-
-    def apply(self, positions: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """Reject outliers in a recording ``(frames, markers, dims)``; rejected samples become NaN."""
-        pos = np.asarray(positions, dtype=np.float64)
-        self.reset()
-        out = np.empty_like(pos)
-        for f in range(len(pos)):
-            out[f] = self.step(pos[f], float(t[f]))
-        self.reset()
-        return out
-
-
-class SpeedBound(_MarkerStepwise):
+class SpeedBound(Stepwise):
     """Reject a sample further from the marker's last accepted one than it could have moved.
 
     Allowed distance after ``dt`` seconds: ``max_speed * dt + tolerance``; the tolerance covers
@@ -74,7 +58,7 @@ class SpeedBound(_MarkerStepwise):
         return out
 
 
-class SpikeFilter(_MarkerStepwise):
+class SpikeFilter(Stepwise):
     """Reject samples far from where the marker's recent motion says it should be.
 
     The prediction extends the line through the marker's last two accepted samples to this

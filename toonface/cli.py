@@ -19,7 +19,7 @@ from capture import Take, load_take, save_take, synthesize
 from capture.dots import HUES
 from capture.faults import Faults, apply_faults
 from capture.info import describe, summarize
-from capture.performance import default_performance, load_performance, load_poses
+from capture.performance import default_performance, load_performance
 from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
 from mapping.clean import CleanSettings, clean_take
@@ -161,16 +161,18 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
     not the performance. Faults (each off by default) imitate real capture: occlusion gaps,
     spikes, label swaps and drift, on top of the --noise jitter.
     """
+    repertoire = load_expressions()  # validated once here, then handed to the performer
+    poses = {name: dict(expression.motors) for name, expression in repertoire.items()}
     if script_file is not None:
         performance = load_performance(script_file)
     else:
         names = None if expressions is None else tuple(n.strip() for n in expressions.split(",") if n.strip())
-        unknown = [n for n in names or () if n not in load_poses()]
+        unknown = [n for n in names or () if n not in repertoire]
         if unknown:
             raise click.BadParameter(f"not in the repertoire: {', '.join(unknown)} "
-                                     f"(known: {', '.join(load_poses())})", param_hint="--expressions")
+                                     f"(known: {', '.join(repertoire)})", param_hint="--expressions")
         performance = default_performance(seconds, names, calibration=calibration, max_turn_deg=max_turn)
-    synthetic = synthesize(rate=rate, noise_mm=noise, seed=seed, performance=performance)
+    synthetic = synthesize(rate=rate, noise_mm=noise, seed=seed, performance=performance, poses=poses)
     take = synthetic.take
     faults = Faults(gap_rate=gaps, gap_seconds=gap_seconds, spike_rate=spikes, swap_rate=swaps, drift_mm=drift)
     if faults.active():
