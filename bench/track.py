@@ -18,7 +18,6 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-
 from bench.core import Figure, median_rate
 from capture import load_markerset, synthesize
 from capture.dots import front_layout, track_dots
