@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from common import InputError, read_document, resolve_builtin
+from common import InputError, builtin_names, read_document, resolve_builtin
 
 FORMAT = "toonface.markerset/1"
 _MPEG4 = re.compile(r"^\d{1,2}\.\d{1,2}$")
@@ -137,3 +137,15 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     neutral.setflags(write=False)
     return MarkerSet(str(doc.get("name", path.stem)), labels, neutral, refs, str(doc.get("description", "")),
                      aliases, mpeg4)
+
+
+def find_markerset(labels: tuple[str, ...] | list[str], min_share: float = 0.5) -> MarkerSet | None:
+    """The built-in marker set that names most of ``labels`` (at least ``min_share`` of them,
+    and at least 3 of its head references), or None."""
+    best, best_count = None, 0
+    for name in builtin_names("markersets", ".toml"):
+        markerset = load_markerset(name)
+        found = markerset.match(labels)
+        if sum(r in found for r in markerset.head_reference) >= 3 and len(found) > best_count:
+            best, best_count = markerset, len(found)
+    return best if best is not None and best_count >= min_share * len(labels) else None

@@ -1,8 +1,15 @@
-"""Clean a take offline: spikes out, gaps filled, trajectories smoothed.
+"""Clean a take offline: spikes out, head motion removed, gaps filled, trajectories smoothed.
 
-The order matters: spikes first (a spike would pull the fill and the smoothing), then gaps
-(filled from both sides and from the other markers), then zero-phase smoothing, which has no
-lag because it may look ahead. Samples left unseen (gaps too long to fill) stay NaN.
+The order matters. Head motion goes first, so that the spike test sees the face's own slow
+motion (a fast head turn would otherwise look like a spike): a robust rigid fit of the head
+references expresses every marker in the head frame. Spikes are then rejected there (on the
+head references too) and the head is fitted again without them. Gaps are filled in the head
+frame (from both sides, and from the other markers for long ones), then everything is smoothed
+with a zero-phase low-pass, which has no lag because it may look ahead. The head pose is smoothed
+the same way. Samples left unseen (gaps too long to fill) stay NaN.
+
+A take whose markers match no known marker set (or lack the head references) is cleaned as it
+is, in world coordinates, and the report says so.
 """
 
 from __future__ import annotations
@@ -11,20 +18,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from capture import Take
+from capture import MarkerSet, Take
+from capture.markerset import find_markerset
+from common import Failure
 from mapping.filters import Butterworth
 from mapping.gaps import GapFiller
 from mapping.outliers import SpikeFilter
+from mapping.stabilise import Stabilised, stabilise, yaw_pitch_degrees
 
 
 @dataclass(frozen=True)
 class CleanSettings:
-    """What :func:`clean_take` does; each stage can be switched off.
+    """What cleaning does; each stage can be switched off.
 
     Attributes
     ----------
     spikes : bool
-        Reject one-frame spikes (:class:`~mapping.outliers.SpikeFilter`).
+        Reject spikes (:class:`~mapping.outliers.SpikeFilter`).
     max_gap_seconds : float
         Fill gaps up to this long (0: fill none).
     cutoff_hz : float
@@ -38,29 +48,133 @@ class CleanSettings:
 
 @dataclass(frozen=True, eq=False)
 class CleanReport:
-    """What cleaning did: counts of marker-samples ``rejected``, ``filled`` and ``still_missing``."""
+    """What cleaning did: counts of marker-samples ``rejected``, ``filled`` and ``still_missing``,
+    frames without a head pose (``no_head_frames``) and how head motion was handled (``head``)."""
 
     rejected: int
     filled: int
     still_missing: int
+    no_head_frames: int = 0
+    head: str = "removed"
+
+    def summary(self) -> str:
+        """One line for the CLI."""
+        return (f"{self.rejected} spikes rejected, {self.filled} samples filled, {self.still_missing} still missing, "
+                f"head motion {self.head}" + (f" ({self.no_head_frames} frames without a head pose)"
+                                              if self.no_head_frames else ""))
 
 
-def clean_take(take: Take, settings: CleanSettings = CleanSettings()) -> tuple[Take, CleanReport]:
-    """The cleaned take (same labels, rate and times) and a report of what changed."""
-    pos = take.positions.copy()
-    before = np.isnan(pos).any(axis=2)
+def reference_rows(take: Take, markerset: MarkerSet) -> list[int] | Failure:
+    """Columns of ``take`` holding ``markerset``'s head references, or why they cannot be used."""
+    found = markerset.match(take.labels)
+    rows = [take.index(found[r]) for r in markerset.head_reference if r in found]
+    if len(rows) < 3:
+        missing = [r for r in markerset.head_reference if r not in found]
+        return Failure(f"the take lacks head reference markers {missing} of marker set {markerset.name}")
+    return rows
+
+
+def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSettings()
+                     ) -> tuple[Stabilised, CleanReport] | Failure:
+    """Clean ``take`` and return it in the head frame with its (smoothed) head pose.
+
+    Returns a :class:`~common.Failure` saying why when the head cannot be found.
+    """
+    rows = reference_rows(take, markerset)
+    if not rows:
+        return rows
+    found = markerset.match(take.labels)
+    neutral = np.array([markerset.neutral_of(r) for r in markerset.head_reference if r in found])
+    first = stabilise(take.positions, rows, neutral)
+    if not first:
+        return first
+    positions, rejected = take.positions, 0
+    if settings.spikes:
+        spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
+        rejected = int(spikes.sum())
+        positions = np.where(spikes[..., None], np.nan, take.positions)
+        first = stabilise(positions, rows, first.reference)
+        if not first:
+            return first
+    local, filled = _fill_and_smooth(first.local, take, settings)
+    rotation, translation = first.rotation, first.translation
+    if settings.cutoff_hz > 0 and take.frames > 1:
+        rotation, translation = _smooth_pose(rotation, translation, _smoother(settings, take.rate))
+    cleaned = Stabilised(local, rotation, translation, first.ok, first.reference)
+    missing = int(np.isnan(local[..., 0]).sum())
+    return cleaned, CleanReport(rejected, filled, missing, int((~first.ok).sum()))
+
+
+def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset: MarkerSet | None = None,
+               head_frame: bool = False) -> tuple[Take, CleanReport]:
+    """The cleaned take (same labels, rate and times) and a report of what changed.
+
+    Parameters
+    ----------
+    markerset : MarkerSet, optional
+        The take's layout; found from its labels when not given.
+    head_frame : bool
+        Return positions in the head frame (head motion removed) instead of the world's; the head's
+        yaw and pitch (degrees, per frame) go into ``meta["head"]``.
+    """
+    markerset = markerset or find_markerset(take.labels)
+    result = clean_stabilised(take, markerset, settings) if markerset else Failure("no known marker set")
+    meta = {**take.meta, "cleaned": {"spikes": settings.spikes, "max_gap_seconds": settings.max_gap_seconds,
+                                     "cutoff_hz": settings.cutoff_hz}}
+    if not result:
+        pos, report = _clean_world(take, settings, f"left in ({result})")
+    else:
+        stable, report = result
+        if head_frame:
+            pos = stable.local
+            yaw, pitch = yaw_pitch_degrees(np.where(stable.ok[:, None, None], stable.rotation, np.eye(3)))
+            meta["head"] = {"frame": markerset.name, "yaw_deg": np.where(stable.ok, yaw, np.nan).round(4).tolist(),
+                            "pitch_deg": np.where(stable.ok, pitch, np.nan).round(4).tolist()}
+        else:
+            pos = np.where(stable.ok[:, None, None], stable.world(), take.positions)
+            report = CleanReport(report.rejected, report.filled, int(np.isnan(pos[..., 0]).sum()),
+                                 report.no_head_frames, "removed while cleaning, then restored")
+    meta["cleaned"].update(rejected=report.rejected, filled=report.filled, head=report.head)
+    cleaned = Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta)
+    return cleaned, report
+
+
+def _clean_world(take: Take, settings: CleanSettings, head: str) -> tuple[np.ndarray, CleanReport]:
+    """Clean in world coordinates (no head fit)."""
+    pos, rejected = take.positions, 0
     if settings.spikes:
         pos = SpikeFilter().apply(pos, take.times)
-    rejected = int((np.isnan(pos).any(axis=2) & ~before).sum())
-    filled = 0
+        rejected = int((np.isnan(pos[..., 0]) & ~np.isnan(take.positions[..., 0])).sum())
+    pos, filled = _fill_and_smooth(pos, take, settings)
+    return pos, CleanReport(rejected, filled, int(np.isnan(pos[..., 0]).sum()), 0, head)
+
+
+def _smoother(settings: CleanSettings, rate: float) -> Butterworth:
+    return Butterworth(min(settings.cutoff_hz, 0.45 * rate), rate)
+
+
+def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings) -> tuple[np.ndarray, int]:
+    """Gap filling then zero-phase smoothing of ``(F, M, 3)``; returns them and the count filled."""
+    pos, filled = positions, 0
     if settings.max_gap_seconds > 0 and take.frames > 1:
         result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times)
         pos, filled = result.positions, int(result.filled.sum())
     if settings.cutoff_hz > 0 and take.frames > 1:
-        cutoff = min(settings.cutoff_hz, 0.45 * take.rate)
-        flat = pos.reshape(take.frames, -1)
-        pos = Butterworth(cutoff, take.rate).smooth_offline(flat).reshape(pos.shape)
-    meta = {**take.meta, "cleaned": {"spikes": settings.spikes, "max_gap_seconds": settings.max_gap_seconds,
-                                     "cutoff_hz": settings.cutoff_hz, "rejected": rejected, "filled": filled}}
-    cleaned = Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta)
-    return cleaned, CleanReport(rejected, filled, int(np.isnan(pos).any(axis=2).sum()))
+        pos = _smoother(settings, take.rate).smooth_offline(pos.reshape(take.frames, -1)).reshape(pos.shape)
+    return pos, filled
+
+
+def _smooth_pose(rotation: np.ndarray, translation: np.ndarray, smoother: Butterworth
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Zero-phase smoothing of a pose track; rotations are smoothed element-wise, then made
+    rotations again (nearest by SVD). Frames without a pose stay NaN."""
+    frames = len(rotation)
+    smooth_rot = smoother.smooth_offline(rotation.reshape(frames, 9)).reshape(frames, 3, 3)
+    ok = np.isfinite(smooth_rot).all(axis=(1, 2))
+    u, _, vt = np.linalg.svd(np.where(ok[:, None, None], smooth_rot, np.eye(3)))
+    fixed = u @ vt
+    flip = np.linalg.det(fixed) < 0
+    u[flip, :, -1] *= -1
+    fixed[flip] = u[flip] @ vt[flip]
+    fixed[~ok] = np.nan
+    return fixed, smoother.smooth_offline(translation)

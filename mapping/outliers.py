@@ -58,60 +58,100 @@ class SpeedBound(Stepwise):
         return out
 
 
-class SpikeFilter(Stepwise):
-    """Reject samples far from where the marker's recent motion says it should be.
+class SpikeFilter:
+    """Reject samples far from where the marker's recent raw motion says it should be.
 
-    The prediction extends the line through the marker's last two accepted samples to this
-    frame's time (so steady motion, a blink or a head turn, predicts itself). A sample is a spike
-    when it misses the prediction by more than ``threshold`` robust deviations (1.4826 × the
-    median miss over the last ``window`` accepted samples) plus ``floor`` mm. A marker back from
-    a gap of more than 3 frame intervals is not tested and starts a new history there, so a
-    marker that really jumped and stays is accepted again after 3 rejected frames.
+    For each marker and frame, the previous raw samples (seen ones only) give a robust line: the
+    velocity is the median of the last ``recent`` successive differences over time, the level the
+    median of the last ``recent`` samples carried forward along it to this frame (a one-frame
+    spike spoils one of each, or two differences of opposite signs). A sample is a spike when it
+    misses the line's prediction by more than ``threshold`` robust deviations (1.4826 × the median
+    distance of the last ``window`` samples from the line, which grows when the motion bends)
+    plus ``floor`` mm.
+    Steady motion, a blink or a head turn predicts itself; a one- or two-frame spike cannot move
+    the medians; a marker that really jumped and stays is accepted once most of the ``recent``
+    samples have seen it there (after 2 rejected frames by default). Markers with fewer than ``min_seen`` seen samples in the window are not tested.
+
+    Because the test reads raw samples only (not earlier decisions), ``apply`` is vectorised
+    over frames and still equals ``step`` frame for frame.
 
     Parameters
     ----------
     window : int
+        Previous samples that set the scale of a miss.
+    recent : int
+        Previous samples (and differences) that set the line; odd, at most ``window - 1``.
     threshold : float
     floor : float
         mm, so that a perfectly smooth marker does not reject its own jitter.
+    min_seen : int
     """
 
-    def __init__(self, window: int = 9, threshold: float = 6.0, floor: float = 3.0) -> None:
-        if window < 3 or threshold <= 0 or floor < 0:
-            raise ValueError("need window >= 3, threshold > 0 and floor >= 0")
-        self.window, self.threshold, self.floor = window, threshold, floor
+    def __init__(self, window: int = 6, recent: int = 3, threshold: float = 6.0, floor: float = 3.0,
+                 min_seen: int = 4) -> None:
+        if window < 3 or not 1 <= recent < window or threshold <= 0 or floor < 0 or not 2 <= min_seen <= window:
+            raise ValueError("need window >= 3, 1 <= recent < window, threshold > 0, floor >= 0 "
+                             "and 2 <= min_seen <= window")
+        self.window, self.recent, self.threshold, self.floor, self.min_seen = window, recent, threshold, floor, min_seen
         self.reset()
 
     def reset(self) -> None:
-        self._last: np.ndarray | None = None  # (2, markers, dims): the last two accepted, newest last
-        self._t: np.ndarray | None = None  # (2, markers)
-        self._miss: np.ndarray | None = None  # (window, markers): recent prediction misses, mm
+        self._past: np.ndarray | None = None  # (markers, dims, window): raw samples, oldest first
+        self._past_t: np.ndarray | None = None  # (window,)
 
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """One frame ``(markers, dims)``: the sample with spikes set to NaN."""
         x = np.asarray(sample, dtype=np.float64)
-        markers = len(x)
-        if self._last is None:
-            self._last, self._t = np.full((2, *x.shape), np.nan), np.full((2, markers), np.nan)
-            self._miss = np.full((self.window, markers), np.nan)
-        seen = np.isfinite(x).all(axis=1)
-        span = self._t[1] - self._t[0]
-        slope = (self._last[1] - self._last[0]) / np.where(span > 0, span, np.inf)[:, None]
-        predicted = np.where(np.isfinite(slope), self._last[1] + slope * (t - self._t[1])[:, None], self._last[1])
-        miss = np.linalg.norm(x - predicted, axis=1)
-        # Only a recent line predicts: after a gap the marker is taken where it reappears.
-        ready = np.isfinite(self._miss).all(axis=0) & (t - self._t[1] <= 3 * span)
-        spread = np.median(self._miss, axis=0)
-        spike = seen & ready & (miss > self.threshold * 1.4826 * spread + self.floor)
-        accept = seen & ~spike
-        back = accept & (t - self._t[1] > 3 * span)  # back from a gap: its history restarts
-        self._miss[:, back] = np.nan
-        fresh = accept & ~back & np.isfinite(self._last[1, :, 0])
-        self._miss[:, fresh] = np.roll(self._miss[:, fresh], -1, axis=0)
-        self._miss[-1, fresh] = miss[fresh]
-        self._last[0, accept], self._t[0, accept] = self._last[1, accept], self._t[1, accept]
-        self._last[1, accept], self._t[1, accept] = x[accept], t
-        self._last[0, back], self._t[0, back] = np.nan, np.nan
+        if self._past is None:
+            self._past = np.full((*x.shape, self.window), np.nan)
+            self._past_t = np.full(self.window, np.nan)
+        spike = self._spikes(self._past, self._past_t, x, np.float64(t))
+        self._past = np.roll(self._past, -1, axis=-1)
+        self._past[..., -1] = x
+        self._past_t = np.roll(self._past_t, -1)
+        self._past_t[-1] = t
         out = x.copy()
-        out[~accept] = np.nan
+        out[spike] = np.nan
         return out
+
+    def apply(self, positions: np.ndarray, t: np.ndarray, block: int = 4096) -> np.ndarray:
+        """Whole recording ``(frames, markers, dims)``; equal to stepping it from a fresh state."""
+        x = np.asarray(positions, dtype=np.float64)
+        times = np.asarray(t, dtype=np.float64)
+        k = self.window
+        padded = np.concatenate([np.full((k, *x.shape[1:]), np.nan), x])
+        padded_t = np.concatenate([np.full(k, np.nan), times])
+        out = x.copy()
+        for start in range(0, len(x), block):
+            stop = min(start + block, len(x))
+            past = np.lib.stride_tricks.sliding_window_view(padded[start:stop + k - 1], k, axis=0)
+            past_t = np.lib.stride_tricks.sliding_window_view(padded_t[start:stop + k - 1], k)
+            spike = self._spikes(past, past_t, x[start:stop], times[start:stop])
+            out[start:stop][spike] = np.nan
+        return out
+
+    def _spikes(self, past: np.ndarray, past_t: np.ndarray, x: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Which markers of ``x`` (``(..., markers, dims)``) are spikes, given the raw samples
+        before them ``(..., markers, dims, window)`` at times ``(..., window)``; ``(..., markers)``."""
+        pt = past_t[..., None, None, :]  # broadcast over markers and dims
+        r = self.recent
+        velocity = _median_last((past[..., -r:] - past[..., -r - 1:-1]) / (pt[..., -r:] - pt[..., -r - 1:-1]))
+        velocity = np.where(np.isfinite(velocity), velocity, 0.0)
+        ahead = np.asarray(t)[..., None, None, None] - pt  # (..., 1, 1, window)
+        level = _median_last(past[..., -r:] + velocity[..., None] * ahead[..., -r:])  # (..., markers, dims)
+        off = past - (level[..., None] - velocity[..., None] * ahead)
+        spread = _median_last(np.sqrt((off * off).sum(axis=-2)))  # (..., markers)
+        miss = x - level
+        miss = np.sqrt((miss * miss).sum(axis=-1))
+        seen = np.isfinite(x).all(axis=-1)
+        tested = np.isfinite(past).all(axis=-2).sum(axis=-1) >= self.min_seen
+        return seen & tested & (miss > self.threshold * 1.4826 * spread + self.floor)
+
+
+def _median_last(a: np.ndarray) -> np.ndarray:
+    """Median over the last axis ignoring NaN (NaN where all are NaN); vectorised by sorting."""
+    ordered = np.sort(a, axis=-1)  # NaN sort last
+    n = np.isfinite(ordered).sum(axis=-1)
+    low = np.take_along_axis(ordered, np.maximum((n - 1) // 2, 0)[..., None], axis=-1)[..., 0]
+    high = np.take_along_axis(ordered, (n // 2)[..., None], axis=-1)[..., 0]
+    return np.where(n > 0, 0.5 * (low + high), np.nan)

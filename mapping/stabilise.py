@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import warnings
+from dataclasses import dataclass
+
 import numpy as np
+
+from common import Failure
 
 
 def rigid_fit(source: np.ndarray, target: np.ndarray, min_points: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -63,3 +68,85 @@ def yaw_pitch_degrees(rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     yaw = np.degrees(np.arctan2(face[:, 0], face[:, 2]))
     pitch = np.degrees(np.arcsin(np.clip(face[:, 1], -1.0, 1.0)))
     return yaw, pitch
+
+
+@dataclass(frozen=True, eq=False)
+class Stabilised:
+    """A take with head motion removed.
+
+    Attributes
+    ----------
+    local : ndarray, shape (F, M, 3)
+        Every marker in the head frame (the marker set's axes), mm; NaN where unseen or where the
+        frame has no head pose.
+    rotation : ndarray, shape (F, 3, 3)
+    translation : ndarray, shape (F, 3)
+        Head frame to world per frame (NaN without a pose).
+    ok : ndarray of bool, shape (F,)
+        Frames with a head pose.
+    reference : ndarray, shape (K, 3)
+        The head references' shape on this performer (head frame), which the fit used.
+    """
+
+    local: np.ndarray
+    rotation: np.ndarray
+    translation: np.ndarray
+    ok: np.ndarray
+    reference: np.ndarray
+
+    def world(self) -> np.ndarray:
+        """``local`` back in world coordinates, ``(F, M, 3)``."""
+        return np.einsum("fij,fmj->fmi", self.rotation, self.local) + self.translation[:, None, :]
+
+
+def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 3.0
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`rigid_fit`, then once more without each frame's worst point where it misses by
+    more than ``tolerance`` mm (a spike or a swapped label on one head marker) and at least
+    3 other points remain. Same shapes and meaning as :func:`rigid_fit`."""
+    rot, trans, ok = rigid_fit(source, target)
+    fitted = np.einsum("fij,kj->fki", rot, source) + trans[:, None, :]
+    miss = np.linalg.norm(target - fitted, axis=2)  # (F, K), NaN where unseen or no pose
+    worst = np.argmax(np.where(np.isnan(miss), -1.0, miss), axis=1)
+    seen = (~np.isnan(target[..., 0])).sum(axis=1)
+    redo = ok & (np.nanmax(np.where(np.isnan(miss), -1.0, miss), axis=1) > tolerance) & (seen > 3)
+    if redo.any():
+        trimmed = target[redo].copy()
+        trimmed[np.arange(len(trimmed)), worst[redo]] = np.nan
+        rot[redo], trans[redo], _ = rigid_fit(source, trimmed)
+    return rot, trans, ok
+
+
+def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray
+              ) -> Stabilised | Failure:
+    """Remove head motion: a robust rigid fit of the head references in every frame.
+
+    The first fit uses the marker set's neutral shape of the references; their median shape in
+    the head frame over the take then replaces it, so a performer whose head markers sit a little
+    differently from the marker set's gets no frame-to-frame wobble when a reference drops out.
+
+    Parameters
+    ----------
+    positions : ndarray, shape (F, M, 3)
+        World positions, NaN where unseen.
+    reference_rows : list of int, length K
+        Columns of the head-reference markers.
+    reference_neutral : ndarray, shape (K, 3)
+        Their rest positions in the head frame (the marker set's).
+
+    Returns
+    -------
+    Stabilised, or Failure saying why (fewer than 3 references seen in every frame).
+    """
+    target = positions[:, reference_rows]
+    rot, trans, ok = robust_rigid_fit(reference_neutral, target)
+    if not ok.any():
+        return Failure("fewer than 3 head reference markers are seen in every frame")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
+        shape = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)
+    shape = np.where(np.isnan(shape), reference_neutral, shape)
+    shape = shape - (shape.mean(axis=0) - np.asarray(reference_neutral).mean(axis=0))  # keep the origin
+    rot, trans, ok = robust_rigid_fit(shape, target)
+    local = to_head_frame(positions, rot, trans)
+    return Stabilised(local, rot, trans, ok, shape)

@@ -150,7 +150,7 @@ def test_clean_rejects_spikes_fills_gaps_and_writes_a_take(tmp_path, capsys):
     pos[150:170, 12] = np.nan  # a third of a second unseen
     source = save_take(type(syn.take)(pos, syn.take.labels, 60.0), tmp_path / "raw.npz")
     assert main(["clean", str(source), "-o", str(tmp_path / "clean.npz")]) == 0
-    assert "1 spikes rejected, 21 samples filled, 0 still missing" in capsys.readouterr().out
+    assert "1 spikes rejected, 21 samples filled, 0 still missing, head motion removed" in capsys.readouterr().out
     cleaned = load_take(tmp_path / "clean.npz")
     assert np.abs(cleaned.positions - syn.take.positions).max() < 1.0  # spike gone, gap bridged
     assert main(["clean", str(tmp_path / "missing.npz"), "-o", str(tmp_path / "x.npz")]) == 2

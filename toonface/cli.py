@@ -242,19 +242,23 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
               help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")
 @click.option("--cutoff", default=8.0, show_default=True, type=click.FloatRange(min=0.0),
               help="Zero-phase low-pass, Hz (0: no smoothing).")
+@click.option("--head-frame", is_flag=True,
+              help="Write positions with head motion removed (the marker set's head frame); the head's yaw and "
+                   "pitch go into the take's metadata (kept by .npz).")
 @_take_options
-def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, take_rate: float | None,
-          labels: str | None, units: str | None) -> None:
-    """Clean a take offline: reject spikes, fill gaps, smooth without lag.
+def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, head_frame: bool,
+          take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Clean a take offline: remove head motion, reject spikes, fill gaps, smooth without lag.
 
-    Short gaps (up to 5 frames) are bridged by a cubic spline, longer ones from the other
-    markers' correlated motion; a marker missing longer than --max-gap stays unseen.
+    Head motion is found by a robust rigid fit of the marker set's head references (the set is
+    recognised from the labels). Short gaps (up to 5 frames) are bridged by a cubic spline,
+    longer ones from the other markers' correlated motion; a marker missing longer than
+    --max-gap stays unseen.
     """
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
-    cleaned, report = clean_take(_load_take(take, take_rate, labels, units), settings)
+    cleaned, report = clean_take(_load_take(take, take_rate, labels, units), settings, head_frame=head_frame)
     path = save_take(cleaned, output)
-    click.echo(f"wrote {path}: {report.rejected} spikes rejected, {report.filled} samples filled, "
-               f"{report.still_missing} still missing")
+    click.echo(f"wrote {path}: {report.summary()}")
 
 
 @cli.command("map")
