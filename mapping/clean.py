@@ -96,13 +96,13 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         first = stabilise(positions, rows, first.reference)
         if not first:
             return first
-    local, filled = _fill_and_smooth(first.local, take, settings)
+    local, filled_mask = _fill_and_smooth(first.local, take, settings)
     rotation, translation = first.rotation, first.translation
     if settings.cutoff_hz > 0 and take.frames > 1:
         rotation, translation = _smooth_pose(rotation, translation, _smoother(settings, take.rate))
-    cleaned = Stabilised(local, rotation, translation, first.ok, first.reference)
+    cleaned = Stabilised(local, rotation, translation, first.ok, first.reference, filled_mask)
     missing = int(np.isnan(local[..., 0]).sum())
-    return cleaned, CleanReport(rejected, filled, missing, int((~first.ok).sum()))
+    return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()))
 
 
 def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset: MarkerSet | None = None,
@@ -146,19 +146,20 @@ def _clean_world(take: Take, settings: CleanSettings, head: str) -> tuple[np.nda
         pos = SpikeFilter().apply(pos, take.times)
         rejected = int((np.isnan(pos[..., 0]) & ~np.isnan(take.positions[..., 0])).sum())
     pos, filled = _fill_and_smooth(pos, take, settings)
-    return pos, CleanReport(rejected, filled, int(np.isnan(pos[..., 0]).sum()), 0, head)
+    return pos, CleanReport(rejected, int(filled.sum()), int(np.isnan(pos[..., 0]).sum()), 0, head)
 
 
 def _smoother(settings: CleanSettings, rate: float) -> Butterworth:
     return Butterworth(min(settings.cutoff_hz, 0.45 * rate), rate)
 
 
-def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings) -> tuple[np.ndarray, int]:
-    """Gap filling then zero-phase smoothing of ``(F, M, 3)``; returns them and the count filled."""
-    pos, filled = positions, 0
+def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings) -> tuple[np.ndarray, np.ndarray]:
+    """Gap filling then zero-phase smoothing of ``(F, M, 3)``; returns them and which samples
+    were filled ``(F, M)``."""
+    pos, filled = positions, np.zeros(positions.shape[:2], dtype=bool)
     if settings.max_gap_seconds > 0 and take.frames > 1:
         result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times)
-        pos, filled = result.positions, int(result.filled.sum())
+        pos, filled = result.positions, result.filled
     if settings.cutoff_hz > 0 and take.frames > 1:
         pos = _smoother(settings, take.rate).smooth_offline(pos.reshape(take.frames, -1)).reshape(pos.shape)
     return pos, filled

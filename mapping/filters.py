@@ -233,3 +233,67 @@ class SavitzkyGolay:
         """
         return _each_channel(x, lambda v: signal.savgol_filter(v, self.window, self.order, mode="interp")
                              if len(v) >= self.window else v)
+
+
+class SpeedLimit(Stepwise):
+    """Limit how fast each channel may change: at most ``max_speed`` units per second.
+
+    The output moves toward each new sample by no more than ``max_speed * dt``; NaN samples give
+    NaN and leave the channel where it was. ``max_speed`` may be one value or one per channel
+    (``inf``: no limit).
+    """
+
+    def __init__(self, max_speed: float | np.ndarray) -> None:
+        if np.any(np.asarray(max_speed) <= 0):
+            raise ValueError("max_speed must be > 0 (use inf for no limit)")
+        self.max_speed = np.asarray(max_speed, dtype=np.float64)
+        self.reset()
+
+    def reset(self) -> None:
+        self._y: np.ndarray | None = None
+        self._t: np.ndarray | None = None
+
+    def step(self, sample: np.ndarray, t: float) -> np.ndarray:
+        """One frame ``(channels,)``."""
+        x = np.asarray(sample, dtype=np.float64)
+        if self._y is None:
+            self._y, self._t = np.full(x.shape, np.nan), np.full(x.shape, np.nan)
+        seen = np.isfinite(x)
+        allowed = self.max_speed * (t - self._t)
+        moved = np.where(np.isfinite(self._y), self._y + np.clip(x - self._y, -allowed, allowed), x)
+        self._y = np.where(seen, moved, self._y)
+        self._t = np.where(seen, t, self._t)
+        return np.where(seen, self._y, np.nan)
+
+
+class Delay(Stepwise):
+    """Delay each channel by whole frames (``frames``: one count or one per channel); the first
+    frames repeat the first sample (there is nothing older to show)."""
+
+    def __init__(self, frames: int | np.ndarray) -> None:
+        self.frames = np.asarray(frames, dtype=int)
+        if np.any(self.frames < 0):
+            raise ValueError("delays must be >= 0 frames")
+        self.reset()
+
+    def reset(self) -> None:
+        self._buf: np.ndarray | None = None  # (depth, channels), newest last
+        self._count = 0
+
+    def step(self, sample: np.ndarray, t: float) -> np.ndarray:
+        """One frame ``(channels,)``: each channel's sample from ``frames`` frames ago."""
+        x = np.asarray(sample, dtype=np.float64)
+        depth = int(self.frames.max(initial=0)) + 1
+        if self._buf is None:
+            self._buf = np.repeat(x[None], depth, axis=0)
+        self._buf = np.roll(self._buf, -1, axis=0)
+        self._buf[-1] = x
+        frames = np.broadcast_to(self.frames, x.shape)
+        return self._buf[depth - 1 - frames, np.arange(x.size).reshape(x.shape)]
+
+    def apply(self, x: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Whole recording ``(frames, channels)``; equal to stepping it."""
+        arr = np.asarray(x, dtype=np.float64)
+        frames = np.broadcast_to(self.frames, arr.shape[1:])
+        rows = np.maximum(np.arange(len(arr))[:, None] - frames[None, :], 0)
+        return arr[rows, np.arange(arr.shape[1])[None, :]]

@@ -4,9 +4,12 @@ Facial markers move together (a smile moves the corners, cheeks and lower lids a
 marker missing for a while is better guessed from the markers still seen than from its own
 past and future alone. After Gløersen & Federolf (2016, PLoS ONE 11(3): e0152616), who
 reconstruct a missing marker from the principal components of the others: around a long gap,
-the missing marker is regressed on the principal components of the markers seen throughout
-(``window_seconds`` either side), and what the regression misses, small and smooth, is bridged
-by a cubic spline, so the filled stretch meets the real samples at both ends.
+the missing marker is regressed on the markers seen throughout it (``window_seconds`` either
+side) by ridge regression, which keeps their strong principal directions and shrinks the weak
+ones (a hard cut to the first few components lost small but telling motions such as the other
+pupil's); what the regression misses at the gap's two ends is bridged by a straight line, so
+the filled stretch meets the real samples at both ends (a spline through the noisy residuals
+on either side swung by many millimetres across the gap).
 
 Gaps of at most ``spline_frames`` frames use a cubic spline through the marker's own samples
 (never worse than a spline there, by construction); gaps longer than ``max_gap_seconds`` stay
@@ -51,19 +54,26 @@ class GapFiller:
         Gaps this long or shorter are filled by a cubic spline of the marker's own samples.
     max_gap_seconds : float
         Longer gaps are left NaN.
-    rank : int or None
-        Principal components of the other markers used to predict a missing one; default:
-        enough for 99.9 % of their variance, at most 8.
+    ridge : float
+        Ridge penalty of the regression on the other markers, relative to their mean variance
+        (it shrinks their weakest principal directions, the soft form of keeping a few
+        principal components).
     window_seconds : float
         How far either side of a gap the relation between the markers is learnt.
+    blend_seconds : tuple of float
+        Gaps up to the first length take the marker's own spline, from the second the
+        regression, and a linear blend of the two between (on real facial motion the spline is
+        still the better guess for a quarter of a second).
     """
 
-    def __init__(self, spline_frames: int = 5, max_gap_seconds: float = 2.0, rank: int | None = None,
-                 window_seconds: float = 10.0) -> None:
+    def __init__(self, spline_frames: int = 5, max_gap_seconds: float = 2.0, ridge: float = 3e-2,
+                 window_seconds: float = 10.0, blend_seconds: tuple[float, float] = (0.1, 0.5)) -> None:
         if spline_frames < 0 or max_gap_seconds <= 0 or window_seconds <= 0:
             raise ValueError("spline_frames must be >= 0, max_gap_seconds and window_seconds > 0")
         self.spline_frames, self.max_gap_seconds = spline_frames, max_gap_seconds
-        self.rank, self.window_seconds = rank, window_seconds
+        if not 0 <= blend_seconds[0] < blend_seconds[1]:
+            raise ValueError("blend_seconds must be (low, high) with 0 <= low < high")
+        self.ridge, self.window_seconds, self.blend_seconds = ridge, window_seconds, blend_seconds
 
     def apply(self, positions: np.ndarray, times: np.ndarray) -> Filled:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``."""
@@ -80,10 +90,10 @@ class GapFiller:
                     continue  # nothing on one side, or too long: left unseen
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True
         out = pos.copy()
+        if short.any():  # first, so that brief dropouts do not disqualify a marker as a predictor
+            self._splines(out, times, short)
         if long_.any():
             self._from_neighbours(out, times, long_, rate)
-        if short.any():
-            self._splines(out, times, short)
         return Filled(out, short | long_)
 
     def _splines(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray) -> None:
@@ -96,33 +106,68 @@ class GapFiller:
             pos[wanted[:, m], m] = spline(times[wanted[:, m]])
 
     def _from_neighbours(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray, rate: float) -> None:
-        """Fill each long gap from the markers seen around and through it, written into ``pos``.
+        """Fill each long gap from the markers seen through it, written into ``pos``.
 
-        Around a gap (a window of the gap's length, at least a second, on each side), the
-        missing marker is regressed on the principal components of the markers seen throughout
-        that window; the regression's residual, small and smooth, is bridged by a cubic spline
-        and added back to its prediction inside the gap.
+        The predictors are the other markers seen throughout the gap; around it (``window_seconds``,
+        at least the gap's length, on each side) the missing marker is regressed on their principal
+        components over the frames where all of them are seen; the regression's residual is
+        bridged across the gap (:func:`_bridge`) and added to its prediction there.
         """
         frames, markers, dims = pos.shape
-        seen_all = np.isfinite(pos).all(axis=2)
         for m in np.flatnonzero(wanted.any(axis=0)):
             for start, end in gap_runs(wanted[:, m]):
+                seen_all = np.isfinite(pos).all(axis=2)
                 pad = max(int(self.window_seconds * rate), end - start)
                 lo, hi = max(0, start - pad), min(frames, end + pad)
-                others = [k for k in range(markers) if k != m and seen_all[lo:hi, k].all()]
-                own = np.flatnonzero(seen_all[lo:hi, m]) + lo
-                if not others or len(own) < 4:
+                others, rows, own = _predictors(seen_all, m, start, end, lo, hi)
+                if len(own) < 8:
                     self._splines(pos, times, _only(wanted, start, end, m))
                     continue
-                x = pos[lo:hi][:, others].reshape(hi - lo, -1)
+                x = pos[rows][:, others].reshape(len(rows), -1)
                 x = x - x.mean(axis=0)
-                u, sv, _ = np.linalg.svd(x, full_matrices=False)
-                k = min(self.rank or _rank_for(sv, 0.999, most=8), len(own) // 4 or 1)
-                design = np.column_stack([u[:, :k], np.ones(hi - lo)])
-                coef, *_ = np.linalg.lstsq(design[own - lo], pos[own, m], rcond=None)
-                predicted = design @ coef
-                residual = CubicSpline(times[own], pos[own, m] - predicted[own - lo], axis=0)
-                pos[start:end, m] = predicted[start - lo:end - lo] + residual(times[start:end])
+                fit = np.isin(rows, own)
+                predicted = _ridge_predict(x, fit, pos[own, m], self.ridge)
+                gap = np.isin(rows, np.arange(start, end))
+                bridge = _bridge(times[own], pos[own, m] - predicted[fit], start, end, times, own)
+                regressed = predicted[gap] + bridge
+                low, high = self.blend_seconds
+                share = np.clip((times[end - 1] - times[start] - low) / (high - low), 0.0, 1.0)
+                if share < 1.0:
+                    own_seen = np.flatnonzero(seen_all[:, m])
+                    spline = CubicSpline(times[own_seen], pos[own_seen, m], axis=0)(times[start:end])
+                    regressed = share * regressed + (1.0 - share) * spline
+                pos[start:end, m] = regressed
+
+
+def _bridge(t: np.ndarray, residual: np.ndarray, start: int, end: int, times: np.ndarray, own: np.ndarray
+            ) -> np.ndarray:
+    """The regression's residual across the gap ``[start, end)``, ``(end - start, dims)``: a
+    straight line from its value at the last sample before the gap to the first after it."""
+    before = max(int(np.searchsorted(own, start)) - 1, 0)
+    after = min(int(np.searchsorted(own, end)), len(own) - 1)
+    t0, t1 = t[before], t[after]
+    share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((end - start, 1), 0.5)
+    return residual[before] + share * (residual[after] - residual[before])
+
+
+def _predictors(seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int
+                ) -> tuple[list[int], np.ndarray, np.ndarray]:
+    """Markers to predict marker ``m``'s gap ``[start, end)`` from, and the rows of ``[lo, hi)``
+    where they are all seen (``rows``) and ``m`` too (``own``).
+
+    Candidates are the markers seen throughout the gap; while the rows where all are seen
+    are too few for a regression (under 3 per coordinate, or 60), the one most often unseen
+    around the gap is dropped."""
+    others = [k for k in range(seen.shape[1]) if k != m and seen[start:end, k].all()]
+    window = seen[lo:hi]
+    others.sort(key=lambda k: int(window[:, k].sum()), reverse=True)
+    while others:
+        rows = np.flatnonzero(window[:, others].all(axis=1)) + lo
+        own = rows[seen[rows, m]]
+        if len(own) >= max(60, 9 * len(others)):
+            return others, rows, own
+        others.pop()
+    return [], np.zeros(0, int), np.zeros(0, int)
 
 
 def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
@@ -131,8 +176,14 @@ def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
     return out
 
 
-def _rank_for(singular: np.ndarray, share: float, most: int = 12) -> int:
-    energy = np.cumsum(singular ** 2)
-    if energy[-1] <= 0:
-        return 1
-    return int(min(np.searchsorted(energy / energy[-1], share) + 1, most, len(singular)))
+def _ridge_predict(x: np.ndarray, fit: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
+    """Ridge regression of ``y`` on the rows ``fit`` of ``x`` ``(rows, features)``, predicted for
+    every row ``(rows, dims)``. ``ridge`` is relative to the mean feature variance, so it does not
+    depend on units; the intercept is not penalised."""
+    xf = x[fit]
+    centre = xf.mean(axis=0)
+    xc = xf - centre
+    gram = xc.T @ xc
+    penalty = ridge * np.trace(gram) / max(len(gram), 1)
+    coef = np.linalg.solve(gram + penalty * np.eye(len(gram)), xc.T @ (y - y.mean(axis=0)))
+    return (x - centre) @ coef + y.mean(axis=0)

@@ -86,6 +86,8 @@ class Stabilised:
         Frames with a head pose.
     reference : ndarray, shape (K, 3)
         The head references' shape on this performer (head frame), which the fit used.
+    filled : ndarray of bool, shape (F, M), optional
+        Samples made up by gap filling (set by cleaning).
     """
 
     local: np.ndarray
@@ -93,6 +95,7 @@ class Stabilised:
     translation: np.ndarray
     ok: np.ndarray
     reference: np.ndarray
+    filled: np.ndarray | None = None
 
     def world(self) -> np.ndarray:
         """``local`` back in world coordinates, ``(F, M, 3)``."""

@@ -14,7 +14,8 @@ from capture import load_take, save_take, synthesize
 from toon import builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "map", "render", "retarget", "faces", "face"]
+SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "faces",
+               "face"]
 
 
 def test_every_console_script_entry_point_imports():
@@ -63,7 +64,7 @@ def test_synth_map_render_chain(tmp_path, capsys):
     take, motors, video = tmp_path / "t.npz", tmp_path / "m.csv", tmp_path / "frames"
     assert main(["synth", "-o", str(take), "--seconds", "2", "--noise", "0"]) == 0
     assert (tmp_path / "t.truth.csv").is_file()
-    assert main(["map", str(take), "-o", str(motors)]) == 0
+    assert main(["map", str(take), "-o", str(motors), "--neutral", "0:1", "--cutoff", "0", "--no-spikes"]) == 0
     truth, mapped = load_track(tmp_path / "t.truth.csv"), load_track(motors)
     np.testing.assert_allclose(mapped.values, truth.values, atol=2e-6)
     assert main(["render", str(motors), "-o", str(video), "--size", "64x48", "--fps", "15"]) == 0
@@ -154,3 +155,35 @@ def test_clean_rejects_spikes_fills_gaps_and_writes_a_take(tmp_path, capsys):
     cleaned = load_take(tmp_path / "clean.npz")
     assert np.abs(cleaned.positions - syn.take.positions).max() < 1.0  # spike gone, gap bridged
     assert main(["clean", str(tmp_path / "missing.npz"), "-o", str(tmp_path / "x.npz")]) == 2
+
+
+def test_calibrate_map_with_the_profile_and_score(tmp_path, capsys):
+    take, profile, motors, png = (tmp_path / n for n in ("t.npz", "p.toml", "m.csv", "s.png"))
+    exact = ["--cutoff", "0", "--no-spikes"]
+    assert main(["synth", "-o", str(take), "--seconds", "1", "--noise", "0", "--calibration"]) == 0
+    assert main(["calibrate", str(take), "-o", str(profile), "--neutral", "0:1", "--range", "1:15.4", *exact]) == 0
+    assert "neutral 0-1 s, range percentiles 0.5-99.5 of 1-15.4 s" in capsys.readouterr().out
+    assert main(["map", str(take), "-o", str(motors), "--profile", str(profile), *exact]) == 0
+    truth = load_track(tmp_path / "t.truth.csv")
+    np.testing.assert_allclose(load_track(motors).values, truth.values, atol=1e-6)
+    capsys.readouterr()
+    assert main(["score", str(motors), "-o", str(png), "--compare", str(tmp_path / "t.truth.csv"), "--text",
+                 "--motors", "ERU,MB"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("ERU ") and lines[1].startswith(" MB ") and lines[2].startswith("wrote")
+    import cv2
+    assert cv2.imread(str(png)).shape == (2 * 48 + 36, 1200, 3)
+
+
+def test_bad_mapping_and_profile_files_exit_2_naming_the_field(tmp_path, capsys):
+    take = tmp_path / "t.npz"
+    assert main(["synth", "-o", str(take), "--seconds", "2"]) == 0
+    (tmp_path / "m.toml").write_text('format = "toonface.mapping/1"\nmarkerset = "toon32"\n'
+                                     '[motor.ERU]\nsources = [{ marker = "LID_R_UP", axis = "q" }]\n')
+    (tmp_path / "p.toml").write_text('format = "toonface.profile/1"\nmarkerset = "toon32"\n')
+    capsys.readouterr()
+    assert main(["map", str(take), "-o", str(tmp_path / "a.csv"), "--mapping", str(tmp_path / "m.toml")]) == 2
+    assert "m.toml: motor.ERU.sources[0].axis: expected" in capsys.readouterr().err
+    assert main(["map", str(take), "-o", str(tmp_path / "a.csv"), "--profile", str(tmp_path / "p.toml")]) == 2
+    assert "p.toml: rest_rotation: missing" in capsys.readouterr().err
+    assert not (tmp_path / "a.csv").exists()

@@ -10,87 +10,25 @@ import json
 import logging
 import os
 import sys
-from collections.abc import Callable
 
 import click
-from tqdm import tqdm
 
-from capture import Take, load_take, save_take, synthesize
+from capture import save_take, synthesize
 from capture.dots import HUES
 from capture.faults import Faults, apply_faults
 from capture.info import describe, summarize
 from capture.performance import default_performance, load_performance
 from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
-from mapping.clean import CleanSettings, clean_take
 from player.sheet import expression_sheet, save_png
 from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
-from toonface.pipeline import map_take, render, run_demo, truth_track
+from toonface.pipeline import render, run_demo, truth_track
 
 log = logging.getLogger("toonface")
 
 
-class _ProgressBar:
-    """A per-frame progress callback drawing a bar on stderr (only when stderr is a terminal)."""
-
-    def __init__(self, total: int, desc: str) -> None:
-        self.total = total
-        self.bar = tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=None, leave=False)
-
-    def __call__(self, frames: int) -> None:
-        self.bar.update(frames)
-        if self.bar.n >= self.total:
-            self.bar.close()
-
-
-def _progress(desc: str) -> Callable[[int], Callable[[int], None]]:
-    """A factory of progress callbacks, given the total number of frames."""
-    return lambda total: _ProgressBar(total, desc)
-
-
-def _parse_size(value: str) -> tuple[int, int]:
-    try:
-        w, _, h = value.lower().partition("x")
-        size = (int(w), int(h or w))
-    except ValueError:
-        raise click.BadParameter(f"expected N or WxH pixels, got {value!r}") from None
-    if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
-        raise click.BadParameter(f"each side must be 16..8192 pixels, got {value!r}")
-    return size
-
-
-def _parse_window(value: str) -> tuple[float, float]:
-    try:
-        start, end = (float(x) for x in value.split(":"))
-    except ValueError:
-        raise click.BadParameter(f"expected START:END in seconds, got {value!r}") from None
-    if not end > start >= 0:
-        raise click.BadParameter(f"expected 0 <= START < END, got {value!r}")
-    return start, end
-
-
-def _take_options(fn: Callable) -> Callable:
-    """--rate, --labels and --units: what a CSV table may not say about itself."""
-    fn = click.option("--units", default=None, metavar="mm|cm|m|in|N",
-                      help="CSV only: the table's units, or millimetres per unit [default: mm].")(fn)
-    fn = click.option("--labels", default=None, metavar="A,B,...",
-                      help="CSV only: marker names of a table without a header row.")(fn)
-    return click.option("--rate", "take_rate", default=None, type=float, metavar="HZ",
-                        help="CSV only: frame rate of a table without a time column.")(fn)
-
-
-def _load_take(path: str, take_rate: float | None, labels: str | None, units: str | None) -> Take:
-    names = [x.strip() for x in labels.split(",") if x.strip()] if labels else None
-    return load_take(path, rate=take_rate, labels=names, units=units)
-
-
-_FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",
-                     help="A built-in face (see `toonface faces`) or a face JSON file.")
-_NEUTRAL = click.option("--neutral", "neutral", default="0:1", show_default=True, metavar="START:END",
-                        help="Seconds of the take where the performer holds a neutral face.")
-_SIZE = click.option("--size", default="512", show_default=True, metavar="N|WxH", help="Frame size in pixels.")
-_MIRROR = click.option("--mirror", is_flag=True, help="Mirror image: the performer's right drives the character's left.")
-
+from toonface.cli_mapping import MAPPING_COMMANDS
+from toonface.cli_options import FACE, SIZE, parse_size, progress, read_take, take_options
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
 @click.version_option(package_name="toonface")
@@ -110,14 +48,14 @@ def cli(verbose: bool) -> None:
 @click.option("--seconds", default=10.0, show_default=True, type=click.FloatRange(min=1.0, max=600.0))
 @click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=240.0), help="Frames per second.")
 @click.option("--size", default=512, show_default=True, type=click.IntRange(16, 4096), help="Square frame size, even.")
-@_FACE
+@FACE
 @click.option("--seed", default=0, show_default=True, type=int)
 def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: int) -> None:
     """The whole pipeline on built-in data: a synthetic performer, mapped and rendered to MP4."""
     if size % 2:
         raise click.BadParameter(f"H.264 needs an even size, got {size}", param_hint="--size")
     result = run_demo(out_dir, seconds=seconds, rate=rate, size=size, face=face, seed=seed,
-                      progress_factory=_progress("render"))
+                      progress_factory=progress("render"))
     for label, path in (("video", result.video), ("take", result.take), ("motors", result.motors),
                         ("truth", result.truth)):
         click.echo(f"wrote {label:<7}{path}")
@@ -186,14 +124,14 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
 @cli.command()
 @click.argument("take", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="One JSON object instead of text.")
-@_take_options
+@take_options
 def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, units: str | None) -> None:
     """Frames, markers, rate, duration, units and gaps of a take (.c3d .trc .csv .npz).
 
     With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
     labels, missing (total missing marker-samples), missing_per_marker, longest_gap and source.
     """
-    summary = summarize(_load_take(take, take_rate, labels, units))
+    summary = summarize(read_take(take, take_rate, labels, units))
     if as_json:
         click.echo(json.dumps(summary))
     else:
@@ -226,86 +164,24 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
     """Track markers in a video (anything OpenCV or PyAV decodes) into a planar take."""
     names = load_aruco_names(names_file) if names_file else None
     take = track_video(video, method, markerset, colour, start_frame, names, corners, dictionary, mm_per_pixel,
-                       marker_mm, progress_factory=_progress("track"))
+                       marker_mm, progress_factory=progress("track"))
     path = save_take(take, output)
     seen = take.valid.any(axis=0).sum()
     click.echo(f"wrote {path} ({take.frames} frames, {seen} of {take.markers} markers seen, "
                f"{int((~take.valid).sum())} missing samples, {take.meta['mm_per_pixel']:.4g} mm per pixel)")
 
 
-@cli.command()
-@click.argument("take", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
-              help="Cleaned take (.npz .c3d .trc .csv).")
-@click.option("--no-spikes", is_flag=True, help="Keep one-frame spikes (no robust spike rejection).")
-@click.option("--max-gap", default=2.0, show_default=True, type=click.FloatRange(min=0.0),
-              help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")
-@click.option("--cutoff", default=8.0, show_default=True, type=click.FloatRange(min=0.0),
-              help="Zero-phase low-pass, Hz (0: no smoothing).")
-@click.option("--head-frame", is_flag=True,
-              help="Write positions with head motion removed (the marker set's head frame); the head's yaw and "
-                   "pitch go into the take's metadata (kept by .npz).")
-@_take_options
-def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, head_frame: bool,
-          take_rate: float | None, labels: str | None, units: str | None) -> None:
-    """Clean a take offline: remove head motion, reject spikes, fill gaps, smooth without lag.
-
-    Head motion is found by a robust rigid fit of the marker set's head references (the set is
-    recognised from the labels). Short gaps (up to 5 frames) are bridged by a cubic spline,
-    longer ones from the other markers' correlated motion; a marker missing longer than
-    --max-gap stays unseen.
-    """
-    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
-    cleaned, report = clean_take(_load_take(take, take_rate, labels, units), settings, head_frame=head_frame)
-    path = save_take(cleaned, output)
-    click.echo(f"wrote {path}: {report.summary()}")
-
-
-@cli.command("map")
-@click.argument("take", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Motor track (.csv or .npz).")
-@_NEUTRAL
-@click.option("--face", default=None, metavar="NAME|FILE", help="Map the performer's neutral onto this face's rest pose.")
-@_MIRROR
-@_take_options
-def map_cmd(take: str, output: str, neutral: str, face: str | None, mirror: bool, take_rate: float | None,
-            labels: str | None, units: str | None) -> None:
-    """Map a toon32 take onto the 21 motors (neutral calibrated on a window of the take)."""
-    window = _parse_window(neutral)
-    track = map_take(_load_take(take, take_rate, labels, units), window, load_face(face) if face else None, mirror)
-    click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz)")
-
-
 @cli.command("render")
 @click.argument("motors", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(), help="A .mp4 file, or a folder for PNG frames.")
-@_FACE
-@_SIZE
+@FACE
+@SIZE
 @click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the track's].")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
     """Draw a motor track (.csv movie script or .npz) on a face."""
-    dims = _parse_size(size)
+    dims = parse_size(size)
     track, face_obj = load_track(motors), load_face(face)
-    frames = render(track, face_obj, output, dims, fps, progress=_progress("render")(track.frames))
-    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
-
-
-@cli.command()
-@click.argument("take", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(), help="A .mp4 file, or a folder for PNG frames.")
-@_FACE
-@_NEUTRAL
-@_SIZE
-@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the take's].")
-@_MIRROR
-@_take_options
-def retarget(take: str, output: str, face: str, neutral: str, size: str, fps: float | None, mirror: bool,
-             take_rate: float | None, labels: str | None, units: str | None) -> None:
-    """Map a toon32 take and render it on a face, in one go."""
-    dims, window = _parse_size(size), _parse_window(neutral)
-    face_obj = load_face(face)
-    track = map_take(_load_take(take, take_rate, labels, units), window, face_obj, mirror)
-    frames = render(track, face_obj, output, dims, fps, progress=_progress("render")(track.frames))
+    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
 
 
@@ -336,7 +212,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     loaded = load_face(name)
     rig = FaceRig(loaded)  # binds skeletons and features: reports a bad face even without output
     expressions = load_expressions(repertoire)
-    cell = _parse_size(size)
+    cell = parse_size(size)
     if expression not in expressions:
         raise click.BadParameter(f"unknown expression {expression!r} (one of {', '.join(expressions)})",
                                  param_hint="--expression")
@@ -349,6 +225,10 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     if not sheet_path and not svg_path:
         counts = f"{len(loaded.polygons)} polygons, {len(loaded.basic_components())} components"
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
+
+
+for _command in MAPPING_COMMANDS:
+    cli.add_command(_command)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -6,13 +6,14 @@ import os
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from capture import SyntheticTake, Take, save_take, synthesize
-from mapping import DefaultMapping
+from mapping import CleanSettings, Mapping, Profile, choose_mapping
+from mapping import map_take as mapping_map_take
 from player import Renderer, create_context, open_sink, render_track
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
 
@@ -23,15 +24,20 @@ def truth_track(synthetic: SyntheticTake) -> MotorTrack:
                                    meta={"source": "synthetic ground truth"})
 
 
-def map_take(take: Take, neutral_window: tuple[float, float] = (0.0, 1.0), face: Face | None = None,
-             mirror: bool = False) -> MotorTrack:
-    """Map a ``toon32`` take onto the motors, calibrating neutral on ``neutral_window``.
+def map_take(take: Take, neutral_window: tuple[float, float] | None = (0.0, 1.0), face: Face | None = None,
+             mirror: bool = False, mapping: Mapping | str | None = None, profile: Profile | None = None,
+             settings: CleanSettings = CleanSettings()) -> MotorTrack:
+    """Clean and map a take (see :func:`mapping.map_take`).
 
     With ``face``, the performer's neutral maps onto that face's rest pose; otherwise onto the
-    standard neutral shared by the built-in faces.
+    standard neutral shared by the built-in faces. ``mirror`` swaps the sides whatever the
+    mapping says. ``neutral_window`` None finds the stillest second.
     """
+    chosen, _ = choose_mapping(take, mapping)
+    if mirror:
+        chosen = replace(chosen, mirror=True)
     target = None if face is None else face.neutral()
-    return DefaultMapping(neutral_window, target_neutral=target, mirror=mirror).fit_transform(take)
+    return mapping_map_take(take, chosen, profile, neutral_window, target, settings)
 
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),

@@ -1,0 +1,202 @@
+"""The performer profile: where one performer's face rests and how far it moves.
+
+A profile belongs to a performer, not to a character: one profile is re-used with every mapping
+and every face. It holds, for every source a mapping may read (each marker coordinate in the
+head frame, the head's yaw and pitch, and any derived measurement named when it was made), the
+value at rest (``neutral``) and the range of motion (``low``, ``high``), plus the head's rest
+rotation. Saved as TOML (``format = "toonface.profile/1"``).
+
+The neutral comes from a time range, a separate take, or the stillest window of the take; the
+range from a calibration take (or a window of one) or from percentiles of the take itself.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+from common import Failure, InputError, atomic_path, read_document
+from mapping.sources import AXES, Source, head_angles, measure
+from mapping.stabilise import Stabilised
+
+FORMAT = "toonface.profile/1"
+#: A side of a range smaller than this (mm, or degrees for angles) counts as no motion.
+MIN_RANGE = 0.5
+
+
+@dataclass(frozen=True)
+class SourceRange:
+    """A source's value at rest and the lowest and highest values of the performer's range."""
+
+    neutral: float
+    low: float
+    high: float
+
+
+@dataclass(frozen=True, eq=False)
+class Profile:
+    """A performer profile (see the module docstring).
+
+    Attributes
+    ----------
+    markerset : str
+    sources : dict of str to SourceRange
+        Keyed by :attr:`Source.key`.
+    rest_rotation : ndarray, shape (3, 3)
+        The head at rest, head frame to world.
+    performer : str
+    notes : dict of str to str
+        Where the neutral and the range came from, and sources left out for lack of motion.
+    """
+
+    markerset: str
+    sources: dict[str, SourceRange]
+    rest_rotation: np.ndarray
+    performer: str = ""
+    notes: dict[str, str] = field(default_factory=dict)
+
+
+def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = 1.0) -> tuple[float, float]:
+    """The ``seconds``-long window where the face moves least (mean head-frame marker speed)."""
+    speed = np.linalg.norm(np.diff(stable.local, axis=0), axis=2)  # (F-1, M)
+    seen = np.isfinite(speed)
+    count = seen.sum(axis=1)
+    per_frame = np.where(count > 0, np.where(seen, speed, 0.0).sum(axis=1) / np.maximum(count, 1), 1e9)
+    n = max(1, int(round(seconds / np.median(np.diff(times))))) if len(times) > 1 else 1
+    if len(per_frame) < n:
+        return float(times[0]), float(times[-1])
+    window_sum = np.convolve(per_frame, np.ones(n), mode="valid")
+    start = int(np.argmin(window_sum))
+    return float(times[start]), float(times[min(start + n, len(times) - 1)])
+
+
+def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_window: tuple[float, float],
+                  range_take: Stabilised, range_frames: np.ndarray, columns: dict[str, int],
+                  range_columns: dict[str, int], markerset: str, extra: list[Source] = (),
+                  percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "",
+                  notes: dict[str, str] | None = None) -> Profile | Failure:
+    """Measure a profile.
+
+    Parameters
+    ----------
+    neutral_take, range_take : Stabilised
+        Cleaned, head-stabilised takes (may be the same one) for the rest pose and the range.
+    neutral_times : ndarray, shape (F,)
+        ``neutral_take``'s frame times.
+    neutral_window : tuple of float
+        Seconds ``[start, end)`` of ``neutral_take`` at rest.
+    range_frames : ndarray of bool
+        Frames of ``range_take`` to take the range from.
+    columns, range_columns : dict
+        Marker-set label -> column in each take.
+    extra : list of Source
+        Derived sources (distances, differences, angles) to measure besides every marker axis.
+    percentiles : tuple of float
+        Low and high percentiles of the range frames taken as the range's ends.
+
+    Returns
+    -------
+    Profile, or Failure saying why (no frame at rest with a head pose, no motion at all).
+    """
+    start, end = neutral_window
+    at_rest = (neutral_times >= start) & (neutral_times < end) & neutral_take.ok
+    if not at_rest.any():
+        return Failure(f"no frame with a head pose in the neutral window {start:g}-{end:g} s")
+    usable = range_frames & range_take.ok
+    if usable.sum() < 2:
+        return Failure("fewer than 2 frames with a head pose in the range frames")
+    rest = _mean_rotation(neutral_take.rotation[at_rest])
+    labels = [m for m in columns if m in range_columns]
+    wanted = [Source("marker", (m,), axis) for m in labels for axis in range(3)]
+    wanted += [Source("head", axis=a) for a in (0, 1)]
+    wanted += [s for s in extra if all(m in columns and m in range_columns for m in s.markers)]
+    ranges: dict[str, SourceRange] = {}
+    still: list[str] = []
+    neutral_head = head_angles(neutral_take.rotation, rest)
+    range_head = head_angles(range_take.rotation, rest)
+    for source in wanted:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            rest_value = np.nanmedian(measure(source, neutral_take.local[at_rest], columns, neutral_head[at_rest]))
+            low, high = np.nanpercentile(measure(source, range_take.local[usable], range_columns, range_head[usable]),
+                                         percentiles)
+        if not np.isfinite([rest_value, low, high]).all():
+            continue
+        low, high = min(low, rest_value), max(high, rest_value)
+        if high - low < MIN_RANGE:
+            still.append(source.key)
+        ranges[source.key] = SourceRange(float(rest_value), float(low), float(high))
+    moving = [k for k, r in ranges.items() if r.high - r.low >= MIN_RANGE and not k.startswith("head.")]
+    if not moving:
+        return Failure("no motion: every face marker stays within "
+                       f"{MIN_RANGE:g} mm of its rest over the range frames")
+    notes = dict(notes or {})
+    if still:
+        notes["no_motion"] = ", ".join(still)
+    return Profile(markerset, ranges, rest, performer, notes)
+
+
+def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
+    """Write ``profile`` as TOML (atomically)."""
+    doc = {"format": FORMAT, "markerset": profile.markerset, "performer": profile.performer,
+           "notes": dict(profile.notes), "rest_rotation": [[float(v) for v in row] for row in profile.rest_rotation],
+           "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()}}
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(tomli_w.dumps(doc).encode())
+    return Path(path)
+
+
+def load_profile(path: str | os.PathLike) -> Profile:
+    """Read a profile; an unusable file raises :class:`InputError` naming the field."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("no such profile file", path)
+    doc = read_document(path)
+    if doc.get("format") != FORMAT:
+        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
+    for key in ("markerset", "rest_rotation", "sources"):
+        if key not in doc:
+            raise InputError("missing", path, key)
+    rot = np.asarray(doc["rest_rotation"], dtype=float) if _is_matrix(doc["rest_rotation"]) else None
+    if rot is None or not np.allclose(rot @ rot.T, np.eye(3), atol=1e-4):
+        raise InputError("expected a 3x3 rotation matrix", path, "rest_rotation")
+    if not isinstance(doc["sources"], dict):
+        raise InputError("expected a table of sources", path, "sources")
+    ranges = {}
+    for key, entry in doc["sources"].items():
+        where = f'sources."{key}"'
+        if not isinstance(entry, dict) or set(entry) != {"neutral", "low", "high"}:
+            raise InputError("expected { neutral, low, high }", path, where)
+        values = [entry[k] for k in ("neutral", "low", "high")]
+        if not all(isinstance(v, (int, float)) and np.isfinite(v) for v in values):
+            raise InputError(f"expected finite numbers, got {values}", path, where)
+        neutral, low, high = map(float, values)
+        if not low <= neutral <= high:
+            raise InputError(f"needs low <= neutral <= high, got {low:g}, {neutral:g}, {high:g}", path, where)
+        ranges[key] = SourceRange(neutral, low, high)
+    notes = doc.get("notes", {})
+    return Profile(str(doc["markerset"]), ranges, rot, str(doc.get("performer", "")),
+                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {})
+
+
+def marker_keys(label: str) -> list[str]:
+    """The profile keys of one marker's three coordinates."""
+    return [f"{label}.{a}" for a in AXES]
+
+
+def _is_matrix(value: object) -> bool:
+    return (isinstance(value, list) and len(value) == 3
+            and all(isinstance(r, list) and len(r) == 3 and all(isinstance(v, (int, float)) for v in r) for r in value))
+
+
+def _mean_rotation(rotations: np.ndarray) -> np.ndarray:
+    """The rotation nearest to the element-wise mean of ``(F, 3, 3)`` rotations."""
+    u, _, vt = np.linalg.svd(rotations.mean(axis=0))
+    if np.linalg.det(u @ vt) < 0:
+        u[:, -1] *= -1
+    return u @ vt

@@ -1,0 +1,163 @@
+"""Take -> motor track in one call: find the mapping, clean, calibrate, map.
+
+With no mapping named, the built-in preset whose marker set matches the take's labels is used.
+With no profile, the marker set's built-in typical profile is used if it has one
+(``data/profiles/``), with the rest pose taken from the take; otherwise one is made from the take
+itself. Rest poses from the take come from ``neutral_window`` (seconds) or its stillest second;
+ranges from the take itself are its 1st to 99th percentiles. A profile that lacks a derived
+source the mapping reads gets it from the take the same way. The track's metadata says which.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from capture import MarkerSet, Take, load_markerset
+from capture.markerset import find_markerset
+from common import InputError, data_path
+from mapping.clean import CleanSettings, clean_stabilised
+from mapping.mapfile import Mapping, load_mapping
+from mapping.mapper import map_stabilised
+from mapping.profile import Profile, build_profile, load_profile, stillest_window
+from mapping.stabilise import Stabilised
+from toon import MotorTrack
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """A take cleaned and stabilised for one mapping: what calibration and mapping read."""
+
+    take: Take
+    markerset: MarkerSet
+    stable: Stabilised
+    columns: dict[str, int]
+
+
+def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Mapping, MarkerSet]:
+    """The mapping to use for ``take`` (named, or the preset matching its labels) and its marker set.
+
+    Raises
+    ------
+    InputError
+        When no preset matches, or the take lacks the mapping's markers.
+    """
+    if mapping is None:
+        markerset = find_markerset(take.labels)
+        if markerset is None or not data_path("mappings", f"{markerset.name}.toml").is_file():
+            raise InputError("no built-in mapping matches the take's markers "
+                             f"({', '.join(take.labels[:6])}...); name one with --mapping")
+        mapping = markerset.name
+    chosen = load_mapping(mapping) if isinstance(mapping, str) else mapping
+    markerset = load_markerset(chosen.markerset)
+    check_markers(chosen, markerset, take)
+    return chosen, markerset
+
+
+def check_markers(mapping: Mapping, markerset: MarkerSet, take: Take | None = None) -> None:
+    """Every marker the mapping reads must be in its marker set (and in ``take``, if given)."""
+    found = markerset.match(take.labels) if take is not None else None
+    for rule in mapping.rules:
+        for i, source in enumerate(rule.sources):
+            for marker in source.markers:
+                where = f"mapping {mapping.name}: motor.{rule.code}.sources[{i}]"
+                if marker not in markerset.labels:
+                    raise InputError(f'marker "{marker}" is not in marker set {markerset.name}', None, where)
+                if found is not None and marker not in found:
+                    raise InputError(f'the take has no marker "{marker}"', None, where)
+
+
+def prepare(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSettings()) -> Prepared:
+    """Clean and stabilise; raises :class:`InputError` saying why the head cannot be found."""
+    result = clean_stabilised(take, markerset, settings)
+    if not result:
+        raise InputError(f"cannot remove head motion: {result}")
+    found = markerset.match(take.labels)
+    return Prepared(take, markerset, result[0], {label: take.index(name) for label, name in found.items()})
+
+
+def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: tuple[float, float] | None = None,
+              range_from: Prepared | None = None, range_window: tuple[float, float] | None = None,
+              percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "") -> Profile:
+    """A performer profile: neutral from ``neutral_window`` of ``neutral`` (or its stillest
+    second), range from ``range_window`` of ``range_from`` (default: the neutral take, all of it).
+
+    Raises
+    ------
+    InputError
+        Saying why the calibration cannot be made.
+    """
+    window = neutral_window or stillest_window(neutral.stable, neutral.take.times)
+    source = range_from or neutral
+    times = source.take.times
+    frames = np.ones(len(times), bool) if range_window is None else (times >= range_window[0]) & (times < range_window[1])
+    if not frames.any():
+        raise InputError(f"cannot calibrate: no frames in the range window {range_window[0]:g}-{range_window[1]:g} s")
+    notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + (" (stillest second)" if neutral_window is None else ""),
+             "range": f"percentiles {percentiles[0]:g}-{percentiles[1]:g}"
+                      + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}
+    profile = build_profile(neutral.stable, neutral.take.times, window, source.stable, frames, neutral.columns,
+                            source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes)
+    if not profile:
+        raise InputError(f"cannot calibrate: {profile}")
+    return profile
+
+
+def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
+             neutral_window: tuple[float, float] | None = None, target_neutral: np.ndarray | None = None,
+             settings: CleanSettings = CleanSettings()) -> MotorTrack:
+    """Clean, calibrate (unless ``profile`` is given) and map ``take``.
+
+    ``neutral_window`` (seconds) sets the rest pose from the take even with a profile (its range is
+    kept), for a take whose head rests differently from the profile's session.
+    """
+    chosen, markerset = choose_mapping(take, mapping)
+    prepared = prepare(take, markerset, settings)
+    notes = []
+    rest_from_take = neutral_window is not None
+    if profile is None and builtin_profile(markerset.name) is not None:
+        profile, rest_from_take = load_profile(builtin_profile(markerset.name)), True
+        notes.append(f"ranges from the built-in typical profile for {markerset.name}")
+    if profile is None:
+        profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0))
+        notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
+    else:
+        if profile.markerset != markerset.name:
+            raise InputError(f"the profile is for marker set {profile.markerset}, the mapping for {markerset.name}")
+        missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
+        if missing or rest_from_take:
+            own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0))
+            profile = _merge(profile, own, missing, rest_from_take)
+            if missing:
+                notes.append(f"ranges from the take itself for {', '.join(missing)}")
+            if rest_from_take:
+                notes.append(f"neutral from the take ({own.notes['neutral']})")
+    track = map_stabilised(prepared.stable, prepared.columns, take.times, take.rate, chosen, profile, target_neutral,
+                           prepared.stable.filled)
+    meta = {**track.meta, "source": take.meta.get("source", ""), "notes": notes}
+    return MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+
+
+def builtin_profile(markerset: str) -> Path | None:
+    """The built-in typical performer profile for a marker set, if there is one."""
+    path = data_path("profiles", f"{markerset}.toml")
+    return path if path.is_file() else None
+
+
+def _merge(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool) -> Profile:
+    """``profile`` with ``own``'s ranges for ``missing`` keys; with ``rest_from_take``, ``own``'s
+    neutral values and rest rotation everywhere (the ranges' extents are kept around the new rest)."""
+    sources = dict(profile.sources)
+    for key in missing:
+        if key in own.sources:
+            sources[key] = own.sources[key]
+    rotation = profile.rest_rotation
+    if rest_from_take:
+        rotation = own.rest_rotation
+        for key, span in list(sources.items()):
+            if key in own.sources:
+                shift = own.sources[key].neutral - span.neutral
+                sources[key] = type(span)(span.neutral + shift, span.low + shift, span.high + shift)
+    return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes))

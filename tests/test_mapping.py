@@ -1,0 +1,121 @@
+"""Mapping a take onto the motors: calibration, the preset mappings, confidence and loss."""
+
+import numpy as np
+import pytest
+
+from capture import Take, synthesize
+from capture.performance import default_performance
+from common import InputError
+from mapping import CleanSettings, calibrate, choose_mapping, load_profile, map_take, prepare, save_profile
+from toon import MOTOR_CODES, motor_index
+from toonface import truth_track
+
+EXACT = CleanSettings(spikes=False, max_gap_seconds=2.0, cutoff_hz=0.0)
+
+
+def _calibrated(seconds=6.0, rate=30.0, noise=0.0, turn=20.0, settings=EXACT):
+    syn = synthesize(rate=rate, noise_mm=noise, seed=2,
+                     performance=default_performance(seconds, calibration=True, max_turn_deg=turn))
+    mapping, markerset = choose_mapping(syn.take)
+    profile = calibrate(mapping, prepare(syn.take, markerset, settings), (0.0, 1.0), range_window=(1.0, 15.4))
+    return syn, mapping, profile
+
+
+def test_a_noiseless_take_calibrated_on_its_calibration_segment_maps_exactly():
+    syn, mapping, profile = _calibrated()
+    assert mapping.name == "toon32"
+    track = map_take(syn.take, mapping, profile, settings=EXACT)
+    error = np.abs(track.values - truth_track(syn).values)
+    assert error.max() < 1e-6, f"worst motor {MOTOR_CODES[np.argmax(error.max(0))]}: {error.max():.2e}"
+    assert (track.confidence == 1).all()
+    # the profile holds each source's rest and range: the upper lid travels 14 mm per unit from 0.8
+    lid = profile.sources["LID_R_UP.y"]
+    assert lid.high - lid.neutral == pytest.approx(14 * 0.2) and lid.neutral - lid.low == pytest.approx(14 * 0.8)
+
+
+def test_profile_round_trips_and_bad_profiles_name_the_field(tmp_path):
+    _, _, profile = _calibrated(seconds=2.0)
+    path = save_profile(profile, tmp_path / "p.toml")
+    again = load_profile(path)
+    assert again.sources == profile.sources and np.allclose(again.rest_rotation, profile.rest_rotation)
+    text = path.read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('format = "toonface.profile/1"', 'format = "x"'))
+    with pytest.raises(InputError, match="bad.toml: format: unsupported format"):
+        load_profile(bad)
+    start = text.index("[sources.")
+    bad.write_text(text[:start] + '[sources."LID_R_UP.y"]\nneutral = 1.0\nlow = 2.0\nhigh = 3.0\n')
+    with pytest.raises(InputError, match=r'sources."LID_R_UP.y": needs low <= neutral <= high'):
+        load_profile(bad)
+
+
+def test_calibration_that_cannot_be_made_says_why():
+    syn = synthesize(seconds=2, noise_mm=0.0)
+    mapping, markerset = choose_mapping(syn.take)
+    pos = syn.take.positions.copy()
+    for ref in markerset.head_reference[:3]:
+        pos[:, syn.take.index(ref)] = np.nan
+    with pytest.raises(InputError, match="cannot remove head motion: fewer than 3 head reference markers"):
+        prepare(Take(pos, syn.take.labels, syn.take.rate), markerset)
+    still = Take(np.repeat(syn.take.positions[:1], 60, axis=0), syn.take.labels, 30.0)
+    with pytest.raises(InputError, match="cannot calibrate: no motion"):
+        calibrate(mapping, prepare(still, markerset))
+    with pytest.raises(InputError, match="no frames in the range window 5-6 s"):
+        calibrate(mapping, prepare(syn.take, markerset), (0.0, 1.0), range_window=(5.0, 6.0))
+
+
+def test_lost_markers_lower_confidence_and_ease_to_neutral():
+    syn, mapping, profile = _calibrated(seconds=8.0)
+    pos = syn.take.positions.copy()
+    lid = syn.take.index("LID_R_UP")
+    start = int(17 * 30)
+    pos[start:start + 9, lid] = np.nan  # 0.3 s: filled
+    pos[start + 60:start + 150, lid] = np.nan  # 3 s: too long to fill, lost
+    track = map_take(Take(pos, syn.take.labels, 30.0), mapping, profile, settings=EXACT)
+    eru = motor_index("ERU")
+    assert (track.confidence[start:start + 9, eru] == 0.5).all()
+    lost = track.confidence[start + 60:start + 150, eru]
+    assert (lost == 0).all() and track.confidence[start - 5, eru] == 1
+    # ease to neutral (0.8) over half a second, then stay there
+    assert track.values[start + 60 + 15:start + 150, eru] == pytest.approx(0.8)
+    assert track.meta["lost_frames"] == 90
+
+
+def test_fidelity_on_a_faulty_take_is_close_to_the_truth():
+    syn, mapping, _ = _calibrated(seconds=6.0, rate=60.0, noise=0.3, settings=CleanSettings())
+    rng = np.random.default_rng(0)
+    pos = syn.take.positions.copy()
+    pos[rng.random(pos.shape[:2]) < 0.10] = np.nan
+    take = Take(pos, syn.take.labels, 60.0)
+    profile = calibrate(mapping, prepare(take, choose_mapping(take)[1]), (0.0, 1.0), range_window=(1.0, 15.4))
+    error = map_take(take, mapping, profile).values - truth_track(syn).values
+    assert np.sqrt(np.mean(error ** 2)) < 0.025
+
+
+def test_the_preset_is_chosen_by_the_takes_markers_and_an_unknown_layout_is_refused():
+    syn = synthesize(seconds=1, noise_mm=0.0)
+    odd = Take(syn.take.positions, tuple(f"M{i}" for i in range(syn.take.markers)), 30.0)
+    with pytest.raises(InputError, match="no built-in mapping matches"):
+        choose_mapping(odd)
+    few = Take(syn.take.positions[:, :20], syn.take.labels[:20], 30.0)
+    with pytest.raises(InputError, match='motor.PLH.sources\\[0\\]: the take has no marker "PUPIL_L"'):
+        choose_mapping(few, "toon32")
+
+
+@pytest.mark.parametrize("name, kwargs, brows, jaw", [
+    ("animface/EyebrowsMoCap.csv", {"units": "cm"}, True, False),
+    ("animface/JawMoCap.csv", {"units": "cm"}, False, True),
+    ("gluedots/Subject_01.csv", {"rate": 30, "units": "184.84"}, True, True),
+])
+def test_real_facial_takes_drive_their_brows_and_jaw(realdata, name, kwargs, brows, jaw):
+    from capture import load_take
+    take = load_take(realdata / "facial" / name, **kwargs)
+    track = map_take(take, neutral_window=None)
+    spread = {code: np.percentile(track.column(code), 95) - np.percentile(track.column(code), 5)
+              for code in MOTOR_CODES}
+    if brows:
+        assert min(spread[c] for c in ("BRM", "BRC", "BLM", "BLC")) > 0.2
+    if jaw:
+        assert spread["MB"] > 0.3
+    unmapped = [c for c in MOTOR_CODES if c not in track.meta["mapped"]]
+    assert all(spread[c] == 0 for c in unmapped)

@@ -1,0 +1,193 @@
+"""The mapping subcommands: clean, calibrate, map, retarget, score."""
+
+from __future__ import annotations
+
+import click
+
+from capture import save_take
+from mapping import CleanSettings, calibrate, choose_mapping, clean_take, load_profile, prepare, save_profile
+from player.score import save_score, score_text
+from toon import load_face, load_track, save_track
+from toonface.cli_options import FACE, MIRROR, SIZE, parse_size, parse_window, progress, read_take, take_options
+from toonface.pipeline import map_take, render
+
+_MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
+                        help="A mapping file or built-in preset (toon32, animface41, gluedots16) "
+                             "[default: the preset whose marker set matches the take].")
+_PROFILE = click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False),
+                        help="A performer profile (from `toonface calibrate`) [default: calibrate on the take].")
+_NEUTRAL = click.option("--neutral", default=None, metavar="START:END",
+                        help="Seconds of the take where the performer holds a neutral face "
+                             "[default: the profile's, or the take's stillest second].")
+_CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click.Path(dir_okay=False),
+                          help="A calibration take of the same performer: its stillest second is the neutral and "
+                               "all of it the range (instead of --profile).")
+
+
+def _clean_settings(fn):
+    fn = click.option("--cutoff", default=8.0, show_default=True, type=click.FloatRange(min=0.0),
+                      help="Zero-phase low-pass, Hz (0: no smoothing).")(fn)
+    fn = click.option("--max-gap", default=2.0, show_default=True, type=click.FloatRange(min=0.0),
+                      help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(fn)
+    return click.option("--no-spikes", is_flag=True, help="Keep spikes (no robust spike rejection).")(fn)
+
+
+@click.command()
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
+              help="Cleaned take (.npz .c3d .trc .csv).")
+@_clean_settings
+@click.option("--head-frame", is_flag=True,
+              help="Write positions with head motion removed (the marker set's head frame); the head's yaw and "
+                   "pitch go into the take's metadata (kept by .npz).")
+@take_options
+def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, head_frame: bool,
+          take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Clean a take offline: remove head motion, reject spikes, fill gaps, smooth without lag.
+
+    Head motion is found by a robust rigid fit of the marker set's head references (the set is
+    recognised from the labels). Short gaps (up to 5 frames) are bridged by a cubic spline,
+    longer ones from the other markers' correlated motion; a marker missing longer than
+    --max-gap stays unseen.
+    """
+    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
+    cleaned, report = clean_take(read_take(take, take_rate, labels, units), settings, head_frame=head_frame)
+    path = save_take(cleaned, output)
+    click.echo(f"wrote {path}: {report.summary()}")
+
+
+@click.command("calibrate")
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Profile to write (.toml).")
+@_MAPPING
+@_NEUTRAL
+@click.option("--neutral-take", default=None, type=click.Path(dir_okay=False),
+              help="Take the neutral from this take (its --neutral window or stillest second) instead.")
+@click.option("--range", "range_window", default=None, metavar="START:END",
+              help="Seconds of the take that hold the range of motion (a calibration segment) [default: all].")
+@click.option("--percentiles", default="0.5,99.5", show_default=True, metavar="LOW,HIGH",
+              help="Percentiles of the range frames taken as each source's lowest and highest value.")
+@click.option("--performer", default="", help="A name to keep in the profile.")
+@_clean_settings
+@take_options
+def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | None, neutral_take: str | None,
+                  range_window: str | None, percentiles: str, performer: str, no_spikes: bool, max_gap: float,
+                  cutoff: float, take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Make a performer profile (neutral pose and range of motion) from a take.
+
+    The profile keeps every marker coordinate's rest value and range in the head frame, the
+    head's rest pose, and any derived source (distance, difference, angle) the mapping reads;
+    it is reused with every mapping and face of the same marker set.
+    """
+    try:
+        low, high = (float(p) for p in percentiles.split(","))
+        assert 0 <= low < high <= 100
+    except (ValueError, AssertionError):
+        raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
+                                 param_hint="--percentiles") from None
+    windows = parse_window(neutral), parse_window(range_window, "--range")
+    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
+    loaded = read_take(take, take_rate, labels, units)
+    chosen, markerset = choose_mapping(loaded, mapping)
+    ranged = prepare(loaded, markerset, settings)
+    rest = prepare(read_take(neutral_take, take_rate, labels, units), markerset, settings) if neutral_take else ranged
+    profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
+    path = save_profile(profile, output)
+    moving = sum(1 for r in profile.sources.values() if r.high - r.low >= 0.5)
+    click.echo(f"wrote {path}: {len(profile.sources)} sources ({moving} moving), neutral {profile.notes['neutral']}, "
+               f"range {profile.notes['range']}")
+    still = set(profile.notes.get("no_motion", "").split(", "))
+    idle = [src.key for src in chosen.sources() if src.key in still and not src.key.startswith("head.")]
+    if idle:
+        click.echo(f"warning: no motion in {', '.join(idle)} over the range frames: the motors that follow them "
+                   "will not move", err=True)
+
+
+def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, take_options_: tuple):
+    if profile_path and calibration:
+        raise click.BadParameter("give --profile or --calibrate, not both", param_hint="--calibrate")
+    if profile_path:
+        return load_profile(profile_path)
+    if calibration:
+        source = read_take(calibration, *take_options_)
+        chosen, markerset = choose_mapping(source, mapping)
+        return calibrate(chosen, prepare(source, markerset))
+    return None
+
+
+@click.command("map")
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Motor track (.csv or .npz).")
+@_MAPPING
+@_PROFILE
+@_CALIBRATE
+@_NEUTRAL
+@click.option("--face", default=None, metavar="NAME|FILE", help="Map the performer's neutral onto this face's rest pose.")
+@MIRROR
+@_clean_settings
+@take_options
+def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
+            neutral: str | None, face: str | None, mirror: bool, no_spikes: bool, max_gap: float, cutoff: float,
+            take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
+    options, window = (take_rate, labels, units), parse_window(neutral)
+    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
+    profile = _profile(profile_path, calibration, mapping, options)
+    track = map_take(read_take(take, *options), window, load_face(face) if face else None, mirror, mapping, profile,
+                     settings)
+    click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
+               f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)")
+    for note in track.meta.get("notes", []):
+        click.echo(f"note: {note}", err=True)
+
+
+@click.command()
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(), help="A .mp4 file, or a folder for PNG frames.")
+@FACE
+@_MAPPING
+@_PROFILE
+@_CALIBRATE
+@_NEUTRAL
+@SIZE
+@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the take's].")
+@MIRROR
+@take_options
+def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
+             calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
+             take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Clean, map and render a take on a face, in one go."""
+    options, window, dims = (take_rate, labels, units), parse_window(neutral), parse_size(size)
+    face_obj = load_face(face)
+    profile = _profile(profile_path, calibration, mapping, options)
+    track = map_take(read_take(take, *options), window, face_obj, mirror, mapping, profile)
+    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
+
+
+@click.command()
+@click.argument("motors", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="PNG to write.")
+@click.option("--compare", default=None, type=click.Path(dir_okay=False),
+              help="A second track drawn over the first in another colour (before/after a filter, truth/mapped).")
+@click.option("--motors", "codes", default=None, metavar="CODE,CODE,...", help="Staves to draw [default: all 21].")
+@click.option("--width", default=1200, show_default=True, type=click.IntRange(200, 8000), help="Image width, pixels.")
+@click.option("--text", is_flag=True, help="Also print the staves as text (block characters), one line per motor.")
+def score(motors: str, output: str, compare: str | None, codes: str | None, width: int, text: bool) -> None:
+    """Draw motor curves as staves, one per motor, like CharToon's Animation Editor.
+
+    Each stave spans 0..1 with the motor's code at the left and a time axis below; with
+    --compare, the second track is drawn over the first (the first in dark blue, the second
+    in orange) and each stave's RMS difference is printed at its right.
+    """
+    track = load_track(motors)
+    other = load_track(compare) if compare else None
+    picked = tuple(c.strip() for c in codes.split(",")) if codes else None
+    path = save_score(track, output, other, picked, width)
+    if text:
+        for line in score_text(track, picked):
+            click.echo(line)
+    click.echo(f"wrote {path} ({track.frames} frames, {len(picked) if picked else 21} staves)")
+
+
+MAPPING_COMMANDS = (clean, calibrate_cmd, map_cmd, retarget, score)

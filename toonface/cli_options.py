@@ -1,0 +1,76 @@
+"""Options and helpers shared by the ``toonface`` subcommands."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+
+import click
+from tqdm import tqdm
+
+from capture import Take, load_take
+
+
+class ProgressBar:
+    """A per-frame progress callback drawing a bar on stderr (only when stderr is a terminal)."""
+
+    def __init__(self, total: int, desc: str) -> None:
+        self.total = total
+        self.bar = tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=None, leave=False)
+
+    def __call__(self, frames: int) -> None:
+        self.bar.update(frames)
+        if self.bar.n >= self.total:
+            self.bar.close()
+
+
+def progress(desc: str) -> Callable[[int], Callable[[int], None]]:
+    """A factory of progress callbacks, given the total number of frames."""
+    return lambda total: ProgressBar(total, desc)
+
+
+def parse_size(value: str) -> tuple[int, int]:
+    """``N`` or ``WxH`` pixels."""
+    try:
+        w, _, h = value.lower().partition("x")
+        size = (int(w), int(h or w))
+    except ValueError:
+        raise click.BadParameter(f"expected N or WxH pixels, got {value!r}") from None
+    if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
+        raise click.BadParameter(f"each side must be 16..8192 pixels, got {value!r}")
+    return size
+
+
+def parse_window(value: str | None, option: str = "--neutral") -> tuple[float, float] | None:
+    """``START:END`` seconds (None stays None)."""
+    if value is None:
+        return None
+    try:
+        start, end = (float(x) for x in value.split(":"))
+    except ValueError:
+        raise click.BadParameter(f"expected START:END in seconds, got {value!r}", param_hint=option) from None
+    if not end > start >= 0:
+        raise click.BadParameter(f"expected 0 <= START < END, got {value!r}", param_hint=option)
+    return start, end
+
+
+def take_options(fn: Callable) -> Callable:
+    """--rate, --labels and --units: what a CSV table may not say about itself."""
+    fn = click.option("--units", default=None, metavar="mm|cm|m|in|N",
+                      help="CSV only: the table's units, or millimetres per unit [default: mm].")(fn)
+    fn = click.option("--labels", default=None, metavar="A,B,...",
+                      help="CSV only: marker names of a table without a header row.")(fn)
+    return click.option("--rate", "take_rate", default=None, type=float, metavar="HZ",
+                        help="CSV only: frame rate of a table without a time column.")(fn)
+
+
+def read_take(path: str, take_rate: float | None, labels: str | None, units: str | None) -> Take:
+    """Load a take with the --rate/--labels/--units options."""
+    names = [x.strip() for x in labels.split(",") if x.strip()] if labels else None
+    return load_take(path, rate=take_rate, labels=names, units=units)
+
+
+FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",
+                    help="A built-in face (see `toonface faces`) or a face JSON file.")
+SIZE = click.option("--size", default="512", show_default=True, metavar="N|WxH", help="Frame size in pixels.")
+MIRROR = click.option("--mirror", is_flag=True, help="Mirror image: the performer's right drives the character's left.")
