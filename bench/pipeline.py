@@ -1,7 +1,7 @@
 """``pipeline``: synthetic take to motor track, frames per second on one core.
 
-Times :func:`toonface.map_take` (neutral calibration, head stabilisation, per-channel mapping) on
-a 60 s synthetic take at 60 Hz. "One core" is enforced from the start: the measurement runs in a
+Times :func:`toonface.map_take` (cleaning with head stabilisation, the built-in profile with the
+rest pose from the take, the toon32 mapping) on a 60 s synthetic take at 60 Hz. "One core" is enforced from the start: the measurement runs in a
 child process pinned to one CPU before it imports numpy, with the BLAS/OpenMP pools set to one
 thread (pinning a running process leaves its already-started BLAS threads fighting for the core,
 which made the figure noisy). The goal is the telepresence sender's: keep up with 60 Hz capture
@@ -24,25 +24,32 @@ _ONE_THREAD = {name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS",
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return ``pipeline.fps``."""
     seconds, repeats = (10.0 if quick else 60.0), (3 if quick else 7)
+    measured = pinned_rate(seconds, repeats, 60.0)
+    return [Figure("pipeline.fps", measured["fps"], "frames/s", GOAL_FPS, True,
+                   {"frames": measured["frames"], "markers": measured["markers"], "rate_hz": 60.0,
+                    "repeats": repeats, "one_core": measured["one_core"], "runs": measured["runs"]})]
+
+
+def pinned_rate(seconds: float, repeats: int, rate: float) -> dict:
+    """Frames per second of :func:`toonface.map_take` (clean + map) on a synthetic take, measured
+    in a child process pinned to one CPU with one BLAS thread; a dict with ``fps``, ``runs``,
+    ``frames``, ``markers`` and ``one_core``."""
     pinned = hasattr(os, "sched_setaffinity")
     cpu = min(os.sched_getaffinity(0)) if pinned else None
     result = subprocess.run(
-        [sys.executable, "-c", f"import bench.pipeline as p; p._child({seconds!r}, {repeats!r})"],
+        [sys.executable, "-c", f"import bench.pipeline as p; p._child({seconds!r}, {repeats!r}, {rate!r})"],
         env={**os.environ, **_ONE_THREAD}, capture_output=True, text=True, check=True,
         preexec_fn=(lambda: os.sched_setaffinity(0, {cpu})) if pinned else None)
-    measured = json.loads(result.stdout)
-    return [Figure("pipeline.fps", measured["fps"], "frames/s", GOAL_FPS, True,
-                   {"frames": measured["frames"], "markers": measured["markers"], "rate_hz": 60.0,
-                    "repeats": repeats, "one_core": pinned, "runs": measured["runs"]})]
+    return {**json.loads(result.stdout), "one_core": pinned}
 
 
-def _child(seconds: float, repeats: int) -> None:
+def _child(seconds: float, repeats: int, rate: float) -> None:
     """Runs in the pinned child: measure and print one JSON object."""
     from bench.core import median_rate
     from capture import synthesize
     from toonface import map_take
 
-    take = synthesize(seconds=seconds, rate=60.0).take
+    take = synthesize(seconds=seconds, rate=rate).take
     fps, runs = median_rate(lambda: map_take(take).frames, repeats)
     print(json.dumps({"fps": fps, "runs": [round(r, 1) for r in runs], "frames": take.frames,
                       "markers": take.markers}))

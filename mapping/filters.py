@@ -50,15 +50,21 @@ class Stepwise:
         return out.reshape(arr.shape)
 
 
-def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray],
+                  batched: Callable[[np.ndarray], np.ndarray] | None = None) -> np.ndarray:
     """``filter_seen`` on each channel's seen samples (NaN dropped, then put back as NaN).
 
-    ``x`` is ``(frames, channels)`` or ``(frames,)``; the result has its shape.
+    ``x`` is ``(frames, channels)`` or ``(frames,)``; the result has its shape. ``batched``, if
+    given, filters all the channels without NaN at once (``(frames, n)`` along axis 0) and must
+    equal ``filter_seen`` on each.
     """
     arr = np.asarray(x, dtype=np.float64)
     columns = arr[:, None] if arr.ndim == 1 else arr
     out = np.full_like(columns, np.nan)
-    for c in range(columns.shape[1]):
+    whole = np.isfinite(columns).all(axis=0)
+    if batched is not None and whole.any():  # complete channels in one call
+        out[:, whole] = batched(columns[:, whole])
+    for c in np.flatnonzero(~whole) if batched is not None else range(columns.shape[1]):
         seen = np.flatnonzero(np.isfinite(columns[:, c]))
         if len(seen):
             out[seen, c] = filter_seen(columns[seen, c])
@@ -179,7 +185,8 @@ class Butterworth:
         A channel with too few samples for the filter's padding is left as it is.
         """
         pad = 3 * (2 * len(self.sos) + 1)
-        return _each_channel(x, lambda v: signal.sosfiltfilt(self.sos, v) if len(v) > pad else v)
+        return _each_channel(x, lambda v: signal.sosfiltfilt(self.sos, v) if len(v) > pad else v,
+                             lambda v: signal.sosfiltfilt(self.sos, v, axis=0) if len(v) > pad else v)
 
 
 class SavitzkyGolay:

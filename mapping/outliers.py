@@ -149,7 +149,15 @@ class SpikeFilter:
 
 
 def _median_last(a: np.ndarray) -> np.ndarray:
-    """Median over the last axis ignoring NaN (NaN where all are NaN); vectorised by sorting."""
+    """Median over the last axis ignoring NaN (NaN where all are NaN); vectorised by sorting
+    (by a min/max network for three values, the common case, which is several times faster)."""
+    if a.shape[-1] == 3:
+        x, y, z = a[..., 0], a[..., 1], a[..., 2]
+        n = np.isfinite(a).sum(axis=-1)
+        all_three = np.maximum(np.minimum(x, y), np.minimum(np.maximum(x, y), z))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fewer = np.where(np.isfinite(a), a, 0.0).sum(axis=-1) / n  # the mean of one or two
+        return np.where(n == 3, all_three, np.where(n > 0, fewer, np.nan))
     ordered = np.sort(a, axis=-1)  # NaN sort last
     n = np.isfinite(ordered).sum(axis=-1)
     low = np.take_along_axis(ordered, np.maximum((n - 1) // 2, 0)[..., None], axis=-1)[..., 0]

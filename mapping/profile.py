@@ -21,7 +21,7 @@ import numpy as np
 import tomli_w
 
 from common import Failure, InputError, atomic_path, read_document
-from mapping.sources import AXES, Source, head_angles, measure
+from mapping.sources import Source, head_angles, measure
 from mapping.stabilise import Stabilised
 
 FORMAT = "toonface.profile/1"
@@ -115,22 +115,23 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     wanted = [Source("marker", (m,), axis) for m in labels for axis in range(3)]
     wanted += [Source("head", axis=a) for a in (0, 1)]
     wanted += [s for s in extra if all(m in columns and m in range_columns for m in s.markers)]
+    rest_values = _measure_all(wanted, neutral_take.local[at_rest], columns,
+                               head_angles(neutral_take.rotation[at_rest], rest))
+    range_values = _measure_all(wanted, range_take.local[usable], range_columns,
+                                head_angles(range_take.rotation[usable], rest))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
+        rest_value = np.nanmedian(rest_values, axis=0)
+        low, high = np.nanpercentile(range_values, percentiles, axis=0)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
-    neutral_head = head_angles(neutral_take.rotation, rest)
-    range_head = head_angles(range_take.rotation, rest)
-    for source in wanted:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            rest_value = np.nanmedian(measure(source, neutral_take.local[at_rest], columns, neutral_head[at_rest]))
-            low, high = np.nanpercentile(measure(source, range_take.local[usable], range_columns, range_head[usable]),
-                                         percentiles)
-        if not np.isfinite([rest_value, low, high]).all():
+    for i, source in enumerate(wanted):
+        if not np.isfinite([rest_value[i], low[i], high[i]]).all():
             continue
-        low, high = min(low, rest_value), max(high, rest_value)
-        if high - low < MIN_RANGE:
+        lo, hi = min(low[i], rest_value[i]), max(high[i], rest_value[i])
+        if hi - lo < MIN_RANGE:
             still.append(source.key)
-        ranges[source.key] = SourceRange(float(rest_value), float(low), float(high))
+        ranges[source.key] = SourceRange(float(rest_value[i]), float(lo), float(hi))
     moving = [k for k, r in ranges.items() if r.high - r.low >= MIN_RANGE and not k.startswith("head.")]
     if not moving:
         return Failure("no motion: every face marker stays within "
@@ -184,9 +185,18 @@ def load_profile(path: str | os.PathLike) -> Profile:
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {})
 
 
-def marker_keys(label: str) -> list[str]:
-    """The profile keys of one marker's three coordinates."""
-    return [f"{label}.{a}" for a in AXES]
+def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, int], head: np.ndarray) -> np.ndarray:
+    """Every source's values, ``(F, len(sources))``; marker axes in one gather."""
+    out = np.empty((len(local), len(sources)))
+    plain = [i for i, s in enumerate(sources) if s.kind == "marker"]
+    if plain:
+        rows = [columns[sources[i].markers[0]] for i in plain]
+        axes = [sources[i].axis for i in plain]
+        out[:, plain] = local[:, rows, axes]
+    for i, source in enumerate(sources):
+        if source.kind != "marker":
+            out[:, i] = measure(source, local, columns, head)
+    return out
 
 
 def _is_matrix(value: object) -> bool:
