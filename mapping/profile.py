@@ -79,7 +79,7 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
                   range_take: Stabilised, range_frames: np.ndarray, columns: dict[str, int],
                   range_columns: dict[str, int], markerset: str, extra: list[Source] = (),
                   percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "",
-                  notes: dict[str, str] | None = None) -> Profile | Failure:
+                  notes: dict[str, str] | None = None, min_side: float = 0.0) -> Profile | Failure:
     """Measure a profile.
 
     Parameters
@@ -98,6 +98,10 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         Derived sources (distances, differences, angles) to measure besides every marker axis.
     percentiles : tuple of float
         Low and high percentiles of the range frames taken as the range's ends.
+    min_side : float
+        Each side of a face source's range reaches at least this far from rest (mm, or degrees
+        for angles), so that a take that hardly moves a marker does not stretch its jitter over
+        the motor's whole range (for ranges taken from an ordinary take, not a calibration).
 
     Returns
     -------
@@ -131,6 +135,8 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         lo, hi = min(low[i], rest_value[i]), max(high[i], rest_value[i])
         if hi - lo < MIN_RANGE:
             still.append(source.key)
+        if source.kind != "head":
+            lo, hi = min(lo, rest_value[i] - min_side), max(hi, rest_value[i] + min_side)
         ranges[source.key] = SourceRange(float(rest_value[i]), float(lo), float(hi))
     moving = [k for k, r in ranges.items() if r.high - r.low >= MIN_RANGE and not k.startswith("head.")]
     if not moving:

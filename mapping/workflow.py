@@ -3,8 +3,10 @@
 With no mapping named, the built-in preset whose marker set matches the take's labels is used.
 With no profile, the marker set's built-in typical profile is used if it has one
 (``data/profiles/``), with the rest pose taken from the take; otherwise one is made from the take
-itself. Rest poses from the take come from ``neutral_window`` (seconds) or its stillest second;
-ranges from the take itself are its 1st to 99th percentiles. A profile that lacks a derived
+itself. Rest poses from the take come from ``neutral_window``: seconds, ``"first"`` (the first
+second with a head pose: takes conventionally start at rest; the default) or ``"stillest"``;
+ranges from the take itself are its 1st to 99th percentiles, at least :data:`SELF_MIN_SIDE` either
+side of rest. A profile that lacks a derived
 source the mapping reads gets it from the take the same way. The track's metadata says which.
 """
 
@@ -24,6 +26,10 @@ from mapping.mapper import map_stabilised
 from mapping.profile import Profile, build_profile, load_profile, stillest_window
 from mapping.stabilise import Stabilised
 from toon import MotorTrack
+
+
+#: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
+SELF_MIN_SIDE = 4.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,40 +84,61 @@ def prepare(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSet
     return Prepared(take, markerset, result[0], {label: take.index(name) for label, name in found.items()})
 
 
-def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: tuple[float, float] | None = None,
+NeutralSpec = tuple[float, float] | str | None
+
+
+def rest_window(prepared: Prepared, spec: NeutralSpec) -> tuple[tuple[float, float], str]:
+    """Where the take is at rest: ``spec`` seconds, or ``"first"`` (None too) / ``"stillest"``
+    second; returns the window and how it was found."""
+    times = prepared.take.times
+    if isinstance(spec, tuple):
+        return spec, "given"
+    if spec == "stillest":
+        return stillest_window(prepared.stable, times), "stillest second"
+    if spec not in (None, "first"):
+        raise InputError(f'neutral must be START:END, "first" or "stillest", got {spec!r}')
+    posed = np.flatnonzero(prepared.stable.ok)
+    start = float(times[posed[0]]) if len(posed) else float(times[0])
+    return (start, start + 1.0), "first second with the head seen"
+
+
+def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec = None,
               range_from: Prepared | None = None, range_window: tuple[float, float] | None = None,
-              percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "") -> Profile:
-    """A performer profile: neutral from ``neutral_window`` of ``neutral`` (or its stillest
-    second), range from ``range_window`` of ``range_from`` (default: the neutral take, all of it).
+              percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "", min_side: float = 0.0) -> Profile:
+    """A performer profile: neutral from ``neutral_window`` of ``neutral`` (see :func:`rest_window`),
+    range from ``range_window`` of ``range_from`` (default: the neutral take, all of it), each side
+    at least ``min_side`` from rest (see :func:`~mapping.profile.build_profile`).
 
     Raises
     ------
     InputError
         Saying why the calibration cannot be made.
     """
-    window = neutral_window or stillest_window(neutral.stable, neutral.take.times)
+    window, how = rest_window(neutral, neutral_window)
     source = range_from or neutral
     times = source.take.times
     frames = np.ones(len(times), bool) if range_window is None else (times >= range_window[0]) & (times < range_window[1])
     if not frames.any():
         raise InputError(f"cannot calibrate: no frames in the range window {range_window[0]:g}-{range_window[1]:g} s")
-    notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + (" (stillest second)" if neutral_window is None else ""),
+    notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + ("" if how == "given" else f" ({how})"),
              "range": f"percentiles {percentiles[0]:g}-{percentiles[1]:g}"
                       + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}
     profile = build_profile(neutral.stable, neutral.take.times, window, source.stable, frames, neutral.columns,
-                            source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes)
+                            source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes,
+                            min_side)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
     return profile
 
 
 def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
-             neutral_window: tuple[float, float] | None = None, target_neutral: np.ndarray | None = None,
+             neutral_window: NeutralSpec = None, target_neutral: np.ndarray | None = None,
              settings: CleanSettings = CleanSettings()) -> MotorTrack:
     """Clean, calibrate (unless ``profile`` is given) and map ``take``.
 
-    ``neutral_window`` (seconds) sets the rest pose from the take even with a profile (its range is
-    kept), for a take whose head rests differently from the profile's session.
+    ``neutral_window`` (see :func:`rest_window`) sets the rest pose from the take even with a profile
+    (its ranges are kept around the new rest), for a take whose head rests differently from the
+    profile's session; None keeps a given profile's rest.
     """
     chosen, markerset = choose_mapping(take, mapping)
     prepared = prepare(take, markerset, settings)
@@ -121,14 +148,14 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
         profile, rest_from_take = load_profile(builtin_profile(markerset.name)), True
         notes.append(f"ranges from the built-in typical profile for {markerset.name}")
     if profile is None:
-        profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0))
+        profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
     else:
         if profile.markerset != markerset.name:
             raise InputError(f"the profile is for marker set {profile.markerset}, the mapping for {markerset.name}")
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
-            own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0))
+            own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
             profile = _merge(profile, own, missing, rest_from_take)
             if missing:
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")

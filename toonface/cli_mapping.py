@@ -16,11 +16,12 @@ _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
                              "[default: the preset whose marker set matches the take].")
 _PROFILE = click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False),
                         help="A performer profile (from `toonface calibrate`) [default: calibrate on the take].")
-_NEUTRAL = click.option("--neutral", default=None, metavar="START:END",
-                        help="Seconds of the take where the performer holds a neutral face "
-                             "[default: the profile's, or the take's stillest second].")
+_NEUTRAL = click.option("--neutral", default=None, metavar="START:END|first|stillest",
+                        help="Where the take is at rest: seconds, its first second with the head seen, or its "
+                             "stillest second [default: a given profile's rest, else first].")
+_WORDS = ("first", "stillest")
 _CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click.Path(dir_okay=False),
-                          help="A calibration take of the same performer: its stillest second is the neutral and "
+                          help="A calibration take of the same performer: its first second is the neutral and "
                                "all of it the range (instead of --profile).")
 
 
@@ -62,7 +63,7 @@ def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float
 @_MAPPING
 @_NEUTRAL
 @click.option("--neutral-take", default=None, type=click.Path(dir_okay=False),
-              help="Take the neutral from this take (its --neutral window or stillest second) instead.")
+              help="Take the neutral from this take (its --neutral window, by default its first second) instead.")
 @click.option("--range", "range_window", default=None, metavar="START:END",
               help="Seconds of the take that hold the range of motion (a calibration segment) [default: all].")
 @click.option("--percentiles", default="0.5,99.5", show_default=True, metavar="LOW,HIGH",
@@ -85,7 +86,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     except (ValueError, AssertionError):
         raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
                                  param_hint="--percentiles") from None
-    windows = parse_window(neutral), parse_window(range_window, "--range")
+    windows = parse_window(neutral, words=_WORDS), parse_window(range_window, "--range")
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     loaded = read_take(take, take_rate, labels, units)
     chosen, markerset = choose_mapping(loaded, mapping)
@@ -130,7 +131,7 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
             neutral: str | None, face: str | None, mirror: bool, no_spikes: bool, max_gap: float, cutoff: float,
             take_rate: float | None, labels: str | None, units: str | None) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
-    options, window = (take_rate, labels, units), parse_window(neutral)
+    options, window = (take_rate, labels, units), parse_window(neutral, words=_WORDS)
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     profile = _profile(profile_path, calibration, mapping, options)
     track = map_take(read_take(take, *options), window, load_face(face) if face else None, mirror, mapping, profile,
@@ -157,7 +158,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
              take_rate: float | None, labels: str | None, units: str | None) -> None:
     """Clean, map and render a take on a face, in one go."""
-    options, window, dims = (take_rate, labels, units), parse_window(neutral), parse_size(size)
+    options, window, dims = (take_rate, labels, units), parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
     profile = _profile(profile_path, calibration, mapping, options)
     track = map_take(read_take(take, *options), window, face_obj, mirror, mapping, profile)

@@ -41,14 +41,16 @@ def parse_size(value: str) -> tuple[int, int]:
     return size
 
 
-def parse_window(value: str | None, option: str = "--neutral") -> tuple[float, float] | None:
-    """``START:END`` seconds (None stays None)."""
-    if value is None:
-        return None
+def parse_window(value: str | None, option: str = "--neutral", words: tuple[str, ...] = ()
+                 ) -> tuple[float, float] | str | None:
+    """``START:END`` seconds, or one of ``words`` (None stays None)."""
+    if value is None or value in words:
+        return value
     try:
         start, end = (float(x) for x in value.split(":"))
     except ValueError:
-        raise click.BadParameter(f"expected START:END in seconds, got {value!r}", param_hint=option) from None
+        also = "".join(f" or {w}" for w in words)
+        raise click.BadParameter(f"expected START:END in seconds{also}, got {value!r}", param_hint=option) from None
     if not end > start >= 0:
         raise click.BadParameter(f"expected 0 <= START < END, got {value!r}", param_hint=option)
     return start, end

@@ -24,14 +24,15 @@ def truth_track(synthetic: SyntheticTake) -> MotorTrack:
                                    meta={"source": "synthetic ground truth"})
 
 
-def map_take(take: Take, neutral_window: tuple[float, float] | None = (0.0, 1.0), face: Face | None = None,
+def map_take(take: Take, neutral_window: tuple[float, float] | str | None = (0.0, 1.0), face: Face | None = None,
              mirror: bool = False, mapping: Mapping | str | None = None, profile: Profile | None = None,
              settings: CleanSettings = CleanSettings()) -> MotorTrack:
     """Clean and map a take (see :func:`mapping.map_take`).
 
     With ``face``, the performer's neutral maps onto that face's rest pose; otherwise onto the
     standard neutral shared by the built-in faces. ``mirror`` swaps the sides whatever the
-    mapping says. ``neutral_window`` None finds the stillest second.
+    mapping says. ``neutral_window``: seconds, ``"first"``, ``"stillest"`` or None (a given
+    profile's rest, else the first second); see :func:`mapping.workflow.rest_window`.
     """
     chosen, _ = choose_mapping(take, mapping)
     if mirror:
