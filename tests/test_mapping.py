@@ -119,3 +119,20 @@ def test_real_facial_takes_drive_their_brows_and_jaw(realdata, name, kwargs, bro
         assert spread["MB"] > 0.3
     unmapped = [c for c in MOTOR_CODES if c not in track.meta["mapped"]]
     assert all(spread[c] == 0 for c in unmapped)
+
+
+def test_the_rest_window_is_the_first_second_with_the_head_seen_or_the_stillest():
+    from mapping.workflow import rest_window
+    syn = synthesize(seconds=6, noise_mm=0.0, performance=default_performance(6, max_turn_deg=0))
+    pos = syn.take.positions.copy()
+    pos[:45] = np.nan  # nothing seen for 1.5 s
+    _, markerset = choose_mapping(syn.take)
+    prepared = prepare(Take(pos, syn.take.labels, 30.0), markerset)
+    assert rest_window(prepared, None) == ((1.5, 2.5), "first second with the head seen")
+    assert rest_window(prepared, (3.0, 4.0)) == ((3.0, 4.0), "given")
+    (start, end), how = rest_window(prepared, "stillest")
+    motion = np.linalg.norm(np.diff(prepared.stable.local, axis=0), axis=2).mean(axis=1)  # NaN before 1.5 s
+    per_second = [motion[f:f + 30].mean() for f in range(45, len(motion) - 29)]
+    assert how == "stillest second" and round(start * 30) == 45 + int(np.argmin(per_second))
+    with pytest.raises(InputError, match='"first" or "stillest"'):
+        rest_window(prepared, "middle")
