@@ -11,7 +11,9 @@ the value ``horizon`` seconds ahead from the samples so far.
     Per motor, a sparse second-order model ``x'' = f(x, x')`` (a polynomial with few terms,
     found by pysindy's sequentially thresholded least squares on derivatives from pysindy's
     smoothed finite differences), integrated ahead from the same fitted line's value and slope.
-    It learns what a line cannot: motions slow down and faces return toward rest.
+    It learns what a line cannot: motions slow down and faces return toward rest. Outside the
+    states it was fitted on it is read at the nearest fitted state, and its acceleration is kept
+    within the fitted motion's (a polynomial extrapolated far runs away).
 
 :func:`forecast` runs any of them causally over a whole track, for measuring
 (``python -m bench predict``).
@@ -25,7 +27,6 @@ import numpy as np
 import pysindy as ps
 
 METHODS = ("hold", "velocity", "sindy")
-_BOUND = 100.0  # motor values and rates beyond this are a model running away
 
 
 class MotionModel:
@@ -44,13 +45,14 @@ class MotionModel:
     def __init__(self, degree: int = 2, threshold: float = 0.05, smoothing: int = 9) -> None:
         self.degree, self.threshold, self.smoothing = degree, threshold, smoothing
         self.models_: list[ps.SINDy] = []
+        self.bounds_: list[tuple[np.ndarray, np.ndarray, float]] = []  # per channel: state low, high, |x''| max
 
     def fit(self, values: np.ndarray, times: np.ndarray) -> MotionModel:
         """Fit one model per channel of ``values`` ``(F, C)`` sampled at ``times`` ``(F,)``."""
         dt = float(np.median(np.diff(times)))
         window = self.smoothing if self.smoothing % 2 else self.smoothing + 1
         diff = ps.SmoothedFiniteDifference(smoother_kws={"window_length": window, "polyorder": 3, "axis": 0})
-        self.models_ = []
+        self.models_, self.bounds_ = [], []
         for column in np.asarray(values, dtype=float).T:
             velocity = diff(column[:, None], dt)
             acceleration = diff(velocity, dt)
@@ -61,6 +63,7 @@ class MotionModel:
                 warnings.simplefilter("ignore")  # STLSQ warns when a threshold empties a row
                 model.fit(state, t=dt, x_dot=np.column_stack([velocity[:, 0], acceleration[:, 0]]))
             self.models_.append(model)
+            self.bounds_.append((state.min(axis=0), state.max(axis=0), float(np.abs(acceleration).max())))
         return self
 
     def advance(self, position: np.ndarray, velocity: np.ndarray, seconds: float, steps: int = 4) -> np.ndarray:
@@ -69,15 +72,24 @@ class MotionModel:
         out = np.empty_like(position)
         h = seconds / steps
         for c, model in enumerate(self.models_):
+            low, high, most = self.bounds_[c]
+
+            def rate(state: np.ndarray) -> np.ndarray:
+                # the model is only trusted on the states it was fitted on: outside them it is read
+                # at the nearest such state, and its acceleration never exceeds the fitted motion's
+                change = model.predict(np.clip(state, low, high))
+                change[:, 0] = state[:, 1]
+                change[:, 1] = np.clip(change[:, 1], -most, most)
+                return change
+
             state = np.column_stack([position[:, c], velocity[:, c]])
             with np.errstate(all="ignore"):
                 for _ in range(steps):
-                    k1 = model.predict(state)
-                    k2 = model.predict(np.clip(state + 0.5 * h * k1, -_BOUND, _BOUND))
-                    k3 = model.predict(np.clip(state + 0.5 * h * k2, -_BOUND, _BOUND))
-                    k4 = model.predict(np.clip(state + h * k3, -_BOUND, _BOUND))
-                    state = np.clip(state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4), -_BOUND, _BOUND)
-            # a model that runs away from where it started is not believed: hold instead
+                    k1 = rate(state)
+                    k2 = rate(state + 0.5 * h * k1)
+                    k3 = rate(state + 0.5 * h * k2)
+                    k4 = rate(state + h * k3)
+                    state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
             out[:, c] = np.where(np.isfinite(state[:, 0]), state[:, 0], position[:, c])
         return out
 
