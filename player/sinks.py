@@ -1,4 +1,4 @@
-"""Where rendered frames go: an H.264 MP4 (PyAV) or a folder of PNG frames.
+"""Where rendered frames go: an H.264 MP4 (PyAV), a folder of PNG frames, or raw RGB on a pipe.
 
 Both appear atomically: the MP4 is written to a temporary file and renamed on :meth:`close`; the
 PNG folder is filled under a temporary name and renamed. :meth:`abort` (or leaving the ``with``
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import sys
 from fractions import Fraction
 from pathlib import Path
 from typing import Protocol
@@ -131,12 +132,51 @@ class PngSink(_AtomicSink):
         self.frames += 1
 
 
-def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int]) -> Mp4Sink | PngSink:
-    """An MP4 sink for ``*.mp4``, otherwise a PNG folder sink."""
+class RawSink:
+    """Raw RGB frames (``width * height * 3`` bytes each, rows top to bottom) on a binary stream,
+    standard output by default: ``toonface render m.csv -o - | ffmpeg -f rawvideo -pix_fmt rgb24
+    -s 512x512 -r 30 -i - out.mkv``. A closed pipe ends the output quietly."""
+
+    def __init__(self, stream=None) -> None:
+        self._stream = stream if stream is not None else sys.stdout.buffer
+        self.frames = 0
+        self.broken = False
+
+    def write(self, frame: np.ndarray) -> None:
+        """Write one frame's bytes (nothing once the reader has gone)."""
+        if self.broken:
+            return
+        try:
+            self._stream.write(np.ascontiguousarray(frame, dtype=np.uint8).tobytes())
+        except BrokenPipeError:
+            self.broken = True
+            return
+        self.frames += 1
+
+    def close(self) -> None:
+        """Flush."""
+        with contextlib.suppress(BrokenPipeError, ValueError):
+            self._stream.flush()
+
+    def abort(self) -> None:
+        """Nothing to roll back on a stream."""
+        self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self.close()
+
+
+def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int]) -> Mp4Sink | PngSink | RawSink:
+    """An MP4 sink for ``*.mp4``, raw RGB on standard output for ``-``, otherwise a PNG folder."""
+    if str(target) == "-":
+        return RawSink()
     target = Path(target)
     if target.suffix.lower() == ".mp4":
         return Mp4Sink(target, fps, size)
     if target.suffix:
-        raise InputError(f"unknown output type {target.suffix!r}: give a .mp4 file or a folder for PNG frames",
-                         target)
+        raise InputError(f"unknown output type {target.suffix!r}: give a .mp4 file, a folder for PNG frames "
+                         "or - for raw RGB on standard output", target)
     return PngSink(target)

@@ -14,8 +14,8 @@ from capture import load_take, save_take, synthesize
 from toon import builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "faces",
-               "face"]
+SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
+               "faces", "face"]
 
 
 def test_every_console_script_entry_point_imports():

@@ -28,6 +28,7 @@ log = logging.getLogger("toonface")
 
 
 from toonface.cli_mapping import MAPPING_COMMANDS
+from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_options import FACE, SIZE, parse_size, progress, read_take, take_options
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
@@ -173,7 +174,8 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 
 @cli.command("render")
 @click.argument("motors", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(), help="A .mp4 file, or a folder for PNG frames.")
+@click.option("-o", "--output", required=True, type=click.Path(),
+              help="A .mp4 file, a folder for PNG frames, or - for raw RGB frames on standard output.")
 @FACE
 @SIZE
 @click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the track's].")
@@ -182,7 +184,7 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     dims = parse_size(size)
     track, face_obj = load_track(motors), load_face(face)
     frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
-    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})", err=output == "-")
 
 
 @cli.command()
@@ -227,7 +229,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
-for _command in MAPPING_COMMANDS:
+for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS):
     cli.add_command(_command)
 
 

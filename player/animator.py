@@ -1,0 +1,177 @@
+"""ToonFace's Animator scheduler (appendix A1.2.4): moves cut into loop-time slices.
+
+A command moves one or more motors to targets over a duration. Each motor's share is cut into
+``ceil(duration / loop_time)`` slices (at least one), each an equal step toward the target; every
+loop executes one slice per motor that has any, so motors move independently and in parallel.
+A new command for a motor that is still moving replaces its remaining slices, starting from
+where the motor is. Worked example (the seed's): from fully open, closing the left eye
+(``ELU`` to 0) in 500 ms at a 100 ms loop makes 5 slices of 20 % each; closing both eyes makes
+10 slices, two per loop.
+
+Commands may be scheduled for a later time (standard motions are timed sequences of moves); the
+loop starts them when its clock reaches their time. :class:`Loop` holds the loop time: it reads
+the injected clock, applies what arrived, executes one slice per motor, hands the values on and
+waits out the rest of the loop (``perf_counter`` and ``sleep`` live; a frame counter and no wait
+offline).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import threading
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from toon import MOTOR_CODES, N_MOTORS, motor_index
+
+#: ToonFace used 100 ms; ours defaults to 40 ms (25 frames per second).
+DEFAULT_LOOP_TIME = 0.040
+
+
+@dataclass(frozen=True)
+class Move:
+    """Move ``code`` to ``target`` (0..1) over ``seconds``."""
+
+    code: str
+    target: float
+    seconds: float
+
+
+class Animator:
+    """The motors' values and their pending slices (thread-safe).
+
+    Parameters
+    ----------
+    start : ndarray, shape (21,)
+        Values at the start (a face's neutral).
+    loop_time : float
+        Seconds per loop: the length of one slice.
+    """
+
+    def __init__(self, start: np.ndarray, loop_time: float = DEFAULT_LOOP_TIME) -> None:
+        if loop_time <= 0:
+            raise ValueError(f"loop_time must be > 0, got {loop_time}")
+        self.loop_time = loop_time
+        self._values = np.array(start, dtype=np.float64, copy=True)
+        self._steps: list[list[float]] = [[] for _ in range(N_MOTORS)]  # per motor, slices still to run
+        self._later: list[tuple[float, int, tuple[Move, ...]]] = []  # (time, order, moves) heap
+        self._order = 0
+        self._lock = threading.Lock()
+
+    def command(self, moves: Iterable[Move]) -> None:
+        """Start ``moves`` now: cut each into slices from the motor's current value."""
+        with self._lock:
+            self._start(tuple(moves))
+
+    def schedule(self, at: float, moves: Iterable[Move]) -> None:
+        """Start ``moves`` when the loop's clock reaches ``at`` seconds."""
+        with self._lock:
+            heapq.heappush(self._later, (at, self._order, tuple(moves)))
+            self._order += 1
+
+    def set_values(self, values: np.ndarray) -> None:
+        """Jump to ``values`` ``(21,)`` now, dropping every pending slice and scheduled move."""
+        with self._lock:
+            self._values[:] = np.clip(values, 0.0, 1.0)
+            self._steps = [[] for _ in range(N_MOTORS)]
+            self._later.clear()
+
+    def tick(self, now: float = math.inf) -> np.ndarray:
+        """One loop: start the moves due by ``now``, execute one slice per moving motor; returns
+        the values ``(21,)`` (a copy)."""
+        with self._lock:
+            while self._later and self._later[0][0] <= now:
+                self._start(heapq.heappop(self._later)[2])
+            for i, steps in enumerate(self._steps):
+                if steps:
+                    self._values[i] = steps.pop(0)
+            return self._values.copy()
+
+    def values(self) -> np.ndarray:
+        """The current values ``(21,)`` (a copy)."""
+        with self._lock:
+            return self._values.copy()
+
+    def pending(self, code: str | None = None) -> int:
+        """Slices still to run, for one motor or all."""
+        with self._lock:
+            if code is not None:
+                return len(self._steps[motor_index(code)])
+            return sum(len(s) for s in self._steps)
+
+    def busy(self) -> bool:
+        """Whether any slice or scheduled move remains."""
+        with self._lock:
+            return bool(self._later) or any(self._steps)
+
+    def _start(self, moves: tuple[Move, ...]) -> None:
+        for move in moves:
+            i = motor_index(move.code)
+            count = max(1, math.ceil(round(move.seconds / self.loop_time, 9)))
+            start = self._values[i]
+            target = min(max(move.target, 0.0), 1.0)
+            self._steps[i] = [start + (target - start) * (k + 1) / count for k in range(count)]
+
+
+class Loop:
+    """The Animator's main loop with a constant loop time.
+
+    Parameters
+    ----------
+    animator : Animator
+    clock : callable
+        Seconds; ``time.perf_counter`` live. Offline, a counter advanced by ``sleep``.
+    sleep : callable
+        Waits the given seconds; ``time.sleep`` live.
+    inbox : callable, optional
+        Called at the start of each loop (ToonFace's READ SOCKET INPUT); applies what arrived.
+    """
+
+    def __init__(self, animator: Animator, clock: Callable[[], float] = time.perf_counter,
+                 sleep: Callable[[float], None] = time.sleep, inbox: Callable[[], None] | None = None) -> None:
+        self.animator, self.clock, self.sleep, self.inbox = animator, clock, sleep, inbox
+        self.started = clock()
+        self.lateness: list[float] = []  # seconds each loop started after it was due (0 when on time)
+
+    def run(self, loops: int | None, frame: Callable[[np.ndarray, float], None],
+            stop: Callable[[], bool] = lambda: False) -> int:
+        """Run ``loops`` loops (None: until ``stop()``), handing each loop's values and time since
+        the start to ``frame``; returns the loops run."""
+        count = 0
+        due = self.clock()
+        while (loops is None or count < loops) and not stop():
+            start = self.clock()
+            self.lateness.append(max(0.0, start - due))
+            if self.inbox is not None:
+                self.inbox()
+            values = self.animator.tick(start - self.started)
+            frame(values, start - self.started)
+            count += 1
+            due = start + self.animator.loop_time  # ToonFace: PAUSE (LOOP-TIME - (READ-CLOCK - START-TIME))
+            rest = due - self.clock()
+            if rest > 0:
+                self.sleep(rest)
+        return count
+
+
+class FakeClock:
+    """A clock for offline runs and tests: ``sleep`` advances it, nothing waits."""
+
+    def __init__(self, start: float = 0.0) -> None:
+        self.now = start
+
+    def __call__(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        """Advance the clock by ``seconds``."""
+        self.now += max(0.0, seconds)
+
+
+def moves_to(values: np.ndarray, seconds: float, codes: Iterable[str] = MOTOR_CODES) -> tuple[Move, ...]:
+    """Moves taking ``codes`` to ``values`` ``(21,)`` over ``seconds``."""
+    return tuple(Move(code, float(values[motor_index(code)]), seconds) for code in codes)

@@ -1,0 +1,122 @@
+"""The Animator's command language: one line per command, one line of reply.
+
+::
+
+    ELU 0 500 ERU 0 500      move motors: code, target 0..1, milliseconds (repeat for several)
+    frame V1 ... V21 [MS]    set all 21 motors, in ToonFace order (over MS milliseconds)
+    play NAME [MS]           a standard motion or expression (smile, blink, nod, happiness, ...)
+    state                    the 21 current values
+    motions                  the names play accepts
+    help                     this list
+
+Every line gets exactly one reply, ``ok ...`` or ``error: ...``; a malformed line changes nothing
+(it is parsed whole before anything moves). Codes are case-insensitive.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from player.animator import Animator, Move, moves_to
+from player.motions import motion_names, standard_motion
+from toon import MOTOR_CODES, Expression
+
+MAX_MS = 600_000  # ten minutes
+HELP = "commands: CODE TARGET MS [...] | frame V1..V21 [MS] | play NAME [MS] | state | motions | help"
+
+
+class CommandError(ValueError):
+    """A line that cannot be carried out; its text is the reply after ``error: ``."""
+
+
+class Commands:
+    """Parses and carries out command lines on an :class:`Animator`.
+
+    Parameters
+    ----------
+    animator : Animator
+    neutral : ndarray, shape (21,)
+        The face's rest pose (for motions that come back to it).
+    expressions : dict
+        The repertoire ``play`` can use.
+    clock : callable
+        The loop's time (seconds since it started), so motions are scheduled on its timeline.
+    """
+
+    def __init__(self, animator: Animator, neutral: np.ndarray, expressions: dict[str, Expression],
+                 clock) -> None:
+        self.animator, self.neutral, self.expressions, self.clock = animator, neutral, expressions, clock
+
+    def handle(self, line: str) -> str:
+        """Carry out one line; returns its reply (never raises for bad input)."""
+        try:
+            return "ok" + (f" {text}" if (text := self._run(line.strip())) else "")
+        except CommandError as exc:
+            return f"error: {exc}"
+
+    def _run(self, line: str) -> str:
+        words = line.split()
+        if not words:
+            raise CommandError("empty line (try: help)")
+        head = words[0].lower()
+        if head == "help":
+            return HELP
+        if head == "state":
+            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values()))
+        if head == "motions":
+            return " ".join(motion_names(self.expressions))
+        if head == "frame":
+            return self._frame(words[1:])
+        if head == "play":
+            return self._play(words[1:])
+        return self._moves(words)
+
+    def _moves(self, words: list[str]) -> str:
+        if len(words) % 3:
+            raise CommandError(f"expected CODE TARGET MS triples, got {len(words)} words")
+        moves = []
+        for k in range(0, len(words), 3):
+            code = words[k].upper()
+            if code not in MOTOR_CODES:
+                raise CommandError(f"unknown motor {words[k]!r} (motors: {' '.join(MOTOR_CODES)})")
+            moves.append(Move(code, _number(words[k + 1], "target", 0.0, 1.0), _ms(words[k + 2])))
+        self.animator.command(moves)
+        return f"moving {len(moves)}"
+
+    def _frame(self, words: list[str]) -> str:
+        if len(words) not in (21, 22):
+            raise CommandError(f"frame needs 21 values (and optionally MS), got {len(words)}")
+        values = np.array([_number(w, f"value {i + 1}", 0.0, 1.0) for i, w in enumerate(words[:21])])
+        seconds = _ms(words[21]) if len(words) == 22 else 0.0
+        self.animator.command(moves_to(values, seconds))
+        return "frame"
+
+    def _play(self, words: list[str]) -> str:
+        if len(words) not in (1, 2):
+            raise CommandError("play needs NAME [MS]")
+        name = words[0].lower()
+        seconds = _ms(words[1]) if len(words) == 2 else None
+        try:
+            motion = standard_motion(name, seconds, self.animator.values(), self.neutral, self.expressions)
+        except KeyError:
+            raise CommandError(f"unknown motion {words[0]!r} (try: motions)") from None
+        now = self.clock()
+        for offset, moves in motion.steps:
+            self.animator.schedule(now + offset, moves)
+        return f"playing {name}"
+
+
+def _number(word: str, what: str, low: float, high: float) -> float:
+    try:
+        value = float(word)
+    except ValueError:
+        raise CommandError(f"{what}: expected a number, got {word!r}") from None
+    if not (math.isfinite(value) and low <= value <= high):
+        raise CommandError(f"{what}: must be {low:g}..{high:g}, got {word}")
+    return value
+
+
+def _ms(word: str) -> float:
+    return _number(word, "milliseconds", 0.0, MAX_MS) / 1000.0

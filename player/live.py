@@ -1,0 +1,122 @@
+"""The live Animator: the loop, the command sockets, the preview and the sinks together.
+
+Each loop (constant loop time, :class:`~player.animator.Loop`): the motors take one slice each
+(or, playing a track, the track's values at that time), the face is drawn, and the frame goes to
+every sink and to the preview. Commands arrive on the sockets at any time and are sliced at once
+under the Animator's lock; the next loop executes their first slices.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from player.animator import DEFAULT_LOOP_TIME, Animator, Loop
+from player.commands import Commands
+from player.gl import create_context
+from player.preview import FrameBoard, PreviewServer
+from player.renderer import Renderer
+from player.server import CommandServer, CommandUDPServer, local_port, start
+from player.sinks import FrameSink
+from toon import Face, FaceRig, MotorTrack, load_expressions
+
+
+@dataclass
+class LiveSettings:
+    """What ``toonface play`` runs (addresses are ``(host, port)``; port 0 picks a free one)."""
+
+    loop_time: float = DEFAULT_LOOP_TIME
+    size: tuple[int, int] = (512, 512)
+    samples: int = 4
+    tcp: tuple[str, int] | None = ("127.0.0.1", 7707)
+    udp: tuple[str, int] | None = None
+    preview: tuple[str, int] | None = None
+    track: MotorTrack | None = None
+    repeat: bool = True
+    seconds: float | None = None
+    sinks: list[FrameSink] = field(default_factory=list)
+
+
+@dataclass
+class LiveReport:
+    """What a live run did: loops run and each loop's lateness (seconds)."""
+
+    loops: int
+    lateness: list[float]
+
+    def lateness_p95_ms(self) -> float:
+        """95th percentile of the loops' lateness, milliseconds."""
+        return float(np.percentile(self.lateness, 95) * 1000) if self.lateness else 0.0
+
+
+def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, str]], None] = lambda _: None,
+             stop: Callable[[], bool] = lambda: False, clock: Callable[[], float] = time.perf_counter,
+             sleep: Callable[[float], None] = time.sleep) -> LiveReport:
+    """Run the live player until ``settings.seconds`` pass, ``stop()`` is true, or Ctrl-C.
+
+    ``on_ready`` gets the bound addresses (``{"tcp": "127.0.0.1:7707", ...}``) once everything
+    listens. Sinks are closed (their output kept) however the run ends.
+    """
+    rig = FaceRig(face)
+    neutral = face.neutral()
+    animator = Animator(neutral, settings.loop_time)
+    loop = Loop(animator, clock, sleep)
+    commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started)
+    board = FrameBoard() if settings.preview else None
+    servers, ready = [], {}
+    ctx = create_context()
+    try:
+        if settings.tcp:
+            servers.append(CommandServer(settings.tcp, commands.handle))
+            ready["tcp"] = f"{settings.tcp[0]}:{local_port(servers[-1])}"
+        if settings.udp:
+            servers.append(CommandUDPServer(settings.udp, commands.handle))
+            ready["udp"] = f"{settings.udp[0]}:{local_port(servers[-1])}"
+        if board is not None:
+            servers.append(PreviewServer(settings.preview, board))
+            ready["preview"] = f"http://{settings.preview[0]}:{local_port(servers[-1])}/"
+        for server in servers:
+            start(server)
+        with Renderer(ctx, settings.size, settings.samples) as renderer:
+            track_values = _track_player(settings.track, settings.repeat)
+
+            def frame(values: np.ndarray, t: float) -> None:
+                if track_values is not None:
+                    values = track_values(t)
+                    animator.set_values(values)
+                picture = renderer.render(rig.geometry(values))
+                for sink in settings.sinks:
+                    sink.write(picture)
+                if board is not None:
+                    board.post(picture)
+
+            loops = None if settings.seconds is None else max(1, int(round(settings.seconds / settings.loop_time)))
+            if settings.track is not None and not settings.repeat:
+                loops = max(1, int(round(settings.track.duration / settings.loop_time)))
+            on_ready(ready)
+            try:
+                count = loop.run(loops, frame, stop)
+            except KeyboardInterrupt:
+                count = len(loop.lateness)
+        return LiveReport(count, loop.lateness)
+    finally:
+        for server in servers:
+            server.stop() if isinstance(server, PreviewServer) else (server.shutdown(), server.server_close())
+        for sink in settings.sinks:
+            sink.close()
+        ctx.release()
+
+
+def _track_player(track: MotorTrack | None, repeat: bool) -> Callable[[float], np.ndarray] | None:
+    """The track's values at a time (looping if ``repeat``), by linear interpolation."""
+    if track is None:
+        return None
+    times, values = track.times, track.values
+
+    def at(t: float) -> np.ndarray:
+        when = t % max(track.duration, 1e-9) if repeat else min(t, times[-1])
+        return np.array([np.interp(when, times, values[:, c]) for c in range(values.shape[1])])
+    return at

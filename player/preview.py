@@ -1,0 +1,129 @@
+"""A live preview a browser shows: the newest frame as an MJPEG stream on a local HTTP port.
+
+``http://127.0.0.1:PORT/`` is a page with the stream, ``/stream`` the ``multipart/x-mixed-replace``
+stream itself, ``/frame.jpg`` the newest frame alone. Frames are JPEG-encoded only while someone
+is watching. Binds 127.0.0.1 unless told otherwise; at most ``max_viewers`` streams at once.
+"""
+
+from __future__ import annotations
+
+import threading
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+
+import cv2
+import numpy as np
+
+_PAGE = (b"<!doctype html><title>toonface</title><body style='margin:0;background:#222'>"
+         b"<img src='/stream' style='display:block;margin:auto;max-height:100vh'></body>")
+_BOUNDARY = "toonfaceframe"
+
+
+class FrameBoard:
+    """The newest frame, JPEG-encoded on demand, with a condition to wait for the next one."""
+
+    def __init__(self, quality: int = 85) -> None:
+        self.quality = quality
+        self._jpeg: bytes | None = None
+        self._number = 0
+        self._viewers = 0
+        self._cond = threading.Condition()
+
+    def post(self, frame: np.ndarray) -> None:
+        """Offer a new RGB frame ``(h, w, 3)``; encoded only if a viewer is connected."""
+        with self._cond:
+            if self._viewers == 0 and self._jpeg is not None:
+                return
+        ok, data = cv2.imencode(".jpg", np.ascontiguousarray(frame[:, :, ::-1]),
+                                [cv2.IMWRITE_JPEG_QUALITY, self.quality])
+        if ok:
+            with self._cond:
+                self._jpeg, self._number = data.tobytes(), self._number + 1
+                self._cond.notify_all()
+
+    def newest(self) -> tuple[int, bytes | None]:
+        """The newest frame's number and JPEG bytes."""
+        with self._cond:
+            return self._number, self._jpeg
+
+    def wait_after(self, number: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
+        """Wait (up to ``timeout`` s) for a frame newer than ``number``."""
+        with self._cond:
+            self._cond.wait_for(lambda: self._number > number, timeout)
+            return self._number, self._jpeg
+
+    def watch(self, delta: int) -> None:
+        with self._cond:
+            self._viewers += delta
+
+
+class _Handler(BaseHTTPRequestHandler):
+    server: PreviewServer
+
+    def log_message(self, format: str, *args) -> None:  # noqa: A002 - the base class's name
+        pass  # no request log on the player's console
+
+    def do_GET(self) -> None:  # noqa: N802 - the base class's name
+        if self.path in ("/", "/index.html"):
+            self._send(HTTPStatus.OK, "text/html", _PAGE)
+        elif self.path == "/frame.jpg":
+            _, jpeg = self.server.board.newest()
+            if jpeg is None:
+                self._send(HTTPStatus.SERVICE_UNAVAILABLE, "text/plain", b"no frame yet\n")
+            else:
+                self._send(HTTPStatus.OK, "image/jpeg", jpeg)
+        elif self.path == "/stream":
+            self._stream()
+        else:
+            self._send(HTTPStatus.NOT_FOUND, "text/plain", b"not found\n")
+
+    def _send(self, status: HTTPStatus, kind: str, body: bytes) -> None:
+        self.send_response(status)
+        self.send_header("Content-Type", kind)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        self.wfile.write(body)
+
+    def _stream(self) -> None:
+        if not self.server.slots.acquire(blocking=False):
+            self._send(HTTPStatus.SERVICE_UNAVAILABLE, "text/plain", b"too many viewers\n")
+            return
+        board = self.server.board
+        board.watch(+1)
+        try:
+            self.send_response(HTTPStatus.OK)
+            self.send_header("Content-Type", f"multipart/x-mixed-replace; boundary={_BOUNDARY}")
+            self.send_header("Cache-Control", "no-store")
+            self.end_headers()
+            number = -1
+            while not self.server.closing.is_set():
+                number, jpeg = board.wait_after(number)
+                if jpeg is None:
+                    continue
+                self.wfile.write(f"--{_BOUNDARY}\r\nContent-Type: image/jpeg\r\nContent-Length: {len(jpeg)}"
+                                 f"\r\n\r\n".encode() + jpeg + b"\r\n")
+        except (ConnectionError, OSError):
+            pass
+        finally:
+            board.watch(-1)
+            self.server.slots.release()
+
+
+class PreviewServer(ThreadingHTTPServer):
+    """The MJPEG preview; serve with :func:`player.server.start`, stop with :meth:`stop`."""
+
+    daemon_threads = True
+    allow_reuse_address = True
+
+    def __init__(self, address: tuple[str, int], board: FrameBoard, max_viewers: int = 4) -> None:
+        self.board = board
+        self.slots = threading.BoundedSemaphore(max_viewers)
+        self.closing = threading.Event()
+        super().__init__(address, _Handler)
+
+    def stop(self) -> None:
+        """End the streams and the server."""
+        self.closing.set()
+        self.shutdown()
+        self.server_close()
