@@ -14,7 +14,7 @@ from capture import load_take, save_take, synthesize
 from toon import builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
+SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play", "anim",
                "faces", "face"]
 
 
@@ -187,3 +187,21 @@ def test_bad_mapping_and_profile_files_exit_2_naming_the_field(tmp_path, capsys)
     assert main(["map", str(take), "-o", str(tmp_path / "a.csv"), "--profile", str(tmp_path / "p.toml")]) == 2
     assert "p.toml: rest_rotation: missing" in capsys.readouterr().err
     assert not (tmp_path / "a.csv").exists()
+
+
+def test_anim_edits_files_and_renders_a_knot_point_animation(tmp_path, capsys):
+    a, clip, b, c, track = (str(tmp_path / n) for n in ("a.toml", "clip.toml", "b.toml", "c.toml", "m.csv"))
+    (tmp_path / "a.toml").write_text('format = "toonface.animation/1"\nduration = 2.0\n[knots]\n'
+                                     'BRL = [[0, 0.4], [1, 1.0], [2, 0.4]]\nMB = [[0, 0.1], [2, 0.6]]\n')
+    assert main(["anim", "copy", a, "-o", clip, "--motors", "BRL", "--from", "0", "--to", "2"]) == 0
+    assert main(["anim", "paste", a, clip, "-o", b, "--at", "0", "--onto", "BRL=BLL"]) == 0
+    assert main(["anim", "scale", b, "-o", c, "--time", "2", "--motors", "MB"]) == 0
+    assert main(["anim", "concat", c, a, "-o", c, "--fade", "0.5"]) == 0
+    assert main(["anim", "sample", c, "-o", track, "--rate", "10"]) == 0
+    sampled = load_track(track)
+    assert sampled.duration == pytest.approx(5.5)  # 4 s (MB stretched) + 2 s - 0.5 s of fade
+    np.testing.assert_allclose(sampled.column("BLL")[:21:5], [0.4, 0.7, 1.0, 0.7, 0.4])  # the copied brow
+    assert main(["render", a, "-o", str(tmp_path / "frames"), "--size", "32", "--fps", "5"]) == 0
+    assert len(list((tmp_path / "frames").glob("*.png"))) == 10
+    assert main(["anim", "paste", a, clip, "-o", b, "--at", "0", "--onto", "BRL=XX"]) == 2
+    assert "unknown motors XX" in capsys.readouterr().err

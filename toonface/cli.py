@@ -22,6 +22,7 @@ from capture.track import load_aruco_names, track_video
 from common import ToonfaceError
 from player.sheet import expression_sheet, save_png
 from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
+from toon.animation import load_animation
 from toonface.pipeline import render, run_demo, truth_track
 
 log = logging.getLogger("toonface")
@@ -180,9 +181,13 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 @SIZE
 @click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the track's].")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
-    """Draw a motor track (.csv movie script or .npz) on a face."""
+    """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face."""
     dims = parse_size(size)
-    track, face_obj = load_track(motors), load_face(face)
+    face_obj = load_face(face)
+    if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
+        track = load_animation(motors).sample(fps or 30.0, face_obj.neutral())
+    else:
+        track = load_track(motors)
     frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})", err=output == "-")
 

@@ -1,4 +1,4 @@
-"""The player subcommands: play (the live Animator)."""
+"""The player subcommands: play (the live Animator) and anim (knot-point animations)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ from player.animator import DEFAULT_LOOP_TIME
 from player.live import LiveSettings, run_live
 from player.server import parse_address
 from player.sinks import open_sink
-from toon import load_face, load_track
+from toon import MOTOR_CODES, load_face, load_track, save_track
+from toon import animation as an
 from toonface.cli_options import FACE, SIZE, parse_size
 
 
@@ -75,4 +76,144 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
         f"{report.lateness_p95_ms():.1f} ms of their time")
 
 
-PLAYER_COMMANDS = (play,)
+def _codes(value: str | None) -> tuple[str, ...] | None:
+    if not value:
+        return None
+    codes = tuple(c.strip().upper() for c in value.split(",") if c.strip())
+    unknown = [c for c in codes if c not in MOTOR_CODES]
+    if unknown:
+        raise click.BadParameter(f"unknown motors {', '.join(unknown)}", param_hint="--motors")
+    return codes
+
+
+def _slice_options(fn):
+    fn = click.option("--to", "end", type=float, default=None, help="Slice end, seconds [default: the end].")(fn)
+    fn = click.option("--from", "start", type=float, default=0.0, show_default=True, help="Slice start, seconds.")(fn)
+    return click.option("--motors", default=None, metavar="CODE,...", help="Motors to edit [default: all].")(fn)
+
+
+def _span(anim: an.Animation, start: float, end: float | None) -> tuple[float, float]:
+    end = anim.duration if end is None else end
+    if not 0 <= start < end:
+        raise click.BadParameter(f"expected 0 <= --from < --to, got {start:g}, {end:g}", param_hint="--from/--to")
+    return start, end
+
+
+@click.group()
+def anim() -> None:
+    """Knot-point animations (CharToon's Animation Editor) on files.
+
+    An animation (TOML, toonface.animation/1) holds knots [time, value] per motor, joined by
+    straight lines. Edit a slice of chosen motors, then sample it into a motor track or render
+    it: `toonface render walk.toml -o walk.mp4`.
+    """
+
+
+@anim.command("sample")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Motor track (.csv or .npz).")
+@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(1, 1000), help="Frames per second.")
+def anim_sample(animation: str, output: str, rate: float) -> None:
+    """Sample an animation into a motor track (a movie script)."""
+    track = an.load_animation(animation).sample(rate)
+    click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {rate:g} Hz)")
+
+
+@anim.command("cut")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option("--clip", "clip_path", default=None, type=click.Path(dir_okay=False), help="Also save what was cut.")
+@_slice_options
+def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | None, start: float,
+             end: float | None) -> None:
+    """Cut a slice out of chosen motors; what follows moves earlier."""
+    source = an.load_animation(animation)
+    codes = _codes(motors) or tuple(source.knots)
+    edited, clip = an.cut(source, codes, *_span(source, start, end))
+    an.save_animation(edited, output)
+    if clip_path:
+        an.save_animation(clip, clip_path)
+    click.echo(f"wrote {output}" + (f" and {clip_path}" if clip_path else ""))
+
+
+@anim.command("copy")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="The clip.")
+@_slice_options
+def anim_copy(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
+    """Copy a slice of chosen motors into a clip (itself an animation starting at 0)."""
+    source = an.load_animation(animation)
+    an.save_animation(an.copy(source, _codes(motors) or tuple(source.knots), *_span(source, start, end)), output)
+    click.echo(f"wrote {output}")
+
+
+@anim.command("paste")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.argument("clip", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option("--at", type=click.FloatRange(min=0), required=True, help="Where the clip starts, seconds.")
+@click.option("--onto", default=None, metavar="FROM=TO,...",
+              help="Put clip motors onto other motors, e.g. BRL=BLL,BRC=BLC,BRM=BLM [default: the same].")
+def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | None) -> None:
+    """Paste a clip at a time, replacing what was there for its length."""
+    pairs = None
+    if onto:
+        try:
+            pairs = dict(p.split("=") for p in onto.upper().split(","))
+        except ValueError:
+            raise click.BadParameter(f"expected FROM=TO pairs, got {onto!r}", param_hint="--onto") from None
+        _codes(",".join([*pairs, *pairs.values()]))
+    an.save_animation(an.paste(an.load_animation(animation), an.load_animation(clip), at, pairs), output)
+    click.echo(f"wrote {output}")
+
+
+@anim.command("scale")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option("--time", "time_factor", default=1.0, type=click.FloatRange(min=0, min_open=True),
+              help="Stretch the slice in time by this factor.")
+@click.option("--value", "value_factor", default=1.0, type=float, help="Scale values about neutral by this factor.")
+@_slice_options
+def anim_scale(animation: str, output: str, time_factor: float, value_factor: float, motors: str | None,
+               start: float, end: float | None) -> None:
+    """Scale a slice of chosen motors in time and/or in value."""
+    out = an.load_animation(animation)
+    span = _span(out, start, end)
+    codes = _codes(motors)
+    if value_factor != 1.0:
+        out = an.scale_value(out, codes, *span, value_factor)
+    if time_factor != 1.0:
+        out = an.scale_time(out, codes, *span, time_factor)
+    an.save_animation(out, output)
+    click.echo(f"wrote {output} ({out.duration:g} s)")
+
+
+@anim.command("flip")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@_slice_options
+def anim_flip(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
+    """Play a slice of chosen motors backwards."""
+    source = an.load_animation(animation)
+    an.save_animation(an.flip(source, _codes(motors), *_span(source, start, end)), output)
+    click.echo(f"wrote {output}")
+
+
+@anim.command("concat")
+@click.argument("animations", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option("--fade", default=0.0, show_default=True, type=click.FloatRange(min=0),
+              help="Cross-fade seconds between one and the next.")
+def anim_concat(animations: tuple[str, ...], output: str, fade: float) -> None:
+    """Join animations one after another, optionally cross-fading."""
+    out = an.load_animation(animations[0])
+    for path in animations[1:]:
+        try:
+            out = an.concatenate(out, an.load_animation(path), fade)
+        except ValueError as exc:
+            raise click.BadParameter(str(exc), param_hint="--fade") from None
+    an.save_animation(out, output)
+    click.echo(f"wrote {output} ({out.duration:g} s)")
+
+
+PLAYER_COMMANDS = (play, anim)

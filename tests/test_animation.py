@@ -1,0 +1,73 @@
+"""Knot-point animations: sampling and every editing operation against hand-made knot lists."""
+
+import numpy as np
+import pytest
+
+from common import InputError
+from toon import motor_index
+from toon.animation import (Animation, concatenate, copy, cut, flip, load_animation, paste, save_animation,
+                            scale_time, scale_value)
+
+A = Animation({"ELU": ((0.0, 0.8), (1.0, 0.0), (2.0, 0.8)), "MB": ((0.0, 0.1), (4.0, 0.5))}, 4.0)
+
+
+def test_sampling_interpolates_linearly_holds_the_ends_and_rests_unset_motors():
+    track = A.sample(4.0)
+    assert track.frames == 16 and track.rate == 4.0
+    np.testing.assert_allclose(track.column("ELU")[:9], [0.8, 0.6, 0.4, 0.2, 0.0, 0.2, 0.4, 0.6, 0.8])
+    np.testing.assert_allclose(track.column("ELU")[9:], 0.8)
+    np.testing.assert_allclose(track.column("MB")[[0, 8, 15]], [0.1, 0.3, 0.475])
+    assert (track.column("BRL") == 0.4).all()  # the standard neutral
+
+
+def test_copy_and_cut_take_the_slice_with_its_edge_values():
+    clip = copy(A, ("ELU",), 0.5, 1.5)
+    assert clip.knots["ELU"] == ((0.0, 0.4), (0.5, 0.0), (1.0, 0.4)) and clip.duration == 1.0
+    edited, cut_clip = cut(A, ("ELU",), 0.5, 1.5)
+    assert cut_clip.knots == clip.knots
+    assert edited.knots["ELU"] == ((0.0, 0.8), (1.0, 0.8))  # 2.0 moved to 1.0
+    assert edited.knots["MB"] == A.knots["MB"]  # other motors untouched
+
+
+def test_paste_replaces_the_region_and_goes_onto_other_motors():
+    clip = copy(A, ("ELU",), 0.0, 2.0)
+    out = paste(A, clip, 2.0, onto={"ELU": "ERU"})
+    assert out.knots["ERU"] == ((2.0, 0.8), (3.0, 0.0), (4.0, 0.8))
+    again = paste(A, Animation({"MB": ((0.0, 1.0), (1.0, 1.0))}, 1.0), 1.0)
+    assert again.knots["MB"] == ((0.0, 0.1), (1.0, 1.0), (2.0, 1.0), (4.0, 0.5))
+
+
+def test_time_and_value_scaling_and_flip():
+    slow = scale_time(A, ("ELU",), 0.0, 1.0, 2.0)
+    assert slow.knots["ELU"] == ((0.0, 0.8), (2.0, 0.0), (3.0, 0.8)) and slow.duration == 5.0
+    half = scale_value(A, ("ELU",), 0.0, 2.0, 0.5)  # about ELU's neutral 0.8
+    np.testing.assert_allclose(half.knots["ELU"], [(0.0, 0.8), (1.0, 0.4), (2.0, 0.8)])
+    big = scale_value(A, ("MB",), 0.0, 4.0, 3.0)  # about MB's neutral 0.1, clipped at 1
+    np.testing.assert_allclose(big.knots["MB"], [(0.0, 0.1), (4.0, 1.0)])
+    backwards = flip(A, ("MB",), 0.0, 4.0)
+    assert backwards.knots["MB"] == ((0.0, 0.5), (4.0, 0.1))
+
+
+def test_concatenate_with_and_without_a_cross_fade():
+    b = Animation({"ELU": ((0.0, 0.2), (2.0, 0.2))}, 2.0)
+    joined = concatenate(A, b)
+    assert joined.duration == 6.0 and joined.knots["ELU"][-2:] == ((4.0, 0.2), (6.0, 0.2))
+    faded = concatenate(A, b, fade=1.0)
+    assert faded.duration == 5.0
+    # over 3..4 s ELU blends from A's 0.8 into b's 0.2
+    np.testing.assert_allclose(faded.value("ELU", np.array([3.0, 3.5, 4.0, 5.0])), [0.8, 0.5, 0.2, 0.2])
+    with pytest.raises(ValueError, match="fade must be"):
+        concatenate(A, b, fade=3.0)
+
+
+def test_files_round_trip_and_bad_files_name_the_field(tmp_path):
+    path = save_animation(A, tmp_path / "a.toml")
+    assert load_animation(path) == A
+    bad = tmp_path / "bad.toml"
+    bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nELU = [[0, 0.5], [0, 0.6]]\n')
+    with pytest.raises(InputError, match="bad.toml: knots.ELU: knot times must increase"):
+        load_animation(bad)
+    bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nXX = [[0, 0.5]]\n')
+    with pytest.raises(InputError, match="knots.XX: unknown motor"):
+        load_animation(bad)
+    assert motor_index("ELU") == 8

@@ -1,0 +1,204 @@
+"""Knot-point animations, as CharToon's Animation Editor makes them.
+
+Each motor's motion is a list of knots ``(time, value)`` with linear interpolation between them
+(before the first knot the motor holds its first value, after the last its last; a motor without
+knots rests at the neutral). An animation is sampled into a motor track at any rate. Editing
+works on a time slice ``[start, end)`` of chosen motors: cut, copy, paste (also onto other
+motors, such as one brow's motion onto the other), time scaling, value scaling and flipping;
+whole animations concatenate, with or without a cross-fade.
+
+Files: TOML, ``format = "toonface.animation/1"``, ``duration`` in seconds and a ``[knots]`` table
+of ``CODE = [[time, value], ...]``.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+from common import InputError, atomic_path, read_document
+from toon.motors import MOTOR_CODES, MOTOR_INDEX, standard_neutral
+from toon.track import MotorTrack
+
+FORMAT = "toonface.animation/1"
+Knots = tuple[tuple[float, float], ...]
+
+
+@dataclass(frozen=True)
+class Animation:
+    """Knots per motor and a length.
+
+    Attributes
+    ----------
+    knots : dict of str to tuple of (time, value)
+        Per motor code, sorted by time; values in [0, 1].
+    duration : float
+        Seconds.
+    """
+
+    knots: dict[str, Knots] = field(default_factory=dict)
+    duration: float = 0.0
+
+    def value(self, code: str, t: np.ndarray | float, neutral: np.ndarray | None = None) -> np.ndarray:
+        """Motor ``code`` at times ``t`` (linear between knots)."""
+        knots = self.knots.get(code)
+        if not knots:
+            rest = standard_neutral() if neutral is None else neutral
+            return np.full(np.shape(t), rest[MOTOR_INDEX[code]], dtype=float)
+        times, values = zip(*knots)
+        return np.interp(t, times, values)
+
+    def sample(self, rate: float, neutral: np.ndarray | None = None) -> MotorTrack:
+        """The animation as a motor track at ``rate`` frames per second (the movie script)."""
+        frames = max(1, int(round(self.duration * rate)))  # a track of this duration (frames / rate)
+        t = np.arange(frames) / rate
+        values = np.column_stack([self.value(code, t, neutral) for code in MOTOR_CODES])
+        return MotorTrack(values, rate, meta={"source": "animation"})
+
+
+def _edit(anim: Animation, codes: tuple[str, ...] | None, change, duration: float | None = None) -> Animation:
+    knots = dict(anim.knots)
+    for code in codes or tuple(knots):
+        new = change(list(knots.get(code, ())))
+        if new:
+            knots[code] = tuple(sorted(new))
+        else:
+            knots.pop(code, None)
+    return Animation(knots, anim.duration if duration is None else duration)
+
+
+def _slice(knots: list, start: float, end: float, value_at) -> list:
+    """The knots inside ``[start, end]`` with knots added at both ends (the values there)."""
+    inside = [(t, v) for t, v in knots if start < t < end]
+    return [(start, value_at(start)), *inside, (end, value_at(end))]
+
+
+def copy(anim: Animation, codes: tuple[str, ...], start: float, end: float) -> Animation:
+    """The slice ``[start, end]`` of ``codes`` as a clip starting at time 0."""
+    clip = {c: tuple((t - start, v) for t, v in _slice(list(anim.knots.get(c, ())), start, end,
+                                                      lambda x, c=c: float(anim.value(c, x))))
+            for c in codes}
+    return Animation(clip, end - start)
+
+
+def cut(anim: Animation, codes: tuple[str, ...], start: float, end: float) -> tuple[Animation, Animation]:
+    """Remove the slice from ``codes`` (later knots move earlier by its length); returns the
+    edited animation and the clip (as :func:`copy`)."""
+    clip, span = copy(anim, codes, start, end), end - start
+
+    def change(knots: list) -> list:
+        before = [(t, v) for t, v in knots if t < start]
+        after = [(t - span, v) for t, v in knots if t > end]
+        return before + after
+    return _edit(anim, codes, change), clip
+
+
+def paste(anim: Animation, clip: Animation, at: float, onto: dict[str, str] | None = None) -> Animation:
+    """Put ``clip`` at time ``at``, replacing what was there for its length; ``onto`` maps clip
+    motors to the motors that receive them (default: the same ones)."""
+    onto = onto or {c: c for c in clip.knots}
+    knots = dict(anim.knots)
+    for source, target in onto.items():
+        keep = [(t, v) for t, v in knots.get(target, ()) if t < at or t > at + clip.duration]
+        knots[target] = tuple(sorted(keep + [(at + t, v) for t, v in clip.knots.get(source, ())]))
+    return Animation(knots, max(anim.duration, at + clip.duration))
+
+
+def scale_time(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float, factor: float) -> Animation:
+    """Stretch the slice by ``factor`` (knots after it move accordingly)."""
+    if factor <= 0:
+        raise ValueError(f"time factor must be > 0, got {factor}")
+    shift = (end - start) * (factor - 1)
+
+    def change(knots: list) -> list:
+        return [(t if t <= start else start + (t - start) * factor if t <= end else t + shift, v) for t, v in knots]
+    return _edit(anim, codes, change, anim.duration + shift)
+
+
+def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float, factor: float,
+                neutral: np.ndarray | None = None) -> Animation:
+    """Scale values in the slice about each motor's neutral by ``factor`` (clipped to [0, 1])."""
+    rest = standard_neutral() if neutral is None else neutral
+
+    def change_for(code: str):
+        pivot = rest[MOTOR_INDEX[code]]
+        return lambda knots: [(t, float(np.clip(pivot + (v - pivot) * factor, 0, 1)) if start <= t <= end else v)
+                              for t, v in knots]
+    out = anim
+    for code in codes or tuple(anim.knots):
+        out = _edit(out, (code,), change_for(code))
+    return out
+
+
+def flip(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float) -> Animation:
+    """Reverse the slice in time (the motion played backwards within it)."""
+    def change(knots: list) -> list:
+        return [(start + end - t if start <= t <= end else t, v) for t, v in knots]
+    return _edit(anim, codes, change)
+
+
+def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Animation:
+    """``second`` after ``first``; with ``fade`` seconds, they overlap that long and the motion
+    blends linearly from the first into the second."""
+    if fade < 0 or fade > min(first.duration, second.duration):
+        raise ValueError(f"fade must be 0..{min(first.duration, second.duration):g} s, got {fade}")
+    offset = first.duration - fade
+    codes = sorted(set(first.knots) | set(second.knots), key=MOTOR_INDEX.get)
+    knots = {}
+    for code in codes:
+        a = [(t, v) for t, v in first.knots.get(code, ()) if t < offset]
+        b = [(offset + t, v) for t, v in second.knots.get(code, ()) if t > fade]
+        blend = []
+        if fade > 0:
+            times = sorted({offset, first.duration} | {t for t, _ in first.knots.get(code, ()) if t >= offset}
+                           | {offset + t for t, _ in second.knots.get(code, ()) if t <= fade})
+            for t in times:
+                w = (t - offset) / fade
+                blend.append((t, float((1 - w) * first.value(code, t) + w * second.value(code, t - offset))))
+        else:
+            b = [(offset + t, v) for t, v in second.knots.get(code, ())]
+        knots[code] = tuple(sorted(dict(a + blend + b).items()))
+    return Animation(knots, offset + second.duration)
+
+
+def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
+    """Write TOML (atomically)."""
+    doc = {"format": FORMAT, "duration": anim.duration,
+           "knots": {c: [[float(t), float(v)] for t, v in anim.knots[c]] for c in MOTOR_CODES if c in anim.knots}}
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(tomli_w.dumps(doc).encode())
+    return Path(path)
+
+
+def load_animation(path: str | os.PathLike) -> Animation:
+    """Read an animation file; errors name the file and field."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("no such animation file", path)
+    doc = read_document(path)
+    if doc.get("format") != FORMAT:
+        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
+    duration = doc.get("duration")
+    if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not 0 <= duration <= 86400:
+        raise InputError(f"expected seconds (0..86400), got {duration!r}", path, "duration")
+    table = doc.get("knots", {})
+    if not isinstance(table, dict):
+        raise InputError("expected a table CODE = [[time, value], ...]", path, "knots")
+    knots = {}
+    for code, points in table.items():
+        where = f"knots.{code}"
+        if code not in MOTOR_INDEX:
+            raise InputError(f"unknown motor {code!r}", path, where)
+        if not (isinstance(points, list) and all(isinstance(p, list) and len(p) == 2
+                                                  and all(isinstance(x, (int, float)) for x in p) for p in points)):
+            raise InputError("expected [[time, value], ...]", path, where)
+        if any(not 0 <= v <= 1 for _, v in points):
+            raise InputError("values must be 0..1", path, where)
+        if any(b[0] <= a[0] for a, b in zip(points, points[1:])):
+            raise InputError("knot times must increase", path, where)
+        knots[code] = tuple((float(t), float(v)) for t, v in points)
+    return Animation(knots, float(duration))
