@@ -6,7 +6,7 @@ import argparse
 import importlib
 import sys
 
-GROUPS = ("render", "pipeline", "track", "read", "fidelity", "predict")
+GROUPS = ("render", "pipeline", "track", "read", "fidelity", "predict", "live")
 
 
 def main(argv: list[str] | None = None) -> int:
