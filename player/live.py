@@ -104,7 +104,11 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         return LiveReport(count, loop.lateness)
     finally:
         for server in servers:
-            server.stop() if isinstance(server, PreviewServer) else (server.shutdown(), server.server_close())
+            if isinstance(server, PreviewServer):
+                server.stop()
+            else:
+                server.shutdown()
+                server.server_close()
         for sink in settings.sinks:
             sink.close()
         ctx.release()
