@@ -31,7 +31,7 @@ from capture.performance import default_performance
 from mapping.filters import OneEuro
 from mapping.gaps import GapFiller
 from bench.pipeline import pinned_rate
-from mapping import calibrate, choose_mapping, map_take, prepare
+from mapping import calibrate, choose_mapping, map_stabilised, prepare
 from toon import MOTOR_CODES
 from toonface import truth_track
 
@@ -105,8 +105,11 @@ def _motor_rmse(seconds: float) -> Figure:
     positions[rng.random(positions.shape[:2]) < 0.10] = np.nan  # 10 % dropout
     take = Take(positions, take.labels, take.rate, times=take.times, meta=take.meta)
     mapping, markerset = choose_mapping(take)
-    profile = calibrate(mapping, prepare(take, markerset), (0.0, 1.0), range_window=(1.0, CALIBRATION_END))
-    error = map_take(take, mapping=mapping, profile=profile, neutral_window=None).values - truth_track(syn).values
+    prepared = prepare(take, markerset)  # cleaned once: calibrated on and mapped
+    profile = calibrate(mapping, prepared, (0.0, 1.0), range_window=(1.0, CALIBRATION_END))
+    track = map_stabilised(prepared.stable, prepared.columns, take.times, take.rate, mapping, profile,
+                           filled=prepared.stable.filled)
+    error = track.values - truth_track(syn).values
     after = syn.take.times >= CALIBRATION_END
     rmse = float(np.sqrt(np.mean(error[after] ** 2)))
     per_motor = np.sqrt(np.mean(error[after] ** 2, axis=0))

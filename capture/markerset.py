@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from common import InputError, builtin_names, read_document, resolve_builtin
+from common import InputError, builtin_names, read_versioned, resolve_builtin
 
 FORMAT = "toonface.markerset/1"
 _MPEG4 = re.compile(r"^\d{1,2}\.\d{1,2}$")
@@ -93,9 +93,7 @@ class MarkerSet:
 def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     """Load a built-in marker set by name (``"toon32"``, ``"animface41"``, ``"gluedots16"``) or a TOML file."""
     path = resolve_builtin(name_or_path, "markersets", ".toml", "marker set")
-    doc = read_document(path)
-    if doc.get("format") != FORMAT:
-        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
+    doc = read_versioned(path, FORMAT, "marker set")
     markers = doc.get("markers")
     if not isinstance(markers, dict) or not markers:
         raise InputError("missing [markers] table", path, "markers")

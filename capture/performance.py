@@ -31,11 +31,10 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from common import InputError, data_path, read_document
+from common import InputError, data_path, read_document, read_versioned
 
 FORMAT = "toonface.performance/1"
 KINDS = ("expression", "blink", "wink", "gaze", "talk", "turn", "calibrate")
@@ -148,9 +147,7 @@ def default_performance(seconds: float = 10.0, expressions: tuple[str, ...] | No
 
 def load_performance(path: str | os.PathLike) -> Performance:
     """Read a performance script (TOML); errors name the file and the bad field."""
-    doc = read_document(_path(path))
-    if doc.get("format") != FORMAT:
-        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
+    doc = read_versioned(path, FORMAT, "performance")
     seconds = _number(doc.get("seconds"), path, "seconds", low=0.0)
     if seconds == 0:
         raise InputError("must be more than 0", path, "seconds")
@@ -162,13 +159,6 @@ def load_performance(path: str | os.PathLike) -> Performance:
         raise InputError("must be an array of tables ([[cue]])", path, "cue")
     cues = [_cue(entry, path, f"cue[{i}]") for i, entry in enumerate(entries)]
     return Performance(seconds, tuple(cues), seed)
-
-
-def _path(path: str | os.PathLike) -> Path:
-    p = Path(path)
-    if not p.is_file():
-        raise InputError("no such performance file", p)
-    return p
 
 
 def _cue(entry: object, path: str | os.PathLike, where: str) -> Cue:

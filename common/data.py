@@ -8,6 +8,9 @@ import sys
 import tomllib
 from pathlib import Path
 
+import tomli_w
+
+from common.atomic import atomic_path
 from common.errors import InputError
 
 
@@ -66,3 +69,22 @@ def read_document(path: Path) -> dict:
     if not isinstance(doc, dict):
         raise InputError(f"expected a {kind} object at the top level, got {type(doc).__name__}", path)
     return doc
+
+
+def read_versioned(path: str | os.PathLike, fmt: str, what: str) -> dict:
+    """Parse a project file and check its ``format`` field (``fmt``, such as
+    ``"toonface.profile/1"``); a missing file or another format is an :class:`InputError`."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"no such {what} file", path)
+    doc = read_document(path)
+    if doc.get("format") != fmt:
+        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{fmt}")', path, "format")
+    return doc
+
+
+def write_toml(doc: dict, path: str | os.PathLike) -> Path:
+    """Write ``doc`` as TOML, atomically; returns the path."""
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(tomli_w.dumps(doc).encode())
+    return Path(path)

@@ -3,7 +3,8 @@
 The order matters. Head motion goes first, so that the spike test sees the face's own slow
 motion (a fast head turn would otherwise look like a spike): a robust rigid fit of the head
 references expresses every marker in the head frame. Spikes are then rejected there (on the
-head references too) and the head is fitted again without them. Gaps are filled in the head
+head references too) and the head is fitted again without them, with the performer's reference
+shape the first fit measured. Gaps are filled in the head
 frame (from both sides, and from the other markers for long ones), then everything is smoothed
 with a zero-phase low-pass, which has no lag because it may look ahead. The head pose is smoothed
 the same way. Samples left unseen (gaps too long to fill) stay NaN.
@@ -24,7 +25,7 @@ from common import Failure
 from mapping.filters import Butterworth
 from mapping.gaps import GapFiller
 from mapping.outliers import SpikeFilter
-from mapping.stabilise import Stabilised, stabilise, yaw_pitch_degrees
+from mapping.stabilise import Stabilised, nearest_rotation, stabilise, yaw_pitch_degrees
 
 
 @dataclass(frozen=True)
@@ -64,14 +65,15 @@ class CleanReport:
                                               if self.no_head_frames else ""))
 
 
-def reference_rows(take: Take, markerset: MarkerSet) -> list[int] | Failure:
-    """Columns of ``take`` holding ``markerset``'s head references, or why they cannot be used."""
+def head_references(take: Take, markerset: MarkerSet) -> tuple[list[int], np.ndarray] | Failure:
+    """Columns of ``take`` holding ``markerset``'s head references and their rest positions
+    ``(K, 3)`` in the head frame, or why they cannot be used."""
     found = markerset.match(take.labels)
-    rows = [take.index(found[r]) for r in markerset.head_reference if r in found]
-    if len(rows) < 3:
+    present = [r for r in markerset.head_reference if r in found]
+    if len(present) < 3:
         missing = [r for r in markerset.head_reference if r not in found]
         return Failure(f"the take lacks head reference markers {missing} of marker set {markerset.name}")
-    return rows
+    return [take.index(found[r]) for r in present], np.array([markerset.neutral_of(r) for r in present])
 
 
 def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSettings()
@@ -80,11 +82,10 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
 
     Returns a :class:`~common.Failure` saying why when the head cannot be found.
     """
-    rows = reference_rows(take, markerset)
-    if not rows:
-        return rows
-    found = markerset.match(take.labels)
-    neutral = np.array([markerset.neutral_of(r) for r in markerset.head_reference if r in found])
+    references = head_references(take, markerset)
+    if not references:
+        return references
+    rows, neutral = references
     first = stabilise(take.positions, rows, neutral)
     if not first:
         return first
@@ -93,7 +94,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
         rejected = int(spikes.sum())
         positions = np.where(spikes[..., None], np.nan, take.positions)
-        first = stabilise(positions, rows, first.reference)
+        first = stabilise(positions, rows, first.reference, own_shape=False)  # the shape is the performer's
         if not first:
             return first
     local, filled_mask = _fill_and_smooth(first.local, take, settings)
@@ -172,10 +173,6 @@ def _smooth_pose(rotation: np.ndarray, translation: np.ndarray, smoother: Butter
     frames = len(rotation)
     smooth_rot = smoother.smooth_offline(rotation.reshape(frames, 9)).reshape(frames, 3, 3)
     ok = np.isfinite(smooth_rot).all(axis=(1, 2))
-    u, _, vt = np.linalg.svd(np.where(ok[:, None, None], smooth_rot, np.eye(3)))
-    fixed = u @ vt
-    flip = np.linalg.det(fixed) < 0
-    u[flip, :, -1] *= -1
-    fixed[flip] = u[flip] @ vt[flip]
+    fixed = nearest_rotation(np.where(ok[:, None, None], smooth_rot, np.eye(3)))
     fixed[~ok] = np.nan
     return fixed, smoother.smooth_offline(translation)

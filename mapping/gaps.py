@@ -109,26 +109,27 @@ class GapFiller:
         """Fill each long gap from the markers seen through it, written into ``pos``.
 
         The predictors are the other markers seen throughout the gap; around it (``window_seconds``,
-        at least the gap's length, on each side) the missing marker is regressed on their principal
-        components over the frames where all of them are seen; the regression's residual is
+        at least the gap's length, on each side) the missing marker is ridge-regressed on them
+        over the frames where all of them are seen; the regression's residual is
         bridged across the gap (:func:`_bridge`) and added to its prediction there.
         """
         frames, markers, dims = pos.shape
+        seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
         for m in np.flatnonzero(wanted.any(axis=0)):
             for start, end in gap_runs(wanted[:, m]):
-                seen_all = np.isfinite(pos).all(axis=2)
                 pad = max(int(self.window_seconds * rate), end - start)
                 lo, hi = max(0, start - pad), min(frames, end + pad)
                 others, rows, own = _predictors(seen_all, m, start, end, lo, hi)
                 if len(own) < 8:
                     self._splines(pos, times, _only(wanted, start, end, m))
+                    seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
                     continue
                 x = pos[rows][:, others].reshape(len(rows), -1)
                 x = x - x.mean(axis=0)
                 fit = np.isin(rows, own)
                 predicted = _ridge_predict(x, fit, pos[own, m], self.ridge)
                 gap = np.isin(rows, np.arange(start, end))
-                bridge = _bridge(times[own], pos[own, m] - predicted[fit], start, end, times, own)
+                bridge = _bridge(pos[own, m] - predicted[fit], own, start, end, times)
                 regressed = predicted[gap] + bridge
                 low, high = self.blend_seconds
                 share = np.clip((times[end - 1] - times[start] - low) / (high - low), 0.0, 1.0)
@@ -137,15 +138,16 @@ class GapFiller:
                     spline = CubicSpline(times[own_seen], pos[own_seen, m], axis=0)(times[start:end])
                     regressed = share * regressed + (1.0 - share) * spline
                 pos[start:end, m] = regressed
+                seen_all[start:end, m] = True
 
 
-def _bridge(t: np.ndarray, residual: np.ndarray, start: int, end: int, times: np.ndarray, own: np.ndarray
-            ) -> np.ndarray:
-    """The regression's residual across the gap ``[start, end)``, ``(end - start, dims)``: a
-    straight line from its value at the last sample before the gap to the first after it."""
+def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: np.ndarray) -> np.ndarray:
+    """The regression's residual (at the frames ``own``) across the gap ``[start, end)``,
+    ``(end - start, dims)``: a straight line from its value at the last sample before the gap to
+    the first after it."""
     before = max(int(np.searchsorted(own, start)) - 1, 0)
     after = min(int(np.searchsorted(own, end)), len(own) - 1)
-    t0, t1 = t[before], t[after]
+    t0, t1 = times[own[before]], times[own[after]]
     share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((end - start, 1), 0.5)
     return residual[before] + share * (residual[after] - residual[before])
 

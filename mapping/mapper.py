@@ -54,6 +54,9 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     seed : int
         Seeds the idle drift and the tremble.
     """
+    missing = sorted({s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources} - set(profile.sources))
+    if missing:  # the performer's range is what "profile" normalisation divides by
+        raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
     neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
     frames = len(times)
     quality = np.isfinite(stable.local).all(axis=2).astype(float)

@@ -18,11 +18,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import tomli_w
 
-from common import Failure, InputError, atomic_path, read_document
+from common import Failure, InputError, read_versioned, write_toml
 from mapping.sources import Source, head_angles, measure
-from mapping.stabilise import Stabilised
+from mapping.stabilise import Stabilised, nearest_rotation
 
 FORMAT = "toonface.profile/1"
 #: A side of a range smaller than this (mm, or degrees for angles) counts as no motion.
@@ -114,7 +113,7 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     usable = range_frames & range_take.ok
     if usable.sum() < 2:
         return Failure("fewer than 2 frames with a head pose in the range frames")
-    rest = _mean_rotation(neutral_take.rotation[at_rest])
+    rest = nearest_rotation(neutral_take.rotation[at_rest].mean(axis=0))
     labels = [m for m in columns if m in range_columns]
     wanted = [Source("marker", (m,), axis) for m in labels for axis in range(3)]
     wanted += [Source("head", axis=a) for a in (0, 1)]
@@ -153,19 +152,13 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
     doc = {"format": FORMAT, "markerset": profile.markerset, "performer": profile.performer,
            "notes": dict(profile.notes), "rest_rotation": [[float(v) for v in row] for row in profile.rest_rotation],
            "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()}}
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(tomli_w.dumps(doc).encode())
-    return Path(path)
+    return write_toml(doc, path)
 
 
 def load_profile(path: str | os.PathLike) -> Profile:
     """Read a profile; an unusable file raises :class:`InputError` naming the field."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("no such profile file", path)
-    doc = read_document(path)
-    if doc.get("format") != FORMAT:
-        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
+    doc = read_versioned(path, FORMAT, "profile")
     for key in ("markerset", "rest_rotation", "sources"):
         if key not in doc:
             raise InputError("missing", path, key)
@@ -208,11 +201,3 @@ def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, in
 def _is_matrix(value: object) -> bool:
     return (isinstance(value, list) and len(value) == 3
             and all(isinstance(r, list) and len(r) == 3 and all(isinstance(v, (int, float)) for v in r) for r in value))
-
-
-def _mean_rotation(rotations: np.ndarray) -> np.ndarray:
-    """The rotation nearest to the element-wise mean of ``(F, 3, 3)`` rotations."""
-    u, _, vt = np.linalg.svd(rotations.mean(axis=0))
-    if np.linalg.det(u @ vt) < 0:
-        u[:, -1] *= -1
-    return u @ vt

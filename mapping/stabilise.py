@@ -53,6 +53,14 @@ def rigid_fit(source: np.ndarray, target: np.ndarray, min_points: int = 3) -> tu
     return rot, trans, ok
 
 
+def nearest_rotation(matrices: np.ndarray) -> np.ndarray:
+    """The rotation nearest (Frobenius) to each ``(..., 3, 3)`` matrix, by SVD."""
+    u, _, vt = np.linalg.svd(matrices)
+    flip = np.linalg.det(u @ vt) < 0
+    u[..., :, -1] *= np.where(flip, -1.0, 1.0)[..., None]
+    return u @ vt
+
+
 def to_head_frame(positions: np.ndarray, rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
     """Express world positions in the head frame: ``R.T @ (p - t)`` per frame; ``(F, M, 3)``."""
     return np.einsum("fji,fmj->fmi", rotation, positions - translation[:, None, :])
@@ -109,10 +117,10 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     3 other points remain. Same shapes and meaning as :func:`rigid_fit`."""
     rot, trans, ok = rigid_fit(source, target)
     fitted = np.einsum("fij,kj->fki", rot, source) + trans[:, None, :]
-    miss = np.linalg.norm(target - fitted, axis=2)  # (F, K), NaN where unseen or no pose
-    worst = np.argmax(np.where(np.isnan(miss), -1.0, miss), axis=1)
+    miss = np.nan_to_num(np.linalg.norm(target - fitted, axis=2), nan=-1.0)  # (F, K); -1 unseen or no pose
+    worst = np.argmax(miss, axis=1)
     seen = (~np.isnan(target[..., 0])).sum(axis=1)
-    redo = ok & (np.nanmax(np.where(np.isnan(miss), -1.0, miss), axis=1) > tolerance) & (seen > 3)
+    redo = ok & (miss[np.arange(len(miss)), worst] > tolerance) & (seen > 3)
     if redo.any():
         trimmed = target[redo].copy()
         trimmed[np.arange(len(trimmed)), worst[redo]] = np.nan
@@ -120,8 +128,8 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     return rot, trans, ok
 
 
-def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray
-              ) -> Stabilised | Failure:
+def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray,
+              own_shape: bool = True) -> Stabilised | Failure:
     """Remove head motion: a robust rigid fit of the head references in every frame.
 
     The first fit uses the marker set's neutral shape of the references; their median shape in
@@ -136,6 +144,9 @@ def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutra
         Columns of the head-reference markers.
     reference_neutral : ndarray, shape (K, 3)
         Their rest positions in the head frame (the marker set's).
+    own_shape : bool
+        Measure the performer's own reference shape and fit again with it; False when
+        ``reference_neutral`` already is that shape (one fit instead of two).
 
     Returns
     -------
@@ -145,6 +156,8 @@ def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutra
     rot, trans, ok = robust_rigid_fit(reference_neutral, target)
     if not ok.any():
         return Failure("fewer than 3 head reference markers are seen in every frame")
+    if not own_shape:
+        return Stabilised(to_head_frame(positions, rot, trans), rot, trans, ok, np.asarray(reference_neutral))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
         shape = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)

@@ -12,7 +12,7 @@ source the mapping reads gets it from the take the same way. The track's metadat
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -133,19 +133,23 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
 
 def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
              neutral_window: NeutralSpec = None, target_neutral: np.ndarray | None = None,
-             settings: CleanSettings = CleanSettings()) -> MotorTrack:
+             settings: CleanSettings = CleanSettings(), mirror: bool = False) -> MotorTrack:
     """Clean, calibrate (unless ``profile`` is given) and map ``take``.
 
     ``neutral_window`` (see :func:`rest_window`) sets the rest pose from the take even with a profile
     (its ranges are kept around the new rest), for a take whose head rests differently from the
-    profile's session; None keeps a given profile's rest.
+    profile's session; None keeps a given profile's rest. ``mirror`` swaps the sides whatever the
+    mapping says.
     """
     chosen, markerset = choose_mapping(take, mapping)
+    if mirror:
+        chosen = replace(chosen, mirror=True)
     prepared = prepare(take, markerset, settings)
     notes = []
     rest_from_take = neutral_window is not None
-    if profile is None and builtin_profile(markerset.name) is not None:
-        profile, rest_from_take = load_profile(builtin_profile(markerset.name)), True
+    typical = builtin_profile(markerset.name) if profile is None else None
+    if typical is not None:
+        profile, rest_from_take = load_profile(typical), True
         notes.append(f"ranges from the built-in typical profile for {markerset.name}")
     if profile is None:
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)

@@ -127,13 +127,14 @@ class Loop:
         Seconds; ``time.perf_counter`` live. Offline, a counter advanced by ``sleep``.
     sleep : callable
         Waits the given seconds; ``time.sleep`` live.
-    inbox : callable, optional
-        Called at the start of each loop (ToonFace's READ SOCKET INPUT); applies what arrived.
+
+    ToonFace's READ SOCKET INPUT needs no step here: commands are sliced as they arrive, under
+    the Animator's lock, so the next loop executes their first slices.
     """
 
     def __init__(self, animator: Animator, clock: Callable[[], float] = time.perf_counter,
-                 sleep: Callable[[float], None] = time.sleep, inbox: Callable[[], None] | None = None) -> None:
-        self.animator, self.clock, self.sleep, self.inbox = animator, clock, sleep, inbox
+                 sleep: Callable[[float], None] = time.sleep) -> None:
+        self.animator, self.clock, self.sleep = animator, clock, sleep
         self.started = clock()
         self.lateness: list[float] = []  # seconds each loop started after it was due (0 when on time)
 
@@ -146,8 +147,6 @@ class Loop:
         while (loops is None or count < loops) and not stop():
             start = self.clock()
             self.lateness.append(max(0.0, start - due))
-            if self.inbox is not None:
-                self.inbox()
             values = self.animator.tick(start - self.started)
             frame(values, start - self.started)
             count += 1

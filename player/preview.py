@@ -1,8 +1,8 @@
 """A live preview a browser shows: the newest frame as an MJPEG stream on a local HTTP port.
 
 ``http://127.0.0.1:PORT/`` is a page with the stream, ``/stream`` the ``multipart/x-mixed-replace``
-stream itself, ``/frame.jpg`` the newest frame alone. Frames are JPEG-encoded only while someone
-is watching. Binds 127.0.0.1 unless told otherwise; at most ``max_viewers`` streams at once.
+stream itself, ``/frame.jpg`` the newest frame alone. Frames are JPEG-encoded only when someone
+asks for them. Binds 127.0.0.1 unless told otherwise; at most ``max_viewers`` streams at once.
 """
 
 from __future__ import annotations
@@ -20,41 +20,41 @@ _BOUNDARY = "toonfaceframe"
 
 
 class FrameBoard:
-    """The newest frame, JPEG-encoded on demand, with a condition to wait for the next one."""
+    """The newest frame, with a condition to wait for the next one. A frame is JPEG-encoded when
+    a viewer first asks for it (once, however many viewers), so nothing is encoded unwatched."""
 
     def __init__(self, quality: int = 85) -> None:
         self.quality = quality
-        self._jpeg: bytes | None = None
+        self._frame: np.ndarray | None = None
         self._number = 0
-        self._viewers = 0
+        self._jpeg: tuple[int, bytes] | None = None  # (frame number, its JPEG)
         self._cond = threading.Condition()
 
     def post(self, frame: np.ndarray) -> None:
-        """Offer a new RGB frame ``(h, w, 3)``; encoded only if a viewer is connected."""
+        """Offer a new RGB frame ``(h, w, 3)`` (kept by reference: do not change it afterwards)."""
         with self._cond:
-            if self._viewers == 0 and self._jpeg is not None:
-                return
-        ok, data = cv2.imencode(".jpg", np.ascontiguousarray(frame[:, :, ::-1]),
-                                [cv2.IMWRITE_JPEG_QUALITY, self.quality])
-        if ok:
-            with self._cond:
-                self._jpeg, self._number = data.tobytes(), self._number + 1
-                self._cond.notify_all()
+            self._frame, self._number = frame, self._number + 1
+            self._cond.notify_all()
 
     def newest(self) -> tuple[int, bytes | None]:
-        """The newest frame's number and JPEG bytes."""
+        """The newest frame's number and JPEG bytes (None before the first frame)."""
         with self._cond:
-            return self._number, self._jpeg
+            number, frame, cached = self._number, self._frame, self._jpeg
+        if frame is None:
+            return number, None
+        if cached is not None and cached[0] == number:
+            return cached
+        ok, data = cv2.imencode(".jpg", np.ascontiguousarray(frame[:, :, ::-1]), [cv2.IMWRITE_JPEG_QUALITY, self.quality])
+        encoded = (number, data.tobytes() if ok else None)
+        with self._cond:
+            self._jpeg = encoded
+        return encoded
 
     def wait_after(self, number: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
-        """Wait (up to ``timeout`` s) for a frame newer than ``number``."""
+        """Wait (up to ``timeout`` s) for a frame newer than ``number``, then :meth:`newest`."""
         with self._cond:
             self._cond.wait_for(lambda: self._number > number, timeout)
-            return self._number, self._jpeg
-
-    def watch(self, delta: int) -> None:
-        with self._cond:
-            self._viewers += delta
+        return self.newest()
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -90,7 +90,6 @@ class _Handler(BaseHTTPRequestHandler):
             self._send(HTTPStatus.SERVICE_UNAVAILABLE, "text/plain", b"too many viewers\n")
             return
         board = self.server.board
-        board.watch(+1)
         try:
             self.send_response(HTTPStatus.OK)
             self.send_header("Content-Type", f"multipart/x-mixed-replace; boundary={_BOUNDARY}")
@@ -106,7 +105,6 @@ class _Handler(BaseHTTPRequestHandler):
         except (ConnectionError, OSError):
             pass
         finally:
-            board.watch(-1)
             self.server.slots.release()
 
 

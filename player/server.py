@@ -120,10 +120,7 @@ class CommandServer(_Answering, socketserver.ThreadingTCPServer):
         return self._slots.acquire(blocking=False)
 
     def leave(self) -> None:
-        try:
-            self._slots.release()
-        except ValueError:  # a refused connection never held a slot
-            pass
+        self._slots.release()
 
 
 class CommandUDPServer(_Answering, socketserver.ThreadingUDPServer):

@@ -149,6 +149,11 @@ def test_preview_serves_the_newest_frame_and_an_mjpeg_stream():
         jpeg = urllib.request.urlopen(base + "/frame.jpg", timeout=5).read()
         picture = cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR)
         assert picture.shape == (32, 48, 3) and abs(int(picture[..., 2].mean()) - 200) < 4  # red, in BGR
+        green = np.zeros_like(frame)
+        green[:, :, 1] = 200
+        board.post(green)  # no viewer is streaming: the newest frame is still the one served
+        jpeg = urllib.request.urlopen(base + "/frame.jpg", timeout=5).read()
+        assert abs(int(cv2.imdecode(np.frombuffer(jpeg, np.uint8), cv2.IMREAD_COLOR)[..., 1].mean()) - 200) < 4
         assert b"/stream" in urllib.request.urlopen(base + "/", timeout=5).read()
         stream = urllib.request.urlopen(base + "/stream", timeout=5)
         assert stream.headers["Content-Type"].startswith("multipart/x-mixed-replace")

@@ -8,21 +8,31 @@ from capture.markerset import find_markerset
 from capture.performance import default_performance
 from capture.synthetic import rotation_yaw_pitch
 from mapping.clean import CleanSettings, clean_stabilised, clean_take
-from mapping.stabilise import robust_rigid_fit, stabilise, yaw_pitch_degrees
+from mapping.stabilise import rigid_fit, robust_rigid_fit, stabilise, yaw_pitch_degrees
 
 
-def test_robust_fit_ignores_one_spiking_reference():
-    rng = np.random.default_rng(0)
-    source = rng.normal(0, 40, (5, 3))
-    rot = rotation_yaw_pitch(np.radians(np.array([25.0, -10.0])), np.radians(np.array([5.0, 12.0])))
-    target = np.einsum("fij,kj->fki", rot, source) + np.array([3.0, -2.0, 40.0])
+def _unseen(target):
+    target[1, 0] = np.nan  # one unseen marker still leaves 4
+
+
+def _spike(target):
     target[0, 2] += [0.0, 30.0, 0.0]  # one head marker jumps in frame 0
-    fitted, _, ok = robust_rigid_fit(source, target)
+
+
+@pytest.mark.parametrize("fit, fault, atol", [(rigid_fit, _unseen, 1e-9), (robust_rigid_fit, _spike, 1e-6)],
+                         ids=["plain-with-unseen", "robust-with-spike"])
+def test_fits_recover_a_known_rotation(fit, fault, atol):
+    rng = np.random.default_rng(0)
+    source = rng.normal(0, 50, (5, 3))
+    rot = rotation_yaw_pitch(np.radians(np.array([20.0, -10.0])), np.radians(np.array([5.0, 12.0])))
+    target = np.einsum("fij,kj->fki", rot, source) + np.array([[1.0, 2.0, 3.0], [-4, 0, 9]])[:, None]
+    fault(target)
+    fitted, _, ok = fit(source, target)
     assert ok.all()
     np.testing.assert_allclose(fitted, rot, atol=1e-9)
     yaw, pitch = yaw_pitch_degrees(fitted)
-    np.testing.assert_allclose(yaw, [25.0, -10.0], atol=1e-6)
-    np.testing.assert_allclose(pitch, [5.0, 12.0], atol=1e-6)
+    np.testing.assert_allclose(yaw, [20.0, -10.0], atol=atol)
+    np.testing.assert_allclose(pitch, [5.0, 12.0], atol=atol)
 
 
 def test_head_frame_positions_are_the_face_motion_without_the_turns():

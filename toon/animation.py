@@ -18,9 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import tomli_w
 
-from common import InputError, atomic_path, read_document
+from common import InputError, read_versioned, write_toml
 from toon.motors import MOTOR_CODES, MOTOR_INDEX, standard_neutral
 from toon.track import MotorTrack
 
@@ -151,7 +150,7 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
     knots = {}
     for code in codes:
         a = [(t, v) for t, v in first.knots.get(code, ()) if t < offset]
-        b = [(offset + t, v) for t, v in second.knots.get(code, ()) if t > fade]
+        b = [(offset + t, v) for t, v in second.knots.get(code, ()) if t > fade or fade == 0]
         blend = []
         if fade > 0:
             times = sorted({offset, first.duration} | {t for t, _ in first.knots.get(code, ()) if t >= offset}
@@ -159,8 +158,6 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
             for t in times:
                 w = (t - offset) / fade
                 blend.append((t, float((1 - w) * first.value(code, t) + w * second.value(code, t - offset))))
-        else:
-            b = [(offset + t, v) for t, v in second.knots.get(code, ())]
         knots[code] = tuple(sorted(dict(a + blend + b).items()))
     return Animation(knots, offset + second.duration)
 
@@ -169,19 +166,13 @@ def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
     """Write TOML (atomically)."""
     doc = {"format": FORMAT, "duration": anim.duration,
            "knots": {c: [[float(t), float(v)] for t, v in anim.knots[c]] for c in MOTOR_CODES if c in anim.knots}}
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(tomli_w.dumps(doc).encode())
-    return Path(path)
+    return write_toml(doc, path)
 
 
 def load_animation(path: str | os.PathLike) -> Animation:
     """Read an animation file; errors name the file and field."""
     path = Path(path)
-    if not path.is_file():
-        raise InputError("no such animation file", path)
-    doc = read_document(path)
-    if doc.get("format") != FORMAT:
-        raise InputError(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', path, "format")
+    doc = read_versioned(path, FORMAT, "animation")
     duration = doc.get("duration")
     if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not 0 <= duration <= 86400:
         raise InputError(f"expected seconds (0..86400), got {duration!r}", path, "duration")

@@ -82,10 +82,11 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     """
     try:
         low, high = (float(p) for p in percentiles.split(","))
-        assert 0 <= low < high <= 100
-    except (ValueError, AssertionError):
+    except ValueError:
+        low, high = 0.0, -1.0  # refused below
+    if not 0 <= low < high <= 100:
         raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
-                                 param_hint="--percentiles") from None
+                                 param_hint="--percentiles")
     windows = parse_window(neutral, words=_WORDS), parse_window(range_window, "--range")
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     loaded = read_take(take, take_rate, labels, units)

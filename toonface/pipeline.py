@@ -6,13 +6,13 @@ import os
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from capture import SyntheticTake, Take, save_take, synthesize
-from mapping import CleanSettings, Mapping, Profile, choose_mapping
+from mapping import CleanSettings, Mapping, Profile
 from mapping import map_take as mapping_map_take
 from player import Renderer, create_context, open_sink, render_track
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
@@ -34,11 +34,8 @@ def map_take(take: Take, neutral_window: tuple[float, float] | str | None = (0.0
     mapping says. ``neutral_window``: seconds, ``"first"``, ``"stillest"`` or None (a given
     profile's rest, else the first second); see :func:`mapping.workflow.rest_window`.
     """
-    chosen, _ = choose_mapping(take, mapping)
-    if mirror:
-        chosen = replace(chosen, mirror=True)
     target = None if face is None else face.neutral()
-    return mapping_map_take(take, chosen, profile, neutral_window, target, settings)
+    return mapping_map_take(take, mapping, profile, neutral_window, target, settings, mirror)
 
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),
