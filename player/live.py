@@ -38,6 +38,7 @@ class LiveSettings:
     repeat: bool = True
     seconds: float | None = None
     sinks: list[FrameSink] = field(default_factory=list)
+    source: Callable[[float], np.ndarray] | None = None  # values at a loop time; replaces commands and track
 
 
 @dataclass
@@ -81,7 +82,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         for server in servers:
             start(server)
         with Renderer(ctx, settings.size, settings.samples) as renderer:
-            track_values = _track_player(settings.track, settings.repeat)
+            track_values = settings.source or _track_player(settings.track, settings.repeat)
 
             def frame(values: np.ndarray, t: float) -> None:
                 if track_values is not None:

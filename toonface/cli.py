@@ -30,6 +30,7 @@ log = logging.getLogger("toonface")
 
 from toonface.cli_mapping import MAPPING_COMMANDS
 from toonface.cli_player import PLAYER_COMMANDS
+from toonface.cli_stream import STREAM_COMMANDS
 from toonface.cli_options import FACE, SIZE, parse_size, progress, read_take, take_options
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
@@ -234,7 +235,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
-for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS):
+for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS):
     cli.add_command(_command)
 
 

@@ -1,0 +1,226 @@
+"""Cleaning and mapping one frame at a time, for a live sender: the ``step`` form of the pipeline.
+
+Per frame, in the offline order where the future is not needed: the robust head fit (on the
+performer's reference shape once it is known), spikes rejected in the head frame and the head
+fitted again without them, short gaps held at the marker's last head-frame position (counted as
+filled), One Euro smoothing of the head-frame markers and of the head pose, then the mapping
+(:mod:`mapping.mapper`) on that one frame with live forms of its loss policies, filters, speed
+limits, delays and style. Offline cleaning looks ahead (zero-phase smoothing, gap filling from
+both sides); live it cannot, so live motors lag the offline ones by a frame or two and fill
+gaps by holding.
+
+The rest pose: with ``rest_seconds`` > 0 the first such seconds (with a head pose) are taken as
+rest, as ``toonface map`` does by default; the profile's ranges are kept around that rest and
+the motors show the face's neutral meanwhile.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import replace
+
+import numpy as np
+
+from capture import MarkerSet
+from mapping.filters import Delay, OneEuro, SpeedLimit
+from mapping.mapfile import Mapping, MotorRule
+from mapping.mapper import FILLED_QUALITY, IDLE_AMPLITUDE, IDLE_HZ, _across_motors, _motor_value, make_filter
+from mapping.outliers import SpikeFilter
+from mapping.profile import Profile, SourceRange
+from mapping.sources import head_angles, measure
+from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
+from toon import MOTOR_CODES, N_MOTORS, motor_index, standard_neutral
+
+#: One Euro settings for head-frame markers (mm) live: 1 frame of lag at 60 Hz, jitter cut ~4x
+#: (``python -m bench fidelity``).
+SMOOTHING = {"min_cutoff": 1.0, "beta": 0.5}
+
+
+class LiveMapper:
+    """Map a stream of marker frames to motor frames.
+
+    Parameters
+    ----------
+    mapping, markerset, profile
+        As for :func:`mapping.map_stabilised`; the profile must hold every source's range.
+    labels : sequence of str
+        The incoming frames' marker names (the marker set's or its aliases).
+    rate : float
+        Frames per second (for filters and delays).
+    target_neutral : ndarray, shape (21,), optional
+    rest_seconds : float
+        Seconds at the start taken as the performer's rest (0: the profile's rest as it is).
+    max_gap_seconds : float
+        A marker unseen for up to this long holds its last head-frame position.
+    spikes : bool
+    seed : int
+        Seeds the idle drift and the tremble.
+    """
+
+    def __init__(self, mapping: Mapping, markerset: MarkerSet, profile: Profile, labels: tuple[str, ...],
+                 rate: float, target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
+                 max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0) -> None:
+        if mapping.style.time_scale != 1.0:
+            raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
+        missing = sorted({s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources}
+                         - set(profile.sources))
+        if missing:
+            raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
+        found = markerset.match(labels)
+        present = [r for r in markerset.head_reference if r in found]
+        if len(present) < 3:
+            raise ValueError(f"the stream lacks head reference markers of marker set {markerset.name}")
+        self.mapping, self.profile, self.rate = mapping, profile, rate
+        self.columns = {label: list(labels).index(name) for label, name in found.items()}
+        self.rows = [self.columns[r] for r in present]
+        self.shape = np.array([markerset.neutral_of(r) for r in present])
+        self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
+        self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
+        self.spikes = SpikeFilter() if spikes else None
+        self.markers = OneEuro(**SMOOTHING, rate=rate)
+        self.pose = OneEuro(**SMOOTHING, rate=rate)
+        self.filters = {r.code: make_filter(r.filter, rate) for r in mapping.rules if r.filter}
+        speeds = np.array([next((r.max_speed for r in mapping.rules if r.code == c and r.max_speed > 0), np.inf)
+                           for c in _codes()])
+        self.limit = SpeedLimit(speeds) if np.isfinite(speeds).any() else None
+        delays = np.zeros(N_MOTORS, dtype=int)
+        for rule in mapping.rules:
+            delays[motor_index(rule.code)] = int(round(rule.delay * rate))
+        self.delay = Delay(delays) if delays.any() else None
+        self.rng = np.random.default_rng(seed)
+        self.phases = self.rng.uniform(0, 2 * np.pi, (2, N_MOTORS))  # idle drift, tremble
+        self.smooth_window: deque[np.ndarray] = deque(maxlen=max(1, int(round(mapping.style.smooth_seconds * rate))))
+        self._last_local = np.full((len(labels), 3), np.nan)
+        self._last_seen = np.full(len(labels), -np.inf)
+        self._rest: list[tuple[np.ndarray, np.ndarray]] = []
+        self._rest_start: float | None = None
+        self._ready = rest_seconds <= 0
+        self._last_value = self.neutral.copy()
+        self._lost_since = np.full(N_MOTORS, np.nan)
+
+    def step(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """One frame of world marker positions ``(M, 3)`` (NaN unseen) at ``t`` seconds; returns
+        the motors ``(21,)`` in [0, 1] and their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost)."""
+        local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t)
+        quality = np.isfinite(local).all(axis=1).astype(float)
+        local, held = self._hold(local, t)
+        quality[held] = FILLED_QUALITY
+        local = self.markers.step(local.reshape(-1), t).reshape(local.shape)
+        if ok:
+            pose = self.pose.step(np.concatenate([rotation.reshape(-1), translation]), t)
+            rotation, translation = nearest_rotation(pose[:9].reshape(3, 3)), pose[9:]
+        stable = Stabilised(local[None], rotation[None], translation[None], np.array([ok]), self.shape)
+        if not self._ready:
+            self._collect_rest(stable, t)
+            return self.neutral.copy(), np.zeros(N_MOTORS)
+        return self._map(stable, quality[None], t)
+
+    def _head_frame(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        """Head-frame markers ``(M, 3)``, the pose and whether there is one; spikes removed."""
+        rotation, translation, ok = robust_rigid_fit(self.shape, positions[None, self.rows])
+        if not ok[0]:
+            return np.full(positions.shape, np.nan), np.full((3, 3), np.nan), np.full(3, np.nan), False
+        local = to_head_frame(positions[None], rotation, translation)[0]
+        if self.spikes is not None:
+            kept = self.spikes.step(local, t)
+            spiked = np.isnan(kept[:, 0]) & ~np.isnan(local[:, 0])
+            if spiked[self.rows].any():  # fit again without the spiked references
+                cleaned = np.where(spiked[:, None], np.nan, positions)
+                rotation, translation, ok = robust_rigid_fit(self.shape, cleaned[None, self.rows])
+                if not ok[0]:
+                    return np.full(positions.shape, np.nan), np.full((3, 3), np.nan), np.full(3, np.nan), False
+                kept = np.where(spiked[:, None], np.nan, to_head_frame(positions[None], rotation, translation)[0])
+            local = kept
+        return local, rotation[0], translation[0], True
+
+    def _hold(self, local: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Markers unseen for at most ``max_gap`` seconds at their last position; which were held."""
+        seen = np.isfinite(local).all(axis=1)
+        self._last_local[seen], self._last_seen[seen] = local[seen], t
+        held = ~seen & (t - self._last_seen <= self.max_gap)
+        return np.where(held[:, None], self._last_local, local), held
+
+    def _collect_rest(self, stable: Stabilised, t: float) -> None:
+        if not stable.ok[0]:
+            return
+        self._rest_start = t if self._rest_start is None else self._rest_start
+        self._rest.append((stable.local[0], stable.rotation[0]))
+        if t - self._rest_start + 1.0 / self.rate >= self.rest_seconds:
+            self.profile = self._profile_at_rest()
+            self._ready = True
+
+    def _profile_at_rest(self) -> Profile:
+        """The profile with its ranges kept around the rest measured at the start."""
+        local = np.array([f[0] for f in self._rest])
+        rest_rotation = nearest_rotation(np.mean([f[1] for f in self._rest], axis=0))
+        rotations = np.array([f[1] for f in self._rest])
+        head = head_angles(rotations, rest_rotation)
+        sources = dict(self.profile.sources)
+        for source in self.mapping.sources():
+            span = sources.get(source.key)
+            measured = measure(source, local, self.columns, head)
+            if span is None or not np.isfinite(measured).any():
+                continue
+            shift = float(np.nanmedian(measured)) - span.neutral
+            sources[source.key] = SourceRange(span.neutral + shift, span.low + shift, span.high + shift)
+        return replace(self.profile, sources=sources, rest_rotation=rest_rotation)
+
+    def _map(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        head = head_angles(stable.rotation, self.profile.rest_rotation)
+        values = self.neutral.copy()
+        confidence = np.ones(N_MOTORS)
+        for rule in self.mapping.rules:
+            col = motor_index(rule.code)
+            raw, conf = _motor_value(rule, stable, self.columns, head, quality, self.profile, self.neutral[col])
+            confidence[col] = conf[0]
+            value = raw[0]
+            if np.isnan(value):
+                value = self._lost(rule, col, t)
+            else:
+                self._lost_since[col] = np.nan
+                self._last_value[col] = value
+            if rule.code in self.filters:
+                value = self.filters[rule.code].step(np.array([value]), t)[0]
+            values[col] = value
+        if self.limit is not None:
+            values = self.limit.step(values, t)
+        if self.delay is not None:
+            values = self.delay.step(values, t)
+        values = _across_motors(values[None], self.mapping, self.neutral)[0]
+        return np.clip(self._style(values, t), 0.0, 1.0), np.clip(confidence, 0.0, 1.0)
+
+    def _lost(self, rule: MotorRule, col: int, t: float) -> float:
+        """The loss policy's value for a motor with no source seen."""
+        if np.isnan(self._lost_since[col]):
+            self._lost_since[col] = t
+        last = self._last_value[col]
+        if rule.loss == "hold":
+            return float(last)
+        since = t - self._lost_since[col]
+        ease = min(since / rule.loss_seconds, 1.0) if rule.loss_seconds > 0 else 1.0
+        value = last + (self.neutral[col] - last) * ease
+        if rule.loss == "idle":
+            value += ease * IDLE_AMPLITUDE * np.sin(2 * np.pi * IDLE_HZ * t + self.phases[0, col])
+        return float(value)
+
+    def _style(self, values: np.ndarray, t: float) -> np.ndarray:
+        """The style operators, causally (smoothing is a trailing moving average)."""
+        style, out = self.mapping.style, values.copy()
+        if style.smooth_seconds > 0:
+            self.smooth_window.append(values)
+            cols = [motor_index(c) for c in style.smooth_motors or _codes()]
+            out[cols] = np.mean(self.smooth_window, axis=0)[cols]
+        if style.tremble_amplitude > 0:
+            for code in style.tremble_motors or _codes():
+                col = motor_index(code)
+                out[col] += style.tremble_amplitude * np.sin(2 * np.pi * style.tremble_frequency * t
+                                                             + self.phases[1, col])
+        if style.sharpen_steps:
+            cols = [motor_index(c) for c in style.sharpen_motors or _codes()]
+            levels = style.sharpen_steps - 1
+            out[cols] = np.round(np.clip(out[cols], 0, 1) * levels) / levels
+        return out
+
+
+def _codes() -> tuple[str, ...]:
+    return tuple(MOTOR_CODES)

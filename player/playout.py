@@ -1,0 +1,220 @@
+"""The receiving end's jitter buffer, loss concealment and recovery.
+
+Frames arrive in packets (:class:`player.stream.Frames`), late, early or never. The playout
+shows the stream ``delay`` seconds behind the sender's clock: each call of :meth:`Playout.values_at`
+interpolates the frames around ``now - delay``. The delay adapts to what arrives: it is the 95th
+percentile, over the last ``window`` seconds, of how long after its capture each frame was ready
+(packetisation and network together), plus ``margin``; it rises at once and falls slowly
+(``settle`` seconds). On one machine the two clocks are the same; between machines their offset
+is simply part of the delay.
+
+Where a frame is missing when its time comes it is concealed, from the frames before it:
+
+``hold``
+    the last value;
+``linear``
+    the line through the last three frames, carried on with its slope fading (time constant
+    ``fade`` seconds);
+``sindy``
+    a forecaster given by the caller (the mapping's pysindy motion model).
+
+Whatever the method, after ``ease_after`` seconds of loss the face eases to its neutral over
+``ease_seconds`` (hold-then-ease), and while concealing and until it has caught up with the
+stream again the face moves at most ``max_jump`` of a motor's range per stream frame.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from player.stream import Frames
+
+CONCEALMENT = ("hold", "linear", "sindy")
+#: A forecaster: (values (k, 21), times (k,), seconds ahead) -> values (21,).
+Forecaster = Callable[[np.ndarray, np.ndarray, float], np.ndarray]
+
+
+@dataclass
+class PlayoutStats:
+    """What the playout did: output frames by state, the latency of each output (seconds,
+    when the sender shares this clock), and the error of concealed output against frames that
+    came too late to show (motor units)."""
+
+    live: int = 0
+    concealed: int = 0
+    recovering: int = 0
+    waiting: int = 0
+    delays: list[float] = field(default_factory=list)
+    late_errors: list[float] = field(default_factory=list)
+
+
+class Playout:
+    """Jitter buffer and concealment (see the module docstring).
+
+    Parameters
+    ----------
+    neutral : ndarray, shape (21,)
+        The face's neutral (where a long loss eases to, and what shows before the first frame).
+    method : str
+        One of :data:`CONCEALMENT`; ``sindy`` needs ``forecaster``.
+    margin, min_delay, max_delay, window, settle : float
+        Seconds (see the module docstring).
+    max_jump : float
+        Motor units per stream frame while concealing or recovering.
+    """
+
+    def __init__(self, neutral: np.ndarray, method: str = "linear", forecaster: Forecaster | None = None,
+                 margin: float = 0.004, min_delay: float = 0.0, max_delay: float = 0.5, window: float = 2.0,
+                 settle: float = 2.0, max_jump: float = 0.05, fade: float = 0.06, ease_after: float = 0.3,
+                 ease_seconds: float = 0.5) -> None:
+        if method not in CONCEALMENT:
+            raise ValueError(f"concealment must be one of {', '.join(CONCEALMENT)}, got {method!r}")
+        if method == "sindy" and forecaster is None:
+            raise ValueError("sindy concealment needs a fitted forecaster")
+        self.neutral = np.asarray(neutral, dtype=float)
+        self.method, self.forecaster = method, forecaster
+        self.margin, self.min_delay, self.max_delay = margin, min_delay, max_delay
+        self.window, self.settle, self.max_jump, self.fade = window, settle, max_jump, fade
+        self.ease_after, self.ease_seconds = ease_after, ease_seconds
+        self.stats = PlayoutStats()
+        self.delay: float | None = None  # seconds behind the sender's clock (its offset included)
+        self.base = 0.0
+        self.rate = 60.0
+        self._frames: dict[int, np.ndarray] = {}
+        self._anchor: tuple[int, float] | None = None  # (frame index, its capture time)
+        self._transit: deque[tuple[float, float]] = deque()  # (arrival, seconds after capture)
+        self._output: np.ndarray | None = None
+        self._last_now: float | None = None
+        self._concealed: dict[int, np.ndarray] = {}  # what was shown for frames that were missing
+        self._behind = False  # concealing or catching up
+
+    def add(self, frames: Frames) -> None:
+        """Take a packet's frames (arrival on the caller's clock)."""
+        self.rate = frames.rate
+        count = len(frames.values)
+        if self._anchor is not None and frames.first < self._anchor[0] - 5 * self.rate:  # a restarted sender
+            self._frames.clear()
+            self._concealed.clear()
+            self._transit.clear()
+            self._anchor, self.delay = None, None
+        if self._anchor is None or frames.first > self._anchor[0]:
+            self._anchor = (frames.first, frames.time_s)
+        for i in range(count):
+            index = frames.first + i
+            captured = frames.time_s + i / frames.rate
+            self._transit.append((frames.arrival, frames.arrival - captured))
+            if index in self._concealed:  # too late to show: how wrong was what was shown instead
+                self.stats.late_errors.append(float(np.sqrt(np.mean((self._concealed.pop(index)
+                                                                     - frames.values[i]) ** 2))))
+            else:
+                self._frames[index] = frames.values[i]
+        while self._transit and self._transit[0][0] < frames.arrival - self.window:
+            self._transit.popleft()
+        target = self._target()
+        if self.delay is None or target > self.delay:
+            self.delay = target
+
+    def _target(self) -> float:
+        """The delay the recent frames need: the fastest frame's transit (which holds the clocks'
+        offset) plus the spread above it up to the 95th percentile, plus the margin, the spread
+        bounded by ``min_delay`` and ``max_delay``."""
+        transit = np.array([d for _, d in self._transit])
+        fastest = float(transit.min())
+        spread = float(np.percentile(transit, 95)) - fastest + self.margin
+        self.base = fastest
+        return fastest + min(max(spread, self.min_delay), self.max_delay)
+
+    def latency(self) -> float | None:
+        """Seconds from a frame's capture to its showing, when the sender's clock is this
+        clock (one machine; its stamps wrap every 2**32 microseconds); else None."""
+        if self.delay is None:
+            return None
+        wrap = 2.0 ** 32 / 1e6
+        shown = (self.delay + wrap / 2) % wrap - wrap / 2
+        return shown if abs(shown) < 10.0 else None
+
+    def values_at(self, now: float) -> tuple[np.ndarray, str]:
+        """The face at ``now`` (caller's clock) and the state: ``live``, ``concealed``,
+        ``recovering`` or ``waiting`` (nothing received yet)."""
+        if self._anchor is None or self.delay is None:
+            self.stats.waiting += 1
+            return self.neutral.copy(), "waiting"
+        elapsed = 0.0 if self._last_now is None else max(now - self._last_now, 0.0)
+        self._settle(elapsed)
+        self._last_now = now
+        position = self._anchor[0] + (now - self.delay - self._anchor[1]) * self.rate
+        index = int(np.floor(position))
+        self._forget(index)
+        stream = self._stream_at(index, position - index)
+        if stream is not None and not self._behind:
+            state, value = "live", stream
+        else:
+            target = stream if stream is not None else self._conceal(index, position)
+            value = self._limited(target, elapsed)
+            caught_up = stream is not None and np.abs(value - stream).max() < 1e-6
+            self._behind = not caught_up
+            state = "live" if caught_up else ("recovering" if stream is not None else "concealed")
+            if stream is None:
+                self._concealed.setdefault(index, value)
+        self._output = value
+        setattr(self.stats, state, getattr(self.stats, state) + 1)
+        latency = self.latency()
+        if latency is not None:
+            self.stats.delays.append(latency)
+        return value.copy(), state
+
+    def _stream_at(self, index: int, fraction: float) -> np.ndarray | None:
+        here = self._frames.get(index)
+        if here is None:
+            return None
+        after = self._frames.get(index + 1)
+        return here if after is None else here + (after - here) * fraction
+
+    def _conceal(self, index: int, position: float) -> np.ndarray:
+        known = sorted(k for k in self._frames if k < index)[-6:]
+        if not known:
+            return self._output if self._output is not None else self.neutral.copy()
+        last = known[-1]
+        gap = (position - last) / self.rate
+        values = np.array([self._frames[k] for k in known])
+        times = np.array(known, dtype=float) / self.rate
+        if self.method == "hold" or len(known) < 2:
+            guess = values[-1]
+        elif self.method == "linear":
+            t = times[-3:] - times[-1]
+            slope = np.polyfit(t, values[-3:], 1)[0] if len(t) > 2 else (values[-1] - values[-2]) * self.rate
+            level = values[-3:].mean(axis=0) + slope * (0.0 - t.mean())
+            guess = level + slope * self.fade * (1 - np.exp(-gap / self.fade))
+        else:
+            guess = self.forecaster(values, times, gap)
+        ease = np.clip((gap - self.ease_after) / self.ease_seconds, 0.0, 1.0)
+        return np.clip(guess + (self.neutral - guess) * ease, 0.0, 1.0)
+
+    def _limited(self, target: np.ndarray, elapsed: float) -> np.ndarray:
+        if self._output is None:
+            return target
+        step = self.max_jump * max(elapsed * self.rate, 1e-9)
+        return self._output + np.clip(target - self._output, -step, step)
+
+    def _settle(self, elapsed: float) -> None:
+        """Let the delay fall toward what the recent frames need, slowly."""
+        if not self._transit:
+            return
+        target = self._target()
+        if target < self.delay:
+            self.delay = max(target, self.delay - (self.delay - target) * min(elapsed / self.settle, 1.0))
+
+    def _forget(self, index: int) -> None:
+        """Drop frames and concealment records well behind the playout (memory stays bounded)."""
+        horizon = index - int(2 * self.rate)
+        for store in (self._frames, self._concealed):
+            if len(store) > 8:
+                for k in [k for k in store if k < horizon]:
+                    del store[k]
+        ahead = index + int(10 * self.rate)
+        for k in [k for k in self._frames if k > ahead]:
+            del self._frames[k]

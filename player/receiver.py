@@ -1,0 +1,119 @@
+"""The motor stream's receiving socket: datagrams in, a face to show at any moment out.
+
+A daemon thread reads the UDP socket (packets larger than the format allows are cut short by
+the read and dropped as oversized), checks and decodes them (:class:`~player.stream.StreamReader`)
+and hands the frames to the jitter buffer (:class:`~player.playout.Playout`). When the chain of
+predictions breaks it asks the sender for a keyframe, at most once per ``request_interval``.
+The loop that draws the face calls :meth:`StreamReceiver.values_at`. Memory stays bounded
+whatever arrives: one datagram is read at a time, out-of-order packets wait in a bounded table,
+and the jitter buffer forgets what is behind it.
+"""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from player.playout import Playout
+from player.stream import StreamReader, key_request
+from player.wire import MAX_PACKET
+
+
+class StreamReceiver:
+    """Listen on ``address`` (``(host, port)``; port 0 picks one) for a motor stream.
+
+    Parameters
+    ----------
+    playout : Playout
+    key : bytes, optional
+        Shared secret: only packets with its HMAC are read.
+    clock : callable
+        Seconds; ``time.perf_counter`` (the same clock a sender on this machine stamps with).
+    """
+
+    def __init__(self, address: tuple[str, int], playout: Playout, key: bytes | None = None,
+                 clock: Callable[[], float] = time.perf_counter, request_interval: float = 0.05) -> None:
+        self.playout, self.clock, self.key = playout, clock, key
+        self.reader = StreamReader(key)
+        self.request_interval = request_interval
+        self.requests = 0
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.bind(address)
+        self.sock.settimeout(0.1)
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._last_request = -np.inf
+        self._thread = threading.Thread(target=self._serve, daemon=True)
+
+    @property
+    def address(self) -> tuple[str, int]:
+        return self.sock.getsockname()
+
+    def start(self) -> StreamReceiver:
+        self._thread.start()
+        return self
+
+    def close(self) -> None:
+        """Stop the thread and release the socket."""
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join(timeout=2.0)
+        self.sock.close()
+
+    def __enter__(self) -> StreamReceiver:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def values_at(self, now: float | None = None) -> tuple[np.ndarray, str]:
+        """The face to show now (see :meth:`Playout.values_at`)."""
+        with self._lock:
+            return self.playout.values_at(self.clock() if now is None else now)
+
+    def feed(self, datagram: bytes, sender: tuple[str, int] | None = None) -> None:
+        """Handle one datagram as if it had arrived now (the thread calls this for each)."""
+        arrival = self.clock()
+        with self._lock:
+            if len(datagram) > MAX_PACKET:
+                self.reader.dropped["size"] += 1
+                return
+            for frames in self.reader.read(datagram, arrival):
+                self.playout.add(frames)
+            wanted = self.reader.want_keyframe and arrival - self._last_request >= self.request_interval
+        if wanted and sender is not None:
+            self._last_request = arrival
+            self.requests += 1
+            try:
+                self.sock.sendto(key_request(self.requests, self.key), sender)
+            except OSError:
+                pass  # the sender's side is gone; the keyframes it sends anyway will do
+
+    def _serve(self) -> None:
+        while not self._stop.is_set():
+            try:
+                datagram, sender = self.sock.recvfrom(MAX_PACKET + 1)
+            except TimeoutError:
+                continue
+            except OSError:
+                if self._stop.is_set():
+                    return
+                continue
+            self.feed(datagram, sender)
+
+    def summary(self) -> dict:
+        """Counters for ``--stats``: packets, bytes, lost, dropped by reason, frames by state,
+        delay and the error of concealment where the truth came too late."""
+        with self._lock:
+            stats = self.playout.stats
+            delays = np.array(stats.delays[-600:]) * 1000 if stats.delays else np.zeros(1)
+            return {"packets": self.reader.packets, "bytes": self.reader.bytes, "lost": self.reader.lost,
+                    "dropped": dict(self.reader.dropped), "keyframe_requests": self.requests,
+                    "frames": {"live": stats.live, "concealed": stats.concealed, "recovering": stats.recovering,
+                               "waiting": stats.waiting},
+                    "latency_ms": round(float(np.median(delays)), 1) if stats.delays else None,
+                    "concealment_rms": round(float(np.mean(stats.late_errors)), 4) if stats.late_errors else None}

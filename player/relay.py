@@ -1,0 +1,168 @@
+"""A fault-injecting UDP relay for testing a stream on one machine.
+
+It listens on one address and forwards what it gets to a target, and forwards the target's
+replies back to the last sender. Each datagram (both ways) meets the faults in :class:`Faults`:
+random loss, loss in bursts, duplication, corruption (one byte flipped), delay with jitter
+(which reorders), and explicit reordering (a datagram held back behind the next).
+The decisions come from a seeded generator (:class:`FaultPlan`), so a test can check them
+without sockets.
+"""
+
+from __future__ import annotations
+
+import heapq
+import socket
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Faults:
+    """What the relay does to each datagram.
+
+    Attributes
+    ----------
+    loss : float
+        Probability of dropping a datagram.
+    burst_seconds : float
+        Length of a loss burst (0: none); bursts start at ``bursts_per_second`` on average.
+    duplicate, corrupt, reorder : float
+        Probabilities of sending twice, of flipping one byte, of holding back by ``reorder_seconds``.
+    delay, jitter : float
+        Seconds: every datagram waits ``delay`` plus a uniform 0..``jitter``.
+    """
+
+    loss: float = 0.0
+    burst_seconds: float = 0.0
+    bursts_per_second: float = 0.5
+    duplicate: float = 0.0
+    corrupt: float = 0.0
+    reorder: float = 0.0
+    reorder_seconds: float = 0.03
+    delay: float = 0.0
+    jitter: float = 0.0
+
+
+class FaultPlan:
+    """The relay's decisions: for a datagram arriving at ``now``, what to send and when."""
+
+    def __init__(self, faults: Faults, seed: int = 0) -> None:
+        self.faults, self.rng = faults, np.random.default_rng(seed)
+        self._burst_until = -np.inf
+        self._last: float | None = None
+        self.counts = {"in": 0, "lost": 0, "duplicated": 0, "corrupted": 0, "reordered": 0}
+
+    def decide(self, datagram: bytes, now: float) -> list[tuple[float, bytes]]:
+        """``(send time, datagram)`` pairs (none if lost)."""
+        f, rng = self.faults, self.rng
+        self.counts["in"] += 1
+        if f.burst_seconds > 0 and self._last is not None:
+            if rng.random() < 1 - np.exp(-f.bursts_per_second * max(now - self._last, 0.0)):
+                self._burst_until = now + f.burst_seconds
+        self._last = now
+        if now < self._burst_until or rng.random() < f.loss:
+            self.counts["lost"] += 1
+            return []
+        data = datagram
+        if rng.random() < f.corrupt and data:
+            flipped = bytearray(data)
+            flipped[int(rng.integers(len(data)))] ^= 1 << int(rng.integers(8))
+            data = bytes(flipped)
+            self.counts["corrupted"] += 1
+        when = now + f.delay + rng.uniform(0.0, f.jitter)
+        if rng.random() < f.reorder:
+            when += f.reorder_seconds
+            self.counts["reordered"] += 1
+        out = [(when, data)]
+        if rng.random() < f.duplicate:
+            out.append((when + rng.uniform(0.0, f.jitter + 0.001), data))
+            self.counts["duplicated"] += 1
+        return out
+
+
+class Relay:
+    """Forward UDP from ``listen`` to ``target`` (and replies back) through a :class:`FaultPlan`.
+
+    Runs in two daemon threads; :meth:`close` stops them. ``address`` is where senders send.
+    """
+
+    def __init__(self, listen: tuple[str, int], target: tuple[str, int], faults: Faults, seed: int = 0,
+                 clock: Callable[[], float] = time.perf_counter, max_queue: int = 4096) -> None:
+        self.target, self.clock, self.max_queue = target, clock, max_queue
+        self.forward, self.backward = FaultPlan(faults, seed), FaultPlan(faults, seed + 1)
+        self.front = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.front.bind(listen)
+        self.back = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.back.bind((listen[0], 0))
+        for s in (self.front, self.back):
+            s.settimeout(0.002)
+        self._queue: list[tuple[float, int, bytes, bool]] = []  # (when, order, data, forward)
+        self._order = 0
+        self._client: tuple[str, int] | None = None
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._threads = [threading.Thread(target=self._receive, args=(s, fwd), daemon=True)
+                         for s, fwd in ((self.front, True), (self.back, False))]
+        self._threads.append(threading.Thread(target=self._send, daemon=True))
+
+    @property
+    def address(self) -> tuple[str, int]:
+        return self.front.getsockname()
+
+    def start(self) -> Relay:
+        for thread in self._threads:
+            thread.start()
+        return self
+
+    def close(self) -> None:
+        self._stop.set()
+        for thread in self._threads:
+            if thread.is_alive():
+                thread.join(timeout=2.0)
+        self.front.close()
+        self.back.close()
+
+    def __enter__(self) -> Relay:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _receive(self, sock: socket.socket, forward: bool) -> None:
+        plan = self.forward if forward else self.backward
+        while not self._stop.is_set():
+            try:
+                data, sender = sock.recvfrom(65536)
+            except (TimeoutError, OSError):
+                continue
+            now = self.clock()
+            with self._lock:
+                if forward:
+                    self._client = sender
+                for when, out in plan.decide(data, now):
+                    if len(self._queue) < self.max_queue:
+                        heapq.heappush(self._queue, (when, self._order, out, forward))
+                        self._order += 1
+
+    def _send(self) -> None:
+        while not self._stop.is_set():
+            now = self.clock()
+            due = []
+            with self._lock:
+                while self._queue and self._queue[0][0] <= now:
+                    due.append(heapq.heappop(self._queue))
+                client = self._client
+                wait = self._queue[0][0] - now if self._queue else 0.001
+            for _, _, data, forward in due:
+                try:
+                    if forward:
+                        self.back.sendto(data, self.target)
+                    elif client is not None:
+                        self.front.sendto(data, client)
+                except OSError:
+                    pass
+            self._stop.wait(min(max(wait, 0.0), 0.001))

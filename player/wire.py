@@ -1,0 +1,206 @@
+"""The motor stream's wire format: packets of quantised, predicted, arithmetic-coded motor frames.
+
+One UDP datagram is one packet::
+
+    offset size field
+    0      2    magic b"TF"
+    2      1    version (1)
+    3      1    flags: 1 = the first frame is a keyframe, 2 = the tag is an HMAC,
+                       4 = a keyframe request (receiver to sender; no frames)
+    4      4    sequence number of the packet (u32, wraps)
+    8      4    index of the packet's first frame (u32, wraps)
+    12     4    capture time of the first frame, sender's clock, microseconds (u32, wraps)
+    16     1    frames in the packet, 0..32
+    17     1    quantisation steps S (motor value v is sent as round(v * S), 0..S)
+    18     2    frame rate, 1/100 Hz (u16)
+    20     ...  the coded frames
+    end-T  T    tag: CRC-32 of all before it (T = 4), or HMAC-SHA256 truncated to 10 bytes
+                with a shared key (T = 10)
+
+All integers are little-endian. The default S = 100 makes the quantisation error at most 0.5 %
+of a motor's range (log2(101) = 6.66 bits a value before coding).
+
+Coding: a keyframe's 21 values are coded with a flat model (all S + 1 levels alike). Every
+other value is predicted from the motor's three previous frames, a damped continuation of its
+last two steps ``d1 = q[f-1] - q[f-2]`` and ``d2 = q[f-2] - q[f-3]``:
+``q[f-1] + floor((5 d1 + 2 d2 + 5) / 10)``, clipped to 0..S (steps before a keyframe count as
+0). The residual is arithmetic coded (:mod:`player.rangecode`) under a two-sided geometric model
+chosen by the motor's recent activity ``|d1| + |d2|`` (0 to 5 or more steps): a still motor
+costs a fraction of a bit. The damping and the models were fitted on the synthetic performer's
+live-mapped motors; a plain ``2 q[f-1] - q[f-2]`` costs 8 % more there. A packet's frames continue the chain of the packet before, so a packet can be decoded only
+once the frame before it is known: the sender starts a packet with a keyframe at least every
+``key_seconds`` (0.5 s by default) and whenever the receiver asks (flag 4).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import struct
+import zlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from player.rangecode import Decoder, Encoder, Model
+from toon import N_MOTORS
+
+MAGIC = b"TF"
+VERSION = 1
+KEYFRAME, AUTHENTICATED, KEY_REQUEST = 1, 2, 4
+HEADER = struct.Struct("<2sBBIIIBBH")
+MAX_FRAMES = 32
+CRC_SIZE, HMAC_SIZE = 4, 10
+#: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
+MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + HMAC_SIZE + 64
+DEFAULT_STEPS = 100
+#: Per-step decay of the residual model for each speed context, fitted on the synthetic
+#: performer's live-mapped motors (see ``python -m bench stream``).
+CONTEXT_DECAY = (0.14, 0.31, 0.39, 0.50, 0.57, 0.68)
+
+
+class WireError(ValueError):
+    """A packet that cannot be read; ``reason`` is one word for the counters
+    (``size``, ``magic``, ``version``, ``tag``, ``malformed``)."""
+
+    def __init__(self, reason: str, message: str) -> None:
+        super().__init__(message)
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class Header:
+    """A packet's fixed fields (see the module's table)."""
+
+    flags: int
+    sequence: int
+    first_frame: int
+    time_us: int
+    count: int
+    steps: int
+    rate: float
+
+    @property
+    def keyframe(self) -> bool:
+        return bool(self.flags & KEYFRAME)
+
+    @property
+    def key_request(self) -> bool:
+        return bool(self.flags & KEY_REQUEST)
+
+
+@dataclass(frozen=True)
+class Packet:
+    """A decoded packet: its header and its frames' quantised values ``(count, 21)``."""
+
+    header: Header
+    levels: np.ndarray
+
+    @property
+    def values(self) -> np.ndarray:
+        """The frames' motor values, ``(count, 21)`` in [0, 1]."""
+        return self.levels / float(self.header.steps)
+
+
+class Models:
+    """The static coding models for one quantisation (built once per ``steps``)."""
+
+    def __init__(self, steps: int) -> None:
+        self.steps = steps
+        self.flat = Model([1] * (steps + 1))
+        self.residual = [Model.laplace(2 * steps + 1, steps, decay) for decay in CONTEXT_DECAY]
+
+
+def seal(header: Header, body: bytes, key: bytes | None) -> bytes:
+    """Header, body and tag as one datagram."""
+    flags = header.flags | (AUTHENTICATED if key else 0)
+    head = HEADER.pack(MAGIC, VERSION, flags, header.sequence & 0xFFFFFFFF, header.first_frame & 0xFFFFFFFF,
+                       header.time_us & 0xFFFFFFFF, header.count, header.steps, int(round(header.rate * 100)))
+    return head + body + _tag(head + body, key)
+
+
+def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
+    """Check a datagram's size, magic, version and tag; returns its header and coded body.
+
+    Raises
+    ------
+    WireError
+        Saying what is wrong; with a ``key``, a packet without a valid HMAC is refused, and
+        without one, an HMAC-tagged packet is too (it cannot be checked).
+    """
+    if len(data) > MAX_PACKET or len(data) < HEADER.size + CRC_SIZE:
+        raise WireError("size", f"a packet of {len(data)} bytes (must be {HEADER.size + CRC_SIZE}..{MAX_PACKET})")
+    magic, version, flags, sequence, first, time_us, count, steps, rate = HEADER.unpack_from(data)
+    if magic != MAGIC:
+        raise WireError("magic", f"not a toonface stream packet (magic {magic!r})")
+    if version != VERSION:
+        raise WireError("version", f"stream version {version} (this reads {VERSION})")
+    if bool(flags & AUTHENTICATED) != bool(key):
+        raise WireError("tag", "an unauthenticated packet" if key else "an authenticated packet and no key to check it")
+    size = HMAC_SIZE if key else CRC_SIZE
+    if len(data) < HEADER.size + size:
+        raise WireError("size", f"a packet of {len(data)} bytes has no room for its tag")
+    signed, tag = data[:-size], data[-size:]
+    if not hmac.compare_digest(tag, _tag(signed, key)):
+        raise WireError("tag", "the packet's tag does not match (corrupted or forged)")
+    if count > MAX_FRAMES or steps < 1 or rate == 0:
+        raise WireError("malformed", f"a header with {count} frames, {steps} steps, rate {rate / 100:g}")
+    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0), signed[HEADER.size:]
+
+
+def _tag(data: bytes, key: bytes | None) -> bytes:
+    if key:
+        return hmac.new(key, data, hashlib.sha256).digest()[:HMAC_SIZE]
+    return struct.pack("<I", zlib.crc32(data))
+
+
+def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, models: Models) -> bytes:
+    """Code ``levels`` ``(n, 21)`` (ints in 0..steps) after ``history`` ``(h, 21)``, the frames
+    before them (h = 0..2; ignored for a keyframe)."""
+    encoder = Encoder()
+    chain = [] if keyframe else [row for row in np.asarray(history, dtype=np.int64)[-3:]]
+    for row in np.asarray(levels, dtype=np.int64):
+        if not chain:
+            for value in row:
+                encoder.encode(int(value), models.flat)
+        else:
+            prediction, context = _predict(chain, models.steps)
+            for value, guess, ctx in zip(row.tolist(), prediction.tolist(), context.tolist()):
+                encoder.encode(value - guess + models.steps, models.residual[ctx])
+        chain = [*chain[-2:], row]
+    return encoder.finish()
+
+
+def decode_frames(body: bytes, count: int, history: np.ndarray, keyframe: bool, models: Models) -> np.ndarray:
+    """Inverse of :func:`encode_frames`; raises :class:`WireError` when a value leaves 0..steps
+    (the body is not what the header says)."""
+    decoder = Decoder(body)
+    chain = [] if keyframe else [row for row in np.asarray(history, dtype=np.int64)[-3:]]
+    out = np.empty((count, N_MOTORS), dtype=np.int64)
+    for f in range(count):
+        if not chain:
+            row = [decoder.decode(models.flat) for _ in range(N_MOTORS)]
+        else:
+            prediction, context = _predict(chain, models.steps)
+            row = [guess + decoder.decode(models.residual[ctx]) - models.steps
+                   for guess, ctx in zip(prediction.tolist(), context.tolist())]
+        out[f] = row
+        if out[f].min() < 0 or out[f].max() > models.steps:
+            raise WireError("malformed", "a coded value outside the quantisation range")
+        chain = [*chain[-2:], out[f]]
+    return out
+
+
+def _predict(chain: list[np.ndarray], steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each motor's predicted level and activity context from the last one to three frames."""
+    last = chain[-1]
+    d1 = last - chain[-2] if len(chain) > 1 else np.zeros_like(last)
+    d2 = chain[-2] - chain[-3] if len(chain) > 2 else np.zeros_like(last)
+    guess = last + (5 * d1 + 2 * d2 + 5) // 10
+    return np.clip(guess, 0, steps), np.minimum(np.abs(d1) + np.abs(d2), len(CONTEXT_DECAY) - 1)
+
+
+def quantise(values: np.ndarray, steps: int = DEFAULT_STEPS) -> np.ndarray:
+    """Motor values ``(..., 21)`` in [0, 1] as levels 0..steps (NaN and out-of-range clipped)."""
+    clean = np.clip(np.nan_to_num(np.asarray(values, dtype=float), nan=0.5), 0.0, 1.0)
+    return np.rint(clean * steps).astype(np.int64)

@@ -1,0 +1,206 @@
+"""Telepresence subcommands: send (performer end), receive (viewer end), relay (a bad network)."""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+import time
+from pathlib import Path
+
+import click
+import numpy as np
+
+from common import InputError
+from player.live import LiveSettings, run_live
+from player.playout import Playout
+from player.receiver import StreamReceiver
+from player.relay import Faults, Relay
+from player.sinks import open_sink
+from player.stream import StreamWriter
+from toon import MotorTrack, load_face, save_track
+from toonface.cli_options import FACE, SIZE, parse_size, read_take, take_options
+from toonface.cli_player import _address
+from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
+
+VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".webm"}
+KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
+                   help="Shared secret (the file's bytes): every packet carries an HMAC, others are dropped. "
+                        "Or set TOONFACE_STREAM_KEY.")
+
+
+def _key(path: str | None) -> bytes | None:
+    if path:
+        secret = Path(path).read_bytes().strip()
+        if len(secret) < 16:
+            raise click.BadParameter(f"{path}: a key needs at least 16 bytes", param_hint="--key-file")
+        return secret
+    env = os.environ.get("TOONFACE_STREAM_KEY")
+    return env.encode() if env else None
+
+
+@click.command()
+@click.argument("source")
+@click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where the receiver (or a relay) listens.")
+@click.option("--mapping", default=None, metavar="NAME|FILE", help="Mapping [default: the preset matching the markers].")
+@click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
+              help="Performer profile [default: the marker set's typical one, rest from the first second].")
+@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@click.option("--repeat", is_flag=True, help="A take file: play it again and again.")
+@click.option("--frames-per-packet", default=2, show_default=True, type=click.IntRange(1, 32),
+              help="More: fewer packets and headers, more delay.")
+@click.option("--keyframe-seconds", default=0.5, show_default=True, type=click.FloatRange(0.02, 0.5),
+              help="A keyframe at least this often (also whenever the receiver asks).")
+@click.option("--colour", default="blue", show_default=True, help="A video: the dot markers' colour.")
+@KEY
+@click.option("--record", default=None, type=click.Path(dir_okay=False), help="Also write the motors sent (.csv/.npz).")
+@click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
+@take_options
+def send(source: str, target: str, mapping: str | None, profile_path: str | None, seconds: float | None, repeat: bool,
+         frames_per_packet: int, keyframe_seconds: float, colour: str, key_file: str | None, record: str | None,
+         stats: bool, take_rate: float | None, labels: str | None, units: str | None) -> None:
+    """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
+    a video with dot markers (tracked as it plays), or `synthetic` (the synthetic performer).
+
+    Cleaning and mapping run live at this end; only the 21 motor values cross the network,
+    about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
+    """
+    from mapping import load_profile
+    address = _address(target, "--to", 7710)
+    if source == "synthetic":
+        src = synthetic_source(seconds or 60.0)
+    elif Path(source).suffix.lower() in VIDEO_SUFFIXES:
+        src = video_source(source, colour)
+    else:
+        src = take_source(read_take(source, take_rate, labels, units), repeat)
+    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None)
+    writer = StreamWriter(src.rate, frames_per_packet, keyframe_seconds, key=_key(key_file))
+    sent: list[np.ndarray] = []
+    click.echo(f"sending {src.name} at {src.rate:g} Hz to {address[0]}:{address[1]} (Ctrl-C stops)")
+    try:
+        report = run_sender(src, mapper, writer, address, seconds,
+                            on_frame=(lambda i, v, t: sent.append(v)) if record else None)
+    except KeyboardInterrupt:
+        report = None
+    if record and sent:
+        click.echo(f"wrote {save_track(MotorTrack(np.array(sent), src.rate), record)}")
+    if report is not None:
+        rates = report.rates(src.rate)
+        click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets: payload {rates['payload_kbps']} "
+                   f"kbit/s, wire {rates['wire_kbps']} kbit/s")
+        if stats:
+            click.echo(json.dumps(rates))
+
+
+@click.command()
+@click.option("--listen", default="127.0.0.1:7710", show_default=True, metavar="HOST:PORT",
+              help="UDP address to receive on (0.0.0.0 to accept other machines).")
+@FACE
+@SIZE
+@click.option("-o", "--output", default=None, type=click.Path(),
+              help="Record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
+@click.option("--preview", default=None, metavar="HOST:PORT", help="Serve a live MJPEG preview, e.g. 127.0.0.1:8080.")
+@click.option("--fps", default=60.0, show_default=True, type=click.FloatRange(1, 240), help="Frames drawn a second.")
+@click.option("--conceal", default="linear", show_default=True, type=click.Choice(["hold", "linear"]),
+              help="How lost frames are guessed (then eased to neutral if the loss goes on).")
+@click.option("--jitter-ms", default=4.0, show_default=True, type=click.FloatRange(0, 500),
+              help="Extra delay above what the recent packets needed.")
+@click.option("--max-jump", default=0.05, show_default=True, type=click.FloatRange(0.001, 1),
+              help="While concealing and recovering, the most a motor moves per stream frame.")
+@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@KEY
+@click.option("--record", default=None, type=click.Path(dir_okay=False), help="Also write the motors shown (.csv/.npz).")
+@click.option("--stats", is_flag=True, help="Print packets, loss, drops, concealment and latency each second.")
+def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
+            jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
+            stats: bool) -> None:
+    """Show a motor stream from `toonface send` on a face of this end's choosing.
+
+    A jitter buffer absorbs late packets; lost ones are concealed and the face never jumps by
+    more than --max-jump per frame when the stream comes back. Bad packets (oversized,
+    malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
+    """
+    face_obj = load_face(face)
+    dims = parse_size(size)
+    say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
+    playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+    shown: list[np.ndarray] = []
+    try:
+        receiver = StreamReceiver(_address(listen, "--listen", 7710), playout, _key(key_file))
+    except OSError as exc:
+        raise InputError(f"cannot listen on {listen}: {exc.strerror or exc}") from None
+    with receiver:
+        settings = LiveSettings(loop_time=1 / fps, size=dims, tcp=None, preview=_address(preview, "--preview", 8080),
+                                seconds=seconds)
+        if output is not None:
+            settings.sinks.append(open_sink(output, fps, dims))
+
+        def values(_: float) -> np.ndarray:
+            value, _state = receiver.values_at()
+            if record:
+                shown.append(value)
+            return value
+        settings.source = values
+        done = threading.Event()
+        if stats:
+            threading.Thread(target=_print_stats, args=(receiver, done, say), daemon=True).start()
+
+        def ready(addresses: dict[str, str]) -> None:
+            host, port = receiver.address
+            say(f"receiving on {host}:{port}, showing {face_obj.name} at {fps:g} fps (Ctrl-C stops)")
+            for kind, where in addresses.items():
+                say(f"{kind} {where}")
+        try:
+            run_live(face_obj, settings, ready)
+        finally:
+            done.set()
+    if record and shown:
+        say(f"wrote {save_track(MotorTrack(np.array(shown), fps), record)}")
+    say(json.dumps(receiver.summary()))
+
+
+def _print_stats(receiver: StreamReceiver, done: threading.Event, say) -> None:
+    while not done.wait(1.0):
+        say(json.dumps(receiver.summary()))
+
+
+@click.command()
+@click.option("--listen", default="127.0.0.1:7711", show_default=True, metavar="HOST:PORT", help="Where senders send.")
+@click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where to forward (the receiver).")
+@click.option("--loss", default=0.0, show_default=True, type=click.FloatRange(0, 1), help="Probability of a loss.")
+@click.option("--burst-ms", default=0.0, show_default=True, type=click.FloatRange(0, 10000),
+              help="Loss bursts this long, about one every 2 s.")
+@click.option("--duplicate", default=0.0, show_default=True, type=click.FloatRange(0, 1))
+@click.option("--corrupt", default=0.0, show_default=True, type=click.FloatRange(0, 1), help="Flip one bit.")
+@click.option("--reorder", default=0.0, show_default=True, type=click.FloatRange(0, 1),
+              help="Hold a packet back 30 ms.")
+@click.option("--delay-ms", default=0.0, show_default=True, type=click.FloatRange(0, 10000))
+@click.option("--jitter-ms", default=0.0, show_default=True, type=click.FloatRange(0, 10000))
+@click.option("--seed", default=0, show_default=True, type=int)
+@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: float, corrupt: float, reorder: float,
+          delay_ms: float, jitter_ms: float, seed: int, seconds: float | None) -> None:
+    """A bad network on one machine: forward UDP from --listen to --to (and replies back),
+    losing, delaying, reordering, duplicating and corrupting packets at random (seeded).
+
+    Example: `toonface relay --to 127.0.0.1:7710 --loss 0.1 --burst-ms 50`, then
+    `toonface send synthetic --to 127.0.0.1:7711`.
+    """
+    faults = Faults(loss, burst_ms / 1000, 0.5, duplicate, corrupt, reorder, 0.03, delay_ms / 1000, jitter_ms / 1000)
+    try:
+        proxy = Relay(_address(listen, "--listen", 7711), _address(target, "--to", 7710), faults, seed)
+    except OSError as exc:
+        raise InputError(f"cannot listen on {listen}: {exc.strerror or exc}") from None
+    with proxy:
+        host, port = proxy.address
+        click.echo(f"relaying {host}:{port} -> {target} (Ctrl-C stops)", err=False)
+        end = None if seconds is None else time.monotonic() + seconds
+        try:
+            while end is None or time.monotonic() < end:
+                time.sleep(0.2 if end is None else max(0.0, min(0.2, end - time.monotonic())))
+        except KeyboardInterrupt:
+            pass
+    click.echo(json.dumps({"forward": proxy.forward.counts, "back": proxy.backward.counts}))
+
+
+STREAM_COMMANDS = (send, receive, relay)
