@@ -19,8 +19,9 @@ Where a frame is missing when its time comes it is concealed, from the frames be
     a forecaster given by the caller (the mapping's pysindy motion model).
 
 Whatever the method, after ``ease_after`` seconds of loss the face eases to its neutral over
-``ease_seconds`` (hold-then-ease), and while concealing and until it has caught up with the
-stream again the face moves at most ``max_jump`` of a motor's range per stream frame.
+``ease_seconds`` (hold-then-ease). While concealing, and after it until it has caught up with the
+stream again, the face moves by at most ``max_jump`` of a motor's range per stream frame beyond
+the stream's own motion: it closes the gap to the stream gradually, following it meanwhile.
 """
 
 from __future__ import annotations
@@ -83,6 +84,7 @@ class Playout:
         self.stats = PlayoutStats()
         self.delay: float | None = None  # seconds behind the sender's clock (its offset included)
         self.base = 0.0
+        self.position = 0.0  # the stream frame (fractional index) shown last
         self.rate = 60.0
         self._frames: dict[int, np.ndarray] = {}
         self._anchor: tuple[int, float] | None = None  # (frame index, its capture time)
@@ -91,6 +93,8 @@ class Playout:
         self._last_now: float | None = None
         self._concealed: dict[int, np.ndarray] = {}  # what was shown for frames that were missing
         self._behind = False  # concealing or catching up
+        self._first = np.iinfo(np.int64).max  # the first frame index received
+        self._last_stream: np.ndarray | None = None
 
     def add(self, frames: Frames) -> None:
         """Take a packet's frames (arrival on the caller's clock)."""
@@ -100,9 +104,10 @@ class Playout:
             self._frames.clear()
             self._concealed.clear()
             self._transit.clear()
-            self._anchor, self.delay = None, None
+            self._anchor, self.delay, self._first = None, None, frames.first
         if self._anchor is None or frames.first > self._anchor[0]:
             self._anchor = (frames.first, frames.time_s)
+        self._first = min(self._first, frames.first)
         for i in range(count):
             index = frames.first + i
             captured = frames.time_s + i / frames.rate
@@ -147,19 +152,25 @@ class Playout:
         self._settle(elapsed)
         self._last_now = now
         position = self._anchor[0] + (now - self.delay - self._anchor[1]) * self.rate
+        self.position = position
         index = int(np.floor(position))
         self._forget(index)
+        if index < self._first:  # the stream's first frame is not due yet
+            self.stats.waiting += 1
+            return self._frames.get(self._first, self.neutral).copy(), "waiting"
         stream = self._stream_at(index, position - index)
         if stream is not None and not self._behind:
             state, value = "live", stream
         else:
             target = stream if stream is not None else self._conceal(index, position)
-            value = self._limited(target, elapsed)
+            moved = stream - self._last_stream if stream is not None and self._last_stream is not None else 0.0
+            value = self._limited(target, moved, elapsed)
             caught_up = stream is not None and np.abs(value - stream).max() < 1e-6
             self._behind = not caught_up
             state = "live" if caught_up else ("recovering" if stream is not None else "concealed")
             if stream is None:
                 self._concealed.setdefault(index, value)
+        self._last_stream = stream
         self._output = value
         setattr(self.stats, state, getattr(self.stats, state) + 1)
         latency = self.latency()
@@ -194,11 +205,14 @@ class Playout:
         ease = np.clip((gap - self.ease_after) / self.ease_seconds, 0.0, 1.0)
         return np.clip(guess + (self.neutral - guess) * ease, 0.0, 1.0)
 
-    def _limited(self, target: np.ndarray, elapsed: float) -> np.ndarray:
+    def _limited(self, target: np.ndarray, moved: np.ndarray | float, elapsed: float) -> np.ndarray:
+        """Toward ``target``, following the stream's own motion ``moved`` since the last call
+        and closing the rest of the gap by at most ``max_jump`` per stream frame."""
         if self._output is None:
             return target
         step = self.max_jump * max(elapsed * self.rate, 1e-9)
-        return self._output + np.clip(target - self._output, -step, step)
+        start = self._output + moved
+        return start + np.clip(target - start, -step, step)
 
     def _settle(self, elapsed: float) -> None:
         """Let the delay fall toward what the recent frames need, slowly."""

@@ -42,7 +42,11 @@ class StreamReceiver:
         self.request_interval = request_interval
         self.requests = 0
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.sock.bind(address)
+        try:
+            self.sock.bind(address)
+        except OSError:
+            self.sock.close()
+            raise
         self.sock.settimeout(0.1)
         self._lock = threading.Lock()
         self._stop = threading.Event()

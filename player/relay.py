@@ -95,9 +95,14 @@ class Relay:
         self.target, self.clock, self.max_queue = target, clock, max_queue
         self.forward, self.backward = FaultPlan(faults, seed), FaultPlan(faults, seed + 1)
         self.front = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.front.bind(listen)
         self.back = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.back.bind((listen[0], 0))
+        try:
+            self.front.bind(listen)
+            self.back.bind((listen[0], 0))
+        except OSError:
+            self.front.close()
+            self.back.close()
+            raise
         for s in (self.front, self.back):
             s.settimeout(0.002)
         self._queue: list[tuple[float, int, bytes, bool]] = []  # (when, order, data, forward)

@@ -1,0 +1,244 @@
+"""The telepresence stream: arithmetic coding, the wire format, the reader's defences, the jitter
+buffer and concealment, the fault relay, the live mapper, and the pieces over real sockets."""
+
+import struct
+import time
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from capture import synthesize
+from capture.performance import default_performance
+from player.playout import Playout
+from player.rangecode import Decoder, Encoder, Model
+from player.receiver import StreamReceiver
+from player.relay import FaultPlan, Faults, Relay
+from player.stream import StreamReader, StreamWriter, is_key_request, key_request
+from player.wire import HEADER, MAX_PACKET, quantise
+from toon import standard_neutral
+from toonface import truth_track
+from toonface.cli import main
+from toonface.pipeline import map_take
+from toonface.send import build_mapper, run_sender, take_source
+
+RATE = 60.0
+
+
+def smooth_motion(frames: int, seed: int = 0) -> np.ndarray:
+    """Smooth random motor curves ``(frames, 21)`` in [0, 1]."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(frames)[:, None] / RATE
+    return np.clip(0.5 + 0.3 * np.sin(2 * np.pi * rng.uniform(0.2, 2, 21) * t + rng.uniform(0, 6, 21))
+                   + rng.normal(0, 0.003, (frames, 21)), 0, 1)
+
+
+def packets(values: np.ndarray, **options) -> tuple[StreamWriter, list[bytes]]:
+    writer = StreamWriter(RATE, first_sequence=0, **options)
+    out = [d for i, row in enumerate(values) if (d := writer.push(row, i / RATE)) is not None]
+    last = writer.flush()
+    return writer, out + ([last] if last else [])
+
+
+@given(st.lists(st.integers(0, 6), min_size=0, max_size=60), st.integers(0, 3))
+@settings(max_examples=60, deadline=None)
+def test_arithmetic_coding_round_trips_near_the_information_content(symbols, which):
+    models = [Model([1, 2, 3, 4, 5, 6, 7]), Model.laplace(7, 3, 0.3), Model([50, 1, 1, 1, 1, 1, 50]), Model([1] * 7)]
+    model = models[which]
+    encoder = Encoder()
+    for s in symbols:
+        encoder.encode(s, model)
+    data = encoder.finish()
+    decoder = Decoder(data)
+    assert [decoder.decode(model) for _ in symbols] == symbols
+    assert len(data) * 8 <= sum(model.bits(s) for s in symbols) + 9
+
+
+@given(st.integers(1, 8), st.sampled_from([100, 255, 20]), st.integers(0, 1000))
+@settings(max_examples=25, deadline=None)
+def test_stream_round_trip_is_exact_to_the_quantisation(per_packet, steps, seed):
+    values = smooth_motion(90, seed)
+    values[::17] = np.random.default_rng(seed).uniform(0, 1, (len(values[::17]), 21))  # jumps code too
+    writer, datagrams = packets(values, frames_per_packet=per_packet, steps=steps)
+    reader = StreamReader()
+    frames = [f for d in datagrams for f in reader.read(d, 0.0)]
+    got = np.concatenate([f.values for f in frames])
+    assert np.array_equal(np.rint(got * steps), quantise(values, steps))
+    assert np.abs(got - values).max() <= 0.5 / steps + 1e-12
+    assert [f.first for f in frames] == list(range(0, 90, per_packet))
+
+
+def test_header_is_little_endian_as_documented():
+    _, datagrams = packets(smooth_motion(4), frames_per_packet=2)
+    magic, version, flags, sequence, first, time_us, count, steps, rate = HEADER.unpack_from(datagrams[1])
+    assert (magic, version, flags & 1, sequence, first, count, steps, rate) == (b"TF", 1, 0, 1, 2, 2, 100, 6000)
+    assert datagrams[1][4:8] == struct.pack("<I", 1) and time_us == round(2 / RATE * 1e6)
+    assert HEADER.unpack_from(datagrams[0])[2] & 1  # the first packet is a keyframe
+
+
+def test_a_still_face_costs_little_more_than_its_keyframes():
+    values = np.tile(standard_neutral(), (600, 1))
+    writer, datagrams = packets(values)
+    assert writer.keyframes == 20  # 10 s of 2-frame packets, a keyframe each 0.5 s
+    keyframe_bits = 20 * 21 * np.log2(101)
+    # a still motor's residual is 0, about 0.4 bits; each packet's code ends on a whole byte
+    assert keyframe_bits < writer.payload_bytes * 8 < keyframe_bits + 580 * 21 * 0.45 + 300 * 9
+
+
+def test_reader_drops_corrupt_oversized_replayed_and_unauthenticated_packets():
+    _, datagrams = packets(smooth_motion(20))
+    reader = StreamReader()
+    assert reader.read(datagrams[0], 0.0)
+    flipped = bytearray(datagrams[1])
+    flipped[25] ^= 4
+    assert reader.read(bytes(flipped), 0.0) == []
+    assert reader.read(datagrams[0], 0.0) == []  # the same packet again
+    assert reader.read(b"x" * (MAX_PACKET + 1), 0.0) == []
+    assert reader.read(b"TF", 0.0) == []
+    keyed = StreamReader(key=b"0123456789abcdef")
+    assert keyed.read(datagrams[1], 0.0) == []
+    assert dict(reader.dropped) == {"tag": 1, "replay": 1, "size": 2} and dict(keyed.dropped) == {"tag": 1}
+
+
+def test_hmac_authenticates_and_a_wrong_key_is_refused():
+    key = b"a shared secret of enough length"
+    _, datagrams = packets(smooth_motion(6), key=key)
+    assert len(StreamReader(key).read(datagrams[0], 0.0)) == 1
+    wrong = StreamReader(b"another secret of enough length!")
+    assert wrong.read(datagrams[0], 0.0) == [] and wrong.dropped["tag"] == 1
+    assert StreamReader().read(datagrams[0], 0.0) == []  # no key to check it with
+    assert is_key_request(key_request(1, key), key) and not is_key_request(key_request(1, key), b"x" * 16)
+
+
+def test_reordered_packets_wait_for_their_predecessor():
+    _, datagrams = packets(smooth_motion(12))
+    reader = StreamReader()
+    order = [0, 2, 1, 3, 5, 4]
+    got = [f.first for i in order for f in reader.read(datagrams[i], 0.0)]
+    assert got == [0, 2, 4, 6, 8, 10] and reader.lost == 0
+
+
+def test_a_lost_packet_asks_for_a_keyframe_and_the_keyframe_resumes_the_chain():
+    values = smooth_motion(40)
+    writer = StreamWriter(RATE, first_sequence=0)
+    reader = StreamReader()
+    decoded = []
+    for i, row in enumerate(values):
+        datagram = writer.push(row, i / RATE)
+        if datagram is None or i == 5:  # the packet with frames 4 and 5 is lost
+            continue
+        decoded += reader.read(datagram, i / RATE)
+        if reader.want_keyframe:
+            writer.request_keyframe()
+    firsts = [f.first for f in decoded]
+    assert 4 not in firsts and 6 not in firsts and 8 in firsts  # frames 6-7 wait in vain; 8 is a keyframe
+    assert reader.lost == 1 and not reader.want_keyframe
+
+
+def feed_stream(playout: Playout, values: np.ndarray, lose: set[int] = frozenset(), transit: float = 0.002):
+    """Stream ``values`` into ``playout`` (losing packet numbers in ``lose``) and show a frame at
+    every frame time; returns the shown values and states."""
+    writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
+    shown, states, positions = [], [], []
+    for i, row in enumerate(values):
+        now = i / RATE
+        datagram = writer.push(row, now)
+        if datagram is not None and writer.packets - 1 not in lose:
+            for frames in reader.read(datagram, now + transit):
+                playout.add(frames)
+            if reader.want_keyframe:
+                writer.request_keyframe()
+        value, state = playout.values_at(now + transit)
+        shown.append(value)
+        states.append(state)
+        positions.append(playout.position)
+    return np.array(shown), states, np.array(positions)
+
+
+def test_jitter_buffer_delay_is_the_packetisation_plus_the_margin():
+    playout = Playout(standard_neutral(), margin=0.004)
+    feed_stream(playout, smooth_motion(120))
+    assert playout.delay == pytest.approx(0.002 + 1 / RATE + 0.004, abs=1e-6)  # stamps are whole microseconds
+    assert playout.latency() == pytest.approx(playout.delay)
+
+
+@pytest.mark.parametrize("method", ["hold", "linear"])
+def test_concealment_never_jumps_more_than_the_limit_and_comes_back_live(method):
+    values = smooth_motion(240, seed=3)
+    playout = Playout(standard_neutral(), method, max_jump=0.02)
+    shown, states, positions = feed_stream(playout, values, lose={30, 31, 32, 60})
+    concealed = [i for i, s in enumerate(states) if s == "concealed"]
+    recovering = [i for i, s in enumerate(states) if s == "recovering"]
+    assert len(concealed) >= 8 and recovering and states[-1] == "live"
+    # concealing, and on the first frame back, the face moves at most the limit
+    first_back = [i for i in recovering if states[i - 1] == "concealed"]
+    moves = [i for i in concealed + first_back if states[i - 1] != "waiting"]
+    assert np.abs(shown[moves] - shown[[i - 1 for i in moves]]).max() <= 0.02 + 1e-12
+
+
+def test_linear_concealment_beats_holding_on_smooth_motion():
+    values = smooth_motion(600, seed=5)
+    lose = set(range(10, 300, 9))
+    errors = {}
+    for method in ("hold", "linear"):
+        playout = Playout(standard_neutral(), method)
+        shown, states, _ = feed_stream(playout, values, lose)
+        rows = [i for i, s in enumerate(states) if s == "concealed"]
+        delay_frames = playout.delay * RATE
+        truth = np.array([np.interp(np.array(rows) + 0.12 - delay_frames, np.arange(600), values[:, c])
+                          for c in range(21)]).T
+        errors[method] = np.sqrt(np.mean((shown[rows] - truth) ** 2))
+    assert errors["linear"] < errors["hold"]
+
+
+def test_fault_plan_is_seeded_and_loses_what_it_says():
+    plan = FaultPlan(Faults(loss=0.1), seed=4)
+    kept = sum(bool(plan.decide(b"p", i / 30)) for i in range(20000))
+    assert 0.88 < kept / 20000 < 0.92
+    again = FaultPlan(Faults(loss=0.1, duplicate=0.2, corrupt=0.2, jitter=0.01), seed=4)
+    same = FaultPlan(Faults(loss=0.1, duplicate=0.2, corrupt=0.2, jitter=0.01), seed=4)
+    assert [again.decide(b"packet", i / 30) for i in range(200)] == [same.decide(b"packet", i / 30) for i in range(200)]
+    burst = FaultPlan(Faults(burst_seconds=0.05, bursts_per_second=1e9), seed=0)
+    burst.decide(b"p", 0.0)
+    assert burst.decide(b"p", 0.01) == [] and burst.counts["lost"] == 1
+
+
+def test_live_mapping_follows_the_performer_close_to_offline():
+    syn = synthesize(seconds=20, rate=RATE, performance=default_performance(20))
+    source = take_source(syn.take)
+    mapper = build_mapper(source)
+    live = np.array([mapper.step(p, i / RATE)[0] for i, p in enumerate(syn.take.positions)])
+    truth, offline = truth_track(syn).values, map_take(syn.take).values
+    after = slice(int(16 * RATE), None)  # after the calibration segment
+    live_error = np.sqrt(np.mean((live[after] - truth[after]) ** 2))
+    assert live_error < 0.03
+    assert live_error < 2.0 * np.sqrt(np.mean((offline[after] - truth[after]) ** 2))
+
+
+def test_sender_receiver_and_relay_over_loopback_sockets():
+    syn = synthesize(seconds=3, rate=RATE, performance=default_performance(3))
+    source = take_source(syn.take)
+    clock = iter(np.arange(10000) / RATE).__next__  # the sender never waits
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as receiver, \
+            Relay(("127.0.0.1", 0), receiver.address, Faults(duplicate=0.5), seed=1) as relay:
+        report = run_sender(source, build_mapper(source), StreamWriter(RATE), relay.address, clock=clock,
+                            sleep=lambda s: None)
+        deadline = time.monotonic() + 10
+        while receiver.reader.packets < report.packets and time.monotonic() < deadline:
+            receiver.sock.settimeout(0.1)
+            relay._stop.wait(0.01)  # noqa: SLF001 - wait for the threads to deliver, bounded
+    assert report.frames == 180 and receiver.reader.packets == report.packets == 90
+    assert receiver.reader.dropped["replay"] == relay.forward.counts["duplicated"] > 0
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["send", "missing.csv", "--to", "127.0.0.1:9"], "missing.csv: no such file"),
+    (["send", "synthetic", "--to", "host:port"], "expected HOST:PORT"),
+    (["receive", "--listen", "256.1.1.1:7"], "cannot listen on 256.1.1.1:7"),
+])
+def test_stream_commands_fail_in_one_line(tmp_path, monkeypatch, capsys, argv, fragment):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) != 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and fragment in err, err
