@@ -30,13 +30,14 @@ from capture.faults import Faults, apply_faults
 from capture.performance import default_performance
 from mapping.filters import OneEuro
 from mapping.gaps import GapFiller
+from mapping.live import LIVE_BETA, LIVE_MIN_CUTOFF
 from bench.pipeline import pinned_rate
 from mapping import calibrate, choose_mapping, map_stabilised, prepare
 from toon import MOTOR_CODES
 from toonface import truth_track
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
-LIVE = {"min_cutoff": 1.0, "beta": 0.5}
+LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's marker filter
 CALIBRATION_END = 1.0 + 12 * 1.2  # the synthetic calibration segment: 1 s neutral, 12 groups
 
 

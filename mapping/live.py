@@ -17,23 +17,24 @@ the motors show the face's neutral meanwhile.
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import replace
 
 import numpy as np
 
 from capture import MarkerSet
 from mapping.filters import Delay, OneEuro, SpeedLimit
 from mapping.mapfile import Mapping, MotorRule
-from mapping.mapper import FILLED_QUALITY, IDLE_AMPLITUDE, IDLE_HZ, _across_motors, _motor_value, make_filter
+from mapping.mapper import (FILLED_QUALITY, IDLE_AMPLITUDE, IDLE_HZ, _across_motors, _motor_value, channel_limits,
+                            check_profile, make_filter)
 from mapping.outliers import SpikeFilter
 from mapping.profile import Profile, SourceRange
+from mapping.workflow import merge_profile
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
 from toon import MOTOR_CODES, N_MOTORS, motor_index, standard_neutral
 
-#: One Euro settings for head-frame markers (mm) live: 1 frame of lag at 60 Hz, jitter cut ~4x
-#: (``python -m bench fidelity``).
-SMOOTHING = {"min_cutoff": 1.0, "beta": 0.5}
+#: One Euro settings (Hz, and per mm/s) for head-frame markers live: 1 frame of lag at 60 Hz
+#: (``python -m bench fidelity`` measures this filter).
+LIVE_MIN_CUTOFF, LIVE_BETA = 1.0, 0.5
 
 
 class LiveMapper:
@@ -62,10 +63,7 @@ class LiveMapper:
                  max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0) -> None:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
-        missing = sorted({s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources}
-                         - set(profile.sources))
-        if missing:
-            raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
+        check_profile(mapping, profile)
         found = markerset.match(labels)
         present = [r for r in markerset.head_reference if r in found]
         if len(present) < 3:
@@ -77,18 +75,14 @@ class LiveMapper:
         self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
         self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
         self.spikes = SpikeFilter() if spikes else None
-        self.markers = OneEuro(**SMOOTHING, rate=rate)
-        self.pose = OneEuro(**SMOOTHING, rate=rate)
+        self.markers = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
+        self.pose = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
         self.filters = {r.code: make_filter(r.filter, rate) for r in mapping.rules if r.filter}
-        speeds = np.array([next((r.max_speed for r in mapping.rules if r.code == c and r.max_speed > 0), np.inf)
-                           for c in _codes()])
-        self.limit = SpeedLimit(speeds) if np.isfinite(speeds).any() else None
-        delays = np.zeros(N_MOTORS, dtype=int)
-        for rule in mapping.rules:
-            delays[motor_index(rule.code)] = int(round(rule.delay * rate))
+        speeds, delays = channel_limits(mapping, rate)
+        self.limited = np.isfinite(speeds)  # only these pass the speed limit (as offline)
+        self.limit = SpeedLimit(speeds[self.limited]) if self.limited.any() else None
         self.delay = Delay(delays) if delays.any() else None
-        self.rng = np.random.default_rng(seed)
-        self.phases = self.rng.uniform(0, 2 * np.pi, (2, N_MOTORS))  # idle drift, tremble
+        self.phases = np.random.default_rng(seed).uniform(0, 2 * np.pi, (2, N_MOTORS))  # idle drift, tremble
         self.smooth_window: deque[np.ndarray] = deque(maxlen=max(1, int(round(mapping.style.smooth_seconds * rate))))
         self._last_local = np.full((len(labels), 3), np.nan)
         self._last_seen = np.full(len(labels), -np.inf)
@@ -152,18 +146,17 @@ class LiveMapper:
     def _profile_at_rest(self) -> Profile:
         """The profile with its ranges kept around the rest measured at the start."""
         local = np.array([f[0] for f in self._rest])
-        rest_rotation = nearest_rotation(np.mean([f[1] for f in self._rest], axis=0))
         rotations = np.array([f[1] for f in self._rest])
+        rest_rotation = nearest_rotation(rotations.mean(axis=0))
         head = head_angles(rotations, rest_rotation)
-        sources = dict(self.profile.sources)
+        rests = {}
         for source in self.mapping.sources():
-            span = sources.get(source.key)
             measured = measure(source, local, self.columns, head)
-            if span is None or not np.isfinite(measured).any():
-                continue
-            shift = float(np.nanmedian(measured)) - span.neutral
-            sources[source.key] = SourceRange(span.neutral + shift, span.low + shift, span.high + shift)
-        return replace(self.profile, sources=sources, rest_rotation=rest_rotation)
+            if np.isfinite(measured).any():
+                rest = float(np.nanmedian(measured))
+                rests[source.key] = SourceRange(rest, rest, rest)
+        own = Profile(self.profile.markerset, rests, rest_rotation)
+        return merge_profile(self.profile, own, [], rest_from_take=True)
 
     def _map(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         head = head_angles(stable.rotation, self.profile.rest_rotation)
@@ -183,7 +176,7 @@ class LiveMapper:
                 value = self.filters[rule.code].step(np.array([value]), t)[0]
             values[col] = value
         if self.limit is not None:
-            values = self.limit.step(values, t)
+            values[self.limited] = self.limit.step(values[self.limited], t)
         if self.delay is not None:
             values = self.delay.step(values, t)
         values = _across_motors(values[None], self.mapping, self.neutral)[0]
@@ -208,19 +201,15 @@ class LiveMapper:
         style, out = self.mapping.style, values.copy()
         if style.smooth_seconds > 0:
             self.smooth_window.append(values)
-            cols = [motor_index(c) for c in style.smooth_motors or _codes()]
+            cols = [motor_index(c) for c in style.smooth_motors or MOTOR_CODES]
             out[cols] = np.mean(self.smooth_window, axis=0)[cols]
         if style.tremble_amplitude > 0:
-            for code in style.tremble_motors or _codes():
+            for code in style.tremble_motors or MOTOR_CODES:
                 col = motor_index(code)
                 out[col] += style.tremble_amplitude * np.sin(2 * np.pi * style.tremble_frequency * t
                                                              + self.phases[1, col])
         if style.sharpen_steps:
-            cols = [motor_index(c) for c in style.sharpen_motors or _codes()]
+            cols = [motor_index(c) for c in style.sharpen_motors or MOTOR_CODES]
             levels = style.sharpen_steps - 1
             out[cols] = np.round(np.clip(out[cols], 0, 1) * levels) / levels
         return out
-
-
-def _codes() -> tuple[str, ...]:
-    return tuple(MOTOR_CODES)

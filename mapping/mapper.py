@@ -54,9 +54,7 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     seed : int
         Seeds the idle drift and the tremble.
     """
-    missing = sorted({s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources} - set(profile.sources))
-    if missing:  # the performer's range is what "profile" normalisation divides by
-        raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
+    check_profile(mapping, profile)
     neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
     frames = len(times)
     quality = np.isfinite(stable.local).all(axis=2).astype(float)
@@ -81,6 +79,25 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     meta = {"mapping": mapping.name, "profile": profile.performer or profile.markerset,
             "mapped": [r.code for r in mapping.rules], "lost_frames": int(lost.any(axis=1).sum())}
     return MotorTrack(np.clip(values, 0.0, 1.0), rate, confidence=np.clip(confidence, 0.0, 1.0), meta=meta)
+
+
+def check_profile(mapping: Mapping, profile: Profile) -> None:
+    """Raise ValueError naming the sources ``profile`` has no range for (the performer's range is
+    what ``profile`` normalisation divides by)."""
+    missing = sorted({s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources} - set(profile.sources))
+    if missing:
+        raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
+
+
+def channel_limits(mapping: Mapping, rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each motor's speed limit (units/s, inf: none) and delay (whole frames), ``(21,)`` each."""
+    speeds = np.full(len(MOTOR_CODES), np.inf)
+    delays = np.zeros(len(MOTOR_CODES), dtype=int)
+    for rule in mapping.rules:
+        if rule.max_speed > 0:
+            speeds[motor_index(rule.code)] = rule.max_speed
+        delays[motor_index(rule.code)] = int(round(rule.delay * rate))
+    return speeds, delays
 
 
 def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRange | None) -> np.ndarray:
@@ -180,12 +197,7 @@ def _channel_stages(values: np.ndarray, mapping: Mapping, times: np.ndarray, rat
         if rule.filter:
             col = motor_index(rule.code)
             out[:, col] = make_filter(rule.filter, rate).apply(out[:, col], times)
-    speeds = np.full(len(MOTOR_CODES), np.inf)
-    delays = np.zeros(len(MOTOR_CODES), dtype=int)
-    for rule in mapping.rules:
-        if rule.max_speed > 0:
-            speeds[motor_index(rule.code)] = rule.max_speed
-        delays[motor_index(rule.code)] = int(round(rule.delay * rate))
+    speeds, delays = channel_limits(mapping, rate)
     if np.isfinite(speeds).any():
         limited = np.isfinite(speeds)
         out[:, limited] = SpeedLimit(speeds[limited]).apply(out[:, limited], times)

@@ -160,7 +160,7 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
             own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
-            profile = _merge(profile, own, missing, rest_from_take)
+            profile = merge_profile(profile, own, missing, rest_from_take)
             if missing:
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
             if rest_from_take:
@@ -177,7 +177,7 @@ def builtin_profile(markerset: str) -> Path | None:
     return path if path.is_file() else None
 
 
-def _merge(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool) -> Profile:
+def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool) -> Profile:
     """``profile`` with ``own``'s ranges for ``missing`` keys; with ``rest_from_take``, ``own``'s
     neutral values and rest rotation everywhere (the ranges' extents are kept around the new rest)."""
     sources = dict(profile.sources)

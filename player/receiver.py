@@ -49,6 +49,7 @@ class StreamReceiver:
             raise
         self.sock.settimeout(0.1)
         self._lock = threading.Lock()
+        self._arrived = threading.Condition(self._lock)
         self._stop = threading.Event()
         self._last_request = -np.inf
         self._thread = threading.Thread(target=self._serve, daemon=True)
@@ -82,12 +83,10 @@ class StreamReceiver:
     def feed(self, datagram: bytes, sender: tuple[str, int] | None = None) -> None:
         """Handle one datagram as if it had arrived now (the thread calls this for each)."""
         arrival = self.clock()
-        with self._lock:
-            if len(datagram) > MAX_PACKET:
-                self.reader.dropped["size"] += 1
-                return
-            for frames in self.reader.read(datagram, arrival):
+        with self._arrived:
+            for frames in self.reader.read(datagram, arrival):  # an oversized datagram is dropped here
                 self.playout.add(frames)
+            self._arrived.notify_all()
             wanted = self.reader.want_keyframe and arrival - self._last_request >= self.request_interval
         if wanted and sender is not None:
             self._last_request = arrival
@@ -96,6 +95,11 @@ class StreamReceiver:
                 self.sock.sendto(key_request(self.requests, self.key), sender)
             except OSError:
                 pass  # the sender's side is gone; the keyframes it sends anyway will do
+
+    def wait_for_packets(self, count: int, timeout: float) -> bool:
+        """Wait until ``count`` valid packets have been read (True) or ``timeout`` seconds pass."""
+        with self._arrived:
+            return self._arrived.wait_for(lambda: self.reader.packets >= count, timeout)
 
     def _serve(self) -> None:
         while not self._stop.is_set():
@@ -114,10 +118,10 @@ class StreamReceiver:
         delay and the error of concealment where the truth came too late."""
         with self._lock:
             stats = self.playout.stats
-            delays = np.array(stats.delays[-600:]) * 1000 if stats.delays else np.zeros(1)
             return {"packets": self.reader.packets, "bytes": self.reader.bytes, "lost": self.reader.lost,
                     "dropped": dict(self.reader.dropped), "keyframe_requests": self.requests,
                     "frames": {"live": stats.live, "concealed": stats.concealed, "recovering": stats.recovering,
                                "waiting": stats.waiting},
-                    "latency_ms": round(float(np.median(delays)), 1) if stats.delays else None,
-                    "concealment_rms": round(float(np.mean(stats.late_errors)), 4) if stats.late_errors else None}
+                    "latency_ms": round(float(np.median(stats.latencies)) * 1000, 1) if stats.latencies else None,
+                    "concealment_rms": (round(stats.late_error_sum / stats.late_frames, 4) if stats.late_frames
+                                        else None)}

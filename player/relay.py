@@ -2,7 +2,7 @@
 
 It listens on one address and forwards what it gets to a target, and forwards the target's
 replies back to the last sender. Each datagram (both ways) meets the faults in :class:`Faults`:
-random loss, loss in bursts, duplication, corruption (one byte flipped), delay with jitter
+random loss, loss in bursts, duplication, corruption (one bit flipped), delay with jitter
 (which reorders), and explicit reordering (a datagram held back behind the next).
 The decisions come from a seeded generator (:class:`FaultPlan`), so a test can check them
 without sockets.
@@ -21,8 +21,9 @@ import numpy as np
 
 
 @dataclass(frozen=True)
-class Faults:
-    """What the relay does to each datagram.
+class NetworkFaults:
+    """What the relay does to each datagram (the network's faults; a take's are
+    :class:`capture.faults.Faults`).
 
     Attributes
     ----------
@@ -50,7 +51,7 @@ class Faults:
 class FaultPlan:
     """The relay's decisions: for a datagram arriving at ``now``, what to send and when."""
 
-    def __init__(self, faults: Faults, seed: int = 0) -> None:
+    def __init__(self, faults: NetworkFaults, seed: int = 0) -> None:
         self.faults, self.rng = faults, np.random.default_rng(seed)
         self._burst_until = -np.inf
         self._last: float | None = None
@@ -90,7 +91,7 @@ class Relay:
     Runs in two daemon threads; :meth:`close` stops them. ``address`` is where senders send.
     """
 
-    def __init__(self, listen: tuple[str, int], target: tuple[str, int], faults: Faults, seed: int = 0,
+    def __init__(self, listen: tuple[str, int], target: tuple[str, int], faults: NetworkFaults, seed: int = 0,
                  clock: Callable[[], float] = time.perf_counter, max_queue: int = 4096) -> None:
         self.target, self.clock, self.max_queue = target, clock, max_queue
         self.forward, self.backward = FaultPlan(faults, seed), FaultPlan(faults, seed + 1)
@@ -104,11 +105,11 @@ class Relay:
             self.back.close()
             raise
         for s in (self.front, self.back):
-            s.settimeout(0.002)
+            s.settimeout(0.1)  # only to notice close()
         self._queue: list[tuple[float, int, bytes, bool]] = []  # (when, order, data, forward)
         self._order = 0
         self._client: tuple[str, int] | None = None
-        self._lock = threading.Lock()
+        self._due = threading.Condition()  # guards the queue and the client; signalled on each arrival
         self._stop = threading.Event()
         self._threads = [threading.Thread(target=self._receive, args=(s, fwd), daemon=True)
                          for s, fwd in ((self.front, True), (self.back, False))]
@@ -125,6 +126,8 @@ class Relay:
 
     def close(self) -> None:
         self._stop.set()
+        with self._due:
+            self._due.notify_all()
         for thread in self._threads:
             if thread.is_alive():
                 thread.join(timeout=2.0)
@@ -145,23 +148,27 @@ class Relay:
             except (TimeoutError, OSError):
                 continue
             now = self.clock()
-            with self._lock:
+            with self._due:
                 if forward:
                     self._client = sender
                 for when, out in plan.decide(data, now):
                     if len(self._queue) < self.max_queue:
                         heapq.heappush(self._queue, (when, self._order, out, forward))
                         self._order += 1
+                self._due.notify()
 
     def _send(self) -> None:
+        """Send each datagram at its time, sleeping until the next is due or one arrives."""
         while not self._stop.is_set():
-            now = self.clock()
-            due = []
-            with self._lock:
+            with self._due:
+                now = self.clock()
+                due = []
                 while self._queue and self._queue[0][0] <= now:
                     due.append(heapq.heappop(self._queue))
                 client = self._client
-                wait = self._queue[0][0] - now if self._queue else 0.001
+                if not due:
+                    self._due.wait(self._queue[0][0] - now if self._queue else None)
+                    continue
             for _, _, data, forward in due:
                 try:
                     if forward:
@@ -170,4 +177,3 @@ class Relay:
                         self.front.sendto(data, client)
                 except OSError:
                     pass
-            self._stop.wait(min(max(wait, 0.0), 0.001))

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from player.wire import (DEFAULT_STEPS, KEY_REQUEST, KEYFRAME, MAX_FRAMES, Header, Models, Packet, WireError,
+from player.wire import (DEFAULT_STEPS, KEY_REQUEST, KEYFRAME, MAX_FRAMES, Header, Models, WireError,
                          decode_frames, encode_frames, open_packet, quantise, seal)
 from toon import N_MOTORS
 
@@ -168,8 +168,8 @@ class StreamReader:
             self.dropped["late"] += 1
             return []
         self._waiting[header.first_frame] = (header, body, arrival)
-        if len(self._waiting) > self.max_waiting:
-            del self._waiting[min(self._waiting, key=lambda k: (k - (self._chain_end or 0)) % WRAP)]
+        if len(self._waiting) > self.max_waiting:  # the one furthest ahead is the least likely to be decoded
+            del self._waiting[max(self._waiting, key=lambda k: (k - (self._chain_end or 0)) % WRAP)]
             self.dropped["overflow"] += 1
         self.want_keyframe = True
         return []
@@ -214,10 +214,9 @@ class StreamReader:
         if header.count:
             self._chain_end = (header.first_frame + header.count - 1) % WRAP
             self._history = (levels if header.keyframe else np.vstack([self._history, levels]))[-3:]
-        packet = Packet(header, levels)
         self._frame_mark = _unwrap(header.first_frame, self._frame_mark)
         self._time_mark = _unwrap(header.time_us, self._time_mark)
-        return [Frames(self._frame_mark[1], self._time_mark[1] / 1e6, header.rate, packet.values, arrival)]
+        return [Frames(self._frame_mark[1], self._time_mark[1] / 1e6, header.rate, levels / header.steps, arrival)]
 
 
 def key_request(sequence: int, key: bytes | None) -> bytes:

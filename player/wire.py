@@ -54,8 +54,8 @@ CRC_SIZE, HMAC_SIZE = 4, 10
 #: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
 MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + HMAC_SIZE + 64
 DEFAULT_STEPS = 100
-#: Per-step decay of the residual model for each speed context, fitted on the synthetic
-#: performer's live-mapped motors (see ``python -m bench stream``).
+#: Per-step decay of the residual model for each activity context (0..5 steps), fitted by maximum
+#: likelihood on 60 s of the synthetic performer's live-mapped motors.
 CONTEXT_DECAY = (0.14, 0.31, 0.39, 0.50, 0.57, 0.68)
 
 
@@ -87,19 +87,6 @@ class Header:
     @property
     def key_request(self) -> bool:
         return bool(self.flags & KEY_REQUEST)
-
-
-@dataclass(frozen=True)
-class Packet:
-    """A decoded packet: its header and its frames' quantised values ``(count, 21)``."""
-
-    header: Header
-    levels: np.ndarray
-
-    @property
-    def values(self) -> np.ndarray:
-        """The frames' motor values, ``(count, 21)`` in [0, 1]."""
-        return self.levels / float(self.header.steps)
 
 
 class Models:
@@ -156,7 +143,7 @@ def _tag(data: bytes, key: bytes | None) -> bytes:
 
 def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, models: Models) -> bytes:
     """Code ``levels`` ``(n, 21)`` (ints in 0..steps) after ``history`` ``(h, 21)``, the frames
-    before them (h = 0..2; ignored for a keyframe)."""
+    before them (the last 3 are used; ignored for a keyframe)."""
     encoder = Encoder()
     chain = [] if keyframe else [row for row in np.asarray(history, dtype=np.int64)[-3:]]
     for row in np.asarray(levels, dtype=np.int64):

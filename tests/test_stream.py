@@ -2,7 +2,6 @@
 buffer and concealment, the fault relay, the live mapper, and the pieces over real sockets."""
 
 import struct
-import time
 
 import numpy as np
 import pytest
@@ -14,7 +13,7 @@ from capture.performance import default_performance
 from player.playout import Playout
 from player.rangecode import Decoder, Encoder, Model
 from player.receiver import StreamReceiver
-from player.relay import FaultPlan, Faults, Relay
+from player.relay import FaultPlan, NetworkFaults, Relay
 from player.stream import StreamReader, StreamWriter, is_key_request, key_request
 from player.wire import HEADER, MAX_PACKET, quantise
 from toon import standard_neutral
@@ -183,23 +182,21 @@ def test_linear_concealment_beats_holding_on_smooth_motion():
     errors = {}
     for method in ("hold", "linear"):
         playout = Playout(standard_neutral(), method)
-        shown, states, _ = feed_stream(playout, values, lose)
+        shown, states, positions = feed_stream(playout, values, lose)
         rows = [i for i, s in enumerate(states) if s == "concealed"]
-        delay_frames = playout.delay * RATE
-        truth = np.array([np.interp(np.array(rows) + 0.12 - delay_frames, np.arange(600), values[:, c])
-                          for c in range(21)]).T
+        truth = np.array([np.interp(positions[rows], np.arange(600), values[:, c]) for c in range(21)]).T
         errors[method] = np.sqrt(np.mean((shown[rows] - truth) ** 2))
     assert errors["linear"] < errors["hold"]
 
 
 def test_fault_plan_is_seeded_and_loses_what_it_says():
-    plan = FaultPlan(Faults(loss=0.1), seed=4)
+    plan = FaultPlan(NetworkFaults(loss=0.1), seed=4)
     kept = sum(bool(plan.decide(b"p", i / 30)) for i in range(20000))
     assert 0.88 < kept / 20000 < 0.92
-    again = FaultPlan(Faults(loss=0.1, duplicate=0.2, corrupt=0.2, jitter=0.01), seed=4)
-    same = FaultPlan(Faults(loss=0.1, duplicate=0.2, corrupt=0.2, jitter=0.01), seed=4)
+    again = FaultPlan(NetworkFaults(loss=0.1, duplicate=0.2, corrupt=0.2, jitter=0.01), seed=4)
+    same = FaultPlan(NetworkFaults(loss=0.1, duplicate=0.2, corrupt=0.2, jitter=0.01), seed=4)
     assert [again.decide(b"packet", i / 30) for i in range(200)] == [same.decide(b"packet", i / 30) for i in range(200)]
-    burst = FaultPlan(Faults(burst_seconds=0.05, bursts_per_second=1e9), seed=0)
+    burst = FaultPlan(NetworkFaults(burst_seconds=0.05, bursts_per_second=1e9), seed=0)
     burst.decide(b"p", 0.0)
     assert burst.decide(b"p", 0.01) == [] and burst.counts["lost"] == 1
 
@@ -221,13 +218,10 @@ def test_sender_receiver_and_relay_over_loopback_sockets():
     source = take_source(syn.take)
     clock = iter(np.arange(10000) / RATE).__next__  # the sender never waits
     with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as receiver, \
-            Relay(("127.0.0.1", 0), receiver.address, Faults(duplicate=0.5), seed=1) as relay:
+            Relay(("127.0.0.1", 0), receiver.address, NetworkFaults(duplicate=0.5), seed=1) as relay:
         report = run_sender(source, build_mapper(source), StreamWriter(RATE), relay.address, clock=clock,
                             sleep=lambda s: None)
-        deadline = time.monotonic() + 10
-        while receiver.reader.packets < report.packets and time.monotonic() < deadline:
-            receiver.sock.settimeout(0.1)
-            relay._stop.wait(0.01)  # noqa: SLF001 - wait for the threads to deliver, bounded
+        receiver.wait_for_packets(report.packets, timeout=10)
     assert report.frames == 180 and receiver.reader.packets == report.packets == 90
     assert receiver.reader.dropped["replay"] == relay.forward.counts["duplicated"] > 0
 

@@ -12,10 +12,11 @@ import click
 import numpy as np
 
 from common import InputError
+from mapping import load_profile
 from player.live import LiveSettings, run_live
 from player.playout import Playout
 from player.receiver import StreamReceiver
-from player.relay import Faults, Relay
+from player.relay import NetworkFaults, Relay
 from player.sinks import open_sink
 from player.stream import StreamWriter
 from toon import MotorTrack, load_face, save_track
@@ -65,7 +66,6 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     Cleaning and mapping run live at this end; only the 21 motor values cross the network,
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
     """
-    from mapping import load_profile
     address = _address(target, "--to", 7710)
     if source == "synthetic":
         src = synthetic_source(seconds or 60.0)
@@ -101,8 +101,9 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
               help="Record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
 @click.option("--preview", default=None, metavar="HOST:PORT", help="Serve a live MJPEG preview, e.g. 127.0.0.1:8080.")
 @click.option("--fps", default=60.0, show_default=True, type=click.FloatRange(1, 240), help="Frames drawn a second.")
-@click.option("--conceal", default="linear", show_default=True, type=click.Choice(["hold", "linear"]),
-              help="How lost frames are guessed (then eased to neutral if the loss goes on).")
+@click.option("--conceal", default="hold", show_default=True, type=click.Choice(["hold", "linear"]),
+              help="How lost frames are guessed (then eased to neutral if the loss goes on); linear "
+                   "wins on smooth, clean motion, hold on a noisy live performer.")
 @click.option("--jitter-ms", default=4.0, show_default=True, type=click.FloatRange(0, 500),
               help="Extra delay above what the recent packets needed.")
 @click.option("--max-jump", default=0.05, show_default=True, type=click.FloatRange(0.001, 1),
@@ -186,7 +187,8 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
     Example: `toonface relay --to 127.0.0.1:7710 --loss 0.1 --burst-ms 50`, then
     `toonface send synthetic --to 127.0.0.1:7711`.
     """
-    faults = Faults(loss, burst_ms / 1000, 0.5, duplicate, corrupt, reorder, 0.03, delay_ms / 1000, jitter_ms / 1000)
+    faults = NetworkFaults(loss=loss, burst_seconds=burst_ms / 1000, duplicate=duplicate, corrupt=corrupt,
+                           reorder=reorder, delay=delay_ms / 1000, jitter=jitter_ms / 1000)
     try:
         proxy = Relay(_address(listen, "--listen", 7711), _address(target, "--to", 7710), faults, seed)
     except OSError as exc:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import socket
 import time
+from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -114,10 +115,10 @@ class SendReport:
     packet_bytes: int = 0
     keyframes: int = 0
     key_requests: int = 0
-    step_seconds: list[float] = field(default_factory=list)
+    step_seconds: deque[float] = field(default_factory=lambda: deque(maxlen=3600))  # the last minute at 60 Hz
 
     def rates(self, rate: float) -> dict:
-        """Payload, stream and wire bit rates (kbit/s) and the mapping's cost per frame."""
+        """Payload, stream and wire bit rates (kbit/s) and the mapping's cost per frame (recent)."""
         seconds = max(self.frames / rate, 1e-9)
         steps = np.array(self.step_seconds or [0.0]) * 1000
         return {"frames": self.frames, "packets": self.packets, "keyframes": self.keyframes,
