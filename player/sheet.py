@@ -1,4 +1,5 @@
-"""Contact sheets: every expression of a repertoire on one face, labelled, in one PNG."""
+"""Contact sheets in one PNG: every expression of a repertoire on one face, or frames picked through a
+motor track, each labelled."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import numpy as np
 from common import atomic_path
 from player.gl import create_context
 from player.renderer import Renderer
-from toon import Expression, FaceRig
+from toon import Expression, FaceRig, MotorTrack
 
 _LABEL_HEIGHT = 28
 
@@ -37,18 +38,44 @@ def expression_sheet(rig: FaceRig, expressions: dict[str, Expression], cell: tup
     ndarray of uint8, shape (rows * (height + 28), columns * width, 3)
         RGB; each picture has its expression's name written under it.
     """
-    width, height = cell
-    columns = columns or math.ceil(math.sqrt(len(expressions)))
-    rows = math.ceil(len(expressions) / columns)
-    sheet = np.full((rows * (height + _LABEL_HEIGHT), columns * width, 3), 255, dtype=np.uint8)
     neutral = rig.face.neutral()
+    poses = [(name, expression.pose(neutral)) for name, expression in expressions.items()]
+    return labelled_grid(rig, poses, cell, columns, samples)
+
+
+def track_sheet(rig: FaceRig, track: MotorTrack, count: int = 12, cell: tuple[int, int] = (192, 192),
+                columns: int = 4, samples: int = 4) -> np.ndarray:
+    """A contact sheet of a motor track: ``count`` frames evenly spaced from its first to its last,
+    each labelled with its time, in a grid ``columns`` wide (fewer frames for a shorter track).
+
+    Returns
+    -------
+    ndarray of uint8, shape (rows * (height + 28), columns * width, 3)
+        RGB.
+    """
+    picks = np.unique(np.round(np.linspace(0, track.frames - 1, min(count, track.frames))).astype(int))
+    poses = [(f"{track.times[i]:.2f} s", track.values[i]) for i in picks]
+    return labelled_grid(rig, poses, cell, min(columns, len(poses)), samples)
+
+
+def labelled_grid(rig: FaceRig, poses: list[tuple[str, np.ndarray]], cell: tuple[int, int] = (256, 256),
+                  columns: int = 0, samples: int = 4) -> np.ndarray:
+    """Render motor poses ``(label, values (21,))`` on a face into a grid, each labelled under it.
+
+    ``columns`` 0 picks a near-square grid. Returns RGB uint8 of shape
+    ``(rows * (height + 28), columns * width, 3)``.
+    """
+    width, height = cell
+    columns = columns or math.ceil(math.sqrt(len(poses)))
+    rows = math.ceil(len(poses) / columns)
+    sheet = np.full((rows * (height + _LABEL_HEIGHT), columns * width, 3), 255, dtype=np.uint8)
     ctx = create_context()
     try:
         with Renderer(ctx, cell, samples=samples) as renderer:
-            for i, (name, expression) in enumerate(expressions.items()):
+            for i, (label, values) in enumerate(poses):
                 top, left = (i // columns) * (height + _LABEL_HEIGHT), (i % columns) * width
-                sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(expression.pose(neutral)))
-                _label(sheet, name, left, top + height, width)
+                sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(values))
+                _label(sheet, label, left, top + height, width)
     finally:
         ctx.release()
     return sheet

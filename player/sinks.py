@@ -29,6 +29,20 @@ class FrameSink(Protocol):
     def abort(self) -> None: ...
 
 
+def add_h264_stream(container: av.container.OutputContainer, fps: float, size: tuple[int, int], crf: int = 18,
+                    **options: str) -> av.video.stream.VideoStream:
+    """Add the browser-playable H.264 stream every MP4 here uses (yuv420p, x264 ``veryfast``).
+
+    ``fps`` is stored as an exact fraction (29.97 -> 2997/100); ``options`` are extra x264 options,
+    such as ``bframes="0"`` for pieces that are joined later.
+    """
+    stream = container.add_stream("libx264", rate=Fraction(fps).limit_denominator(1001))
+    stream.width, stream.height = size
+    stream.pix_fmt = "yuv420p"
+    stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart", **options}
+    return stream
+
+
 class _AtomicSink:
     """Shared lifetime: an atomic-output guard, left committed by :meth:`close` or rolled back."""
 
@@ -95,11 +109,7 @@ class Mp4Sink(_AtomicSink):
         super().__init__(atomic_path(path))
         self.size = (width, height)
         self._container = av.open(str(self._tmp), mode="w", format="mp4")
-        rate = Fraction(fps).limit_denominator(1001)
-        self._stream = self._container.add_stream("libx264", rate=rate)
-        self._stream.width, self._stream.height = width, height
-        self._stream.pix_fmt = "yuv420p"
-        self._stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart"}
+        self._stream = add_h264_stream(self._container, fps, self.size, crf)
 
     def write(self, frame: np.ndarray) -> None:
         """Encode one RGB frame."""

@@ -28,6 +28,7 @@ from toonface.pipeline import render, run_demo, truth_track
 log = logging.getLogger("toonface")
 
 
+from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
@@ -235,7 +236,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
-for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS):
+for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS):
     cli.add_command(_command)
 
 
@@ -243,7 +244,9 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     debug = os.environ.get("TOONFACE_DEBUG") == "1"
     try:
-        cli.main(args=argv, prog_name="toonface", standalone_mode=False)
+        status = cli.main(args=argv, prog_name="toonface", standalone_mode=False)
+        if isinstance(status, int):  # ctx.exit(N) in a subcommand
+            return status
     except click.exceptions.Exit as exc:
         return exc.exit_code
     except click.UsageError as exc:

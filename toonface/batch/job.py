@@ -1,0 +1,269 @@
+"""Batch job files (TOML, ``toonface.batch/1``): which takes, which faces, how, and what to write.
+
+Example, with every field and its default::
+
+    format = "toonface.batch/1"
+    takes = ["takes/*.c3d", "more/**/*.npz"]   # globs, relative to this file; ** goes into sub-folders
+    faces = ["classic", "round", "faces/mine.json"]
+    output = "batch-out"      # folder for <take>/<face>.mp4 etc., relative to this file
+    mapping = ""              # a mapping file or preset [default: the preset of each take's marker set]
+    profile = ""              # a performer profile [default: calibrate on each take]
+    neutral = ""              # "first", "stillest" or [start, end] seconds [default: a profile's rest, else first]
+    mirror = false
+
+    [write]
+    video = true              # <take>/<face>.mp4
+    motors = "csv"            # <take>/<face>.csv, "npz", or false
+    score = true              # <take>/<face>.score.png: the motor curves as staves
+    sheet = true              # <take>/<face>.sheet.png: 12 frames through the take, labelled
+
+    [render]
+    size = "512"              # N or WxH pixels, even
+    fps = 0                   # 0: each take's own rate
+    samples = 4               # MSAA samples
+    part_seconds = 10.0       # longer videos are rendered in parts of at most this long, in parallel
+
+    [clean]
+    cutoff = 8.0              # Hz, 0: no smoothing
+    max_gap = 2.0             # seconds
+    spikes = true
+
+    [csv]                     # for CSV takes only, which may not say these
+    rate = 0                  # Hz
+    units = ""                # mm, cm, m, in, or millimetres per unit
+    labels = []               # marker names of a headerless table
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from common import InputError, read_versioned
+from mapping import CleanSettings
+
+FORMAT = "toonface.batch/1"
+TAKE_SUFFIXES = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
+OUTPUT_KINDS = ("motors", "video", "score", "sheet")
+
+
+@dataclass(frozen=True)
+class WriteSettings:
+    """Which outputs each (take, face) pair gets; ``motors`` is ``"csv"``, ``"npz"`` or ``""`` (none)."""
+
+    video: bool = True
+    motors: str = "csv"
+    score: bool = True
+    sheet: bool = True
+
+    def kinds(self) -> tuple[str, ...]:
+        """The requested output kinds, in :data:`OUTPUT_KINDS` order."""
+        wanted = {"motors": bool(self.motors), "video": self.video, "score": self.score, "sheet": self.sheet}
+        return tuple(kind for kind in OUTPUT_KINDS if wanted[kind])
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """Frame size ``(width, height)``, rate (0: the take's), MSAA samples, and the longest part."""
+
+    size: tuple[int, int] = (512, 512)
+    fps: float = 0.0
+    samples: int = 4
+    part_seconds: float = 10.0
+
+
+@dataclass(frozen=True)
+class TakeOptions:
+    """What a CSV take may not say about itself (see :func:`capture.load_take`)."""
+
+    rate: float | None = None
+    units: str | None = None
+    labels: tuple[str, ...] | None = None
+
+
+@dataclass(frozen=True)
+class Job:
+    """A parsed job file. Paths are absolute; ``faces`` are built-in names or absolute paths."""
+
+    path: Path
+    takes: tuple[Path, ...]
+    faces: tuple[str, ...]
+    output: Path
+    mapping: str | None = None
+    profile: Path | None = None
+    neutral: tuple[float, float] | str | None = None
+    mirror: bool = False
+    write: WriteSettings = WriteSettings()
+    render: RenderSettings = RenderSettings()
+    clean: CleanSettings = CleanSettings()
+    take_options: TakeOptions = TakeOptions()
+    empty_globs: tuple[str, ...] = field(default=())
+
+
+def load_job(path: str | os.PathLike) -> Job:
+    """Read and check a job file; every problem is an :class:`InputError` naming the field.
+
+    Takes are found by the globs now (sorted, each once); a glob that matches nothing is kept in
+    ``empty_globs`` for the caller to warn about, and a job with no takes at all is an error.
+    """
+    path = Path(path).resolve()
+    doc = read_versioned(path, FORMAT, "batch job")
+    fields = _Fields(doc, path)
+    base = path.parent
+    known = {"format", "takes", "faces", "output", "mapping", "profile", "neutral", "mirror", "write", "render",
+             "clean", "csv"}
+    fields.refuse_unknown(doc, known, "")
+    patterns = fields.strings("takes", required=True)
+    takes, empty = _expand(patterns, base, path)
+    faces = tuple(_face_spec(name, base) for name in fields.strings("faces", required=True))
+    if len(set(faces)) != len(faces):
+        raise InputError("a face is named twice", path, "faces")
+    mapping = fields.text("mapping") or None
+    profile = fields.text("profile")
+    return Job(
+        path=path, takes=takes, faces=faces, output=base / (fields.text("output") or "batch-out"),
+        mapping=_mapping_spec(mapping, base), profile=(base / profile) if profile else None,
+        neutral=fields.neutral("neutral"), mirror=fields.flag("mirror", False),
+        write=_write_settings(fields), render=_render_settings(fields), clean=_clean_settings(fields),
+        take_options=_take_options(fields), empty_globs=empty)
+
+
+def _expand(patterns: list[str], base: Path, path: Path) -> tuple[tuple[Path, ...], tuple[str, ...]]:
+    found: dict[Path, None] = {}
+    empty = []
+    for pattern in patterns:
+        full = pattern if os.path.isabs(pattern) else str(base / pattern)
+        matches = sorted(Path(m).resolve() for m in glob.glob(full, recursive=True)
+                         if Path(m).is_file() and Path(m).suffix.lower() in TAKE_SUFFIXES)
+        if not matches:
+            empty.append(pattern)
+        found.update(dict.fromkeys(matches))
+    if not found:
+        raise InputError(f"no take file ({', '.join(TAKE_SUFFIXES)}) matches {patterns}", path, "takes")
+    return tuple(found), tuple(empty)
+
+
+def _face_spec(name: str, base: Path) -> str:
+    """A built-in face name stays a name; anything that looks like a file becomes an absolute path."""
+    return str(base / name) if name.endswith(".json") or os.sep in name or "/" in name else name
+
+
+def _mapping_spec(name: str | None, base: Path) -> str | None:
+    return str(base / name) if name and (name.endswith(".toml") or "/" in name) else name
+
+
+def _write_settings(fields: _Fields) -> WriteSettings:
+    table = fields.table("write", {"video", "motors", "score", "sheet"})
+    motors = table.get("motors", "csv")
+    if motors is False:
+        motors = ""
+    if motors not in ("csv", "npz", ""):
+        raise InputError(f'expected "csv", "npz" or false, got {motors!r}', fields.path, "write.motors")
+    settings = WriteSettings(video=fields.flag("write.video", True), motors=motors,
+                             score=fields.flag("write.score", True), sheet=fields.flag("write.sheet", True))
+    if not settings.kinds():
+        raise InputError("the job writes nothing: enable at least one of video, motors, score, sheet",
+                         fields.path, "write")
+    return settings
+
+
+def _render_settings(fields: _Fields) -> RenderSettings:
+    table = fields.table("render", {"size", "fps", "samples", "part_seconds"})
+    size_text = str(table.get("size", "512"))
+    try:
+        width, _, height = size_text.lower().partition("x")
+        size = (int(width), int(height or width))
+    except ValueError:
+        raise InputError(f"expected N or WxH pixels, got {size_text!r}", fields.path, "render.size") from None
+    if not (16 <= min(size) and max(size) <= 8192) or size[0] % 2 or size[1] % 2:
+        raise InputError(f"expected even sides of 16..8192 pixels, got {size_text!r}", fields.path, "render.size")
+    return RenderSettings(size=size, fps=fields.number("render.fps", 0.0, 0.0, 240.0),
+                          samples=int(fields.number("render.samples", 4, 0, 16)),
+                          part_seconds=fields.number("render.part_seconds", 10.0, 0.5, 3600.0))
+
+
+def _clean_settings(fields: _Fields) -> CleanSettings:
+    fields.table("clean", {"cutoff", "max_gap", "spikes"})
+    return CleanSettings(spikes=fields.flag("clean.spikes", True),
+                         max_gap_seconds=fields.number("clean.max_gap", 2.0, 0.0, 3600.0),
+                         cutoff_hz=fields.number("clean.cutoff", 8.0, 0.0, 1000.0))
+
+
+def _take_options(fields: _Fields) -> TakeOptions:
+    table = fields.table("csv", {"rate", "units", "labels"})
+    rate = fields.number("csv.rate", 0.0, 0.0, 100000.0)
+    labels = fields.strings("csv.labels") if "labels" in table else None
+    units = table.get("units")
+    if units is not None and not isinstance(units, (str, int, float)):
+        raise InputError(f"expected a unit name or millimetres per unit, got {units!r}", fields.path, "csv.units")
+    return TakeOptions(rate=rate or None, units=str(units) if units not in (None, "") else None,
+                       labels=tuple(labels) if labels else None)
+
+
+class _Fields:
+    """Typed access to a job document's fields, each failure naming the field."""
+
+    def __init__(self, doc: dict, path: Path) -> None:
+        self.doc, self.path = doc, path
+
+    def get(self, dotted: str, default: Any = None) -> Any:
+        node: Any = self.doc
+        for part in dotted.split("."):
+            if not isinstance(node, dict) or part not in node:
+                return default
+            node = node[part]
+        return node
+
+    def table(self, name: str, known: set[str]) -> dict:
+        table = self.get(name, {})
+        if not isinstance(table, dict):
+            raise InputError(f"expected a table, got {table!r}", self.path, name)
+        self.refuse_unknown(table, known, f"{name}.")
+        return table
+
+    def refuse_unknown(self, table: dict, known: set[str], prefix: str) -> None:
+        unknown = sorted(set(table) - known)
+        if unknown:
+            raise InputError(f"unknown field (known: {', '.join(sorted(known))})", self.path, prefix + unknown[0])
+
+    def strings(self, name: str, required: bool = False) -> list[str]:
+        value = self.get(name)
+        if value is None and not required:
+            return []
+        if isinstance(value, str):
+            value = [value]
+        if not isinstance(value, list) or not value or not all(isinstance(v, str) and v for v in value):
+            raise InputError(f"expected a non-empty list of strings, got {value!r}", self.path, name)
+        return value
+
+    def text(self, name: str) -> str:
+        value = self.get(name, "")
+        if not isinstance(value, str):
+            raise InputError(f"expected a string, got {value!r}", self.path, name)
+        return value
+
+    def flag(self, name: str, default: bool) -> bool:
+        value = self.get(name, default)
+        if not isinstance(value, bool):
+            raise InputError(f"expected true or false, got {value!r}", self.path, name)
+        return value
+
+    def number(self, name: str, default: float, low: float, high: float) -> float:
+        value = self.get(name, default)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+            raise InputError(f"expected a number in {low:g}..{high:g}, got {value!r}", self.path, name)
+        return float(value)
+
+    def neutral(self, name: str) -> tuple[float, float] | str | None:
+        value = self.get(name, "")
+        if value in ("", None):
+            return None
+        if value in ("first", "stillest"):
+            return value
+        if (isinstance(value, list) and len(value) == 2 and all(isinstance(v, (int, float)) for v in value)
+                and 0 <= value[0] < value[1]):
+            return float(value[0]), float(value[1])
+        raise InputError(f'expected "first", "stillest" or [start, end] seconds, got {value!r}', self.path, name)

@@ -1,0 +1,212 @@
+"""What a batch job has to do: its (take, face) pairs, their outputs, and which are already up to date.
+
+Every output has a key: the SHA-256 of the content hashes of its take, face, mapping, profile and
+the job's settings that shape it. After a pair's outputs are written, a stamp
+(``<output>/.toonface/<take>/<face>.json``) records each output's key and size. An output whose
+stamp has its current key and whose file still has the recorded size is up to date and is not
+made again; a pair whose outputs are all up to date is skipped.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from common import InputError, ToonfaceError, atomic_path, data_path, resolve_builtin
+from toonface.batch.job import Job
+
+STAMP_FORMAT = "toonface.batch-stamp/1"
+SUFFIXES = {"video": ".mp4", "score": ".score.png", "sheet": ".sheet.png"}
+
+
+@dataclass(frozen=True)
+class Output:
+    """One file a pair writes: its kind (``motors``, ``video``, ``score``, ``sheet``), path and key."""
+
+    kind: str
+    path: Path
+    key: str
+
+
+@dataclass(frozen=True)
+class Pair:
+    """One (take, face) pair of a job.
+
+    ``inputs`` maps ``take``, ``face``, ``mapping``, ``profile`` and ``settings`` to SHA-256 hex
+    digests; ``stale`` lists the output kinds to make (empty: skip the pair); ``error`` is set when
+    the pair cannot even be planned (a take or face file that cannot be read).
+    """
+
+    take: Path
+    face: str
+    name: str
+    inputs: dict[str, str]
+    outputs: tuple[Output, ...]
+    stamp: Path
+    stale: tuple[str, ...]
+    error: str = ""
+
+    def output(self, kind: str) -> Output:
+        """The output of ``kind``."""
+        return next(o for o in self.outputs if o.kind == kind)
+
+
+def plan(job: Job, force: bool = False) -> list[Pair]:
+    """Every (take, face) pair of ``job`` in take-then-face order, with what each still needs.
+
+    ``force`` marks every output stale. Takes are hashed once each, whatever the number of faces.
+    """
+    take_names = _take_names(job.takes)
+    face_names = _face_names(job)
+    shared = {"mapping": _mapping_digest(job.mapping), "profile": _profile_digest(job.profile),
+              "settings": _digest_json(_settings(job))}
+    face_digests = {face: _guarded(_face_digest, face) for face in job.faces}
+    pairs = []
+    for take in job.takes:
+        take_digest = _guarded(file_digest, take)
+        for face in job.faces:
+            name = f"{take_names[take]}/{face_names[face]}"
+            error = next((d.message for d in (take_digest, face_digests[face]) if isinstance(d, _Unreadable)), "")
+            inputs = {"take": str(take_digest), "face": str(face_digests[face]), **shared}
+            outputs = tuple(Output(kind, _output_path(job, name, kind), _output_key(inputs, kind, job))
+                            for kind in job.write.kinds())
+            stamp = job.output / ".toonface" / f"{name}.json"
+            stale = tuple(o.kind for o in outputs if force or error or not _up_to_date(o, stamp))
+            pairs.append(Pair(take, face, name, inputs, outputs, stamp, stale, error))
+    return pairs
+
+
+def file_digest(path: str | os.PathLike) -> str:
+    """SHA-256 of a file's bytes, as hex."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def read_stamp(path: Path) -> dict:
+    """A pair's stamp, or an empty one where there is none or it cannot be read."""
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {"outputs": {}}
+    return doc if isinstance(doc, dict) and doc.get("format") == STAMP_FORMAT else {"outputs": {}}
+
+
+def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
+    """Record the outputs just ``written`` (kind -> bytes) for ``pair``, keeping earlier up-to-date ones."""
+    previous = read_stamp(pair.stamp).get("outputs", {})
+    outputs = {}
+    for output in pair.outputs:
+        if output.kind in written:
+            outputs[output.kind] = {"path": str(output.path), "key": output.key, "bytes": written[output.kind]}
+        elif output.kind not in pair.stale and output.kind in previous:
+            outputs[output.kind] = previous[output.kind]
+    doc = {"format": STAMP_FORMAT, "take": str(pair.take), "face": pair.face, "inputs": pair.inputs,
+           "frames": frames, "outputs": outputs}
+    pair.stamp.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(pair.stamp) as tmp:
+        tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+
+
+def _up_to_date(output: Output, stamp: Path) -> bool:
+    recorded = read_stamp(stamp).get("outputs", {}).get(output.kind)
+    if not isinstance(recorded, dict) or recorded.get("key") != output.key:
+        return False
+    try:
+        return output.path.stat().st_size == recorded.get("bytes")
+    except OSError:
+        return False
+
+
+def _output_path(job: Job, name: str, kind: str) -> Path:
+    suffix = f".{job.write.motors}" if kind == "motors" else SUFFIXES[kind]
+    return job.output / f"{name}{suffix}"
+
+
+def _output_key(inputs: dict[str, str], kind: str, job: Job) -> str:
+    """The key of one output: the inputs plus the settings that shape this kind of output."""
+    own = {"motors": {"format": job.write.motors},
+           "video": {"size": job.render.size, "fps": job.render.fps, "samples": job.render.samples},
+           "score": {},
+           "sheet": {"samples": job.render.samples}}[kind]
+    return _digest_json({"inputs": inputs, "kind": kind, "settings": own})
+
+
+def _settings(job: Job) -> dict:
+    """The job settings every output of a pair depends on."""
+    return {"neutral": job.neutral, "mirror": job.mirror, "clean": asdict(job.clean),
+            "csv": asdict(job.take_options)}
+
+
+def _take_names(takes: tuple[Path, ...]) -> dict[Path, str]:
+    """Output names of the takes: their paths below the folder they share, without suffix (with it
+    where two takes differ only in suffix)."""
+    root = Path(os.path.commonpath([t.parent for t in takes]))
+    names = {t: t.relative_to(root).with_suffix("").as_posix() for t in takes}
+    counts: dict[str, int] = {}
+    for name in names.values():
+        counts[name] = counts.get(name, 0) + 1
+    return {t: n if counts[n] == 1 else f"{n}_{t.suffix.lstrip('.').lower()}" for t, n in names.items()}
+
+
+def _face_names(job: Job) -> dict[str, str]:
+    names = {face: Path(face).stem for face in job.faces}
+    seen: dict[str, str] = {}
+    for face, name in names.items():
+        if name in seen:
+            raise InputError(f"two faces would write the same outputs ({seen[name]} and {face}); rename one",
+                             job.path, "faces")
+        seen[name] = face
+    return names
+
+
+def _face_digest(face: str) -> str:
+    """The face file's digest, with the built-in component libraries a face may draw on."""
+    path = resolve_builtin(face, "faces", ".json", "face")
+    return _digest_files([path, *sorted(data_path("components").glob("*.json"))])
+
+
+def _mapping_digest(mapping: str | None) -> str:
+    """The mapping file's digest (every built-in preset when the mapping is chosen per take), with
+    the built-in marker sets the mapping names."""
+    presets = sorted(data_path("mappings").glob("*.toml")) if mapping is None else [
+        resolve_builtin(mapping, "mappings", ".toml", "mapping")]
+    return _digest_files([*presets, *sorted(data_path("markersets").glob("*.toml"))])
+
+
+def _profile_digest(profile: Path | None) -> str:
+    """The profile's digest; without one, the built-in typical profiles' (takes of their marker
+    sets use them)."""
+    return _digest_files([profile] if profile else sorted(data_path("profiles").glob("*.toml")))
+
+
+def _digest_files(paths: list[Path]) -> str:
+    return _digest_json([file_digest(p) for p in paths])
+
+
+def _digest_json(value: object) -> str:
+    return hashlib.sha256(json.dumps(value, sort_keys=True, default=str).encode()).hexdigest()
+
+
+class _Unreadable:
+    """A digest that could not be taken; its message is the pair's failure reason."""
+
+    def __init__(self, message: str) -> None:
+        self.message = message
+
+    def __str__(self) -> str:
+        return "unreadable"
+
+
+def _guarded(digest, target) -> str | _Unreadable:
+    try:
+        return digest(target)
+    except ToonfaceError as exc:
+        return _Unreadable(str(exc))
+    except OSError as exc:
+        return _Unreadable(f"{exc.filename or target}: {exc.strerror or exc}")

@@ -1,0 +1,239 @@
+"""Run a planned batch on a Dask cluster: one small task graph per (take, face) pair.
+
+Per pair: ``map`` (load, clean, map) feeds ``count`` (video frames), ``motors``, ``score`` and
+``sheet``; once the frame count is known, the video is rendered as ``part`` tasks of at most
+``part_seconds`` each and joined by a ``join`` task. Follow-up tasks have a higher priority than
+new pairs' maps, and at most four pairs per worker thread are in flight, so pairs finish in order
+and the cluster holds few motor tracks at a time. A task that raises fails its own pair only (its
+dependants fail with it); a worker that dies has its tasks re-run elsewhere by the scheduler.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import os
+import time
+from collections import deque
+from collections.abc import Callable, Iterator
+from uuid import uuid4
+
+from distributed import Client, Future, KilledWorker, LocalCluster, as_completed, get_task_stream
+
+from common import InputError, ToonfaceError
+from toonface.batch import tasks
+from player.parts import frame_ranges
+from toonface.batch.job import Job
+from toonface.batch.plan import Pair, read_stamp, write_stamp
+from toonface.batch.report import BatchReport, PairResult
+
+log = logging.getLogger("toonface")
+
+PAIRS_PER_THREAD = 4
+# Each worker process renders on one core: llvmpipe and x264 threads would only compete with the
+# other workers' processes (set the same on the machines of a cluster).
+WORKER_ENV = {"LP_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+def default_workers() -> int:
+    """One worker per core this process may use."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+@contextlib.contextmanager
+def connect(scheduler: str | None = None, workers: int | None = None, wait_seconds: float = 60.0
+            ) -> Iterator[Client]:
+    """A client of the Dask scheduler at ``scheduler``, or of a local cluster of ``workers`` processes
+    (one thread each; default :func:`default_workers`), closed on exit.
+
+    With a scheduler, ``workers`` is how many workers to wait for (up to ``wait_seconds``).
+    """
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout=f"{wait_seconds}s")
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"cannot reach the Dask scheduler ({exc})", scheduler) from None
+        with client:
+            if workers:
+                try:
+                    client.wait_for_workers(workers, timeout=wait_seconds)
+                except TimeoutError:
+                    have = len(client.scheduler_info()["workers"])
+                    raise InputError(f"only {have} of {workers} workers joined in {wait_seconds:g} s",
+                                     scheduler) from None
+            yield client
+        return
+    count = workers or default_workers()
+    with LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.CRITICAL, env=WORKER_ENV) as cluster, Client(cluster) as client:
+        yield client
+
+
+def run_batch(job: Job, pairs: list[Pair], client: Client | None,
+              progress: Callable[[int, int], None] | None = None,
+              clock: Callable[[], float] = time.perf_counter) -> BatchReport:
+    """Make every stale output of ``pairs`` on ``client``'s cluster; returns the report.
+
+    ``client`` may be None when no pair has anything to make. ``progress(finished_tasks,
+    submitted_tasks)`` is called after every task. On an interrupt the pairs not finished are
+    reported as cancelled (and their tasks cancelled) before it propagates.
+    """
+    start = clock()
+    run = _Run(job, client, progress)
+    if client is None:
+        if any(p.stale and not p.error for p in pairs):
+            raise ValueError("pairs to make, but no cluster to make them on")
+        run.execute(pairs, 0)
+        return BatchReport(job, [run.results[p.name] for p in pairs], clock() - start, 0, "")
+    threads = max(sum(client.nthreads().values()), 1)
+    try:
+        with get_task_stream(client) as stream:
+            try:
+                run.execute(pairs, PAIRS_PER_THREAD * threads)
+            finally:
+                run.cancel_unfinished()
+    finally:
+        run.add_compute_times(stream.data)  # the stream's records arrive when its block ends
+    address = client.scheduler.address if client.scheduler else ""
+    return BatchReport(job, [run.results[p.name] for p in pairs], clock() - start, threads, address)
+
+
+class _PairWork:
+    """The futures of one pair in flight, and what its finished tasks reported."""
+
+    def __init__(self, pair: Pair) -> None:
+        self.pair = pair
+        self.track: Future | None = None
+        self.keys: list[str] = []
+        self.pending = 0
+        self.frames = 0
+        self.written: dict[str, int] = {}
+        self.reason = ""
+
+
+class _Run:
+    """The client-side loop: submits each pair's tasks and reacts as they finish."""
+
+    def __init__(self, job: Job, client: Client | None, progress: Callable[[int, int], None] | None) -> None:
+        self.job, self.client, self.progress = job, client, progress
+        self.queue = as_completed()
+        self.owner: dict[Future, tuple[_PairWork, str]] = {}
+        self.active: dict[str, _PairWork] = {}
+        self.results: dict[str, PairResult] = {}
+        self.keys: dict[str, list[str]] = {}  # each started pair's task keys
+        self.finished = self.submitted = 0
+
+    def execute(self, pairs: list[Pair], max_active: int) -> None:
+        waiting = deque()
+        for pair in pairs:
+            if pair.error:
+                self.results[pair.name] = PairResult(pair, "failed", pair.error)
+            elif not pair.stale:
+                self.results[pair.name] = PairResult(pair, "skipped", frames=read_stamp(pair.stamp).get("frames", 0))
+            else:
+                waiting.append(pair)
+        while waiting and len(self.active) < max_active:
+            self._start(waiting.popleft())
+        for future in self.queue:
+            work, stage = self.owner.pop(future)
+            work.pending -= 1
+            self._settle(work, stage, future)
+            self.finished += 1
+            if work.pending == 0:
+                self._finish(work)
+                if waiting:
+                    self._start(waiting.popleft())
+            if self.progress:
+                self.progress(self.finished, self.submitted)
+
+    def _submit(self, work: _PairWork, stage: str, fn: Callable, *args, priority: int = 1) -> Future:
+        key = f"{stage}-{uuid4().hex}"
+        future = self.client.submit(fn, *args, key=key, pure=False, priority=priority)
+        self.owner[future] = (work, stage)
+        work.keys.append(key)
+        work.pending += 1
+        self.submitted += 1
+        self.queue.add(future)
+        return future
+
+    def _start(self, pair: Pair) -> None:
+        work = _PairWork(pair)
+        self.active[pair.name] = work
+        self.keys[pair.name] = work.keys
+        work.track = self._submit(work, "map", tasks.map_pair, pair.take, pair.face, self.job, priority=0)
+        self._submit(work, "count", tasks.count_frames, work.track, self.job.render.fps)
+        writers = {"motors": (tasks.write_motors,), "score": (tasks.write_score,),
+                   "sheet": (tasks.write_sheet, pair.face)}
+        for kind in pair.stale:
+            if kind in writers:
+                fn, *extra = writers[kind]
+                args = (*extra, pair.output(kind).path) + ((self.job.render.samples,) if kind == "sheet" else ())
+                self._submit(work, kind, fn, work.track, *args)
+
+    def _settle(self, work: _PairWork, stage: str, future: Future) -> None:
+        if future.status != "finished":
+            if not work.reason:
+                work.reason = _reason(stage, future)
+            return
+        if stage == "count":
+            work.frames, fps = future.result()
+            if "video" in work.pair.stale:
+                self._submit_video(work, work.frames, fps)
+        elif stage == "join":
+            work.frames, work.written["video"] = future.result()
+        elif stage in ("motors", "score", "sheet"):
+            work.written[stage] = future.result()
+
+    def _submit_video(self, work: _PairWork, frames: int, fps: float) -> None:
+        if frames < 1:
+            work.reason = "the take has no frames to render"
+            return
+        render = self.job.render
+        part_frames = max(1, math.floor(render.part_seconds * fps))
+        parts = [self._submit(work, "part", tasks.render_video_part, work.track, work.pair.face, start, stop,
+                              render.fps, render.size, render.samples, priority=2)
+                 for start, stop in frame_ranges(frames, part_frames)]
+        self._submit(work, "join", tasks.join_video, work.pair.output("video").path, *parts, priority=3)
+
+    def _finish(self, work: _PairWork) -> None:
+        del self.active[work.pair.name]
+        work.track = None
+        if work.written:
+            write_stamp(work.pair, work.written, work.frames)
+        status = "failed" if work.reason else "done"
+        self.results[work.pair.name] = PairResult(work.pair, status, work.reason, work.frames, 0.0, work.written)
+
+    def cancel_unfinished(self) -> None:
+        """Cancel the tasks of pairs still in flight and report those pairs as cancelled."""
+        for work in list(self.active.values()):
+            self.client.cancel([f for f, (w, _) in self.owner.items() if w is work])
+            self.results[work.pair.name] = PairResult(work.pair, "cancelled", "interrupted before it finished",
+                                                      work.frames, 0.0, work.written)
+            if work.written:
+                write_stamp(work.pair, work.written, work.frames)
+        self.active.clear()
+
+    def add_compute_times(self, records: list[dict]) -> None:
+        """Sum each pair's task compute seconds from the scheduler's task stream."""
+        seconds: dict[str, float] = {}
+        for record in records:
+            for span in record.get("startstops", ()):
+                if span.get("action") == "compute":
+                    seconds[record["key"]] = seconds.get(record["key"], 0.0) + span["stop"] - span["start"]
+        for name, keys in self.keys.items():
+            self.results[name].seconds = sum(seconds.get(key, 0.0) for key in keys)
+
+
+def _reason(stage: str, future: Future) -> str:
+    """One line saying why a task did not finish, for the pair's report."""
+    if future.status == "cancelled":
+        return f"its {stage} task was cancelled"
+    exc = future.exception()
+    if isinstance(exc, KilledWorker):
+        return f"the workers running its {stage} task died, each time it was tried ({exc})"
+    if isinstance(exc, ToonfaceError):
+        return str(exc)
+    if isinstance(exc, OSError):
+        return f"{exc.filename + ': ' if exc.filename else ''}{exc.strerror or exc}"
+    return f"{stage}: {type(exc).__name__}: {exc}"
