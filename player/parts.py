@@ -31,7 +31,7 @@ def frame_ranges(frames: int, part_frames: int) -> list[tuple[int, int]]:
     Examples
     --------
     >>> frame_ranges(10, 4)
-    [(0, 4), (4, 7), (7, 10)]
+    [(0, 3), (3, 7), (7, 10)]
     >>> frame_ranges(0, 4)
     []
     """
