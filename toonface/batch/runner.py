@@ -65,8 +65,10 @@ def connect(scheduler: str | None = None, workers: int | None = None, wait_secon
             yield client
         return
     count = workers or default_workers()
+    # No dashboard; the scheduler's small HTTP server (health, metrics) on any free port, not 8787.
     with LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=logging.CRITICAL, env=WORKER_ENV) as cluster, Client(cluster) as client:
+                      scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.CRITICAL,
+                      env=WORKER_ENV) as cluster, Client(cluster) as client:
         yield client
 
 

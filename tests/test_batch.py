@@ -1,0 +1,251 @@
+"""Batch jobs: job files, plans and stamps, parts joined into one video, and whole jobs on a local
+Dask cluster of two worker processes (several takes x faces, a corrupt take, a worker killed
+mid-job, a rerun that skips everything)."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import textwrap
+from pathlib import Path
+
+import av
+import numpy as np
+import pytest
+
+from capture import load_take, save_take, synthesize
+from common import InputError
+from player.parts import frame_ranges, join_parts, render_part
+from toon import FaceRig, load_face, load_track, save_face
+from toonface.batch import connect, load_job, plan, run_batch, write_manifest
+from toonface.cli import main
+from toonface.pipeline import map_take, render
+
+SIZE = 64
+
+
+def write_job(root: Path, takes: dict[str, float], faces: list[str], extra: str = "") -> Path:
+    """Synthetic takes (name -> seconds, 30 Hz, seeded) under root/takes and a job file naming them."""
+    for seed, (name, seconds) in enumerate(takes.items()):
+        save_take(synthesize(seconds=seconds, rate=30.0, seed=seed).take, root / "takes" / f"{name}.npz")
+    face_list = ", ".join(f'"{f}"' for f in faces)
+    text = f"""\
+        format = "toonface.batch/1"
+        takes = ["takes/*.npz", "takes/*.c3d"]
+        faces = [{face_list}]
+        output = "out"
+        [render]
+        size = "{SIZE}"
+        samples = 0
+        part_seconds = 0.5
+        """
+    path = root / "job.toml"
+    path.write_text(textwrap.dedent(text) + textwrap.dedent(extra))
+    return path
+
+
+def decode(path: Path) -> list[np.ndarray]:
+    with av.open(str(path)) as container:
+        return [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
+
+
+def mean_errors(frames: list[np.ndarray], reference: list[np.ndarray]) -> np.ndarray:
+    return np.array([np.abs(a.astype(int) - b).mean() for a, b in zip(frames, reference, strict=True)])
+
+
+# --- job files ---------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("extra, field", [
+    ('colour = "red"\n', "colour"),
+    ('[render]\nsize = "65"\n', "render.size"),
+    ('[write]\nmotors = "xml"\n', "write.motors"),
+    ('[write]\nvideo = false\nmotors = false\nscore = false\nsheet = false\n', "write"),
+    ('neutral = [2, 1]\n', "neutral"),
+    ('[clean]\ncutoff = -1\n', "clean.cutoff"),
+])
+def test_a_bad_job_file_names_the_field(tmp_path, extra, field):
+    path = tmp_path / "job.toml"
+    lines = ['format = "toonface.batch/1"', 'takes = ["*.npz"]', 'faces = ["classic"]']
+    path.write_text("\n".join(lines) + "\n" + extra)
+    save_take(synthesize(seconds=1.0, rate=30.0).take, tmp_path / "a.npz")
+    with pytest.raises(InputError) as err:
+        load_job(path)
+    assert err.value.field == field and err.value.source == str(path)
+
+
+def test_a_job_without_takes_is_an_error_and_an_empty_glob_is_reported(tmp_path):
+    path = write_job(tmp_path, {"a": 1.0}, ["classic"])
+    job = load_job(path)
+    assert [t.name for t in job.takes] == ["a.npz"] and job.empty_globs == ("takes/*.c3d",)
+    (tmp_path / "takes" / "a.npz").unlink()
+    with pytest.raises(InputError, match="no take file"):
+        load_job(path)
+
+
+def test_plan_names_outputs_and_keys_follow_their_inputs(tmp_path):
+    path = write_job(tmp_path, {"a": 1.0, "b": 1.0}, ["classic", "faces/mine.json"])
+    save_face(load_face("round"), tmp_path / "faces" / "mine.json")
+    pairs = plan(load_job(path))
+    assert [p.name for p in pairs] == ["a/classic", "a/mine", "b/classic", "b/mine"]
+    assert pairs[1].output("video").path == tmp_path / "out" / "a" / "mine.mp4"
+    assert pairs[0].output("motors").path.name == "classic.csv"
+    assert all(p.stale == ("motors", "video", "score", "sheet") for p in pairs)
+    # the same take and settings on another face: the same take hash, a different face hash and keys
+    assert pairs[0].inputs["take"] == pairs[1].inputs["take"] != pairs[2].inputs["take"]
+    assert pairs[0].output("video").key != pairs[1].output("video").key
+    # a bigger frame changes the video's and nothing else's key
+    path.write_text(path.read_text().replace(f'size = "{SIZE}"', 'size = "128"'))
+    again = plan(load_job(path))
+    assert again[0].output("video").key != pairs[0].output("video").key
+    assert again[0].output("motors").key == pairs[0].output("motors").key
+
+
+def test_a_missing_face_fails_its_pairs_at_planning(tmp_path):
+    path = write_job(tmp_path, {"a": 1.0}, ["classic", "faces/none.json"])
+    pairs = plan(load_job(path))
+    assert pairs[0].error == "" and "no such face file" in pairs[1].error
+
+
+# --- parts ---------------------------------------------------------------------------------------
+
+def test_frame_ranges_cover_every_frame_once():
+    for frames in (1, 7, 100, 101):
+        for most in (1, 3, 50, 200):
+            ranges = frame_ranges(frames, most)
+            assert ranges[0][0] == 0 and ranges[-1][1] == frames
+            assert all(a < b <= a + most and b == c for (a, b), (c, _) in zip(ranges, ranges[1:] + [(frames, 0)]))
+
+
+@pytest.mark.gl
+def test_parts_join_into_the_whole_video_in_order(tmp_path):
+    track = map_take(synthesize(seconds=2.0, rate=30.0, seed=3).take)
+    rig = FaceRig(load_face("classic"))
+    parts = [render_part(track, rig, a, b, 30.0, (SIZE, SIZE), samples=0) for a, b in frame_ranges(60, 16)]
+    assert len(parts) == 4
+    assert join_parts(parts, tmp_path / "joined.mp4") == 60
+    assert render(track, rig.face, tmp_path / "whole.mp4", (SIZE, SIZE), samples=0) == 60
+    whole = decode(tmp_path / "whole.mp4")
+    errors = mean_errors(decode(tmp_path / "joined.mp4"), whole)
+    assert errors.max() < 2.5  # two H.264 encodings (crf 18) of the same 64-pixel frames
+    # the comparison can fail: the parts in the wrong order are far off where the face moves
+    assert join_parts(parts[2:] + parts[:2], tmp_path / "swapped.mp4") == 60
+    assert mean_errors(decode(tmp_path / "swapped.mp4"), whole).max() > 2 * errors.max()
+    with av.open(str(tmp_path / "joined.mp4")) as container:
+        stream = container.streams.video[0]
+        assert stream.average_rate == 30 and float(stream.duration * stream.time_base) == pytest.approx(2.0)
+        times = [f.time for f in container.decode(video=0)]
+    assert np.allclose(np.diff(times), 1 / 30)
+
+
+# --- whole jobs on a local cluster -------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def client():
+    """A local cluster of two worker processes, one thread each, shared by this module's jobs."""
+    with connect(None, workers=2) as dask_client:
+        yield dask_client
+
+
+def run(path: Path, client, force: bool = False, progress=None):
+    job = load_job(path)
+    report = run_batch(job, plan(job, force), client, progress)
+    write_manifest(report, job.output / "manifest.json")
+    return report
+
+
+@pytest.mark.slow
+def test_a_job_makes_every_output_and_a_rerun_skips_them_all(tmp_path, client):
+    path = write_job(tmp_path, {"a": 2.0, "b": 1.0, "c": 1.3}, ["classic", "round"])
+    report = run(path, client)
+    assert report.ok and report.count("done") == 6
+    out = tmp_path / "out"
+    for take, seconds in (("a", 2.0), ("b", 1.0), ("c", 1.3)):
+        for face in ("classic", "round"):
+            assert {p.name for p in (out / take).glob(f"{face}.*")} == {
+                f"{face}.csv", f"{face}.mp4", f"{face}.score.png", f"{face}.sheet.png"}
+            # the motors the cluster wrote are the ones the one-machine pipeline maps
+            mapped = map_take(load_take(tmp_path / "takes" / f"{take}.npz"), face=load_face(face))
+            assert np.allclose(load_track(out / take / f"{face}.csv").values, mapped.values, atol=1e-6)
+            assert len(decode(out / take / f"{face}.mp4")) == mapped.frames == round(seconds * 30)
+    assert report.results[0].frames == 60 and report.results[0].seconds > 0
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["totals"] == {"done": 6, "skipped": 0, "failed": 0, "cancelled": 0}
+    entry = manifest["pairs"][0]
+    assert entry["name"] == "a/classic" and all(o["written"] and o["up_to_date"] for o in entry["outputs"])
+    assert entry["outputs"][1]["bytes"] == (out / "a" / "classic.mp4").stat().st_size
+
+    before = {p: p.stat().st_mtime_ns for p in out.rglob("*") if p.is_file() and p.name != "manifest.json"}
+    calls = []
+    again = run(path, client, progress=lambda *a: calls.append(a))
+    assert again.count("skipped") == 6 and calls == []  # nothing submitted
+    assert {p: p.stat().st_mtime_ns for p in before} == before
+    assert [r.frames for r in again.results] == [r.frames for r in report.results]
+
+    # a changed take remakes its own pairs only; a changed setting only the outputs it shapes
+    save_take(synthesize(seconds=1.0, rate=30.0, seed=9).take, tmp_path / "takes" / "b.npz")
+    changed = run(path, client)
+    assert [r.pair.name for r in changed.results if r.status == "done"] == ["b/classic", "b/round"]
+    path.write_text(path.read_text().replace(f'size = "{SIZE}"', 'size = "48"'))
+    resized = run(path, client)
+    assert resized.count("done") == 6 and all(set(r.written) == {"video"} for r in resized.results)
+    assert decode(out / "a" / "round.mp4")[0].shape == (48, 48, 3)
+
+
+@pytest.mark.slow
+def test_a_corrupt_take_fails_only_its_own_pairs(tmp_path, client):
+    path = write_job(tmp_path, {"a": 1.0, "b": 1.0}, ["classic", "round"])
+    (tmp_path / "takes" / "broken.c3d").write_bytes(b"\x02\x50" + bytes(100))
+    report = run(path, client)
+    failed = {r.pair.name: r.reason for r in report.results if r.status == "failed"}
+    assert set(failed) == {"broken/classic", "broken/round"}
+    assert all(str(tmp_path / "takes" / "broken.c3d") in reason for reason in failed.values())
+    assert report.count("done") == 4 and not report.ok
+    assert not (tmp_path / "out" / "broken").exists()
+    assert not list((tmp_path / "out").rglob("*.partial*"))  # no half-written output anywhere
+
+
+@pytest.mark.slow
+def test_a_worker_killed_mid_job_has_its_tasks_run_elsewhere(tmp_path, client):
+    client.wait_for_workers(2, timeout=60)
+    path = write_job(tmp_path, {"a": 2.0, "b": 2.0, "c": 2.0}, ["classic", "round"])
+    pids = client.run(os.getpid)
+    killed = []
+
+    def kill_a_busy_worker(finished: int, submitted: int) -> None:
+        if killed:
+            return
+        busy = [address for address, keys in client.processing().items() if keys]
+        if busy:
+            killed.append((busy[0], tuple(client.processing()[busy[0]])))
+            os.kill(pids[busy[0]], signal.SIGKILL)
+
+    report = run(path, client, progress=kill_a_busy_worker)
+    assert killed and killed[0][1], "no worker was busy when the first task finished"
+    assert report.ok and report.count("done") == 6
+    for pair in report.results:
+        assert len(decode(pair.pair.output("video").path)) == 60
+    client.wait_for_workers(2, timeout=60)  # its nanny starts a new one
+
+
+@pytest.mark.slow
+def test_the_command_reports_failures_in_its_exit_status(tmp_path, capsys):
+    path = write_job(tmp_path, {"a": 1.0}, ["classic"], "[write]\nsheet = false\nscore = false\n")
+    (tmp_path / "takes" / "broken.c3d").write_bytes(b"not a c3d")
+    assert main(["batch", str(path), "--dry-run"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["a/classic: makes motors, video", "broken/classic: makes motors, video"]
+    assert main(["batch", str(path), "--workers", "2"]) == 1
+    captured = capsys.readouterr()
+    assert "done            1" in captured.out and "failed          1" in captured.out
+    assert captured.err.startswith("failed: broken/classic: ") and "not a C3D file" in captured.err
+    (tmp_path / "takes" / "broken.c3d").unlink()
+    assert main(["batch", str(path)]) == 0  # everything up to date: no cluster started
+    assert "skipped         1" in capsys.readouterr().out
+
+
+def test_a_bad_job_file_is_one_line_and_status_2(tmp_path, capsys):
+    path = tmp_path / "job.toml"
+    path.write_text('format = "toonface.batch/1"\ntakes = ["*.npz"]\nfaces = ["classic"]\n')
+    assert main(["batch", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"toonface: error: {path}: takes: no take file")
