@@ -19,6 +19,8 @@ from common import InputError
 from player.parts import frame_ranges, join_parts, render_part
 from toon import FaceRig, load_face, load_track, save_face
 from toonface.batch import connect, load_job, plan, run_batch, write_manifest
+from toonface.batch import pairs as batch_pairs
+from toonface.batch.pairs import file_digest as digest
 from toonface.cli import main
 from toonface.pipeline import map_take, render
 
@@ -81,6 +83,13 @@ def test_a_job_without_takes_is_an_error_and_an_empty_glob_is_reported(tmp_path)
     (tmp_path / "takes" / "a.npz").unlink()
     with pytest.raises(InputError, match="no take file"):
         load_job(path)
+
+
+def test_outputs_are_never_taken_for_takes(tmp_path):
+    path = write_job(tmp_path, {"a": 1.0}, ["classic"])
+    path.write_text(path.read_text().replace('takes = ["takes/*.npz", "takes/*.c3d"]', 'takes = ["**/*.npz"]'))
+    save_take(synthesize(seconds=1.0, rate=30.0).take, tmp_path / "out" / "a" / "classic.npz")
+    assert [t.relative_to(tmp_path).as_posix() for t in load_job(path).takes] == ["takes/a.npz"]
 
 
 def test_plan_names_outputs_and_keys_follow_their_inputs(tmp_path):
@@ -155,7 +164,7 @@ def run(path: Path, client, force: bool = False, progress=None):
 
 
 @pytest.mark.slow
-def test_a_job_makes_every_output_and_a_rerun_skips_them_all(tmp_path, client):
+def test_a_job_makes_every_output_and_a_rerun_skips_them_all(tmp_path, client, monkeypatch):
     path = write_job(tmp_path, {"a": 2.0, "b": 1.0, "c": 1.3}, ["classic", "round"])
     report = run(path, client)
     assert report.ok and report.count("done") == 6
@@ -181,6 +190,13 @@ def test_a_job_makes_every_output_and_a_rerun_skips_them_all(tmp_path, client):
     assert again.count("skipped") == 6 and calls == []  # nothing submitted
     assert {p: p.stat().st_mtime_ns for p in before} == before
     assert [r.frames for r in again.results] == [r.frames for r in report.results]
+    # the same bytes with a new time are hashed again and found unchanged; unchanged files are not read
+    os.utime(tmp_path / "takes" / "a.npz")
+    read = []
+    monkeypatch.setattr(batch_pairs, "file_digest", lambda p: read.append(Path(p).name) or digest(p))
+    assert run(path, client).count("skipped") == 6
+    assert [name for name in read if name.endswith(".npz")] == ["a.npz"]
+    monkeypatch.undo()
 
     # a changed take remakes its own pairs only; a changed setting only the outputs it shapes
     save_take(synthesize(seconds=1.0, rate=30.0, seed=9).take, tmp_path / "takes" / "b.npz")

@@ -1,10 +1,12 @@
 """File round trips and errors: takes (.npz), motor tracks (.csv, .npz), atomic writes."""
 
+import os
+
 import numpy as np
 import pytest
 
 from capture import Take, load_take, save_take, synthesize
-from common import InputError, atomic_path
+from common import InputError, atomic_dir, atomic_path
 from toon import MotorTrack, load_track, save_track
 
 
@@ -118,3 +120,17 @@ def test_undecodable_documents_name_the_file_and_the_format(tmp_path):
     (tmp_path / "latin.json").write_bytes(b'{"name": "caf\xe9"}')
     with pytest.raises(InputError, match=r"latin.json: not valid JSON"):
         load_face(tmp_path / "latin.json")
+
+
+def test_atomic_outputs_get_the_usual_permissions(tmp_path):
+    """Not mkstemp's owner-only mode: batch outputs on a shared disk are read by others."""
+    mask = os.umask(0o022)
+    try:
+        with atomic_path(tmp_path / "out.txt") as tmp:
+            tmp.write_text("x")
+        with atomic_dir(tmp_path / "frames") as tmp:
+            (tmp / "f.png").write_bytes(b"x")
+    finally:
+        os.umask(mask)
+    assert (tmp_path / "out.txt").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "frames").stat().st_mode & 0o777 == 0o755

@@ -6,7 +6,7 @@ on a cluster (:func:`connect` starts a local one or joins a scheduler), and
 """
 
 from toonface.batch.job import Job, load_job
-from toonface.batch.plan import Pair, plan
+from toonface.batch.pairs import Pair, plan
 from toonface.batch.report import BatchReport, PairResult, write_manifest
 from toonface.batch.runner import connect, default_workers, run_batch
 

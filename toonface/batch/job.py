@@ -117,27 +117,32 @@ def load_job(path: str | os.PathLike) -> Job:
              "clean", "csv"}
     fields.refuse_unknown(doc, known, "")
     patterns = fields.strings("takes", required=True)
-    takes, empty = _expand(patterns, base, path)
+    output = base / (fields.text("output") or "batch-out")
+    takes, empty = _expand(patterns, base, path, output)
     faces = tuple(_face_spec(name, base) for name in fields.strings("faces", required=True))
     if len(set(faces)) != len(faces):
         raise InputError("a face is named twice", path, "faces")
     mapping = fields.text("mapping") or None
     profile = fields.text("profile")
     return Job(
-        path=path, takes=takes, faces=faces, output=base / (fields.text("output") or "batch-out"),
+        path=path, takes=takes, faces=faces, output=output,
         mapping=_mapping_spec(mapping, base), profile=(base / profile) if profile else None,
         neutral=fields.neutral("neutral"), mirror=fields.flag("mirror", False),
         write=_write_settings(fields), render=_render_settings(fields), clean=_clean_settings(fields),
         take_options=_take_options(fields), empty_globs=empty)
 
 
-def _expand(patterns: list[str], base: Path, path: Path) -> tuple[tuple[Path, ...], tuple[str, ...]]:
+def _expand(patterns: list[str], base: Path, path: Path, output: Path) -> tuple[tuple[Path, ...], tuple[str, ...]]:
+    """The take files the globs match, sorted, each once; files under the output folder (motor
+    tracks written as .npz or .csv) are never takes."""
     found: dict[Path, None] = {}
     empty = []
+    output = output.resolve()
     for pattern in patterns:
         full = pattern if os.path.isabs(pattern) else str(base / pattern)
         matches = sorted(Path(m).resolve() for m in glob.glob(full, recursive=True)
                          if Path(m).is_file() and Path(m).suffix.lower() in TAKE_SUFFIXES)
+        matches = [m for m in matches if output not in m.parents]
         if not matches:
             empty.append(pattern)
         found.update(dict.fromkeys(matches))

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from common import atomic_path
 from toonface.batch.job import Job
-from toonface.batch.plan import Pair, read_stamp
+from toonface.batch.pairs import Pair, read_stamp
 
 MANIFEST_FORMAT = "toonface.batch-manifest/1"
 STATUSES = ("done", "skipped", "failed", "cancelled")

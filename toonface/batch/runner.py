@@ -25,7 +25,7 @@ from common import InputError, ToonfaceError
 from toonface.batch import tasks
 from player.parts import frame_ranges
 from toonface.batch.job import Job
-from toonface.batch.plan import Pair, read_stamp, write_stamp
+from toonface.batch.pairs import Pair, read_stamp, write_stamp
 from toonface.batch.report import BatchReport, PairResult
 
 log = logging.getLogger("toonface")
@@ -165,13 +165,14 @@ class _Run:
         self.keys[pair.name] = work.keys
         work.track = self._submit(work, "map", tasks.map_pair, pair.take, pair.face, self.job, priority=0)
         self._submit(work, "count", tasks.count_frames, work.track, self.job.render.fps)
-        writers = {"motors": (tasks.write_motors,), "score": (tasks.write_score,),
-                   "sheet": (tasks.write_sheet, pair.face)}
         for kind in pair.stale:
-            if kind in writers:
-                fn, *extra = writers[kind]
-                args = (*extra, pair.output(kind).path) + ((self.job.render.samples,) if kind == "sheet" else ())
-                self._submit(work, kind, fn, work.track, *args)
+            path = pair.output(kind).path
+            if kind == "motors":
+                self._submit(work, kind, tasks.write_motors, work.track, path)
+            elif kind == "score":
+                self._submit(work, kind, tasks.write_score, work.track, path)
+            elif kind == "sheet":
+                self._submit(work, kind, tasks.write_sheet, work.track, pair.face, path, self.job.render.samples)
 
     def _settle(self, work: _PairWork, stage: str, future: Future) -> None:
         if future.status != "finished":

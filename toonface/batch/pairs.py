@@ -2,7 +2,8 @@
 
 Every output has a key: the SHA-256 of the content hashes of its take, face, mapping, profile and
 the job's settings that shape it. After a pair's outputs are written, a stamp
-(``<output>/.toonface/<take>/<face>.json``) records each output's key and size. An output whose
+(``<output>/.toonface/<take>/<face>.json``) records each output's key and size, and the take's
+size and modification time (a take seen unchanged by those is not hashed again). An output whose
 stamp has its current key and whose file still has the recorded size is up to date and is not
 made again; a pair whose outputs are all up to date is skipped.
 """
@@ -37,7 +38,8 @@ class Pair:
 
     ``inputs`` maps ``take``, ``face``, ``mapping``, ``profile`` and ``settings`` to SHA-256 hex
     digests; ``stale`` lists the output kinds to make (empty: skip the pair); ``error`` is set when
-    the pair cannot even be planned (a take or face file that cannot be read).
+    the pair cannot even be planned (a take or face file that cannot be read); ``take_stat`` is the
+    take's size and modification time (ns) when it was hashed.
     """
 
     take: Path
@@ -48,6 +50,7 @@ class Pair:
     stamp: Path
     stale: tuple[str, ...]
     error: str = ""
+    take_stat: tuple[int, int] | None = None
 
     def output(self, kind: str) -> Output:
         """The output of ``kind``."""
@@ -66,7 +69,8 @@ def plan(job: Job, force: bool = False) -> list[Pair]:
     face_digests = {face: _guarded(_face_digest, face) for face in job.faces}
     pairs = []
     for take in job.takes:
-        take_digest = _guarded(file_digest, take)
+        stamps = [job.output / ".toonface" / f"{take_names[take]}/{face_names[face]}.json" for face in job.faces]
+        take_digest, seen = _take_digest(take, stamps, force)
         for face in job.faces:
             name = f"{take_names[take]}/{face_names[face]}"
             error = next((d.message for d in (take_digest, face_digests[face]) if isinstance(d, _Unreadable)), "")
@@ -75,8 +79,25 @@ def plan(job: Job, force: bool = False) -> list[Pair]:
                             for kind in job.write.kinds())
             stamp = job.output / ".toonface" / f"{name}.json"
             stale = tuple(o.kind for o in outputs if force or error or not _up_to_date(o, stamp))
-            pairs.append(Pair(take, face, name, inputs, outputs, stamp, stale, error))
+            pairs.append(Pair(take, face, name, inputs, outputs, stamp, stale, error, seen))
     return pairs
+
+
+def _take_digest(take: Path, stamps: list[Path], force: bool
+                 ) -> tuple[str | _Unreadable, tuple[int, int] | None]:
+    """The take's content hash and its size and modification time; the hash is re-used from a
+    stamp that saw the file with the same size and time (a rerun over a day of takes does not read
+    them all again)."""
+    try:
+        info = take.stat()
+    except OSError as exc:
+        return _Unreadable(f"{take}: {exc.strerror or exc}"), None
+    seen = (info.st_size, info.st_mtime_ns)
+    for stamp in stamps if not force else ():
+        doc = read_stamp(stamp)
+        if doc.get("take_stat") == list(seen) and isinstance(doc.get("inputs", {}).get("take"), str):
+            return doc["inputs"]["take"], seen
+    return _guarded(file_digest, take), seen
 
 
 def file_digest(path: str | os.PathLike) -> str:
@@ -106,8 +127,9 @@ def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
             outputs[output.kind] = {"path": str(output.path), "key": output.key, "bytes": written[output.kind]}
         elif output.kind not in pair.stale and output.kind in previous:
             outputs[output.kind] = previous[output.kind]
-    doc = {"format": STAMP_FORMAT, "take": str(pair.take), "face": pair.face, "inputs": pair.inputs,
-           "frames": frames, "outputs": outputs}
+    seen = list(pair.take_stat) if pair.take_stat else None
+    doc = {"format": STAMP_FORMAT, "take": str(pair.take), "take_stat": seen, "face": pair.face,
+           "inputs": pair.inputs, "frames": frames, "outputs": outputs}
     pair.stamp.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(pair.stamp) as tmp:
         tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
