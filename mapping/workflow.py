@@ -54,7 +54,7 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
         markerset = find_markerset(take.labels)
         if markerset is None or not data_path("mappings", f"{markerset.name}.toml").is_file():
             raise InputError("no built-in mapping matches the take's markers "
-                             f"({', '.join(take.labels[:6])}...); name one with --mapping")
+                             f"({', '.join(take.labels[:6])}...); name one (--mapping, or mapping in a batch job)")
         mapping = markerset.name
     chosen = load_mapping(mapping) if isinstance(mapping, str) else mapping
     markerset = load_markerset(chosen.markerset)

@@ -10,6 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from capture import load_take
+from common import InputError
 from mapping import load_profile
 from player.parts import join_parts, render_part, video_frames
 from player.score import save_score
@@ -26,7 +27,12 @@ def map_pair(take: Path, face: str, job: Job) -> MotorTrack:
     loaded = load_take(take, rate=options.rate, labels=list(options.labels) if options.labels else None,
                        units=options.units)
     profile = load_profile(job.profile) if job.profile else None
-    return map_take(loaded, job.neutral, load_face(face), job.mirror, job.mapping, profile, job.clean)
+    try:
+        return map_take(loaded, job.neutral, load_face(face), job.mirror, job.mapping, profile, job.clean)
+    except InputError as exc:
+        if exc.source is None:  # say which take could not be mapped
+            raise InputError(exc.message, take, exc.field) from None
+        raise
 
 
 def count_frames(track: MotorTrack, fps: float) -> tuple[int, float]:
