@@ -82,23 +82,23 @@ def run_batch(job: Job, pairs: list[Pair], client: Client | None,
     reported as cancelled (and their tasks cancelled) before it propagates.
     """
     start = clock()
-    run = _Run(job, client, progress)
+    run = _Run(job, client, progress, clock)
     if client is None:
         if any(p.stale and not p.error for p in pairs):
             raise ValueError("pairs to make, but no cluster to make them on")
-        run.execute(pairs, 0)
+        run.execute(pairs)
         return BatchReport(job, [run.results[p.name] for p in pairs], clock() - start, 0, "")
-    threads = max(sum(client.nthreads().values()), 1)
+    stream = get_task_stream(client)
     try:
-        with get_task_stream(client) as stream:
+        with stream:
             try:
-                run.execute(pairs, PAIRS_PER_THREAD * threads)
+                run.execute(pairs)
             finally:
                 run.cancel_unfinished()
     finally:
         run.add_compute_times(stream.data)  # the stream's records arrive when its block ends
-    address = client.scheduler.address if client.scheduler else ""
-    return BatchReport(job, [run.results[p.name] for p in pairs], clock() - start, threads, address)
+    threads = sum(client.nthreads().values())
+    return BatchReport(job, [run.results[p.name] for p in pairs], clock() - start, threads, client.scheduler.address)
 
 
 class _PairWork:
@@ -117,8 +117,10 @@ class _PairWork:
 class _Run:
     """The client-side loop: submits each pair's tasks and reacts as they finish."""
 
-    def __init__(self, job: Job, client: Client | None, progress: Callable[[int, int], None] | None) -> None:
-        self.job, self.client, self.progress = job, client, progress
+    def __init__(self, job: Job, client: Client | None, progress: Callable[[int, int], None] | None,
+                 clock: Callable[[], float]) -> None:
+        self.job, self.client, self.progress, self.clock = job, client, progress, clock
+        self.capacity, self.capacity_time = 0, -float("inf")
         self.queue = as_completed()
         self.owner: dict[Future, tuple[_PairWork, str]] = {}
         self.active: dict[str, _PairWork] = {}
@@ -126,7 +128,8 @@ class _Run:
         self.keys: dict[str, list[str]] = {}  # each started pair's task keys
         self.finished = self.submitted = 0
 
-    def execute(self, pairs: list[Pair], max_active: int) -> None:
+    def execute(self, pairs: list[Pair]) -> None:
+        """Report the pairs with nothing to make; make the others, a bounded number at a time."""
         waiting = deque()
         for pair in pairs:
             if pair.error:
@@ -135,8 +138,7 @@ class _Run:
                 self.results[pair.name] = PairResult(pair, "skipped", frames=read_stamp(pair.stamp).get("frames", 0))
             else:
                 waiting.append(pair)
-        while waiting and len(self.active) < max_active:
-            self._start(waiting.popleft())
+        self._start_more(waiting)
         for future in self.queue:
             work, stage = self.owner.pop(future)
             work.pending -= 1
@@ -144,10 +146,20 @@ class _Run:
             self.finished += 1
             if work.pending == 0:
                 self._finish(work)
-                if waiting:
-                    self._start(waiting.popleft())
+                self._start_more(waiting)
             if self.progress:
                 self.progress(self.finished, self.submitted)
+
+    def _start_more(self, waiting: deque) -> None:
+        """Start waiting pairs up to four per worker thread (re-counted at most once a second, as
+        workers join or leave)."""
+        if not waiting:
+            return
+        if self.clock() - self.capacity_time >= 1.0:
+            self.capacity = PAIRS_PER_THREAD * max(sum(self.client.nthreads().values()), 1)
+            self.capacity_time = self.clock()
+        while waiting and len(self.active) < self.capacity:
+            self._start(waiting.popleft())
 
     def _submit(self, work: _PairWork, stage: str, fn: Callable, *args, priority: int = 1) -> Future:
         key = f"{stage}-{uuid4().hex}"
