@@ -259,6 +259,18 @@ def test_the_command_reports_failures_in_its_exit_status(tmp_path, capsys):
     assert "skipped         1" in capsys.readouterr().out
 
 
+@pytest.mark.slow
+def test_the_command_runs_on_an_existing_scheduler(tmp_path, client, capsys):
+    path = write_job(tmp_path, {"a": 1.0}, ["classic", "round"], "[write]\nsheet = false\n")
+    address = client.scheduler.address
+    assert main(["batch", str(path), "--scheduler", address, "--workers", "2"]) == 0
+    assert "done            2" in capsys.readouterr().out
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert manifest["scheduler"] == address and manifest["workers"] == 2
+    assert main(["batch", str(path), "--scheduler", "tcp://127.0.0.1:9", "--force"]) == 2
+    assert "cannot reach the Dask scheduler" in capsys.readouterr().err
+
+
 def test_a_bad_job_file_is_one_line_and_status_2(tmp_path, capsys):
     path = tmp_path / "job.toml"
     path.write_text('format = "toonface.batch/1"\ntakes = ["*.npz"]\nfaces = ["classic"]\n')

@@ -51,7 +51,7 @@ def connect(scheduler: str | None = None, workers: int | None = None, wait_secon
     """
     if scheduler:
         try:
-            client = Client(scheduler, timeout=f"{wait_seconds}s")
+            client = Client(scheduler, timeout="10s")
         except (OSError, TimeoutError) as exc:
             raise InputError(f"cannot reach the Dask scheduler ({exc})", scheduler) from None
         with client:
