@@ -13,8 +13,10 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 from common import InputError, ToonfaceError, atomic_path, data_path, resolve_builtin
 from toonface.batch.job import Job
@@ -225,7 +227,7 @@ class _Unreadable:
         return "unreadable"
 
 
-def _guarded(digest, target) -> str | _Unreadable:
+def _guarded(digest: Callable[[Any], str], target: Any) -> str | _Unreadable:
     try:
         return digest(target)
     except ToonfaceError as exc:
