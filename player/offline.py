@@ -19,8 +19,13 @@ def resample(track: MotorTrack, fps: float) -> np.ndarray:
     """
     if abs(fps - track.rate) < 1e-9:
         return track.values
-    times = np.arange(int(round(track.duration * fps))) / fps
+    times = np.arange(frame_count(track, fps)) / fps
     return np.column_stack([np.interp(times, track.times, col) for col in track.values.T])
+
+
+def frame_count(track: MotorTrack, fps: float) -> int:
+    """How many frames :func:`resample` makes of ``track`` at ``fps``, without making them."""
+    return track.frames if abs(fps - track.rate) < 1e-9 else int(round(track.duration * fps))
 
 
 def render_track(track: MotorTrack, rig: FaceRig, renderer: Renderer, sink: FrameSink, fps: float | None = None,

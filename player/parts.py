@@ -19,9 +19,9 @@ import numpy as np
 
 from common import InputError, atomic_path
 from player.gl import create_context
-from player.offline import resample
+from player.offline import frame_count, render_track, resample
 from player.renderer import Renderer
-from player.sinks import add_h264_stream
+from player.sinks import H264Encoder
 from toon import FaceRig, MotorTrack
 
 
@@ -42,11 +42,6 @@ def frame_ranges(frames: int, part_frames: int) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
 
 
-def video_frames(track: MotorTrack, fps: float) -> int:
-    """How many frames a ``fps`` video of ``track`` has (as :func:`player.offline.resample` makes them)."""
-    return len(resample(track, fps))
-
-
 def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: float, size: tuple[int, int],
                 samples: int = 4, crf: int = 18) -> bytes:
     """Render frames ``[start, stop)`` of a ``fps`` video of ``track`` into an MP4 held in memory.
@@ -56,17 +51,16 @@ def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: flo
     """
     values = resample(track, fps)[start:stop]
     if not len(values):
-        raise ValueError(f"frames {start}:{stop} are outside the video's {video_frames(track, fps)} frames")
+        raise ValueError(f"frames {start}:{stop} are outside the video's {frame_count(track, fps)} frames")
     buffer = io.BytesIO()
     ctx = create_context()
     try:
-        with Renderer(ctx, size, samples) as renderer, av.open(buffer, mode="w", format="mp4") as container:
-            stream = add_h264_stream(container, fps, size, crf, bframes="0", threads="1")
-            for row in values:
-                frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(renderer.render(rig.geometry(row))),
-                                                   format="rgb24")
-                container.mux(stream.encode(frame))
-            container.mux(stream.encode())
+        with Renderer(ctx, size, samples) as renderer:
+            encoder = H264Encoder(buffer, fps, size, crf, bframes="0", threads="1")
+            try:
+                render_track(MotorTrack(values, fps), rig, renderer, encoder)
+            finally:
+                encoder.finish()
     finally:
         ctx.release()
     return buffer.getvalue()

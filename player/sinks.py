@@ -12,7 +12,7 @@ import os
 import sys
 from fractions import Fraction
 from pathlib import Path
-from typing import Protocol
+from typing import BinaryIO, Protocol
 
 import av
 import cv2
@@ -29,18 +29,43 @@ class FrameSink(Protocol):
     def abort(self) -> None: ...
 
 
-def add_h264_stream(container: av.container.OutputContainer, fps: float, size: tuple[int, int], crf: int = 18,
-                    **options: str) -> av.video.stream.VideoStream:
-    """Add the browser-playable H.264 stream every MP4 here uses (yuv420p, x264 ``veryfast``).
+class H264Encoder:
+    """RGB frames into a browser-playable H.264 MP4 (yuv420p, x264 ``veryfast``) on a path or a
+    writable binary file object; :meth:`finish` flushes and closes it.
 
-    ``fps`` is stored as an exact fraction (29.97 -> 2997/100); ``options`` are extra x264 options,
-    such as ``bframes="0"`` for pieces that are joined later.
+    ``fps`` is stored as an exact fraction (29.97 -> 2997/100); ``options`` are extra x264
+    options, such as ``bframes="0"`` for pieces that are joined later.
     """
-    stream = container.add_stream("libx264", rate=Fraction(fps).limit_denominator(1001))
-    stream.width, stream.height = size
-    stream.pix_fmt = "yuv420p"
-    stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart", **options}
-    return stream
+
+    def __init__(self, target: str | os.PathLike | BinaryIO, fps: float, size: tuple[int, int], crf: int = 18,
+                 **options: str) -> None:
+        width, height = size
+        if width % 2 or height % 2:
+            raise InputError(f"H.264 needs an even frame size, got {width}x{height}",
+                             target if isinstance(target, (str, os.PathLike)) else None)
+        self.size = (width, height)
+        self.frames = 0
+        self._container = av.open(target if not isinstance(target, os.PathLike) else str(target), mode="w",
+                                  format="mp4")
+        self._stream = self._container.add_stream("libx264", rate=Fraction(fps).limit_denominator(1001))
+        self._stream.width, self._stream.height = width, height
+        self._stream.pix_fmt = "yuv420p"
+        self._stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart", **options}
+
+    def write(self, frame: np.ndarray) -> None:
+        """Encode one RGB frame of shape ``(height, width, 3)``."""
+        if frame.shape != (self.size[1], self.size[0], 3):
+            raise ValueError(f"frame shape {frame.shape} does not match {self.size}")
+        video_frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="rgb24")
+        self._container.mux(self._stream.encode(video_frame))
+        self.frames += 1
+
+    def finish(self) -> None:
+        """Flush the encoder and close the file (the container is closed even if flushing fails)."""
+        try:
+            self._container.mux(self._stream.encode())
+        finally:
+            self._container.close()
 
 
 class _AtomicSink:
@@ -103,29 +128,19 @@ class Mp4Sink(_AtomicSink):
     """
 
     def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 18) -> None:
-        width, height = size
-        if width % 2 or height % 2:
-            raise InputError(f"H.264 needs an even frame size, got {width}x{height}", path)
+        if size[0] % 2 or size[1] % 2:
+            raise InputError(f"H.264 needs an even frame size, got {size[0]}x{size[1]}", path)
         super().__init__(atomic_path(path))
-        self.size = (width, height)
-        self._container = av.open(str(self._tmp), mode="w", format="mp4")
-        self._stream = add_h264_stream(self._container, fps, self.size, crf)
+        self._encoder = H264Encoder(self._tmp, fps, size, crf)
+        self.size = self._encoder.size
 
     def write(self, frame: np.ndarray) -> None:
         """Encode one RGB frame."""
-        if frame.shape != (self.size[1], self.size[0], 3):
-            raise ValueError(f"frame shape {frame.shape} does not match {self.size}")
-        video_frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="rgb24")
-        for packet in self._stream.encode(video_frame):
-            self._container.mux(packet)
+        self._encoder.write(frame)
         self.frames += 1
 
     def _finish(self) -> None:
-        try:
-            for packet in self._stream.encode():
-                self._container.mux(packet)
-        finally:
-            self._container.close()
+        self._encoder.finish()
 
 
 class PngSink(_AtomicSink):

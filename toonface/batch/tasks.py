@@ -12,7 +12,8 @@ from pathlib import Path
 from capture import load_take
 from common import InputError
 from mapping import load_profile
-from player.parts import join_parts, render_part, video_frames
+from player.offline import frame_count
+from player.parts import join_parts, render_part
 from player.score import save_score
 from player.sheet import save_png, track_sheet
 from toon import FaceRig, MotorTrack, load_face, save_track
@@ -38,7 +39,7 @@ def map_pair(take: Path, face: str, job: Job) -> MotorTrack:
 def count_frames(track: MotorTrack, fps: float) -> tuple[int, float]:
     """Frames and frame rate of the ``fps`` video of ``track`` (``fps`` 0: the track's own rate)."""
     rate = fps or track.rate
-    return video_frames(track, rate), rate
+    return frame_count(track, rate), rate
 
 
 def write_motors(track: MotorTrack, path: Path) -> int:
