@@ -23,6 +23,7 @@ from distributed import get_task_stream
 from bench.core import Figure
 from capture import save_take, synthesize
 from toonface.batch import connect, load_job, plan, run_batch
+from toonface.batch.runner import compute_seconds
 
 GOAL_SPEEDUP = 1.7
 
@@ -82,11 +83,8 @@ def _timed(path: Path, client) -> tuple[int, float, dict[str, float]]:
     if not report.ok:
         raise RuntimeError(f"the benchmark job failed: {report.failures()}")
     compute: dict[str, float] = {}
-    for record in stream.data:
-        for span in record.get("startstops", ()):
-            if span.get("action") == "compute":
-                stage = key_split(record["key"])
-                compute[stage] = compute.get(stage, 0.0) + span["stop"] - span["start"]
+    for key, seconds in compute_seconds(stream.data).items():
+        compute[key_split(key)] = compute.get(key_split(key), 0.0) + seconds
     return sum(r.frames for r in report.results), wall, compute
 
 

@@ -29,16 +29,24 @@ def progress(desc: str) -> Callable[[int], Callable[[int], None]]:
     return lambda total: ProgressBar(total, desc)
 
 
-def parse_size(value: str) -> tuple[int, int]:
-    """``N`` or ``WxH`` pixels."""
+def frame_size(value: str) -> tuple[int, int]:
+    """``N`` or ``WxH`` pixels as ``(width, height)``, each side 16..8192; a ValueError says what is wrong."""
     try:
         w, _, h = value.lower().partition("x")
         size = (int(w), int(h or w))
     except ValueError:
-        raise click.BadParameter(f"expected N or WxH pixels, got {value!r}") from None
+        raise ValueError(f"expected N or WxH pixels, got {value!r}") from None
     if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
-        raise click.BadParameter(f"each side must be 16..8192 pixels, got {value!r}")
+        raise ValueError(f"each side must be 16..8192 pixels, got {value!r}")
     return size
+
+
+def parse_size(value: str) -> tuple[int, int]:
+    """``N`` or ``WxH`` pixels (see :func:`frame_size`), for an option."""
+    try:
+        return frame_size(value)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc)) from None
 
 
 def parse_window(value: str | None, option: str = "--neutral", words: tuple[str, ...] = ()

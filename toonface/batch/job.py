@@ -44,6 +44,7 @@ from typing import Any
 
 from common import InputError, read_versioned
 from mapping import CleanSettings
+from toonface.cli_options import frame_size
 
 FORMAT = "toonface.batch/1"
 TAKE_SUFFIXES = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
@@ -179,12 +180,11 @@ def _render_settings(fields: _Fields) -> RenderSettings:
     table = fields.table("render", {"size", "fps", "samples", "part_seconds"})
     size_text = str(table.get("size", "512"))
     try:
-        width, _, height = size_text.lower().partition("x")
-        size = (int(width), int(height or width))
-    except ValueError:
-        raise InputError(f"expected N or WxH pixels, got {size_text!r}", fields.path, "render.size") from None
-    if not (16 <= min(size) and max(size) <= 8192) or size[0] % 2 or size[1] % 2:
-        raise InputError(f"expected even sides of 16..8192 pixels, got {size_text!r}", fields.path, "render.size")
+        size = frame_size(size_text)
+    except ValueError as exc:
+        raise InputError(str(exc), fields.path, "render.size") from None
+    if size[0] % 2 or size[1] % 2:
+        raise InputError(f"H.264 needs even sides, got {size_text!r}", fields.path, "render.size")
     return RenderSettings(size=size, fps=fields.number("render.fps", 0.0, 0.0, 240.0),
                           samples=int(fields.number("render.samples", 4, 0, 16)),
                           part_seconds=fields.number("render.part_seconds", 10.0, 0.5, 3600.0))

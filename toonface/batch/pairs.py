@@ -14,7 +14,7 @@ import hashlib
 import json
 import os
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -41,7 +41,8 @@ class Pair:
     ``inputs`` maps ``take``, ``face``, ``mapping``, ``profile`` and ``settings`` to SHA-256 hex
     digests; ``stale`` lists the output kinds to make (empty: skip the pair); ``error`` is set when
     the pair cannot even be planned (a take or face file that cannot be read); ``take_stat`` is the
-    take's size and modification time (ns) when it was hashed.
+    take's size and modification time (ns) when it was hashed; ``recorded`` is its stamp as read
+    when planned (empty outputs where there was none).
     """
 
     take: Path
@@ -53,6 +54,7 @@ class Pair:
     stale: tuple[str, ...]
     error: str = ""
     take_stat: tuple[int, int] | None = None
+    recorded: dict = field(default_factory=lambda: {"outputs": {}})
 
     def output(self, kind: str) -> Output:
         """The output of ``kind``."""
@@ -71,21 +73,25 @@ def plan(job: Job, force: bool = False) -> list[Pair]:
     face_digests = {face: _guarded(_face_digest, face) for face in job.faces}
     pairs = []
     for take in job.takes:
-        stamps = [job.output / ".toonface" / f"{take_names[take]}/{face_names[face]}.json" for face in job.faces]
-        take_digest, seen = _take_digest(take, stamps, force)
-        for face in job.faces:
-            name = f"{take_names[take]}/{face_names[face]}"
+        names = {face: f"{take_names[take]}/{face_names[face]}" for face in job.faces}
+        stamps = {face: read_stamp(_stamp_path(job, name)) for face, name in names.items()}
+        take_digest, seen = _take_digest(take, list(stamps.values()), force)
+        for face, name in names.items():
             error = next((d.message for d in (take_digest, face_digests[face]) if isinstance(d, _Unreadable)), "")
             inputs = {"take": str(take_digest), "face": str(face_digests[face]), **shared}
             outputs = tuple(Output(kind, _output_path(job, name, kind), _output_key(inputs, kind, job))
                             for kind in job.write.kinds())
-            stamp = job.output / ".toonface" / f"{name}.json"
-            stale = tuple(o.kind for o in outputs if force or error or not _up_to_date(o, stamp))
-            pairs.append(Pair(take, face, name, inputs, outputs, stamp, stale, error, seen))
+            stale = tuple(o.kind for o in outputs if force or error or not _up_to_date(o, stamps[face]))
+            pairs.append(Pair(take, face, name, inputs, outputs, _stamp_path(job, name), stale, error, seen,
+                              stamps[face]))
     return pairs
 
 
-def _take_digest(take: Path, stamps: list[Path], force: bool
+def _stamp_path(job: Job, name: str) -> Path:
+    return job.output / ".toonface" / f"{name}.json"
+
+
+def _take_digest(take: Path, stamps: list[dict], force: bool
                  ) -> tuple[str | _Unreadable, tuple[int, int] | None]:
     """The take's content hash and its size and modification time; the hash is re-used from a
     stamp that saw the file with the same size and time (a rerun over a day of takes does not read
@@ -95,8 +101,7 @@ def _take_digest(take: Path, stamps: list[Path], force: bool
     except OSError as exc:
         return _Unreadable(f"{take}: {exc.strerror or exc}"), None
     seen = (info.st_size, info.st_mtime_ns)
-    for stamp in stamps if not force else ():
-        doc = read_stamp(stamp)
+    for doc in stamps if not force else ():
         if doc.get("take_stat") == list(seen) and isinstance(doc.get("inputs", {}).get("take"), str):
             return doc["inputs"]["take"], seen
     return _guarded(file_digest, take), seen
@@ -122,7 +127,7 @@ def read_stamp(path: Path) -> dict:
 
 def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
     """Record the outputs just ``written`` (kind -> bytes) for ``pair``, keeping earlier up-to-date ones."""
-    previous = read_stamp(pair.stamp).get("outputs", {})
+    previous = pair.recorded.get("outputs", {})
     outputs = {}
     for output in pair.outputs:
         if output.kind in written:
@@ -132,13 +137,12 @@ def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
     seen = list(pair.take_stat) if pair.take_stat else None
     doc = {"format": STAMP_FORMAT, "take": str(pair.take), "take_stat": seen, "face": pair.face,
            "inputs": pair.inputs, "frames": frames, "outputs": outputs}
-    pair.stamp.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(pair.stamp) as tmp:
         tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
 
 
-def _up_to_date(output: Output, stamp: Path) -> bool:
-    recorded = read_stamp(stamp).get("outputs", {}).get(output.kind)
+def _up_to_date(output: Output, stamp: dict) -> bool:
+    recorded = stamp.get("outputs", {}).get(output.kind)
     if not isinstance(recorded, dict) or recorded.get("key") != output.key:
         return False
     try:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from common import atomic_path
 from toonface.batch.job import Job
-from toonface.batch.pairs import Pair, read_stamp
+from toonface.batch.pairs import Pair
 
 MANIFEST_FORMAT = "toonface.batch-manifest/1"
 STATUSES = ("done", "skipped", "failed", "cancelled")
@@ -71,13 +71,17 @@ def write_manifest(report: BatchReport, path: str | os.PathLike) -> Path:
     """Write the JSON manifest: every pair, its input hashes, status and outputs (atomically)."""
     pairs = []
     for result in report.results:
-        recorded = read_stamp(result.pair.stamp).get("outputs", {})
+        recorded = result.pair.recorded.get("outputs", {})
         outputs = []
         for output in result.pair.outputs:
-            entry = recorded.get(output.kind) if recorded.get(output.kind, {}).get("key") == output.key else None
-            outputs.append({"kind": output.kind, "path": str(output.path), "key": output.key,
-                            "bytes": entry["bytes"] if entry else None, "written": output.kind in result.written,
-                            "up_to_date": entry is not None})
+            if output.kind in result.written:
+                size = result.written[output.kind]
+            elif output.kind not in result.pair.stale:  # up to date when planned
+                size = recorded[output.kind]["bytes"]
+            else:
+                size = None
+            outputs.append({"kind": output.kind, "path": str(output.path), "key": output.key, "bytes": size,
+                            "written": output.kind in result.written, "up_to_date": size is not None})
         pairs.append({"name": result.pair.name, "take": str(result.pair.take), "face": result.pair.face,
                       "status": result.status, "reason": result.reason, "frames": result.frames,
                       "compute_seconds": round(result.seconds, 3), "inputs": result.pair.inputs, "outputs": outputs})

@@ -25,7 +25,7 @@ from common import InputError, ToonfaceError
 from toonface.batch import tasks
 from player.parts import frame_ranges
 from toonface.batch.job import Job
-from toonface.batch.pairs import Pair, read_stamp, write_stamp
+from toonface.batch.pairs import Pair, write_stamp
 from toonface.batch.report import BatchReport, PairResult
 
 log = logging.getLogger("toonface")
@@ -135,7 +135,7 @@ class _Run:
             if pair.error:
                 self.results[pair.name] = PairResult(pair, "failed", pair.error)
             elif not pair.stale:
-                self.results[pair.name] = PairResult(pair, "skipped", frames=read_stamp(pair.stamp).get("frames", 0))
+                self.results[pair.name] = PairResult(pair, "skipped", frames=pair.recorded.get("frames", 0))
             else:
                 waiting.append(pair)
         self._start_more(waiting)
@@ -231,13 +231,19 @@ class _Run:
 
     def add_compute_times(self, records: list[dict]) -> None:
         """Sum each pair's task compute seconds from the scheduler's task stream."""
-        seconds: dict[str, float] = {}
-        for record in records:
-            for span in record.get("startstops", ()):
-                if span.get("action") == "compute":
-                    seconds[record["key"]] = seconds.get(record["key"], 0.0) + span["stop"] - span["start"]
+        seconds = compute_seconds(records)
         for name, keys in self.keys.items():
             self.results[name].seconds = sum(seconds.get(key, 0.0) for key in keys)
+
+
+def compute_seconds(records: list[dict]) -> dict[str, float]:
+    """Seconds each task key spent computing, from the records of :func:`distributed.get_task_stream`."""
+    seconds: dict[str, float] = {}
+    for record in records:
+        for span in record.get("startstops", ()):
+            if span.get("action") == "compute":
+                seconds[record["key"]] = seconds.get(record["key"], 0.0) + span["stop"] - span["start"]
+    return seconds
 
 
 def _reason(stage: str, future: Future) -> str:
