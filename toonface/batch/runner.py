@@ -17,6 +17,7 @@ import os
 import time
 from collections import deque
 from collections.abc import Callable, Iterator
+from dataclasses import replace
 from uuid import uuid4
 
 from distributed import Client, Future, KilledWorker, LocalCluster, as_completed, get_task_stream
@@ -120,6 +121,7 @@ class _Run:
     def __init__(self, job: Job, client: Client | None, progress: Callable[[int, int], None] | None,
                  clock: Callable[[], float]) -> None:
         self.job, self.client, self.progress, self.clock = job, client, progress, clock
+        self.map_job = replace(job, takes=(), empty_globs=())  # what map tasks need, not every take's path
         self.capacity, self.capacity_time = 0, -float("inf")
         self.queue = as_completed()
         self.owner: dict[Future, tuple[_PairWork, str]] = {}
@@ -175,7 +177,7 @@ class _Run:
         work = _PairWork(pair)
         self.active[pair.name] = work
         self.keys[pair.name] = work.keys
-        work.track = self._submit(work, "map", tasks.map_pair, pair.take, pair.face, self.job, priority=0)
+        work.track = self._submit(work, "map", tasks.map_pair, pair.take, pair.face, self.map_job, priority=0)
         self._submit(work, "count", tasks.count_frames, work.track, self.job.render.fps)
         for kind in pair.stale:
             path = pair.output(kind).path
