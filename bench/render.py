@@ -4,10 +4,11 @@ For each built-in face, at 512x512 with 4x MSAA and readback:
 
 ``render.fps.<face>``: a mapped synthetic take played on the face: geometry built from motor
 values every frame (features, skeletons, splines, head turn), fills triangulated or re-used,
-strokes built, uploaded, drawn in their depth-masked runs and read back.
-``render.floor_fps.<face>``: the same face's triangles at rest, uploaded once and drawn in a
-single call into the same framebuffer with the same readback: what drawing this many corners
-costs with no per-frame work. ``render.ratio.<face>`` = fps / floor, measured in alternating
+points uploaded, strokes expanded by the geometry shader, drawn in their depth-masked runs and
+read back.
+``render.floor_fps.<face>``: the same face's triangles at rest (fills and strokes built on the
+CPU), uploaded once and drawn by a bare shader in a single call into the same framebuffer with the
+same readback: what drawing these triangles costs with no per-frame work. ``render.ratio.<face>`` = fps / floor, measured in alternating
 repeats so that both see the same machine, and the median of the repeats' ratios reported.
 ``render.fps`` and ``render.ratio`` are the slowest face's figures.
 """
@@ -24,8 +25,9 @@ import numpy as np
 from bench.core import Figure
 from capture import synthesize
 from player import Renderer, create_context
-from player.renderer import triangles_of
+from player.layout import triangulate
 from toon import FaceRig, Geometry, builtin_faces, load_face
+from toon.curves import stroke_many
 from toonface import map_take
 
 GOAL_FPS = 150.0  # the issue's figure for this machine's 2 cores (0.7 of a floor near 215 fps)
@@ -89,14 +91,31 @@ def _alternate(a: Callable[[], int], b: Callable[[], int], repeats: int) -> tupl
     return rates_a, rates_b
 
 
+_BARE_VERTEX_SHADER = """
+#version 330
+uniform vec4 u_map;
+in vec2 in_pos;
+in vec4 in_color;
+out vec4 v_color;
+void main() { gl_Position = vec4(in_pos * u_map.xy + u_map.zw, 0.0, 1.0); v_color = in_color; }
+"""
+_BARE_FRAGMENT_SHADER = """
+#version 330
+in vec4 v_color;
+out vec4 f_color;
+void main() { f_color = v_color; }
+"""
+
+
 def _one_call_scene(ctx: moderngl.Context, renderer: Renderer, geometry: Geometry, frames: int
                     ) -> tuple[Callable[[], int], Callable[[], None], int]:
     """Draw ``geometry``'s triangles, static, in one call ``frames`` times: (draw, release, corner count)."""
-    data, _ = triangles_of(geometry)
-    data[:, 2] = 1.0
-    vbo = ctx.buffer(np.ascontiguousarray(data).tobytes())
-    vao = ctx.vertex_array(renderer.program, [(vbo, "3f 4f", "in_pos", "in_color")])
+    data = _rest_triangles(geometry)
+    program = ctx.program(vertex_shader=_BARE_VERTEX_SHADER, fragment_shader=_BARE_FRAGMENT_SHADER)
     renderer.set_view(geometry.viewbox)
+    program["u_map"].value = renderer.program["u_map"].value
+    vbo = ctx.buffer(data)
+    vao = ctx.vertex_array(program, [(vbo, "2f 4f", "in_pos", "in_color")])
 
     def draw() -> int:
         ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
@@ -110,8 +129,21 @@ def _one_call_scene(ctx: moderngl.Context, renderer: Renderer, geometry: Geometr
     def release() -> None:
         vao.release()
         vbo.release()
+        program.release()
 
     return draw, release, len(data)
+
+
+def _rest_triangles(geometry: Geometry) -> np.ndarray:
+    """Every fill and stroke triangle corner of ``geometry`` with its colour: float32 ``(V, 6)``."""
+    parts = []
+    for item in geometry.items:
+        if item.fill is not None and item.closed:
+            parts.append((item.vertices[triangulate(item.vertices)], item.fill))
+        if item.stroke is not None and item.width > 0:
+            corners = stroke_many([(item.vertices, item.width, item.closed, item.edge_visible)])[0]
+            parts.append((corners, item.stroke))
+    return np.vstack([np.column_stack([c, np.tile(color, (len(c), 1))]) for c, color in parts]).astype(np.float32)
 
 
 def _rounded(values: list[float]) -> list[float]:

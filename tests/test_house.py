@@ -34,7 +34,8 @@ def test_imports_point_one_way(package):
     assert not bad, "\n".join(bad)
 
 
-@pytest.mark.parametrize("module", ["common.errors", "common.failure", "toon.raster", "player.parts"])
+@pytest.mark.parametrize("module", ["common.errors", "common.failure", "toon.raster", "player.parts",
+                                    "player.layout"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module), optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0 and result.failed == 0

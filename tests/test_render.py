@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from player import Renderer
-from player.renderer import triangulate
+from player.layout import FramePlanner, triangulate
 from toon import DrawItem, FaceRig, Geometry, load_face, motor_index, render_cpu, standard_neutral
 
 VIEW = (0.0, 0.0, 16.0, 16.0)
@@ -98,44 +98,60 @@ def test_triangulation_covers_the_polygon_area():
     assert area == pytest.approx(16 - 4 * 3 / 2)
 
 
+def _covered_area(planner, *items):
+    layout, points = planner.plan(Geometry(tuple(items), VIEW, WHITE))
+    t = layout.fill_corners(points).reshape(-1, 3, 2)
+    u, v = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+    return np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum() / 2
+
+
 def test_a_kept_triangulation_is_reused_only_while_it_still_tiles_the_outline():
-    from player.renderer import Triangulator, triangles_of
-
-    def area(geom, tri):
-        data, _ = triangles_of(geom, tri)
-        t = data[:, :2].astype(float).reshape(-1, 3, 2)
-        u, v = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
-        return np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum() / 2
-
-    tri = Triangulator()
+    planner = FramePlanner()
+    tri = planner.triangulator
     square = _poly([[0, 0], [4, 0], [4, 4], [0, 4]], WHITE)
-    assert area(Geometry((square,), VIEW, WHITE), tri) == pytest.approx(16)
+    assert _covered_area(planner, square) == pytest.approx(16)
     moved = _poly([[0, 0], [6, 0], [6, 5], [0, 4]], WHITE)  # same topology: re-used
-    assert area(Geometry((moved,), VIEW, WHITE), tri) == pytest.approx(27) and tri.reused == 1
+    assert _covered_area(planner, moved) == pytest.approx(27) and (tri.computed, tri.reused) == (1, 1)
     # A dart whose reflex vertex puts the kept diagonal outside it: re-using that triangulation
     # would leave a flipped triangle (covered area 10, not 6).
-    kept = tri.kept(moved).reshape(-1, 3)
+    kept = tri.get(moved)[0].reshape(-1, 3)
     shared = sorted(set(kept[0]) & set(kept[1]))
     dart = [[0, 0], [4, 2], [0, 4], [1, 2]]  # reflex at 3: diagonal 0-2 lies outside
     if shared == [1, 3]:
         dart = dart[-1:] + dart[:-1]  # reflex at 0: diagonal 1-3 lies outside
-    dart = _poly(dart, WHITE)
-    assert area(Geometry((dart,), VIEW, WHITE), tri) == pytest.approx(6)
-    computed = tri.computed
+    assert _covered_area(planner, _poly(dart, WHITE)) == pytest.approx(6) and tri.computed == 2
     notch = _poly([[0, 0], [4, 0], [4, 4], [2, 1], [0, 4]], WHITE)  # more vertices: triangulated afresh
-    assert area(Geometry((notch,), VIEW, WHITE), tri) == pytest.approx(10) and tri.computed == computed + 1
+    assert _covered_area(planner, notch) == pytest.approx(10) and tri.computed == 3
 
 
 def test_a_clockwise_outline_keeps_its_triangulation_too():
     # earcut emits a clockwise outline's triangles counter-clockwise; the re-use check compares
     # against the winding they had when made, so a clockwise fill is not triangulated every frame.
-    from player.renderer import Triangulator, triangles_of
-
-    tri = Triangulator()
+    planner = FramePlanner()
+    tri = planner.triangulator
     for shift in (0.0, 0.5, 1.0):
-        clockwise = _poly([[0, 0], [0, 4], [4 + shift, 4], [4, 0]], WHITE)
-        triangles_of(Geometry((clockwise,), VIEW, WHITE), tri)
+        _covered_area(planner, _poly([[0, 0], [0, 4], [4 + shift, 4], [4, 0]], WHITE))
     assert (tri.computed, tri.reused) == (1, 2)
     folded = _poly([[0, 0], [0, 4], [-4, 4], [4, 0]], WHITE)  # a vertex swung across: not re-used
-    triangles_of(Geometry((folded,), VIEW, WHITE), tri)
+    _covered_area(planner, folded)
     assert tri.computed == 2
+
+
+def test_strokes_built_on_the_gpu_match_the_cpu_triangles(ctx):
+    # Joins of every kind: a gentle turn (miter), a hairpin beyond the miter limit (bevel), a
+    # zero-length segment, a hidden edge (no quad, no join into it), and a closed outline.
+    zigzag = DrawItem(np.array([[3.3, 4.1], [20.2, 6.3], [36.7, 4.4], [22.1, 9.2], [22.1, 9.2], [40.6, 20.3],
+                                [44.2, 40.1]]), None, (0.9, 0.1, 0.1, 1.0), 2.6, closed=False,
+                      edge_visible=np.array([True, True, True, True, True, False]))
+    box = DrawItem(np.array([[8.2, 24.3], [30.1, 26.2], [26.4, 44.7], [10.3, 40.2]]), (0.2, 0.6, 0.2, 1.0),
+                   (0.1, 0.1, 0.8, 1.0), 3.4, closed=True, key=1)
+    geom = Geometry((zigzag, box), (0.0, 0.0, 48.0, 48.0), WHITE)
+    with Renderer(ctx, (96, 96), samples=0) as r:
+        gpu = r.render(geom)
+    cpu = render_cpu(geom, (96, 96))
+    differ = np.any(gpu != cpu, axis=2)
+    assert differ.sum() <= 3, f"{differ.sum()} pixels differ"
+    red = np.all(gpu == [230, 26, 26], axis=2)
+    assert red.sum() > 400  # the zigzag is there, hairpin and all
+    shown = Geometry((zigzag.with_vertices(zigzag.vertices[:6]), box), geom.viewbox, WHITE)
+    assert (np.all(render_cpu(shown, (96, 96)) == [230, 26, 26], axis=2) == red).all()  # hidden: not drawn
