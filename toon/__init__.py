@@ -9,7 +9,8 @@ from toon.face import Face, PolygonSpec, builtin_faces, face_from_dict, load_fac
 from toon.motors import (MOTOR_CODES, MOTORS, N_MOTORS, MotorSpec, mirror_values, motor_index,
                          standard_neutral)
 from toon.raster import fit_viewbox, rasterize_polygon, render_cpu, to_pixels
-from toon.rig import DrawItem, FaceRig, Geometry
+from toon.geometry import DrawItem, Geometry
+from toon.rig import FaceRig
 from toon.svg import geometry_svg, save_svg
 from toon.track import MotorTrack
 from toon.track_io import load_track, save_track

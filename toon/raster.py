@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from toon.curves import stroke_triangles
-from toon.rig import Geometry
+from toon.geometry import Geometry
 
 
 def fit_viewbox(viewbox: tuple[float, float, float, float], size: tuple[int, int]) -> tuple[float, float, float]:

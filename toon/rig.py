@@ -35,74 +35,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import sparse
 
 from common import InputError
 from toon.components import Component
 from toon.curves import ellipse_operator, outline_operator
 from toon.face import ANGLE_MOTORS, FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
 from toon.formulas import FeatureBinding, bind_to_lines, follow_lines, head_turn, interpolate_states
+from toon.geometry import DrawItem, Geometry
 from toon.motors import MOTORS, N_MOTORS, motor_index
 from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
-from toon.validate import Color
 
 #: Mask groups: holes write their group; pupils and clipped components draw only inside it.
 MASK_GROUPS: dict[str, int] = {name: i + 1 for i, name in enumerate(HOLE_FEATURES)}
-
-
-@dataclass(frozen=True)
-class DrawItem:
-    """One thing to draw: an outline, filled and/or stroked.
-
-    Attributes
-    ----------
-    vertices : ndarray, shape (N, 2)
-        The outline in face units, y up.
-    fill, stroke : RGBA tuple or None
-        Colours in ``[0, 1]``; ``None`` draws no fill or no stroke.
-    width : float
-        Stroke width in face units.
-    closed : bool
-        Whether the outline closes (only closed outlines are filled).
-    edge_visible : ndarray of bool or None
-        Per stroked edge (``N`` closed, ``N - 1`` open), whether it is drawn; ``None``: all.
-    kind : str
-        Its A1.2.2 step (``hole``, ``pupil``, ``face``, ``free``, ``point``, ``feature``) or
-        ``component``.
-    mask_write : int
-        Mask group a hole opens (0: none).
-    mask_test : int or None
-        Draw only where the mask is this group (0: where no hole is); ``None``: everywhere.
-    key : int
-        The item's place in its face's drawing order, stable from frame to frame.
-    name : str
-    """
-
-    vertices: np.ndarray
-    fill: Color | None
-    stroke: Color | None = None
-    width: float = 0.0
-    closed: bool = True
-    edge_visible: np.ndarray | None = None
-    kind: str = "free"
-    mask_write: int = 0
-    mask_test: int | None = None
-    key: int = 0
-    name: str = ""
-
-    def with_vertices(self, vertices: np.ndarray) -> DrawItem:
-        """The same item at ``vertices`` (shape of :attr:`vertices`); a field-by-field copy is
-        several times faster than :func:`dataclasses.replace`, which matters per frame."""
-        return DrawItem(vertices, self.fill, self.stroke, self.width, self.closed, self.edge_visible,
-                        self.kind, self.mask_write, self.mask_test, self.key, self.name)
-
-
-@dataclass(frozen=True)
-class Geometry:
-    """One frame of a face: items in drawing order plus the view."""
-
-    items: tuple[DrawItem, ...]
-    viewbox: tuple[float, float, float, float]
-    background: Color
 
 
 @dataclass(frozen=True)
@@ -137,6 +82,118 @@ class _Component:
     coupling: PointCoupling | EdgeCoupling | None = None
 
 
+@dataclass(frozen=True)
+class _VertexPlan:
+    """Where each kind of vertex sits in a frame's one array of vertices (items in drawing order)."""
+
+    slices: tuple[slice, ...]  # each item's vertices
+    size: int
+    static_at: np.ndarray  # (K,) vertices that only a head turn moves: face and free polygons
+    static_xy: np.ndarray  # (K, 2)
+    lines: FeatureBinding | None  # every feature-attached vertex, bound to control-point rows
+    line_at: np.ndarray  # (L,)
+    pupil_at: np.ndarray  # (Q,)
+    pupil_row: np.ndarray  # (Q,) control-point row of the vertex's pupil point
+    pupil_eye: np.ndarray  # (Q,) its pupil's place in PUPIL_EYES
+    pupil_offset: np.ndarray  # (Q, 2) the vertex at rest minus its pupil point at rest
+    point_at: np.ndarray  # (T,) point-attached vertices
+    point_motor: np.ndarray  # (T,) the motor column that moves each
+    point_min: np.ndarray  # (T, 2)
+    point_max: np.ndarray  # (T, 2)
+    defining_row: np.ndarray  # (D,) control-point row of each component point (-1: the origin)
+    defining_offset: np.ndarray  # (D, 2) added to that row
+    direct_from: np.ndarray  # (E,) component points that are outline inputs as they are ...
+    direct_to: np.ndarray  # (E,) ... and where they go among the inputs
+    skeletons: tuple[tuple[_Component, slice, slice], ...]  # skeleton points taken, body points given
+    operator: sparse.csr_array | None  # (S, I) every component's outline operator, block-diagonal
+    component_at: np.ndarray  # (S,)
+    moving_at: np.ndarray  # (M,) vertices standing in front of the outline: head turns move them
+    moving_depth: np.ndarray  # (M,)
+
+
+def _outline_size(prep: _Polygon | _Component) -> int:
+    if isinstance(prep, _Polygon):
+        return len(prep.rest)
+    if prep.operator is not None:
+        return len(prep.operator)
+    return len(prep.body_rest) if prep.coupling is not None else len(prep.rows)
+
+
+def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _VertexPlan:
+    """Index every vertex of a frame of ``order`` by how it moves (``rest``: control points at rest)."""
+    bounds = np.concatenate([[0], np.cumsum([_outline_size(prep) for prep in order])]).astype(np.int64)
+    slices = tuple(slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:]))
+    parts: dict[str, list] = {name: [] for name in (
+        "static_at", "static_xy", "lines", "line_at", "pupil_at", "pupil_row", "pupil_eye", "pupil_offset",
+        "point_at", "point_motor", "point_min", "point_max", "defining_row", "defining_offset", "direct_from",
+        "direct_to", "blocks", "component_at", "moving_at", "moving_depth")}
+    skeletons: list[tuple[_Component, slice, slice]] = []
+    defined = given = 0
+    for prep, where in zip(order, slices):
+        at = np.arange(where.start, where.stop)
+        if prep.depth:
+            parts["moving_at"].append(at)
+            parts["moving_depth"].append(np.full(len(at), prep.depth))
+        if isinstance(prep, _Polygon):
+            if prep.binding is not None:
+                b = prep.binding
+                parts["lines"].append(FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
+                parts["line_at"].append(at)
+            elif prep.pupil_row >= 0:
+                parts["pupil_at"].append(at)
+                parts["pupil_row"].append(np.full(len(at), prep.pupil_row))
+                parts["pupil_eye"].append(np.full(len(at), list(PUPIL_EYES).index(prep.spec.attach)))
+                parts["pupil_offset"].append(prep.rest - rest[prep.pupil_row])
+            elif prep.v_max is not None:
+                parts["point_at"].append(at)
+                parts["point_motor"].append(np.full(len(at), motor_index(prep.spec.attach)))
+                parts["point_min"].append(prep.rest)
+                parts["point_max"].append(prep.v_max)
+            else:
+                parts["static_at"].append(at)
+                parts["static_xy"].append(prep.rest)
+            continue
+        n = len(prep.rows)
+        inputs = len(prep.body_rest) if prep.coupling is not None else n
+        parts["defining_row"].append(prep.rows)
+        parts["defining_offset"].append(prep.offset)
+        if prep.coupling is not None:
+            skeletons.append((prep, slice(defined, defined + n), slice(given, given + inputs)))
+        else:
+            parts["direct_from"].append(np.arange(defined, defined + n))
+            parts["direct_to"].append(np.arange(given, given + inputs))
+        parts["blocks"].append(prep.operator if prep.operator is not None else np.eye(inputs))
+        parts["component_at"].append(at)
+        defined, given = defined + n, given + inputs
+    lines = parts.pop("lines")
+    blocks = parts.pop("blocks")
+    arrays = {name: _joined(items, 2 if name in ("static_xy", "pupil_offset", "point_min", "point_max",
+                                                 "defining_offset") else 1)
+              for name, items in parts.items()}
+    merged = FeatureBinding(*(np.concatenate([getattr(p, f) for p in lines])
+                              for f in ("start", "end", "vrl", "d"))) if lines else None
+    operator = sparse.csr_array(sparse.block_diag(blocks)) if blocks else None
+    return _VertexPlan(slices, int(bounds[-1]), lines=merged, skeletons=tuple(skeletons), operator=operator,
+                       **arrays)
+
+
+def _joined(parts: list[np.ndarray], columns: int) -> np.ndarray:
+    """``parts`` one after another; an empty index (or ``(0, 2)`` array) when there are none."""
+    if not parts:
+        return np.empty((0, 2)) if columns == 2 else np.empty(0, dtype=np.int64)
+    return np.concatenate(parts)
+
+
+def _template(prep: _Polygon | _Component, key: int) -> DrawItem:
+    """The item ``prep`` draws, at its rest vertices: each frame copies it with its own vertices."""
+    spec = prep.spec
+    if isinstance(prep, _Polygon):
+        return DrawItem(prep.rest, spec.color, spec.stroke, spec.width, True, None, spec.kind, prep.mask_write,
+                        prep.mask_test, key, spec.name)
+    return DrawItem(np.empty((0, 2)), spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible,
+                    "component", prep.mask_write, prep.mask_test, key, spec.name)
+
+
 class FaceRig:
     """A face prepared for animation: bindings computed once, then :meth:`geometry` per frame.
 
@@ -160,19 +217,12 @@ class FaceRig:
         back = sorted((c for c in components if c.spec.layer < 0), key=lambda c: c.spec.layer)
         front = sorted((c for c in components if c.spec.layer > 0), key=lambda c: c.spec.layer)
         self._order: list[_Polygon | _Component] = [*back, *polygons, *front]
-        self._depths = np.array([prep.depth for prep in self._order])
-        # Every feature-attached vertex of the face in one binding, on control-point rows, so that
-        # A1.1-A1.4 run once per frame for all of them; each polygon keeps its slice.
-        self._line_slices: dict[int, slice] = {}
-        parts, start = [], 0
-        for key, prep in enumerate(self._order):
-            if isinstance(prep, _Polygon) and prep.binding is not None:
-                b = prep.binding
-                parts.append(FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
-                self._line_slices[key] = slice(start, start + len(b.vrl))
-                start += len(b.vrl)
-        self._all_lines = FeatureBinding(*(np.concatenate([getattr(p, f) for p in parts])
-                                            for f in ("start", "end", "vrl", "d"))) if parts else None
+        self._plan = _plan_vertices(self._order, self._rest)
+        self._templates = [_template(prep, key) for key, prep in enumerate(self._order)]
+        self._switched = [(key, prep.spec.visible) for key, prep in enumerate(self._order)
+                          if isinstance(prep, _Component) and prep.spec.visible is not None]
+        self._animated = [(self._plan.slices[key], prep.spec) for key, prep in enumerate(self._order)
+                          if isinstance(prep, _Component) and (prep.spec.scale or prep.spec.translate)]
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
@@ -190,79 +240,54 @@ class FaceRig:
                          for a in "HV"])
 
     def geometry(self, values: np.ndarray) -> Geometry:
-        """The items of one frame, in drawing order, for motor values of shape ``(21,)``."""
+        """The items of one frame, in drawing order, for motor values of shape ``(21,)``.
+
+        Every vertex of the frame is computed in one array, a few array operations per kind of
+        vertex (see :class:`_VertexPlan`); each item's vertices are a slice of it.
+        """
         values = np.asarray(values, dtype=np.float64)
         if values.shape != (N_MOTORS,):
             raise ValueError(f"expected {N_MOTORS} motor values, got shape {values.shape}")
+        plan = self._plan
         pts = self.control_points(values)
-        moved = np.vstack([pts, np.zeros((1, 2))])  # row -1: the origin, for frozen and fixed points
+        out = np.empty((plan.size, 2))
+        out[plan.static_at] = plan.static_xy
+        if plan.lines is not None:
+            out[plan.line_at] = follow_lines(plan.lines, pts)  # A1.1-A1.4
+        if len(plan.pupil_at):
+            squash = np.cos(np.radians([self.gaze_degrees(values, p) for p in PUPIL_EYES]))
+            out[plan.pupil_at] = pts[plan.pupil_row] + plan.pupil_offset * squash[plan.pupil_eye]
+        if len(plan.point_at):  # A1.5-A1.6
+            out[plan.point_at] = interpolate_states(plan.point_min, plan.point_max, values[plan.point_motor][:, None])
+        if plan.operator is not None:
+            out[plan.component_at] = plan.operator @ self._outline_inputs(pts)
+        for where, spec in self._animated:
+            if spec.scale is not None:
+                factor = np.add(spec.scale.at0, values[motor_index(spec.scale.motor)] * np.subtract(
+                    spec.scale.at1, spec.scale.at0))
+                out[where] = np.asarray(spec.scale.origin) + (out[where] - spec.scale.origin) * factor
+            if spec.translate is not None:
+                out[where] += np.add(spec.translate.at0, values[motor_index(spec.translate.motor)] * np.subtract(
+                    spec.translate.at1, spec.translate.at0))
         yaw = self._lerp(self._head[0], values[motor_index("HH")])
         pitch = self._lerp(self._head[1], values[motor_index("HV")])
-        squash = {p: np.cos(np.radians(self.gaze_degrees(values, p))) for p in PUPIL_EYES}
-        lines = follow_lines(self._all_lines, pts) if self._all_lines is not None else None
-        out = []
-        for key, prep in enumerate(self._order):
-            if isinstance(prep, _Polygon):
-                item = self._polygon_item(prep, pts, values, squash, key, lines)
-            else:
-                item = self._component_item(prep, moved, values, key)
-                if item is None:
-                    continue
-            out.append(item)
-        if yaw or pitch:
-            out = self._turned(out, yaw, pitch)
-        return Geometry(tuple(out), self.face.viewbox, self.face.background)
+        if (yaw or pitch) and len(plan.moving_at):
+            out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
+        hidden = {key for key, shown in self._switched
+                  if not shown.low <= values[motor_index(shown.motor)] <= shown.high}
+        items = tuple(template.with_vertices(out[where]) for key, (template, where)
+                      in enumerate(zip(self._templates, plan.slices)) if key not in hidden)
+        return Geometry(items, self.face.viewbox, self.face.background)
 
-    def _turned(self, items: list[DrawItem], yaw: float, pitch: float) -> list[DrawItem]:
-        """Items with every vertex standing in front of the outline turned (one vectorised pass)."""
-        moving = [i for i, item in enumerate(items) if self._depths[item.key]]
-        if not moving:
-            return items
-        counts = [len(items[i].vertices) for i in moving]
-        stacked = np.concatenate([items[i].vertices for i in moving])
-        depth = np.repeat(self._depths[[items[i].key for i in moving]], counts)
-        turned = np.split(head_turn(stacked, depth, self._pivot, yaw, pitch), np.cumsum(counts)[:-1])
-        out = list(items)
-        for i, verts in zip(moving, turned):
-            out[i] = items[i].with_vertices(verts)
-        return out
-
-    def _polygon_item(self, prep: _Polygon, pts: np.ndarray, values: np.ndarray,
-                      squash: dict[str, np.ndarray], key: int, lines: np.ndarray | None) -> DrawItem:
-        spec = prep.spec
-        if prep.binding is not None:
-            verts = lines[self._line_slices[key]]  # type: ignore[index]
-        elif prep.pupil_row >= 0:
-            centre = self._rest[prep.pupil_row]
-            verts = centre + (prep.rest - centre) * squash[spec.attach] + (pts[prep.pupil_row] - centre)
-        elif prep.v_max is not None:
-            verts = interpolate_states(prep.rest, prep.v_max, values[motor_index(spec.attach)])
-        else:
-            verts = prep.rest
-        return DrawItem(verts, spec.color, spec.stroke, spec.width, True, None, spec.kind, prep.mask_write,
-                        prep.mask_test, key, spec.name)
-
-    def _component_item(self, prep: _Component, moved: np.ndarray, values: np.ndarray, key: int
-                        ) -> DrawItem | None:
-        spec = prep.spec
-        if spec.visible is not None:
-            v = values[motor_index(spec.visible.motor)]
-            if not spec.visible.low <= v <= spec.visible.high:
-                return None
-        pts = moved[prep.rows] + prep.offset
-        if prep.coupling is not None:
-            pts = prep.coupling.apply(prep.body_rest, prep.skeleton_rest, pts)
-        if prep.operator is not None:
-            pts = prep.operator @ pts
-        if spec.scale is not None:
-            factor = np.asarray(spec.scale.at0) + values[motor_index(spec.scale.motor)] * (
-                np.asarray(spec.scale.at1) - spec.scale.at0)
-            pts = np.asarray(spec.scale.origin) + (pts - spec.scale.origin) * factor
-        if spec.translate is not None:
-            pts = pts + np.asarray(spec.translate.at0) + values[motor_index(spec.translate.motor)] * (
-                np.asarray(spec.translate.at1) - spec.translate.at0)
-        return DrawItem(pts, spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible, "component",
-                        prep.mask_write, prep.mask_test, key, spec.name)
+    def _outline_inputs(self, pts: np.ndarray) -> np.ndarray:
+        """Every component's defining points (its body, for a skeleton) at control points ``pts``."""
+        plan = self._plan
+        moved = np.vstack([pts, np.zeros((1, 2))])[plan.defining_row] + plan.defining_offset  # row -1: origin
+        inputs = np.empty((plan.operator.shape[1], 2))
+        inputs[plan.direct_to] = moved[plan.direct_from]
+        for prep, taken, given in plan.skeletons:
+            inputs[given] = prep.coupling.apply(prep.body_rest, prep.skeleton_rest, moved[taken])
+        return inputs
 
     @staticmethod
     def _lerp(bounds: tuple[float, float], value: float) -> float:

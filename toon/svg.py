@@ -16,7 +16,7 @@ import numpy as np
 
 from common import atomic_path
 from toon.curves import visible_runs
-from toon.rig import DrawItem, Geometry
+from toon.geometry import DrawItem, Geometry
 from toon.validate import Color
 
 

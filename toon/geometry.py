@@ -1,0 +1,65 @@
+"""One frame of a face as drawable outlines: what the renderer, the SVG export and the CPU oracle take."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from toon.validate import Color
+
+
+@dataclass(frozen=True)
+class DrawItem:
+    """One thing to draw: an outline, filled and/or stroked.
+
+    Attributes
+    ----------
+    vertices : ndarray, shape (N, 2)
+        The outline in face units, y up.
+    fill, stroke : RGBA tuple or None
+        Colours in ``[0, 1]``; ``None`` draws no fill or no stroke.
+    width : float
+        Stroke width in face units.
+    closed : bool
+        Whether the outline closes (only closed outlines are filled).
+    edge_visible : ndarray of bool or None
+        Per stroked edge (``N`` closed, ``N - 1`` open), whether it is drawn; ``None``: all.
+    kind : str
+        Its A1.2.2 step (``hole``, ``pupil``, ``face``, ``free``, ``point``, ``feature``) or
+        ``component``.
+    mask_write : int
+        Mask group a hole opens (0: none).
+    mask_test : int or None
+        Draw only where the mask is this group (0: where no hole is); ``None``: everywhere.
+    key : int
+        The item's place in its face's drawing order, stable from frame to frame.
+    name : str
+    """
+
+    vertices: np.ndarray
+    fill: Color | None
+    stroke: Color | None = None
+    width: float = 0.0
+    closed: bool = True
+    edge_visible: np.ndarray | None = None
+    kind: str = "free"
+    mask_write: int = 0
+    mask_test: int | None = None
+    key: int = 0
+    name: str = ""
+
+    def with_vertices(self, vertices: np.ndarray) -> DrawItem:
+        """The same item at ``vertices`` (shape of :attr:`vertices`); a field-by-field copy is
+        several times faster than :func:`dataclasses.replace`, which matters per frame."""
+        return DrawItem(vertices, self.fill, self.stroke, self.width, self.closed, self.edge_visible,
+                        self.kind, self.mask_write, self.mask_test, self.key, self.name)
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """One frame of a face: items in drawing order plus the view."""
+
+    items: tuple[DrawItem, ...]
+    viewbox: tuple[float, float, float, float]
+    background: Color
