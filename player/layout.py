@@ -115,6 +115,8 @@ class _FillCheck:
     ring_starts: np.ndarray  # (C,)
     relation: np.ndarray  # (C,) +1 / -1: see :class:`Triangulator`
     untiled: np.ndarray  # item indices of fills whose triangulation came out empty (degenerate)
+    owner: np.ndarray  # (F,) which checked fill each triangle belongs to
+    corners: np.ndarray  # (3, F) point indices of each triangle's corners
 
 
 @dataclass(frozen=True)
@@ -156,11 +158,13 @@ class DrawLayout:
         check = self.fills
         if not len(check.items):
             return check.untiled
-        x, y = points[check.ring, 0], points[check.ring, 1]
-        area = np.add.reduceat(x * points[check.ring_next, 1] - points[check.ring_next, 0] * y, check.ring_starts)
-        cross = _triangle_cross(points[self.indices[check.triangles, :3].ravel()])
-        owner = np.repeat(np.arange(len(check.items)), np.diff(np.append(check.first_triangle, len(check.triangles))))
-        good = cross * (np.sign(area) * check.relation)[owner] > 0
+        x, y = np.ascontiguousarray(points.T)
+        area = np.add.reduceat(x[check.ring] * y[check.ring_next] - x[check.ring_next] * y[check.ring],
+                               check.ring_starts)
+        a, b, c = check.corners
+        xa, ya = x[a], y[a]
+        cross = (x[b] - xa) * (y[c] - ya) - (y[b] - ya) * (x[c] - xa)
+        good = cross * (np.sign(area) * check.relation)[check.owner] > 0
         valid = np.minimum.reduceat(good, check.first_triangle) & (np.abs(area) > 1e-9)
         return np.concatenate([check.items[~valid], check.untiled])
 
@@ -186,7 +190,8 @@ class DrawLayout:
             if len(triangles) != 3 * len(rows):
                 return None
             indices[rows, :3] = triangles.reshape(-1, 3) + self.item_starts[k]
-        return replace(self, indices=indices, fills=replace(check, relation=relation))
+        return replace(self, indices=indices,
+                       fills=replace(check, relation=relation, corners=indices[check.triangles, :3].T.astype(np.int64)))
 
 
 def _mode(item: DrawItem, stroke: bool) -> str:
@@ -236,7 +241,7 @@ def build_layout(geometry: Geometry, triangulator: Triangulator) -> DrawLayout:
     if markers:
         attributes[n_points:] = markers
     runs = _runs(modes, [len(r) for r in rows])
-    return DrawLayout(structure_of(geometry), n_points, starts, attributes, indices, runs, _fill_check(fills))
+    return DrawLayout(structure_of(geometry), n_points, starts, attributes, indices, runs, _fill_check(fills, indices))
 
 
 def _segments(n: int, closed: bool, edge_visible: np.ndarray | None) -> np.ndarray:
@@ -272,20 +277,23 @@ def _runs(modes: list[tuple[str, bool]], counts: list[int]) -> list[tuple[tuple[
     return runs
 
 
-def _fill_check(fills: dict[str, list]) -> _FillCheck:
+def _fill_check(fills: dict[str, list], indices: np.ndarray) -> _FillCheck:
     untiled = np.array(fills["untiled"], dtype=np.int64)
     if not fills["items"]:
         empty = np.empty(0, dtype=np.int64)
-        return _FillCheck(empty, empty, empty, empty, empty, empty, np.empty(0), untiled)
+        return _FillCheck(empty, empty, empty, empty, empty, empty, np.empty(0), untiled, empty,
+                          np.empty((3, 0), dtype=np.int64))
     rings = fills["rings"]
     ring = np.concatenate(rings)
     ring_sizes = np.array([len(r) for r in rings])
     ring_starts = np.concatenate([[0], np.cumsum(ring_sizes)[:-1]])
     ring_next = np.concatenate([np.roll(r, -1) for r in rings])
     triangle_counts = np.array([len(r) for r in fills["rows"]])
-    return _FillCheck(np.array(fills["items"], dtype=np.int64), np.concatenate(fills["rows"]),
+    triangles = np.concatenate(fills["rows"])
+    return _FillCheck(np.array(fills["items"], dtype=np.int64), triangles,
                       np.concatenate([[0], np.cumsum(triangle_counts)[:-1]]), ring, ring_next, ring_starts,
-                      np.array(fills["relation"]), untiled)
+                      np.array(fills["relation"]), untiled, np.repeat(np.arange(len(triangle_counts)), triangle_counts),
+                      indices[triangles, :3].T.astype(np.int64))
 
 
 class FramePlanner:

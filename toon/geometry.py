@@ -50,10 +50,16 @@ class DrawItem:
     name: str = ""
 
     def with_vertices(self, vertices: np.ndarray) -> DrawItem:
-        """The same item at ``vertices`` (shape of :attr:`vertices`); a field-by-field copy is
-        several times faster than :func:`dataclasses.replace`, which matters per frame."""
-        return DrawItem(vertices, self.fill, self.stroke, self.width, self.closed, self.edge_visible,
-                        self.kind, self.mask_write, self.mask_test, self.key, self.name)
+        """The same item at ``vertices`` (shape of :attr:`vertices`).
+
+        Every item of every frame is made this way, so it copies the fields' dictionary (0.75 us)
+        rather than running the frozen constructor (1.8 us) or :func:`dataclasses.replace`.
+        """
+        item = object.__new__(DrawItem)
+        fields = item.__dict__
+        fields.update(self.__dict__)
+        fields["vertices"] = vertices
+        return item
 
 
 @dataclass(frozen=True)
