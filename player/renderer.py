@@ -155,10 +155,16 @@ class Renderer:
         buffer.write(data)
 
     def _upload(self, layout: DrawLayout, points: np.ndarray) -> None:
-        """Points every frame; indices and marker attributes only when the layout changed."""
+        """Points every frame; indices and marker attributes only when the layout changed.
+
+        Markers are vertices too, so the points buffer spans them (their positions go unread).
+        """
         if layout is not self._layout:
             self._write(self.indices, layout.indices)
             self._write(self.attributes, layout.attributes)
+            point_bytes = len(layout.attributes) * 2 * 4
+            if self.points.size < point_bytes:
+                self.points.orphan(max(point_bytes, 2 * self.points.size))
             self._layout = layout
         self._write(self.points, np.ascontiguousarray(points, dtype=np.float32))
 

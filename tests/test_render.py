@@ -155,3 +155,21 @@ def test_strokes_built_on_the_gpu_match_the_cpu_triangles(ctx):
     assert red.sum() > 400  # the zigzag is there, hairpin and all
     shown = Geometry((zigzag.with_vertices(zigzag.vertices[:6]), box), geom.viewbox, WHITE)
     assert (np.all(render_cpu(shown, (96, 96)) == [230, 26, 26], axis=2) == red).all()  # hidden: not drawn
+
+
+def test_one_renderer_switching_faces_and_visibility_matches_fresh_renderers(ctx):
+    # Layouts are kept per structure: another face, or a component switched off by its motor
+    # (the line face's open-mouth lines follow MB), must each get their own.
+    def pose(face, mb):
+        values = standard_neutral()
+        values[motor_index("MB")] = mb
+        return FaceRig(load_face(face)).geometry(values)
+
+    frames = [pose("lines", 0.0), pose("lines", 1.0), pose("classic", 0.5), pose("lines", 0.0), pose("lines", 1.0)]
+    assert len(frames[0].items) != len(frames[1].items)  # the switch really changes the structure
+    with Renderer(ctx, (48, 48), samples=4) as shared:
+        drawn = [shared.render(g) for g in frames]
+    for geom, frame in zip(frames, drawn):
+        with Renderer(ctx, (48, 48), samples=4) as fresh:
+            np.testing.assert_array_equal(frame, fresh.render(geom))
+    assert not np.array_equal(drawn[0], drawn[1]) and np.array_equal(drawn[0], drawn[3])
