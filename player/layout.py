@@ -67,7 +67,7 @@ class Triangulator:
     def get(self, item: DrawItem) -> tuple[np.ndarray, float]:
         """``item``'s kept triangulation ``(3T,)`` and its winding relation, made if none fits."""
         known = self._cache.get(item.key)
-        if known is None or known[0] != len(item.vertices):
+        if known is None or known[0] != len(item.vertices) or not len(known[1]):
             return self.compute(item)
         return known[1], known[2]
 
@@ -308,20 +308,27 @@ class FramePlanner:
         self._layouts: OrderedDict[tuple, DrawLayout] = OrderedDict()
 
     def plan(self, geometry: Geometry) -> tuple[DrawLayout, np.ndarray]:
-        """The layout for ``geometry`` and its outline points, float64 of shape ``(N, 2)``."""
+        """The layout for ``geometry`` and its outline points, float64 of shape ``(N, 2)``.
+
+        Every frame's fills are checked against its points, a new layout's too: it may take
+        triangulations kept from another structure (an item hidden or shown since).
+        """
         structure = structure_of(geometry)
         items = geometry.items
         points = np.concatenate([it.vertices for it in items]) if items else np.empty((0, 2))
         layout = self._layouts.get(structure)
+        made = 0  # fills triangulated afresh for this frame's layout: checked, but not re-used
         if layout is None:
+            before = self.triangulator.computed
             layout = build_layout(geometry, self.triangulator)
+            made = self.triangulator.computed - before - len(layout.fills.untiled)  # untiled: always made
         else:
             self._layouts.move_to_end(structure)
-            stale = layout.stale_fills(points)
-            self.triangulator.reused += len(layout.fills.items) - len(stale) + len(layout.fills.untiled)
-            if len(stale):
-                fresh = {int(k): self.triangulator.compute(items[k]) for k in stale}
-                layout = layout.refilled(fresh) or build_layout(geometry, self.triangulator)
+        stale = layout.stale_fills(points)
+        self.triangulator.reused += len(layout.fills.items) - (len(stale) - len(layout.fills.untiled)) - made
+        if len(stale):
+            fresh = {int(k): self.triangulator.compute(items[k]) for k in stale}
+            layout = layout.refilled(fresh) or build_layout(geometry, self.triangulator)
         self._layouts[structure] = layout
         while len(self._layouts) > KEPT_LAYOUTS:
             self._layouts.popitem(last=False)

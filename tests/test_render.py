@@ -173,3 +173,18 @@ def test_one_renderer_switching_faces_and_visibility_matches_fresh_renderers(ctx
         with Renderer(ctx, (48, 48), samples=4) as fresh:
             np.testing.assert_array_equal(frame, fresh.render(geom))
     assert not np.array_equal(drawn[0], drawn[1]) and np.array_equal(drawn[0], drawn[3])
+
+
+def test_a_new_layout_checks_the_triangulations_it_takes_from_another():
+    # The square's triangulation is kept by item key; a frame with another structure (a second
+    # item shown) builds a new layout that takes it, and must still check it against the dart.
+    planner = FramePlanner()
+    square = _poly([[0, 0], [4, 0], [4, 4], [0, 4]], WHITE)
+    assert _covered_area(planner, square) == pytest.approx(16)
+    kept = planner.triangulator.get(square)[0].reshape(-1, 3)
+    dart = [[0, 0], [4, 2], [0, 4], [1, 2]]  # reflex at 3: a diagonal 0-2 lies outside
+    if sorted(set(kept[0]) & set(kept[1])) == [1, 3]:
+        dart = dart[-1:] + dart[:-1]  # reflex at 0: diagonal 1-3 lies outside
+    other = DrawItem(np.array([[10.0, 10.0], [12.0, 10.0], [12.0, 12.0]]), WHITE, key=1)
+    assert _covered_area(planner, _poly(dart, WHITE), other) == pytest.approx(6 + 2)
+    assert planner.triangulator.computed == 3  # square, the other triangle, the dart again
