@@ -26,9 +26,10 @@ _CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click
 
 
 def _clean_settings(fn):
-    fn = click.option("--cutoff", default=8.0, show_default=True, type=click.FloatRange(min=0.0),
+    default = CleanSettings()
+    fn = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=click.FloatRange(min=0.0),
                       help="Zero-phase low-pass, Hz (0: no smoothing).")(fn)
-    fn = click.option("--max-gap", default=2.0, show_default=True, type=click.FloatRange(min=0.0),
+    fn = click.option("--max-gap", default=default.max_gap_seconds, show_default=True, type=click.FloatRange(min=0.0),
                       help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(fn)
     return click.option("--no-spikes", is_flag=True, help="Keep spikes (no robust spike rejection).")(fn)
 

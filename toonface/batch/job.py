@@ -163,13 +163,15 @@ def _mapping_spec(name: str | None, base: Path) -> str | None:
 
 def _write_settings(fields: _Fields) -> WriteSettings:
     table = fields.table("write", {"video", "motors", "score", "sheet"})
-    motors = table.get("motors", "csv")
+    motors = table.get("motors", WriteSettings.motors)
     if motors is False:
         motors = ""
     if motors not in ("csv", "npz", ""):
         raise InputError(f'expected "csv", "npz" or false, got {motors!r}', fields.path, "write.motors")
-    settings = WriteSettings(video=fields.flag("write.video", True), motors=motors,
-                             score=fields.flag("write.score", True), sheet=fields.flag("write.sheet", True))
+    default = WriteSettings()
+    settings = WriteSettings(video=fields.flag("write.video", default.video), motors=motors,
+                             score=fields.flag("write.score", default.score),
+                             sheet=fields.flag("write.sheet", default.sheet))
     if not settings.kinds():
         raise InputError("the job writes nothing: enable at least one of video, motors, score, sheet",
                          fields.path, "write")
@@ -178,23 +180,25 @@ def _write_settings(fields: _Fields) -> WriteSettings:
 
 def _render_settings(fields: _Fields) -> RenderSettings:
     table = fields.table("render", {"size", "fps", "samples", "part_seconds"})
-    size_text = str(table.get("size", "512"))
+    default = RenderSettings()
+    size_text = str(table.get("size", "x".join(map(str, default.size))))
     try:
         size = frame_size(size_text)
     except ValueError as exc:
         raise InputError(str(exc), fields.path, "render.size") from None
     if size[0] % 2 or size[1] % 2:
         raise InputError(f"H.264 needs even sides, got {size_text!r}", fields.path, "render.size")
-    return RenderSettings(size=size, fps=fields.number("render.fps", 0.0, 0.0, 240.0),
-                          samples=int(fields.number("render.samples", 4, 0, 16)),
-                          part_seconds=fields.number("render.part_seconds", 10.0, 0.5, 3600.0))
+    return RenderSettings(size=size, fps=fields.number("render.fps", default.fps, 0.0, 240.0),
+                          samples=int(fields.number("render.samples", default.samples, 0, 16)),
+                          part_seconds=fields.number("render.part_seconds", default.part_seconds, 0.5, 3600.0))
 
 
 def _clean_settings(fields: _Fields) -> CleanSettings:
     fields.table("clean", {"cutoff", "max_gap", "spikes"})
-    return CleanSettings(spikes=fields.flag("clean.spikes", True),
-                         max_gap_seconds=fields.number("clean.max_gap", 2.0, 0.0, 3600.0),
-                         cutoff_hz=fields.number("clean.cutoff", 8.0, 0.0, 1000.0))
+    default = CleanSettings()
+    return CleanSettings(spikes=fields.flag("clean.spikes", default.spikes),
+                         max_gap_seconds=fields.number("clean.max_gap", default.max_gap_seconds, 0.0, 3600.0),
+                         cutoff_hz=fields.number("clean.cutoff", default.cutoff_hz, 0.0, 1000.0))
 
 
 def _take_options(fields: _Fields) -> TakeOptions:
