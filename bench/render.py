@@ -29,7 +29,7 @@ from capture import synthesize
 from player import Renderer, create_context
 from player.layout import triangulate
 from toon import FaceRig, Geometry, builtin_faces, load_face
-from toon.curves import stroke_many
+from toon.curves import stroke_triangles
 from toonface import map_take
 
 GOAL_FPS = 150.0  # the figure for this machine's 2 cores (0.7 of a floor near 215 fps)
@@ -158,6 +158,5 @@ def _rest_triangles(geometry: Geometry) -> np.ndarray:
         if item.fill is not None and item.closed:
             parts.append((item.vertices[triangulate(item.vertices)], item.fill))
         if item.stroke is not None and item.width > 0:
-            corners = stroke_many([(item.vertices, item.width, item.closed, item.edge_visible)])[0]
-            parts.append((corners, item.stroke))
+            parts.append((stroke_triangles(item.vertices, item.width, item.closed, item.edge_visible), item.stroke))
     return np.vstack([np.column_stack([c, np.tile(color, (len(c), 1))]) for c, color in parts]).astype(np.float32)

@@ -172,7 +172,7 @@ class RawSink:
         if self.broken:
             return
         try:
-            self._stream.write(np.ascontiguousarray(frame, dtype=np.uint8).tobytes())
+            self._stream.write(np.ascontiguousarray(frame, dtype=np.uint8).data)  # no copy: frames are contiguous
         except BrokenPipeError:
             self.broken = True
             return

@@ -114,6 +114,7 @@ def test_bench_prints_one_json_figure_per_line():
     for face in faces:  # the ratio is the median of the paired blocks' ratios: between their quartiles
         detail = by_name[f"render.ratio.{face}"]["detail"]
         assert detail["q1"] - 1e-3 <= by_name[f"render.ratio.{face}"]["value"] <= detail["q3"] + 1e-3
+        assert detail["blocks"] == detail["frames"] // detail["block_frames"] * detail["passes"] == 2  # --quick
     assert by_name["render.ratio"]["value"] == min(by_name[f"render.ratio.{face}"]["value"] for face in faces)
     bad = subprocess.run([sys.executable, "-m", "bench", "nope"], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2 and "unknown benchmark group" in bad.stderr

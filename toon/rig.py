@@ -218,6 +218,11 @@ class FaceRig:
         front = sorted((c for c in components if c.spec.layer > 0), key=lambda c: c.spec.layer)
         self._order: list[_Polygon | _Component] = [*back, *polygons, *front]
         self._plan = _plan_vertices(self._order, self._rest)
+        self._columns = {m.code: motor_index(m.code) for m in MOTORS}
+        self._pupil_rows = [self._index[p] for p in PUPIL_EYES]
+        self._gaze_columns = np.array([[motor_index(f"P{p[1]}{a}") for a in "HV"] for p in PUPIL_EYES])
+        ranges = np.array([[face.ranges[f"P{p[1]}{a}"] for a in "HV"] for p in PUPIL_EYES])  # (2, 2, [lo, hi])
+        self._gaze_range = (ranges[..., 0], ranges[..., 1] - ranges[..., 0])
         self._templates = [_template(prep, key) for key, prep in enumerate(self._order)]
         self._switched = [(key, prep.spec.visible) for key, prep in enumerate(self._order)
                           if isinstance(prep, _Component) and prep.spec.visible is not None]
@@ -226,18 +231,24 @@ class FaceRig:
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
+        return self._control_points(values, self._gaze(values))
+
+    def _control_points(self, values: np.ndarray, gaze: np.ndarray) -> np.ndarray:
+        """:meth:`control_points` with the pupils' gaze ``(2, 2)`` (radians) already known."""
         pts = self._rest.copy()
         for col, row, axis, lo, hi in self._driven:
             pts[row, axis] = lo + values[col] * (hi - lo)
-        for point in PUPIL_EYES:
-            pts[self._index[point]] += self.face.eye_radius * np.sin(np.radians(self.gaze_degrees(values, point)))
+        pts[self._pupil_rows] += self.face.eye_radius * np.sin(gaze)
         return pts
 
     def gaze_degrees(self, values: np.ndarray, point: str) -> np.ndarray:
         """Horizontal and vertical gaze angles of pupil ``point`` (PR or PL) in degrees, shape ``(2,)``."""
-        side = "R" if point == "PR" else "L"
-        return np.array([self._lerp(self.face.ranges[f"P{side}{a}"], values[motor_index(f"P{side}{a}")])
-                         for a in "HV"])
+        return np.degrees(self._gaze(values)[list(PUPIL_EYES).index(point)])
+
+    def _gaze(self, values: np.ndarray) -> np.ndarray:
+        """Gaze angles in radians, one row (horizontal, vertical) per pupil of PUPIL_EYES: ``(2, 2)``."""
+        low, span = self._gaze_range
+        return np.radians(low + values[self._gaze_columns] * span)
 
     def geometry(self, values: np.ndarray) -> Geometry:
         """The items of one frame, in drawing order, for motor values of shape ``(21,)``.
@@ -249,32 +260,32 @@ class FaceRig:
         if values.shape != (N_MOTORS,):
             raise ValueError(f"expected {N_MOTORS} motor values, got shape {values.shape}")
         plan = self._plan
-        pts = self.control_points(values)
+        gaze = self._gaze(values)
+        pts = self._control_points(values, gaze)
         out = np.empty((plan.size, 2))
         out[plan.static_at] = plan.static_xy
         if plan.lines is not None:
             out[plan.line_at] = follow_lines(plan.lines, pts)  # A1.1-A1.4
         if len(plan.pupil_at):
-            squash = np.cos(np.radians([self.gaze_degrees(values, p) for p in PUPIL_EYES]))
-            out[plan.pupil_at] = pts[plan.pupil_row] + plan.pupil_offset * squash[plan.pupil_eye]
+            out[plan.pupil_at] = pts[plan.pupil_row] + plan.pupil_offset * np.cos(gaze)[plan.pupil_eye]
         if len(plan.point_at):  # A1.5-A1.6
             out[plan.point_at] = interpolate_states(plan.point_min, plan.point_max, values[plan.point_motor][:, None])
         if plan.operator is not None:
             out[plan.component_at] = plan.operator @ self._outline_inputs(pts)
         for where, spec in self._animated:
             if spec.scale is not None:
-                factor = np.add(spec.scale.at0, values[motor_index(spec.scale.motor)] * np.subtract(
+                factor = np.add(spec.scale.at0, values[self._columns[spec.scale.motor]] * np.subtract(
                     spec.scale.at1, spec.scale.at0))
                 out[where] = np.asarray(spec.scale.origin) + (out[where] - spec.scale.origin) * factor
             if spec.translate is not None:
-                out[where] += np.add(spec.translate.at0, values[motor_index(spec.translate.motor)] * np.subtract(
+                out[where] += np.add(spec.translate.at0, values[self._columns[spec.translate.motor]] * np.subtract(
                     spec.translate.at1, spec.translate.at0))
-        yaw = self._lerp(self._head[0], values[motor_index("HH")])
-        pitch = self._lerp(self._head[1], values[motor_index("HV")])
+        yaw = self._lerp(self._head[0], values[self._columns["HH"]])
+        pitch = self._lerp(self._head[1], values[self._columns["HV"]])
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
         hidden = {key for key, shown in self._switched
-                  if not shown.low <= values[motor_index(shown.motor)] <= shown.high}
+                  if not shown.low <= values[self._columns[shown.motor]] <= shown.high}
         items = tuple(template.with_vertices(out[where]) for key, (template, where)
                       in enumerate(zip(self._templates, plan.slices)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)
