@@ -25,14 +25,14 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from bench.core import Figure
+from bench.pipeline import pinned_rate
 from capture import Take, load_take, synthesize
 from capture.faults import Faults, apply_faults
 from capture.performance import default_performance
+from mapping import calibrate, choose_mapping, map_stabilised, prepare
 from mapping.filters import OneEuro
 from mapping.gaps import GapFiller
 from mapping.live import LIVE_BETA, LIVE_MIN_CUTOFF
-from bench.pipeline import pinned_rate
-from mapping import calibrate, choose_mapping, map_stabilised, prepare
 from toon import MOTOR_CODES
 from toonface import truth_track
 

@@ -3,9 +3,6 @@
 Knows markers and nothing of faces: its output is a :class:`Take`.
 """
 
-from capture.markerset import MarkerSet, load_markerset
-from capture.synthetic import SyntheticTake, synthesize
-from capture.take import Take
-from capture.takefile import load_take, save_take
+import lazy_loader
 
-__all__ = ["MarkerSet", "SyntheticTake", "Take", "load_markerset", "load_take", "save_take", "synthesize"]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -23,8 +23,16 @@ from pathlib import Path
 import numpy as np
 
 from capture.take import UNIT_MM, Take, unique_labels
-from capture.textio import (check_rate, detect_separator, is_blank, is_number, numeric_rows, read_lines, split,
-                            times_from_column)
+from capture.textio import (
+    check_rate,
+    detect_separator,
+    is_blank,
+    is_number,
+    numeric_rows,
+    read_lines,
+    split,
+    times_from_column,
+)
 from common import InputError
 
 _AXIS = re.compile(r"^(?P<marker>.+?)[ _.:-](?P<axis>[xyzXYZ])$")

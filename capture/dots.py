@@ -24,10 +24,9 @@ import cv2
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from capture.colours import HUES
 from capture.markerset import MarkerSet
 
-#: OpenCV hue ranges (0-180) of the dot colours we know.
-HUES = {"blue": (95, 130), "green": (40, 85), "red": (170, 8), "yellow": (20, 35)}
 _FAR = 1e9
 
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 import tomllib
+from importlib import resources
 from pathlib import Path
 
 import tomli_w
@@ -17,18 +17,15 @@ from common.errors import InputError
 def data_path(*parts: str) -> Path:
     """Path of a built-in data file, such as ``data_path("faces", "classic.json")``.
 
-    Looked up in ``$TOONFACE_DATA`` if set, then in the source tree's ``data/`` folder (editable
-    installs and checkouts), then in ``<prefix>/share/toonface`` (wheel installs).
+    The files are the package ``toonface_data`` (the checkout's ``data/`` folder, installed with
+    the package), found with :mod:`importlib.resources`; ``$TOONFACE_DATA`` names another folder.
     """
-    candidates = []
     if env := os.environ.get("TOONFACE_DATA"):
-        candidates.append(Path(env))
-    candidates.append(Path(__file__).resolve().parents[1] / "data")
-    candidates.append(Path(sys.prefix) / "share" / "toonface")
-    for root in candidates:
-        if root.is_dir():
-            return root.joinpath(*parts)
-    return candidates[-1].joinpath(*parts)
+        return Path(env).joinpath(*parts)
+    root = resources.files("toonface_data")
+    if not isinstance(root, Path):  # a zipped install: the files are not on disk
+        raise InputError(f"the built-in data is not a folder on disk ({root}); install toonface unzipped")
+    return root.joinpath(*parts)
 
 
 def builtin_names(folder: str, suffix: str) -> list[str]:

@@ -5,13 +5,6 @@ per channel by a mapping file. Imports ``capture`` (for takes) and ``toon`` (for
 and tracks), nothing else.
 """
 
-from mapping.clean import CleanReport, CleanSettings, clean_stabilised, clean_take
-from mapping.mapfile import Mapping, MotorRule, load_mapping, parse_mapping
-from mapping.mapper import map_stabilised
-from mapping.profile import Profile, SourceRange, load_profile, save_profile
-from mapping.stabilise import Stabilised, stabilise
-from mapping.workflow import Prepared, calibrate, choose_mapping, map_take, prepare
+import lazy_loader
 
-__all__ = ["CleanReport", "CleanSettings", "Mapping", "MotorRule", "Prepared", "Profile", "SourceRange", "Stabilised",
-           "calibrate", "choose_mapping", "clean_stabilised", "clean_take", "load_mapping", "load_profile",
-           "map_stabilised", "map_take", "parse_mapping", "prepare", "save_profile", "stabilise"]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -25,26 +25,8 @@ from common import Failure
 from mapping.filters import Butterworth
 from mapping.gaps import GapFiller
 from mapping.outliers import SpikeFilter
+from mapping.settings import CleanSettings
 from mapping.stabilise import Stabilised, nearest_rotation, stabilise, yaw_pitch_degrees
-
-
-@dataclass(frozen=True)
-class CleanSettings:
-    """What cleaning does; each stage can be switched off.
-
-    Attributes
-    ----------
-    spikes : bool
-        Reject spikes (:class:`~mapping.outliers.SpikeFilter`).
-    max_gap_seconds : float
-        Fill gaps up to this long (0: fill none).
-    cutoff_hz : float
-        Zero-phase Butterworth low-pass (0: no smoothing); capped below half the frame rate.
-    """
-
-    spikes: bool = True
-    max_gap_seconds: float = 2.0
-    cutoff_hz: float = 8.0
 
 
 @dataclass(frozen=True, eq=False)

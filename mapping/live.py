@@ -23,13 +23,21 @@ import numpy as np
 from capture import MarkerSet
 from mapping.filters import Delay, OneEuro, SpeedLimit
 from mapping.mapfile import Mapping, MotorRule
-from mapping.mapper import (FILLED_QUALITY, IDLE_AMPLITUDE, IDLE_HZ, _across_motors, _motor_value, channel_limits,
-                            check_profile, make_filter)
+from mapping.mapper import (
+    FILLED_QUALITY,
+    IDLE_AMPLITUDE,
+    IDLE_HZ,
+    _across_motors,
+    _motor_value,
+    channel_limits,
+    check_profile,
+    make_filter,
+)
 from mapping.outliers import SpikeFilter
 from mapping.profile import Profile, SourceRange
-from mapping.workflow import merge_profile
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
+from mapping.workflow import merge_profile
 from toon import MOTOR_CODES, N_MOTORS, motor_index, standard_neutral
 
 #: One Euro settings (Hz, and per mm/s) for head-frame markers live: 1 frame of lag at 60 Hz

@@ -27,7 +27,6 @@ from mapping.profile import Profile, build_profile, load_profile, stillest_windo
 from mapping.stabilise import Stabilised
 from toon import MotorTrack
 
-
 #: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
 SELF_MIN_SIDE = 4.0
 

@@ -3,11 +3,6 @@
 Imports ``toon``, never ``capture`` or ``mapping``.
 """
 
-from player.gl import RenderError, create_context
-from player.offline import render_track, resample
-from player.layout import triangulate
-from player.renderer import Renderer
-from player.sinks import Mp4Sink, PngSink, open_sink
+import lazy_loader
 
-__all__ = ["Mp4Sink", "PngSink", "RenderError", "Renderer", "create_context", "open_sink", "render_track",
-           "resample", "triangulate"]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -10,8 +10,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from player.wire import (DEFAULT_STEPS, KEY_REQUEST, KEYFRAME, MAX_FRAMES, Header, Models, WireError,
-                         decode_frames, encode_frames, open_packet, quantise, seal)
+from player.wire import (
+    DEFAULT_STEPS,
+    KEY_REQUEST,
+    KEYFRAME,
+    MAX_FRAMES,
+    Header,
+    Models,
+    WireError,
+    decode_frames,
+    encode_frames,
+    open_packet,
+    quantise,
+    seal,
+)
 from toon import N_MOTORS
 
 WRAP = 1 << 32

@@ -5,8 +5,18 @@ import pytest
 
 from common import InputError
 from toon import motor_index
-from toon.animation import (Animation, concatenate, copy, cut, flip, load_animation, paste, save_animation,
-                            scale_time, scale_value)
+from toon.animation import (
+    Animation,
+    concatenate,
+    copy,
+    cut,
+    flip,
+    load_animation,
+    paste,
+    save_animation,
+    scale_time,
+    scale_value,
+)
 
 A = Animation({"ELU": ((0.0, 0.8), (1.0, 0.0), (2.0, 0.8)), "MB": ((0.0, 0.1), (4.0, 0.5))}, 4.0)
 

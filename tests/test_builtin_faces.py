@@ -8,8 +8,16 @@ import pytest
 
 from common import InputError
 from player import Renderer
-from toon import (FaceRig, builtin_faces, geometry_svg, load_expressions, load_face, render_cpu, save_face,
-                  standard_neutral)
+from toon import (
+    FaceRig,
+    builtin_faces,
+    geometry_svg,
+    load_expressions,
+    load_face,
+    render_cpu,
+    save_face,
+    standard_neutral,
+)
 from toonface.cli import main
 
 FACES = builtin_faces()

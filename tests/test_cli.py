@@ -206,3 +206,14 @@ def test_anim_edits_files_and_renders_a_knot_point_animation(tmp_path, capsys):
     assert len(list((tmp_path / "frames").glob("*.png"))) == 10
     assert main(["anim", "paste", a, clip, "-o", b, "--at", "0", "--onto", "BRL=XX"]) == 2
     assert "unknown motors XX" in capsys.readouterr().err
+
+
+def test_help_imports_no_heavy_library():
+    """--help of every subcommand loads none of the libraries that made start-up take seconds."""
+    heavy = ["scipy", "cv2", "av", "moderngl", "distributed", "dask", "pysindy", "mapbox_earcut", "tqdm"]
+    code = ("import sys\nfrom toonface.cli import cli, main\n"
+            "for name in [None, *cli.commands]:\n"
+            "    assert main(([name] if name else []) + ['--help']) == 0\n"
+            f"sys.stderr.write('loaded: ' + ' '.join(m for m in {heavy!r} if m in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True)
+    assert result.stderr.strip() == "loaded:"

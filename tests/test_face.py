@@ -7,7 +7,16 @@ import numpy as np
 import pytest
 
 from common import InputError
-from toon import FaceRig, MOTOR_CODES, builtin_faces, face_from_dict, load_face, motor_index, save_face, standard_neutral
+from toon import (
+    MOTOR_CODES,
+    FaceRig,
+    builtin_faces,
+    face_from_dict,
+    load_face,
+    motor_index,
+    save_face,
+    standard_neutral,
+)
 from toon.rig import bind_to_lines, follow_lines, head_turn, interpolate_states
 
 

@@ -11,7 +11,6 @@ from mapping.gaps import GapFiller, gap_runs
 from mapping.outliers import SpeedBound, SpikeFilter
 
 
-
 def test_one_euro_reproduces_the_authors_reference_output(realdata):
     data = np.genfromtxt(realdata / "filters" / "groundTruth.csv", delimiter=",", names=True)
     out = OneEuro(min_cutoff=1.0, beta=0.1, d_cutoff=1.0, rate=120).apply(data["noisy"], data["timestamp"])

@@ -6,8 +6,17 @@ import numpy as np
 import pytest
 
 from capture import synthesize
-from capture.performance import (CALIBRATION_GROUPS, CODES, NEUTRAL, Cue, Performance, default_performance,
-                                 load_performance, load_poses, perform)
+from capture.performance import (
+    CALIBRATION_GROUPS,
+    CODES,
+    NEUTRAL,
+    Cue,
+    Performance,
+    default_performance,
+    load_performance,
+    load_poses,
+    perform,
+)
 from common import InputError
 
 RATE = 100.0

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from capture import load_markerset, load_take, synthesize
-from capture.performance import default_performance
 from capture.aruco import detect, make_detector, track_aruco
 from capture.dots import DotStyle, DotTracker, find_dots, fit_similarity, track_dots
+from capture.performance import default_performance
 from capture.track import track_video
 from capture.videogen import VideoFaults, dot_video, score_tracking
 from capture.videoio import write_video

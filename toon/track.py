@@ -10,7 +10,6 @@ from common import InputError, readonly
 from toon.motors import MOTOR_CODES, N_MOTORS, motor_index
 
 
-
 @dataclass(frozen=True, eq=False)
 class MotorTrack:
     """Positions of the 21 motors, one row per frame.

@@ -3,7 +3,7 @@
 Wires ``capture``, ``mapping``, ``toon`` and ``player`` together; nothing below imports it.
 """
 
-from toonface.pipeline import DemoResult, map_take, render, run_demo, truth_track
+import lazy_loader
 
 __version__ = "0.1.0"
-__all__ = ["DemoResult", "__version__", "map_take", "render", "run_demo", "truth_track"]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

@@ -13,26 +13,15 @@ import sys
 
 import click
 
-from capture import save_take, synthesize
-from capture.dots import HUES
-from capture.faults import Faults, apply_faults
-from capture.info import describe, summarize
-from capture.performance import default_performance, load_performance
-from capture.track import load_aruco_names, track_video
-from common import ToonfaceError
-from player.sheet import expression_sheet, save_png
-from toon import FaceRig, builtin_faces, load_expressions, load_face, load_track, save_svg, save_track
-from toon.animation import load_animation
-from toonface.pipeline import render, run_demo, truth_track
-
-log = logging.getLogger("toonface")
-
-
+from capture.colours import HUES
+from common.errors import ToonfaceError
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
+from toonface.cli_options import FACE, SIZE, parse_size, progress, read_take, take_options
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
-from toonface.cli_options import FACE, SIZE, parse_size, progress, read_take, take_options
+
+# Commands import the stages they use when they run: `toonface --help` loads none of them.
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
 @click.version_option(package_name="toonface")
@@ -56,6 +45,8 @@ def cli(verbose: bool) -> None:
 @click.option("--seed", default=0, show_default=True, type=int)
 def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: int) -> None:
     """The whole pipeline on built-in data: a synthetic performer, mapped and rendered to MP4."""
+    from toonface.pipeline import run_demo
+
     if size % 2:
         raise click.BadParameter(f"H.264 needs an even size, got {size}", param_hint="--size")
     result = run_demo(out_dir, seconds=seconds, rate=rate, size=size, face=face, seed=seed,
@@ -103,6 +94,13 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
     not the performance. Faults (each off by default) imitate real capture: occlusion gaps,
     spikes, label swaps and drift, on top of the --noise jitter.
     """
+    from capture import save_take, synthesize
+    from capture.faults import Faults, apply_faults
+    from capture.performance import default_performance, load_performance
+    from toon import load_expressions, save_track
+    from toonface.pipeline import truth_track
+
+
     repertoire = load_expressions()  # validated once here, then handed to the performer
     poses = {name: dict(expression.motors) for name, expression in repertoire.items()}
     if script_file is not None:
@@ -135,6 +133,9 @@ def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, 
     With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
     labels, missing (total missing marker-samples), missing_per_marker, longest_gap and source.
     """
+    from capture.info import describe, summarize
+
+
     summary = summarize(read_take(take, take_rate, labels, units))
     if as_json:
         click.echo(json.dumps(summary))
@@ -166,6 +167,10 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
           names_file: str | None, corners: bool, dictionary: str, mm_per_pixel: float | None,
           marker_mm: float | None) -> None:
     """Track markers in a video (anything OpenCV or PyAV decodes) into a planar take."""
+    from capture import save_take
+    from capture.track import load_aruco_names, track_video
+
+
     names = load_aruco_names(names_file) if names_file else None
     take = track_video(video, method, markerset, colour, start_frame, names, corners, dictionary, mm_per_pixel,
                        marker_mm, progress_factory=progress("track"))
@@ -184,6 +189,11 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 @click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the track's].")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face."""
+    from toon import load_face, load_track
+    from toon.animation import load_animation
+    from toonface.pipeline import render
+
+
     dims = parse_size(size)
     face_obj = load_face(face)
     if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
@@ -197,6 +207,9 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
 @cli.command()
 def faces() -> None:
     """List the built-in faces."""
+    from toon import builtin_faces, load_face
+
+
     for name in builtin_faces():
         click.echo(f"{name:<12}{load_face(name).description}")
 
@@ -218,6 +231,10 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     Without options, validates the face and prints a summary. With --sheet, renders every
     expression of the repertoire (neutral, the six basic ones, blink, wink) into one labelled PNG.
     """
+    from player.sheet import expression_sheet, save_png
+    from toon import FaceRig, load_expressions, load_face, save_svg
+
+
     loaded = load_face(name)
     rig = FaceRig(loaded)  # binds skeletons and features: reports a bad face even without output
     expressions = load_expressions(repertoire)

@@ -6,8 +6,6 @@ import logging
 import sys
 
 import click
-from tqdm import tqdm
-
 
 
 @click.command()
@@ -75,6 +73,8 @@ class _TaskBar:
     """A progress bar over tasks on stderr (only on a terminal); the total grows as tasks are submitted."""
 
     def __enter__(self) -> _TaskBar:
+        from tqdm import tqdm
+
         self.bar = tqdm(total=0, desc="batch", unit="task", file=sys.stderr, disable=None, leave=False)
         return self
 

@@ -4,12 +4,7 @@ from __future__ import annotations
 
 import click
 
-from capture import save_take
-from mapping import CleanSettings, calibrate, choose_mapping, clean_take, load_profile, prepare, save_profile
-from player.score import save_score, score_text
-from toon import load_face, load_track, save_track
 from toonface.cli_options import FACE, MIRROR, SIZE, parse_size, parse_window, progress, read_take, take_options
-from toonface.pipeline import map_take, render
 
 _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
                         help="A mapping file or built-in preset (toon32, animface41, gluedots16) "
@@ -26,6 +21,7 @@ _CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click
 
 
 def _clean_settings(fn):
+    from mapping import CleanSettings
     default = CleanSettings()
     fn = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=click.FloatRange(min=0.0),
                       help="Zero-phase low-pass, Hz (0: no smoothing).")(fn)
@@ -52,6 +48,9 @@ def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float
     longer ones from the other markers' correlated motion; a marker missing longer than
     --max-gap stays unseen.
     """
+    from capture import save_take
+    from mapping import CleanSettings, clean_take
+
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     cleaned, report = clean_take(read_take(take, take_rate, labels, units), settings, head_frame=head_frame)
     path = save_take(cleaned, output)
@@ -81,6 +80,8 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     head's rest pose, and any derived source (distance, difference, angle) the mapping reads;
     it is reused with every mapping and face of the same marker set.
     """
+    from mapping import CleanSettings, calibrate, choose_mapping, prepare, save_profile
+
     try:
         low, high = (float(p) for p in percentiles.split(","))
     except ValueError:
@@ -107,6 +108,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
 
 
 def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, take_options_: tuple):
+    from mapping import calibrate, choose_mapping, load_profile, prepare
     if profile_path and calibration:
         raise click.BadParameter("give --profile or --calibrate, not both", param_hint="--calibrate")
     if profile_path:
@@ -133,6 +135,10 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
             neutral: str | None, face: str | None, mirror: bool, no_spikes: bool, max_gap: float, cutoff: float,
             take_rate: float | None, labels: str | None, units: str | None) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
+    from mapping import CleanSettings
+    from toon import load_face, save_track
+    from toonface.pipeline import map_take
+
     options, window = (take_rate, labels, units), parse_window(neutral, words=_WORDS)
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     profile = _profile(profile_path, calibration, mapping, options)
@@ -160,6 +166,9 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
              take_rate: float | None, labels: str | None, units: str | None) -> None:
     """Clean, map and render a take on a face, in one go."""
+    from toon import load_face
+    from toonface.pipeline import map_take, render
+
     options, window, dims = (take_rate, labels, units), parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
     profile = _profile(profile_path, calibration, mapping, options)
@@ -183,6 +192,9 @@ def score(motors: str, output: str, compare: str | None, codes: str | None, widt
     --compare, the second track is drawn over the first (the first in dark blue, the second
     in orange) and each stave's RMS difference is printed at its right.
     """
+    from player.score import save_score, score_text
+    from toon import load_track
+
     track = load_track(motors)
     other = load_track(compare) if compare else None
     picked = tuple(c.strip() for c in codes.split(",")) if codes else None

@@ -4,17 +4,20 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import click
-from tqdm import tqdm
 
-from capture import Take, load_take
+if TYPE_CHECKING:
+    from capture import Take
 
 
 class ProgressBar:
     """A per-frame progress callback drawing a bar on stderr (only when stderr is a terminal)."""
 
     def __init__(self, total: int, desc: str) -> None:
+        from tqdm import tqdm
+
         self.total = total
         self.bar = tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=None, leave=False)
 
@@ -76,6 +79,8 @@ def take_options(fn: Callable) -> Callable:
 
 def read_take(path: str, take_rate: float | None, labels: str | None, units: str | None) -> Take:
     """Load a take with the --rate/--labels/--units options."""
+    from capture import load_take
+
     names = [x.strip() for x in labels.split(",") if x.strip()] if labels else None
     return load_take(path, rate=take_rate, labels=names, units=units)
 

@@ -3,19 +3,19 @@
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
 
 import click
 
 from player.animator import DEFAULT_LOOP_TIME
-from player.live import LiveSettings, run_live
-from player.server import parse_address
-from player.sinks import open_sink
-from toon import MOTOR_CODES, load_face, load_track, save_track
-from toon import animation as an
 from toonface.cli_options import FACE, SIZE, parse_size
+
+if TYPE_CHECKING:
+    from toon.animation import Animation
 
 
 def _address(value: str | None, option: str, port: int) -> tuple[str, int] | None:
+    from player.server import parse_address
     if value is None or value.lower() == "off":
         return None
     try:
@@ -55,6 +55,10 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     Try `nc 127.0.0.1 7707` in another terminal, and --preview 127.0.0.1:8080 in a browser.
     Stop with Ctrl-C; recorded output is kept.
     """
+    from player.live import LiveSettings, run_live
+    from player.sinks import open_sink
+    from toon import load_face, load_track
+
     loop_time = loop_ms / 1000
     dims = parse_size(size)
     settings = LiveSettings(loop_time=loop_time, size=dims, tcp=_address(listen, "--listen", 7707),
@@ -77,6 +81,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
 
 
 def _codes(value: str | None) -> tuple[str, ...] | None:
+    from toon import MOTOR_CODES
     if not value:
         return None
     codes = tuple(c.strip().upper() for c in value.split(",") if c.strip())
@@ -92,7 +97,7 @@ def _slice_options(fn):
     return click.option("--motors", default=None, metavar="CODE,...", help="Motors to edit [default: all].")(fn)
 
 
-def _span(anim: an.Animation, start: float, end: float | None) -> tuple[float, float]:
+def _span(anim: Animation, start: float, end: float | None) -> tuple[float, float]:
     end = anim.duration if end is None else end
     if not 0 <= start < end:
         raise click.BadParameter(f"expected 0 <= --from < --to, got {start:g}, {end:g}", param_hint="--from/--to")
@@ -115,6 +120,9 @@ def anim() -> None:
 @click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(1, 1000), help="Frames per second.")
 def anim_sample(animation: str, output: str, rate: float) -> None:
     """Sample an animation into a motor track (a movie script)."""
+    from toon import animation as an
+    from toon import save_track
+
     track = an.load_animation(animation).sample(rate)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {rate:g} Hz)")
 
@@ -127,6 +135,8 @@ def anim_sample(animation: str, output: str, rate: float) -> None:
 def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | None, start: float,
              end: float | None) -> None:
     """Cut a slice out of chosen motors; what follows moves earlier."""
+    from toon import animation as an
+
     source = an.load_animation(animation)
     codes = _codes(motors) or tuple(source.knots)
     edited, clip = an.cut(source, codes, *_span(source, start, end))
@@ -142,6 +152,8 @@ def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | N
 @_slice_options
 def anim_copy(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
     """Copy a slice of chosen motors into a clip (itself an animation starting at 0)."""
+    from toon import animation as an
+
     source = an.load_animation(animation)
     an.save_animation(an.copy(source, _codes(motors) or tuple(source.knots), *_span(source, start, end)), output)
     click.echo(f"wrote {output}")
@@ -156,6 +168,8 @@ def anim_copy(animation: str, output: str, motors: str | None, start: float, end
               help="Put clip motors onto other motors, e.g. BRL=BLL,BRC=BLC,BRM=BLM [default: the same].")
 def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | None) -> None:
     """Paste a clip at a time, replacing what was there for its length."""
+    from toon import animation as an
+
     pairs = None
     if onto:
         try:
@@ -177,6 +191,8 @@ def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | No
 def anim_scale(animation: str, output: str, time_factor: float, value_factor: float, motors: str | None,
                start: float, end: float | None) -> None:
     """Scale a slice of chosen motors in time and/or in value."""
+    from toon import animation as an
+
     out = an.load_animation(animation)
     span = _span(out, start, end)
     codes = _codes(motors)
@@ -194,6 +210,8 @@ def anim_scale(animation: str, output: str, time_factor: float, value_factor: fl
 @_slice_options
 def anim_flip(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
     """Play a slice of chosen motors backwards."""
+    from toon import animation as an
+
     source = an.load_animation(animation)
     an.save_animation(an.flip(source, _codes(motors), *_span(source, start, end)), output)
     click.echo(f"wrote {output}")
@@ -206,6 +224,8 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
               help="Cross-fade seconds between one and the next.")
 def anim_concat(animations: tuple[str, ...], output: str, fade: float) -> None:
     """Join animations one after another, optionally cross-fading."""
+    from toon import animation as an
+
     out = an.load_animation(animations[0])
     for path in animations[1:]:
         try:

@@ -7,22 +7,15 @@ import os
 import threading
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
-from common import InputError
-from mapping import load_profile
-from player.live import LiveSettings, run_live
-from player.playout import Playout
-from player.receiver import StreamReceiver
-from player.relay import NetworkFaults, Relay
-from player.sinks import open_sink
-from player.stream import StreamWriter
-from toon import MotorTrack, load_face, save_track
 from toonface.cli_options import FACE, SIZE, parse_size, read_take, take_options
 from toonface.cli_player import _address
-from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
+
+if TYPE_CHECKING:
+    from player.receiver import StreamReceiver
 
 VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".webm"}
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
@@ -66,6 +59,13 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     Cleaning and mapping run live at this end; only the 21 motor values cross the network,
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
     """
+    import numpy as np
+
+    from mapping import load_profile
+    from player.stream import StreamWriter
+    from toon import MotorTrack, save_track
+    from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
+
     address = _address(target, "--to", 7710)
     if source == "synthetic":
         src = synthetic_source(seconds or 60.0)
@@ -121,6 +121,15 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     more than --max-jump per frame when the stream comes back. Bad packets (oversized,
     malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
     """
+    import numpy as np
+
+    from common import InputError
+    from player.live import LiveSettings, run_live
+    from player.playout import Playout
+    from player.receiver import StreamReceiver
+    from player.sinks import open_sink
+    from toon import MotorTrack, load_face, save_track
+
     face_obj = load_face(face)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
@@ -187,6 +196,9 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
     Example: `toonface relay --to 127.0.0.1:7710 --loss 0.1 --burst-ms 50`, then
     `toonface send synthetic --to 127.0.0.1:7711`.
     """
+    from common import InputError
+    from player.relay import NetworkFaults, Relay
+
     faults = NetworkFaults(loss=loss, burst_seconds=burst_ms / 1000, duplicate=duplicate, corrupt=corrupt,
                            reorder=reorder, delay=delay_ms / 1000, jitter=jitter_ms / 1000)
     try:

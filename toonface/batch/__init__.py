@@ -5,10 +5,6 @@ on a cluster (:func:`connect` starts a local one or joins a scheduler), and
 :func:`write_manifest` records the outcome.
 """
 
-from toonface.batch.job import Job, load_job
-from toonface.batch.pairs import Pair, plan
-from toonface.batch.report import BatchReport, PairResult, write_manifest
-from toonface.batch.runner import connect, default_workers, run_batch
+import lazy_loader
 
-__all__ = ["BatchReport", "Job", "Pair", "PairResult", "connect", "default_workers", "load_job", "plan",
-           "run_batch", "write_manifest"]
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)

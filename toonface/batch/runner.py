@@ -23,8 +23,8 @@ from uuid import uuid4
 from distributed import Client, Future, KilledWorker, LocalCluster, as_completed, get_task_stream
 
 from common import InputError, ToonfaceError
-from toonface.batch import tasks
 from player.parts import frame_ranges
+from toonface.batch import tasks
 from toonface.batch.job import Job
 from toonface.batch.pairs import Pair, write_stamp
 from toonface.batch.report import BatchReport, PairResult

@@ -1,0 +1,24 @@
+"""Settings of the cleaning stage, apart from the filters so that reading them imports no SciPy."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class CleanSettings:
+    """What cleaning does; each stage can be switched off.
+
+    Attributes
+    ----------
+    spikes : bool
+        Reject spikes (:class:`~mapping.outliers.SpikeFilter`).
+    max_gap_seconds : float
+        Fill gaps up to this long (0: fill none).
+    cutoff_hz : float
+        Zero-phase Butterworth low-pass (0: no smoothing); capped below half the frame rate.
+    """
+
+    spikes: bool = True
+    max_gap_seconds: float = 2.0
+    cutoff_hz: float = 8.0

@@ -1,0 +1,19 @@
+"""Type stub: the names the package loads lazily on first use (``lazy_loader``)."""
+
+from .gl import RenderError, create_context
+from .layout import triangulate
+from .offline import render_track, resample
+from .renderer import Renderer
+from .sinks import Mp4Sink, PngSink, open_sink
+
+__all__ = [
+    "Mp4Sink",
+    "PngSink",
+    "RenderError",
+    "Renderer",
+    "create_context",
+    "open_sink",
+    "render_track",
+    "resample",
+    "triangulate",
+]
