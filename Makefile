@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install system-deps demo test test-fast bench clean
+.PHONY: all install system-deps demo lint test test-fast bench clean
 
 all: test
 
@@ -26,7 +26,12 @@ install: $(STAMP)
 demo: $(STAMP)
 	$(VENV)/bin/toonface demo
 
-test: $(STAMP)
+# ruff and mypy are configured in pyproject.toml; `make test` runs them first, so CI enforces them.
+lint: $(STAMP)
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/mypy
+
+test: lint
 	$(PY) -m pytest
 
 test-fast: $(STAMP)

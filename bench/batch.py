@@ -46,11 +46,11 @@ def run(quick: bool = False) -> list[Figure]:
                 if workers == 1:
                     for stage, secs in compute.items():
                         stages[stage] = stages.get(stage, 0.0) + secs / frames / repeats
-        ratios = [b / a for a, b in zip(runs[1], runs[2])]
+        ratios = [b / a for a, b in zip(runs[1], runs[2], strict=True)]
         split, whole = _split_runs(root / "long", long_seconds, clusters[2], repeats)
     detail = {"takes": takes, "faces": 2, "seconds_per_take": seconds, "size": 512, "samples": 4,
               "repeats": repeats}
-    split_ratios = [w / s for s, w in zip(split, whole)]
+    split_ratios = [w / s for s, w in zip(split, whole, strict=True)]
     cost = {stage: round(secs * 1000, 3) for stage, secs in sorted(stages.items())}
     return [
         Figure("batch.fps_1w", statistics.median(runs[1]), "frames/s", None, True, {**detail, "runs": runs[1]}),

@@ -116,7 +116,7 @@ def _motor_rmse(seconds: float) -> Figure:
     per_motor = np.sqrt(np.mean(error[after] ** 2, axis=0))
     detail = {"seconds_after_calibration": seconds, "overall_incl_calibration_pct": round(
               100 * float(np.sqrt(np.mean(error ** 2))), 3),
-              "per_motor_pct": {code: round(100 * float(v), 2) for code, v in zip(MOTOR_CODES, per_motor)},
+              "per_motor_pct": {code: round(100 * float(v), 2) for code, v in zip(MOTOR_CODES, per_motor, strict=True)},
               "pipeline": "clean (head fit, spikes, gap fill, 8 Hz zero-phase) + toon32 mapping; profile from the "
                           "take's own calibration segment (neutral 0-1 s, range 1-15.4 s)"}
     return Figure("fidelity.motor_rmse_pct", 100 * rmse, "%", 2.0, False, detail)

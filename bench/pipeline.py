@@ -1,7 +1,8 @@
 """``pipeline``: synthetic take to motor track, frames per second on one core.
 
 Times :func:`toonface.map_take` (cleaning with head stabilisation, the built-in profile with the
-rest pose from the take, the toon32 mapping) on a 60 s synthetic take at 60 Hz. "One core" is enforced from the start: the measurement runs in a
+rest pose from the take, the toon32 mapping) on a 60 s synthetic take at 60 Hz. "One core" is
+enforced from the start: the measurement runs in a
 child process pinned to one CPU before it imports numpy, with the BLAS/OpenMP pools set to one
 thread (pinning a running process leaves its already-started BLAS threads fighting for the core,
 which made the figure noisy). The goal is the telepresence sender's: keep up with 60 Hz capture

@@ -50,7 +50,7 @@ def run(quick: bool = False) -> list[Figure]:
             face = load_face(name)
             rig = FaceRig(face)
             with Renderer(ctx, size, samples=4) as renderer:
-                def face_block(first: int) -> int:
+                def face_block(first: int, renderer: Renderer = renderer, rig: FaceRig = rig) -> int:
                     block = values[first:first + BLOCK]
                     for row in block:
                         renderer.render(rig.geometry(row))
@@ -61,7 +61,7 @@ def run(quick: bool = False) -> list[Figure]:
                     face_rates, floor_rates = _paired_blocks(face_block, floor_draw, len(values), passes)
                 finally:
                     release()
-            ratios = [a / b for a, b in zip(face_rates, floor_rates)]
+            ratios = [a / b for a, b in zip(face_rates, floor_rates, strict=True)]
             fps, floor, ratio = statistics.median(face_rates), statistics.median(floor_rates), statistics.median(ratios)
             detail = {"face": name, "size": list(size), "samples": 4, "frames": len(values), "passes": passes,
                       "block_frames": BLOCK, "triangle_corners_at_rest": corners, "gl_renderer": gl_renderer}

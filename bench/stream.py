@@ -15,7 +15,8 @@ sockets on loopback with the default jitter buffer (goal 45).
 (a simulated network with a virtual clock, seeded), the RMS error against the sent values of the
 frames shown while concealing or recovering, with the better of the predicting concealments
 (linear, or pysindy's motion model) over the same with holding the last value (goal below 1:
-prediction earns its place only there); each method's error is in the detail. ``stream.max_jump``: the largest change between two shown frames while concealing and on
+prediction earns its place only there); each method's error is in the detail. ``stream.max_jump``:
+the largest change between two shown frames while concealing and on
 the first frame back, motor units (goal 0.05, the receiver's limit; afterwards the face follows
 the stream's own motion while closing the rest of the gap by at most the limit per frame).
 ``stream.sender_fps``: the sender's live cleaning, mapping and coding, frames per second on one

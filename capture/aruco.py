@@ -33,7 +33,7 @@ def detect(detector: cv2.aruco.ArucoDetector, image: np.ndarray) -> dict[int, np
     corners, ids, _ = detector.detectMarkers(image)
     if ids is None:
         return {}
-    return {int(i): c.reshape(4, 2).astype(np.float64) for i, c in zip(ids.ravel(), corners)}
+    return {int(i): c.reshape(4, 2).astype(np.float64) for i, c in zip(ids.ravel(), corners, strict=True)}
 
 
 def track_aruco(images: Iterable[np.ndarray], names: dict[int, str] | None = None, corners: bool = False,

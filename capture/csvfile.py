@@ -84,16 +84,18 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
         raise InputError(f"markers without both x and y columns: {incomplete[:5]}", path, f"line {first + 1}")
     has_z = [("z" in a) for a in markers.values()]
     if any(has_z) and not all(has_z):
-        raise InputError(f"some markers have z columns and some do not: {[m for m, a in markers.items() if 'z' not in a][:5]}",
+        flat = [m for m, a in markers.items() if "z" not in a][:5]
+        raise InputError(f"some markers have z columns and some do not: {flat}",
                          path, f"line {first + 1}")
     dims = 3 if all(has_z) else 2
     clock = time_col if time_col is not None else frame_col  # the column that says when each row is
     if time_col is None and rate is None:
-        what = f'a "{header[frame_col]}" column but no time column' if frame_col is not None else "no time or frame column"
+        what = (f'a "{header[frame_col]}" column but no time column' if frame_col is not None
+                else "no time or frame column")
         raise InputError(f"{what}: give the frame rate (--rate)", path)
     rows = _data_rows(lines, first + 1, sep, path)
     columns, names = ([clock], [header[clock]]) if clock is not None else ([], [])
-    for m, a in markers.items():
+    for a in markers.values():
         for axis in "xyz"[:dims]:
             columns.append(a[axis])
             names.append(header[a[axis]])

@@ -112,7 +112,7 @@ def _assign(predicted: np.ndarray, dots: np.ndarray, gate: np.ndarray) -> dict[i
     cost = np.linalg.norm(predicted[:, None] - dots[None], axis=2)
     cost[~np.isfinite(cost)] = _FAR
     rows, cols = linear_sum_assignment(np.where(cost <= gate[:, None], cost, _FAR))
-    return {int(r): int(c) for r, c in zip(rows, cols) if cost[r, c] <= gate[r]}
+    return {int(r): int(c) for r, c in zip(rows, cols, strict=True) if cost[r, c] <= gate[r]}
 
 
 class DotTracker:
@@ -146,7 +146,8 @@ class DotTracker:
         """Give identities to the dots of a neutral frame; returns positions ``(M, 2)``, NaN where none."""
         if len(dots) < 3:
             raise ValueError(f"found {len(dots)} dots; at least 3 are needed to place the layout")
-        scale = np.sqrt(((dots - dots.mean(0)) ** 2).sum(1).mean() / ((self.layout - self.layout.mean(0)) ** 2).sum(1).mean())
+        spread = ((dots - dots.mean(0)) ** 2).sum(1).mean()
+        scale = np.sqrt(spread / ((self.layout - self.layout.mean(0)) ** 2).sum(1).mean())
         rot, shift = np.eye(2), dots.mean(0) - scale * self.layout.mean(0)
         match: dict[int, int] = {}
         for _ in range(20):
@@ -186,7 +187,7 @@ class DotTracker:
         if missing and self._prev_image is not None:
             flowed = self._flow(image, self._pos[missing])
             taken = dots[list(match.values())] if match else np.empty((0, 2))
-            for t, p in zip(missing, flowed):
+            for t, p in zip(missing, flowed, strict=True):
                 # Flow that lands on a dot another track holds is following that dot (two dots
                 # merged, as the lids of a closing eye): the track is lost, not carried.
                 on_taken = len(taken) and np.linalg.norm(taken - p, axis=1).min() < 0.5 * gate_px
@@ -217,7 +218,8 @@ class DotTracker:
         if self._prev_gray is None:
             self._prev_gray = cv2.cvtColor(self._prev_image, cv2.COLOR_BGR2GRAY)
         self._gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, points.astype(np.float32).reshape(-1, 1, 2),
+        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, points.astype(np.float32).reshape(-1,
+                                                                                                                 1, 2),
                                                   None, winSize=(15, 15), maxLevel=2)
         new = new.reshape(-1, 2).astype(np.float64)
         new[status.ravel() == 0] = np.nan

@@ -70,7 +70,7 @@ def apply_faults(take: Take, faults: Faults, seed: int = 0) -> tuple[Take, dict[
     if faults.gap_rate:
         length = max(1, round(faults.gap_seconds * take.rate))
         starts = rng.random((frames, markers)) < faults.gap_rate / take.rate
-        for f, m in zip(*np.nonzero(starts)):
+        for f, m in zip(*np.nonzero(starts), strict=True):
             hit["gap"][f: f + length, m] = True
         pos[hit["gap"]] = np.nan
     meta = {**take.meta, "faults": faults.active(), "fault_seed": seed}

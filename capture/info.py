@@ -30,7 +30,7 @@ def summarize(take: Take) -> dict:
         "dims": take.dims,
         "labels": list(take.labels),
         "missing": int(missing.sum()),
-        "missing_per_marker": {lab: int(n) for lab, n in zip(take.labels, per_marker) if n},
+        "missing_per_marker": {lab: int(n) for lab, n in zip(take.labels, per_marker, strict=True) if n},
         "longest_gap": {lab: _longest_run(missing[:, m]) for m, lab in enumerate(take.labels) if per_marker[m]},
         "source": dict(take.meta),
     }

@@ -125,7 +125,8 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
         if "mpeg4" in entry:
             code = entry["mpeg4"]
             if not (isinstance(code, str) and _MPEG4.match(code)):
-                raise InputError(f'expected an MPEG-4 feature point such as "4.1", got {code!r}', path, f"{where}.mpeg4")
+                raise InputError(f'expected an MPEG-4 feature point such as "4.1", got {code!r}', path,
+                                 f"{where}.mpeg4")
             mpeg4[label] = code
     refs = tuple(doc.get("head_reference", ()))
     unknown_refs = [r for r in refs if r not in labels]

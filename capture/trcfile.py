@@ -30,7 +30,7 @@ def read_trc(path: Path) -> Take:
         raise InputError("not a TRC file (the first line must start with PathFileType)", path, "line 1")
     sep = detect_separator(lines[0]) or "\t"
     keys, values = split(lines[1], sep), split(lines[2], sep)
-    header = {k: v for k, v in zip(keys, values) if k}
+    header = {k: v for k, v in zip(keys, values, strict=False) if k}  # a short row of values is reported below
     for needed in ("DataRate", "NumFrames", "NumMarkers", "Units"):
         if needed not in header:
             raise InputError(f"the header has no {needed}", path, "line 2")
@@ -38,7 +38,8 @@ def read_trc(path: Path) -> Take:
         rate = float(header["DataRate"])
         claimed_frames, claimed_markers = int(float(header["NumFrames"])), int(float(header["NumMarkers"]))
     except (ValueError, OverflowError):
-        raise InputError(f"DataRate, NumFrames and NumMarkers must be numbers, got {values[:4]}", path, "line 3") from None
+        raise InputError(f"DataRate, NumFrames and NumMarkers must be numbers, got {values[:4]}", path,
+                         "line 3") from None
     rate = check_rate(rate, path, "DataRate")
     units = header["Units"].strip().lower()
     if units not in UNIT_MM:

@@ -42,7 +42,7 @@ class Filled:
 def gap_runs(missing: np.ndarray) -> list[tuple[int, int]]:
     """``[start, end)`` frame ranges of the runs of True in a ``(frames,)`` mask."""
     edges = np.diff(np.concatenate([[0], missing.astype(np.int8), [0]]))
-    return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist()))
+    return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(), strict=True))
 
 
 class GapFiller:
@@ -148,7 +148,8 @@ def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: 
     before = max(int(np.searchsorted(own, start)) - 1, 0)
     after = min(int(np.searchsorted(own, end)), len(own) - 1)
     t0, t1 = times[own[before]], times[own[after]]
-    share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((end - start, 1), 0.5)
+    share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((end - start, 1),
+                                                                                                    0.5)
     return residual[before] + share * (residual[after] - residual[before])
 
 

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from itertools import pairwise
 from pathlib import Path
 
 from common import InputError, read_document, resolve_builtin
@@ -155,7 +156,7 @@ def _rule(check: _Checker, code: str, spec: object) -> MotorRule:
     if not (isinstance(curve, list) and all(isinstance(p, list) and len(p) == 2
                                             and all(isinstance(v, (int, float)) for v in p) for p in curve)):
         check.fail(f"{where}.curve", "expected a list of [input, output] points")
-    if len(curve) == 1 or any(b[0] <= a[0] for a, b in zip(curve, curve[1:])):
+    if len(curve) == 1 or any(b[0] <= a[0] for a, b in pairwise(curve)):
         check.fail(f"{where}.curve", "needs at least 2 points with increasing inputs")
     limits = spec.get("limits", [0.0, 1.0])
     if not (isinstance(limits, list) and len(limits) == 2 and all(isinstance(v, (int, float)) for v in limits)
@@ -165,7 +166,8 @@ def _rule(check: _Checker, code: str, spec: object) -> MotorRule:
     if not isinstance(loss, dict):
         check.fail(f"{where}.loss", "expected a table { policy, seconds }")
     check.keys(loss, {"policy", "seconds"}, f"{where}.loss")
-    return MotorRule(code, sources, combine, normalise, float(scale), check.typed(spec, "invert", bool, where, default=False),
+    return MotorRule(code, sources, combine, normalise, float(scale), check.typed(spec, "invert", bool, where,
+                                                                                  default=False),
                      check.number(spec, "gain", where, 1.0), check.number(spec, "offset", where, 0.0),
                      tuple((float(a), float(b)) for a, b in curve), check.choice(spec, "clamp", CLAMPS, where, "hard"),
                      (float(limits[0]), float(limits[1])), _filter(check, spec.get("filter", {}), f"{where}.filter"),

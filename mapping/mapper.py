@@ -84,7 +84,8 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
 def check_profile(mapping: Mapping, profile: Profile) -> None:
     """Raise ValueError naming the sources ``profile`` has no range for (the performer's range is
     what ``profile`` normalisation divides by)."""
-    missing = sorted({s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources} - set(profile.sources))
+    wanted = {s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources}
+    missing = sorted(wanted - set(profile.sources))
     if missing:
         raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
 
@@ -136,7 +137,7 @@ def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], h
         delta = combined
     value = rest + rule.gain * delta + rule.offset
     if rule.curve:
-        xs, ys = zip(*rule.curve)
+        xs, ys = zip(*rule.curve, strict=True)
         value = np.where(np.isnan(value), np.nan, np.interp(value, xs, ys))
     return _clamp(value, rule), np.mean(confidences, axis=0)
 

@@ -70,7 +70,8 @@ class SpikeFilter:
     plus ``floor`` mm.
     Steady motion, a blink or a head turn predicts itself; a one- or two-frame spike cannot move
     the medians; a marker that really jumped and stays is accepted once most of the ``recent``
-    samples have seen it there (after 2 rejected frames by default). Markers with fewer than ``min_seen`` seen samples in the window are not tested.
+    samples have seen it there (after 2 rejected frames by default). Markers with fewer than
+``min_seen`` seen samples in the window are not tested.
 
     Because the test reads raw samples only (not earlier decisions), ``apply`` is vectorised
     over frames and still equals ``step`` frame for frame.

@@ -74,7 +74,7 @@ class MotionModel:
         for c, model in enumerate(self.models_):
             low, high, most = self.bounds_[c]
 
-            def rate(state: np.ndarray) -> np.ndarray:
+            def rate(state: np.ndarray, model=model, low=low, high=high, most=most) -> np.ndarray:
                 # the model is only trusted on the states it was fitted on: outside them it is read
                 # at the nearest such state, and its acceleration never exceeds the fitted motion's
                 change = model.predict(np.clip(state, low, high))

@@ -64,7 +64,7 @@ class Commands:
         if head == "help":
             return HELP
         if head == "state":
-            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values()))
+            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values(), strict=True))
         if head == "motions":
             return " ".join(motion_names(self.expressions))
         if head == "frame":

@@ -268,7 +268,7 @@ def _runs(modes: list[tuple[str, bool]], counts: list[int]) -> list[tuple[tuple[
     """Merge consecutive parts that share a draw state into ``(state, first, count)`` runs."""
     runs: list[tuple[tuple[str, bool], int, int]] = []
     start = 0
-    for mode, count in zip(modes, counts):
+    for mode, count in zip(modes, counts, strict=True):
         if runs and runs[-1][0] == mode:
             runs[-1] = (mode, runs[-1][1], runs[-1][2] + count)
         else:

@@ -12,6 +12,7 @@ import io
 import math
 import os
 from collections.abc import Sequence
+from itertools import pairwise
 from pathlib import Path
 
 import av
@@ -39,7 +40,7 @@ def frame_ranges(frames: int, part_frames: int) -> list[tuple[int, int]]:
         raise ValueError(f"part_frames must be at least 1, got {part_frames}")
     count = math.ceil(frames / part_frames)
     edges = np.linspace(0, frames, count + 1).round().astype(int) if count else []
-    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
+    return [(int(a), int(b)) for a, b in pairwise(edges)]
 
 
 def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: float, size: tuple[int, int],

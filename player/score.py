@@ -9,6 +9,7 @@ staves can be printed as text (one line of block characters per motor) for termi
 from __future__ import annotations
 
 import os
+from itertools import pairwise
 from pathlib import Path
 
 import cv2
@@ -49,7 +50,8 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
         span = STAVE_PX - 12
         for level in (0.0, 0.5, 1.0):
             y = int(round(top + span * (1 - level)))
-            cv2.line(image, (MARGIN_LEFT, y), (width - MARGIN_RIGHT, y), (225, 225, 225) if level == 0.5 else (190, 190, 190), 1)
+            grey = (225, 225, 225) if level == 0.5 else (190, 190, 190)
+            cv2.line(image, (MARGIN_LEFT, y), (width - MARGIN_RIGHT, y), grey, 1)
         cv2.putText(image, code, (8, top + span // 2 + 5), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
         for source, colour in ((track, FIRST), (other, SECOND)):
             if source is None:
@@ -87,7 +89,7 @@ def score_text(track: MotorTrack, codes: tuple[str, ...] | None = None, columns:
     edges = np.linspace(0, track.frames, columns + 1).astype(int)
     for code in codes or MOTOR_CODES:
         values = track.column(code)
-        means = [values[a:max(b, a + 1)].mean() for a, b in zip(edges[:-1], edges[1:])]
+        means = [values[a:max(b, a + 1)].mean() for a, b in pairwise(edges)]
         bar = "".join(_BLOCKS[int(round(np.clip(v, 0, 1) * (len(_BLOCKS) - 1)))] for v in means)
         lines.append(f"{code:>3} {bar} {values.min():.2f}-{values.max():.2f}")
     return lines

@@ -27,7 +27,8 @@ last two steps ``d1 = q[f-1] - q[f-2]`` and ``d2 = q[f-2] - q[f-3]``:
 0). The residual is arithmetic coded (:mod:`player.rangecode`) under a two-sided geometric model
 chosen by the motor's recent activity ``|d1| + |d2|`` (0 to 5 or more steps): a still motor
 costs a fraction of a bit. The damping and the models were fitted on the synthetic performer's
-live-mapped motors; a plain ``2 q[f-1] - q[f-2]`` costs 8 % more there. A packet's frames continue the chain of the packet before, so a packet can be decoded only
+live-mapped motors; a plain ``2 q[f-1] - q[f-2]`` costs 8 % more there. A packet's frames
+continue the chain of the packet before, so a packet can be decoded only
 once the frame before it is known: the sender starts a packet with a keyframe at least every
 ``key_seconds`` (0.5 s by default) and whenever the receiver asks (flag 4).
 """
@@ -152,7 +153,7 @@ def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, model
                 encoder.encode(int(value), models.flat)
         else:
             prediction, context = _predict(chain, models.steps)
-            for value, guess, ctx in zip(row.tolist(), prediction.tolist(), context.tolist()):
+            for value, guess, ctx in zip(row.tolist(), prediction.tolist(), context.tolist(), strict=True):
                 encoder.encode(value - guess + models.steps, models.residual[ctx])
         chain = [*chain[-2:], row]
     return encoder.finish()
@@ -170,7 +171,7 @@ def decode_frames(body: bytes, count: int, history: np.ndarray, keyframe: bool, 
         else:
             prediction, context = _predict(chain, models.steps)
             row = [guess + decoder.decode(models.residual[ctx]) - models.steps
-                   for guess, ctx in zip(prediction.tolist(), context.tolist())]
+                   for guess, ctx in zip(prediction.tolist(), context.tolist(), strict=True)]
         out[f] = row
         if out[f].min() < 0 or out[f].max() > models.steps:
             raise WireError("malformed", "a coded value outside the quantisation range")

@@ -123,7 +123,8 @@ def test_frame_ranges_cover_every_frame_once():
         for most in (1, 3, 50, 200):
             ranges = frame_ranges(frames, most)
             assert ranges[0][0] == 0 and ranges[-1][1] == frames
-            assert all(a < b <= a + most and b == c for (a, b), (c, _) in zip(ranges, ranges[1:] + [(frames, 0)]))
+            assert all(a < b <= a + most and b == c for (a, b), (c, _) in zip(ranges, ranges[1:] + [(frames, 0)],
+                                                                              strict=True))
 
 
 @pytest.mark.gl
@@ -249,7 +250,8 @@ def test_the_command_reports_failures_in_its_exit_status(tmp_path, capsys):
     path = write_job(tmp_path, {"a": 1.0}, ["classic"], "[write]\nsheet = false\nscore = false\n")
     (tmp_path / "takes" / "broken.c3d").write_bytes(b"not a c3d")
     assert main(["batch", str(path), "--dry-run"]) == 0
-    assert capsys.readouterr().out.splitlines() == ["a/classic: makes motors, video", "broken/classic: makes motors, video"]
+    assert capsys.readouterr().out.splitlines() == ["a/classic: makes motors, video",
+                                                    "broken/classic: makes motors, video"]
     assert main(["batch", str(path), "--workers", "2"]) == 1
     captured = capsys.readouterr()
     assert "done            1" in captured.out and "failed          1" in captured.out

@@ -14,7 +14,8 @@ from capture import load_take, save_take, synthesize
 from toon import builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
 
-SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play", "anim", "send", "receive", "relay", "batch",
+SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
+               "anim", "send", "receive", "relay", "batch",
                "faces", "face"]
 
 

@@ -106,7 +106,7 @@ def test_vertices_bind_to_the_nearest_line_of_a_closed_feature():
     eye = np.array([[0.0, 0.0], [5.0, 4.0], [10.0, 0.0], [5.0, -4.0]])  # corner, upper, corner, lower
     verts = np.array([[5.0, 5.0], [5.0, -5.0], [2.0, 2.0]])
     binding = bind_to_lines(verts, eye, closed=True)
-    assert [(s, e) for s, e in zip(binding.start, binding.end)] == [(0, 1), (2, 3), (0, 1)]
+    assert [(s, e) for s, e in zip(binding.start, binding.end, strict=True)] == [(0, 1), (2, 3), (0, 1)]
     np.testing.assert_allclose(follow_lines(binding, eye), verts)  # unchanged points, unchanged vertices
 
 
@@ -129,7 +129,7 @@ def test_every_motor_visibly_moves_something(code):
     moved = rest.copy()
     moved[motor_index(code)] = 1.0 if rest[motor_index(code)] < 0.5 else 0.0
     a, b = rig.geometry(rest), rig.geometry(moved)
-    shift = max(np.abs(p.vertices - q.vertices).max() for p, q in zip(a.items, b.items))
+    shift = max(np.abs(p.vertices - q.vertices).max() for p, q in zip(a.items, b.items, strict=True))
     assert shift > 8.0  # face units; the face is 350 wide
 
 

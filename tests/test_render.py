@@ -169,7 +169,7 @@ def test_one_renderer_switching_faces_and_visibility_matches_fresh_renderers(ctx
     assert len(frames[0].items) != len(frames[1].items)  # the switch really changes the structure
     with Renderer(ctx, (48, 48), samples=4) as shared:
         drawn = [shared.render(g) for g in frames]
-    for geom, frame in zip(frames, drawn):
+    for geom, frame in zip(frames, drawn, strict=True):
         with Renderer(ctx, (48, 48), samples=4) as fresh:
             np.testing.assert_array_equal(frame, fresh.render(geom))
     assert not np.array_equal(drawn[0], drawn[1]) and np.array_equal(drawn[0], drawn[3])

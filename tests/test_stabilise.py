@@ -43,7 +43,8 @@ def test_head_frame_positions_are_the_face_motion_without_the_turns():
     result = stabilise(syn.take.positions, rows, np.array([ms.neutral_of(r) for r in ms.head_reference]))
     assert result.ok.all()
     # the still performer's world positions are its head frame plus the sway (translation only)
-    sway = still.take.positions[:, rows].mean(axis=1) - ms.neutral[[ms.labels.index(r) for r in ms.head_reference]].mean(0)
+    sway = still.take.positions[:,
+                                rows].mean(axis=1) - ms.neutral[[ms.labels.index(r) for r in ms.head_reference]].mean(0)
     still_local = still.take.positions - sway[:, None, :]
     face = [syn.take.index(m) for m in ("BROW_R_CEN", "LID_L_UP", "LIP_LOW", "MOUTH_R")]
     np.testing.assert_allclose(result.local[:, face], still_local[:, face], atol=1e-6)

@@ -26,7 +26,7 @@ def test_sample01_every_processor_and_storage_gives_the_same_arrays(realdata):
     first = takes[0]
     assert first.positions.shape == (450, 26, 3) and first.rate == 50.0
     assert int((~first.valid).sum()) == 226 and int((~first.valid).any(axis=0).sum()) == 10
-    for name, take in zip(SAMPLE01, takes):
+    for name, take in zip(SAMPLE01, takes, strict=True):
         assert take.labels == first.labels, name
         assert np.array_equal(take.valid, first.valid), name
         np.testing.assert_allclose(take.positions, first.positions, atol=1e-4, err_msg=name)

@@ -9,7 +9,8 @@ from toon import MOTOR_CODES, MotorTrack, mirror_values, motor_index, standard_n
 
 
 def test_motor_codes_in_toonface_order():
-    assert MOTOR_CODES == tuple("BRL BRC BRM BLL BLC BLM ERU ERL ELU ELL PLH PLV PRH PRV MLH MLV MRH MRV MB HH HV".split())
+    expected = "BRL BRC BRM BLL BLC BLM ERU ERL ELU ELL PLH PLV PRH PRV MLH MLV MRH MRV MB HH HV"
+    assert MOTOR_CODES == tuple(expected.split())
     assert motor_index("MB") == 18
     with pytest.raises(KeyError, match="XYZ"):
         motor_index("XYZ")

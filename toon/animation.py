@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -48,7 +49,7 @@ class Animation:
         if not knots:
             rest = standard_neutral() if neutral is None else neutral
             return np.full(np.shape(t), rest[MOTOR_INDEX[code]], dtype=float)
-        times, values = zip(*knots)
+        times, values = zip(*knots, strict=True)
         return np.interp(t, times, values)
 
     def sample(self, rate: float, neutral: np.ndarray | None = None) -> MotorTrack:
@@ -189,7 +190,7 @@ def load_animation(path: str | os.PathLike) -> Animation:
             raise InputError("expected [[time, value], ...]", path, where)
         if any(not 0 <= v <= 1 for _, v in points):
             raise InputError("values must be 0..1", path, where)
-        if any(b[0] <= a[0] for a, b in zip(points, points[1:])):
+        if any(b[0] <= a[0] for a, b in pairwise(points)):
             raise InputError("knot times must increase", path, where)
         knots[code] = tuple((float(t), float(v)) for t, v in points)
     return Animation(knots, float(duration))

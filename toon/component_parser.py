@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -207,7 +208,7 @@ class ComponentParser:
             b = v.integer(r[1], f"{where}[{i}][1]", a + 1, n - 1)
             ranges.append((a, b))
         ranges.sort()
-        for (a0, b0), (a1, _) in zip(ranges, ranges[1:]):
+        for (a0, b0), (a1, _) in pairwise(ranges):
             v.require(a1 >= b0, f"ranges [{a0}, {b0}] and [{a1}, ...] overlap", where)
         v.require(not closed or (0, n - 1) not in ranges or len(ranges) == 1,
                   "smoothing all the way round leaves no other range", where)

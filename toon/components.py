@@ -25,7 +25,8 @@ foreground, drawn after it; default 1), ``smooth`` (``true`` or inclusive point 
 ``[[i, j], ...]``: spline interpolation instead of straight lines), ``hidden`` (indices of
 invisible segments, segment ``i`` from point ``i`` to ``i + 1``), ``clip`` (draw only inside an
 eye's or the mouth's holes), ``hole`` (the component's fill opens that feature's hole, like a
-ToonFace hole polygon, for the pupils and clipped components drawn after it), ``depth`` (head-turn parallax), and the animatable parameters
+ToonFace hole polygon, for the pupils and clipped components drawn after it), ``depth``
+(head-turn parallax), and the animatable parameters
 ``visible`` (``{"motor": "MB", "range": [0.3, 1]}``), ``translate``
 (``{"motor": "HH", "at0": [dx, dy], "at1": [dx, dy]}``) and ``scale``
 (``{"motor": "ERU", "at0": [sx, sy], "at1": [sx, sy], "origin": [x, y]}``), each linear in its

@@ -33,6 +33,7 @@ orthographically, so features slide across the outline by ``z * sin(angle)`` and
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 from scipy import sparse
@@ -122,14 +123,14 @@ def _outline_size(prep: _Polygon | _Component) -> int:
 def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _VertexPlan:
     """Index every vertex of a frame of ``order`` by how it moves (``rest``: control points at rest)."""
     bounds = np.concatenate([[0], np.cumsum([_outline_size(prep) for prep in order])]).astype(np.int64)
-    slices = tuple(slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:]))
+    slices = tuple(slice(int(a), int(b)) for a, b in pairwise(bounds))
     parts: dict[str, list] = {name: [] for name in (
         "static_at", "static_xy", "lines", "line_at", "pupil_at", "pupil_row", "pupil_eye", "pupil_offset",
         "point_at", "point_motor", "point_min", "point_max", "defining_row", "defining_offset", "direct_from",
         "direct_to", "blocks", "component_at", "moving_at", "moving_depth")}
     skeletons: list[tuple[_Component, slice, slice]] = []
     defined = given = 0
-    for prep, where in zip(order, slices):
+    for prep, where in zip(order, slices, strict=True):
         at = np.arange(where.start, where.stop)
         if prep.depth:
             parts["moving_at"].append(at)
@@ -287,7 +288,7 @@ class FaceRig:
         hidden = {key for key, shown in self._switched
                   if not shown.low <= values[self._columns[shown.motor]] <= shown.high}
         items = tuple(template.with_vertices(out[where]) for key, (template, where)
-                      in enumerate(zip(self._templates, plan.slices)) if key not in hidden)
+                      in enumerate(zip(self._templates, plan.slices, strict=True)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)
 
     def _outline_inputs(self, pts: np.ndarray) -> np.ndarray:

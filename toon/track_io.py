@@ -52,9 +52,9 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
             codes = tuple(str(c) for c in z["codes"])
             conf = z["confidence"] if "confidence" in z.files else None
             meta = json.loads(str(z["meta"])) if "meta" in z.files else {}
-            return MotorTrack.from_columns(codes, z["values"], float(z["rate"]),
-                                           confidence=None if conf is None else conf[:, [codes.index(c) for c in MOTOR_CODES]],
-                                           meta=meta)
+            if conf is not None:
+                conf = conf[:, [codes.index(c) for c in MOTOR_CODES]]
+            return MotorTrack.from_columns(codes, z["values"], float(z["rate"]), confidence=conf, meta=meta)
     except InputError as exc:
         raise InputError(exc.message, path) from None
     except (OSError, ValueError, KeyError) as exc:

@@ -39,7 +39,8 @@ def cli(verbose: bool) -> None:
 @click.option("--out", "out_dir", default="toonface-demo", show_default=True, type=click.Path(file_okay=False),
               help="Folder for demo.mp4, take.npz, motors.csv and truth.csv.")
 @click.option("--seconds", default=10.0, show_default=True, type=click.FloatRange(min=1.0, max=600.0))
-@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=240.0), help="Frames per second.")
+@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=240.0),
+              help="Frames per second.")
 @click.option("--size", default=512, show_default=True, type=click.IntRange(16, 4096), help="Square frame size, even.")
 @FACE
 @click.option("--seed", default=0, show_default=True, type=int)
@@ -76,7 +77,8 @@ def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: 
               help="Chance per frame that two neighbouring markers swap labels for 10 frames.")
 @click.option("--drift", default=0.0, show_default=True, type=click.FloatRange(min=0.0), help="Slow drift, mm.")
 @click.option("--expressions", metavar="NAME,NAME,...",
-              help="Repertoire expressions to act in turn [default: happiness,surprise,sadness,anger,fear,disgust,wink].")
+              help="Repertoire expressions to act in turn "
+                   "[default: happiness,surprise,sadness,anger,fear,disgust,wink].")
 @click.option("--calibration", is_flag=True,
               help="Start with a calibration segment: 1 s neutral, then each motor group to its extremes (14.4 s).")
 @click.option("--max-turn", default=30.0, show_default=True, type=click.FloatRange(0.0, 30.0),
@@ -153,13 +155,15 @@ def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, 
               help="Coloured dots identified by a marker set's layout, or ArUco markers identified by id.")
 @click.option("--markerset", default="toon32", show_default=True, metavar="NAME|FILE",
               help="Dots: the layout whose neutral pose identifies them (pupils excluded).")
-@click.option("--colour", default="blue", show_default=True, type=click.Choice(sorted(HUES)), help="Dots: their colour.")
+@click.option("--colour", default="blue", show_default=True, type=click.Choice(sorted(HUES)),
+              help="Dots: their colour.")
 @click.option("--init", "start_frame", default=0, show_default=True, type=click.IntRange(min=0),
               help="Dots: a frame where the face is neutral and every dot shows; earlier frames are NaN.")
 @click.option("--names", "names_file", type=click.Path(dir_okay=False),
               help='ArUco: TOML [names] table, id = "marker name" [default: aruco_<id>].')
 @click.option("--corners", is_flag=True, help="ArUco: four corner points per marker instead of its centre.")
-@click.option("--dictionary", default="aruco_original", show_default=True, help="ArUco: OpenCV's predefined dictionary.")
+@click.option("--dictionary", default="aruco_original", show_default=True,
+              help="ArUco: OpenCV's predefined dictionary.")
 @click.option("--mm-per-pixel", type=click.FloatRange(min=0, min_open=True), help="ArUco: image scale.")
 @click.option("--marker-mm", type=click.FloatRange(min=0, min_open=True),
               help="ArUco: printed side length, to measure the scale (with --corners).")
@@ -186,7 +190,8 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
               help="A .mp4 file, a folder for PNG frames, or - for raw RGB frames on standard output.")
 @FACE
 @SIZE
-@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the track's].")
+@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0),
+              help="Output rate [default: the track's].")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face."""
     from toon import load_face, load_track

@@ -127,7 +127,8 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
 @_PROFILE
 @_CALIBRATE
 @_NEUTRAL
-@click.option("--face", default=None, metavar="NAME|FILE", help="Map the performer's neutral onto this face's rest pose.")
+@click.option("--face", default=None, metavar="NAME|FILE",
+              help="Map the performer's neutral onto this face's rest pose.")
 @MIRROR
 @_clean_settings
 @take_options
@@ -159,7 +160,8 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
 @_CALIBRATE
 @_NEUTRAL
 @SIZE
-@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0), help="Output rate [default: the take's].")
+@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0),
+              help="Output rate [default: the take's].")
 @MIRROR
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,

@@ -36,7 +36,8 @@ def _key(path: str | None) -> bytes | None:
 @click.command()
 @click.argument("source")
 @click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where the receiver (or a relay) listens.")
-@click.option("--mapping", default=None, metavar="NAME|FILE", help="Mapping [default: the preset matching the markers].")
+@click.option("--mapping", default=None, metavar="NAME|FILE",
+              help="Mapping [default: the preset matching the markers].")
 @click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
               help="Performer profile [default: the marker set's typical one, rest from the first second].")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
@@ -110,7 +111,8 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
               help="While concealing and recovering, the most a motor moves per stream frame.")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 @KEY
-@click.option("--record", default=None, type=click.Path(dir_okay=False), help="Also write the motors shown (.csv/.npz).")
+@click.option("--record", default=None, type=click.Path(dir_okay=False),
+              help="Also write the motors shown (.csv/.npz).")
 @click.option("--stats", is_flag=True, help="Print packets, loss, drops, concealment and latency each second.")
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,

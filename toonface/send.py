@@ -126,12 +126,14 @@ class SendReport:
                 "payload_kbps": round(self.payload_bytes * 8 / seconds / 1000, 3),
                 "stream_kbps": round(self.packet_bytes * 8 / seconds / 1000, 3),
                 "wire_kbps": round((self.packet_bytes + UDP_IP_HEADER * self.packets) * 8 / seconds / 1000, 3),
-                "map_ms_median": round(float(np.median(steps)), 3), "map_ms_p95": round(float(np.percentile(steps, 95)), 3)}
+                "map_ms_median": round(float(np.median(steps)), 3), "map_ms_p95": round(float(np.percentile(steps,
+                                                                                                            95)), 3)}
 
 
 def run_sender(source: LiveSource, mapper: LiveMapper, writer: StreamWriter, target: tuple[str, int],
                seconds: float | None = None, clock: Callable[[], float] = time.perf_counter,
-               sleep: Callable[[float], None] = time.sleep, on_frame: Callable[[int, np.ndarray, float], None] | None = None,
+               sleep: Callable[[float], None] = time.sleep, on_frame: Callable[[int, np.ndarray, float],
+                                                                               None] | None = None,
                stop: Callable[[], bool] = lambda: False) -> SendReport:
     """Play ``source`` in real time to ``target``; returns what was sent.
 
