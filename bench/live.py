@@ -52,7 +52,8 @@ def run(quick: bool = False) -> list[Figure]:
             loop.run(loops, frame)
             client.join(timeout=5)
     finally:
-        server.shutdown(), server.server_close()
+        server.shutdown()
+        server.server_close()
         ctx.release()
     lateness_ms = np.array(loop.lateness[1:]) * 1000
     latencies = _latencies(sent, shown)

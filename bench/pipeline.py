@@ -36,7 +36,7 @@ def pinned_rate(seconds: float, repeats: int, rate: float) -> dict:
     in a child process pinned to one CPU with one BLAS thread; a dict with ``fps``, ``runs``,
     ``frames``, ``markers`` and ``one_core``."""
     pinned = hasattr(os, "sched_setaffinity")
-    cpu = min(os.sched_getaffinity(0)) if pinned else None
+    cpu = min(os.sched_getaffinity(0)) if pinned else 0
     result = subprocess.run(
         [sys.executable, "-c", f"import bench.pipeline as p; p._child({seconds!r}, {repeats!r}, {rate!r})"],
         env={**os.environ, **_ONE_THREAD}, capture_output=True, text=True, check=True,

@@ -130,7 +130,7 @@ def _one_call_scene(ctx: moderngl.Context, renderer: Renderer, geometry: Geometr
     data = _rest_triangles(geometry)
     program = ctx.program(vertex_shader=_BARE_VERTEX_SHADER, fragment_shader=_BARE_FRAGMENT_SHADER)
     renderer.set_view(geometry.viewbox)
-    program["u_map"].value = renderer.program["u_map"].value
+    program["u_map"].value = renderer.program["u_map"].value  # type: ignore[union-attr]  # a uniform
     vbo = ctx.buffer(data)
     vao = ctx.vertex_array(program, [(vbo, "2f 4f", "in_pos", "in_color")])
 

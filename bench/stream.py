@@ -59,9 +59,8 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
     source = synthetic_source(seconds, RATE, noise_mm=noise_mm)
     mapper = build_mapper(source)
     writer = StreamWriter(RATE)
-    pinned = hasattr(os, "sched_setaffinity")
-    cpus = os.sched_getaffinity(0) if pinned else None
-    if pinned:
+    cpus = os.sched_getaffinity(0) if hasattr(os, "sched_setaffinity") else None
+    if cpus is not None:
         os.sched_setaffinity(0, {min(cpus)})
     try:
         out, start = [], time.perf_counter()
@@ -71,7 +70,7 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
             out.append(values)
         elapsed = time.perf_counter() - start
     finally:
-        if pinned:
+        if cpus is not None:
             os.sched_setaffinity(0, cpus)
     return np.array(out), len(out) / elapsed
 
@@ -161,7 +160,8 @@ def _simulate(values: np.ndarray, method: str, forecaster) -> dict:
     playout = Playout(standard_neutral(), method, forecaster)
     arrivals: list[tuple[float, int, bytes]] = []
     requests: list[float] = []
-    order, errors, jumps, states, longest, run = 0, [], [0.0], {}, 0, 0
+    states: dict[str, int] = {}
+    order, errors, jumps, longest, run = 0, [], [0.0], 0, 0
     shown_before, state_before = None, "waiting"
     for index, row in enumerate(values):
         now = index / RATE

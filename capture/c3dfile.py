@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
+from typing import Any
 
 import c3d
 import numpy as np
@@ -72,7 +73,7 @@ def read_c3d(path: Path) -> Take:
     positions = data[:, :, :3] * UNIT_MM[units]
     positions[data[:, :, 3] < 0] = np.nan
     clean, renamed = unique_labels(labels)
-    meta = {"source": "c3d", "file": path.name, "processor": processor,
+    meta: dict[str, Any] = {"source": "c3d", "file": path.name, "processor": processor,
             "storage": "float" if scale < 0 else "integer", "point_scale": abs(scale), "units_in_file": units,
             "analog_channels_skipped": analog_used}
     if renamed:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -105,7 +106,7 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
     positions = np.zeros((len(rows), len(markers), 3))
     positions[:, :, :dims] = data.reshape(len(rows), len(markers), dims)
     positions[np.isnan(positions).any(axis=2)] = np.nan
-    times = None
+    times: np.ndarray | None = None  # None: frame / rate
     if time_col is not None:
         times, implied = times_from_column(clock_values, path, header[time_col])
         rate = check_rate(rate if rate is not None else implied, path,
@@ -115,11 +116,13 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
         if frame_col is not None:
             times, _ = times_from_column(clock_values / rate, path, header[frame_col])
     clean, renamed = unique_labels(list(markers))
-    meta = {"source": "csv", "layout": "wide", "file": path.name, "separator": _describe(sep)}
+    meta: dict[str, Any] = {"source": "csv", "layout": "wide", "file": path.name, "separator": _describe(sep)}
     if ignored:
         meta["ignored_columns"] = ignored
     if renamed:
         meta["renamed"] = renamed
+    if times is None:
+        times = np.arange(len(rows)) / rate
     return Take(positions * _mm_per_unit(units, path), clean, rate, times=times, dims=dims, meta=meta)
 
 
@@ -144,7 +147,7 @@ def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float 
     positions = np.zeros((len(rows), len(labels), 3))
     positions[:, :, :dims] = data.reshape(len(rows), len(labels), dims)
     positions[np.isnan(positions).any(axis=2)] = np.nan
-    meta = {"source": "csv", "layout": "headerless", "file": path.name, "separator": _describe(sep)}
+    meta: dict[str, Any] = {"source": "csv", "layout": "headerless", "file": path.name, "separator": _describe(sep)}
     return Take(positions * _mm_per_unit(units, path), tuple(labels), rate, dims=dims, meta=meta)
 
 
@@ -176,7 +179,7 @@ def _read_nexus(path: Path, lines: list[str], first: int, units: str | float | N
     positions[np.isnan(positions).any(axis=2)] = np.nan
     scale = _mm_per_unit(units, path) if units is not None else UNIT_MM[file_units]
     clean, renamed = unique_labels([m for _, m in labels])
-    meta = {"source": "csv", "layout": "nexus", "file": path.name, "units_in_file": file_units}
+    meta: dict[str, Any] = {"source": "csv", "layout": "nexus", "file": path.name, "units_in_file": file_units}
     if renamed:
         meta["renamed"] = renamed
     return Take(positions * scale, clean, rate, times=times, meta=meta)
@@ -196,7 +199,7 @@ def write_csv(take: Take, path: Path) -> None:
 
 def _data_rows(lines: list[str], start: int, sep: str | None, path: Path,
                stop_at_blank: bool = False) -> list[tuple[int, list[str]]]:
-    rows = []
+    rows: list[tuple[int, list[str]]] = []
     for i in range(start, len(lines)):
         if is_blank(lines[i], sep):
             if stop_at_blank and rows:

@@ -65,8 +65,8 @@ def find_dots(image: np.ndarray, style: DotStyle = DotStyle()) -> np.ndarray:
     if lo <= hi:
         mask = cv2.inRange(hsv, (lo, style.min_saturation, style.min_value), (hi, 255, 255))
     else:
-        mask = cv2.inRange(hsv, (lo, style.min_saturation, style.min_value), (180, 255, 255)) | \
-            cv2.inRange(hsv, (0, style.min_saturation, style.min_value), (hi, 255, 255))
+        mask = cv2.bitwise_or(cv2.inRange(hsv, (lo, style.min_saturation, style.min_value), (180, 255, 255)),
+                              cv2.inRange(hsv, (0, style.min_saturation, style.min_value), (hi, 255, 255)))
     try:
         count, labels = cv2.connectedComponents(mask, connectivity=8, ltype=cv2.CV_16U)
     except cv2.error:  # more than 65535 specks: a noise image, not dots; labels as float32 then
@@ -216,11 +216,13 @@ class DotTracker:
 
     def _flow(self, image: np.ndarray, points: np.ndarray) -> np.ndarray:
         if self._prev_gray is None:
+            if self._prev_image is None:
+                raise RuntimeError("optical flow needs a previous frame (call remember first)")
             self._prev_gray = cv2.cvtColor(self._prev_image, cv2.COLOR_BGR2GRAY)
         self._gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, points.astype(np.float32).reshape(-1,
-                                                                                                                 1, 2),
-                                                  None, winSize=(15, 15), maxLevel=2)
+        start = points.astype(np.float32).reshape(-1, 1, 2)
+        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, start, None,  # type: ignore[call-overload]
+                                                  winSize=(15, 15), maxLevel=2)  # OpenCV's stubs lack nextPts=None
         new = new.reshape(-1, 2).astype(np.float64)
         new[status.ravel() == 0] = np.nan
         return new

@@ -265,7 +265,7 @@ def _calibrate(m: dict[str, np.ndarray], times: np.ndarray, cue: Cue) -> None:
         begin = cue.start + cue.hold + g * cue.step
         active = (times >= begin) & (times < begin + cue.step)
         for code in group:
-            values = [NEUTRAL[code] if k == "n" else k for k in keys]
+            values = [float(NEUTRAL[code] if k == "n" else k) for k in keys]
             m[code][active] = np.interp((times[active] - begin) / cue.step, fractions, values)
 
 

@@ -37,7 +37,7 @@ class Take:
     positions: np.ndarray
     labels: tuple[str, ...]
     rate: float
-    times: np.ndarray | None = None
+    times: np.ndarray = None  # type: ignore[assignment]  # None: frame / rate; __post_init__ stores an array
     dims: int = 3
     meta: dict = field(default_factory=dict)
 
@@ -101,7 +101,7 @@ class Take:
 
     def window(self, start: float, end: float) -> np.ndarray:
         """Boolean frame mask for times in ``[start, end)`` seconds, shape ``(frames,)``."""
-        return (self.times >= start) & (self.times < end)
+        return np.asarray((self.times >= start) & (self.times < end))
 
 
 def unique_labels(labels: list[str]) -> tuple[tuple[str, ...], dict[str, str]]:

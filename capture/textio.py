@@ -104,7 +104,7 @@ def numeric_rows(rows: list[tuple[int, list[str]]], columns: list[int], names: l
     return out
 
 
-def check_rate(rate: float, path: Path, where: str = "rate") -> float:
+def check_rate(rate: float | None, path: Path, where: str = "rate") -> float:
     """A frame rate that makes sense (0 < rate <= 100 kHz), else an error naming where it came from."""
     if not (isinstance(rate, (int, float)) and math.isfinite(rate) and 0 < rate <= 100_000):
         raise InputError(f"{where} is {rate!r}; expected frames per second in (0, 100000]", path)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -39,8 +40,8 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
     info = probe(path)
     rate = info.rate or 30.0
     progress = progress_factory(info.frames) if progress_factory else None
-    meta = {"source": "video", "file": Path(path).name, "tracker": method, "image_size": [info.width, info.height],
-            "decoder": info.backend}
+    meta: dict[str, Any] = {"source": "video", "file": Path(path).name, "tracker": method,
+                            "image_size": [info.width, info.height], "decoder": info.backend}
     if method == "dots":
         ms = load_markerset(markerset)
         labels = sticker_labels(ms.labels)

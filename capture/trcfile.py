@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -66,11 +67,11 @@ def read_trc(path: Path) -> Take:
         log.warning("%s: %s", path, text)
     times = data[:, 0]
     if np.isnan(times).any() or (len(times) > 1 and not np.all(np.diff(times) > 0)):
-        times = None  # a broken Time column: fall back to frame / DataRate
+        times = np.arange(len(rows)) / rate  # a broken Time column: fall back to frame / DataRate
         warnings.append("the Time column is incomplete or not increasing; times taken from DataRate")
     positions = data[:, 1:].reshape(len(rows), len(labels), 3) * UNIT_MM[units]
     clean, renamed = unique_labels(labels)
-    meta = {"source": "trc", "file": path.name, "units_in_file": units}
+    meta: dict[str, Any] = {"source": "trc", "file": path.name, "units_in_file": units}
     if renamed:
         meta["renamed"] = renamed
     if warnings:

@@ -112,8 +112,8 @@ def _frames(truth: DotVideo, hand_centre: np.ndarray, faults: VideoFaults, radiu
             work += rng.normal(0.0, faults.noise_sigma, size=work.shape).astype(np.float32)
         image = np.clip(work, 0, 255).astype(np.uint8)
         if faults.jpeg_quality is not None:
-            ok, buf = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, faults.jpeg_quality])
-            image = cv2.imdecode(buf, cv2.IMREAD_COLOR)
+            _, buf = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, faults.jpeg_quality])
+            image = np.asarray(cv2.imdecode(buf, cv2.IMREAD_COLOR))
         yield image
 
 

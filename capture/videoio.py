@@ -70,8 +70,8 @@ def frames(info: VideoInfo) -> Iterator[np.ndarray]:
     else:
         try:
             with av.open(str(info.path)) as container:
-                for frame in container.decode(video=0):
-                    yield frame.to_ndarray(format="bgr24")
+                for decoded in container.decode(video=0):
+                    yield decoded.to_ndarray(format="bgr24")
         except av.error.FFmpegError as exc:
             raise InputError(f"decoding failed part-way ({exc})", info.path) from None
 

@@ -69,7 +69,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         return references
     rows, neutral = references
     first = stabilise(take.positions, rows, neutral)
-    if not first:
+    if isinstance(first, Failure):
         return first
     positions, rejected = take.positions, 0
     if settings.spikes:
@@ -77,7 +77,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         rejected = int(spikes.sum())
         positions = np.where(spikes[..., None], np.nan, take.positions)
         first = stabilise(positions, rows, first.reference, own_shape=False)  # the shape is the performer's
-        if not first:
+        if isinstance(first, Failure):
             return first
     local, filled_mask = _fill_and_smooth(first.local, take, settings)
     rotation, translation = first.rotation, first.translation
@@ -108,7 +108,7 @@ def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset:
         pos, report = _clean_world(take, settings, f"left in ({result})")
     else:
         stable, report = result
-        if head_frame:
+        if head_frame and markerset is not None:  # a marker set found the head
             pos = stable.local
             yaw, pitch = yaw_pitch_degrees(np.where(stable.ok[:, None, None], stable.rotation, np.eye(3)))
             meta["head"] = {"frame": markerset.name, "yaw_deg": np.where(stable.ok, yaw, np.nan).round(4).tolist(),

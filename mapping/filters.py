@@ -106,7 +106,7 @@ class OneEuro(Stepwise):
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """Filter one frame ``(channels,)``; NaN channels give NaN and keep their state."""
         x = np.asarray(sample, dtype=np.float64)
-        if self._x is None:
+        if self._x is None or self._dx is None or self._t is None:
             shape = x.shape
             self._x, self._dx = np.full(shape, np.nan), np.zeros(shape)
             self._t = np.full(shape, np.nan)
@@ -212,7 +212,7 @@ class SavitzkyGolay:
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """Filter one frame ``(channels,)``; NaN channels give NaN and keep their window."""
         x = np.asarray(sample, dtype=np.float64)
-        if self._buf is None:
+        if self._buf is None or self._count is None:
             self._buf, self._count = np.zeros((self.window, x.size)), np.zeros(x.size, dtype=int)
         seen = np.isfinite(x)
         self._buf[:, seen] = np.roll(self._buf[:, seen], -1, axis=0)
@@ -263,7 +263,7 @@ class SpeedLimit(Stepwise):
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """One frame ``(channels,)``."""
         x = np.asarray(sample, dtype=np.float64)
-        if self._y is None:
+        if self._y is None or self._t is None:
             self._y, self._t = np.full(x.shape, np.nan), np.full(x.shape, np.nan)
         seen = np.isfinite(x)
         allowed = self.max_speed * (t - self._t)

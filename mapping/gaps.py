@@ -79,7 +79,7 @@ class GapFiller:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``."""
         pos = np.array(positions, dtype=np.float64, copy=True)
         frames, markers, dims = pos.shape
-        missing = np.isnan(pos).any(axis=2)
+        missing = np.asarray(np.isnan(pos).any(axis=2))
         pos[missing] = np.nan
         rate = (frames - 1) / (times[-1] - times[0]) if frames > 1 and times[-1] > times[0] else 1.0
         max_frames = int(round(self.max_gap_seconds * rate))
@@ -98,7 +98,7 @@ class GapFiller:
 
     def _splines(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray) -> None:
         """Cubic spline through each marker's seen samples, written where ``wanted``."""
-        for m in np.flatnonzero(wanted.any(axis=0)):
+        for m in map(int, np.flatnonzero(wanted.any(axis=0))):
             seen = np.isfinite(pos[:, m, 0]) & ~wanted[:, m]
             if seen.sum() < 2:
                 continue
@@ -115,7 +115,7 @@ class GapFiller:
         """
         frames, markers, dims = pos.shape
         seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
-        for m in np.flatnonzero(wanted.any(axis=0)):
+        for m in map(int, np.flatnonzero(wanted.any(axis=0))):
             for start, end in gap_runs(wanted[:, m]):
                 pad = max(int(self.window_seconds * rate), end - start)
                 lo, hi = max(0, start - pad), min(frames, end + pad)

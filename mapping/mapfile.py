@@ -31,6 +31,7 @@ import os
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
+from typing import NoReturn
 
 from common import InputError, read_document, resolve_builtin
 from mapping.sources import AXES, Source
@@ -186,7 +187,8 @@ def _source(check: _Checker, spec: object, where: str) -> Source:
     kind = kinds[0]
     check.keys(spec, {kind, "axis", "invert", "weight"}, where)
     value = spec[kind]
-    count = {"marker": 1, "distance": 2, "difference": 2, "angle": 3}.get(kind)
+    count = {"marker": 1, "distance": 2, "difference": 2, "angle": 3}.get(kind, 0)
+    markers: tuple[str, ...] | list[str]
     if kind == "head":
         if value not in ("yaw", "pitch"):
             check.fail(f"{where}.head", f'expected "yaw" or "pitch", got {value!r}')
@@ -255,7 +257,7 @@ class _Checker:
     def __init__(self, path: Path) -> None:
         self.path = path
 
-    def fail(self, where: str, message: str) -> None:
+    def fail(self, where: str, message: str) -> NoReturn:
         raise InputError(message, self.path, where or None)
 
     def keys(self, table: dict, known: set[str], where: str) -> None:

@@ -108,6 +108,8 @@ def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRa
         rest = span.neutral if span is not None else 0.0
         out = (value - rest) / rule.scale
     else:
+        if span is None:
+            raise ValueError(f"motor {rule.code}: a profile-normalised rule needs the range of {source.key}")
         up = max(span.high - span.neutral, 1e-9)
         down = max(span.neutral - span.low, 1e-9)
         offset = value - span.neutral

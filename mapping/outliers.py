@@ -45,7 +45,7 @@ class SpeedBound(Stepwise):
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """One frame ``(markers, dims)``: the sample with rejected markers set to NaN."""
         x = np.asarray(sample, dtype=np.float64)
-        if self._last is None:
+        if self._last is None or self._t is None:
             self._last, self._t = np.full(x.shape, np.nan), np.full(len(x), np.nan)
         seen = np.isfinite(x).all(axis=1)
         known = np.isfinite(self._last[:, 0])
@@ -103,7 +103,7 @@ class SpikeFilter:
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """One frame ``(markers, dims)``: the sample with spikes set to NaN."""
         x = np.asarray(sample, dtype=np.float64)
-        if self._past is None:
+        if self._past is None or self._past_t is None:
             self._past = np.full((*x.shape, self.window), np.nan)
             self._past_t = np.full(self.window, np.nan)
         spike = self._spikes(self._past, self._past_t, x, np.float64(t))
@@ -131,7 +131,7 @@ class SpikeFilter:
             out[start:stop][spike] = np.nan
         return out
 
-    def _spikes(self, past: np.ndarray, past_t: np.ndarray, x: np.ndarray, t: np.ndarray) -> np.ndarray:
+    def _spikes(self, past: np.ndarray, past_t: np.ndarray, x: np.ndarray, t: np.ndarray | float) -> np.ndarray:
         """Which markers of ``x`` (``(..., markers, dims)``) are spikes, given the raw samples
         before them ``(..., markers, dims, window)`` at times ``(..., window)``; ``(..., markers)``."""
         pt = past_t[..., None, None, :]  # broadcast over markers and dims

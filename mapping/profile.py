@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -76,7 +77,7 @@ def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = 1.0)
 
 def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_window: tuple[float, float],
                   range_take: Stabilised, range_frames: np.ndarray, columns: dict[str, int],
-                  range_columns: dict[str, int], markerset: str, extra: list[Source] = (),
+                  range_columns: dict[str, int], markerset: str, extra: Sequence[Source] = (),
                   percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "",
                   notes: dict[str, str] | None = None, min_side: float = 0.0) -> Profile | Failure:
     """Measure a profile.

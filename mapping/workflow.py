@@ -116,10 +116,13 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     window, how = rest_window(neutral, neutral_window)
     source = range_from or neutral
     times = source.take.times
-    frames = np.ones(len(times),
-                     bool) if range_window is None else (times >= range_window[0]) & (times < range_window[1])
-    if not frames.any():
-        raise InputError(f"cannot calibrate: no frames in the range window {range_window[0]:g}-{range_window[1]:g} s")
+    if range_window is None:
+        frames = np.ones(len(times), bool)
+    else:
+        frames = (times >= range_window[0]) & (times < range_window[1])
+        if not frames.any():
+            raise InputError(f"cannot calibrate: no frames in the range window "
+                             f"{range_window[0]:g}-{range_window[1]:g} s")
     notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + ("" if how == "given" else f" ({how})"),
              "range": f"percentiles {percentiles[0]:g}-{percentiles[1]:g}"
                       + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}

@@ -17,7 +17,7 @@ def create_context() -> moderngl.Context:
     The caller owns it and must ``release()`` it.
     """
     try:
-        ctx = moderngl.create_standalone_context(backend="egl", require=330)
+        ctx = moderngl.create_standalone_context(backend="egl", require=330)  # type: ignore[arg-type]  # stub says dict
     except Exception as exc:  # glcontext raises bare Exceptions for every EGL failure
         raise RenderError(f"cannot create an offscreen OpenGL context through EGL ({exc}); "
                           "install Mesa's EGL (run `make install`)") from None

@@ -8,6 +8,7 @@ under the Animator's lock; the next loop executes their first slices.
 
 from __future__ import annotations
 
+import socketserver
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -67,7 +68,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     loop = Loop(animator, clock, sleep)
     commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started)
     board = FrameBoard() if settings.preview else None
-    servers, ready = [], {}
+    servers: list[socketserver.TCPServer | socketserver.UDPServer] = []
+    ready: dict[str, str] = {}
     ctx = create_context()
     try:
         if settings.tcp:
@@ -76,7 +78,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         if settings.udp:
             servers.append(CommandUDPServer(settings.udp, commands.handle))
             ready["udp"] = f"{settings.udp[0]}:{local_port(servers[-1])}"
-        if board is not None:
+        if board is not None and settings.preview is not None:
             servers.append(PreviewServer(settings.preview, board))
             ready["preview"] = f"http://{settings.preview[0]}:{local_port(servers[-1])}/"
         for server in servers:

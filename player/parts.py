@@ -39,7 +39,7 @@ def frame_ranges(frames: int, part_frames: int) -> list[tuple[int, int]]:
     if part_frames < 1:
         raise ValueError(f"part_frames must be at least 1, got {part_frames}")
     count = math.ceil(frames / part_frames)
-    edges = np.linspace(0, frames, count + 1).round().astype(int) if count else []
+    edges: list[int] = np.linspace(0, frames, count + 1).round().astype(int).tolist() if count else []
     return [(int(a), int(b)) for a, b in pairwise(edges)]
 
 
@@ -89,9 +89,9 @@ def join_parts(parts: Sequence[bytes], path: str | os.PathLike) -> int:
                 for packet in part.demux(stream):
                     if packet.dts is None:  # the demuxer's end-of-stream marker
                         continue
-                    packet.pts += offset
-                    packet.dts += offset
-                    end = max(end, packet.pts + packet.duration)
+                    pts = packet.dts if packet.pts is None else packet.pts  # no B-frames: pts == dts
+                    packet.pts, packet.dts = pts + offset, packet.dts + offset
+                    end = max(end, packet.pts + (packet.duration or 0))
                     packet.stream = out_stream
                     output.mux(packet)
                     frames += 1

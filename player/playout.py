@@ -207,6 +207,7 @@ class Playout:
             level = values[-3:].mean(axis=0) - slope * t.mean()
             guess = level + slope * self.fade * (1 - np.exp(-gap / self.fade))
         else:
+            assert self.forecaster is not None  # __init__ refuses sindy without one
             guess = self.forecaster(values, times, gap)
         ease = np.clip((gap - self.ease_after) / self.ease_seconds, 0.0, 1.0)
         return np.clip(guess + (self.neutral - guess) * ease, 0.0, 1.0)
@@ -222,7 +223,7 @@ class Playout:
 
     def _settle(self, elapsed: float) -> None:
         """Let the delay fall toward what the recent frames need, slowly."""
-        if self._needed < self.delay:
+        if self.delay is not None and self._needed < self.delay:
             self.delay = max(self._needed, self.delay - (self.delay - self._needed) * min(elapsed / self.settle, 1.0))
 
     def _forget(self) -> None:

@@ -27,7 +27,7 @@ class FrameBoard:
         self.quality = quality
         self._frame: np.ndarray | None = None
         self._number = 0
-        self._jpeg: tuple[int, bytes] | None = None  # (frame number, its JPEG)
+        self._jpeg: tuple[int, bytes | None] | None = None  # (frame number, its JPEG)
         self._cond = threading.Condition()
 
     def post(self, frame: np.ndarray) -> None:

@@ -165,7 +165,7 @@ def parse_address(text: str, default_port: int) -> tuple[str, int]:
     return (host or "127.0.0.1", number)
 
 
-def local_port(server: socketserver.BaseServer) -> int:
+def local_port(server: socketserver.TCPServer | socketserver.UDPServer) -> int:
     """The port the server is bound to (useful after binding port 0)."""
     return server.socket.getsockname()[1]
 

@@ -21,10 +21,15 @@ import numpy as np
 from common import InputError, atomic_dir, atomic_path
 
 
-class FrameSink(Protocol):
+class FrameWriter(Protocol):
     """Anything that takes RGB frames of shape ``(height, width, 3)``."""
 
     def write(self, frame: np.ndarray) -> None: ...
+
+
+class FrameSink(FrameWriter, Protocol):
+    """An output of RGB frames that is kept (:meth:`close`) or dropped (:meth:`abort`) at the end."""
+
     def close(self) -> None: ...
     def abort(self) -> None: ...
 

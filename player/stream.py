@@ -94,7 +94,7 @@ class StreamWriter:
         header = Header(KEYFRAME if keyframe else 0, self.sequence, self.frame, self._first_time_us, len(levels),
                         self.steps, self.rate)
         datagram = seal(header, body, self.key)
-        self._since_key = (0 if keyframe else self._since_key) + len(levels)
+        self._since_key = (0 if keyframe or self._since_key is None else self._since_key) + len(levels)
         self._history = (levels if keyframe else np.vstack([self._history, levels]))[-3:]
         self.sequence = (self.sequence + 1) % WRAP
         self.frame = (self.frame + len(levels)) % WRAP

@@ -147,7 +147,7 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
     if fade < 0 or fade > min(first.duration, second.duration):
         raise ValueError(f"fade must be 0..{min(first.duration, second.duration):g} s, got {fade}")
     offset = first.duration - fade
-    codes = sorted(set(first.knots) | set(second.knots), key=MOTOR_INDEX.get)
+    codes = sorted(set(first.knots) | set(second.knots), key=MOTOR_INDEX.__getitem__)
     knots = {}
     for code in codes:
         a = [(t, v) for t, v in first.knots.get(code, ()) if t < offset]

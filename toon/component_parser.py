@@ -130,10 +130,11 @@ class ComponentParser:
         scope = {**rename, **inner}
         if "use" in c:
             v.require("components" not in c, "give either components or use, not both", where)
-            use = c["use"]
-            v.require(isinstance(use, str) and use, "must name a composite in the library", f"{where}.use")
-            library = c.get("library")
-            v.require(isinstance(library, str) and library, "must name a component library", f"{where}.library")
+            use, library = c["use"], c.get("library")
+            if not (isinstance(use, str) and use):
+                v.fail("must name a composite in the library", f"{where}.use")
+            if not (isinstance(library, str) and library):
+                v.fail("must name a component library", f"{where}.library")
             raw, lib_path = self._library_entry(library, use, v, where)
             children = self.parse_list(raw, Validator(lib_path), f'composites.{use}.components', depth + 1, scope)
             return Component("composite", name=str(c.get("name", "")), children=children, use=use, library=library,

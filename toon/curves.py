@@ -235,7 +235,7 @@ def visible_runs(edge_visible: np.ndarray, closed: bool) -> list[tuple[int, int]
         return [(0, 0)]
     runs: list[tuple[int, int]] = []
     start = None
-    order = range(e)
+    order: list[int] | range = range(e)
     if closed:
         first_hidden = int(np.flatnonzero(~edge_visible)[0]) if (~edge_visible).any() else 0
         order = [(first_hidden + 1 + k) % e for k in range(e)]

@@ -55,7 +55,8 @@ def load_expressions(name_or_path: str | os.PathLike = "expressions") -> dict[st
     v.require(doc.get("format") == FORMAT, f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")',
               "format")
     table = doc.get("expressions")
-    v.require(isinstance(table, dict), "missing table [expressions.NAME]", "expressions")
+    if not isinstance(table, dict):
+        v.fail("missing table [expressions.NAME]", "expressions")
     out = {}
     for name, entry in table.items():
         where = f"expressions.{name}"

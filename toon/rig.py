@@ -78,9 +78,20 @@ class _Component:
     mask_test: int | None
     operator: np.ndarray | None  # (S, N) outline operator; None: the points themselves
     edge_visible: np.ndarray | None
-    body_rest: np.ndarray | None = None
-    skeleton_rest: np.ndarray | None = None
-    coupling: PointCoupling | EdgeCoupling | None = None
+    skeleton: _Skeleton | None = None
+
+
+@dataclass(frozen=True)
+class _Skeleton:
+    """A skeleton component's body at rest, its skeleton at rest and how the one moves the other."""
+
+    body_rest: np.ndarray  # (B, 2)
+    skeleton_rest: np.ndarray  # (N, 2)
+    coupling: PointCoupling | EdgeCoupling
+
+    def body(self, skeleton: np.ndarray) -> np.ndarray:
+        """The body's points ``(B, 2)`` for the skeleton's points ``(N, 2)``."""
+        return self.coupling.apply(self.body_rest, self.skeleton_rest, skeleton)
 
 
 @dataclass(frozen=True)
@@ -105,7 +116,7 @@ class _VertexPlan:
     defining_offset: np.ndarray  # (D, 2) added to that row
     direct_from: np.ndarray  # (E,) component points that are outline inputs as they are ...
     direct_to: np.ndarray  # (E,) ... and where they go among the inputs
-    skeletons: tuple[tuple[_Component, slice, slice], ...]  # skeleton points taken, body points given
+    skeletons: tuple[tuple[_Skeleton, slice, slice], ...]  # skeleton points taken, body points given
     operator: sparse.csr_array | None  # (S, I) every component's outline operator, block-diagonal
     component_at: np.ndarray  # (S,)
     moving_at: np.ndarray  # (M,) vertices standing in front of the outline: head turns move them
@@ -117,7 +128,7 @@ def _outline_size(prep: _Polygon | _Component) -> int:
         return len(prep.rest)
     if prep.operator is not None:
         return len(prep.operator)
-    return len(prep.body_rest) if prep.coupling is not None else len(prep.rows)
+    return len(prep.skeleton.body_rest) if prep.skeleton is not None else len(prep.rows)
 
 
 def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _VertexPlan:
@@ -128,7 +139,7 @@ def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _Ver
         "static_at", "static_xy", "lines", "line_at", "pupil_at", "pupil_row", "pupil_eye", "pupil_offset",
         "point_at", "point_motor", "point_min", "point_max", "defining_row", "defining_offset", "direct_from",
         "direct_to", "blocks", "component_at", "moving_at", "moving_depth")}
-    skeletons: list[tuple[_Component, slice, slice]] = []
+    skeletons: list[tuple[_Skeleton, slice, slice]] = []
     defined = given = 0
     for prep, where in zip(order, slices, strict=True):
         at = np.arange(where.start, where.stop)
@@ -136,7 +147,7 @@ def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _Ver
             parts["moving_at"].append(at)
             parts["moving_depth"].append(np.full(len(at), prep.depth))
         if isinstance(prep, _Polygon):
-            if prep.binding is not None:
+            if prep.binding is not None and prep.line_rows is not None:
                 b = prep.binding
                 parts["lines"].append(FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
                 parts["line_at"].append(at)
@@ -155,11 +166,11 @@ def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _Ver
                 parts["static_xy"].append(prep.rest)
             continue
         n = len(prep.rows)
-        inputs = len(prep.body_rest) if prep.coupling is not None else n
+        inputs = len(prep.skeleton.body_rest) if prep.skeleton is not None else n
         parts["defining_row"].append(prep.rows)
         parts["defining_offset"].append(prep.offset)
-        if prep.coupling is not None:
-            skeletons.append((prep, slice(defined, defined + n), slice(given, given + inputs)))
+        if prep.skeleton is not None:
+            skeletons.append((prep.skeleton, slice(defined, defined + n), slice(given, given + inputs)))
         else:
             parts["direct_from"].append(np.arange(defined, defined + n))
             parts["direct_to"].append(np.arange(given, given + inputs))
@@ -187,10 +198,11 @@ def _joined(parts: list[np.ndarray], columns: int) -> np.ndarray:
 
 def _template(prep: _Polygon | _Component, key: int) -> DrawItem:
     """The item ``prep`` draws, at its rest vertices: each frame copies it with its own vertices."""
-    spec = prep.spec
     if isinstance(prep, _Polygon):
-        return DrawItem(prep.rest, spec.color, spec.stroke, spec.width, True, None, spec.kind, prep.mask_write,
-                        prep.mask_test, key, spec.name)
+        polygon = prep.spec
+        return DrawItem(prep.rest, polygon.color, polygon.stroke, polygon.width, True, None, polygon.kind,
+                        prep.mask_write, prep.mask_test, key, polygon.name)
+    spec = prep.spec
     return DrawItem(np.empty((0, 2)), spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible,
                     "component", prep.mask_write, prep.mask_test, key, spec.name)
 
@@ -295,10 +307,11 @@ class FaceRig:
         """Every component's defining points (its body, for a skeleton) at control points ``pts``."""
         plan = self._plan
         moved = np.vstack([pts, np.zeros((1, 2))])[plan.defining_row] + plan.defining_offset  # row -1: origin
+        assert plan.operator is not None  # called only for faces with components
         inputs = np.empty((plan.operator.shape[1], 2))
         inputs[plan.direct_to] = moved[plan.direct_from]
-        for prep, taken, given in plan.skeletons:
-            inputs[given] = prep.coupling.apply(prep.body_rest, prep.skeleton_rest, moved[taken])
+        for skeleton, taken, given in plan.skeletons:
+            inputs[given] = skeleton.body(moved[taken])
         return inputs
 
     @staticmethod
@@ -351,11 +364,12 @@ class FaceRig:
                     coupling = bind_edge_skeleton(body, rest_pts, fixed, spec.skeleton_closed)
                 except ValueError as exc:
                     raise InputError(str(exc), self.face.meta.get("source"), f"components[{index}].skeleton") from None
-            extra = {"body_rest": body, "skeleton_rest": rest_pts, "coupling": coupling}
+            extra = {"skeleton": _Skeleton(body, rest_pts, coupling)}
             outline_rest = body
         if spec.kind == "ellipse":
-            operator: np.ndarray | None = ellipse_operator()
-            edges = np.zeros(len(operator), dtype=np.int64)
+            ellipse = ellipse_operator()
+            operator: np.ndarray | None = ellipse
+            edges = np.zeros(len(ellipse), dtype=np.int64)
         else:
             operator, edges = outline_operator(outline_rest, spec.closed, spec.smooth)
             if not spec.smooth:

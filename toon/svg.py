@@ -87,9 +87,9 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512)) -> str:
         if item.mask_test == 0:
             wrap = ' mask="url(#no-holes)"' if holes else ""
         elif item.mask_test is not None:
-            wrap = f' clip-path="url(#group-{item.mask_test})"' if item.mask_test in holes else None
-            if wrap is None:  # clipped to a group with no holes: nothing shows
+            if item.mask_test not in holes:  # clipped to a group with no holes: nothing shows
                 continue
+            wrap = f' clip-path="url(#group-{item.mask_test})"'
         else:
             wrap = ""
         parts = []

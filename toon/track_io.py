@@ -11,6 +11,7 @@ import io
 import json
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -30,7 +31,7 @@ def save_track(track: MotorTrack, path: str | os.PathLike) -> Path:
         if path.suffix.lower() == ".csv":
             tmp.write_text(_to_csv(track), encoding="utf-8")
         else:
-            extra = {} if track.confidence is None else {"confidence": track.confidence}
+            extra: dict[str, Any] = {} if track.confidence is None else {"confidence": track.confidence}
             with open(tmp, "wb") as fh:
                 np.savez_compressed(fh, values=track.values, rate=np.float64(track.rate),
                                     codes=np.array(MOTOR_CODES), meta=json.dumps(track.meta), **extra)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import os
 import re
-from typing import Any
+from typing import Any, NoReturn
 
 from common import InputError
 
@@ -49,7 +49,11 @@ class Validator:
     def require(self, ok: bool, message: str, where: str) -> None:
         """Raise ``InputError(message)`` at ``where`` unless ``ok``."""
         if not ok:
-            raise InputError(message, self.source, where or None)
+            self.fail(message, where)
+
+    def fail(self, message: str, where: str) -> NoReturn:
+        """Raise ``InputError(message)`` at ``where``."""
+        raise InputError(message, self.source, where or None)
 
     def fields(self, value: Any, allowed: set[str], where: str, what: str) -> None:
         """``value`` is an object with no keys outside ``allowed``."""

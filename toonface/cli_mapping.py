@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import click
 
-from toonface.cli_options import FACE, MIRROR, SIZE, parse_size, parse_window, progress, read_take, take_options
+from toonface.cli_options import (
+    FACE,
+    MIRROR,
+    SIZE,
+    parse_size,
+    parse_span,
+    parse_window,
+    progress,
+    read_take,
+    take_options,
+)
 
 _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
                         help="A mapping file or built-in preset (toon32, animface41, gluedots16) "
@@ -89,7 +99,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     if not 0 <= low < high <= 100:
         raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
                                  param_hint="--percentiles")
-    windows = parse_window(neutral, words=_WORDS), parse_window(range_window, "--range")
+    windows = parse_window(neutral, words=_WORDS), parse_span(range_window, "--range")
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     loaded = read_take(take, take_rate, labels, units)
     chosen, markerset = choose_mapping(loaded, mapping)

@@ -57,6 +57,13 @@ def parse_window(value: str | None, option: str = "--neutral", words: tuple[str,
     """``START:END`` seconds, or one of ``words`` (None stays None)."""
     if value is None or value in words:
         return value
+    return parse_span(value, option, words)
+
+
+def parse_span(value: str | None, option: str, words: tuple[str, ...] = ()) -> tuple[float, float] | None:
+    """``START:END`` seconds (None stays None); ``words`` are named in the error as other choices."""
+    if value is None:
+        return None
     try:
         start, end = (float(x) for x in value.split(":"))
     except ValueError:

@@ -15,9 +15,16 @@ if TYPE_CHECKING:
 
 
 def _address(value: str | None, option: str, port: int) -> tuple[str, int] | None:
-    from player.server import parse_address
+    """``HOST:PORT`` from an option (``port`` when only a host is given); None for ``off`` or no value."""
     if value is None or value.lower() == "off":
         return None
+    return _required_address(value, option, port)
+
+
+def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
+    """``HOST:PORT`` from an option that cannot be switched off."""
+    from player.server import parse_address
+
     try:
         return parse_address(value, port)
     except ValueError as exc:

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import click
 
 from toonface.cli_options import FACE, SIZE, parse_size, read_take, take_options
-from toonface.cli_player import _address
+from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
     from player.receiver import StreamReceiver
@@ -67,7 +67,7 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     from toon import MotorTrack, save_track
     from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
 
-    address = _address(target, "--to", 7710)
+    address = _required_address(target, "--to", 7710)
     if source == "synthetic":
         src = synthetic_source(seconds or 60.0)
     elif Path(source).suffix.lower() in VIDEO_SUFFIXES:
@@ -138,7 +138,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
     shown: list[np.ndarray] = []
     try:
-        receiver = StreamReceiver(_address(listen, "--listen", 7710), playout, _key(key_file))
+        receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file))
     except OSError as exc:
         raise InputError(f"cannot listen on {listen}: {exc.strerror or exc}") from None
     with receiver:
@@ -204,7 +204,8 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
     faults = NetworkFaults(loss=loss, burst_seconds=burst_ms / 1000, duplicate=duplicate, corrupt=corrupt,
                            reorder=reorder, delay=delay_ms / 1000, jitter=jitter_ms / 1000)
     try:
-        proxy = Relay(_address(listen, "--listen", 7711), _address(target, "--to", 7710), faults, seed)
+        proxy = Relay(_required_address(listen, "--listen", 7711), _required_address(target, "--to", 7710), faults,
+                      seed)
     except OSError as exc:
         raise InputError(f"cannot listen on {listen}: {exc.strerror or exc}") from None
     with proxy:

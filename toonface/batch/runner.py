@@ -123,7 +123,9 @@ class _Run:
         self.job, self.client, self.progress, self.clock = job, client, progress, clock
         self.map_job = replace(job, takes=(), empty_globs=())  # what map tasks need, not every take's path
         self.capacity, self.capacity_time = 0, -float("inf")
-        self.queue = as_completed()
+        # Futures as they finish; without a cluster there is nothing to wait for (as_completed()
+        # would look for a default client, and a rerun with nothing to make has none).
+        self.queue = as_completed(loop=client.loop) if client is not None else None
         self.owner: dict[Future, tuple[_PairWork, str]] = {}
         self.active: dict[str, _PairWork] = {}
         self.results: dict[str, PairResult] = {}
@@ -132,7 +134,7 @@ class _Run:
 
     def execute(self, pairs: list[Pair]) -> None:
         """Report the pairs with nothing to make; make the others, a bounded number at a time."""
-        waiting = deque()
+        waiting: deque[Pair] = deque()
         for pair in pairs:
             if pair.error:
                 self.results[pair.name] = PairResult(pair, "failed", pair.error)
@@ -141,7 +143,7 @@ class _Run:
             else:
                 waiting.append(pair)
         self._start_more(waiting)
-        for future in self.queue:
+        for future in self.queue or ():
             work, stage = self.owner.pop(future)
             work.pending -= 1
             self._settle(work, stage, future)
@@ -152,24 +154,32 @@ class _Run:
             if self.progress:
                 self.progress(self.finished, self.submitted)
 
+    @property
+    def cluster(self) -> Client:
+        """The client, when there is work to submit."""
+        if self.client is None or self.queue is None:
+            raise ValueError("pairs to make, but no cluster to make them on")
+        return self.client
+
     def _start_more(self, waiting: deque) -> None:
         """Start waiting pairs up to four per worker thread (re-counted at most once a second, as
         workers join or leave)."""
         if not waiting:
             return
         if self.clock() - self.capacity_time >= 1.0:
-            self.capacity = PAIRS_PER_THREAD * max(sum(self.client.nthreads().values()), 1)
+            self.capacity = PAIRS_PER_THREAD * max(sum(self.cluster.nthreads().values()), 1)
             self.capacity_time = self.clock()
         while waiting and len(self.active) < self.capacity:
             self._start(waiting.popleft())
 
     def _submit(self, work: _PairWork, stage: str, fn: Callable, *args, priority: int = 1) -> Future:
         key = f"{stage}-{uuid4().hex}"
-        future = self.client.submit(fn, *args, key=key, pure=False, priority=priority)
+        future = self.cluster.submit(fn, *args, key=key, pure=False, priority=priority)
         self.owner[future] = (work, stage)
         work.keys.append(key)
         work.pending += 1
         self.submitted += 1
+        assert self.queue is not None  # self.cluster checked it
         self.queue.add(future)
         return future
 
@@ -224,7 +234,7 @@ class _Run:
     def cancel_unfinished(self) -> None:
         """Cancel the tasks of pairs still in flight and report those pairs as cancelled."""
         for work in list(self.active.values()):
-            self.client.cancel([f for f, (w, _) in self.owner.items() if w is work])
+            self.cluster.cancel([f for f, (w, _) in self.owner.items() if w is work])
             self.results[work.pair.name] = PairResult(work.pair, "cancelled", "interrupted before it finished",
                                                       work.frames, 0.0, work.written)
             if work.written:
