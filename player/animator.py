@@ -130,31 +130,48 @@ class Loop:
 
     ToonFace's READ SOCKET INPUT needs no step here: commands are sliced as they arrive, under
     the Animator's lock, so the next loop executes their first slices.
+
+    Loops are due on a fixed grid, ``started + k * loop_time``: ToonFace's PAUSE (LOOP-TIME -
+    elapsed) when on time. When drawing takes longer than a loop, the slots already past are
+    dropped: their slices still run (motions keep their duration) but no frame is drawn, and
+    ``skip`` hears how many, so the outputs keep real time. :attr:`dropped` counts them.
     """
 
     def __init__(self, animator: Animator, clock: Callable[[], float] = time.perf_counter,
                  sleep: Callable[[float], None] = time.sleep) -> None:
         self.animator, self.clock, self.sleep = animator, clock, sleep
         self.started = clock()
-        self.lateness: list[float] = []  # seconds each loop started after it was due (0 when on time)
+        self.lateness: list[float] = []  # seconds each drawn loop started after it was due
+        self.dropped = 0  # loop slots that passed without a frame
 
     def run(self, loops: int | None, frame: Callable[[np.ndarray, float], None],
-            stop: Callable[[], bool] = lambda: False) -> int:
-        """Run ``loops`` loops (None: until ``stop()``), handing each loop's values and time since
-        the start to ``frame``; returns the loops run."""
-        count = 0
-        due = self.clock()
-        while (loops is None or count < loops) and not stop():
-            start = self.clock()
-            self.lateness.append(max(0.0, start - due))
-            values = self.animator.tick(start - self.started)
-            frame(values, start - self.started)
-            count += 1
-            due = start + self.animator.loop_time  # ToonFace: PAUSE (LOOP-TIME - (READ-CLOCK - START-TIME))
-            rest = due - self.clock()
+            stop: Callable[[], bool] = lambda: False, skip: Callable[[int], None] = lambda _: None) -> int:
+        """Run until ``loops`` loop slots have passed (None: until ``stop()``), handing each
+        drawn loop's values and its slot's time since the start to ``frame``; returns the loops
+        drawn. Slots dropped before a frame are announced by ``skip(count)``."""
+        step = self.animator.loop_time
+        origin = self.clock() - self.started  # the grid starts now
+        slot = drawn = 0
+        while (loops is None or slot < loops) and not stop():
+            late = self.clock() - self.started - (origin + slot * step)
+            behind = max(int(late // step), 0)
+            if loops is not None:
+                behind = min(behind, loops - slot - 1)  # the last slot is drawn
+            for _ in range(behind):  # slots already past: their slices run, nothing is drawn
+                self.animator.tick(origin + slot * step)
+                slot += 1
+            if behind:
+                self.dropped += behind
+                skip(behind)
+            due = origin + slot * step
+            self.lateness.append(max(0.0, self.clock() - self.started - due))
+            frame(self.animator.tick(due), due)
+            drawn += 1
+            slot += 1
+            rest = self.started + origin + slot * step - self.clock()
             if rest > 0:
                 self.sleep(rest)
-        return count
+        return drawn
 
 
 class FakeClock:

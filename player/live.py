@@ -44,10 +44,21 @@ class LiveSettings:
 
 @dataclass
 class LiveReport:
-    """What a live run did: loops run and each loop's lateness (seconds)."""
+    """What a live run did: loops drawn, each one's lateness (seconds), and the loop slots
+    dropped because drawing could not keep up (the outputs kept real time across them)."""
 
     loops: int
     lateness: list[float]
+    dropped: int = 0
+
+    def summary(self, loop_time: float) -> str | None:
+        """A line for the user when frames were dropped (None when every loop was drawn)."""
+        if not self.dropped:
+            return None
+        slots = self.loops + self.dropped
+        return (f"dropped {self.dropped} of {slots} frames ({100 * self.dropped / slots:.1f} %): this machine drew "
+                f"{self.loops / (slots * loop_time):.1f} of {1 / loop_time:g} frames a second; recordings kept "
+                "real time")
 
     def lateness_p95_ms(self) -> float:
         """95th percentile of the loops' lateness, milliseconds."""
@@ -99,12 +110,16 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
             loops = None if settings.seconds is None else max(1, int(round(settings.seconds / settings.loop_time)))
             if settings.track is not None and not settings.repeat:
                 loops = max(1, int(round(settings.track.duration / settings.loop_time)))
+            def skip(frames: int) -> None:
+                for sink in settings.sinks:
+                    sink.skip(frames)
+
             on_ready(ready)
             try:
-                count = loop.run(loops, frame, stop)
+                count = loop.run(loops, frame, stop, skip)
             except KeyboardInterrupt:
                 count = len(loop.lateness)
-        return LiveReport(count, loop.lateness)
+        return LiveReport(count, loop.lateness, loop.dropped)
     finally:
         for server in servers:
             if isinstance(server, PreviewServer):

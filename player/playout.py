@@ -219,7 +219,7 @@ class Playout:
             return target
         step = self.max_jump * max(elapsed * self.rate, 1e-9)
         start = self._output + moved
-        return start + np.clip(target - start, -step, step)
+        return np.clip(start + np.clip(target - start, -step, step), 0.0, 1.0)  # motors live in [0, 1]
 
     def _settle(self, elapsed: float) -> None:
         """Let the delay fall toward what the recent frames need, slowly."""

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import sys
 from fractions import Fraction
 from pathlib import Path
@@ -28,8 +29,13 @@ class FrameWriter(Protocol):
 
 
 class FrameSink(FrameWriter, Protocol):
-    """An output of RGB frames that is kept (:meth:`close`) or dropped (:meth:`abort`) at the end."""
+    """An output of RGB frames that is kept (:meth:`close`) or dropped (:meth:`abort`) at the end.
 
+    :meth:`skip` says that frame slots went by without a frame (a live player that could not
+    keep up): the output keeps its timing, by a gap in the timestamps or by repeating a frame.
+    """
+
+    def skip(self, frames: int) -> None: ...
     def close(self) -> None: ...
     def abort(self) -> None: ...
 
@@ -52,7 +58,11 @@ class H264Encoder:
         self.frames = 0
         self._container = av.open(target if not isinstance(target, os.PathLike) else str(target), mode="w",
                                   format="mp4")
-        self._stream = self._container.add_stream("libx264", rate=Fraction(fps).limit_denominator(1001))
+        rate = Fraction(fps).limit_denominator(1001)
+        self._stream = self._container.add_stream("libx264", rate=rate)
+        self._time_base = 1 / rate  # a frame's pts counts frame slots, so a skipped slot leaves a gap
+        self._stream.codec_context.time_base = self._time_base
+        self._pts = 0
         self._stream.width, self._stream.height = width, height
         self._stream.pix_fmt = "yuv420p"
         self._stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart", **options}
@@ -62,8 +72,14 @@ class H264Encoder:
         if frame.shape != (self.size[1], self.size[0], 3):
             raise ValueError(f"frame shape {frame.shape} does not match {self.size}")
         video_frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="rgb24")
+        video_frame.pts, video_frame.time_base = self._pts, self._time_base
         self._container.mux(self._stream.encode(video_frame))
         self.frames += 1
+        self._pts += 1
+
+    def skip(self, frames: int) -> None:
+        """Leave ``frames`` slots without a frame: the previous one shows for longer."""
+        self._pts += max(0, frames)
 
     def finish(self) -> None:
         """Flush the encoder and close the file (the container is closed even if flushing fails)."""
@@ -144,6 +160,10 @@ class Mp4Sink(_AtomicSink):
         self._encoder.write(frame)
         self.frames += 1
 
+    def skip(self, frames: int) -> None:
+        """Slots without a frame: a gap in the timestamps, so the video keeps real time."""
+        self._encoder.skip(frames)
+
     def _finish(self) -> None:
         self._encoder.finish()
 
@@ -161,6 +181,15 @@ class PngSink(_AtomicSink):
             raise OSError(f"cannot write {path}")
         self.frames += 1
 
+    def skip(self, frames: int) -> None:
+        """Slots without a frame: the previous PNG is copied into each, so the sequence keeps its rate."""
+        if not self.frames:
+            return
+        last = self._tmp / f"frame_{self.frames - 1:06d}.png"
+        for _ in range(max(0, frames)):
+            shutil.copyfile(last, self._tmp / f"frame_{self.frames:06d}.png")
+            self.frames += 1
+
 
 class RawSink:
     """Raw RGB frames (``width * height * 3`` bytes each, rows top to bottom) on a binary stream,
@@ -171,17 +200,25 @@ class RawSink:
         self._stream = stream if stream is not None else sys.stdout.buffer
         self.frames = 0
         self.broken = False
+        self._last: np.ndarray | None = None
 
     def write(self, frame: np.ndarray) -> None:
         """Write one frame's bytes (nothing once the reader has gone)."""
         if self.broken:
             return
+        self._last = np.ascontiguousarray(frame, dtype=np.uint8)  # no copy: frames are contiguous
         try:
-            self._stream.write(np.ascontiguousarray(frame, dtype=np.uint8).data)  # no copy: frames are contiguous
+            self._stream.write(self._last.data)
         except BrokenPipeError:
             self.broken = True
             return
         self.frames += 1
+
+    def skip(self, frames: int) -> None:
+        """Slots without a frame: the previous frame's bytes again, so the reader's rate holds."""
+        if self._last is not None:
+            for _ in range(max(0, frames)):
+                self.write(self._last)
 
     def close(self) -> None:
         """Flush."""

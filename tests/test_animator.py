@@ -71,17 +71,22 @@ def test_the_loop_holds_its_loop_time_and_starts_scheduled_moves_on_time():
     assert max(loop.lateness) == 0.0
 
 
-def test_a_slow_loop_is_late_but_never_catches_up_by_skipping_slices():
+def test_a_slow_loop_drops_frames_but_keeps_real_time_and_every_slice():
     clock = FakeClock()
     animator = Animator(_open_eyes(), loop_time=0.04)
-    animator.command([Move("ELU", 0.0, 0.16)])
-    seen = []
+    animator.command([Move("ELU", 0.0, 0.4)])  # ten slices of 0.1
+    seen, skipped = [], []
 
     def frame(values, t):
-        seen.append(values[motor_index("ELU")])
-        clock.sleep(0.05)  # 50 ms of work in a 40 ms loop
+        seen.append((round(t / 0.04), values[motor_index("ELU")]))
+        clock.sleep(0.1)  # 100 ms of drawing in a 40 ms loop
 
     loop = Loop(animator, clock, clock.sleep)
-    loop.run(4, frame)
-    assert seen == pytest.approx([0.75, 0.5, 0.25, 0.0])  # one slice per loop, however late
-    assert loop.lateness[1:] == pytest.approx([0.01, 0.01, 0.01])
+    drawn = loop.run(12, frame, skip=skipped.append)
+    # each loop draws the newest slot already due: slot 0 (drawn 0-0.1 s), 2 (due 0.08), 5 (0.2),
+    # 7 (0.28), 10 (0.4) and the last, 11 (due 0.44, drawn 0.5-0.6); it used to take 12 x 0.1 s
+    assert clock() == pytest.approx(0.6)
+    assert drawn + loop.dropped == 12 and sum(skipped) == loop.dropped == 6 and skipped == [1, 2, 1, 2]
+    # each frame drawn shows its slot's value: dropped slots still ran their slices
+    assert [value for _, value in seen] == pytest.approx([max(0.0, 1 - 0.1 * (slot + 1)) for slot, _ in seen])
+    assert [slot for slot, _ in seen] == [0, 2, 5, 7, 10, 11]

@@ -6,15 +6,18 @@ import sys
 import time
 import urllib.request
 
+import av
 import cv2
 import numpy as np
 import pytest
 
 from player.animator import Animator, FakeClock
 from player.commands import Commands
+from player.live import LiveSettings, run_live
 from player.preview import FrameBoard, PreviewServer
 from player.server import CommandServer, CommandUDPServer, RateLimit, local_port, parse_address, start
-from toon import load_expressions, motor_index, standard_neutral
+from player.sinks import open_sink
+from toon import load_expressions, load_face, motor_index, standard_neutral
 
 
 @pytest.fixture
@@ -206,3 +209,47 @@ def test_toonface_play_answers_commands_and_the_frames_follow(tmp_path):
     assert 60 <= len(pngs) <= 76  # 75 loops of 40 ms
     first_frame, last_frame = cv2.imread(str(pngs[0])), cv2.imread(str(pngs[-1]))
     assert np.abs(first_frame.astype(int) - last_frame.astype(int)).sum() > 1000  # the mouth opened, eyes shut
+
+
+@pytest.mark.gl
+def test_a_player_that_cannot_keep_up_drops_frames_and_its_video_keeps_real_time(tmp_path):
+    """`receive` at 60 fps on a slow machine recorded 8.75 s of performance into 4.95 s of video:
+    now drawing that takes 2.5 frame times drops frames and the MP4 still lasts the run."""
+    clock = FakeClock()
+
+    class SlowSink:
+        def __init__(self, sink):
+            self.sink = sink
+
+        def write(self, frame):
+            self.sink.write(frame)
+            clock.sleep(2.5 / 60)  # encoding this frame took 2.5 frame times
+
+        def skip(self, frames):
+            self.sink.skip(frames)
+
+        def close(self):
+            self.sink.close()
+
+        def abort(self):
+            self.sink.abort()
+
+    settings = LiveSettings(loop_time=1 / 60, size=(64, 64), samples=1, tcp=None, seconds=2.0,
+                            sinks=[SlowSink(open_sink(tmp_path / "live.mp4", 60, (64, 64)))],
+                            source=lambda t: np.full(21, 0.5))
+    report = run_live(load_face("classic"), settings, clock=clock, sleep=clock.sleep)
+    assert clock() == pytest.approx(2.0, abs=0.05)  # the run took its two seconds (it used to take 5)
+    assert report.loops + report.dropped == 120 and 35 <= report.loops <= 50
+    assert "dropped" in report.summary(1 / 60)
+    with av.open(str(tmp_path / "live.mp4")) as c:
+        assert float(c.duration / av.time_base) == pytest.approx(2.0, abs=0.05)
+        assert len(list(c.decode(video=0))) == report.loops
+
+
+def test_a_recording_holds_dropped_slots_and_clips_stray_values():
+    from toonface.cli_stream import _recorded
+
+    shown = [(0.0, np.full(21, 0.2)), (0.1, np.full(21, 0.4)), (0.3, np.full(21, 1.0000001))]
+    track = _recorded(shown, 10.0)
+    assert track.frames == 4 and track.rate == 10.0
+    assert track.values[:, 0] == pytest.approx([0.2, 0.4, 0.4, 1.0])

@@ -1,5 +1,7 @@
 """Frame sinks: a decodable H.264 MP4 with the right frame count, PNG folders, atomic outputs."""
 
+import io
+
 import av
 import cv2
 import numpy as np
@@ -7,6 +9,7 @@ import pytest
 
 from common import InputError
 from player import Mp4Sink, PngSink, open_sink
+from player.sinks import RawSink
 
 
 def _frames(n, size=(32, 24)):
@@ -65,3 +68,27 @@ def test_odd_sizes_and_unknown_types_are_refused(tmp_path):
     assert isinstance(sink, PngSink)
     sink.abort()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_skipped_slots_keep_each_output_in_real_time(tmp_path):
+    """A live player that dropped frames: the MP4 leaves a gap in its timestamps (the frame before
+    shows longer), a PNG sequence and a raw stream repeat the frame before."""
+    frames = list(_frames(6))
+    with Mp4Sink(tmp_path / "v.mp4", 25.0, (32, 24)) as mp4, PngSink(tmp_path / "png") as png:
+        raw_bytes = io.BytesIO()
+        raw = RawSink(raw_bytes)
+        for i, frame in enumerate(frames):
+            for sink in (mp4, png, raw):
+                sink.write(frame)
+                if i == 2:
+                    sink.skip(3)  # slots 3, 4 and 5 went by undrawn
+    with av.open(str(tmp_path / "v.mp4")) as c:
+        times = [round(float(f.time) * 25) for f in c.decode(video=0)]
+        assert times == [0, 1, 2, 6, 7, 8]
+        assert float(c.duration / av.time_base) == pytest.approx(9 / 25)
+    shown = [0, 1, 2, 2, 2, 2, 3, 4, 5]
+    pngs = sorted((tmp_path / "png").glob("*.png"))
+    assert len(pngs) == 9
+    for path, which in zip(pngs, shown, strict=True):
+        assert np.array_equal(cv2.imread(str(path))[:, :, ::-1], frames[which])
+    assert raw_bytes.getvalue() == b"".join(frames[which].tobytes() for which in shown)

@@ -236,3 +236,14 @@ def test_stream_commands_fail_in_one_line(tmp_path, monkeypatch, capsys, argv, f
     assert main(argv) != 0
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and fragment in err, err
+
+
+def test_concealment_and_recovery_never_leave_the_motor_range():
+    """A fast motion that hits both ends of the range, with losses on the way (the lossy-relay
+    recording that ended in 'motor ERU at frame 276 is 1.07593, outside [0, 1]')."""
+    t = np.arange(360)[:, None] / RATE
+    values = np.clip(0.5 + 0.9 * np.sin(2 * np.pi * np.linspace(1.5, 3.0, 21) * t), 0.0, 1.0)
+    shown, states, _ = feed_stream(Playout(standard_neutral(), "linear", max_jump=0.05), values,
+                                   lose=set(range(10, 180, 7)) | {40, 41, 42, 90, 91})
+    assert "recovering" in states and "concealed" in states
+    assert shown.min() >= 0.0 and shown.max() <= 1.0

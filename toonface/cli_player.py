@@ -85,6 +85,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     report = run_live(face_obj, settings, ready)
     say(f"stopped after {report.loops} loops; 95 % of loops started within "
         f"{report.lateness_p95_ms():.1f} ms of their time")
+    if (dropped := report.summary(loop_time)) is not None:
+        say(dropped)
 
 
 def _codes(value: str | None) -> tuple[str, ...] | None:

@@ -10,12 +10,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
+import numpy as np
 
 from toonface.cli_options import FACE, SIZE, parse_size, read_take, take_options
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
     from player.receiver import StreamReceiver
+    from toon import MotorTrack
 
 VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".webm"}
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
@@ -60,8 +62,6 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     Cleaning and mapping run live at this end; only the 21 motor values cross the network,
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
     """
-    import numpy as np
-
     from mapping import load_profile
     from player.stream import StreamWriter
     from toon import MotorTrack, save_track
@@ -123,20 +123,18 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     more than --max-jump per frame when the stream comes back. Bad packets (oversized,
     malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
     """
-    import numpy as np
-
     from common import InputError
     from player.live import LiveSettings, run_live
     from player.playout import Playout
     from player.receiver import StreamReceiver
     from player.sinks import open_sink
-    from toon import MotorTrack, load_face, save_track
+    from toon import load_face, save_track
 
     face_obj = load_face(face)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
-    shown: list[np.ndarray] = []
+    shown: list[tuple[float, np.ndarray]] = []  # (slot time, values) of each frame drawn
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file))
     except OSError as exc:
@@ -147,10 +145,10 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         if output is not None:
             settings.sinks.append(open_sink(output, fps, dims))
 
-        def values(_: float) -> np.ndarray:
+        def values(t: float) -> np.ndarray:
             value, _state = receiver.values_at()
             if record:
-                shown.append(value)
+                shown.append((t, value))
             return value
         settings.source = values
         done = threading.Event()
@@ -163,12 +161,26 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
             for kind, where in addresses.items():
                 say(f"{kind} {where}")
         try:
-            run_live(face_obj, settings, ready)
+            report = run_live(face_obj, settings, ready)
         finally:
             done.set()
-    if record and shown:
-        say(f"wrote {save_track(MotorTrack(np.array(shown), fps), record)}")
+            if record and shown:  # kept however the run ends
+                say(f"wrote {save_track(_recorded(shown, fps), record)}")
+    if (dropped := report.summary(1 / fps)) is not None:
+        say(dropped)
     say(json.dumps(receiver.summary()))
+
+
+def _recorded(shown: list[tuple[float, np.ndarray]], fps: float) -> MotorTrack:
+    """The motors shown, one row per frame slot at ``fps`` (a dropped slot holds the frame
+    before it), clipped to [0, 1] so that no stray value can cost the recording."""
+    from toon import MotorTrack
+
+    times = np.array([t for t, _ in shown])
+    slots = np.arange(int(round(times[-1] * fps)) + 1) / fps
+    rows = np.searchsorted(times, slots + 0.5 / fps, side="right") - 1
+    values = np.array([v for _, v in shown])[np.maximum(rows, 0)]
+    return MotorTrack(np.clip(values, 0.0, 1.0), fps)
 
 
 def _print_stats(receiver: StreamReceiver, done: threading.Event, say) -> None:
