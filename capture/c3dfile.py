@@ -17,6 +17,7 @@ a data section that ends early) are kept in ``meta["warnings"]`` rather than pri
 
 from __future__ import annotations
 
+import logging
 import warnings
 from pathlib import Path
 from typing import Any
@@ -28,10 +29,14 @@ from capture.take import UNIT_MM, Take, unique_labels
 from common import InputError
 
 _PARAMETER_MAGIC = 0x50  # the second byte of every C3D file
+log = logging.getLogger(__name__)
 
 
-def read_c3d(path: Path) -> Take:
+def read_c3d(path: Path, allow_truncated: bool = False) -> Take:
     """Read the points of a C3D file as a :class:`Take` in millimetres.
+
+    A file that ends before the last frame its header declares is refused, unless
+    ``allow_truncated``: then the frames that are there are read, with a warning.
 
     Raises
     ------
@@ -55,6 +60,7 @@ def read_c3d(path: Path) -> Take:
                 labels = [str(x) for x in reader.point_labels]
                 analog_used = int(reader.analog_used)
                 units = _units(reader)
+                declared = _declared_frames(reader)
                 frames = [points[:, :4].copy() for _, points, _ in reader.read_frames(copy=False, check_nan=True)]
                 processor = str(getattr(reader, "proc_type", "unknown"))
             caught = [str(w.message).split("\n")[0].strip() for w in seen
@@ -65,6 +71,12 @@ def read_c3d(path: Path) -> Take:
         raise InputError(f"POINT:RATE is {rate!r}; expected a positive frame rate", path)
     if not frames:
         raise InputError("no point frames in the file", path)
+    if len(frames) < declared:
+        ends = f"the file ends early: it holds {len(frames)} of the {declared} frames its header declares"
+        if not allow_truncated:
+            raise InputError(f"{ends} (--allow-truncated reads what is there)", path)
+        log.warning("%s: %s; reading those", path, ends)
+        caught = [*caught, ends]
     if units not in UNIT_MM:
         raise InputError(f'unknown POINT:UNITS "{units}" (known: {", ".join(sorted(UNIT_MM))})', path)
     data = np.stack(frames).astype(np.float64)
@@ -105,6 +117,18 @@ def write_c3d(take: Take, path: Path) -> None:
         writer.add_frames(frames)
         with open(path, "wb") as fh:
             writer.write(fh)
+
+
+def _declared_frames(reader: c3d.Reader) -> int:
+    """The frame count the header declares; past the header's 16-bit limit, the parameters' count.
+
+    The header is the one count every writer keeps: PhoeniX's Dance.c3d holds the header's 499
+    frames while its parameters say 500.
+    """
+    header = reader.header
+    if int(header.last_frame) < 65535:
+        return int(header.last_frame) - int(header.first_frame) + 1
+    return int(reader.last_frame) - int(reader.first_frame) + 1
 
 
 def _units(reader: c3d.Reader) -> str:

@@ -52,7 +52,7 @@ def _read_npz(path: Path) -> Take:
 
 
 def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[str] | None = None,
-              units: str | float | None = None) -> Take:
+              units: str | float | None = None, allow_truncated: bool = False) -> Take:
     """Read a take file, choosing the reader by suffix.
 
     Parameters
@@ -63,6 +63,9 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
         For CSV tables only, which may not say them (see :mod:`capture.csvfile`): the frame rate
         in Hz, the marker names of a headerless table, and the units (``cm`` or millimetres per
         unit). The other formats carry their own; giving these for them is an error.
+    allow_truncated
+        Read a C3D file that ends before the last frame its header declares (with a warning in
+        ``meta["warnings"]``); by default such a file is refused.
 
     Raises
     ------
@@ -82,7 +85,15 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     if given:
         raise InputError(f"a {suffix} take carries its own {', '.join(given)}; those options are for CSV tables",
                          path)
-    return {".c3d": read_c3d, ".trc": read_trc, ".npz": _read_npz}[suffix](path)
+    if suffix == ".c3d":
+        return read_c3d(path, allow_truncated)
+    return {".trc": read_trc, ".npz": _read_npz}[suffix](path)
+
+
+def is_table(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a CSV-like table, the one kind of take that ``rate``, ``labels`` and
+    ``units`` apply to."""
+    return Path(path).suffix.lower() in _TABLES
 
 
 def save_take(take: Take, path: str | os.PathLike) -> Path:

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+from dataclasses import replace
 from pathlib import Path
 
 import av
@@ -20,7 +21,7 @@ from capture import load_take, save_take, synthesize
 from common import InputError
 from player.parts import frame_ranges, join_parts, render_part
 from toon import FaceRig, load_face, load_track, save_face
-from toonface.batch import connect, load_job, plan, run_batch, write_manifest
+from toonface.batch import connect, load_job, plan, run_batch, tasks, write_manifest
 from toonface.batch import pairs as batch_pairs
 from toonface.batch.pairs import file_digest as digest
 from toonface.cli import main
@@ -285,3 +286,15 @@ def test_a_bad_job_file_is_one_line_and_status_2(tmp_path, capsys):
     assert main(["batch", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"toonface: error: {path}: takes: no take file")
+
+
+def test_csv_options_apply_to_csv_takes_only(tmp_path):
+    """A job with [csv] units = "cm" failed every .c3d and .npz pair ('a .npz take carries its own units')."""
+    path = write_job(tmp_path, {"a": 1.0}, ["classic"], '[csv]\nunits = "cm"\n')
+    take = synthesize(seconds=1.0, rate=30.0, seed=0).take
+    in_cm = replace(take, positions=take.positions / 10.0, meta={})
+    save_take(in_cm, tmp_path / "takes" / "b.csv")
+    job = load_job(path)
+    from_npz = tasks.map_pair(tmp_path / "takes" / "a.npz", "classic", job)
+    from_csv = tasks.map_pair(tmp_path / "takes" / "b.csv", "classic", job)  # read in cm: the same take
+    assert np.allclose(from_npz.values, from_csv.values, atol=1e-4)

@@ -247,3 +247,25 @@ def test_summary_counts_the_longest_gap():
     pos[[1, 2, 5, 6, 7]] = np.nan
     summary = summarize(Take(pos, ("A",), 10.0))
     assert summary["missing"] == 5 and summary["longest_gap"] == {"A": 3}
+
+
+@pytest.mark.parametrize("keep", [20_000, 0.6])
+def test_a_c3d_that_ends_early_is_refused_unless_allowed(tmp_path, realdata, capsys, keep):
+    """The first 20 kB of a real trial (or 60 % of one written here) used to read as a short take, exit 0."""
+    if keep == 0.6:
+        source = save_take(Take(np.random.default_rng(0).normal(size=(200, 8, 3)), tuple("ABCDEFGH"), 60.0),
+                           tmp_path / "whole.c3d")
+    else:
+        source = realdata / "c3d" / "vicon" / "Vicon.c3d"
+    data = source.read_bytes()
+    cut = tmp_path / "cut.c3d"
+    cut.write_bytes(data[: keep if isinstance(keep, int) else int(len(data) * keep)])
+    with pytest.raises(InputError, match="the file ends early: it holds .* frames its header declares"):
+        load_take(cut)
+    assert main(["map", str(cut), "-o", str(tmp_path / "m.csv")]) == 2
+    assert "ends early" in capsys.readouterr().err and not (tmp_path / "m.csv").exists()
+    take = load_take(cut, allow_truncated=True)
+    whole = load_take(source)
+    assert 0 < take.frames < whole.frames and "ends early" in take.meta["warnings"][-1]
+    assert np.array_equal(take.positions, whole.positions[: take.frames], equal_nan=True)
+    assert main(["info", str(cut), "--allow-truncated"]) == 0

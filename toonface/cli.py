@@ -17,7 +17,7 @@ from capture.colours import HUES
 from common.errors import ToonfaceError
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
-from toonface.cli_options import FACE, SIZE, parse_size, progress, read_take, take_options
+from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, progress, read_take, take_options
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
 
@@ -129,7 +129,7 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
 @click.argument("take", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="One JSON object instead of text.")
 @take_options
-def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, units: str | None) -> None:
+def info(take: str, as_json: bool, reading: TakeReading) -> None:
     """Frames, markers, rate, duration, units and gaps of a take (.c3d .trc .csv .npz).
 
     With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
@@ -138,7 +138,7 @@ def info(take: str, as_json: bool, take_rate: float | None, labels: str | None, 
     from capture.info import describe, summarize
 
 
-    summary = summarize(read_take(take, take_rate, labels, units))
+    summary = summarize(read_take(take, reading))
     if as_json:
         click.echo(json.dumps(summary))
     else:

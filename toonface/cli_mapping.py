@@ -8,6 +8,7 @@ from toonface.cli_options import (
     FACE,
     MIRROR,
     SIZE,
+    TakeReading,
     parse_size,
     parse_span,
     parse_window,
@@ -50,7 +51,7 @@ def _clean_settings(fn):
                    "pitch go into the take's metadata (kept by .npz).")
 @take_options
 def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, head_frame: bool,
-          take_rate: float | None, labels: str | None, units: str | None) -> None:
+          reading: TakeReading) -> None:
     """Clean a take offline: remove head motion, reject spikes, fill gaps, smooth without lag.
 
     Head motion is found by a robust rigid fit of the marker set's head references (the set is
@@ -62,7 +63,7 @@ def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float
     from mapping import CleanSettings, clean_take
 
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
-    cleaned, report = clean_take(read_take(take, take_rate, labels, units), settings, head_frame=head_frame)
+    cleaned, report = clean_take(read_take(take, reading), settings, head_frame=head_frame)
     path = save_take(cleaned, output)
     click.echo(f"wrote {path}: {report.summary()}")
 
@@ -83,7 +84,7 @@ def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float
 @take_options
 def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | None, neutral_take: str | None,
                   range_window: str | None, percentiles: str, performer: str, no_spikes: bool, max_gap: float,
-                  cutoff: float, take_rate: float | None, labels: str | None, units: str | None) -> None:
+                  cutoff: float, reading: TakeReading) -> None:
     """Make a performer profile (neutral pose and range of motion) from a take.
 
     The profile keeps every marker coordinate's rest value and range in the head frame, the
@@ -101,10 +102,10 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
                                  param_hint="--percentiles")
     windows = parse_window(neutral, words=_WORDS), parse_span(range_window, "--range")
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
-    loaded = read_take(take, take_rate, labels, units)
+    loaded = read_take(take, reading)
     chosen, markerset = choose_mapping(loaded, mapping)
     ranged = prepare(loaded, markerset, settings)
-    rest = prepare(read_take(neutral_take, take_rate, labels, units), markerset, settings) if neutral_take else ranged
+    rest = prepare(read_take(neutral_take, reading), markerset, settings) if neutral_take else ranged
     profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
     path = save_profile(profile, output)
     moving = sum(1 for r in profile.sources.values() if r.high - r.low >= 0.5)
@@ -117,14 +118,14 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
                    "will not move", err=True)
 
 
-def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, take_options_: tuple):
+def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, reading: TakeReading):
     from mapping import calibrate, choose_mapping, load_profile, prepare
     if profile_path and calibration:
         raise click.BadParameter("give --profile or --calibrate, not both", param_hint="--calibrate")
     if profile_path:
         return load_profile(profile_path)
     if calibration:
-        source = read_take(calibration, *take_options_)
+        source = read_take(calibration, reading)
         chosen, markerset = choose_mapping(source, mapping)
         return calibrate(chosen, prepare(source, markerset))
     return None
@@ -144,16 +145,16 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
 @take_options
 def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
             neutral: str | None, face: str | None, mirror: bool, no_spikes: bool, max_gap: float, cutoff: float,
-            take_rate: float | None, labels: str | None, units: str | None) -> None:
+            reading: TakeReading) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
     from mapping import CleanSettings
     from toon import load_face, save_track
     from toonface.pipeline import map_take
 
-    options, window = (take_rate, labels, units), parse_window(neutral, words=_WORDS)
+    window = parse_window(neutral, words=_WORDS)
     settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
-    profile = _profile(profile_path, calibration, mapping, options)
-    track = map_take(read_take(take, *options), window, load_face(face) if face else None, mirror, mapping, profile,
+    profile = _profile(profile_path, calibration, mapping, reading)
+    track = map_take(read_take(take, reading), window, load_face(face) if face else None, mirror, mapping, profile,
                      settings)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
                f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)")
@@ -176,15 +177,15 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             take_rate: float | None, labels: str | None, units: str | None) -> None:
+             reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go."""
     from toon import load_face
     from toonface.pipeline import map_take, render
 
-    options, window, dims = (take_rate, labels, units), parse_window(neutral, words=_WORDS), parse_size(size)
+    window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
-    profile = _profile(profile_path, calibration, mapping, options)
-    track = map_take(read_take(take, *options), window, face_obj, mirror, mapping, profile)
+    profile = _profile(profile_path, calibration, mapping, reading)
+    track = map_take(read_take(take, reading), window, face_obj, mirror, mapping, profile)
     frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import sys
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import click
@@ -74,22 +76,44 @@ def parse_span(value: str | None, option: str, words: tuple[str, ...] = ()) -> t
     return start, end
 
 
+@dataclass(frozen=True)
+class TakeReading:
+    """How to read a take: what a CSV table may not say about itself (``rate``, ``labels``,
+    ``units``), and whether a C3D file that ends early may be read as far as it goes."""
+
+    rate: float | None = None
+    labels: str | None = None  # comma-separated
+    units: str | None = None
+    allow_truncated: bool = False
+
+
 def take_options(fn: Callable) -> Callable:
-    """--rate, --labels and --units: what a CSV table may not say about itself."""
-    fn = click.option("--units", default=None, metavar="mm|cm|m|in|N",
-                      help="CSV only: the table's units, or millimetres per unit [default: mm].")(fn)
-    fn = click.option("--labels", default=None, metavar="A,B,...",
-                      help="CSV only: marker names of a table without a header row.")(fn)
+    """--rate, --labels, --units and --allow-truncated, handed to the command as one
+    :class:`TakeReading` argument named ``reading``."""
+
+    @functools.wraps(fn)
+    def command(*args, take_rate: float | None, labels: str | None, units: str | None, allow_truncated: bool,
+                **kwargs):
+        return fn(*args, reading=TakeReading(take_rate, labels, units, allow_truncated), **kwargs)
+
+    command = click.option("--allow-truncated", is_flag=True,
+                           help="C3D: read a file that ends before the last frame its header declares, "
+                                "with a warning, instead of refusing it.")(command)
+    command = click.option("--units", default=None, metavar="mm|cm|m|in|N",
+                           help="CSV only: the table's units, or millimetres per unit [default: mm].")(command)
+    command = click.option("--labels", default=None, metavar="A,B,...",
+                           help="CSV only: marker names of a table without a header row.")(command)
     return click.option("--rate", "take_rate", default=None, type=float, metavar="HZ",
-                        help="CSV only: frame rate of a table without a time column.")(fn)
+                        help="CSV only: frame rate of a table without a time column.")(command)
 
 
-def read_take(path: str, take_rate: float | None, labels: str | None, units: str | None) -> Take:
-    """Load a take with the --rate/--labels/--units options."""
+def read_take(path: str, reading: TakeReading = TakeReading()) -> Take:
+    """Load a take as the --rate/--labels/--units/--allow-truncated options say."""
     from capture import load_take
 
-    names = [x.strip() for x in labels.split(",") if x.strip()] if labels else None
-    return load_take(path, rate=take_rate, labels=names, units=units)
+    names = [x.strip() for x in reading.labels.split(",") if x.strip()] if reading.labels else None
+    return load_take(path, rate=reading.rate, labels=names, units=reading.units,
+                     allow_truncated=reading.allow_truncated)
 
 
 FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",

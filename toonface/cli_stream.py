@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from toonface.cli_options import FACE, SIZE, parse_size, read_take, take_options
+from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, read_take, take_options
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
@@ -55,7 +55,7 @@ def _key(path: str | None) -> bytes | None:
 @take_options
 def send(source: str, target: str, mapping: str | None, profile_path: str | None, seconds: float | None, repeat: bool,
          frames_per_packet: int, keyframe_seconds: float, colour: str, key_file: str | None, record: str | None,
-         stats: bool, take_rate: float | None, labels: str | None, units: str | None) -> None:
+         stats: bool, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), or `synthetic` (the synthetic performer).
 
@@ -73,7 +73,7 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     elif Path(source).suffix.lower() in VIDEO_SUFFIXES:
         src = video_source(source, colour)
     else:
-        src = take_source(read_take(source, take_rate, labels, units), repeat)
+        src = take_source(read_take(source, reading), repeat)
     mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None)
     writer = StreamWriter(src.rate, frames_per_packet, keyframe_seconds, key=_key(key_file))
     sent: list[np.ndarray] = []

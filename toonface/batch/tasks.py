@@ -10,6 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from capture import load_take
+from capture.takefile import is_table
 from common import InputError
 from mapping import load_profile
 from player.offline import frame_count
@@ -17,14 +18,14 @@ from player.parts import join_parts, render_part
 from player.score import save_score
 from player.sheet import save_png, track_sheet
 from toon import FaceRig, MotorTrack, load_face, save_track
-from toonface.batch.job import Job
+from toonface.batch.job import Job, TakeOptions
 from toonface.pipeline import map_take
 
 
 def map_pair(take: Path, face: str, job: Job) -> MotorTrack:
     """Load, clean and map ``take`` for ``face`` as ``job`` says; a bad take or face raises
     :class:`common.InputError` naming the file."""
-    options = job.take_options
+    options = job.take_options if is_table(take) else TakeOptions()  # [csv] is for CSV takes only
     loaded = load_take(take, rate=options.rate, labels=list(options.labels) if options.labels else None,
                        units=options.units)
     profile = load_profile(job.profile) if job.profile else None
