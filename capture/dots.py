@@ -17,6 +17,7 @@ threshold). Identities:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
@@ -28,6 +29,8 @@ from capture.colours import HUES
 from capture.markerset import MarkerSet
 
 _FAR = 1e9
+#: Share of a layout's markers that must be found on the first frame to identify the dots.
+MIN_IDENTIFIED = 0.75
 
 
 @dataclass(frozen=True)
@@ -160,8 +163,13 @@ class DotTracker:
             if np.allclose(new[0], scale) and np.allclose(new[2], shift, atol=1e-6):
                 break
             scale, rot, shift = new
-        if len(match) < 3:
-            raise ValueError("the dots do not fit the marker set's neutral layout")
+        # Stray blobs of the right colour can always be fitted by a few markers; the layout is
+        # there only when most of its markers find a dot where it puts them.
+        needed = max(3, math.ceil(MIN_IDENTIFIED * len(self.layout)))
+        if len(match) < needed:
+            raise ValueError(f"the frame does not show the marker set's layout: only {len(match)} of its "
+                             f"{len(self.layout)} markers have a dot where the layout puts them (need {needed}), "
+                             f"among {len(dots)} dots found")
         self.mm_per_pixel, self.origin = 1.0 / scale, shift
         self._fit = (scale, rot, shift)
         out = np.full((len(self.layout), 2), np.nan)

@@ -50,7 +50,8 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
             pixels, tracker = track_dots(frames(info), layout, DotStyle.named(colour), start_frame,
                                          progress=progress)
         except ValueError as exc:
-            raise InputError(f"no {colour} dot markers found on frame {start_frame} ({exc})", path) from None
+            raise InputError(f"cannot identify the {ms.name} dots on frame {start_frame}: {exc}; give --init a "
+                             "frame where the face is neutral and every dot shows", path) from None
         if not np.isfinite(pixels).any():
             raise InputError(f"no {colour} dot markers found in {len(pixels)} frames", path)
         scale, origin = tracker.mm_per_pixel, tracker.origin

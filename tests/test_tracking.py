@@ -8,7 +8,7 @@ import pytest
 
 from capture import load_markerset, load_take, synthesize
 from capture.aruco import detect, make_detector, track_aruco
-from capture.dots import DotStyle, DotTracker, find_dots, fit_similarity, track_dots
+from capture.dots import DotStyle, DotTracker, find_dots, fit_similarity, sticker_labels, track_dots
 from capture.performance import default_performance
 from capture.track import track_video
 from capture.videogen import VideoFaults, dot_video, score_tracking
@@ -158,3 +158,20 @@ def test_faults_switch_off():
     assert np.array_equal(first, second)  # deterministic
     labels, pixels = track_aruco([first])
     assert labels == () and pixels.shape == (1, 0, 2)
+
+
+def test_random_dots_are_not_taken_for_the_layout():
+    """53 blue blobs scattered over a frame used to 'identify' 29 of 30 markers."""
+    ms = load_markerset("toon32")
+    layout = np.array([ms.neutral_of(x)[:2] for x in sticker_labels(ms.labels)])
+    blobs = np.random.default_rng(1).uniform(0, 640, size=(53, 2))
+    with pytest.raises(ValueError, match=r"only \d+ of its 30 markers have a dot where the layout puts them"):
+        DotTracker(layout).start(blobs)
+
+
+def test_dots_on_a_video_without_them_fail_clearly(realdata, tmp_path, capsys):
+    video = realdata / "video" / "aruco" / "video.avi"
+    assert main(["track", str(video), "-o", str(tmp_path / "t.npz"), "--markers", "dots"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot identify the toon32 dots on frame 0" in err and err.count("\n") == 1
+    assert not (tmp_path / "t.npz").exists()
