@@ -20,6 +20,7 @@ from capture.csvfile import read_csv, write_csv
 from capture.take import Take
 from capture.trcfile import read_trc, write_trc
 from common import InputError, atomic_path
+from common.npz import check_npz
 
 NPZ_FORMAT = "toonface.take/1"
 READABLE = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
@@ -35,6 +36,7 @@ def _write_npz(take: Take, path: Path) -> None:
 
 
 def _read_npz(path: Path) -> Take:
+    check_npz(path, "toonface take")
     try:
         # np.load leaks the handle of a file it opened itself when the zip is corrupt: open it here.
         with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:

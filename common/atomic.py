@@ -9,6 +9,8 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
+from common.errors import InputError
+
 
 @contextlib.contextmanager
 def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
@@ -18,7 +20,7 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
     still work). On an exception the temporary file is removed and ``target`` is untouched.
     """
     target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    _check_folder(target)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".partial{target.suffix}",
                                dir=target.parent)
     os.close(fd)
@@ -29,6 +31,13 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
         os.replace(tmp_path, target)
     finally:
         tmp_path.unlink(missing_ok=True)
+
+
+def _check_folder(target: Path) -> None:
+    """Refuse an output whose folder does not exist, as ``cp`` does (a typo must not make folders)."""
+    folder = target.parent
+    if not folder.is_dir():
+        raise InputError(f"cannot write: no such folder {folder}", target)
 
 
 def _umask() -> int:
@@ -49,7 +58,7 @@ def atomic_dir(target: str | os.PathLike) -> Iterator[Path]:
     An existing ``target`` directory is replaced whole, so a re-run never mixes old and new files.
     """
     target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    _check_folder(target)
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent))
     try:
         yield tmp

@@ -85,3 +85,21 @@ def write_toml(doc: dict, path: str | os.PathLike) -> Path:
     with atomic_path(path) as tmp:
         tmp.write_bytes(tomli_w.dumps(doc).encode())
     return Path(path)
+
+
+def write_document(doc: dict, path: str | os.PathLike, what: str) -> Path:
+    """Write ``doc`` as TOML or JSON, as the suffix says (both read back by :func:`read_document`).
+
+    Raises
+    ------
+    InputError
+        For another suffix, naming the two formats.
+    """
+    suffix = Path(path).suffix.lower()
+    if suffix == ".toml":
+        return write_toml(doc, path)
+    if suffix != ".json":
+        raise InputError(f"cannot write a {what} as {suffix or '(no suffix)'!r} (formats: .toml, .json)", path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+    return Path(path)

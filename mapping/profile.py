@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import Failure, InputError, read_versioned, write_toml
+from common import Failure, InputError, read_versioned, write_document
 from mapping.sources import Source, head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation
 
@@ -149,11 +149,11 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
 
 
 def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
-    """Write ``profile`` as TOML (atomically)."""
+    """Write ``profile`` as TOML or JSON, as the suffix says (atomically)."""
     doc = {"format": FORMAT, "markerset": profile.markerset, "performer": profile.performer,
            "notes": dict(profile.notes), "rest_rotation": [[float(v) for v in row] for row in profile.rest_rotation],
            "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()}}
-    return write_toml(doc, path)
+    return write_document(doc, path, "profile")
 
 
 def load_profile(path: str | os.PathLike) -> Profile:

@@ -74,6 +74,8 @@ class Commands:
         return self._moves(words)
 
     def _moves(self, words: list[str]) -> str:
+        if words[0].upper() not in MOTOR_CODES and not (len(words) % 3 == 0 and _is_number(words[1])):
+            raise CommandError(f"{words[0]!r} is not a command; {HELP}")  # such as quit: not a move either
         if len(words) % 3:
             raise CommandError(f"expected CODE TARGET MS triples, got {len(words)} words")
         moves = []
@@ -106,6 +108,14 @@ class Commands:
         for offset, moves in motion.steps:
             self.animator.schedule(now + offset, moves)
         return f"playing {name}"
+
+
+def _is_number(word: str) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
 
 
 def _number(word: str, what: str, low: float, high: float) -> float:

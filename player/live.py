@@ -12,9 +12,11 @@ import socketserver
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 import numpy as np
 
+from common import InputError
 from player.animator import DEFAULT_LOOP_TIME, Animator, Loop
 from player.commands import Commands
 from player.gl import create_context
@@ -23,6 +25,8 @@ from player.renderer import Renderer
 from player.server import CommandServer, CommandUDPServer, local_port, start
 from player.sinks import FrameSink
 from toon import Face, FaceRig, MotorTrack, load_expressions
+
+_Server = TypeVar("_Server", bound="socketserver.TCPServer | socketserver.UDPServer")
 
 
 @dataclass
@@ -84,13 +88,13 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     ctx = create_context()
     try:
         if settings.tcp:
-            servers.append(CommandServer(settings.tcp, commands.handle))
+            servers.append(_listen("tcp", settings.tcp, lambda a: CommandServer(a, commands.handle)))
             ready["tcp"] = f"{settings.tcp[0]}:{local_port(servers[-1])}"
         if settings.udp:
-            servers.append(CommandUDPServer(settings.udp, commands.handle))
+            servers.append(_listen("udp", settings.udp, lambda a: CommandUDPServer(a, commands.handle)))
             ready["udp"] = f"{settings.udp[0]}:{local_port(servers[-1])}"
         if board is not None and settings.preview is not None:
-            servers.append(PreviewServer(settings.preview, board))
+            servers.append(_listen("preview", settings.preview, lambda a: PreviewServer(a, board)))
             ready["preview"] = f"http://{settings.preview[0]}:{local_port(servers[-1])}/"
         for server in servers:
             start(server)
@@ -130,6 +134,21 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         for sink in settings.sinks:
             sink.close()
         ctx.release()
+
+
+class ListenError(InputError):
+    """A socket of the live player could not be opened; ``kind`` is ``tcp``, ``udp`` or ``preview``."""
+
+    def __init__(self, kind: str, address: tuple[str, int], reason: str) -> None:
+        super().__init__(f"cannot listen on {address[0]}:{address[1]}: {reason}")
+        self.kind, self.address = kind, address
+
+
+def _listen(kind: str, address: tuple[str, int], make: Callable[[tuple[str, int]], _Server]) -> _Server:
+    try:
+        return make(address)
+    except OSError as exc:
+        raise ListenError(kind, address, exc.strerror or str(exc)) from None
 
 
 def _track_player(track: MotorTrack | None, repeat: bool) -> Callable[[float], np.ndarray] | None:

@@ -113,6 +113,18 @@ class StreamReceiver:
                 continue
             self.feed(datagram, sender)
 
+    def diagnosis(self) -> str | None:
+        """A line for the user when nothing could be shown though packets came (None otherwise)."""
+        with self._lock:
+            tagged = self.reader.dropped.get("tag", 0)
+            if self.reader.packets or not tagged:
+                return None
+        if self.key is None:
+            return (f"every packet ({tagged}) carried an authentication tag and this end has no key: give the "
+                    "sender's --key-file (or TOONFACE_STREAM_KEY)")
+        return (f"every packet ({tagged}) failed authentication: this end's key is not the sender's (check "
+                "--key-file or TOONFACE_STREAM_KEY at both ends), or the sender sends without one")
+
     def summary(self) -> dict:
         """Counters for ``--stats``: packets, bytes, lost, dropped by reason, frames by state,
         delay and the error of concealment where the truth came too late."""

@@ -15,7 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from player.sheet import save_png
+from player.sheet import save_image
 from toon import MOTOR_CODES, MotorTrack, motor_index
 
 STAVE_PX = 48
@@ -79,7 +79,7 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
 def save_score(track: MotorTrack, path: str | os.PathLike, other: MotorTrack | None = None,
                codes: tuple[str, ...] | None = None, width: int = 1200) -> Path:
     """Write :func:`score_image` as PNG (atomically)."""
-    return save_png(score_image(track, other, codes, width), path)
+    return save_image(score_image(track, other, codes, width), path)
 
 
 def score_text(track: MotorTrack, codes: tuple[str, ...] | None = None, columns: int = 60) -> list[str]:

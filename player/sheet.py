@@ -10,7 +10,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from common import atomic_path
+from common import InputError, atomic_path
 from player.gl import create_context
 from player.renderer import Renderer
 from toon import Expression, FaceRig, MotorTrack
@@ -88,12 +88,31 @@ def _label(sheet: np.ndarray, text: str, left: int, top: int, width: int) -> Non
     cv2.putText(sheet, text, org, font, scale, (20, 20, 20), thickness, cv2.LINE_AA)
 
 
-def save_png(image: np.ndarray, path: str | os.PathLike) -> Path:
-    """Write an RGB image as PNG, atomically."""
+def check_image_suffix(path: str | os.PathLike) -> None:
+    """Refuse a path whose suffix names no picture format :func:`save_image` writes."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in IMAGE_SUFFIXES:
+        raise InputError(f"cannot write a picture as {suffix or '(no suffix)'!r} (formats: "
+                         f"{', '.join(IMAGE_SUFFIXES)})", path)
+
+
+#: Picture formats :func:`save_image` writes, by suffix (OpenCV's encoders).
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".webp", ".bmp", ".tif", ".tiff")
+
+
+def save_image(image: np.ndarray, path: str | os.PathLike) -> Path:
+    """Write an RGB image ``(H, W, 3)`` in the format its suffix names, atomically.
+
+    Raises
+    ------
+    InputError
+        For a suffix that names no picture format (the known ones are listed).
+    """
     path = Path(path)
-    ok, data = cv2.imencode(".png", np.ascontiguousarray(image[:, :, ::-1]))
+    check_image_suffix(path)
+    ok, data = cv2.imencode(path.suffix.lower(), np.ascontiguousarray(image[:, :, ::-1]))
     if not ok:
-        raise OSError(f"{path}: could not encode PNG")
+        raise OSError(f"{path}: could not encode the picture")
     with atomic_path(path) as tmp:
         tmp.write_bytes(data.tobytes())
     return path

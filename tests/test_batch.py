@@ -32,6 +32,7 @@ SIZE = 64
 
 def write_job(root: Path, takes: dict[str, float], faces: list[str], extra: str = "") -> Path:
     """Synthetic takes (name -> seconds, 30 Hz, seeded) under root/takes and a job file naming them."""
+    (root / "takes").mkdir(exist_ok=True)
     for seed, (name, seconds) in enumerate(takes.items()):
         save_take(synthesize(seconds=seconds, rate=30.0, seed=seed).take, root / "takes" / f"{name}.npz")
     face_list = ", ".join(f'"{f}"' for f in faces)
@@ -91,12 +92,14 @@ def test_a_job_without_takes_is_an_error_and_an_empty_glob_is_reported(tmp_path)
 def test_outputs_are_never_taken_for_takes(tmp_path):
     path = write_job(tmp_path, {"a": 1.0}, ["classic"])
     path.write_text(path.read_text().replace('takes = ["takes/*.npz", "takes/*.c3d"]', 'takes = ["**/*.npz"]'))
+    (tmp_path / "out" / "a").mkdir(parents=True)
     save_take(synthesize(seconds=1.0, rate=30.0).take, tmp_path / "out" / "a" / "classic.npz")
     assert [t.relative_to(tmp_path).as_posix() for t in load_job(path).takes] == ["takes/a.npz"]
 
 
 def test_plan_names_outputs_and_keys_follow_their_inputs(tmp_path):
     path = write_job(tmp_path, {"a": 1.0, "b": 1.0}, ["classic", "faces/mine.json"])
+    (tmp_path / "faces").mkdir()
     save_face(load_face("round"), tmp_path / "faces" / "mine.json")
     pairs = plan(load_job(path))
     assert [p.name for p in pairs] == ["a/classic", "a/mine", "b/classic", "b/mine"]

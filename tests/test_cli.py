@@ -3,6 +3,7 @@
 import importlib
 import importlib.metadata
 import json
+import socket
 import subprocess
 import sys
 
@@ -206,7 +207,7 @@ def test_anim_edits_files_and_renders_a_knot_point_animation(tmp_path, capsys):
     assert main(["render", a, "-o", str(tmp_path / "frames"), "--size", "32", "--fps", "5"]) == 0
     assert len(list((tmp_path / "frames").glob("*.png"))) == 10
     assert main(["anim", "paste", a, clip, "-o", b, "--at", "0", "--onto", "BRL=XX"]) == 2
-    assert "unknown motors XX" in capsys.readouterr().err
+    assert "Invalid value for --onto: unknown motor code(s) XX" in capsys.readouterr().err  # it said --motors
 
 
 def test_help_imports_no_heavy_library():
@@ -218,3 +219,56 @@ def test_help_imports_no_heavy_library():
             f"sys.stderr.write('loaded: ' + ' '.join(m for m in {heavy!r} if m in sys.modules))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True)
     assert result.stderr.strip() == "loaded:"
+
+
+@pytest.fixture(scope="module")
+def small_take(tmp_path_factory):
+    """A 2 s synthetic take at 30 Hz and its mapped motors."""
+    root = tmp_path_factory.mktemp("small")
+    save_take(synthesize(seconds=2.0, rate=30.0).take, root / "t.npz")
+    assert main(["map", str(root / "t.npz"), "-o", str(root / "m.csv")]) == 0
+    return root
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["score", "{m}", "-o", "{out}/s.png", "--motors", "XX"],
+     "Invalid value for --motors: unknown motor code(s) XX"),  # was: internal error: KeyError
+    (["score", "{m}", "-o", "{out}/s.pdf"], "cannot write a picture as '.pdf' (formats: .png, .jpg"),
+    (["face", "classic", "--sheet", "{out}/s.gif"], "cannot write a picture as '.gif'"),
+    (["calibrate", "{t}", "-o", "{out}/p.yaml"], "cannot write a profile as '.yaml' (formats: .toml, .json)"),
+    (["map", "{t}", "-o", "{out}/no/such/dir/m.csv"], "cannot write: no such folder"),  # it made the folders
+    (["render", "{m}", "-o", "{out}/v.mp4", "--size", "100x"], "Invalid value for --size: expected N or WxH"),
+    (["clean", "{t}", "-o", "{out}/c.npz", "--cutoff", "100"],
+     "Invalid value for --cutoff: 100 Hz is not below half the take's 30 Hz frame rate"),
+    (["anim", "scale", "{out}/none.toml", "-o", "{out}/x.toml", "--time", "x"], "(see 'toonface anim scale --help')"),
+])
+def test_rough_edges_are_refused_in_one_line(small_take, tmp_path, capsys, argv, fragment):
+    args = [a.format(t=small_take / "t.npz", m=small_take / "m.csv", out=tmp_path) for a in argv]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("toonface: error: ") and fragment in err, err
+    assert not [p for p in tmp_path.rglob("*") if p.is_file()]  # nothing written, no folder made
+
+
+def test_outputs_are_written_in_the_format_their_name_says(small_take, tmp_path, capsys):
+    assert main(["score", str(small_take / "m.csv"), "-o", str(tmp_path / "s.txt"), "--motors", "mb,HH"]) == 0
+    lines = (tmp_path / "s.txt").read_text(encoding="utf-8").splitlines()
+    assert [line.split()[0] for line in lines] == ["MB", "HH"]
+    assert main(["face", "classic", "--sheet", str(tmp_path / "s.jpg"), "--size", "64"]) == 0
+    assert (tmp_path / "s.jpg").read_bytes()[:3] == b"\xff\xd8\xff"  # JPEG, not PNG
+    assert main(["calibrate", str(small_take / "t.npz"), "-o", str(tmp_path / "p.json")]) == 0
+    doc = json.loads((tmp_path / "p.json").read_text())
+    assert doc["format"] == "toonface.profile/1" and doc["markerset"] == "toon32"
+    assert main(["map", str(small_take / "t.npz"), "-o", str(tmp_path / "m.csv"), "--profile",
+                 str(tmp_path / "p.json")]) == 0
+    assert main(["clean", str(small_take / "t.npz"), "-o", str(tmp_path / "c.npz")]) == 0  # default cutoff: fine
+
+
+def test_a_busy_address_names_the_option_and_address(capsys):
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        assert main(["play", "--listen", f"127.0.0.1:{port}", "--seconds", "0.1", "--size", "32"]) == 2
+    err = capsys.readouterr().err
+    assert f"Invalid value for --listen: cannot listen on 127.0.0.1:{port}: Address already in use" in err

@@ -42,6 +42,8 @@ def test_moves_frames_and_state(commands):
     ("", "empty line"),
     ("XYZ 1 100", "unknown motor 'XYZ'"),
     ("ELU 1", "CODE TARGET MS triples"),
+    ("quit", "'quit' is not a command; commands: CODE TARGET MS [...] | frame"),  # it said "got 1 words"
+    ("stop now", "'stop' is not a command"),
     ("ELU 1.5 100", "target: must be 0..1"),
     ("ELU 1 -5", "milliseconds: must be 0..600000"),
     ("ELU nan 100", "target: must be 0..1"),

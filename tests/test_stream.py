@@ -247,3 +247,21 @@ def test_concealment_and_recovery_never_leave_the_motor_range():
                                    lose=set(range(10, 180, 7)) | {40, 41, 42, 90, 91})
     assert "recovering" in states and "concealed" in states
     assert shown.min() >= 0.0 and shown.max() <= 1.0
+
+
+@pytest.mark.parametrize("sender_key, receiver_key, fragment", [
+    (b"0123456789abcdef", b"fedcba9876543210", "failed authentication: this end's key is not the sender's"),
+    (b"0123456789abcdef", None, "carried an authentication tag and this end has no key"),
+    (None, b"fedcba9876543210", "failed authentication"),
+])
+def test_a_receiver_says_why_nothing_was_shown(sender_key, receiver_key, fragment):
+    """With the wrong key, receive printed only JSON counters."""
+    _, datagrams = packets(smooth_motion(10), key=sender_key)
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), receiver_key) as receiver:
+        for datagram in datagrams:
+            receiver.reader.read(datagram, 0.0)
+        assert fragment in receiver.diagnosis()
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), sender_key) as right:
+        for datagram in datagrams:
+            right.reader.read(datagram, 0.0)
+        assert right.diagnosis() is None

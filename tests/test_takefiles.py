@@ -209,7 +209,8 @@ def test_headerless_tables_need_labels_and_rate(tmp_path):
               "Frame#\tTime\tA\n\t\tX1\tY1\tZ1\n1\t0\t1\t2\t3\n", 'unknown Units "furlongs"'),
     ("a.c3d", "not a c3d at all, just some text that is long enough" * 20, "not a C3D file"),
     ("a.c3d", "\x02P", "not a C3D file"),
-    ("a.npz", "PK not really a zip", "not a readable .npz take"),
+    ("a.npz", "PK not really a zip", "not a .npz zip archive"),
+    ("t.npz", "time,BRL\n0,0\n", "a text file (it starts 'time,BRL'), not a .npz zip archive"),  # not pickle advice
 ])
 def test_bad_files_give_one_line_naming_file_and_cause(tmp_path, capsys, name, content, fragment):
     path = tmp_path / name

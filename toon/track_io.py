@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from common import InputError, atomic_path
+from common.npz import check_npz
 from toon.motors import MOTOR_CODES, N_MOTORS
 from toon.track import MotorTrack
 
@@ -48,6 +49,7 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
         raise InputError("no such file", path)
     if suffix == ".csv":
         return _from_csv(path)
+    check_npz(path, "toonface motor track")
     try:
         with np.load(path, allow_pickle=False) as z:
             codes = tuple(str(c) for c in z["codes"])

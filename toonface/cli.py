@@ -222,7 +222,7 @@ def faces() -> None:
 @cli.command()
 @click.argument("name")
 @click.option("--sheet", "sheet_path", type=click.Path(dir_okay=False),
-              help="Write a contact sheet of every expression on the face, labelled (PNG).")
+              help="Write a contact sheet of every expression on the face, labelled (.png .jpg .webp ...).")
 @click.option("--svg", "svg_path", type=click.Path(dir_okay=False),
               help="Write one expression of the face as SVG (no OpenGL needed).")
 @click.option("--expression", default="neutral", show_default=True, help="The expression --svg draws.")
@@ -236,10 +236,12 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     Without options, validates the face and prints a summary. With --sheet, renders every
     expression of the repertoire (neutral, the six basic ones, blink, wink) into one labelled PNG.
     """
-    from player.sheet import expression_sheet, save_png
+    from player.sheet import check_image_suffix, expression_sheet, save_image
     from toon import FaceRig, load_expressions, load_face, save_svg
 
 
+    if sheet_path:
+        check_image_suffix(sheet_path)
     loaded = load_face(name)
     rig = FaceRig(loaded)  # binds skeletons and features: reports a bad face even without output
     expressions = load_expressions(repertoire)
@@ -248,7 +250,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         raise click.BadParameter(f"unknown expression {expression!r} (one of {', '.join(expressions)})",
                                  param_hint="--expression")
     if sheet_path:
-        save_png(expression_sheet(rig, expressions, cell=cell), sheet_path)
+        save_image(expression_sheet(rig, expressions, cell=cell), sheet_path)
         click.echo(f"wrote {sheet_path} ({len(expressions)} expressions on {loaded.name})")
     if svg_path:
         save_svg(rig.geometry(expressions[expression].pose(loaded.neutral())), svg_path, cell)
@@ -272,7 +274,7 @@ def main(argv: list[str] | None = None) -> int:
     except click.exceptions.Exit as exc:
         return exc.exit_code
     except click.UsageError as exc:
-        where = f" (see 'toonface {exc.ctx.info_name} --help')" if exc.ctx and exc.ctx.parent else ""
+        where = f" (see '{exc.ctx.command_path} --help')" if exc.ctx and exc.ctx.parent else ""
         click.echo(f"toonface: error: {exc.format_message()}{where}".replace("\n", " "), err=True)
         return 2
     except click.ClickException as exc:

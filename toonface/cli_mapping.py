@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+import functools
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import click
+from click.core import ParameterSource
 
 from toonface.cli_options import (
     FACE,
     MIRROR,
     SIZE,
     TakeReading,
+    parse_codes,
     parse_size,
     parse_span,
     parse_window,
@@ -16,6 +22,9 @@ from toonface.cli_options import (
     read_take,
     take_options,
 )
+
+if TYPE_CHECKING:
+    from mapping import CleanSettings
 
 _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
                         help="A mapping file or built-in preset (toon32, animface41, gluedots16) "
@@ -31,14 +40,42 @@ _CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click
                                "all of it the range (instead of --profile).")
 
 
+@dataclass(frozen=True)
+class Cleaning:
+    """The cleaning options of a command; :meth:`settings` checks them against a take."""
+
+    spikes: bool
+    max_gap_seconds: float
+    cutoff_hz: float
+    cutoff_given: bool  # on the command line (the default is capped below a slow take's limit instead)
+
+    def settings(self, rate: float) -> CleanSettings:
+        """The settings for a take of ``rate`` Hz; a --cutoff it cannot hold is refused."""
+        from mapping import CleanSettings
+
+        if self.cutoff_given and self.cutoff_hz >= rate / 2:
+            raise click.BadParameter(f"{self.cutoff_hz:g} Hz is not below half the take's {rate:g} Hz frame rate "
+                                     f"(the fastest motion a {rate:g} Hz take holds is {rate / 2:g} Hz)",
+                                     param_hint="--cutoff")
+        return CleanSettings(self.spikes, self.max_gap_seconds, self.cutoff_hz)
+
+
 def _clean_settings(fn):
+    """--cutoff, --max-gap and --no-spikes, handed to the command as one :class:`Cleaning` named ``cleaning``."""
     from mapping import CleanSettings
+
+    @functools.wraps(fn)
+    def command(*args, no_spikes: bool, max_gap: float, cutoff: float, **kwargs):
+        given = click.get_current_context().get_parameter_source("cutoff") == ParameterSource.COMMANDLINE
+        return fn(*args, cleaning=Cleaning(not no_spikes, max_gap, cutoff, given), **kwargs)
+
     default = CleanSettings()
-    fn = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=click.FloatRange(min=0.0),
-                      help="Zero-phase low-pass, Hz (0: no smoothing).")(fn)
-    fn = click.option("--max-gap", default=default.max_gap_seconds, show_default=True, type=click.FloatRange(min=0.0),
-                      help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(fn)
-    return click.option("--no-spikes", is_flag=True, help="Keep spikes (no robust spike rejection).")(fn)
+    command = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=click.FloatRange(min=0.0),
+                           help="Zero-phase low-pass, Hz (0: no smoothing); below half the take's rate.")(command)
+    command = click.option("--max-gap", default=default.max_gap_seconds, show_default=True,
+                           type=click.FloatRange(min=0.0),
+                           help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(command)
+    return click.option("--no-spikes", is_flag=True, help="Keep spikes (no robust spike rejection).")(command)
 
 
 @click.command()
@@ -50,7 +87,7 @@ def _clean_settings(fn):
               help="Write positions with head motion removed (the marker set's head frame); the head's yaw and "
                    "pitch go into the take's metadata (kept by .npz).")
 @take_options
-def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float, head_frame: bool,
+def clean(take: str, output: str, head_frame: bool, cleaning: Cleaning,
           reading: TakeReading) -> None:
     """Clean a take offline: remove head motion, reject spikes, fill gaps, smooth without lag.
 
@@ -60,10 +97,10 @@ def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float
     --max-gap stays unseen.
     """
     from capture import save_take
-    from mapping import CleanSettings, clean_take
+    from mapping import clean_take
 
-    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
-    cleaned, report = clean_take(read_take(take, reading), settings, head_frame=head_frame)
+    loaded = read_take(take, reading)
+    cleaned, report = clean_take(loaded, cleaning.settings(loaded.rate), head_frame=head_frame)
     path = save_take(cleaned, output)
     click.echo(f"wrote {path}: {report.summary()}")
 
@@ -83,15 +120,15 @@ def clean(take: str, output: str, no_spikes: bool, max_gap: float, cutoff: float
 @_clean_settings
 @take_options
 def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | None, neutral_take: str | None,
-                  range_window: str | None, percentiles: str, performer: str, no_spikes: bool, max_gap: float,
-                  cutoff: float, reading: TakeReading) -> None:
+                  range_window: str | None, percentiles: str, performer: str, cleaning: Cleaning,
+                  reading: TakeReading) -> None:
     """Make a performer profile (neutral pose and range of motion) from a take.
 
     The profile keeps every marker coordinate's rest value and range in the head frame, the
     head's rest pose, and any derived source (distance, difference, angle) the mapping reads;
     it is reused with every mapping and face of the same marker set.
     """
-    from mapping import CleanSettings, calibrate, choose_mapping, prepare, save_profile
+    from mapping import calibrate, choose_mapping, prepare, save_profile
 
     try:
         low, high = (float(p) for p in percentiles.split(","))
@@ -101,8 +138,8 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
         raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
                                  param_hint="--percentiles")
     windows = parse_window(neutral, words=_WORDS), parse_span(range_window, "--range")
-    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     loaded = read_take(take, reading)
+    settings = cleaning.settings(loaded.rate)
     chosen, markerset = choose_mapping(loaded, mapping)
     ranged = prepare(loaded, markerset, settings)
     rest = prepare(read_take(neutral_take, reading), markerset, settings) if neutral_take else ranged
@@ -144,18 +181,17 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
 @_clean_settings
 @take_options
 def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
-            neutral: str | None, face: str | None, mirror: bool, no_spikes: bool, max_gap: float, cutoff: float,
+            neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning,
             reading: TakeReading) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
-    from mapping import CleanSettings
     from toon import load_face, save_track
     from toonface.pipeline import map_take
 
     window = parse_window(neutral, words=_WORDS)
-    settings = CleanSettings(spikes=not no_spikes, max_gap_seconds=max_gap, cutoff_hz=cutoff)
     profile = _profile(profile_path, calibration, mapping, reading)
-    track = map_take(read_take(take, reading), window, load_face(face) if face else None, mirror, mapping, profile,
-                     settings)
+    loaded = read_take(take, reading)
+    track = map_take(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
+                     cleaning.settings(loaded.rate))
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
                f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)")
     for note in track.meta.get("notes", []):
@@ -192,7 +228,8 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
 
 @click.command()
 @click.argument("motors", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="PNG to write.")
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
+              help="The staves as a picture (.png .jpg .webp .bmp .tif) or as text (.txt).")
 @click.option("--compare", default=None, type=click.Path(dir_okay=False),
               help="A second track drawn over the first in another colour (before/after a filter, truth/mapped).")
 @click.option("--motors", "codes", default=None, metavar="CODE,CODE,...", help="Staves to draw [default: all 21].")
@@ -205,17 +242,26 @@ def score(motors: str, output: str, compare: str | None, codes: str | None, widt
     --compare, the second track is drawn over the first (the first in dark blue, the second
     in orange) and each stave's RMS difference is printed at its right.
     """
+    from common import atomic_path
     from player.score import save_score, score_text
+    from player.sheet import check_image_suffix
     from toon import load_track
 
+    picked = parse_codes(codes)
+    as_text = output.lower().endswith(".txt")
+    if not as_text:
+        check_image_suffix(output)
     track = load_track(motors)
     other = load_track(compare) if compare else None
-    picked = tuple(c.strip() for c in codes.split(",")) if codes else None
-    path = save_score(track, output, other, picked, width)
+    if as_text:
+        with atomic_path(output) as tmp:
+            tmp.write_text("\n".join(score_text(track, picked)) + "\n", encoding="utf-8")
+    else:
+        save_score(track, output, other, picked, width)
     if text:
         for line in score_text(track, picked):
             click.echo(line)
-    click.echo(f"wrote {path} ({track.frames} frames, {len(picked) if picked else 21} staves)")
+    click.echo(f"wrote {output} ({track.frames} frames, {len(picked) if picked else 21} staves)")
 
 
 MAPPING_COMMANDS = (clean, calibrate_cmd, map_cmd, retarget, score)

@@ -37,8 +37,8 @@ def progress(desc: str) -> Callable[[int], Callable[[int], None]]:
 def frame_size(value: str) -> tuple[int, int]:
     """``N`` or ``WxH`` pixels as ``(width, height)``, each side 16..8192; a ValueError says what is wrong."""
     try:
-        w, _, h = value.lower().partition("x")
-        size = (int(w), int(h or w))
+        w, x, h = value.lower().partition("x")
+        size = (int(w), int(h if x else w))  # "100x" names no height: refused
     except ValueError:
         raise ValueError(f"expected N or WxH pixels, got {value!r}") from None
     if not (16 <= size[0] <= 8192 and 16 <= size[1] <= 8192):
@@ -46,12 +46,26 @@ def frame_size(value: str) -> tuple[int, int]:
     return size
 
 
-def parse_size(value: str) -> tuple[int, int]:
+def parse_size(value: str, option: str = "--size") -> tuple[int, int]:
     """``N`` or ``WxH`` pixels (see :func:`frame_size`), for an option."""
     try:
         return frame_size(value)
     except ValueError as exc:
-        raise click.BadParameter(str(exc)) from None
+        raise click.BadParameter(str(exc), param_hint=option) from None
+
+
+def parse_codes(value: str | None, option: str = "--motors") -> tuple[str, ...] | None:
+    """Motor codes from ``CODE,CODE,...`` (any case); None for no value. Unknown codes are refused."""
+    from toon import MOTOR_CODES
+
+    if not value:
+        return None
+    codes = tuple(c.strip().upper() for c in value.split(",") if c.strip())
+    unknown = [c for c in codes if c not in MOTOR_CODES]
+    if unknown or not codes:
+        raise click.BadParameter(f"unknown motor code(s) {', '.join(unknown) or repr(value)} (known: "
+                                 f"{' '.join(MOTOR_CODES)})", param_hint=option)
+    return codes
 
 
 def parse_window(value: str | None, option: str = "--neutral", words: tuple[str, ...] = ()

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from player.animator import DEFAULT_LOOP_TIME
-from toonface.cli_options import FACE, SIZE, parse_size
+from toonface.cli_options import FACE, SIZE, parse_codes, parse_size
 
 if TYPE_CHECKING:
     from toon.animation import Animation
@@ -62,7 +62,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     Try `nc 127.0.0.1 7707` in another terminal, and --preview 127.0.0.1:8080 in a browser.
     Stop with Ctrl-C; recorded output is kept.
     """
-    from player.live import LiveSettings, run_live
+    from player.live import ListenError, LiveSettings, run_live
     from player.sinks import open_sink
     from toon import load_face, load_track
 
@@ -82,22 +82,15 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
         say(f"playing {face_obj.name} at {1 / loop_time:g} loops a second (Ctrl-C stops)")
         (sys.stderr if output == "-" else sys.stdout).flush()
 
-    report = run_live(face_obj, settings, ready)
+    try:
+        report = run_live(face_obj, settings, ready)
+    except ListenError as exc:
+        raise click.BadParameter(str(exc), param_hint={"tcp": "--listen", "udp": "--udp", "preview": "--preview"}[
+            exc.kind]) from None
     say(f"stopped after {report.loops} loops; 95 % of loops started within "
         f"{report.lateness_p95_ms():.1f} ms of their time")
     if (dropped := report.summary(loop_time)) is not None:
         say(dropped)
-
-
-def _codes(value: str | None) -> tuple[str, ...] | None:
-    from toon import MOTOR_CODES
-    if not value:
-        return None
-    codes = tuple(c.strip().upper() for c in value.split(",") if c.strip())
-    unknown = [c for c in codes if c not in MOTOR_CODES]
-    if unknown:
-        raise click.BadParameter(f"unknown motors {', '.join(unknown)}", param_hint="--motors")
-    return codes
 
 
 def _slice_options(fn):
@@ -147,7 +140,7 @@ def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | N
     from toon import animation as an
 
     source = an.load_animation(animation)
-    codes = _codes(motors) or tuple(source.knots)
+    codes = parse_codes(motors) or tuple(source.knots)
     edited, clip = an.cut(source, codes, *_span(source, start, end))
     an.save_animation(edited, output)
     if clip_path:
@@ -164,7 +157,7 @@ def anim_copy(animation: str, output: str, motors: str | None, start: float, end
     from toon import animation as an
 
     source = an.load_animation(animation)
-    an.save_animation(an.copy(source, _codes(motors) or tuple(source.knots), *_span(source, start, end)), output)
+    an.save_animation(an.copy(source, parse_codes(motors) or tuple(source.knots), *_span(source, start, end)), output)
     click.echo(f"wrote {output}")
 
 
@@ -185,7 +178,7 @@ def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | No
             pairs = dict(p.split("=") for p in onto.upper().split(","))
         except ValueError:
             raise click.BadParameter(f"expected FROM=TO pairs, got {onto!r}", param_hint="--onto") from None
-        _codes(",".join([*pairs, *pairs.values()]))
+        parse_codes(",".join([*pairs, *pairs.values()]), "--onto")
     an.save_animation(an.paste(an.load_animation(animation), an.load_animation(clip), at, pairs), output)
     click.echo(f"wrote {output}")
 
@@ -204,7 +197,7 @@ def anim_scale(animation: str, output: str, time_factor: float, value_factor: fl
 
     out = an.load_animation(animation)
     span = _span(out, start, end)
-    codes = _codes(motors)
+    codes = parse_codes(motors)
     if value_factor != 1.0:
         out = an.scale_value(out, codes, *span, value_factor)
     if time_factor != 1.0:
@@ -222,7 +215,7 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
     from toon import animation as an
 
     source = an.load_animation(animation)
-    an.save_animation(an.flip(source, _codes(motors), *_span(source, start, end)), output)
+    an.save_animation(an.flip(source, parse_codes(motors), *_span(source, start, end)), output)
     click.echo(f"wrote {output}")
 
 

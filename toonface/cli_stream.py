@@ -124,7 +124,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
     """
     from common import InputError
-    from player.live import LiveSettings, run_live
+    from player.live import ListenError, LiveSettings, run_live
     from player.playout import Playout
     from player.receiver import StreamReceiver
     from player.sinks import open_sink
@@ -162,12 +162,16 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
                 say(f"{kind} {where}")
         try:
             report = run_live(face_obj, settings, ready)
+        except ListenError as exc:
+            raise click.BadParameter(str(exc), param_hint="--preview") from None
         finally:
             done.set()
             if record and shown:  # kept however the run ends
                 say(f"wrote {save_track(_recorded(shown, fps), record)}")
     if (dropped := report.summary(1 / fps)) is not None:
         say(dropped)
+    if (why := receiver.diagnosis()) is not None:
+        click.echo(f"toonface: warning: {why}", err=True)
     say(json.dumps(receiver.summary()))
 
 

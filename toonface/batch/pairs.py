@@ -137,6 +137,7 @@ def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
     seen = list(pair.take_stat) if pair.take_stat else None
     doc = {"format": STAMP_FORMAT, "take": str(pair.take), "take_stat": seen, "face": pair.face,
            "inputs": pair.inputs, "frames": frames, "outputs": outputs}
+    pair.stamp.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(pair.stamp) as tmp:
         tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
 

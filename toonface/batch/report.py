@@ -89,6 +89,7 @@ def write_manifest(report: BatchReport, path: str | os.PathLike) -> Path:
            "workers": report.workers, "wall_seconds": round(report.seconds, 3),
            "totals": {status: report.count(status) for status in STATUSES}, "pairs": pairs}
     path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(path) as tmp:
         tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
     return path

@@ -16,7 +16,7 @@ from mapping import load_profile
 from player.offline import frame_count
 from player.parts import join_parts, render_part
 from player.score import save_score
-from player.sheet import save_png, track_sheet
+from player.sheet import save_image, track_sheet
 from toon import FaceRig, MotorTrack, load_face, save_track
 from toonface.batch.job import Job, TakeOptions
 from toonface.pipeline import map_take
@@ -45,17 +45,17 @@ def count_frames(track: MotorTrack, fps: float) -> tuple[int, float]:
 
 def write_motors(track: MotorTrack, path: Path) -> int:
     """Write the motor track (``.csv`` movie script or ``.npz``); returns its bytes."""
-    return _size(save_track(track, path))
+    return _size(save_track(track, _in_folder(path)))
 
 
 def write_score(track: MotorTrack, path: Path) -> int:
     """Draw the motor curves as staves into a PNG; returns its bytes."""
-    return _size(save_score(track, path))
+    return _size(save_score(track, _in_folder(path)))
 
 
 def write_sheet(track: MotorTrack, face: str, path: Path, samples: int) -> int:
     """A contact sheet of 12 frames through the take on ``face``; returns its bytes."""
-    return _size(save_png(track_sheet(FaceRig(load_face(face)), track, samples=samples), path))
+    return _size(save_image(track_sheet(FaceRig(load_face(face)), track, samples=samples), _in_folder(path)))
 
 
 def render_video_part(track: MotorTrack, face: str, start: int, stop: int, fps: float, size: tuple[int, int],
@@ -66,8 +66,14 @@ def render_video_part(track: MotorTrack, face: str, start: int, stop: int, fps: 
 
 def join_video(path: Path, *parts: bytes) -> tuple[int, int]:
     """Join the parts into ``path``; returns ``(frames, bytes)``."""
-    frames = join_parts(parts, path)
+    frames = join_parts(parts, _in_folder(path))
     return frames, _size(path)
+
+
+def _in_folder(path: Path) -> Path:
+    """``path``, its folder made first: a batch job lays out its own output folders."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return path
 
 
 def _size(path: Path) -> int:
