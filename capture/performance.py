@@ -91,6 +91,10 @@ class Performance:
     seed: int = 0
 
 
+#: The expressions the generated performance acts in turn, unless told others.
+DEFAULT_EXPRESSIONS = ("happiness", "surprise", "sadness", "anger", "fear", "disgust", "wink")
+
+
 def default_performance(seconds: float = 10.0, expressions: tuple[str, ...] | None = None,
                         calibration: bool = False, max_turn_deg: float = 30.0, seed: int = 0) -> Performance:
     """A varied performance: neutral first second, then expressions, talking, blinks, gaze and turns.
@@ -111,8 +115,7 @@ def default_performance(seconds: float = 10.0, expressions: tuple[str, ...] | No
     """
     if not 0.0 <= max_turn_deg <= HEAD_RANGE_DEG / 2:
         raise InputError(f"max turn must be 0-{HEAD_RANGE_DEG / 2:g} degrees, got {max_turn_deg:g}")
-    names = expressions if expressions is not None else (
-        "happiness", "surprise", "sadness", "anger", "fear", "disgust", "wink")
+    names = expressions if expressions is not None else DEFAULT_EXPRESSIONS
     rng = np.random.default_rng(seed)
     cues: list[Cue] = []
     start = 0.0

@@ -3,17 +3,21 @@
 import importlib
 import importlib.metadata
 import json
+import re
 import socket
 import subprocess
 import sys
 
 import av
+import click
 import numpy as np
 import pytest
 
 from capture import load_take, save_take, synthesize
-from toon import builtin_faces, load_track, motor_index
+from capture.performance import DEFAULT_EXPRESSIONS
+from toon import MOTOR_CODES, builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
+from toonface.pipeline import map_take
 
 SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
                "anim", "send", "receive", "relay", "batch",
@@ -272,3 +276,36 @@ def test_a_busy_address_names_the_option_and_address(capsys):
         assert main(["play", "--listen", f"127.0.0.1:{port}", "--seconds", "0.1", "--size", "32"]) == 2
     err = capsys.readouterr().err
     assert f"Invalid value for --listen: cannot listen on 127.0.0.1:{port}: Address already in use" in err
+
+
+def _options():
+    def walk(command, path):
+        if isinstance(command, click.Group):
+            for name, sub in command.commands.items():
+                yield from walk(sub, [*path, name])
+        else:
+            for param in command.params:
+                if isinstance(param, click.Option) and param.name != "help":
+                    yield " ".join(path), param
+    return list(walk(cli, []))
+
+
+def test_every_option_s_help_default_is_its_real_default():
+    """`map --help` said it calibrated on the take by default; it used the typical profile."""
+    described = {}
+    for where, option in _options():
+        stated = re.search(r"\[default: ([^\]]*)\]", option.help or "")
+        real = isinstance(option.default, (int, float, str)) and option.default != "" and not option.is_flag
+        if real:  # a real default is shown by click itself, from the value the command gets
+            assert option.show_default and not stated, f"{where} {option.opts}"
+        elif stated:
+            described[(where, option.opts[-1])] = stated.group(1)
+    # defaults the help describes in words, against the values and behaviour they describe
+    assert described[("synth", "--expressions")] == ",".join(DEFAULT_EXPRESSIONS)
+    assert described[("score", "--motors")] == f"all {len(MOTOR_CODES)}"
+    assert described[("map", "--profile")].startswith("the marker set's built-in typical profile")
+
+
+def test_map_without_a_profile_uses_the_typical_one_as_its_help_says(small_take):
+    mapped = map_take(load_take(small_take / "t.npz"))  # what `map` runs without --profile
+    assert any("built-in typical profile for toon32" in note for note in mapped.meta["notes"])

@@ -30,7 +30,9 @@ _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
                         help="A mapping file or built-in preset (toon32, animface41, gluedots16) "
                              "[default: the preset whose marker set matches the take].")
 _PROFILE = click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False),
-                        help="A performer profile (from `toonface calibrate`) [default: calibrate on the take].")
+                        help="A performer profile (from `toonface calibrate`) [default: the marker set's built-in "
+                             "typical profile with the rest from the take; where there is none, one calibrated on "
+                             "the take].")
 _NEUTRAL = click.option("--neutral", default=None, metavar="START:END|first|stillest",
                         help="Where the take is at rest: seconds, its first second with the head seen, or its "
                              "stillest second [default: a given profile's rest, else first].")

@@ -186,9 +186,10 @@ def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | No
 @anim.command("scale")
 @click.argument("animation", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
-@click.option("--time", "time_factor", default=1.0, type=click.FloatRange(min=0, min_open=True),
+@click.option("--time", "time_factor", default=1.0, show_default=True, type=click.FloatRange(min=0, min_open=True),
               help="Stretch the slice in time by this factor.")
-@click.option("--value", "value_factor", default=1.0, type=float, help="Scale values about neutral by this factor.")
+@click.option("--value", "value_factor", default=1.0, show_default=True, type=float,
+              help="Scale values about neutral by this factor.")
 @_slice_options
 def anim_scale(animation: str, output: str, time_factor: float, value_factor: float, motors: str | None,
                start: float, end: float | None) -> None:
