@@ -17,12 +17,14 @@ millimetres per unit): a CSV does not say its units, except Nexus's units line.
 
 from __future__ import annotations
 
+import logging
 import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from capture.markerset import find_markerset
 from capture.take import UNIT_MM, Take, unique_labels
 from capture.textio import (
     check_rate,
@@ -35,6 +37,8 @@ from capture.textio import (
     times_from_column,
 )
 from common import InputError
+
+log = logging.getLogger(__name__)
 
 _AXIS = re.compile(r"^(?P<marker>.+?)[ _.:-](?P<axis>[xyzXYZ])$")
 _TIME_NAMES = ("time", "time_s", "times", "t", "seconds", "time (s)")
@@ -90,6 +94,8 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
                          path, f"line {first + 1}")
     dims = 3 if all(has_z) else 2
     clock = time_col if time_col is not None else frame_col  # the column that says when each row is
+    from_set = _set_defaults(list(markers), time_col is None and rate is None, units is None)
+    rate, units = from_set.get("rate", rate), from_set.get("units", units)
     if time_col is None and rate is None:
         what = (f'a "{header[frame_col]}" column but no time column' if frame_col is not None
                 else "no time or frame column")
@@ -119,6 +125,8 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
     meta: dict[str, Any] = {"source": "csv", "layout": "wide", "file": path.name, "separator": _describe(sep)}
     if ignored:
         meta["ignored_columns"] = ignored
+    if from_set:
+        meta["defaults_from_markerset"] = from_set
     if renamed:
         meta["renamed"] = renamed
     if times is None:
@@ -226,6 +234,23 @@ def _mm_per_unit(units: str | float | None, path: Path) -> float:
     if not (np.isfinite(value) and value > 0):
         raise InputError(f"units must be a positive number of millimetres per unit, got {units!r}", path)
     return value
+
+
+def _set_defaults(names: list[str], need_rate: bool, need_units: bool) -> dict[str, Any]:
+    """The rate and units a table's marker set declares for what the table and the options leave
+    unsaid (``{"markerset": ..., "rate": ..., "units": ...}``; empty when nothing is taken)."""
+    markerset = find_markerset(names) if need_rate or need_units else None
+    if markerset is None:
+        return {}
+    taken: dict[str, Any] = {}
+    if need_rate and markerset.table_rate is not None:
+        taken["rate"] = markerset.table_rate
+    if need_units and markerset.table_units is not None:
+        taken["units"] = markerset.table_units
+    if taken:
+        log.info("rate/units of marker set %s: %s", markerset.name, taken)
+        taken["markerset"] = markerset.name
+    return taken
 
 
 def _describe(sep: str | None) -> str:

@@ -60,6 +60,9 @@ def describe(summary: dict) -> list[str]:
         extra = ", ".join(f"{k} {v}" for k, v in source.items()
                           if k in ("layout", "processor", "storage", "units_in_file", "analog_channels_skipped"))
         lines.append(f"source    {source['source']}" + (f" ({extra})" if extra else ""))
+    if taken := source.get("defaults_from_markerset"):
+        given = ", ".join(f"{k} {v}" for k, v in taken.items() if k != "markerset")
+        lines.append(f"defaults  {given} (from marker set {taken['markerset']}: the table does not say)")
     for warning in source.get("warnings", []):
         lines.append(f"warning   {warning}")
     width = max((len(x) for x in summary["labels"]), default=6)

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from capture.take import UNIT_MM
 from common import InputError, builtin_names, read_versioned, resolve_builtin
 
 FORMAT = "toonface.markerset/1"
@@ -48,6 +49,12 @@ class MarkerSet:
         Other name -> label.
     mpeg4 : dict of str to str
         Label -> MPEG-4 feature point number, for the markers that have one.
+    table_rate : float or None
+        The frame rate of this set's tables that do not state one (the ``[tables]`` section's
+        ``rate``), used when a CSV has no time column and no ``--rate`` is given.
+    table_units : str or None
+        The units of this set's tables (``[tables]`` ``units``: a unit name or millimetres per
+        unit), used when no ``--units`` is given.
     """
 
     name: str
@@ -57,6 +64,8 @@ class MarkerSet:
     description: str = ""
     aliases: dict[str, str] = field(default_factory=dict)
     mpeg4: dict[str, str] = field(default_factory=dict)
+    table_rate: float | None = None
+    table_units: str | None = None
 
     def neutral_of(self, label: str) -> np.ndarray:
         """Rest position of one marker, shape ``(3,)``."""
@@ -134,8 +143,19 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
         raise InputError(f"needs at least 3 known head reference markers; unknown {unknown_refs}", path,
                          "head_reference")
     neutral.setflags(write=False)
+    tables = doc.get("tables", {})
+    if not isinstance(tables, dict) or set(tables) - {"rate", "units"}:
+        raise InputError("expected a [tables] section with rate and units only", path, "tables")
+    rate = tables.get("rate")
+    if rate is not None and not (isinstance(rate, (int, float)) and 0 < rate <= 100_000):
+        raise InputError(f"expected frames per second, got {rate!r}", path, "tables.rate")
+    units = tables.get("units")
+    if units is not None and not (isinstance(units, str) and units in UNIT_MM
+                                  or isinstance(units, (int, float)) and units > 0):
+        raise InputError(f"expected a unit ({', '.join(UNIT_MM)}) or millimetres per unit, got {units!r}", path,
+                         "tables.units")
     return MarkerSet(str(doc.get("name", path.stem)), labels, neutral, refs, str(doc.get("description", "")),
-                     aliases, mpeg4)
+                     aliases, mpeg4, None if rate is None else float(rate), None if units is None else str(units))
 
 
 def find_markerset(labels: tuple[str, ...] | list[str], min_share: float = 0.5) -> MarkerSet | None:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from capture import load_markerset, load_take
-from common import InputError
+from common import InputError, data_path
 
 
 def test_toon32_aliases_prefixes_and_mpeg4():
@@ -62,3 +62,22 @@ def test_bad_marker_sets_name_the_field(tmp_path, body, fragment):
     with pytest.raises(InputError, match="set.toml") as caught:
         load_markerset(path)
     assert fragment in str(caught.value)
+
+
+def test_a_marker_set_gives_the_rate_and_units_its_tables_leave_out(realdata, tmp_path):
+    """The glue-dot take needed --rate 30 --units 184.84, found only in a comment."""
+    path = realdata / "facial" / "gluedots" / "Subject_01.csv"
+    plain, told = load_take(path), load_take(path, rate=30, units="184.84")
+    assert plain.rate == 30 and np.array_equal(plain.positions, told.positions, equal_nan=True)
+    assert plain.meta["defaults_from_markerset"] == {"rate": 30.0, "units": "184.84", "markerset": "gluedots16"}
+    assert "defaults_from_markerset" not in told.meta
+    assert load_take(path, rate=60).rate == 60  # what the user says wins
+    assert np.nanmax(np.abs(load_take(path, units="mm").positions)) < 1.0  # the file is in scene units
+
+
+def test_a_marker_set_s_table_defaults_are_checked(tmp_path):
+    text = (data_path("markersets", "gluedots16.toml").read_text()
+            .replace("rate = 30\n", "rate = -30\n"))
+    (tmp_path / "bad.toml").write_text(text)
+    with pytest.raises(InputError, match="tables.rate: expected frames per second, got -30"):
+        load_markerset(tmp_path / "bad.toml")
