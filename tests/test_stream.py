@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from capture import synthesize
+from capture import load_take, synthesize
 from capture.performance import default_performance
 from player.playout import Playout
 from player.rangecode import Decoder, Encoder, Model
@@ -16,7 +16,7 @@ from player.receiver import StreamReceiver
 from player.relay import FaultPlan, NetworkFaults, Relay
 from player.stream import StreamReader, StreamWriter, is_key_request, key_request
 from player.wire import HEADER, MAX_PACKET, quantise
-from toon import standard_neutral
+from toon import motor_index, standard_neutral
 from toonface import truth_track
 from toonface.cli import main
 from toonface.pipeline import map_take
@@ -265,3 +265,13 @@ def test_a_receiver_says_why_nothing_was_shown(sender_key, receiver_key, fragmen
         for datagram in datagrams:
             right.reader.read(datagram, 0.0)
         assert right.diagnosis() is None
+
+
+def test_a_take_without_a_typical_profile_is_sent_with_its_own(realdata):
+    """`send` on an AnimFace take stopped at 'no typical profile for marker set animface41'."""
+    take = load_take(realdata / "facial" / "animface" / "JawMoCap.csv", units="cm")
+    notes: list[str] = []
+    mapper = build_mapper(take_source(take), notes=notes)
+    assert notes and notes[0].startswith("no typical profile for marker set animface41: a profile from the take")
+    jaw = [mapper.step(row, i / take.rate)[0][motor_index("MB")] for i, row in enumerate(take.positions[:900])]
+    assert max(jaw) - min(jaw) > 0.3  # the jaw opens on the stream as it does in the take

@@ -74,7 +74,10 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
         src = video_source(source, colour)
     else:
         src = take_source(read_take(source, reading), repeat)
-    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None)
+    notes: list[str] = []
+    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes)
+    for note in notes:
+        click.echo(f"note: {note}", err=True)
     writer = StreamWriter(src.rate, frames_per_packet, keyframe_seconds, key=_key(key_file))
     sent: list[np.ndarray] = []
     click.echo(f"sending {src.name} at {src.rate:g} Hz to {address[0]}:{address[1]} (Ctrl-C stops)")

@@ -17,15 +17,15 @@ from pathlib import Path
 
 import numpy as np
 
-from capture import Take, load_markerset, synthesize
+from capture import MarkerSet, Take, load_markerset, synthesize
 from capture.dots import DotStyle, DotTracker, find_dots, front_layout, sticker_labels
 from capture.performance import default_performance
 from capture.videoio import frames as video_frames
 from capture.videoio import probe
 from common import InputError
-from mapping import Mapping, Profile, choose_mapping, load_profile
+from mapping import Mapping, Profile, calibrate, choose_mapping, load_profile, prepare
 from mapping.live import LiveMapper
-from mapping.workflow import builtin_profile
+from mapping.workflow import SELF_MIN_SIDE, builtin_profile
 from player.stream import StreamWriter, is_key_request
 
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
@@ -39,6 +39,11 @@ class LiveSource:
     rate: float
     frames: Iterator[np.ndarray]
     name: str
+    recording: Take | None = None  # the whole take, when the source is a file
+
+
+#: Seconds of a take its own profile is calibrated on, when its marker set has no typical one.
+CALIBRATION_SECONDS = 10.0
 
 
 def take_source(take: Take, repeat: bool = False) -> LiveSource:
@@ -48,7 +53,7 @@ def take_source(take: Take, repeat: bool = False) -> LiveSource:
             yield from take.positions
             if not repeat:
                 return
-    return LiveSource(take.labels, take.rate, play(), take.meta.get("file", "take"))
+    return LiveSource(take.labels, take.rate, play(), take.meta.get("file", "take"), take)
 
 
 def synthetic_source(seconds: float = 60.0, rate: float = 60.0, seed: int = 0, noise_mm: float = 0.2) -> LiveSource:
@@ -88,21 +93,39 @@ def video_source(path: str | Path, colour: str = "blue", markerset: str = "toon3
 
 
 def build_mapper(source: LiveSource, mapping: Mapping | str | None = None, profile: Profile | None = None,
-                 target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0) -> LiveMapper:
+                 target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
+                 notes: list[str] | None = None) -> LiveMapper:
     """The live mapper for a source: the named mapping or the preset its labels match, and the
     given profile or the marker set's typical one, with the rest taken from the first
-    ``rest_seconds``."""
+    ``rest_seconds``. Where the marker set has no typical profile, a take's own first
+    :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate)
     chosen, markerset = choose_mapping(probe_take, mapping)
     if profile is None:
         typical = builtin_profile(markerset.name)
-        if typical is None:
+        if typical is not None:
+            profile = load_profile(typical)
+        elif source.recording is not None:
+            profile = _own_profile(source.recording, chosen, markerset)
+            if notes is not None:
+                notes.append(f"no typical profile for marker set {markerset.name}: a profile from the take's "
+                             f"first {CALIBRATION_SECONDS:g} s (rest {profile.notes['neutral']}, ranges "
+                             f"{profile.notes['range']})")
+        else:
             raise InputError(f"no typical profile for marker set {markerset.name}; give one with --profile")
-        profile = load_profile(typical)
     try:
         return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+
+
+def _own_profile(take: Take, mapping: Mapping, markerset: MarkerSet) -> Profile:
+    """A profile from the take's first seconds: rest from its first second (or stillest), ranges
+    from all of them, as ``map`` makes one for a take without a profile."""
+    first = take.window(0.0, CALIBRATION_SECONDS)
+    start = Take(take.positions[first], take.labels, take.rate, take.times[first] - take.times[0], take.dims,
+                 take.meta)
+    return calibrate(mapping, prepare(start, markerset), percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
 
 
 @dataclass
