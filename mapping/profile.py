@@ -27,6 +27,12 @@ from mapping.stabilise import Stabilised, nearest_rotation
 FORMAT = "toonface.profile/1"
 #: A side of a range smaller than this (mm, or degrees for angles) counts as no motion.
 MIN_RANGE = 0.5
+#: A face source whose whole range is below this (mm, or degrees for angles) does not move in the
+#: take: what it shows is incidental (a mouth corner drifting 1-4 mm while the brows act, measured
+#: on the AnimFace takes, whose deliberate motions span 5-40 mm) and is not stretched to a range.
+MIN_MOTION = 4.0
+#: Such a source keeps at least this much either side of rest, so its drift moves its motor little.
+STILL_SIDE = 10.0
 
 
 @dataclass(frozen=True)
@@ -129,19 +135,25 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         low, high = np.nanpercentile(range_values, percentiles, axis=0)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
+    moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
     for i, source in enumerate(wanted):
         if not np.isfinite([rest_value[i], low[i], high[i]]).all():
             continue
         lo, hi = min(low[i], rest_value[i]), max(high[i], rest_value[i])
-        if hi - lo < MIN_RANGE:
-            still.append(source.key)
+        if source.kind != "head" and hi - lo >= MIN_RANGE:
+            moving.append(source.key)
         if source.kind != "head":
-            lo, hi = min(lo, rest_value[i] - min_side), max(hi, rest_value[i] + min_side)
+            side = min_side
+            if hi - lo < MIN_MOTION:
+                still.append(source.key)
+                side = max(side, STILL_SIDE)
+            lo, hi = min(lo, rest_value[i] - side), max(hi, rest_value[i] + side)
+        elif hi - lo < MIN_RANGE:
+            still.append(source.key)
         ranges[source.key] = SourceRange(float(rest_value[i]), float(lo), float(hi))
-    moving = [k for k, r in ranges.items() if r.high - r.low >= MIN_RANGE and not k.startswith("head.")]
     if not moving:
-        return Failure("no motion: every face marker stays within "
-                       f"{MIN_RANGE:g} mm of its rest over the range frames")
+        return Failure(f"no motion: every face marker stays within {MIN_RANGE:g} mm of its rest over the range "
+                       "frames")
     notes = dict(notes or {})
     if still:
         notes["no_motion"] = ", ".join(still)

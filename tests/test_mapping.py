@@ -136,3 +136,23 @@ def test_the_rest_window_is_the_first_second_with_the_head_seen_or_the_stillest(
     assert how == "stillest second" and round(start * 30) == 45 + int(np.argmin(per_second))
     with pytest.raises(InputError, match='"first" or "stillest"'):
         rest_window(prepared, "middle")
+
+
+def test_a_feature_that_does_not_move_in_the_calibration_keeps_a_range(realdata, tmp_path, capsys):
+    """Calibrating the eyebrow take on itself stretched the mouth's 1-3 mm of drift to its full range."""
+    from capture import load_take
+    from mapping import load_profile
+    from toonface.cli import main
+
+    path = realdata / "facial" / "animface" / "EyebrowsMoCap.csv"
+    assert main(["calibrate", str(path), "--units", "cm", "-o", str(tmp_path / "p.toml")]) == 0
+    err = capsys.readouterr().err
+    assert "not moving over the range frames (under 4 mm): " in err and "Mouth_Lend.y" in err
+    profile = load_profile(tmp_path / "p.toml")
+    assert "Mouth_Lend.y" in profile.notes["no_motion"] and "Leyebrow_M.y" not in profile.notes["no_motion"]
+    corner = profile.sources["Mouth_Lend.y"]
+    assert corner.high - corner.neutral >= 10 and corner.neutral - corner.low >= 10
+    track = map_take(load_take(path, units="cm"), profile=profile)
+    spread = {c: np.percentile(track.column(c), 95) - np.percentile(track.column(c), 5) for c in MOTOR_CODES}
+    assert max(spread[c] for c in ("MLH", "MLV", "MRH", "MRV")) < 0.2  # they were 0.73-0.84
+    assert min(spread[c] for c in ("BRC", "BRM", "BLC", "BLM")) > 0.9  # the brows still act in full

@@ -131,6 +131,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     it is reused with every mapping and face of the same marker set.
     """
     from mapping import calibrate, choose_mapping, prepare, save_profile
+    from mapping.profile import MIN_MOTION, STILL_SIDE
 
     try:
         low, high = (float(p) for p in percentiles.split(","))
@@ -147,14 +148,15 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     rest = prepare(read_take(neutral_take, reading), markerset, settings) if neutral_take else ranged
     profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
     path = save_profile(profile, output)
-    moving = sum(1 for r in profile.sources.values() if r.high - r.low >= 0.5)
+    still = set(profile.notes.get("no_motion", "").split(", "))
+    moving = sum(1 for key in profile.sources if key not in still)
     click.echo(f"wrote {path}: {len(profile.sources)} sources ({moving} moving), neutral {profile.notes['neutral']}, "
                f"range {profile.notes['range']}")
-    still = set(profile.notes.get("no_motion", "").split(", "))
     idle = [src.key for src in chosen.sources() if src.key in still and not src.key.startswith("head.")]
     if idle:
-        click.echo(f"warning: no motion in {', '.join(idle)} over the range frames: the motors that follow them "
-                   "will not move", err=True)
+        click.echo(f"warning: not moving over the range frames (under {MIN_MOTION:g} mm): {', '.join(idle)}; "
+                   f"they keep a range of {STILL_SIDE:g} mm either side of rest, so the motors that follow them "
+                   "move little", err=True)
 
 
 def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, reading: TakeReading):
