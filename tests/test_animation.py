@@ -74,10 +74,40 @@ def test_files_round_trip_and_bad_files_name_the_field(tmp_path):
     path = save_animation(A, tmp_path / "a.toml")
     assert load_animation(path) == A
     bad = tmp_path / "bad.toml"
-    bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nELU = [[0, 0.5], [0, 0.6]]\n')
+    bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nELU = [[1, 0.5], [0, 0.6]]\n')
     with pytest.raises(InputError, match="bad.toml: knots.ELU: knot times must increase"):
         load_animation(bad)
     bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nXX = [[0, 0.5]]\n')
     with pytest.raises(InputError, match="knots.XX: unknown motor"):
         load_animation(bad)
     assert motor_index("ELU") == 8
+
+
+def test_a_slice_operation_leaves_the_motion_outside_its_slice_as_it_was():
+    """MB [[0, 0.1], [4, 0.9]] flipped over 0-1 s became [[1, 0.1], [4, 0.9]]: at 2 s 0.5 -> 0.367."""
+    mb = Animation({"MB": ((0.0, 0.1), (4.0, 0.9))}, 4.0)
+    outside = np.array([1.0, 1.5, 2.0, 3.0, 4.0])
+    flipped = flip(mb, ("MB",), 0.0, 1.0)
+    np.testing.assert_allclose(flipped.value("MB", outside), mb.value("MB", outside))
+    np.testing.assert_allclose(flipped.value("MB", [0.0, 0.25, 0.5, 0.999]), [0.3, 0.25, 0.2, 0.1002], atol=1e-9)
+    middle = flip(mb, ("MB",), 1.0, 2.0)  # a slice inside the curve: steps at both of its ends
+    np.testing.assert_allclose(middle.value("MB", [0.5, 1.0, 1.5, 2.0, 3.0]), [0.2, 0.5, 0.4, 0.5, 0.7])
+    scaled = scale_value(mb, ("MB",), 1.0, 2.0, 0.0)  # the slice to MB's neutral (0.1)
+    np.testing.assert_allclose(scaled.value("MB", [0.5, 1.0, 1.5, 1.999, 2.0, 3.0]),
+                               [0.2, 0.1, 0.1, 0.1, 0.5, 0.7])
+    stretched = scale_time(mb, ("MB",), 1.0, 2.0, 2.0)  # the slice twice as long, the rest shifted
+    np.testing.assert_allclose(stretched.value("MB", [0.5, 1.0, 2.0, 3.0, 4.0, 5.0]),
+                               [0.2, 0.3, 0.4, 0.5, 0.7, 0.9])
+
+
+def test_files_write_each_motor_s_knots_as_inline_pairs(tmp_path):
+    """Animation files were written one number per line."""
+    long = Animation({"ELU": tuple((i * 0.5, 0.9 if i % 2 == 0 else 0.1) for i in range(12)), "MB": ((0.0, 0.1),)}, 6.0)
+    path = save_animation(long, tmp_path / "a.toml")
+    lines = path.read_text().splitlines()
+    assert lines[:4] == ['format = "toonface.animation/1"', "duration = 6.0", "", "[knots]"]
+    assert lines[4] == "ELU = [" and lines[5] == "    [0.0, 0.9], [0.5, 0.1], [1.0, 0.9], [1.5, 0.1], [2.0, 0.9],"
+    assert lines[-1] == "MB = [[0.0, 0.1]]"
+    assert load_animation(path) == long
+    step = flip(Animation({"MB": ((0.0, 0.1), (4.0, 0.9))}, 4.0), ("MB",), 1.0, 2.0)
+    assert load_animation(save_animation(step, tmp_path / "s.toml")) == step  # steps survive the file

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import InputError, read_versioned, write_toml
+from common import InputError, atomic_path, read_versioned
 from toon.motors import MOTOR_CODES, MOTOR_INDEX, standard_neutral
 from toon.track import MotorTrack
 
@@ -60,15 +60,37 @@ class Animation:
         return MotorTrack(values, rate, meta={"source": "animation"})
 
 
-def _edit(anim: Animation, codes: tuple[str, ...] | None, change, duration: float | None = None) -> Animation:
+def _edit(anim: Animation, codes: tuple[str, ...] | None, change, duration: float | None = None,
+          edges: tuple[float, float] | None = None) -> Animation:
+    """Apply ``change`` to each motor's knot list; with ``edges`` (a slice), knots are first added
+    at both ends of the slice, so that a change inside it leaves the motion outside it as it was.
+
+    Knots are kept in time order; two knots at one time make a step (the later one holds from
+    that time on), which is what a slice edited apart from its surroundings leaves at its ends.
+    """
     knots = dict(anim.knots)
     for code in codes or tuple(knots):
-        new = change(list(knots.get(code, ())))
+        old = list(knots.get(code, ()))
+        if edges is not None and old:
+            old = _with_edges(old, *edges, lambda x, c=code: float(anim.value(c, x)))
+        new = _dedupe(sorted(change(old), key=lambda knot: knot[0]))  # stable: steps keep their order
         if new:
-            knots[code] = tuple(sorted(new))
+            knots[code] = tuple(new)
         else:
             knots.pop(code, None)
     return Animation(knots, anim.duration if duration is None else duration)
+
+
+def _with_edges(knots: list, start: float, end: float, value_at) -> list:
+    """``knots`` with a knot at ``start`` and at ``end`` (the values there) where there is none."""
+    times = {t for t, _ in knots}
+    added = [(x, value_at(x)) for x in (start, end) if x not in times]
+    return sorted(knots + added, key=lambda knot: knot[0])
+
+
+def _dedupe(knots: list) -> list:
+    """Drop a knot that repeats the one before it (same time and value)."""
+    return [k for i, k in enumerate(knots) if i == 0 or k != knots[i - 1]]
 
 
 def _slice(knots: list, start: float, end: float, value_at) -> list:
@@ -116,7 +138,7 @@ def scale_time(anim: Animation, codes: tuple[str, ...] | None, start: float, end
 
     def change(knots: list) -> list:
         return [(t if t <= start else start + (t - start) * factor if t <= end else t + shift, v) for t, v in knots]
-    return _edit(anim, codes, change, anim.duration + shift)
+    return _edit(anim, codes, change, anim.duration + shift, edges=(start, end))
 
 
 def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float, factor: float,
@@ -126,19 +148,28 @@ def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, en
 
     def change_for(code: str):
         pivot = rest[MOTOR_INDEX[code]]
-        return lambda knots: [(t, float(np.clip(pivot + (v - pivot) * factor, 0, 1)) if start <= t <= end else v)
-                              for t, v in knots]
+        return lambda knots: _in_slice(knots, start, end, lambda inside: [
+            (t, float(np.clip(pivot + (v - pivot) * factor, 0, 1))) for t, v in inside])
     out = anim
     for code in codes or tuple(anim.knots):
-        out = _edit(out, (code,), change_for(code))
+        out = _edit(out, (code,), change_for(code), edges=(start, end))
     return out
 
 
 def flip(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float) -> Animation:
     """Reverse the slice in time (the motion played backwards within it)."""
-    def change(knots: list) -> list:
-        return [(start + end - t if start <= t <= end else t, v) for t, v in knots]
-    return _edit(anim, codes, change)
+    return _edit(anim, codes, lambda knots: _in_slice(knots, start, end, lambda inside: [
+        (start + end - t, v) for t, v in reversed(inside)]), edges=(start, end))
+
+
+def _in_slice(knots: list, start: float, end: float, change) -> list:
+    """``knots`` (with knots at ``start`` and ``end``) with ``change`` applied to those in the
+    slice; the values at its ends outside it are kept, making a step where they differ."""
+    before = [k for k in knots if k[0] < start]
+    inside = [k for k in knots if start <= k[0] <= end]
+    after = [k for k in knots if k[0] > end]
+    edge_in, edge_out = inside[0], inside[-1]
+    return [*before, *([edge_in] if before else []), *change(inside), *([edge_out] if after else []), *after]
 
 
 def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Animation:
@@ -164,10 +195,23 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
 
 
 def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
-    """Write TOML (atomically)."""
-    doc = {"format": FORMAT, "duration": anim.duration,
-           "knots": {c: [[float(t), float(v)] for t, v in anim.knots[c]] for c in MOTOR_CODES if c in anim.knots}}
-    return write_toml(doc, path)
+    """Write TOML (atomically), each motor's knots as inline ``[time, value]`` pairs: a short
+    curve on one line, a long one a few knots to a line, so the file reads like the curves."""
+    lines = [f'format = "{FORMAT}"', f"duration = {float(anim.duration)!r}", "", "[knots]"]
+    for code in MOTOR_CODES:
+        if code not in anim.knots:
+            continue
+        pairs = [f"[{float(t)!r}, {float(v)!r}]" for t, v in anim.knots[code]]
+        one_line = f"{code} = [{', '.join(pairs)}]"
+        if len(one_line) <= 100:
+            lines.append(one_line)
+        else:
+            lines.append(f"{code} = [")
+            lines += ["    " + ", ".join(pairs[i:i + 5]) + "," for i in range(0, len(pairs), 5)]
+            lines.append("]")
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return Path(path)
 
 
 def load_animation(path: str | os.PathLike) -> Animation:
@@ -190,7 +234,9 @@ def load_animation(path: str | os.PathLike) -> Animation:
             raise InputError("expected [[time, value], ...]", path, where)
         if any(not 0 <= v <= 1 for _, v in points):
             raise InputError("values must be 0..1", path, where)
-        if any(b[0] <= a[0] for a, b in pairwise(points)):
-            raise InputError("knot times must increase", path, where)
+        if any(b[0] < a[0] for a, b in pairwise(points)) or any(
+                a[0] == b[0] == c[0] for a, b, c in zip(points, points[1:], points[2:], strict=False)):
+            raise InputError("knot times must increase (two knots at one time make a step; three cannot)", path,
+                             where)
         knots[code] = tuple((float(t), float(v)) for t, v in points)
     return Animation(knots, float(duration))
