@@ -37,3 +37,26 @@ class InputError(ToonfaceError, ValueError):
     def _render(self) -> str:
         parts = [p for p in (self.source, self.field) if p]
         return ": ".join([*parts, self.message])
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread like Ctrl-C's KeyboardInterrupt, so that outputs are
+    closed and kept the same way (the ``toonface`` command installs the handler)."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """An offline output stopped part-way by Ctrl-C or SIGTERM, closed with the frames it has.
+
+    Parameters
+    ----------
+    output : str
+        What was kept.
+    frames, total : int
+        Frames written, and the frames the whole output would have had.
+    signal_name : str
+        ``SIGINT`` or ``SIGTERM``.
+    """
+
+    def __init__(self, output: str, frames: int, total: int, signal_name: str) -> None:
+        super().__init__(f"{output}: stopped by {signal_name} after {frames} of {total} frames")
+        self.output, self.frames, self.total, self.signal_name = output, frames, total, signal_name

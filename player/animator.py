@@ -143,6 +143,7 @@ class Loop:
         self.started = clock()
         self.lateness: list[float] = []  # seconds each drawn loop started after it was due
         self.dropped = 0  # loop slots that passed without a frame
+        self.drawn = 0  # loops whose frame was drawn (counted as each one finishes)
 
     def run(self, loops: int | None, frame: Callable[[np.ndarray, float], None],
             stop: Callable[[], bool] = lambda: False, skip: Callable[[int], None] = lambda _: None) -> int:
@@ -151,7 +152,7 @@ class Loop:
         drawn. Slots dropped before a frame are announced by ``skip(count)``."""
         step = self.animator.loop_time
         origin = self.clock() - self.started  # the grid starts now
-        slot = drawn = 0
+        slot = 0
         while (loops is None or slot < loops) and not stop():
             late = self.clock() - self.started - (origin + slot * step)
             behind = max(int(late // step), 0)
@@ -166,12 +167,12 @@ class Loop:
             due = origin + slot * step
             self.lateness.append(max(0.0, self.clock() - self.started - due))
             frame(self.animator.tick(due), due)
-            drawn += 1
+            self.drawn += 1
             slot += 1
             rest = self.started + origin + slot * step - self.clock()
             if rest > 0:
                 self.sleep(rest)
-        return drawn
+        return self.drawn
 
 
 class FakeClock:

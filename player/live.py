@@ -121,8 +121,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
             on_ready(ready)
             try:
                 count = loop.run(loops, frame, stop, skip)
-            except KeyboardInterrupt:
-                count = len(loop.lateness)
+            except KeyboardInterrupt:  # Ctrl-C, or SIGTERM through the command's handler: keep the outputs
+                count = loop.drawn
         return LiveReport(count, loop.lateness, loop.dropped)
     finally:
         for server in servers:

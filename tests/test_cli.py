@@ -3,7 +3,9 @@
 import importlib
 import importlib.metadata
 import json
+import os
 import re
+import signal
 import socket
 import subprocess
 import sys
@@ -16,6 +18,7 @@ import pytest
 from capture import load_take, save_take, synthesize
 from capture.performance import DEFAULT_EXPRESSIONS
 from toon import MOTOR_CODES, builtin_faces, load_track, motor_index
+from toonface import cli_options
 from toonface.cli import cli, main
 from toonface.pipeline import map_take
 
@@ -309,3 +312,29 @@ def test_every_option_s_help_default_is_its_real_default():
 def test_map_without_a_profile_uses_the_typical_one_as_its_help_says(small_take):
     mapped = map_take(load_take(small_take / "t.npz"))  # what `map` runs without --profile
     assert any("built-in typical profile for toon32" in note for note in mapped.meta["notes"])
+
+
+@pytest.mark.parametrize("signum, status", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
+@pytest.mark.parametrize("suffix", [".mp4", ""])
+def test_a_signal_stops_a_render_and_keeps_what_was_drawn(small_take, tmp_path, monkeypatch, capsys, signum,
+                                                         status, suffix):
+    """SIGTERM lost the output and left a hidden .NAME.xxxx.partial.mp4; now it acts as Ctrl-C does."""
+    drawn = []
+
+    def frame_done(bar, frames):
+        drawn.append(frames)
+        if len(drawn) == 12:
+            os.kill(os.getpid(), signum)  # delivered to this (the main) thread before the next frame
+
+    monkeypatch.setattr(cli_options.ProgressBar, "__call__", frame_done)
+    output = tmp_path / f"out{suffix}"
+    assert main(["render", str(small_take / "m.csv"), "-o", str(output), "--size", "32"]) == status
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(f"kept {output} with the 12 of 60 frames drawn")
+    assert [p.name for p in tmp_path.iterdir()] == [output.name]  # no hidden partial file beside it
+    if suffix:
+        with av.open(str(output)) as c:
+            assert len(list(c.decode(video=0))) == 12
+    else:
+        assert len(list(output.glob("frame_*.png"))) == 12
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL  # the handler is the command's alone

@@ -11,6 +11,7 @@ import cv2
 import numpy as np
 import pytest
 
+from common.errors import Terminated
 from player.animator import Animator, FakeClock
 from player.commands import Commands
 from player.live import LiveSettings, run_live
@@ -255,3 +256,23 @@ def test_a_recording_holds_dropped_slots_and_clips_stray_values():
     track = _recorded(shown, 10.0)
     assert track.frames == 4 and track.rate == 10.0
     assert track.values[:, 0] == pytest.approx([0.2, 0.4, 0.4, 1.0])
+
+
+@pytest.mark.gl
+def test_sigterm_stops_a_live_player_and_keeps_its_recording(tmp_path):
+    calls = []
+
+    def source(t):
+        calls.append(t)
+        if len(calls) == 30:
+            raise Terminated()  # what the command's SIGTERM handler raises
+        return np.full(21, 0.5)
+
+    clock = FakeClock()
+    settings = LiveSettings(loop_time=1 / 30, size=(32, 32), samples=1, tcp=None, source=source,
+                            sinks=[open_sink(tmp_path / "live.mp4", 30, (32, 32))])
+    report = run_live(load_face("classic"), settings, clock=clock, sleep=clock.sleep)
+    assert report.loops == 29
+    with av.open(str(tmp_path / "live.mp4")) as c:
+        assert len(list(c.decode(video=0))) == 29
+    assert [p.name for p in tmp_path.iterdir()] == ["live.mp4"]

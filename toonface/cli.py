@@ -9,12 +9,14 @@ from __future__ import annotations
 import json
 import logging
 import os
+import signal
 import sys
+import threading
 
 import click
 
 from capture.colours import HUES
-from common.errors import ToonfaceError
+from common.errors import Interrupted, Terminated, ToonfaceError
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
 from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, progress, read_take, take_options
@@ -264,8 +266,26 @@ for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_C
     cli.add_command(_command)
 
 
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status.
+
+    SIGTERM is raised as :class:`~common.errors.Terminated`, a KeyboardInterrupt: outputs are
+    closed and kept as on Ctrl-C (a recording keeps what it has, a render what it drew).
+    """
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _terminate) if in_main_thread else None
+    try:
+        return _main(argv)
+    finally:
+        if in_main_thread:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: list[str] | None) -> int:
     debug = os.environ.get("TOONFACE_DEBUG") == "1"
     try:
         status = cli.main(args=argv, prog_name="toonface", standalone_mode=False)
@@ -280,9 +300,14 @@ def main(argv: list[str] | None = None) -> int:
     except click.ClickException as exc:
         click.echo(f"toonface: error: {exc.format_message()}".replace("\n", " "), err=True)
         return exc.exit_code
-    except click.Abort:
-        click.echo("toonface: aborted", err=True)
-        return 130
+    except click.Abort as exc:  # click turns KeyboardInterrupt (Ctrl-C, and SIGTERM here) into Abort
+        stop = exc.__cause__
+        if isinstance(stop, Interrupted):
+            click.echo(f"toonface: {stop.signal_name}: kept {stop.output} with the {stop.frames} of "
+                       f"{stop.total} frames drawn", err=True)
+            return 143 if stop.signal_name == "SIGTERM" else 130
+        click.echo("toonface: stopped (SIGTERM)" if isinstance(stop, Terminated) else "toonface: aborted", err=True)
+        return 143 if isinstance(stop, Terminated) else 130
     except ToonfaceError as exc:
         if debug:
             raise

@@ -12,9 +12,11 @@ from pathlib import Path
 import numpy as np
 
 from capture import SyntheticTake, Take, save_take, synthesize
+from common.errors import Interrupted, Terminated
 from mapping import CleanSettings, Mapping, Profile
 from mapping import map_take as mapping_map_take
 from player import Renderer, create_context, open_sink, render_track
+from player.offline import frame_count
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
 
 
@@ -40,14 +42,28 @@ def map_take(take: Take, neutral_window: tuple[float, float] | str | None = (0.0
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),
            fps: float | None = None, samples: int = 4, progress: Callable[[int], None] | None = None) -> int:
-    """Render ``track`` on ``face`` to an MP4 (``*.mp4``) or a PNG folder; returns frames written.
+    """Render ``track`` on ``face`` to an MP4 (``*.mp4``), a PNG folder or raw RGB (``-``);
+    returns frames written.
 
-    The output appears only when every frame is written.
+    The output appears only when complete, or when Ctrl-C or SIGTERM stops it: then, as ffmpeg
+    does, it is closed with the frames written so far and :class:`~common.errors.Interrupted`
+    says how many. On an error nothing is left.
     """
     ctx = create_context()
     try:
-        with Renderer(ctx, size, samples) as renderer, open_sink(output, fps or track.rate, size) as sink:
-            return render_track(track, FaceRig(face), renderer, sink, fps, progress)
+        with Renderer(ctx, size, samples) as renderer:
+            sink = open_sink(output, fps or track.rate, size)
+            try:
+                frames = render_track(track, FaceRig(face), renderer, sink, fps, progress)
+            except KeyboardInterrupt as stop:
+                sink.close()
+                raise Interrupted(str(output), sink.frames, frame_count(track, fps or track.rate),
+                                  "SIGTERM" if isinstance(stop, Terminated) else "SIGINT") from None
+            except BaseException:
+                sink.abort()
+                raise
+            sink.close()
+            return frames
     finally:
         ctx.release()
 
