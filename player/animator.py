@@ -63,9 +63,18 @@ class Animator:
         self._lock = threading.Lock()
 
     def command(self, moves: Iterable[Move]) -> None:
-        """Start ``moves`` now: cut each into slices from the motor's current value."""
+        """Start ``moves`` now: cut each into slices from the motor's current value.
+
+        A command replaces everything pending for its motors (A1.2.4): their slices, and the
+        later steps of a motion already running (a nod's way back must not undo a new HV).
+        """
+        moves = tuple(moves)
         with self._lock:
-            self._start(tuple(moves))
+            codes = {move.code for move in moves}
+            self._later = [(at, order, rest) for at, order, scheduled in self._later
+                           if (rest := tuple(m for m in scheduled if m.code not in codes))]
+            heapq.heapify(self._later)
+            self._start(moves)
 
     def schedule(self, at: float, moves: Iterable[Move]) -> None:
         """Start ``moves`` when the loop's clock reaches ``at`` seconds."""

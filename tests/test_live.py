@@ -276,3 +276,25 @@ def test_sigterm_stops_a_live_player_and_keeps_its_recording(tmp_path):
     with av.open(str(tmp_path / "live.mp4")) as c:
         assert len(list(c.decode(video=0))) == 29
     assert [p.name for p in tmp_path.iterdir()] == ["live.mp4"]
+
+
+def test_an_explicit_move_replaces_what_a_running_motion_had_pending(commands):
+    """`HV 0 200` during `play nod 1000` reached 0.26, then the nod took HV back to 0.5."""
+    cmd, animator, clock = commands
+    hv = motor_index("HV")
+    assert cmd.handle("play nod 1000") == "ok playing nod"
+    t = 0.0
+    for _ in range(2):
+        animator.tick(t)
+        t += 0.1
+    assert cmd.handle("HV 0 200") == "ok moving 1"
+    seen = []
+    for _ in range(15):
+        seen.append(animator.tick(t)[hv])
+        t += 0.1
+    assert seen[1] == pytest.approx(0.0) and max(seen[1:]) == pytest.approx(0.0)  # and it stays there
+    assert not animator.busy()
+    # other motors' scheduled steps are untouched by a command that does not name them
+    assert cmd.handle("play shake 1000") == "ok playing shake"
+    assert cmd.handle("HV 1 100") == "ok moving 1"
+    assert animator.busy() and animator.pending("HV") == 1
