@@ -301,3 +301,21 @@ def test_csv_options_apply_to_csv_takes_only(tmp_path):
     from_npz = tasks.map_pair(tmp_path / "takes" / "a.npz", "classic", job)
     from_csv = tasks.map_pair(tmp_path / "takes" / "b.csv", "classic", job)  # read in cm: the same take
     assert np.allclose(from_npz.values, from_csv.values, atol=1e-4)
+
+
+def test_takes_from_other_folders_get_flat_output_folders(tmp_path):
+    """A take given by a path outside the job's folder landed in out/<every folder of its path>/."""
+    elsewhere = tmp_path / "far" / "away" / "session"
+    for day in ("day1", "day2"):
+        (elsewhere / day).mkdir(parents=True)
+        save_take(synthesize(seconds=1.0, rate=30.0).take, elsewhere / day / "take.npz")
+    save_take(synthesize(seconds=1.0, rate=30.0).take, elsewhere / "JawMoCap.npz")
+    job_dir = tmp_path / "jobs"
+    job_dir.mkdir()
+    path = job_dir / "job.toml"
+    path.write_text(f'format = "toonface.batch/1"\ntakes = ["{elsewhere}/**/*.npz"]\nfaces = ["classic"]\n'
+                    'output = "out"\n')
+    outputs = {p.name: p.output("video").path for p in plan(load_job(path))}
+    assert outputs == {"JawMoCap/classic": job_dir / "out" / "JawMoCap" / "classic.mp4",
+                       "day1-take/classic": job_dir / "out" / "day1-take" / "classic.mp4",
+                       "day2-take/classic": job_dir / "out" / "day2-take" / "classic.mp4"}

@@ -35,7 +35,7 @@ def test_imports_point_one_way(package):
 
 
 @pytest.mark.parametrize("module", ["common.errors", "common.failure", "toon.raster", "player.parts",
-                                    "player.layout"])
+                                    "player.layout", "toonface.batch.pairs"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module), optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0 and result.failed == 0

@@ -173,14 +173,41 @@ def _settings(job: Job) -> dict:
 
 
 def _take_names(takes: tuple[Path, ...]) -> dict[Path, str]:
-    """Output names of the takes: their paths below the folder they share, without suffix (with it
-    where two takes differ only in suffix)."""
-    root = Path(os.path.commonpath([t.parent for t in takes]))
-    names = {t: t.relative_to(root).with_suffix("").as_posix() for t in takes}
-    counts: dict[str, int] = {}
-    for name in names.values():
-        counts[name] = counts.get(name, 0) + 1
-    return {t: n if counts[n] == 1 else f"{n}_{t.suffix.lstrip('.').lower()}" for t, n in names.items()}
+    """Output folder names of the takes (``out/<take>/<face>``): each take's stem; where stems
+    clash, as many of the folders above it as tell them apart (``day1-take``, ``day2-take``),
+    and the suffix where only that differs (``take-c3d``, ``take-trc``).
+
+    Examples
+    --------
+    >>> names = _take_names((Path("/a/day1/t.c3d"), Path("/a/day2/t.c3d"), Path("/b/jaw.csv")))
+    >>> sorted(names.values())
+    ['day1-t', 'day2-t', 'jaw']
+    >>> sorted(_take_names((Path("x/t.c3d"), Path("x/t.trc"))).values())
+    ['t-c3d', 't-trc']
+    >>> sorted(_take_names((Path("/a/t.c3d"), Path("/b/a/t.c3d"))).values())
+    ['a-t', 'b-a-t']
+    """
+    depth = dict.fromkeys(takes, 0)  # folders above the stem that each name shows
+    above = {t: [part for part in t.parent.parts if part not in (t.anchor, ".")] for t in takes}
+
+    def name(take: Path) -> str:
+        folders = above[take][len(above[take]) - depth[take]:] if depth[take] else []
+        return "-".join([*folders, take.stem])
+
+    while True:
+        groups: dict[str, list[Path]] = {}
+        for take in takes:
+            groups.setdefault(name(take), []).append(take)
+        clashes = [group for group in groups.values() if len(group) > 1]
+        deeper = [t for group in clashes for t in group if depth[t] < len(above[t])
+                  and len({p.parent for p in group}) > 1]
+        if not deeper:
+            break
+        for take in deeper:
+            depth[take] += 1
+    names = {take: name(take) for take in takes}
+    counts = {n: list(names.values()).count(n) for n in set(names.values())}
+    return {t: n if counts[n] == 1 else f"{n}-{t.suffix.lstrip('.').lower()}" for t, n in names.items()}
 
 
 def _face_names(job: Job) -> dict[str, str]:
