@@ -14,9 +14,11 @@ from toon.skeleton import bind_edge_skeleton, bind_point_skeleton
 
 @pytest.fixture(scope="module")
 def base_doc():
-    """The classic face's points and motors with no drawing of its own."""
+    """The classic face's points and motors with no drawing of its own; the brows' ranges are
+    set here (BRC 102..162: 24 units down and 36 up from its rest at 126), as the numbers below use them."""
     doc = load_face("classic").to_dict()
     doc["polygons"] = []
+    doc["motors"].update({"BRC": [102.0, 162.0], "BLC": [102.0, 162.0]})
     return doc
 
 

@@ -42,11 +42,22 @@ from common import InputError
 from toon.components import Component
 from toon.curves import ellipse_operator, outline_operator
 from toon.face import ANGLE_MOTORS, FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
-from toon.formulas import FeatureBinding, bind_to_lines, follow_lines, head_turn, interpolate_states
+from toon.formulas import (
+    ArcBinding,
+    FeatureBinding,
+    bind_to_arcs,
+    bind_to_lines,
+    follow_arcs,
+    follow_lines,
+    head_turn,
+    interpolate_states,
+)
 from toon.geometry import DrawItem, Geometry
 from toon.motors import MOTORS, N_MOTORS, motor_index
 from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
 
+#: Features whose four points make two arcs (corners, upper and lower middles): eyes and mouth.
+ARC_FEATURES: tuple[str, ...] = ("eye_right", "eye_left", "mouth")
 #: Mask groups: holes write their group; pupils and clipped components draw only inside it.
 MASK_GROUPS: dict[str, int] = {name: i + 1 for i, name in enumerate(HOLE_FEATURES)}
 
@@ -62,6 +73,7 @@ class _Polygon:
     mask_test: int | None
     line_rows: np.ndarray | None = None
     binding: FeatureBinding | None = None
+    arc: ArcBinding | None = None  # eyes and mouth: the parabolas through their points
     v_max: np.ndarray | None = None
     pupil_row: int = -1
 
@@ -102,8 +114,10 @@ class _VertexPlan:
     size: int
     static_at: np.ndarray  # (K,) vertices that only a head turn moves: face and free polygons
     static_xy: np.ndarray  # (K, 2)
-    lines: FeatureBinding | None  # every feature-attached vertex, bound to control-point rows
+    lines: FeatureBinding | None  # every brow vertex, bound to control-point rows
     line_at: np.ndarray  # (L,)
+    arcs: ArcBinding | None  # every eye and mouth vertex (holes and features), bound to their arcs
+    arc_at: np.ndarray  # (A,)
     pupil_at: np.ndarray  # (Q,)
     pupil_row: np.ndarray  # (Q,) control-point row of the vertex's pupil point
     pupil_eye: np.ndarray  # (Q,) its pupil's place in PUPIL_EYES
@@ -136,7 +150,8 @@ def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _Ver
     bounds = np.concatenate([[0], np.cumsum([_outline_size(prep) for prep in order])]).astype(np.int64)
     slices = tuple(slice(int(a), int(b)) for a, b in pairwise(bounds))
     parts: dict[str, list] = {name: [] for name in (
-        "static_at", "static_xy", "lines", "line_at", "pupil_at", "pupil_row", "pupil_eye", "pupil_offset",
+        "static_at", "static_xy", "lines", "line_at", "arcs", "arc_at", "pupil_at", "pupil_row", "pupil_eye",
+        "pupil_offset",
         "point_at", "point_motor", "point_min", "point_max", "defining_row", "defining_offset", "direct_from",
         "direct_to", "blocks", "component_at", "moving_at", "moving_depth")}
     skeletons: list[tuple[_Skeleton, slice, slice]] = []
@@ -147,7 +162,10 @@ def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _Ver
             parts["moving_at"].append(at)
             parts["moving_depth"].append(np.full(len(at), prep.depth))
         if isinstance(prep, _Polygon):
-            if prep.binding is not None and prep.line_rows is not None:
+            if prep.arc is not None:
+                parts["arcs"].append(prep.arc)
+                parts["arc_at"].append(at)
+            elif prep.binding is not None and prep.line_rows is not None:
                 b = prep.binding
                 parts["lines"].append(FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
                 parts["line_at"].append(at)
@@ -178,14 +196,18 @@ def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _Ver
         parts["component_at"].append(at)
         defined, given = defined + n, given + inputs
     lines = parts.pop("lines")
+    arcs = parts.pop("arcs")
     blocks = parts.pop("blocks")
     arrays = {name: _joined(items, 2 if name in ("static_xy", "pupil_offset", "point_min", "point_max",
                                                  "defining_offset") else 1)
               for name, items in parts.items()}
     merged = FeatureBinding(*(np.concatenate([getattr(p, f) for p in lines])
                               for f in ("start", "end", "vrl", "d"))) if lines else None
+    merged_arcs = ArcBinding(*(np.concatenate([getattr(p, f) for p in arcs]) for f in (
+        "a", "b", "m", "other", "upper", "vrl", "d", "gap"))) if arcs else None
     operator = sparse.csr_array(sparse.block_diag(blocks)) if blocks else None
-    return _VertexPlan(slices, int(bounds[-1]), lines=merged, skeletons=tuple(skeletons), operator=operator,
+    return _VertexPlan(slices, int(bounds[-1]), lines=merged, arcs=merged_arcs, skeletons=tuple(skeletons),
+                       operator=operator,
                        **arrays)
 
 
@@ -279,6 +301,8 @@ class FaceRig:
         out[plan.static_at] = plan.static_xy
         if plan.lines is not None:
             out[plan.line_at] = follow_lines(plan.lines, pts)  # A1.1-A1.4
+        if plan.arcs is not None:
+            out[plan.arc_at] = follow_arcs(plan.arcs, pts)  # A1.3-A1.4 on the eyes' and mouth's arcs
         if len(plan.pupil_at):
             out[plan.pupil_at] = pts[plan.pupil_row] + plan.pupil_offset * np.cos(gaze)[plan.pupil_eye]
         if len(plan.point_at):  # A1.5-A1.6
@@ -328,7 +352,10 @@ class FaceRig:
             names, closed = FEATURES[spec.attach]
             line_rows = np.array([self._index[n] for n in names])
             try:
-                extra["binding"] = bind_to_lines(rest, self._rest[line_rows], closed)
+                if spec.attach in ARC_FEATURES:
+                    extra["arc"] = bind_to_arcs(rest, self._rest[line_rows], line_rows, spec.kind == "hole")
+                else:
+                    extra["binding"] = bind_to_lines(rest, self._rest[line_rows], closed)
             except ValueError as exc:  # the face file is at fault, so say where
                 raise InputError(f"feature {spec.attach}: {exc}", self.face.meta.get("source"),
                                  f"polygons[{index}].attach") from None
