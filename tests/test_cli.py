@@ -87,6 +87,7 @@ def test_a_corrupt_track_writes_nothing(tmp_path, capsys):
     assert not (tmp_path / "v.mp4").exists()
 
 
+@pytest.mark.slow
 def test_demo_end_to_end(tmp_path):
     """The real command, in its own process: a 300-frame 512x512 H.264 file and its inputs."""
     out = tmp_path / "demo"
@@ -107,6 +108,7 @@ def test_demo_end_to_end(tmp_path):
         assert np.abs(frames[moving].astype(int) - neutral).max(axis=2).mean() > 1.0
 
 
+@pytest.mark.slow
 def test_bench_prints_one_json_figure_per_line():
     result = subprocess.run([sys.executable, "-m", "bench", "--quick", "render", "pipeline"],
                             capture_output=True, text=True, timeout=300)

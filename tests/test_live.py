@@ -181,6 +181,7 @@ def test_render_writes_raw_rgb_to_standard_output(tmp_path):
     assert len(result.stdout) == 5 * 32 * 16 * 3 and b"wrote -" in result.stderr
 
 
+@pytest.mark.slow
 def test_toonface_play_answers_commands_and_the_frames_follow(tmp_path):
     frames = tmp_path / "frames"
     proc = subprocess.Popen([sys.executable, "-m", "toonface", "play", "--listen", "127.0.0.1:0", "--size", "96",
