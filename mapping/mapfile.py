@@ -96,6 +96,7 @@ class Mapping:
     symmetric: tuple[tuple[str, str], ...] = ()
     style: Style = Style()
     description: str = ""
+    source: str = ""  # the file it was read from, for messages
 
     def sources(self) -> list[Source]:
         """Every source the rules read (each once, by key)."""
@@ -135,7 +136,7 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
     return Mapping(str(doc.get("name", Path(path).stem)), markerset, rules,
                    check.typed(doc, "mirror", bool, "", default=False), copy_side,
                    tuple(tuple(p) for p in pairs), _style(check, doc.get("style", {})),
-                   str(doc.get("description", "")))
+                   str(doc.get("description", "")), str(path))
 
 
 def _rule(check: _Checker, code: str, spec: object) -> MotorRule:

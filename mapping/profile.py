@@ -58,6 +58,8 @@ class Profile:
     performer : str
     notes : dict of str to str
         Where the neutral and the range came from, and sources left out for lack of motion.
+    source : str
+        The file it was read from ("" for one made in memory), for messages.
     """
 
     markerset: str
@@ -65,6 +67,7 @@ class Profile:
     rest_rotation: np.ndarray
     performer: str = ""
     notes: dict[str, str] = field(default_factory=dict)
+    source: str = ""
 
 
 def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = 1.0) -> tuple[float, float]:
@@ -194,7 +197,7 @@ def load_profile(path: str | os.PathLike) -> Profile:
         ranges[key] = SourceRange(neutral, low, high)
     notes = doc.get("notes", {})
     return Profile(str(doc["markerset"]), ranges, rot, str(doc.get("performer", "")),
-                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {})
+                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path))
 
 
 def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, int], head: np.ndarray) -> np.ndarray:

@@ -158,8 +158,7 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
     else:
-        if profile.markerset != markerset.name:
-            raise InputError(f"the profile is for marker set {profile.markerset}, the mapping for {markerset.name}")
+        check_profile(profile, chosen)
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
             own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
@@ -172,6 +171,18 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
                            prepared.stable.filled)
     meta = {**track.meta, "source": take.meta.get("source", ""), "notes": notes}
     return MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+
+
+def check_profile(profile: Profile, mapping: Mapping) -> None:
+    """A profile must be for the marker set the mapping reads; the error names both files."""
+    if profile.markerset == mapping.markerset:
+        return
+    builtin = data_path("mappings", f"{mapping.name}.toml")
+    which = (f"the built-in mapping {mapping.name}" if mapping.source and Path(mapping.source) == builtin
+             else f"the mapping {mapping.source or mapping.name}")
+    raise InputError(f"the profile {profile.source or '(given)'} is for marker set {profile.markerset}, but {which} "
+                     f"reads marker set {mapping.markerset}: calibrate a profile on a {mapping.markerset} take "
+                     f"(toonface calibrate), or use a mapping for {profile.markerset}")
 
 
 def builtin_profile(markerset: str) -> Path | None:
@@ -194,4 +205,4 @@ def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_
             if key in own.sources:
                 shift = own.sources[key].neutral - span.neutral
                 sources[key] = type(span)(span.neutral + shift, span.low + shift, span.high + shift)
-    return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes))
+    return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes), profile.source)

@@ -5,7 +5,7 @@ import pytest
 
 from capture import Take, synthesize
 from capture.performance import default_performance
-from common import InputError
+from common import InputError, data_path
 from mapping import CleanSettings, calibrate, choose_mapping, load_profile, map_take, prepare, save_profile
 from toon import MOTOR_CODES, motor_index
 from toonface import truth_track
@@ -156,3 +156,18 @@ def test_a_feature_that_does_not_move_in_the_calibration_keeps_a_range(realdata,
     spread = {c: np.percentile(track.column(c), 95) - np.percentile(track.column(c), 5) for c in MOTOR_CODES}
     assert max(spread[c] for c in ("MLH", "MLV", "MRH", "MRV")) < 0.2  # they were 0.73-0.84
     assert min(spread[c] for c in ("BRC", "BRM", "BLC", "BLM")) > 0.9  # the brows still act in full
+
+
+def test_a_profile_for_another_marker_set_names_both_files(tmp_path, capsys):
+    """It said 'the profile is for marker set animface41, the mapping for toon32', naming no file."""
+    from capture import save_take
+    from toonface.cli import main
+
+    save_take(synthesize(seconds=2, noise_mm=0.0).take, tmp_path / "t.npz")
+    other = tmp_path / "animface.toml"
+    other.write_text(data_path("profiles", "toon32.toml").read_text().replace('markerset = "toon32"',
+                                                                            'markerset = "animface41"'))
+    assert main(["map", str(tmp_path / "t.npz"), "-o", str(tmp_path / "m.csv"), "--profile", str(other)]) == 2
+    err = capsys.readouterr().err
+    assert f"the profile {other} is for marker set animface41, but the built-in mapping toon32 reads marker set " \
+           "toon32" in err

@@ -25,7 +25,7 @@ from capture.videoio import probe
 from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, load_profile, prepare
 from mapping.live import LiveMapper
-from mapping.workflow import SELF_MIN_SIDE, builtin_profile
+from mapping.workflow import SELF_MIN_SIDE, builtin_profile, check_profile
 from player.stream import StreamWriter, is_key_request
 
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
@@ -113,6 +113,7 @@ def build_mapper(source: LiveSource, mapping: Mapping | str | None = None, profi
                              f"{profile.notes['range']})")
         else:
             raise InputError(f"no typical profile for marker set {markerset.name}; give one with --profile")
+    check_profile(profile, chosen)
     try:
         return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds)
     except ValueError as exc:
