@@ -64,6 +64,7 @@ def run(quick: bool = False) -> list[Figure]:
 
 def _job(folder: Path, takes: dict[str, float], faces: list[str], extra: str = "") -> Path:
     """Synthetic takes (30 Hz, seeded) and a job file writing every output of each pair."""
+    (folder / "takes").mkdir(parents=True, exist_ok=True)
     for seed, (name, seconds) in enumerate(takes.items()):
         save_take(synthesize(seconds=seconds, rate=30.0, seed=seed).take, folder / "takes" / f"{name}.npz")
     path = folder / "job.toml"

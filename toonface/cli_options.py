@@ -6,6 +6,7 @@ import functools
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
@@ -52,6 +53,12 @@ def parse_size(value: str, option: str = "--size") -> tuple[int, int]:
         return frame_size(value)
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint=option) from None
+
+
+def check_output(path: str | None, option: str) -> None:
+    """Refuse, before any work, an output whose folder does not exist (written at the end)."""
+    if path is not None and path != "-" and not Path(path).resolve().parent.is_dir():
+        raise click.BadParameter(f"{path}: no such folder {Path(path).parent}", param_hint=option)
 
 
 def parse_codes(value: str | None, option: str = "--motors") -> tuple[str, ...] | None:

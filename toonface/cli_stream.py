@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, read_take, take_options
+from toonface.cli_options import FACE, SIZE, TakeReading, check_output, parse_size, read_take, take_options
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
@@ -68,6 +68,7 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
 
     address = _required_address(target, "--to", 7710)
+    check_output(record, "--record")
     if source == "synthetic":
         src = synthetic_source(seconds or 60.0)
     elif Path(source).suffix.lower() in VIDEO_SUFFIXES:
@@ -133,6 +134,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     from player.sinks import open_sink
     from toon import load_face, save_track
 
+    check_output(record, "--record")
     face_obj = load_face(face)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
