@@ -128,3 +128,22 @@ def test_open_mouths_are_round_not_kites(name, expression):
     assert angle > 150, f"{name} {expression}: the mouth's bottom turns {180 - angle:.0f} degrees at one vertex"
     chin = [it.vertices for it in geometry.items if it.name in ("chin", "head", "face")]
     assert mouth[:, 1].min() > min(v[:, 1].min() for v in chin)  # the mouth stays on the face
+
+
+@pytest.mark.parametrize("name", FACES)
+@pytest.mark.parametrize("turn", [0.07, 0.93])
+def test_both_pupils_show_at_a_strong_head_turn(name, turn):
+    """At HH = 0.93 one eye of classic showed a doubled lid outline and lost its pupil."""
+    face = load_face(name)
+    values = face.neutral().copy()
+    values[motor_index("HH")] = turn
+    geometry = FaceRig(face).geometry(values)
+    for group, side in ((1, "right"), (2, "left")):
+        pupils = [it for it in geometry.items if it.mask_test == group
+                  or (it.mask_test is None and (it.name or "") == f"pupil_{side}")]
+        painted = tuple(replace(it, fill=MAGENTA if it.fill is not None else None,
+                                stroke=MAGENTA if it.stroke is not None else None)
+                        if any(it is p for p in pupils) else it for it in geometry.items)
+        image = render_cpu(replace(geometry, items=painted), (384, 384)).astype(int)
+        shown = ((image[..., 0] > 150) & (image[..., 1] < 110) & (image[..., 2] > 150)).sum()
+        assert shown > 15, f"{name} HH={turn}: the {side} eye's pupil shows {shown} pixels"

@@ -127,7 +127,6 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     more than --max-jump per frame when the stream comes back. Bad packets (oversized,
     malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
     """
-    from common import InputError
     from player.live import ListenError, LiveSettings, run_live
     from player.playout import Playout
     from player.receiver import StreamReceiver
@@ -143,7 +142,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file))
     except OSError as exc:
-        raise InputError(f"cannot listen on {listen}: {exc.strerror or exc}") from None
+        raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
     with receiver:
         settings = LiveSettings(loop_time=1 / fps, size=dims, tcp=None, preview=_address(preview, "--preview", 8080),
                                 seconds=seconds)
@@ -219,7 +218,6 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
     Example: `toonface relay --to 127.0.0.1:7710 --loss 0.1 --burst-ms 50`, then
     `toonface send synthetic --to 127.0.0.1:7711`.
     """
-    from common import InputError
     from player.relay import NetworkFaults, Relay
 
     faults = NetworkFaults(loss=loss, burst_seconds=burst_ms / 1000, duplicate=duplicate, corrupt=corrupt,
@@ -228,7 +226,7 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
         proxy = Relay(_required_address(listen, "--listen", 7711), _required_address(target, "--to", 7710), faults,
                       seed)
     except OSError as exc:
-        raise InputError(f"cannot listen on {listen}: {exc.strerror or exc}") from None
+        raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
     with proxy:
         host, port = proxy.address
         click.echo(f"relaying {host}:{port} -> {target} (Ctrl-C stops)", err=False)
