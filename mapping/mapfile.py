@@ -120,6 +120,8 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
         check.fail("format", f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")')
     check.keys(doc, _TOP_KEYS, "")
     markerset = check.typed(doc, "markerset", str, "", required=True)
+    if (Path(markerset).suffix or "/" in markerset) and not Path(markerset).is_absolute() and path != "<mapping>":
+        markerset = str(Path(path).parent / markerset)  # a file named in a file: beside it, not in the cwd
     motors = doc.get("motor", {})
     if not isinstance(motors, dict) or not motors:
         check.fail("motor", "expected at least one [motor.CODE] table")

@@ -158,7 +158,7 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
     else:
-        check_profile(profile, chosen)
+        check_profile(profile, chosen, markerset.name)
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
             own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
@@ -173,15 +173,16 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
     return MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
 
 
-def check_profile(profile: Profile, mapping: Mapping) -> None:
-    """A profile must be for the marker set the mapping reads; the error names both files."""
-    if profile.markerset == mapping.markerset:
+def check_profile(profile: Profile, mapping: Mapping, markerset: str) -> None:
+    """A profile must be for the marker set (named ``markerset``) the mapping reads; the error
+    names both files."""
+    if profile.markerset == markerset:
         return
     builtin = data_path("mappings", f"{mapping.name}.toml")
     which = (f"the built-in mapping {mapping.name}" if mapping.source and Path(mapping.source) == builtin
              else f"the mapping {mapping.source or mapping.name}")
     raise InputError(f"the profile {profile.source or '(given)'} is for marker set {profile.markerset}, but {which} "
-                     f"reads marker set {mapping.markerset}: calibrate a profile on a {mapping.markerset} take "
+                     f"reads marker set {markerset}: calibrate a profile on a {markerset} take "
                      f"(toonface calibrate), or use a mapping for {profile.markerset}")
 
 

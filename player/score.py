@@ -21,7 +21,7 @@ from toon import MOTOR_CODES, MotorTrack, motor_index
 STAVE_PX = 48
 MARGIN_LEFT, MARGIN_RIGHT, MARGIN_BOTTOM = 70, 90, 36
 FIRST, SECOND = (30, 60, 150), (235, 120, 20)  # RGB
-_BLOCKS = " ▁▂▃▄▅▆▇█"
+_BLOCKS = "▁▂▃▄▅▆▇█"  # 0 is the lowest bar, not a blank that reads as missing data
 
 
 def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple[str, ...] | None = None,

@@ -309,6 +309,7 @@ def test_every_option_s_help_default_is_its_real_default():
     assert described[("synth", "--expressions")] == ",".join(DEFAULT_EXPRESSIONS)
     assert described[("score", "--motors")] == f"all {len(MOTOR_CODES)}"
     assert described[("map", "--profile")].startswith("the marker set's built-in typical profile")
+    assert described[("calibrate", "--neutral")] == "first"  # it spoke of "a given profile's rest"
 
 
 def test_map_without_a_profile_uses_the_typical_one_as_its_help_says(small_take):

@@ -88,21 +88,27 @@ def _clean_settings(fn):
 @click.option("--head-frame", is_flag=True,
               help="Write positions with head motion removed (the marker set's head frame); the head's yaw and "
                    "pitch go into the take's metadata (kept by .npz).")
+@click.option("--markerset", default=None, metavar="NAME|FILE",
+              help="The take's marker set [default: the built-in one its labels match].")
+@_MAPPING
 @take_options
-def clean(take: str, output: str, head_frame: bool, cleaning: Cleaning,
-          reading: TakeReading) -> None:
+def clean(take: str, output: str, head_frame: bool, markerset: str | None, mapping: str | None,
+          cleaning: Cleaning, reading: TakeReading) -> None:
     """Clean a take offline: remove head motion, reject spikes, fill gaps, smooth without lag.
 
     Head motion is found by a robust rigid fit of the marker set's head references (the set is
-    recognised from the labels). Short gaps (up to 5 frames) are bridged by a cubic spline,
-    longer ones from the other markers' correlated motion; a marker missing longer than
-    --max-gap stays unseen.
+    --markerset, the one --mapping reads, or recognised from the labels). Short gaps (up to 5
+    frames) are bridged by a cubic spline, longer ones from the other markers' correlated motion;
+    a marker missing longer than --max-gap stays unseen.
     """
-    from capture import save_take
-    from mapping import clean_take
+    from capture import load_markerset, save_take
+    from mapping import choose_mapping, clean_take
 
+    if markerset and mapping:
+        raise click.UsageError("give --markerset or --mapping, not both")
     loaded = read_take(take, reading)
-    cleaned, report = clean_take(loaded, cleaning.settings(loaded.rate), head_frame=head_frame)
+    layout = load_markerset(markerset) if markerset else choose_mapping(loaded, mapping)[1] if mapping else None
+    cleaned, report = clean_take(loaded, cleaning.settings(loaded.rate), layout, head_frame=head_frame)
     path = save_take(cleaned, output)
     click.echo(f"wrote {path}: {report.summary()}")
 
@@ -111,7 +117,9 @@ def clean(take: str, output: str, head_frame: bool, cleaning: Cleaning,
 @click.argument("take", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Profile to write (.toml).")
 @_MAPPING
-@_NEUTRAL
+@click.option("--neutral", default=None, metavar="START:END|first|stillest",
+              help="Where the take is at rest: seconds, its first second with the head seen, or its stillest "
+                   "second [default: first].")
 @click.option("--neutral-take", default=None, type=click.Path(dir_okay=False),
               help="Take the neutral from this take (its --neutral window, by default its first second) instead.")
 @click.option("--range", "range_window", default=None, metavar="START:END",

@@ -122,17 +122,33 @@ def take_options(fn: Callable) -> Callable:
                                 "with a warning, instead of refusing it.")(command)
     command = click.option("--units", default=None, metavar="mm|cm|m|in|N",
                            help="CSV only: the table's units, or millimetres per unit [default: mm].")(command)
-    command = click.option("--labels", default=None, metavar="A,B,...",
-                           help="CSV only: marker names of a table without a header row.")(command)
+    command = click.option("--labels", default=None, metavar="A,B,...|@FILE",
+                           help="CSV only: marker names of a table without a header row, or @FILE to read "
+                                "them from a file (one per line or comma-separated).")(command)
     return click.option("--rate", "take_rate", default=None, type=float, metavar="HZ",
                         help="CSV only: frame rate of a table without a time column.")(command)
+
+
+def _labels(value: str) -> list[str]:
+    """Marker names from ``A,B,...`` or ``@FILE`` (names one per line or comma-separated; ``#``
+    starts a comment)."""
+    if not value.startswith("@"):
+        return [x.strip() for x in value.split(",") if x.strip()]
+    path = Path(value[1:])
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise click.BadParameter(f"{path}: cannot read the names ({getattr(exc, 'strerror', None) or exc})",
+                                 param_hint="--labels") from None
+    lines = [line.split("#", 1)[0] for line in text.splitlines()]
+    return [name.strip() for line in lines for name in line.split(",") if name.strip()]
 
 
 def read_take(path: str, reading: TakeReading = TakeReading()) -> Take:
     """Load a take as the --rate/--labels/--units/--allow-truncated options say."""
     from capture import load_take
 
-    names = [x.strip() for x in reading.labels.split(",") if x.strip()] if reading.labels else None
+    names = _labels(reading.labels) if reading.labels else None
     return load_take(path, rate=reading.rate, labels=names, units=reading.units,
                      allow_truncated=reading.allow_truncated)
 

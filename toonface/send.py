@@ -113,7 +113,7 @@ def build_mapper(source: LiveSource, mapping: Mapping | str | None = None, profi
                              f"{profile.notes['range']})")
         else:
             raise InputError(f"no typical profile for marker set {markerset.name}; give one with --profile")
-    check_profile(profile, chosen)
+    check_profile(profile, chosen, markerset.name)
     try:
         return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds)
     except ValueError as exc:

@@ -1,0 +1,77 @@
+"""A marker layout toonface has not seen: its own marker set and mapping files, named from other
+folders, and the options that take them."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from capture import Take, load_take, save_take, synthesize
+from common import data_path
+from toon import MotorTrack, load_track, save_track
+from toonface.cli import main
+
+
+def _own_layout(folder):
+    """toon32's marker set and mapping under other names: every label prefixed with ``my_``."""
+    folder.mkdir()
+    markerset = data_path("markersets", "toon32.toml").read_text()
+    mapping = data_path("mappings", "toon32.toml").read_text()
+    labels = [line.split("=")[0].strip() for line in markerset.split("[markers]")[1].splitlines()
+              if "=" in line and not line.lstrip().startswith("#")]
+    for label in sorted(labels, key=len, reverse=True):
+        markerset = markerset.replace(f'"{label}"', f'"my_{label}"').replace(f"\n{label} ", f"\nmy_{label} ")
+        mapping = mapping.replace(f'"{label}"', f'"my_{label}"')
+    markerset = markerset.replace('name = "toon32"', 'name = "mine"')
+    (folder / "mine.toml").write_text(markerset)
+    mapping = mapping.replace('markerset = "toon32"', 'markerset = "mine.toml"').replace('name = "toon32"',
+                                                                                     'name = "mine"')
+    (folder / "mine-mapping.toml").write_text(mapping)
+    return labels
+
+
+def test_a_mapping_names_its_marker_set_beside_itself_and_clean_takes_the_layout(tmp_path, monkeypatch, capsys):
+    """A mapping's marker set path was resolved against the current folder; clean had no --markerset."""
+    labels = _own_layout(tmp_path / "layout")
+    take = synthesize(seconds=2.0, noise_mm=0.0).take
+    renamed = Take(take.positions, tuple(f"my_{x}" for x in take.labels), take.rate)
+    save_take(renamed, tmp_path / "t.npz")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert main(["map", "../t.npz", "-o", "m.csv", "--mapping", "../layout/mine-mapping.toml",
+                 "--calibrate", "../t.npz"]) == 0
+    assert load_track(elsewhere / "m.csv").frames == 60
+    capsys.readouterr()
+    assert main(["clean", "../t.npz", "-o", "c.npz"]) == 0
+    assert "head motion left in" in capsys.readouterr().out  # without the layout: not recognised
+    for option in (["--markerset", "../layout/mine.toml"], ["--mapping", "../layout/mine-mapping.toml"]):
+        assert main(["clean", "../t.npz", "-o", "c.npz", *option]) == 0
+        assert "head motion left in" not in capsys.readouterr().out
+    assert len(labels) == take.markers
+
+
+def test_labels_come_from_a_file(tmp_path, monkeypatch, capsys):
+    take = synthesize(seconds=1.0, noise_mm=0.0).take
+    table = take.positions.reshape(take.frames, -1)
+    np.savetxt(tmp_path / "t.csv", table, delimiter=",", fmt="%.4f")
+    (tmp_path / "names.txt").write_text("# the sticker names, in column order\n" + "\n".join(take.labels[:10])
+                                        + "\n" + ",".join(take.labels[10:]) + "\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["info", "t.csv", "--rate", "30", "--labels", "@names.txt", "--json"]) == 0
+    assert tuple(json.loads(capsys.readouterr().out)["labels"]) == take.labels
+    np.testing.assert_allclose(load_take(tmp_path / "t.csv", rate=30, labels=list(take.labels)).positions,
+                               take.positions, atol=1e-4)
+    assert main(["info", "t.csv", "--rate", "30", "--labels", "@missing.txt"]) == 2
+
+
+def test_score_text_draws_zero_as_the_lowest_bar(tmp_path, capsys):
+    """score --text printed a blank for 0, which reads as missing data."""
+    track = tmp_path / "m.csv"
+    values = np.full((20, 21), 0.5)
+    values[:, 18] = 0.0  # MB shut the whole time
+    save_track(MotorTrack(values, 10.0), track)
+    assert main(["score", str(track), "-o", str(tmp_path / "s.txt"), "--motors", "MB"]) == 0
+    line = (tmp_path / "s.txt").read_text(encoding="utf-8").splitlines()[0]
+    assert line.startswith(" MB ▁▁▁") and " " not in line[4:64]
