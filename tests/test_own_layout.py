@@ -75,3 +75,27 @@ def test_score_text_draws_zero_as_the_lowest_bar(tmp_path, capsys):
     assert main(["score", str(track), "-o", str(tmp_path / "s.txt"), "--motors", "MB"]) == 0
     line = (tmp_path / "s.txt").read_text(encoding="utf-8").splitlines()[0]
     assert line.startswith(" MB ▁▁▁") and " " not in line[4:64]
+
+
+def test_info_draws_the_markers_from_three_sides_where_they_are(tmp_path, capsys):
+    """Naming the markers of an unfamiliar layout took hand-written plotting scripts."""
+    import cv2
+
+    positions = np.tile([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [0.0, 100.0, 50.0]], (30, 1, 1))
+    positions[:, 0, 0] += np.linspace(0, 20, 30)  # A slides 20 mm along x over the take
+    save_take(Take(positions, ("A", "B", "C"), 30.0), tmp_path / "t.npz")
+    assert main(["info", str(tmp_path / "t.npz"), "--plot", str(tmp_path / "p.png"), "--plot-motion"]) == 0
+    image = cv2.imread(str(tmp_path / "p.png"))
+    assert image.shape == (550, 1560, 3)
+    scale = 440 / 100  # the largest extent (100 mm) fills a 520 px panel less its 40 px margins
+
+    def dot(panel, h, v, centre):  # a marker's pixel, as drawn: one scale, each panel centred
+        return image[round(30 + 260 - (v - centre[1]) * scale), round(panel * 520 + 260 + (h - centre[0]) * scale)]
+
+    blue = [200, 60, 30]
+    assert list(dot(0, 100, 0, (50, 50))) == blue  # B in the front view (x 0..100, y 0..100)
+    assert list(dot(1, 50, 100, (25, 50))) == blue  # C in the side view (z 0..50)
+    assert list(dot(2, 0, 50, (50, 25))) == blue  # C from the top (x, z)
+    assert list(dot(0, 10, 0, (50, 50))) == blue  # A at its median place over its path
+    assert main(["info", str(tmp_path / "t.npz"), "--plot", str(tmp_path / "p.jpg")]) == 2
+    assert main(["info", str(tmp_path / "t.npz"), "--plot-motion"]) == 2

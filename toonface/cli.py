@@ -130,8 +130,11 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
 @cli.command()
 @click.argument("take", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="One JSON object instead of text.")
+@click.option("--plot", "plot_path", default=None, type=click.Path(dir_okay=False),
+              help="Draw the markers' neutral from the front, side and top, labelled (PNG), to tell them apart.")
+@click.option("--plot-motion", is_flag=True, help="With --plot: also each marker's path over the take.")
 @take_options
-def info(take: str, as_json: bool, reading: TakeReading) -> None:
+def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, reading: TakeReading) -> None:
     """Frames, markers, rate, duration, units and gaps of a take (.c3d .trc .csv .npz).
 
     With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
@@ -140,7 +143,17 @@ def info(take: str, as_json: bool, reading: TakeReading) -> None:
     from capture.info import describe, summarize
 
 
-    summary = summarize(read_take(take, reading))
+    if plot_motion and not plot_path:
+        raise click.UsageError("--plot-motion draws into the --plot picture: give --plot too")
+    loaded = read_take(take, reading)
+    summary = summarize(loaded)
+    if plot_path:
+        from capture.markerset import find_markerset
+        from capture.plot import plot_take
+
+        known = find_markerset(loaded.labels)
+        plot_take(loaded, plot_path, plot_motion, known.head_reference if known else ())
+        click.echo(f"wrote {plot_path}", err=as_json)
     if as_json:
         click.echo(json.dumps(summary))
     else:
