@@ -88,7 +88,8 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
                   range_take: Stabilised, range_frames: np.ndarray, columns: dict[str, int],
                   range_columns: dict[str, int], markerset: str, extra: Sequence[Source] = (),
                   percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "",
-                  notes: dict[str, str] | None = None, min_side: float = 0.0) -> Profile | Failure:
+                  notes: dict[str, str] | None = None, min_side: float = 0.0,
+                  require_motion: bool = True) -> Profile | Failure:
     """Measure a profile.
 
     Parameters
@@ -107,6 +108,9 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         Derived sources (distances, differences, angles) to measure besides every marker axis.
     percentiles : tuple of float
         Low and high percentiles of the range frames taken as the range's ends.
+    require_motion : bool
+        Fail when no face source moves (a calibration must see the range; a profile made only
+        for its rest values need not).
     min_side : float
         Each side of a face source's range reaches at least this far from rest (mm, or degrees
         for angles), so that a take that hardly moves a marker does not stretch its jitter over
@@ -154,7 +158,7 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         elif hi - lo < MIN_RANGE:
             still.append(source.key)
         ranges[source.key] = SourceRange(float(rest_value[i]), float(lo), float(hi))
-    if not moving:
+    if require_motion and not moving:
         return Failure(f"no motion: every face marker stays within {MIN_RANGE:g} mm of its rest over the range "
                        "frames")
     notes = dict(notes or {})

@@ -103,7 +103,8 @@ def rest_window(prepared: Prepared, spec: NeutralSpec) -> tuple[tuple[float, flo
 
 def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec = None,
               range_from: Prepared | None = None, range_window: tuple[float, float] | None = None,
-              percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "", min_side: float = 0.0) -> Profile:
+              percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "", min_side: float = 0.0,
+              require_motion: bool = True) -> Profile:
     """A performer profile: neutral from ``neutral_window`` of ``neutral`` (see :func:`rest_window`),
     range from ``range_window`` of ``range_from`` (default: the neutral take, all of it), each side
     at least ``min_side`` from rest (see :func:`~mapping.profile.build_profile`).
@@ -128,7 +129,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
                       + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}
     profile = build_profile(neutral.stable, neutral.take.times, window, source.stable, frames, neutral.columns,
                             source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes,
-                            min_side)
+                            min_side, require_motion)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
     return profile
@@ -148,7 +149,7 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
     if mirror:
         chosen = replace(chosen, mirror=True)
     prepared = prepare(take, markerset, settings)
-    notes = []
+    notes = stabilisation_notes(prepared)
     rest_from_take = neutral_window is not None
     typical = builtin_profile(markerset.name) if profile is None else None
     if typical is not None:
@@ -161,7 +162,8 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
         check_profile(profile, chosen, markerset.name)
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
-            own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
+            own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE,
+                            require_motion=bool(missing))  # only its rest is needed unless ranges are
             profile = merge_profile(profile, own, missing, rest_from_take)
             if missing:
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
@@ -171,6 +173,35 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
                            prepared.stable.filled)
     meta = {**track.meta, "source": take.meta.get("source", ""), "notes": notes}
     return MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+
+
+#: Head references further than this (RMS, mm) from the marker set's shape are worth a warning.
+REFERENCE_TOLERANCE = 5.0
+#: Head travel (mm) beyond which the note says that only the head's rotation is kept.
+TRAVEL_NOTE = 10.0
+
+
+def stabilisation_notes(prepared: Prepared) -> list[str]:
+    """What the user should know about the head fit: references whose shape on this take is far
+    from the marker set's (wrong labels, another layout, a neutral not in head-frame mm), and head
+    travel that the motors cannot show (only the rotation reaches HH and HV)."""
+    notes = []
+    refs = [r for r in prepared.markerset.head_reference if r in prepared.columns]
+    expected = np.array([prepared.markerset.neutral_of(r) for r in refs])
+    if len(refs) == len(prepared.stable.reference):
+        off = float(np.sqrt(np.mean(np.sum((prepared.stable.reference - expected) ** 2, axis=1))))
+        if off > REFERENCE_TOLERANCE:
+            notes.append(f"warning: the take's head references ({', '.join(refs)}) lie {off:.0f} mm (RMS) from "
+                         f"marker set {prepared.markerset.name}'s shape: are the labels in the right order for "
+                         "this file, and the marker set's neutral in head-frame millimetres?")
+    travel = prepared.stable.translation[prepared.stable.ok]
+    if len(travel):
+        extent = np.ptp(travel, axis=0)
+        if extent.max() > TRAVEL_NOTE:
+            axis = "xyz"[int(np.argmax(extent))]
+            notes.append(f"the head moved up to {extent.max():.0f} mm (most along the take's {axis} axis); only its "
+                         "rotation reaches the face (HH, HV)")
+    return notes
 
 
 def check_profile(profile: Profile, mapping: Mapping, markerset: str) -> None:

@@ -8,6 +8,7 @@ import json
 import numpy as np
 
 from capture import Take, load_take, save_take, synthesize
+from capture.performance import default_performance
 from common import data_path
 from toon import MotorTrack, load_track, save_track
 from toonface.cli import main
@@ -99,3 +100,19 @@ def test_info_draws_the_markers_from_three_sides_where_they_are(tmp_path, capsys
     assert list(dot(0, 10, 0, (50, 50))) == blue  # A at its median place over its path
     assert main(["info", str(tmp_path / "t.npz"), "--plot", str(tmp_path / "p.jpg")]) == 2
     assert main(["info", str(tmp_path / "t.npz"), "--plot-motion"]) == 2
+
+
+def test_planted_mistakes_are_said_not_silent(tmp_path, capsys):
+    """Another file's label order exited 0 with nonsense; 50 mm of head travel vanished silently."""
+    take = synthesize(seconds=3.0, noise_mm=0.0, performance=default_performance(3.0, max_turn_deg=0)).take
+    order = np.random.default_rng(3).permutation(take.markers)
+    shuffled = Take(take.positions[:, order], take.labels, take.rate)  # the columns of another file
+    save_take(shuffled, tmp_path / "shuffled.npz")
+    assert main(["map", str(tmp_path / "shuffled.npz"), "-o", str(tmp_path / "m.csv")]) == 0
+    assert "warning: the take's head references" in capsys.readouterr().err
+    still = np.repeat(take.positions[:1], take.frames, axis=0)  # a face at rest, the head sliding 50 mm
+    moved = still + np.linspace(0, 50, take.frames)[:, None, None] * np.array([1.0, 0.0, 0.0])
+    save_take(Take(moved, take.labels, take.rate), tmp_path / "moved.npz")
+    assert main(["map", str(tmp_path / "moved.npz"), "-o", str(tmp_path / "m.csv")]) == 0
+    err = capsys.readouterr().err
+    assert "the head moved up to 50 mm (most along the take's x axis)" in err and "warning" not in err

@@ -207,7 +207,7 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
                f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)")
     for note in track.meta.get("notes", []):
-        click.echo(f"note: {note}", err=True)
+        click.echo(note if note.startswith("warning: ") else f"note: {note}", err=True)
 
 
 @click.command()
