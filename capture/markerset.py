@@ -67,6 +67,28 @@ class MarkerSet:
     table_rate: float | None = None
     table_units: str | None = None
 
+    def doubts(self) -> list[str]:
+        """Reasons to think the neutral is not in head-frame millimetres, each a sentence (none
+        for a plausible set): the head frame has its origin between the eyes, x to the
+        performer's left, y up and z out of the face."""
+        found = []
+        refs = np.array([self.neutral_of(r) for r in self.head_reference])
+        centre = refs.mean(axis=0)
+        if np.linalg.norm(centre) > FAR_FROM_ORIGIN_MM:
+            found.append(f"its head references are centred at ({', '.join(f'{v:.0f}' for v in centre)}) mm, "
+                         "far from the head frame's origin between the eyes: were camera coordinates pasted?")
+        extent = np.ptp(self.neutral, axis=0)
+        if extent[2] > min(extent[0], extent[1]):
+            found.append(f"it is deeper (z: {extent[2]:.0f} mm) than it is wide (x: {extent[0]:.0f}) or tall "
+                         f"(y: {extent[1]:.0f}): z should point out of the face")
+        sides = {side: [i for i, label in enumerate(self.labels) if _side(label) == side] for side in "LR"}
+        if len(sides["L"]) >= 2 and len(sides["R"]) >= 2:
+            left, right = (float(self.neutral[sides[s], 0].mean()) for s in "LR")
+            if left < right:
+                found.append(f"its left-named markers sit at x = {left:.0f} mm and its right-named ones at "
+                             f"{right:.0f} mm: x points to the performer's left, so left and right are swapped")
+        return found
+
     def neutral_of(self, label: str) -> np.ndarray:
         """Rest position of one marker, shape ``(3,)``."""
         return self.neutral[self.labels.index(self.canonical(label))]
@@ -97,6 +119,23 @@ class MarkerSet:
                 continue
             found.setdefault(label, take_label)
         return found
+
+
+#: Head references centred further than this from the origin are not in the head frame.
+FAR_FROM_ORIGIN_MM = 150.0
+_SIDE_WORDS = {"l": "L", "left": "L", "lt": "L", "r": "R", "right": "R", "rt": "R"}
+
+
+def _side(label: str) -> str | None:
+    """``"L"`` or ``"R"`` for a label that names a side (``BROW_L_IN``, ``ForeHead_L``,
+    ``Leye_Up``, ``left_cheek``), else None."""
+    words = [w for w in re.split(r"[_\s\-.:]+|(?<=[a-z])(?=[A-Z])", label) if w]
+    for word in words:
+        if word.lower() in _SIDE_WORDS:
+            return _SIDE_WORDS[word.lower()]
+    match = re.match(r"^([LR])(?:eye|brow|eyebrow|cheek|lid|ear|temple|mouth|lip|nose|nostril|jaw)", label,
+                     re.IGNORECASE)
+    return match.group(1).upper() if match and label[0] in "LR" else None
 
 
 def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:

@@ -185,7 +185,7 @@ def stabilisation_notes(prepared: Prepared) -> list[str]:
     """What the user should know about the head fit: references whose shape on this take is far
     from the marker set's (wrong labels, another layout, a neutral not in head-frame mm), and head
     travel that the motors cannot show (only the rotation reaches HH and HV)."""
-    notes = []
+    notes = [f"warning: marker set {prepared.markerset.name}: {doubt}" for doubt in prepared.markerset.doubts()]
     refs = [r for r in prepared.markerset.head_reference if r in prepared.columns]
     expected = np.array([prepared.markerset.neutral_of(r) for r in refs])
     if len(refs) == len(prepared.stable.reference):

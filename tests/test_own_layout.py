@@ -116,3 +116,40 @@ def test_planted_mistakes_are_said_not_silent(tmp_path, capsys):
     assert main(["map", str(tmp_path / "moved.npz"), "-o", str(tmp_path / "m.csv")]) == 0
     err = capsys.readouterr().err
     assert "the head moved up to 50 mm (most along the take's x axis)" in err and "warning" not in err
+
+
+def test_a_marker_set_not_in_head_frame_coordinates_is_doubted(tmp_path, capsys):
+    """Raw camera-space coordinates pasted as a neutral ran without a word; so did swapped sides."""
+    from capture import load_markerset
+
+    _own_layout(tmp_path / "layout")
+    text = (tmp_path / "layout" / "mine.toml").read_text()
+    mine = load_markerset(tmp_path / "layout" / "mine.toml")
+    assert mine.doubts() == []
+
+    def rewrite(name, change):
+        out, in_markers = [], False
+        for line in text.splitlines():
+            in_markers |= line.startswith("[markers]")
+            if in_markers and "neutral = [" in line:
+                head, rest = line.split("neutral = [", 1)
+                values, tail = rest.split("]", 1)
+                x, y, z = (float(v) for v in values.split(","))
+                line = head + "neutral = [" + ", ".join(f"{v:.2f}" for v in change(x, y, z)) + "]" + tail
+            out.append(line)
+        (tmp_path / "layout" / name).write_text("\n".join(out) + "\n")
+        return load_markerset(tmp_path / "layout" / name).doubts()
+
+    camera = rewrite("camera.toml", lambda x, y, z: (x + 40, -z + 20, y + 900))  # a camera 0.9 m away, y down
+    assert any("far from the head frame's origin" in d for d in camera)
+    assert any("deeper (z:" in d for d in camera)
+    mirrored = rewrite("mirrored.toml", lambda x, y, z: (-x, y, z))
+    assert len(mirrored) == 1 and "left and right are swapped" in mirrored[0]
+    mapping = (tmp_path / "layout" / "mine-mapping.toml").read_text().replace('"mine.toml"', '"mirrored.toml"')
+    (tmp_path / "layout" / "mirrored-mapping.toml").write_text(mapping)
+    take = synthesize(seconds=2.0, noise_mm=0.0).take
+    save_take(Take(take.positions, tuple(f"my_{x}" for x in take.labels), take.rate), tmp_path / "t.npz")
+    capsys.readouterr()
+    assert main(["map", str(tmp_path / "t.npz"), "-o", str(tmp_path / "m.csv"), "--mapping",
+                 str(tmp_path / "layout" / "mirrored-mapping.toml"), "--calibrate", str(tmp_path / "t.npz")]) == 0
+    assert "warning: marker set mine: its left-named markers sit at x = " in capsys.readouterr().err
