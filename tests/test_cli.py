@@ -23,7 +23,7 @@ from toonface.cli import cli, main
 from toonface.pipeline import map_take
 
 SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
-               "anim", "send", "receive", "relay", "batch",
+               "anim", "send", "receive", "relay", "batch", "markerset",
                "faces", "face"]
 
 

@@ -153,3 +153,46 @@ def test_a_marker_set_not_in_head_frame_coordinates_is_doubted(tmp_path, capsys)
     assert main(["map", str(tmp_path / "t.npz"), "-o", str(tmp_path / "m.csv"), "--mapping",
                  str(tmp_path / "layout" / "mirrored-mapping.toml"), "--calibrate", str(tmp_path / "t.npz")]) == 0
     assert "warning: marker set mine: its left-named markers sit at x = " in capsys.readouterr().err
+
+
+def _unfamiliar(realdata, tmp_path):
+    """The AnimFace jaw take as a stranger would bring it: markers renamed M01..M41 in a shuffled
+    column order, turned 30 degrees and moved into another frame, in a headerless CSV."""
+    take = load_take(realdata / "facial" / "animface" / "JawMoCap.csv", units="cm")
+    rng = np.random.default_rng(7)
+    order = rng.permutation(take.markers)
+    names = {take.labels[i]: f"M{k + 1:02d}" for k, i in enumerate(order)}
+    angle = np.radians(30.0)
+    turn = np.array([[np.cos(angle), 0.0, np.sin(angle)], [0.0, 1.0, 0.0], [-np.sin(angle), 0.0, np.cos(angle)]])
+    moved = take.positions[:, order] @ turn.T + np.array([400.0, -250.0, 1200.0])
+    np.savetxt(tmp_path / "stranger.csv", moved.reshape(take.frames, -1) / 10.0, delimiter=",", fmt="%.5f")
+    (tmp_path / "names.txt").write_text("\n".join(names[take.labels[i]] for i in order) + "\n")
+    return take, names
+
+
+def test_a_drafted_marker_set_matches_the_hand_made_one(realdata, tmp_path, capsys):
+    """Working out which marker is which took 17 minutes of hand-written scripts."""
+    from capture import load_markerset
+
+    take, names = _unfamiliar(realdata, tmp_path)
+    reading = ["--rate", "60", "--units", "cm", "--labels", f"@{tmp_path / 'names.txt'}"]
+    assert main(["markerset", "draft", str(tmp_path / "stranger.csv"), "-o", str(tmp_path / "mine.toml"),
+                 "--up", names["ForeHead_M"], *reading]) == 0
+    assert "warning" not in capsys.readouterr().err
+    drafted = load_markerset(tmp_path / "mine.toml")
+    preset = load_markerset("animface41")
+    mine = np.array([drafted.neutral_of(names[label]) for label in take.labels])
+    theirs = np.array([preset.neutral_of(label) for label in take.labels])
+    # the same shape: rotated (a few degrees) and shifted, never mirrored
+    a, b = mine - mine.mean(axis=0), theirs - theirs.mean(axis=0)
+    u, _, vt = np.linalg.svd(a.T @ b)
+    turn = (u @ vt).T
+    assert np.linalg.det(turn) > 0
+    assert np.degrees(np.arccos((np.trace(turn) - 1) / 2)) < 12  # the hand-made frame within 12 degrees
+    assert np.sqrt(np.mean(np.sum((a @ turn.T - b) ** 2, axis=1))) < 3.0  # mm
+    assert drafted.neutral_of(names["Leye_Outside"])[0] > 20 > -20 > drafted.neutral_of(names["Reye_Outside"])[0]
+    assert drafted.neutral_of(names["ForeHead_M"])[1] - drafted.neutral_of(names["Chin"])[1] > 150  # up is up
+    # the head references ride on the skull: they keep their distances to within a millimetre
+    refs = [take.labels.index(next(k for k, v in names.items() if v == r)) for r in drafted.head_reference]
+    pairs = np.linalg.norm(take.positions[:, refs][:, :, None] - take.positions[:, refs][:, None], axis=3)
+    assert np.nanmax(np.nanstd(pairs, axis=0)) < 1.0

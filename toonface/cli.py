@@ -18,6 +18,7 @@ import click
 from capture.colours import HUES
 from common.errors import Interrupted, Terminated, ToonfaceError
 from toonface.cli_batch import BATCH_COMMANDS
+from toonface.cli_layout import LAYOUT_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
 from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, progress, read_take, take_options
 from toonface.cli_player import PLAYER_COMMANDS
@@ -275,7 +276,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
-for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS):
+for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS, *LAYOUT_COMMANDS):
     cli.add_command(_command)
 
 

@@ -1,0 +1,89 @@
+"""The ``markerset`` subcommands: a marker set for a layout toonface has not seen."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import click
+import numpy as np
+
+from toonface.cli_options import TakeReading, check_output, read_take, take_options
+
+_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+@click.group()
+def markerset() -> None:
+    """Marker sets for layouts toonface has not seen (see the README's "Your own marker layout")."""
+
+
+@markerset.command("draft")
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Marker set to write (.toml).")
+@click.option("--up", default=None, metavar="MARKER",
+              help="A marker above the face's middle (on the forehead): settles which way is up "
+                   "[default: the face's wider end].")
+@click.option("--name", default=None, help="The marker set's name [default: the output file's stem].")
+@take_options
+def draft(take: str, output: str, up: str | None, name: str | None, reading: TakeReading) -> None:
+    """Draft a marker set from a take: head references, head-frame axes and every neutral.
+
+    The head references are the markers that deform least together over the take; the axes
+    come from the face's plane, its symmetry and (with --up) a forehead marker. Check the
+    draft with `toonface info TAKE --plot markers.png` and edit it: its comments say what was
+    found. Use a take with expressions, so that the moving markers show themselves.
+    """
+    from capture.draft import draft_markerset
+    from capture.markerset import load_markerset
+    from common import atomic_path
+
+    if not output.lower().endswith(".toml"):
+        raise click.BadParameter(f"{output}: a marker set is a .toml file", param_hint="--output")
+    check_output(output, "--output")
+    loaded = read_take(take, reading)
+    found = draft_markerset(loaded, up)
+    title = name or Path(output).stem
+    with atomic_path(output) as tmp:
+        tmp.write_text(_toml(found, title, Path(take).name, up), encoding="utf-8")
+    written = load_markerset(output)  # the draft must load, and look like head-frame millimetres
+    click.echo(f"wrote {output}: {len(found.labels)} markers, head references {', '.join(found.head_reference)}")
+    for doubt in written.doubts():
+        click.echo(f"warning: {doubt}", err=True)
+
+
+def _key(label: str) -> str:
+    return label if _BARE_KEY.match(label) else json.dumps(label)
+
+
+def _toml(found, title: str, source: str, up: str | None) -> str:
+    axes = ", ".join(f"{n} = ({', '.join(f'{v:+.3f}' for v in row)})" for n, row in zip("xyz", found.rotation,
+                                                                                          strict=True))
+    lines = [
+        f"# A draft marker set from {source} (toonface markerset draft). Check it before use:",
+        f"#   toonface info {source} --plot markers.png",
+        "# Head frame, in the take's axes: " + axes + "; origin on the midline at the head references' centroid.",
+        "# x points to the performer's left, y up, z out of the face; up was "
+        + (f"set by {up}." if up else "taken as the face's wider end (give --up MARKER if the plot is upside down)."),
+        f"# The face mirrors across its midline to within {found.symmetry_mm:.1f} mm on average.",
+        "# Head references: the markers whose mutual distances vary least over the take. Each marker's",
+        "# steadiness (the median variation, mm, of its distances to the others) is in its comment:",
+        "# markers on the skull have the smallest.",
+        'format = "toonface.markerset/1"',
+        f"name = {json.dumps(title)}",
+        f"description = {json.dumps(f'drafted from {source}')}",
+        "head_reference = [" + ", ".join(json.dumps(r) for r in found.head_reference) + "]",
+        "",
+        "[markers]",
+    ]
+    for label, point in zip(found.labels, found.neutral, strict=True):
+        if not np.isfinite(point).all():
+            lines.append(f"# {label}: never seen in the take")
+            continue
+        values = ", ".join(f"{v:.2f}" for v in point)
+        lines.append(f"{_key(label)} = {{ neutral = [{values}] }}  # steadiness {found.steadiness[label]:.2f} mm")
+    return "\n".join(lines) + "\n"
+
+
+LAYOUT_COMMANDS = (markerset,)
