@@ -167,3 +167,65 @@ def draft_markerset(take: Take, up: str | None = None) -> Draft:
         warnings.simplefilter("ignore", RuntimeWarning)
         steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
     return Draft(take.labels, neutral, tuple(take.labels[i] for i in refs), rotation, origin, steadiness, symmetry)
+
+
+@dataclass(frozen=True)
+class Match:
+    """A take's columns matched to a marker set's labels by the shape of their neutrals.
+
+    Attributes
+    ----------
+    labels : tuple of str
+        For each column of the take, the marker set label it is.
+    distance : ndarray, shape (M,)
+        Each column's distance (mm) from its label's neutral after the best rigid fit.
+    rms_mm : float
+    """
+
+    labels: tuple[str, ...]
+    distance: np.ndarray
+    rms_mm: float
+
+
+def match_layout(take: Take, labels: tuple[str, ...], neutral: np.ndarray, rounds: int = 20) -> Match:
+    """Which of ``labels`` (a marker set's, with neutrals ``(M, 3)`` in mm) each column of ``take``
+    is, by shape alone: the columns' neutral is turned onto the set's (its principal axes, each
+    of the four right-handed sign choices tried) and matched one to one (Hungarian), then the fit
+    and the matching are refined in turn.
+
+    Raises
+    ------
+    InputError
+        When the take and the set have different numbers of markers, or markers never seen.
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    rest = neutral_pose(take)
+    if len(rest) != len(labels):
+        raise InputError(f"the take has {len(rest)} markers and the marker set {len(labels)}: cannot match them")
+    if not np.isfinite(rest).all():
+        raise InputError("some markers are never seen in the take: cannot match them by shape")
+    source = rest - rest.mean(axis=0)
+    target = neutral - neutral.mean(axis=0)
+    _, _, axes_s = np.linalg.svd(source, full_matrices=False)
+    _, _, axes_t = np.linalg.svd(target, full_matrices=False)
+    best: tuple[float, np.ndarray, np.ndarray] | None = None
+    for signs in ((1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)):
+        turn = axes_t.T @ np.diag(signs) @ axes_s  # the take's axes onto the set's
+        if np.linalg.det(turn) < 0:
+            turn = axes_t.T @ np.diag([signs[0], signs[1], -signs[2]]) @ axes_s
+        for _ in range(rounds):
+            moved = source @ turn.T
+            cost = np.linalg.norm(moved[:, None] - target[None], axis=2)
+            rows, cols = linear_sum_assignment(cost)
+            u, _, vt = np.linalg.svd(source[rows].T @ target[cols])
+            fix = np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))])
+            turn = (u @ fix @ vt).T
+        moved = source @ turn.T
+        distance = np.linalg.norm(moved[rows] - target[cols], axis=1)
+        rms = float(np.sqrt(np.mean(distance ** 2)))
+        if best is None or rms < best[0]:
+            best = (rms, cols.copy(), distance)
+    assert best is not None
+    rms, cols, distance = best
+    return Match(tuple(labels[c] for c in cols), distance, rms)

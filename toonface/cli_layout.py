@@ -87,3 +87,37 @@ def _toml(found, title: str, source: str, up: str | None) -> str:
 
 
 LAYOUT_COMMANDS = (markerset,)
+
+
+@markerset.command("match")
+@click.argument("take", type=click.Path(dir_okay=False))
+@click.option("--markerset", "layout", required=True, metavar="NAME|FILE", help="The marker set to match to.")
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
+              help="The take's marker names in column order, one per line, for --labels @FILE.")
+@take_options
+def match(take: str, layout: str, output: str, reading: TakeReading) -> None:
+    """Name a take's markers after a marker set's by the shape of their neutrals.
+
+    For a second take of a layout whose columns come in another order (a headerless CSV: give
+    any --labels, such as the first take's names). Writes the names in the take's column order;
+    read the take again with --labels @OUTPUT. Markers far from their match are listed.
+    """
+    from capture.draft import match_layout
+    from capture.markerset import load_markerset
+    from common import atomic_path
+
+    check_output(output, "--output")
+    loaded = read_take(take, reading)
+    target = load_markerset(layout)
+    found = match_layout(loaded, target.labels, target.neutral)
+    with atomic_path(output) as tmp:
+        tmp.write_text("\n".join(found.labels) + "\n", encoding="utf-8")
+    click.echo(f"wrote {output}: {len(found.labels)} markers matched to {target.name}, "
+               f"{found.rms_mm:.1f} mm RMS after the best rigid fit")
+    far = [f"{label} ({d:.0f} mm)" for label, d in zip(found.labels, found.distance, strict=True) if d > MATCH_DOUBT_MM]
+    if far:
+        click.echo(f"warning: far from their match, check them: {', '.join(far)}", err=True)
+
+
+#: A column further than this (mm) from its matched neutral is listed for checking.
+MATCH_DOUBT_MM = 5.0
