@@ -119,5 +119,42 @@ def match(take: str, layout: str, output: str, reading: TakeReading) -> None:
         click.echo(f"warning: far from their match, check them: {', '.join(far)}", err=True)
 
 
+@markerset.command("mapping")
+@click.argument("layout", metavar="MARKERSET.toml", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Mapping to write (.toml).")
+def mapping_cmd(layout: str, output: str) -> None:
+    """Draft a mapping for a marker set from the built-in presets.
+
+    Each preset's marker set is laid over yours (a scale and an offset in the head frame); the
+    markers its rules read are found by position, and the preset that finds the most gives the
+    draft. Motors whose markers were not found are left out and listed; check the rest.
+    """
+    import os
+
+    import tomli_w
+
+    from capture.markerset import load_markerset
+    from common import atomic_path
+    from mapping.draft import draft_mapping
+    from mapping.mapfile import load_mapping
+
+    if not output.lower().endswith(".toml"):
+        raise click.BadParameter(f"{output}: a mapping is a .toml file", param_hint="--output")
+    check_output(output, "--output")
+    target = load_markerset(layout)
+    reference = os.path.relpath(Path(layout).resolve(), Path(output).resolve().parent)
+    found = draft_mapping(target, reference)
+    pairs = ", ".join(f"{mine} = {theirs}" for theirs, mine in sorted(found.found.items(), key=lambda p: p[1]))
+    header = (f"# A draft mapping for {Path(layout).name} (toonface markerset mapping), following the "
+              f"{found.template} preset.\n# Its markers found by position ({found.fit_mm:.1f} mm apart on average "
+              f"after the fit): {pairs}.\n"
+              + (f"# Left out (markers not found): {', '.join(found.unmapped)}.\n" if found.unmapped else ""))
+    with atomic_path(output) as tmp:
+        tmp.write_text(header + tomli_w.dumps(found.doc), encoding="utf-8")
+    load_mapping(output)  # the draft must load
+    click.echo(f"wrote {output}: {len(found.doc['motor'])} motors after the {found.template} preset"
+               + (f"; left out: {', '.join(found.unmapped)}" if found.unmapped else ""))
+
+
 #: A column further than this (mm) from its matched neutral is listed for checking.
 MATCH_DOUBT_MM = 5.0

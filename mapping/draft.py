@@ -1,0 +1,117 @@
+"""A draft mapping for a marker set toonface has not seen, from the presets it knows.
+
+Each built-in mapping is a pattern of where a motor's markers sit on a face (the brows' above the
+eyes, the mouth corners' beside the lips, the chin's below). A preset's marker set is laid over
+the new one (both are in the head frame, so only a scale and an offset are fitted, by alternating
+nearest neighbours and least squares); each marker the preset's rules read is taken to be the new
+marker nearest it, if one is within :data:`MATCH_FRACTION` of the face's size and no nearer
+preset marker claims it. The preset that finds the most of its markers is the draft's pattern;
+motors whose markers were not all found are left out and listed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from capture import MarkerSet, load_markerset
+from common import builtin_names, data_path, read_document
+from mapping.mapfile import load_mapping
+
+#: A preset marker is found in the new set within this share of the face's size (its RMS radius).
+MATCH_FRACTION = 0.15
+
+
+@dataclass(frozen=True)
+class MappingDraft:
+    """A mapping document for the new set and what was found.
+
+    Attributes
+    ----------
+    doc : dict
+        The mapping (``toonface.mapping/1``), the preset's rules with the new marker names.
+    template : str
+        The preset it follows.
+    found : dict of str to str
+        Preset marker -> new marker.
+    unmapped : tuple of str
+        Motors of the preset left out (a marker of theirs not found).
+    fit_mm : float
+        Mean distance (mm) between the found pairs after the fit.
+    """
+
+    doc: dict
+    template: str
+    found: dict[str, str]
+    unmapped: tuple[str, ...]
+    fit_mm: float
+
+
+def _fit(source: np.ndarray, target: np.ndarray, rounds: int = 30) -> tuple[float, np.ndarray]:
+    """Scale and offset laying ``source`` (K, 3) over ``target`` (N, 3): ``s * source + t``."""
+    def size(points: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.sum((points - points.mean(axis=0)) ** 2, axis=1))))
+    scale = size(target) / max(size(source), 1e-9)
+    offset = target.mean(axis=0) - scale * source.mean(axis=0)
+    for _ in range(rounds):
+        near = np.linalg.norm((scale * source + offset)[:, None] - target[None], axis=2).argmin(axis=1)
+        matched = target[near]
+        a, b = source - source.mean(axis=0), matched - matched.mean(axis=0)
+        scale = float(np.sum(a * b) / max(np.sum(a * a), 1e-9))
+        offset = matched.mean(axis=0) - scale * source.mean(axis=0)
+    return scale, offset
+
+
+def _markers(doc: dict) -> set[str]:
+    names: set[str] = set()
+    for rule in doc.get("motor", {}).values():
+        for source in rule.get("sources", []):
+            for kind in ("marker", "distance", "difference", "angle"):
+                if kind in source:
+                    value = source[kind]
+                    names.update([value] if isinstance(value, str) else value)
+    return names
+
+
+def _rename(value, names: dict[str, str]):
+    return names.get(value, value) if isinstance(value, str) else [names.get(v, v) for v in value]
+
+
+def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
+    """The best preset's rules for ``markerset``, which the mapping names as ``markerset_ref``."""
+    size = float(np.sqrt(np.mean(np.sum((markerset.neutral - markerset.neutral.mean(axis=0)) ** 2, axis=1))))
+    best: MappingDraft | None = None
+    for preset in builtin_names("mappings", ".toml"):
+        doc = read_document(data_path("mappings", f"{preset}.toml"))
+        known = load_markerset(load_mapping(preset).markerset)
+        scale, offset = _fit(known.neutral, markerset.neutral)
+        placed = scale * known.neutral + offset
+        distance = np.linalg.norm(placed[:, None] - markerset.neutral[None], axis=2)
+        found: dict[str, str] = {}
+        gaps: list[float] = []
+        for i in np.argsort(distance.min(axis=1)):  # nearest pairs first: each new marker once
+            j = int(distance[i].argmin())
+            label, target = known.labels[i], markerset.labels[j]
+            if distance[i, j] <= MATCH_FRACTION * size and target not in found.values():
+                found[label] = target
+                gaps.append(float(distance[i, j]))
+        motors = {}
+        unmapped = []
+        for code, rule in doc.get("motor", {}).items():
+            if _markers({"motor": {code: rule}}) <= set(found):
+                sources = [{k: (_rename(v, found) if k in ("marker", "distance", "difference", "angle") else v)
+                            for k, v in source.items()} for source in rule.get("sources", [])]
+                motors[code] = {**rule, "sources": sources}
+            else:
+                unmapped.append(code)
+        new = {**doc, "name": f"{markerset.name}", "markerset": markerset_ref, "motor": motors,
+               "description": f"drafted from the {preset} preset"}
+        used = _markers(doc)
+        draft = MappingDraft(new, preset, {k: v for k, v in found.items() if k in used}, tuple(unmapped),
+                             float(np.mean(gaps)) if gaps else float("inf"))
+        if best is None or len(motors) > len(best.doc["motor"]) or (
+                len(motors) == len(best.doc["motor"]) and draft.fit_mm < best.fit_mm):
+            best = draft
+    assert best is not None
+    return best
