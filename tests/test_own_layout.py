@@ -242,3 +242,29 @@ def test_a_drafted_layout_maps_as_well_as_the_hand_made_preset(realdata, tmp_pat
     # The drafted frame is 6.6 degrees from the hand-made one: the mouth corners' large vertical
     # motion leaks into their small horizontal range (MLH 0.086); every other motor is within 0.05.
     assert error.max() < 0.1 and error.mean() < 0.03, dict(zip(MOTOR_CODES, error.round(3), strict=True))
+
+
+def test_the_readme_chapter_runs_as_written(realdata, tmp_path, monkeypatch):
+    """The README's "Your own marker layout" commands, verbatim, on a stranger's take."""
+    import re
+    import shlex
+    from pathlib import Path
+
+    take, names = _unfamiliar(realdata, tmp_path)
+    (tmp_path / "stranger.csv").rename(tmp_path / "take.csv")
+    brows = load_take(realdata / "facial" / "animface" / "EyebrowsMoCap.csv", units="cm")
+    order = np.random.default_rng(5).permutation(brows.markers)
+    np.savetxt(tmp_path / "other.csv", brows.positions[:, order].reshape(brows.frames, -1) / 10.0, delimiter=",",
+               fmt="%.5f")
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    chapter = readme.split("## Your own marker layout", 1)[1]
+    block = re.search(r"```sh\n(.*?)```", chapter, re.S).group(1).replace("\\\n", " ")
+    commands = [line.split("  #")[0].strip() for line in block.splitlines() if line.strip()]
+    assert len(commands) == 7 and all(c.startswith("toonface ") for c in commands)
+    monkeypatch.chdir(tmp_path)
+    for command in commands:
+        argv = shlex.split(command.replace("FOREHEAD", names["ForeHead_M"]))[1:]
+        assert main(argv) == 0, command
+    matched = (tmp_path / "other-names.txt").read_text().split()
+    assert matched == [names[brows.labels[i]] for i in order]
+    assert load_track(tmp_path / "motors.csv").frames == take.frames
