@@ -34,10 +34,10 @@ import numpy as np
 
 from bench.core import Figure
 from mapping.predict import MotionModel, trailing_line
-from player.playout import Playout
-from player.receiver import StreamReceiver
-from player.relay import FaultPlan, NetworkFaults
-from player.stream import StreamReader, StreamWriter
+from stream.packets import StreamReader, StreamWriter
+from stream.playout import Playout
+from stream.receiver import StreamReceiver
+from stream.relay import FaultPlan, NetworkFaults
 from toon import standard_neutral
 from toonface.send import UDP_IP_HEADER, build_mapper, run_sender, synthetic_source
 

@@ -15,7 +15,8 @@ ALLOWED = {
     "toon": {"common"},
     "mapping": {"common", "capture", "toon"},
     "player": {"common", "toon"},
-    "toonface": {"common", "capture", "mapping", "toon", "player"},
+    "stream": {"common", "toon"},
+    "toonface": {"common", "capture", "mapping", "toon", "player", "stream"},
 }
 OURS = set(ALLOWED) | {"bench"}
 

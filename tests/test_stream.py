@@ -10,12 +10,12 @@ from hypothesis import strategies as st
 
 from capture import load_take, synthesize
 from capture.performance import default_performance
-from player.playout import Playout
-from player.rangecode import Decoder, Encoder, Model
-from player.receiver import StreamReceiver
-from player.relay import FaultPlan, NetworkFaults, Relay
-from player.stream import StreamReader, StreamWriter, is_key_request, key_request
-from player.wire import HEADER, MAX_PACKET, quantise
+from stream.packets import StreamReader, StreamWriter, is_key_request, key_request
+from stream.playout import Playout
+from stream.rangecode import Decoder, Encoder, Model
+from stream.receiver import StreamReceiver
+from stream.relay import FaultPlan, NetworkFaults, Relay
+from stream.wire import HEADER, MAX_PACKET, quantise
 from toon import motor_index, standard_neutral
 from toonface import truth_track
 from toonface.cli import main

@@ -16,7 +16,7 @@ from toonface.cli_options import FACE, SIZE, TakeReading, check_output, parse_si
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
-    from player.receiver import StreamReceiver
+    from stream.receiver import StreamReceiver
     from toon import MotorTrack
 
 VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".webm"}
@@ -63,7 +63,7 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
     """
     from mapping import load_profile
-    from player.stream import StreamWriter
+    from stream.packets import StreamWriter
     from toon import MotorTrack, save_track
     from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
 
@@ -128,9 +128,9 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
     """
     from player.live import ListenError, LiveSettings, run_live
-    from player.playout import Playout
-    from player.receiver import StreamReceiver
     from player.sinks import open_sink
+    from stream.playout import Playout
+    from stream.receiver import StreamReceiver
     from toon import load_face, save_track
 
     check_output(record, "--record")
@@ -218,7 +218,7 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
     Example: `toonface relay --to 127.0.0.1:7710 --loss 0.1 --burst-ms 50`, then
     `toonface send synthetic --to 127.0.0.1:7711`.
     """
-    from player.relay import NetworkFaults, Relay
+    from stream.relay import NetworkFaults, Relay
 
     faults = NetworkFaults(loss=loss, burst_seconds=burst_ms / 1000, duplicate=duplicate, corrupt=corrupt,
                            reorder=reorder, delay=delay_ms / 1000, jitter=jitter_ms / 1000)

@@ -3,7 +3,7 @@
 Sources play at their own frame rate on the wall clock: a take file, the synthetic performer,
 or a video whose dot markers are tracked as it plays. Each frame is cleaned and mapped in its
 live form (:class:`mapping.live.LiveMapper`), stamped with the sender's clock and packed
-(:class:`player.stream.StreamWriter`); only motor values cross the network.
+(:class:`stream.packets.StreamWriter`); only motor values cross the network.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, load_profile, prepare
 from mapping.live import LiveMapper
 from mapping.workflow import SELF_MIN_SIDE, builtin_profile, check_profile
-from player.stream import StreamWriter, is_key_request
+from stream.packets import StreamWriter, is_key_request
 
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
 

@@ -1,6 +1,6 @@
 """The receiving end's jitter buffer, loss concealment and recovery.
 
-Frames arrive in packets (:class:`player.stream.Frames`), late, early or never. The playout
+Frames arrive in packets (:class:`stream.packets.Frames`), late, early or never. The playout
 shows the stream ``delay`` seconds behind the sender's clock: each call of :meth:`Playout.values_at`
 interpolates the frames around ``now - delay``. The delay adapts to what arrives: it is the 95th
 percentile, over the last ``window`` seconds, of how long after its capture each frame was ready
@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from player.stream import Frames
+from stream.packets import Frames
 
 CONCEALMENT = ("hold", "linear", "sindy")
 #: A forecaster: (values (k, 21), times (k,), seconds ahead) -> values (21,).

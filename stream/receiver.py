@@ -1,8 +1,8 @@
 """The motor stream's receiving socket: datagrams in, a face to show at any moment out.
 
 A daemon thread reads the UDP socket (packets larger than the format allows are cut short by
-the read and dropped as oversized), checks and decodes them (:class:`~player.stream.StreamReader`)
-and hands the frames to the jitter buffer (:class:`~player.playout.Playout`). When the chain of
+the read and dropped as oversized), checks and decodes them (:class:`~stream.packets.StreamReader`)
+and hands the frames to the jitter buffer (:class:`~stream.playout.Playout`). When the chain of
 predictions breaks it asks the sender for a keyframe, at most once per ``request_interval``.
 The loop that draws the face calls :meth:`StreamReceiver.values_at`. Memory stays bounded
 whatever arrives: one datagram is read at a time, out-of-order packets wait in a bounded table,
@@ -18,9 +18,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from player.playout import Playout
-from player.stream import StreamReader, key_request
-from player.wire import MAX_PACKET
+from stream.packets import StreamReader, key_request
+from stream.playout import Playout
+from stream.wire import MAX_PACKET
 
 
 class StreamReceiver:

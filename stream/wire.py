@@ -24,7 +24,7 @@ Coding: a keyframe's 21 values are coded with a flat model (all S + 1 levels ali
 other value is predicted from the motor's three previous frames, a damped continuation of its
 last two steps ``d1 = q[f-1] - q[f-2]`` and ``d2 = q[f-2] - q[f-3]``:
 ``q[f-1] + floor((5 d1 + 2 d2 + 5) / 10)``, clipped to 0..S (steps before a keyframe count as
-0). The residual is arithmetic coded (:mod:`player.rangecode`) under a two-sided geometric model
+0). The residual is arithmetic coded (:mod:`stream.rangecode`) under a two-sided geometric model
 chosen by the motor's recent activity ``|d1| + |d2|`` (0 to 5 or more steps): a still motor
 costs a fraction of a bit. The damping and the models were fitted on the synthetic performer's
 live-mapped motors; a plain ``2 q[f-1] - q[f-2]`` costs 8 % more there. A packet's frames
@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from player.rangecode import Decoder, Encoder, Model
+from stream.rangecode import Decoder, Encoder, Model
 from toon import N_MOTORS
 
 MAGIC = b"TF"

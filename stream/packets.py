@@ -1,6 +1,6 @@
 """Both ends of the motor stream's packet layer: :class:`StreamWriter` (frames in, datagrams
 out) and :class:`StreamReader` (datagrams in, checked, de-duplicated, re-ordered and decoded
-frames out). The format is :mod:`player.wire`'s; the sockets are the caller's."""
+frames out). The format is :mod:`stream.wire`'s; the sockets are the caller's."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from player.wire import (
+from stream.wire import (
     DEFAULT_STEPS,
     KEY_REQUEST,
     KEYFRAME,
@@ -43,7 +43,7 @@ class StreamWriter:
     key_seconds : float
         A packet starts with a keyframe at least this often.
     steps : int
-        Quantisation steps (see :mod:`player.wire`).
+        Quantisation steps (see :mod:`stream.wire`).
     key : bytes, optional
         Shared secret: packets carry an HMAC instead of a CRC.
     first_sequence : int, optional

@@ -1,0 +1,23 @@
+"""Type stub: the names the package loads lazily on first use (``lazy_loader``)."""
+
+from .packets import Frames, StreamReader, StreamWriter, is_key_request, key_request
+from .playout import Playout, PlayoutStats
+from .receiver import StreamReceiver
+from .relay import FaultPlan, NetworkFaults, Relay
+from .wire import WireError, quantise
+
+__all__ = [
+    "FaultPlan",
+    "Frames",
+    "NetworkFaults",
+    "Playout",
+    "PlayoutStats",
+    "Relay",
+    "StreamReader",
+    "StreamReceiver",
+    "StreamWriter",
+    "WireError",
+    "is_key_request",
+    "key_request",
+    "quantise",
+]
