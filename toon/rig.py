@@ -8,6 +8,10 @@ move, ``SL = (v1 - v0) / (h1 - h0)`` (A1.1), ``IYL = v0 - SL * h0`` (A1.2),
 ``X = h0 + vrl * (h1 - h0)`` (A1.3) and ``Y = X * SL + IYL + d`` (A1.4). A line that is vertical
 at rest cannot carry a binding (A1.1 divides by ``h1 - h0``); vertices go to the other lines.
 
+Eyes and mouth (:func:`toon.formulas.bind_to_arcs`): the same rule with a smooth line, the
+parabola through a corner, a middle point and the other corner; a hole's offsets shrink as its
+middles meet, so a closed eye or mouth hides what it holds.
+
 Point-attached vertices (A1.5-A1.6): ``V = V_min + P_CTRL * (V_max - V_min)``.
 
 Pupils: a pupil's control point sits ``eyes.radius * sin(angle)`` from its rest position for the
@@ -32,19 +36,13 @@ orthographically, so features slide across the outline by ``z * sin(angle)`` and
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from itertools import pairwise
-
 import numpy as np
-from scipy import sparse
 
 from common import InputError
 from toon.components import Component
 from toon.curves import ellipse_operator, outline_operator
 from toon.face import ANGLE_MOTORS, FEATURES, HOLE_FEATURES, KINDS, PUPIL_EYES, Face, PolygonSpec
 from toon.formulas import (
-    ArcBinding,
-    FeatureBinding,
     bind_to_arcs,
     bind_to_lines,
     follow_arcs,
@@ -52,181 +50,15 @@ from toon.formulas import (
     head_turn,
     interpolate_states,
 )
-from toon.geometry import DrawItem, Geometry
+from toon.geometry import Geometry
 from toon.motors import MOTORS, N_MOTORS, motor_index
+from toon.plan import ComponentPrep, Polygon, Skeleton, plan_vertices, template
 from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
 
 #: Features whose four points make two arcs (corners, upper and lower middles): eyes and mouth.
 ARC_FEATURES: tuple[str, ...] = ("eye_right", "eye_left", "mouth")
 #: Mask groups: holes write their group; pupils and clipped components draw only inside it.
 MASK_GROUPS: dict[str, int] = {name: i + 1 for i, name in enumerate(HOLE_FEATURES)}
-
-
-@dataclass(frozen=True)
-class _Polygon:
-    """A ToonFace polygon's rest vertices plus what moves it."""
-
-    spec: PolygonSpec
-    rest: np.ndarray
-    depth: float
-    mask_write: int
-    mask_test: int | None
-    line_rows: np.ndarray | None = None
-    binding: FeatureBinding | None = None
-    arc: ArcBinding | None = None  # eyes and mouth: the parabolas through their points
-    v_max: np.ndarray | None = None
-    pupil_row: int = -1
-
-
-@dataclass(frozen=True)
-class _Component:
-    """A basic CharToon component bound for animation (see :mod:`toon.components`)."""
-
-    spec: Component
-    rows: np.ndarray  # (N,) control-point row per defining point; -1 for frozen and fixed points
-    offset: np.ndarray  # (N, 2) added to that row's position (or to zero)
-    depth: float
-    mask_write: int
-    mask_test: int | None
-    operator: np.ndarray | None  # (S, N) outline operator; None: the points themselves
-    edge_visible: np.ndarray | None
-    skeleton: _Skeleton | None = None
-
-
-@dataclass(frozen=True)
-class _Skeleton:
-    """A skeleton component's body at rest, its skeleton at rest and how the one moves the other."""
-
-    body_rest: np.ndarray  # (B, 2)
-    skeleton_rest: np.ndarray  # (N, 2)
-    coupling: PointCoupling | EdgeCoupling
-
-    def body(self, skeleton: np.ndarray) -> np.ndarray:
-        """The body's points ``(B, 2)`` for the skeleton's points ``(N, 2)``."""
-        return self.coupling.apply(self.body_rest, self.skeleton_rest, skeleton)
-
-
-@dataclass(frozen=True)
-class _VertexPlan:
-    """Where each kind of vertex sits in a frame's one array of vertices (items in drawing order)."""
-
-    slices: tuple[slice, ...]  # each item's vertices
-    size: int
-    static_at: np.ndarray  # (K,) vertices that only a head turn moves: face and free polygons
-    static_xy: np.ndarray  # (K, 2)
-    lines: FeatureBinding | None  # every brow vertex, bound to control-point rows
-    line_at: np.ndarray  # (L,)
-    arcs: ArcBinding | None  # every eye and mouth vertex (holes and features), bound to their arcs
-    arc_at: np.ndarray  # (A,)
-    pupil_at: np.ndarray  # (Q,)
-    pupil_row: np.ndarray  # (Q,) control-point row of the vertex's pupil point
-    pupil_eye: np.ndarray  # (Q,) its pupil's place in PUPIL_EYES
-    pupil_offset: np.ndarray  # (Q, 2) the vertex at rest minus its pupil point at rest
-    point_at: np.ndarray  # (T,) point-attached vertices
-    point_motor: np.ndarray  # (T,) the motor column that moves each
-    point_min: np.ndarray  # (T, 2)
-    point_max: np.ndarray  # (T, 2)
-    defining_row: np.ndarray  # (D,) control-point row of each component point (-1: the origin)
-    defining_offset: np.ndarray  # (D, 2) added to that row
-    direct_from: np.ndarray  # (E,) component points that are outline inputs as they are ...
-    direct_to: np.ndarray  # (E,) ... and where they go among the inputs
-    skeletons: tuple[tuple[_Skeleton, slice, slice], ...]  # skeleton points taken, body points given
-    operator: sparse.csr_array | None  # (S, I) every component's outline operator, block-diagonal
-    component_at: np.ndarray  # (S,)
-    moving_at: np.ndarray  # (M,) vertices standing in front of the outline: head turns move them
-    moving_depth: np.ndarray  # (M,)
-
-
-def _outline_size(prep: _Polygon | _Component) -> int:
-    if isinstance(prep, _Polygon):
-        return len(prep.rest)
-    if prep.operator is not None:
-        return len(prep.operator)
-    return len(prep.skeleton.body_rest) if prep.skeleton is not None else len(prep.rows)
-
-
-def _plan_vertices(order: list[_Polygon | _Component], rest: np.ndarray) -> _VertexPlan:
-    """Index every vertex of a frame of ``order`` by how it moves (``rest``: control points at rest)."""
-    bounds = np.concatenate([[0], np.cumsum([_outline_size(prep) for prep in order])]).astype(np.int64)
-    slices = tuple(slice(int(a), int(b)) for a, b in pairwise(bounds))
-    parts: dict[str, list] = {name: [] for name in (
-        "static_at", "static_xy", "lines", "line_at", "arcs", "arc_at", "pupil_at", "pupil_row", "pupil_eye",
-        "pupil_offset",
-        "point_at", "point_motor", "point_min", "point_max", "defining_row", "defining_offset", "direct_from",
-        "direct_to", "blocks", "component_at", "moving_at", "moving_depth")}
-    skeletons: list[tuple[_Skeleton, slice, slice]] = []
-    defined = given = 0
-    for prep, where in zip(order, slices, strict=True):
-        at = np.arange(where.start, where.stop)
-        if prep.depth:
-            parts["moving_at"].append(at)
-            parts["moving_depth"].append(np.full(len(at), prep.depth))
-        if isinstance(prep, _Polygon):
-            if prep.arc is not None:
-                parts["arcs"].append(prep.arc)
-                parts["arc_at"].append(at)
-            elif prep.binding is not None and prep.line_rows is not None:
-                b = prep.binding
-                parts["lines"].append(FeatureBinding(prep.line_rows[b.start], prep.line_rows[b.end], b.vrl, b.d))
-                parts["line_at"].append(at)
-            elif prep.pupil_row >= 0:
-                parts["pupil_at"].append(at)
-                parts["pupil_row"].append(np.full(len(at), prep.pupil_row))
-                parts["pupil_eye"].append(np.full(len(at), list(PUPIL_EYES).index(prep.spec.attach)))
-                parts["pupil_offset"].append(prep.rest - rest[prep.pupil_row])
-            elif prep.v_max is not None:
-                parts["point_at"].append(at)
-                parts["point_motor"].append(np.full(len(at), motor_index(prep.spec.attach)))
-                parts["point_min"].append(prep.rest)
-                parts["point_max"].append(prep.v_max)
-            else:
-                parts["static_at"].append(at)
-                parts["static_xy"].append(prep.rest)
-            continue
-        n = len(prep.rows)
-        inputs = len(prep.skeleton.body_rest) if prep.skeleton is not None else n
-        parts["defining_row"].append(prep.rows)
-        parts["defining_offset"].append(prep.offset)
-        if prep.skeleton is not None:
-            skeletons.append((prep.skeleton, slice(defined, defined + n), slice(given, given + inputs)))
-        else:
-            parts["direct_from"].append(np.arange(defined, defined + n))
-            parts["direct_to"].append(np.arange(given, given + inputs))
-        parts["blocks"].append(prep.operator if prep.operator is not None else np.eye(inputs))
-        parts["component_at"].append(at)
-        defined, given = defined + n, given + inputs
-    lines = parts.pop("lines")
-    arcs = parts.pop("arcs")
-    blocks = parts.pop("blocks")
-    arrays = {name: _joined(items, 2 if name in ("static_xy", "pupil_offset", "point_min", "point_max",
-                                                 "defining_offset") else 1)
-              for name, items in parts.items()}
-    merged = FeatureBinding(*(np.concatenate([getattr(p, f) for p in lines])
-                              for f in ("start", "end", "vrl", "d"))) if lines else None
-    merged_arcs = ArcBinding(*(np.concatenate([getattr(p, f) for p in arcs]) for f in (
-        "a", "b", "m", "other", "upper", "vrl", "d", "gap"))) if arcs else None
-    operator = sparse.csr_array(sparse.block_diag(blocks)) if blocks else None
-    return _VertexPlan(slices, int(bounds[-1]), lines=merged, arcs=merged_arcs, skeletons=tuple(skeletons),
-                       operator=operator,
-                       **arrays)
-
-
-def _joined(parts: list[np.ndarray], columns: int) -> np.ndarray:
-    """``parts`` one after another; an empty index (or ``(0, 2)`` array) when there are none."""
-    if not parts:
-        return np.empty((0, 2)) if columns == 2 else np.empty(0, dtype=np.int64)
-    return np.concatenate(parts)
-
-
-def _template(prep: _Polygon | _Component, key: int) -> DrawItem:
-    """The item ``prep`` draws, at its rest vertices: each frame copies it with its own vertices."""
-    if isinstance(prep, _Polygon):
-        polygon = prep.spec
-        return DrawItem(prep.rest, polygon.color, polygon.stroke, polygon.width, True, None, polygon.kind,
-                        prep.mask_write, prep.mask_test, key, polygon.name)
-    spec = prep.spec
-    return DrawItem(np.empty((0, 2)), spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible,
-                    "component", prep.mask_write, prep.mask_test, key, spec.name)
 
 
 class FaceRig:
@@ -251,18 +83,18 @@ class FaceRig:
         components = [self._prepare_component(c, i) for i, c in enumerate(face.basic_components())]
         back = sorted((c for c in components if c.spec.layer < 0), key=lambda c: c.spec.layer)
         front = sorted((c for c in components if c.spec.layer > 0), key=lambda c: c.spec.layer)
-        self._order: list[_Polygon | _Component] = [*back, *polygons, *front]
-        self._plan = _plan_vertices(self._order, self._rest)
+        self._order: list[Polygon | ComponentPrep] = [*back, *polygons, *front]
+        self._plan = plan_vertices(self._order, self._rest)
         self._columns = {m.code: motor_index(m.code) for m in MOTORS}
         self._pupil_rows = [self._index[p] for p in PUPIL_EYES]
         self._gaze_columns = np.array([[motor_index(f"P{p[1]}{a}") for a in "HV"] for p in PUPIL_EYES])
         ranges = np.array([[face.ranges[f"P{p[1]}{a}"] for a in "HV"] for p in PUPIL_EYES])  # (2, 2, [lo, hi])
         self._gaze_range = (ranges[..., 0], ranges[..., 1] - ranges[..., 0])
-        self._templates = [_template(prep, key) for key, prep in enumerate(self._order)]
+        self.templates = [template(prep, key) for key, prep in enumerate(self._order)]
         self._switched = [(key, prep.spec.visible) for key, prep in enumerate(self._order)
-                          if isinstance(prep, _Component) and prep.spec.visible is not None]
+                          if isinstance(prep, ComponentPrep) and prep.spec.visible is not None]
         self._animated = [(self._plan.slices[key], prep.spec) for key, prep in enumerate(self._order)
-                          if isinstance(prep, _Component) and (prep.spec.scale or prep.spec.translate)]
+                          if isinstance(prep, ComponentPrep) and (prep.spec.scale or prep.spec.translate)]
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
@@ -289,7 +121,7 @@ class FaceRig:
         """The items of one frame, in drawing order, for motor values of shape ``(21,)``.
 
         Every vertex of the frame is computed in one array, a few array operations per kind of
-        vertex (see :class:`_VertexPlan`); each item's vertices are a slice of it.
+        vertex (see :class:`VertexPlan`); each item's vertices are a slice of it.
         """
         values = np.asarray(values, dtype=np.float64)
         if values.shape != (N_MOTORS,):
@@ -324,7 +156,7 @@ class FaceRig:
         hidden = {key for key, shown in self._switched
                   if not shown.low <= values[self._columns[shown.motor]] <= shown.high}
         items = tuple(template.with_vertices(out[where]) for key, (template, where)
-                      in enumerate(zip(self._templates, plan.slices, strict=True)) if key not in hidden)
+                      in enumerate(zip(self.templates, plan.slices, strict=True)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)
 
     def _outline_inputs(self, pts: np.ndarray) -> np.ndarray:
@@ -342,7 +174,7 @@ class FaceRig:
     def _lerp(bounds: tuple[float, float], value: float) -> float:
         return bounds[0] + value * (bounds[1] - bounds[0])
 
-    def _prepare_polygon(self, spec: PolygonSpec, index: int) -> _Polygon:
+    def _prepare_polygon(self, spec: PolygonSpec, index: int) -> Polygon:
         rest = np.array(spec.vertices, dtype=np.float64)
         flat = spec.kind in ("face", "free")
         depth = spec.depth if spec.depth is not None else (0.0 if flat else self.face.feature_depth)
@@ -369,9 +201,9 @@ class FaceRig:
             mask_test = 0
         elif spec.kind == "point":
             extra["v_max"] = np.array(spec.vertices_max, dtype=np.float64)
-        return _Polygon(spec, rest, depth, mask_write, mask_test, **extra)
+        return Polygon(spec, rest, depth, mask_write, mask_test, **extra)
 
-    def _prepare_component(self, spec: Component, index: int) -> _Component:
+    def _prepare_component(self, spec: Component, index: int) -> ComponentPrep:
         refs = spec.points
         rows = np.array([self._index[p.master] if p.animated else -1 for p in refs], dtype=np.int64)
         at = np.array([p.at for p in refs], dtype=np.float64).reshape(-1, 2)
@@ -391,7 +223,7 @@ class FaceRig:
                     coupling = bind_edge_skeleton(body, rest_pts, fixed, spec.skeleton_closed)
                 except ValueError as exc:
                     raise InputError(str(exc), self.face.meta.get("source"), f"components[{index}].skeleton") from None
-            extra = {"skeleton": _Skeleton(body, rest_pts, coupling)}
+            extra = {"skeleton": Skeleton(body, rest_pts, coupling)}
             outline_rest = body
         if spec.kind == "ellipse":
             ellipse = ellipse_operator()
@@ -407,4 +239,4 @@ class FaceRig:
                                             else (self.face.feature_depth if animated else 0.0))
         mask_write = MASK_GROUPS[spec.hole] if spec.hole else 0
         mask_test = MASK_GROUPS[spec.clip] if spec.clip else None
-        return _Component(spec, rows, offset, depth, mask_write, mask_test, operator, edge_visible, **extra)
+        return ComponentPrep(spec, rows, offset, depth, mask_write, mask_test, operator, edge_visible, **extra)
