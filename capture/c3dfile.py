@@ -119,8 +119,8 @@ def _take(raw: _Raw, path: Path, allow_truncated: bool) -> Take:
     keep = [i for i, label in enumerate(stripped) if label not in left_out or not label]
     clean, renamed = unique_labels([labels[i] for i in keep])
     meta: dict[str, Any] = {"source": "c3d", "file": path.name, **raw.meta, "units_in_file": units}
-    if int(zeros[:, keep].sum()):
-        meta["zero_gaps"] = int(zeros[:, keep].sum())
+    if zero_gaps := int(zeros[:, keep].sum()):
+        meta["zero_gaps"] = zero_gaps
     if modelled:
         meta["modelled_points"] = modelled
     if renamed:

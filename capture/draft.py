@@ -78,10 +78,9 @@ def _distance_spread(take: Take, frames: int = 2000) -> np.ndarray:
         return np.nanstd(dist, axis=0)
 
 
-def head_references(take: Take, count: int = REFERENCES) -> list[int]:
-    """Columns of the markers that deform least together (see the module docstring)."""
-    spread = _distance_spread(take)
-    rest = neutral_pose(take)
+def head_references(take: Take, spread: np.ndarray, rest: np.ndarray, count: int = REFERENCES) -> list[int]:
+    """Columns of the markers that deform least together (see the module docstring), given each
+    pair's distance variation ``spread`` ``(M, M)`` and the neutral ``rest`` ``(M, 3)``."""
     apart = np.linalg.norm(rest[:, None] - rest[None], axis=2)
     usable = np.isfinite(spread) & (apart >= MIN_SPREAD_MM)
     if not usable.any():
@@ -142,7 +141,8 @@ def draft_markerset(take: Take, up: str | None = None) -> Draft:
     seen = np.isfinite(rest).all(axis=1)
     if seen.sum() < 4:
         raise InputError(f"only {int(seen.sum())} markers are ever seen: a marker set needs at least 4")
-    refs = head_references(take)
+    spread = _distance_spread(take)
+    refs = head_references(take, spread, rest)
     centre = rest[seen].mean(axis=0)
     cloud = rest[seen] - centre
     _, _, axes = np.linalg.svd(cloud, full_matrices=False)
@@ -162,7 +162,6 @@ def draft_markerset(take: Take, up: str | None = None) -> Draft:
     origin = rest[refs].mean(axis=0)
     origin = origin + ((centre - origin) @ x) * x  # on the midline: x = 0 between left and right
     neutral = (rest - origin) @ rotation.T
-    spread = _distance_spread(take)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}

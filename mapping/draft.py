@@ -17,7 +17,7 @@ import numpy as np
 
 from capture import MarkerSet, load_markerset
 from common import builtin_names, data_path, read_document
-from mapping.mapfile import load_mapping
+from mapping.mapfile import Mapping, parse_mapping
 
 #: A preset marker is found in the new set within this share of the face's size (its RMS radius).
 MATCH_FRACTION = 0.15
@@ -63,15 +63,9 @@ def _fit(source: np.ndarray, target: np.ndarray, rounds: int = 30) -> tuple[floa
     return scale, offset
 
 
-def _markers(doc: dict) -> set[str]:
-    names: set[str] = set()
-    for rule in doc.get("motor", {}).values():
-        for source in rule.get("sources", []):
-            for kind in ("marker", "distance", "difference", "angle"):
-                if kind in source:
-                    value = source[kind]
-                    names.update([value] if isinstance(value, str) else value)
-    return names
+def _rule_markers(mapping: Mapping) -> dict[str, set[str]]:
+    """Each motor's markers, read from the parsed rules."""
+    return {rule.code: {m for source in rule.sources for m in source.markers} for rule in mapping.rules}
 
 
 def _rename(value, names: dict[str, str]):
@@ -83,8 +77,11 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
     size = float(np.sqrt(np.mean(np.sum((markerset.neutral - markerset.neutral.mean(axis=0)) ** 2, axis=1))))
     best: MappingDraft | None = None
     for preset in builtin_names("mappings", ".toml"):
-        doc = read_document(data_path("mappings", f"{preset}.toml"))
-        known = load_markerset(load_mapping(preset).markerset)
+        path = data_path("mappings", f"{preset}.toml")
+        doc = read_document(path)  # the rules are copied from the document, named after the parsed ones
+        parsed = parse_mapping(doc, path)
+        known = load_markerset(parsed.markerset)
+        markers = _rule_markers(parsed)
         scale, offset = _fit(known.neutral, markerset.neutral)
         placed = scale * known.neutral + offset
         distance = np.linalg.norm(placed[:, None] - markerset.neutral[None], axis=2)
@@ -99,7 +96,7 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
         motors = {}
         unmapped = []
         for code, rule in doc.get("motor", {}).items():
-            if _markers({"motor": {code: rule}}) <= set(found):
+            if markers.get(code, set()) <= set(found):
                 sources = [{k: (_rename(v, found) if k in ("marker", "distance", "difference", "angle") else v)
                             for k, v in source.items()} for source in rule.get("sources", [])]
                 motors[code] = {**rule, "sources": sources}
@@ -107,7 +104,7 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
                 unmapped.append(code)
         new = {**doc, "name": f"{markerset.name}", "markerset": markerset_ref, "motor": motors,
                "description": f"drafted from the {preset} preset"}
-        used = _markers(doc)
+        used = set().union(*markers.values())
         draft = MappingDraft(new, preset, {k: v for k, v in found.items() if k in used}, tuple(unmapped),
                              float(np.mean(gaps)) if gaps else float("inf"))
         if best is None or len(motors) > len(best.doc["motor"]) or (

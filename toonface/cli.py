@@ -105,7 +105,6 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
     from toon import load_expressions, save_track
     from toonface.pipeline import truth_track
 
-
     repertoire = load_expressions()  # validated once here, then handed to the performer
     poses = {name: dict(expression.motors) for name, expression in repertoire.items()}
     if script_file is not None:
@@ -142,7 +141,6 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, rea
     labels, missing (total missing marker-samples), missing_per_marker, longest_gap and source.
     """
     from capture.info import describe, summarize
-
 
     if plot_motion and not plot_path:
         raise click.UsageError("--plot-motion draws into the --plot picture: give --plot too")
@@ -190,7 +188,6 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
     from capture import save_take
     from capture.track import load_aruco_names, track_video
 
-
     names = load_aruco_names(names_file) if names_file else None
     take = track_video(video, method, markerset, colour, start_frame, names, corners, dictionary, mm_per_pixel,
                        marker_mm, progress_factory=progress("track"))
@@ -214,7 +211,6 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     from toon.animation import load_animation
     from toonface.pipeline import render
 
-
     dims = parse_size(size)
     face_obj = load_face(face)
     if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
@@ -229,7 +225,6 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
 def faces() -> None:
     """List the built-in faces."""
     from toon import builtin_faces, load_face
-
 
     for name in builtin_faces():
         click.echo(f"{name:<12}{load_face(name).description}")
@@ -254,7 +249,6 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     """
     from player.sheet import check_image_suffix, expression_sheet, save_image
     from toon import FaceRig, load_expressions, load_face, save_svg
-
 
     if sheet_path:
         check_image_suffix(sheet_path)
