@@ -59,8 +59,8 @@ def _live_filter() -> list[Figure]:
             for i in range(clean.shape[1])]
     still = 5.0 + rng.normal(0.0, 0.3, (1200, 1))
     calm = OneEuro(**LIVE, rate=60.0).apply(still, np.arange(1200) / 60.0)
-    detail = {"filter": "one-euro", **LIVE, "rate": 60, "jitter_mm": 0.3, "markers": ["LIP_LOW", "BROW_R_CEN",
-                                                                                     "LID_R_UP"], "lags": lags}
+    detail = {"filter": "one-euro", **LIVE, "rate": 60, "jitter_mm": 0.3,
+              "markers": ["LIP_LOW", "BROW_R_CEN", "LID_R_UP"], "lags": lags}
     return [Figure("fidelity.step_lag_frames", float(max(lags)), "frames", 1.0, False, detail),
             Figure("fidelity.still_jitter_reduction_x", float(still[60:].std() / calm[60:].std()), "x", None, True,
                    detail)]

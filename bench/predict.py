@@ -48,8 +48,8 @@ def _measure(name: str, track: MotorTrack) -> list[Figure]:
         error = {method: float(np.sqrt(np.mean((forecast(test, test_times, ms / 1000, method, model)[:-ahead]
                                                  - test[ahead:]) ** 2)))
                  for method in ("hold", "velocity", "sindy")}
-        detail = {"frames_tested": len(test) - ahead, "motors": len(cols), "rms_error": {k: round(v, 5) for k, v in
-                                                                                       error.items()},
+        detail = {"frames_tested": len(test) - ahead, "motors": len(cols),
+                  "rms_error": {k: round(v, 5) for k, v in error.items()},
                   "velocity_vs_hold_ratio": round(error["velocity"] / error["hold"], 4)}
         figures.append(Figure(f"predict.{name}_{ms}ms_sindy_vs_hold_ratio", error["sindy"] / error["hold"], "ratio",
                               1.0, False, detail))

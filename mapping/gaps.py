@@ -148,8 +148,10 @@ def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: 
     before = max(int(np.searchsorted(own, start)) - 1, 0)
     after = min(int(np.searchsorted(own, end)), len(own) - 1)
     t0, t1 = times[own[before]], times[own[after]]
-    share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((end - start, 1),
-                                                                                                    0.5)
+    if t1 > t0:
+        share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None]
+    else:
+        share = np.full((end - start, 1), 0.5)
     return residual[before] + share * (residual[after] - residual[before])
 
 

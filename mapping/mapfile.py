@@ -170,8 +170,8 @@ def _rule(check: _Checker, code: str, spec: object) -> MotorRule:
     if not isinstance(loss, dict):
         check.fail(f"{where}.loss", "expected a table { policy, seconds }")
     check.keys(loss, {"policy", "seconds"}, f"{where}.loss")
-    return MotorRule(code, sources, combine, normalise, float(scale), check.typed(spec, "invert", bool, where,
-                                                                                  default=False),
+    invert = check.typed(spec, "invert", bool, where, default=False)
+    return MotorRule(code, sources, combine, normalise, float(scale), invert,
                      check.number(spec, "gain", where, 1.0), check.number(spec, "offset", where, 0.0),
                      tuple((float(a), float(b)) for a, b in curve), check.choice(spec, "clamp", CLAMPS, where, "hard"),
                      (float(limits[0]), float(limits[1])), _filter(check, spec.get("filter", {}), f"{where}.filter"),

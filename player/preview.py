@@ -44,8 +44,8 @@ class FrameBoard:
             return number, None
         if cached is not None and cached[0] == number:
             return cached
-        ok, data = cv2.imencode(".jpg", np.ascontiguousarray(frame[:, :, ::-1]), [cv2.IMWRITE_JPEG_QUALITY,
-                                                                                  self.quality])
+        ok, data = cv2.imencode(".jpg", np.ascontiguousarray(frame[:, :, ::-1]),
+                                [cv2.IMWRITE_JPEG_QUALITY, self.quality])
         encoded = (number, data.tobytes() if ok else None)
         with self._cond:
             self._jpeg = encoded

@@ -120,8 +120,8 @@ class Playout:
             self._transit.append((frames.arrival, frames.arrival - captured))
             if index in self._concealed:  # too late to show: how wrong was what was shown instead
                 self.stats.late_frames += 1
-                self.stats.late_error_sum += float(np.sqrt(np.mean((self._concealed.pop(index)
-                                                                    - frames.values[i]) ** 2)))
+                guessed = self._concealed.pop(index)
+                self.stats.late_error_sum += float(np.sqrt(np.mean((guessed - frames.values[i]) ** 2)))
             else:
                 self._frames[index] = frames.values[i]
         while self._transit and self._transit[0][0] < frames.arrival - self.window:

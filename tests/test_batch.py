@@ -129,8 +129,8 @@ def test_frame_ranges_cover_every_frame_once():
         for most in (1, 3, 50, 200):
             ranges = frame_ranges(frames, most)
             assert ranges[0][0] == 0 and ranges[-1][1] == frames
-            assert all(a < b <= a + most and b == c for (a, b), (c, _) in zip(ranges, ranges[1:] + [(frames, 0)],
-                                                                              strict=True))
+            ends = ranges[1:] + [(frames, 0)]
+            assert all(a < b <= a + most and b == c for (a, b), (c, _) in zip(ranges, ends, strict=True))
 
 
 @pytest.mark.gl

@@ -137,8 +137,8 @@ def test_composites_transform_rename_and_reuse_the_library(base_doc):
 
 
 def test_layers_order_and_background_must_not_move(base_doc):
-    hole = {"kind": "hole", "attach": "mouth", "color": "#000000", "vertices": [[-60, -95], [0, -80], [60, -95], [0,
-                                                                                                                  -110]]}
+    hole = {"kind": "hole", "attach": "mouth", "color": "#000000",
+            "vertices": [[-60, -95], [0, -80], [60, -95], [0, -110]]}
     face = _face(base_doc, [
         {"kind": "polygon", "name": "front", "points": [[0, 0], [1, 0], [0, 1]], "fill": "#00ff00", "layer": 3},
         {"kind": "polygon", "name": "back", "points": [[0, 0], [1, 0], [0, 1]], "fill": "#00ff00", "layer": -5},

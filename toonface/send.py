@@ -123,7 +123,7 @@ def build_mapper(source: LiveSource, mapping: Mapping | str | None = None, profi
 def _own_profile(take: Take, mapping: Mapping, markerset: MarkerSet) -> Profile:
     """A profile from the take's first seconds: rest from its first second (or stillest), ranges
     from all of them, as ``map`` makes one for a take without a profile."""
-    first = take.window(0.0, CALIBRATION_SECONDS)
+    first = take.window(float(take.times[0]), float(take.times[0]) + CALIBRATION_SECONDS)
     start = Take(take.positions[first], take.labels, take.rate, take.times[first] - take.times[0], take.dims,
                  take.meta)
     return calibrate(mapping, prepare(start, markerset), percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
@@ -150,14 +150,14 @@ class SendReport:
                 "payload_kbps": round(self.payload_bytes * 8 / seconds / 1000, 3),
                 "stream_kbps": round(self.packet_bytes * 8 / seconds / 1000, 3),
                 "wire_kbps": round((self.packet_bytes + UDP_IP_HEADER * self.packets) * 8 / seconds / 1000, 3),
-                "map_ms_median": round(float(np.median(steps)), 3), "map_ms_p95": round(float(np.percentile(steps,
-                                                                                                            95)), 3)}
+                "map_ms_median": round(float(np.median(steps)), 3),
+                "map_ms_p95": round(float(np.percentile(steps, 95)), 3)}
 
 
 def run_sender(source: LiveSource, mapper: LiveMapper, writer: StreamWriter, target: tuple[str, int],
                seconds: float | None = None, clock: Callable[[], float] = time.perf_counter,
-               sleep: Callable[[float], None] = time.sleep, on_frame: Callable[[int, np.ndarray, float],
-                                                                               None] | None = None,
+               sleep: Callable[[float], None] = time.sleep,
+               on_frame: Callable[[int, np.ndarray, float], None] | None = None,
                stop: Callable[[], bool] = lambda: False) -> SendReport:
     """Play ``source`` in real time to ``target``; returns what was sent.
 
