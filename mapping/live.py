@@ -3,11 +3,11 @@
 Per frame, in the offline order where the future is not needed: the robust head fit (on the
 performer's reference shape once it is known), spikes rejected in the head frame and the head
 fitted again without them, short gaps held at the marker's last head-frame position (counted as
-filled), One Euro smoothing of the head-frame markers and of the head pose, then the mapping
-(:mod:`mapping.mapper`) on that one frame with live forms of its loss policies, filters, speed
-limits, delays and style. Offline cleaning looks ahead (zero-phase smoothing, gap filling from
-both sides); live it cannot, so live motors lag the offline ones by a frame or two and fill
-gaps by holding.
+filled), One Euro smoothing of the head-frame markers and of the head pose, then the mapping's
+motor values (:func:`mapping.mapper.motor_values`) on that one frame and the per-frame rules
+(:class:`mapping.rules.MotorRules`), the same code offline mapping runs. Only cleaning differs:
+offline it looks ahead (zero-phase smoothing, gap filling from both sides); live it cannot, so
+live motors lag the offline ones by a frame or two and fill gaps by holding.
 
 The rest pose: with ``rest_seconds`` > 0 the first such seconds (with a head pose) are taken as
 rest, as ``toonface map`` does by default; the profile's ranges are kept around that rest and
@@ -16,29 +16,19 @@ the motors show the face's neutral meanwhile.
 
 from __future__ import annotations
 
-from collections import deque
-
 import numpy as np
 
 from capture import MarkerSet
-from mapping.filters import Delay, OneEuro, SpeedLimit
-from mapping.mapfile import Mapping, MotorRule
-from mapping.mapper import (
-    FILLED_QUALITY,
-    IDLE_AMPLITUDE,
-    IDLE_HZ,
-    _across_motors,
-    _motor_value,
-    channel_limits,
-    check_profile,
-    make_filter,
-)
+from mapping.filters import OneEuro
+from mapping.mapfile import Mapping
+from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
 from mapping.profile import Profile, SourceRange
+from mapping.rules import MotorRules
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
 from mapping.workflow import merge_profile
-from toon import MOTOR_CODES, N_MOTORS, motor_index, standard_neutral
+from toon import N_MOTORS, standard_neutral
 
 #: One Euro settings (Hz, and per mm/s) for head-frame markers live: 1 frame of lag at 60 Hz
 #: (``python -m bench fidelity`` measures this filter).
@@ -85,27 +75,19 @@ class LiveMapper:
         self.spikes = SpikeFilter() if spikes else None
         self.markers = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
         self.pose = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
-        self.filters = {r.code: make_filter(r.filter, rate) for r in mapping.rules if r.filter}
-        speeds, delays = channel_limits(mapping, rate)
-        self.limited = np.isfinite(speeds)  # only these pass the speed limit (as offline)
-        self.limit = SpeedLimit(speeds[self.limited]) if self.limited.any() else None
-        self.delay = Delay(delays) if delays.any() else None
-        self.phases = np.random.default_rng(seed).uniform(0, 2 * np.pi, (2, N_MOTORS))  # idle drift, tremble
-        self.smooth_window: deque[np.ndarray] = deque(maxlen=max(1, int(round(mapping.style.smooth_seconds * rate))))
+        self.rules = MotorRules(mapping, rate, self.neutral, seed)
         self._last_local = np.full((len(labels), 3), np.nan)
         self._last_seen = np.full(len(labels), -np.inf)
         self._rest: list[tuple[np.ndarray, np.ndarray]] = []
         self._rest_start: float | None = None
         self._ready = rest_seconds <= 0
-        self._last_value = self.neutral.copy()
-        self._lost_since = np.full(N_MOTORS, np.nan)
 
     def step(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """One frame of world marker positions ``(M, 3)`` (NaN unseen) at ``t`` seconds; returns
         the motors ``(21,)`` in [0, 1] and their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost)."""
         local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t)
-        quality = np.isfinite(local).all(axis=1).astype(float)
         local, held = self._hold(local, t)
+        quality = marker_quality(local)
         quality[held] = FILLED_QUALITY
         local = self.markers.step(local.reshape(-1), t).reshape(local.shape)
         if ok:
@@ -115,7 +97,7 @@ class LiveMapper:
         if not self._ready:
             self._collect_rest(stable, t)
             return self.neutral.copy(), np.zeros(N_MOTORS)
-        return self._map(stable, quality[None], t)
+        return self.map_frame(stable, quality[None], t)
 
     def _head_frame(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
         """Head-frame markers ``(M, 3)``, the pose and whether there is one; spikes removed."""
@@ -166,58 +148,8 @@ class LiveMapper:
         own = Profile(self.profile.markerset, rests, rest_rotation)
         return merge_profile(self.profile, own, [], rest_from_take=True)
 
-    def _map(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
-        head = head_angles(stable.rotation, self.profile.rest_rotation)
-        values = self.neutral.copy()
-        confidence = np.ones(N_MOTORS)
-        for rule in self.mapping.rules:
-            col = motor_index(rule.code)
-            raw, conf = _motor_value(rule, stable, self.columns, head, quality, self.profile, self.neutral[col])
-            confidence[col] = conf[0]
-            value = raw[0]
-            if np.isnan(value):
-                value = self._lost(rule, col, t)
-            else:
-                self._lost_since[col] = np.nan
-                self._last_value[col] = value
-            if rule.code in self.filters:
-                value = self.filters[rule.code].step(np.array([value]), t)[0]
-            values[col] = value
-        if self.limit is not None:
-            values[self.limited] = self.limit.step(values[self.limited], t)
-        if self.delay is not None:
-            values = self.delay.step(values, t)
-        values = _across_motors(values[None], self.mapping, self.neutral)[0]
-        return np.clip(self._style(values, t), 0.0, 1.0), np.clip(confidence, 0.0, 1.0)
-
-    def _lost(self, rule: MotorRule, col: int, t: float) -> float:
-        """The loss policy's value for a motor with no source seen."""
-        if np.isnan(self._lost_since[col]):
-            self._lost_since[col] = t
-        last = self._last_value[col]
-        if rule.loss == "hold":
-            return float(last)
-        since = t - self._lost_since[col]
-        ease = min(since / rule.loss_seconds, 1.0) if rule.loss_seconds > 0 else 1.0
-        value = last + (self.neutral[col] - last) * ease
-        if rule.loss == "idle":
-            value += ease * IDLE_AMPLITUDE * np.sin(2 * np.pi * IDLE_HZ * t + self.phases[0, col])
-        return float(value)
-
-    def _style(self, values: np.ndarray, t: float) -> np.ndarray:
-        """The style operators, causally (smoothing is a trailing moving average)."""
-        style, out = self.mapping.style, values.copy()
-        if style.smooth_seconds > 0:
-            self.smooth_window.append(values)
-            cols = [motor_index(c) for c in style.smooth_motors or MOTOR_CODES]
-            out[cols] = np.mean(self.smooth_window, axis=0)[cols]
-        if style.tremble_amplitude > 0:
-            for code in style.tremble_motors or MOTOR_CODES:
-                col = motor_index(code)
-                out[col] += style.tremble_amplitude * np.sin(2 * np.pi * style.tremble_frequency * t
-                                                             + self.phases[1, col])
-        if style.sharpen_steps:
-            cols = [motor_index(c) for c in style.sharpen_motors or MOTOR_CODES]
-            levels = style.sharpen_steps - 1
-            out[cols] = np.round(np.clip(out[cols], 0, 1) * levels) / levels
-        return out
+    def map_frame(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """The mapping of one cleaned frame (``stable`` holds one frame; ``quality`` ``(1, M)``):
+        motors ``(21,)`` and confidence ``(21,)``; what offline mapping gives that frame."""
+        raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral)
+        return self.rules.step(raw[0], t), np.clip(confidence[0], 0.0, 1.0)

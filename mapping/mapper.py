@@ -5,10 +5,9 @@ profile (``profile``: the side of the performer's range the value is on becomes 
 to 0 or to 1 from its neutral, so the performer's range fills the motor's; ``scale``: units per
 motor unit); invert a source if asked; combine (max, mean, min or weighted, over the sources seen
 in the frame); invert; ``value = neutral + gain * delta + offset``; the curve; the clamp. Where no
-source is seen the loss policy fills in (hold the last value, ease to neutral over a time, or an
-idle drift about neutral); then the per-channel filter, the speed limit and the delay. Then the
-cross-motor operations (symmetric pairs, one side copied, mirror) and the style operators
-(tremble, sharpen, smooth, time scaling).
+source is seen the per-frame rules take over (:mod:`mapping.rules`, shared with the live
+sender): the loss policy, the per-channel filter, speed limit and delay, the cross-motor
+operations and the style operators. Offline mapping alone has style's time scaling.
 
 Confidence per motor and frame is the mean over its sources of their markers' quality: 1 seen,
 0.5 filled by the gap filler, 0 unseen.
@@ -17,19 +16,15 @@ Confidence per motor and frame is the mean over its sources of their markers' qu
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
 
-from mapping.filters import Butterworth, Delay, OneEuro, SavitzkyGolay, SpeedLimit
-from mapping.mapfile import Mapping, MotorRule, Style
+from mapping.mapfile import Mapping, MotorRule
 from mapping.profile import Profile, SourceRange
+from mapping.rules import MotorRules
 from mapping.sources import Source, head_angles, measure
 from mapping.stabilise import Stabilised
-from toon import MOTOR_CODES, MotorTrack, mirror_values, motor_index, standard_neutral
-from toon.motors import MIRROR_PAIRS
+from toon import MOTOR_CODES, MotorTrack, motor_index, standard_neutral
 
 FILLED_QUALITY = 0.5
-IDLE_AMPLITUDE = 0.03  # motor units of the idle drift
-IDLE_HZ = 0.25
 
 
 def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarray, rate: float, mapping: Mapping,
@@ -56,29 +51,42 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     """
     check_profile(mapping, profile)
     neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
-    frames = len(times)
-    quality = np.isfinite(stable.local).all(axis=2).astype(float)
+    quality = marker_quality(stable.local, filled)
+    raw, confidence = motor_values(mapping, stable, columns, quality, profile, neutral)
+    values = MotorRules(mapping, rate, neutral, seed).apply(raw, times)
+    if mapping.style.time_scale != 1.0:  # the one style operator with no live form: it changes the frame count
+        scale = mapping.style.time_scale
+        new_times = times[0] + np.arange(int(round(len(times) * scale))) / rate
+        stretched = times[0] + (times - times[0]) * scale
+        values, confidence = _resample(values, stretched, new_times), _resample(confidence, stretched, new_times)
+    meta = {"mapping": mapping.name, "profile": profile.performer or profile.markerset,
+            "mapped": [r.code for r in mapping.rules], "lost_frames": int(np.isnan(raw).any(axis=1).sum())}
+    return MotorTrack(np.clip(values, 0.0, 1.0), rate, confidence=np.clip(confidence, 0.0, 1.0), meta=meta)
+
+
+def marker_quality(local: np.ndarray, filled: np.ndarray | None = None) -> np.ndarray:
+    """Each marker's quality per frame ``(F, M)`` from head-frame markers ``(F, M, 3)``: 1 seen,
+    :data:`FILLED_QUALITY` where ``filled`` (made up by the gap filler), 0 unseen."""
+    quality = np.isfinite(local).all(axis=-1).astype(float)
     if filled is not None:
         quality[filled] = FILLED_QUALITY
+    return quality
+
+
+def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], quality: np.ndarray,
+                 profile: Profile, neutral: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each motor's value before the per-frame rules (:class:`mapping.rules.MotorRules`) and its
+    confidence, both ``(F, 21)``: NaN where a mapped motor sees none of its sources, the face's
+    ``neutral`` for motors the mapping leaves alone."""
+    frames = len(stable.local)
     head = head_angles(stable.rotation, profile.rest_rotation)
-    values = np.tile(neutral, (frames, 1))
+    values = np.tile(np.asarray(neutral, dtype=float), (frames, 1))
     confidence = np.ones((frames, len(MOTOR_CODES)))
-    rng = np.random.default_rng(seed)
-    lost = np.zeros((frames, len(MOTOR_CODES)), dtype=bool)
     for rule in mapping.rules:
         col = motor_index(rule.code)
-        raw, conf = _motor_value(rule, stable, columns, head, quality, profile, neutral[col])
-        lost[:, col] = np.isnan(raw)
-        values[:, col] = _fill_lost(raw, rule, neutral[col], times, rng)
-        confidence[:, col] = conf
-    values = _channel_stages(values, mapping, times, rate)
-    values = _across_motors(values, mapping, neutral)
-    values, times_out = _style(values, mapping.style, times, rate, rng)
-    if len(times_out) != frames:
-        confidence = _resample(confidence, times, times_out)
-    meta = {"mapping": mapping.name, "profile": profile.performer or profile.markerset,
-            "mapped": [r.code for r in mapping.rules], "lost_frames": int(lost.any(axis=1).sum())}
-    return MotorTrack(np.clip(values, 0.0, 1.0), rate, confidence=np.clip(confidence, 0.0, 1.0), meta=meta)
+        values[:, col], confidence[:, col] = _motor_value(rule, stable, columns, head, quality, profile,
+                                                          float(neutral[col]))
+    return values, confidence
 
 
 def check_profile(mapping: Mapping, profile: Profile) -> None:
@@ -88,17 +96,6 @@ def check_profile(mapping: Mapping, profile: Profile) -> None:
     missing = sorted(wanted - set(profile.sources))
     if missing:
         raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
-
-
-def channel_limits(mapping: Mapping, rate: float) -> tuple[np.ndarray, np.ndarray]:
-    """Each motor's speed limit (units/s, inf: none) and delay (whole frames), ``(21,)`` each."""
-    speeds = np.full(len(MOTOR_CODES), np.inf)
-    delays = np.zeros(len(MOTOR_CODES), dtype=int)
-    for rule in mapping.rules:
-        if rule.max_speed > 0:
-            speeds[motor_index(rule.code)] = rule.max_speed
-        delays[motor_index(rule.code)] = int(round(rule.delay * rate))
-    return speeds, delays
 
 
 def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRange | None) -> np.ndarray:
@@ -173,88 +170,6 @@ def _clamp(value: np.ndarray, rule: MotorRule) -> np.ndarray:
     return value
 
 
-def _fill_lost(raw: np.ndarray, rule: MotorRule, rest: float, times: np.ndarray, rng: np.random.Generator
-               ) -> np.ndarray:
-    """Fill frames where no source is seen by the rule's loss policy."""
-    lost = np.isnan(raw)
-    if not lost.any():
-        return raw
-    index = np.where(~lost, np.arange(len(raw)), -1)
-    np.maximum.accumulate(index, out=index)
-    last = np.where(index >= 0, raw[np.maximum(index, 0)], rest)  # hold
-    if rule.loss == "hold":
-        return np.where(lost, last, raw)
-    since = times - np.where(index >= 0, times[np.maximum(index, 0)], times[0])
-    ease = np.clip(since / rule.loss_seconds, 0.0, 1.0) if rule.loss_seconds > 0 else np.ones_like(since)
-    eased = last + (rest - last) * ease
-    if rule.loss == "idle":
-        phase = rng.uniform(0, 2 * np.pi)
-        eased = eased + ease * IDLE_AMPLITUDE * np.sin(2 * np.pi * IDLE_HZ * times + phase)
-    return np.where(lost, eased, raw)
-
-
-def _channel_stages(values: np.ndarray, mapping: Mapping, times: np.ndarray, rate: float) -> np.ndarray:
-    """Per-channel filters, speed limits and delays (each stage over the channels that use it)."""
-    out = values.copy()
-    for rule in mapping.rules:
-        if rule.filter:
-            col = motor_index(rule.code)
-            out[:, col] = make_filter(rule.filter, rate).apply(out[:, col], times)
-    speeds, delays = channel_limits(mapping, rate)
-    if np.isfinite(speeds).any():
-        limited = np.isfinite(speeds)
-        out[:, limited] = SpeedLimit(speeds[limited]).apply(out[:, limited], times)
-    if delays.any():
-        out = Delay(delays).apply(out, times)
-    return out
-
-
-def make_filter(spec: dict, rate: float) -> OneEuro | Butterworth | SavitzkyGolay:
-    """The filter a mapping's ``filter`` table names."""
-    params = {k: v for k, v in spec.items() if k != "kind"}
-    if spec["kind"] == "one-euro":
-        return OneEuro(rate=rate, **params)
-    if spec["kind"] == "butterworth":
-        return Butterworth(rate=rate, **{k: (int(v) if k == "order" else v) for k, v in params.items()})
-    return SavitzkyGolay(**{k: int(v) for k, v in params.items()})
-
-
-def _across_motors(values: np.ndarray, mapping: Mapping, neutral: np.ndarray) -> np.ndarray:
-    out = values.copy()
-    for right, left in mapping.symmetric:
-        i, j = motor_index(right), motor_index(left)
-        out[:, i] = out[:, j] = 0.5 * (out[:, i] + out[:, j])
-    if mapping.copy_side:
-        for right, left in MIRROR_PAIRS:
-            i, j = motor_index(right), motor_index(left)
-            src, dst = (i, j) if mapping.copy_side == "right" else (j, i)
-            out[:, dst] = out[:, src]
-    return mirror_values(out, neutral) if mapping.mirror else out
-
-
-def _style(values: np.ndarray, style: Style, times: np.ndarray, rate: float, rng: np.random.Generator
-           ) -> tuple[np.ndarray, np.ndarray]:
-    """CharToon's style operators; returns the values and their (possibly rescaled) times."""
-    out = values.copy()
-    every = tuple(MOTOR_CODES)
-    if style.smooth_seconds > 0:
-        cols = [motor_index(c) for c in style.smooth_motors or every]
-        size = max(1, int(round(style.smooth_seconds * rate)))
-        out[:, cols] = uniform_filter1d(out[:, cols], size, axis=0, mode="nearest")
-    if style.tremble_amplitude > 0:
-        for code in style.tremble_motors or every:
-            phase = rng.uniform(0, 2 * np.pi)
-            out[:, motor_index(code)] += style.tremble_amplitude * np.sin(2 * np.pi * style.tremble_frequency * times
-                                                                          + phase)
-    if style.sharpen_steps:
-        cols = [motor_index(c) for c in style.sharpen_motors or every]
-        levels = style.sharpen_steps - 1
-        out[:, cols] = np.round(np.clip(out[:, cols], 0, 1) * levels) / levels
-    if style.time_scale != 1.0:
-        new_times = times[0] + np.arange(int(round(len(times) * style.time_scale))) / rate
-        return _resample(out, times[0] + (times - times[0]) * style.time_scale, new_times), new_times
-    return out, times
-
-
 def _resample(values: np.ndarray, times: np.ndarray, new_times: np.ndarray) -> np.ndarray:
+    """Frames ``(F, C)`` at ``times`` interpolated at ``new_times``."""
     return np.column_stack([np.interp(new_times, times, values[:, c]) for c in range(values.shape[1])])

@@ -1,0 +1,214 @@
+"""The mapping's per-frame rules, once, in two forms that agree: a whole take or one frame at a time.
+
+After each mapped motor has its value (:func:`mapping.mapper.motor_values`, NaN where none of
+its sources is seen), :class:`MotorRules` applies, in this order:
+
+1. the **loss policy** of each motor with no source seen: ``hold`` the last value seen, ``ease``
+   from it to the face's neutral over ``seconds`` counted from the last frame a source was seen,
+   or ``idle``: ease, plus a slow drift about neutral (:data:`IDLE_AMPLITUDE` at
+   :data:`IDLE_HZ`). Before anything is seen the last value is the neutral;
+2. each motor's **filter** (One Euro, causal Butterworth or trailing Savitzky-Golay);
+3. the **speed limits**, then the **delays** (whole frames);
+4. the operations **across motors**: symmetric pairs move as their mean, one side copied,
+   mirror;
+5. the **style** operators: ``smooth`` (a trailing moving average over ``seconds``, the first
+   frame standing in for the frames before it), ``tremble`` (a sine per motor with a seeded
+   phase), ``sharpen`` (quantise to ``steps`` levels);
+6. clip to [0, 1].
+
+``apply(values, times)`` (a take, vectorised where the rule allows) returns what feeding the
+frames to ``step(values, t)`` one by one returns: :func:`mapping.map_stabilised` uses the one,
+the live sender the other, and a test holds them equal to 1e-9 with every rule switched on.
+Random phases (idle drift and tremble, one per motor each) come from ``seed`` the same way in
+both. Style's ``time_scale`` changes the number of frames, so only offline mapping has it.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+import numpy as np
+
+from mapping.filters import Butterworth, Delay, OneEuro, SavitzkyGolay, SpeedLimit
+from mapping.mapfile import Mapping, Style
+from toon import MOTOR_CODES, N_MOTORS, mirror_values, motor_index
+from toon.motors import MIRROR_PAIRS
+
+IDLE_AMPLITUDE = 0.03  # motor units of the idle drift
+IDLE_HZ = 0.25
+
+
+def make_filter(spec: dict, rate: float) -> OneEuro | Butterworth | SavitzkyGolay:
+    """The filter a mapping's ``filter`` table names."""
+    params = {k: v for k, v in spec.items() if k != "kind"}
+    if spec["kind"] == "one-euro":
+        return OneEuro(rate=rate, **params)
+    if spec["kind"] == "butterworth":
+        return Butterworth(rate=rate, **{k: (int(v) if k == "order" else v) for k, v in params.items()})
+    return SavitzkyGolay(**{k: int(v) for k, v in params.items()})
+
+
+def channel_limits(mapping: Mapping, rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each motor's speed limit (units/s, inf: none) and delay (whole frames), ``(21,)`` each."""
+    speeds = np.full(N_MOTORS, np.inf)
+    delays = np.zeros(N_MOTORS, dtype=int)
+    for rule in mapping.rules:
+        if rule.max_speed > 0:
+            speeds[motor_index(rule.code)] = rule.max_speed
+        delays[motor_index(rule.code)] = int(round(rule.delay * rate))
+    return speeds, delays
+
+
+class MotorRules:
+    """The rules after the motor values (module docstring), with their state for ``step``.
+
+    Parameters
+    ----------
+    mapping : Mapping
+    rate : float
+        Frames per second (filters, delays, the smoothing window).
+    neutral : ndarray, shape (21,)
+        The face's neutral: where loss eases to, what mirror keeps.
+    seed : int
+        Seeds the idle drift and the tremble phases.
+    """
+
+    def __init__(self, mapping: Mapping, rate: float, neutral: np.ndarray, seed: int = 0) -> None:
+        self.mapping, self.rate = mapping, rate
+        self.neutral = np.asarray(neutral, dtype=float)
+        self.phases = np.random.default_rng(seed).uniform(0, 2 * np.pi, (2, N_MOTORS))  # idle drift, tremble
+        self.mapped = np.array([motor_index(r.code) for r in mapping.rules], dtype=int)
+        self.loss = [(motor_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
+        self.filters = [(motor_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]
+        speeds, delays = channel_limits(mapping, rate)
+        self.limited = np.isfinite(speeds)  # only these pass the speed limit
+        self.limit = SpeedLimit(speeds[self.limited]) if self.limited.any() else None
+        self.delay = Delay(delays) if delays.any() else None
+        self.window = max(1, int(round(mapping.style.smooth_seconds * rate)))
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the past (loss, filters, limits, delays, smoothing)."""
+        self._last = self.neutral.copy()  # the last value seen per motor
+        self._seen_at = np.full(N_MOTORS, np.nan)  # when it was seen (NaN: never)
+        self._first_t: float | None = None
+        self._smooth: deque[np.ndarray] = deque(maxlen=self.window)
+        for _, stage in self.filters:
+            stage.reset()
+        for limiter in (self.limit, self.delay):
+            if limiter is not None:
+                limiter.reset()
+
+    def step(self, values: np.ndarray, t: float) -> np.ndarray:
+        """One frame: motor values ``(21,)`` (NaN: a mapped motor with no source seen) at ``t``
+        seconds; returns the motors ``(21,)`` in [0, 1]."""
+        out = np.asarray(values, dtype=float).copy()
+        self._first_t = t if self._first_t is None else self._first_t
+        seen = np.isfinite(out)
+        self._last[seen], self._seen_at[seen] = out[seen], t
+        for col, policy, seconds in self.loss:
+            if not seen[col]:
+                since = t - (self._first_t if np.isnan(self._seen_at[col]) else self._seen_at[col])
+                out[col] = self._lost_value(col, policy, seconds, np.array([since]), np.array([t]))[0]
+        for col, stage in self.filters:
+            out[col] = stage.step(out[col:col + 1], t)[0]
+        if self.limit is not None:
+            out[self.limited] = self.limit.step(out[self.limited], t)
+        if self.delay is not None:
+            out = self.delay.step(out, t)
+        out = across_motors(out[None], self.mapping, self.neutral)[0]
+        if self.mapping.style.smooth_seconds > 0:
+            if not self._smooth:
+                self._smooth.extend([out.copy()] * self.window)
+            self._smooth.append(out.copy())
+            cols = _motors(self.mapping.style.smooth_motors)
+            out[cols] = np.mean(self._smooth, axis=0)[cols]
+        return np.clip(self._tremble_and_sharpen(out[None], np.array([t]))[0], 0.0, 1.0)
+
+    def apply(self, values: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """A whole take ``(F, 21)`` at ``times`` ``(F,)`` from a fresh state; what stepping it gives."""
+        self.reset()
+        out = np.asarray(values, dtype=float).copy()
+        times = np.asarray(times, dtype=float)
+        for col, policy, seconds in self.loss:
+            out[:, col] = self._fill_lost(out[:, col], col, policy, seconds, times)
+        for col, stage in self.filters:
+            out[:, col] = stage.apply(out[:, col], times)
+        if self.limit is not None:
+            out[:, self.limited] = self.limit.apply(out[:, self.limited], times)
+        if self.delay is not None:
+            out = self.delay.apply(out, times)
+        out = across_motors(out, self.mapping, self.neutral)
+        if self.mapping.style.smooth_seconds > 0 and len(out):
+            cols = _motors(self.mapping.style.smooth_motors)
+            out[:, cols] = trailing_mean(out[:, cols], self.window)
+        self.reset()
+        return np.clip(self._tremble_and_sharpen(out, times), 0.0, 1.0)
+
+    def _fill_lost(self, raw: np.ndarray, col: int, policy: str, seconds: float, times: np.ndarray) -> np.ndarray:
+        """One motor's frames ``(F,)`` with the loss policy where it is NaN."""
+        lost = np.isnan(raw)
+        if not lost.any():
+            return raw
+        index = np.where(~lost, np.arange(len(raw)), -1)
+        np.maximum.accumulate(index, out=index)
+        ever = index >= 0
+        last = np.where(ever, raw[np.maximum(index, 0)], self.neutral[col])
+        since = times - np.where(ever, times[np.maximum(index, 0)], times[0])
+        filled = self._lost_value(col, policy, seconds, since, times, last)
+        return np.where(lost, filled, raw)
+
+    def _lost_value(self, col: int, policy: str, seconds: float, since: np.ndarray, times: np.ndarray,
+                    last: np.ndarray | None = None) -> np.ndarray:
+        """The loss policy's values for one motor ``(F,)``: ``since`` seconds since a source was
+        last seen, ``last`` the value then (the remembered one by default)."""
+        held = np.full(len(times), self._last[col]) if last is None else last
+        if policy == "hold":
+            return held
+        ease = np.clip(since / seconds, 0.0, 1.0) if seconds > 0 else np.ones_like(since)
+        eased = held + (self.neutral[col] - held) * ease
+        if policy == "idle":
+            eased = eased + ease * IDLE_AMPLITUDE * np.sin(2 * np.pi * IDLE_HZ * times + self.phases[0, col])
+        return eased
+
+    def _tremble_and_sharpen(self, values: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """The two style operators that need no past, on frames ``(F, 21)`` at ``times``."""
+        style: Style = self.mapping.style
+        out = values
+        if style.tremble_amplitude > 0:
+            cols = _motors(style.tremble_motors)
+            out[:, cols] += style.tremble_amplitude * np.sin(2 * np.pi * style.tremble_frequency * times[:, None]
+                                                             + self.phases[1, cols])
+        if style.sharpen_steps:
+            cols = _motors(style.sharpen_motors)
+            levels = style.sharpen_steps - 1
+            out[:, cols] = np.round(np.clip(out[:, cols], 0, 1) * levels) / levels
+        return out
+
+
+def across_motors(values: np.ndarray, mapping: Mapping, neutral: np.ndarray) -> np.ndarray:
+    """Symmetric pairs, one side copied and mirror on frames ``(F, 21)``; a new array."""
+    out = values.copy()
+    for right, left in mapping.symmetric:
+        i, j = motor_index(right), motor_index(left)
+        out[:, i] = out[:, j] = 0.5 * (out[:, i] + out[:, j])
+    if mapping.copy_side:
+        for right, left in MIRROR_PAIRS:
+            i, j = motor_index(right), motor_index(left)
+            src, dst = (i, j) if mapping.copy_side == "right" else (j, i)
+            out[:, dst] = out[:, src]
+    return mirror_values(out, neutral) if mapping.mirror else out
+
+
+def trailing_mean(values: np.ndarray, window: int) -> np.ndarray:
+    """Mean of each frame and the ``window - 1`` before it, per column of ``(F, C)``; the first
+    frame stands in for frames before the start."""
+    padded = np.concatenate([np.repeat(values[:1], window - 1, axis=0), values])
+    sums = np.cumsum(padded, axis=0)
+    sums = np.concatenate([np.zeros((1, values.shape[1])), sums])
+    return (sums[window:] - sums[:-window]) / window
+
+
+def _motors(codes: tuple[str, ...]) -> np.ndarray:
+    """Columns of the named motors (all when none are named)."""
+    return np.array([motor_index(c) for c in codes or MOTOR_CODES], dtype=int)
