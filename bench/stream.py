@@ -33,13 +33,15 @@ import time
 import numpy as np
 
 from bench.core import Figure
+from capture.sources import synthetic_source
 from mapping.predict import MotionModel, trailing_line
 from stream.packets import StreamReader, StreamWriter
 from stream.playout import Playout
 from stream.receiver import StreamReceiver
 from stream.relay import FaultPlan, NetworkFaults
+from stream.sender import UDP_IP_HEADER, StreamSender
 from toon import standard_neutral
-from toonface.send import UDP_IP_HEADER, build_mapper, run_sender, synthetic_source
+from toonface.send import build_mapper, run_sender
 
 RATE = 60.0
 LOSSY = NetworkFaults(loss=0.10, burst_seconds=0.05, bursts_per_second=0.5, jitter=0.005, delay=0.001)
@@ -56,7 +58,7 @@ def run(quick: bool = False) -> list[Figure]:
 
 def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, float]:
     """The motors the sender sends, and its frames per second (mapping and coding) on one core."""
-    source = synthetic_source(seconds, RATE, noise_mm=noise_mm)
+    source = synthetic_source(seconds=seconds, rate=RATE, noise_mm=noise_mm)
     mapper = build_mapper(source)
     writer = StreamWriter(RATE)
     cpus = os.sched_getaffinity(0) if hasattr(os, "sched_setaffinity") else None
@@ -64,9 +66,9 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
         os.sched_setaffinity(0, {min(cpus)})
     try:
         out, start = [], time.perf_counter()
-        for index, positions in enumerate(source.frames):
-            values, _ = mapper.step(positions, index / RATE)
-            writer.push(values, index / RATE)
+        for t, positions in source.frames:
+            values, _ = mapper.step(positions, t)
+            writer.push(values, t)
             out.append(values)
         elapsed = time.perf_counter() - start
     finally:
@@ -105,7 +107,7 @@ def _rates(values: np.ndarray, noisier: np.ndarray) -> list[Figure]:
 
 def _latency(seconds: float) -> Figure:
     """Real sockets on loopback: the sender in one thread, the face shown 60 times a second."""
-    source = synthetic_source(seconds + 1.0, RATE)
+    source = synthetic_source(seconds=seconds + 1.0, rate=RATE)
     mapper = build_mapper(source)
     stop = threading.Event()
     latencies: list[float] = []
@@ -118,7 +120,9 @@ def _latency(seconds: float) -> Figure:
                     latencies.append(latency)
         viewer = threading.Thread(target=show, daemon=True)
         viewer.start()
-        run_sender(source, mapper, StreamWriter(RATE), receiver.address, seconds)
+        sender = StreamSender(receiver.address, StreamWriter(RATE))
+        run_sender(source, mapper, [sender], seconds)
+        sender.close()
         stop.set()
         viewer.join()
     ms = np.array(latencies[int(RATE):]) * 1000  # after the first second

@@ -18,7 +18,7 @@ threshold). Identities:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 
 import cv2
@@ -249,28 +249,50 @@ class DotTracker:
         return float(d.min())
 
 
-def track_dots(images: Iterable[np.ndarray], layout: np.ndarray, style: DotStyle = DotStyle(),
-               start_frame: int = 0, max_flow_frames: int = 3,
-               progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, DotTracker]:
-    """Track the dots of ``images``; identities start on frame ``start_frame`` (neutral face).
-
-    Frames before ``start_frame`` are NaN. Returns pixel positions ``(frames, M, 2)`` and the
-    tracker (its ``mm_per_pixel`` and ``origin`` place the layout in the image).
+def follow_dots(images: Iterable[np.ndarray], tracker: DotTracker, style: DotStyle = DotStyle(),
+                start_frame: int = 0) -> Iterator[np.ndarray]:
+    """The tracking loop, one frame at a time: pixel positions ``(M, 2)`` of ``tracker``'s dots in
+    each image, NaN where unseen. Identities start on frame ``start_frame`` (a neutral face, where
+    :meth:`DotTracker.start` raises ValueError if the layout is not there); earlier frames are NaN.
+    Offline tracking (:func:`track_dots`) and a video played live both run this generator.
     """
-    tracker = DotTracker(layout, max_flow_frames=max_flow_frames)
-    rows: list[np.ndarray] = []
     started = False
     for index, image in enumerate(images):
         if index < start_frame:
-            rows.append(np.full((len(layout), 2), np.nan))
+            yield np.full((len(tracker.layout), 2), np.nan)
         elif not started:
-            rows.append(tracker.start(find_dots(image, style)))
+            found = tracker.start(find_dots(image, style))
             tracker.remember(image)
             started = True
+            yield found
         else:
-            rows.append(tracker.step(image, find_dots(image, style)))
+            yield tracker.step(image, find_dots(image, style))
+
+
+def track_dots(images: Iterable[np.ndarray], layout: np.ndarray, style: DotStyle = DotStyle(),
+               start_frame: int = 0, max_flow_frames: int = 3,
+               progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, DotTracker]:
+    """Track the dots of ``images`` (:func:`follow_dots` over them all).
+
+    Returns pixel positions ``(frames, M, 2)`` and the tracker (its ``mm_per_pixel`` and
+    ``origin`` place the layout in the image).
+    """
+    tracker = DotTracker(layout, max_flow_frames=max_flow_frames)
+    rows: list[np.ndarray] = []
+    for pixels in follow_dots(images, tracker, style, start_frame):
+        rows.append(pixels)
         if progress:
             progress(1)
     if not rows:
         return np.empty((0, len(layout), 2)), tracker
     return np.stack(rows), tracker
+
+
+def pixels_to_mm(pixels: np.ndarray, origin: np.ndarray, mm_per_pixel: float) -> np.ndarray:
+    """Image positions ``(..., 2)`` (x right, y down) as millimetres ``(..., 3)`` with y up and
+    z 0, about ``origin`` (pixels); NaN where the pixel position is."""
+    out = np.zeros((*pixels.shape[:-1], 3))
+    out[..., 0] = (pixels[..., 0] - origin[0]) * mm_per_pixel
+    out[..., 1] = -(pixels[..., 1] - origin[1]) * mm_per_pixel
+    out[~np.isfinite(pixels).all(axis=-1)] = np.nan
+    return out

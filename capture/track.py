@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 
 from capture.aruco import track_aruco
-from capture.dots import DotStyle, front_layout, sticker_labels, track_dots
-from capture.markerset import load_markerset
+from capture.dots import pixels_to_mm
+from capture.sources import video_source
 from capture.take import Take
 from capture.videoio import frames, probe
 from common import InputError, read_document
@@ -40,43 +40,31 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
     info = probe(path)
     rate = info.rate or 30.0
     progress = progress_factory(info.frames) if progress_factory else None
+    if method == "dots":
+        take = video_source(path, colour, markerset, start_frame).to_take(progress)
+        if not take.frames:
+            raise InputError("the video has no frames", path)
+        if not np.isfinite(take.positions).any():
+            raise InputError(f"no {colour} dot markers found in {take.frames} frames", path)
+        return take
+    if method != "aruco":
+        raise InputError(f"unknown marker kind {method!r} (dots or aruco)", path)
     meta: dict[str, Any] = {"source": "video", "file": Path(path).name, "tracker": method,
                             "image_size": [info.width, info.height], "decoder": info.backend}
-    if method == "dots":
-        ms = load_markerset(markerset)
-        labels = sticker_labels(ms.labels)
-        layout = front_layout(ms, labels)
-        try:
-            pixels, tracker = track_dots(frames(info), layout, DotStyle.named(colour), start_frame,
-                                         progress=progress)
-        except ValueError as exc:
-            raise InputError(f"cannot identify the {ms.name} dots on frame {start_frame}: {exc}; give --init a "
-                             "frame where the face is neutral and every dot shows", path) from None
-        if not np.isfinite(pixels).any():
-            raise InputError(f"no {colour} dot markers found in {len(pixels)} frames", path)
-        scale, origin = tracker.mm_per_pixel, tracker.origin
-        meta.update(markerset=ms.name, dot_colour=colour, start_frame=start_frame)
-    elif method == "aruco":
-        try:
-            labels_t, pixels = track_aruco(frames(info), names, corners, dictionary, progress=progress)
-        except ValueError as exc:
-            raise InputError(str(exc), path) from None
-        labels = list(labels_t)
-        if not labels:
-            raise InputError(f"no ArUco markers ({dictionary}) found in the video", path)
-        origin = np.zeros(2)
-        scale = mm_per_pixel or (_aruco_scale(pixels, marker_mm, corners) if marker_mm else 1.0)
-        meta.update(dictionary=dictionary, corners=corners, scale_known=bool(mm_per_pixel or marker_mm))
-    else:
-        raise InputError(f"unknown marker kind {method!r} (dots or aruco)", path)
+    try:
+        labels_t, pixels = track_aruco(frames(info), names, corners, dictionary, progress=progress)
+    except ValueError as exc:
+        raise InputError(str(exc), path) from None
+    labels = list(labels_t)
+    if not labels:
+        raise InputError(f"no ArUco markers ({dictionary}) found in the video", path)
+    origin = np.zeros(2)
+    scale = mm_per_pixel or (_aruco_scale(pixels, marker_mm, corners) if marker_mm else 1.0)
+    meta.update(dictionary=dictionary, corners=corners, scale_known=bool(mm_per_pixel or marker_mm))
     if len(pixels) == 0:
         raise InputError("the video has no frames", path)
     meta["mm_per_pixel"] = float(scale)
-    positions = np.zeros((len(pixels), len(labels), 3))
-    positions[:, :, 0] = (pixels[:, :, 0] - origin[0]) * scale
-    positions[:, :, 1] = -(pixels[:, :, 1] - origin[1]) * scale
-    positions[~np.isfinite(pixels).all(axis=2)] = np.nan
-    return Take(positions, tuple(labels), rate, dims=2, meta=meta)
+    return Take(pixels_to_mm(pixels, origin, scale), tuple(labels), rate, dims=2, meta=meta)
 
 
 def _aruco_scale(pixels: np.ndarray, marker_mm: float, corners: bool) -> float:

@@ -2,7 +2,7 @@
 
 Each loop (constant loop time, :class:`~player.animator.Loop`): the motors take one slice each
 (or, playing a track, the track's values at that time), the face is drawn, and the frame goes to
-every sink and to the preview. Commands arrive on the sockets at any time and are sliced at once
+every picture sink (the preview is one). Commands arrive on the sockets at any time and are sliced at once
 under the Animator's lock; the next loop executes their first slices.
 """
 
@@ -20,13 +20,13 @@ from common import InputError
 from player.animator import DEFAULT_LOOP_TIME, Animator, Loop
 from player.commands import Commands
 from player.gl import create_context
-from player.preview import FrameBoard, PreviewServer
+from player.preview import PreviewSink
 from player.renderer import Renderer
 from player.server import CommandServer, CommandUDPServer, local_port, start
 from player.sinks import FrameSink
 from toon import Face, FaceRig, MotorTrack, load_expressions
 
-_Server = TypeVar("_Server", bound="socketserver.TCPServer | socketserver.UDPServer")
+_Server = TypeVar("_Server", bound="socketserver.TCPServer | socketserver.UDPServer | PreviewSink")
 
 
 @dataclass
@@ -82,7 +82,6 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     animator = Animator(neutral, settings.loop_time)
     loop = Loop(animator, clock, sleep)
     commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started)
-    board = FrameBoard() if settings.preview else None
     servers: list[socketserver.TCPServer | socketserver.UDPServer] = []
     ready: dict[str, str] = {}
     ctx = create_context()
@@ -93,9 +92,10 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         if settings.udp:
             servers.append(_listen("udp", settings.udp, lambda a: CommandUDPServer(a, commands.handle)))
             ready["udp"] = f"{settings.udp[0]}:{local_port(servers[-1])}"
-        if board is not None and settings.preview is not None:
-            servers.append(_listen("preview", settings.preview, lambda a: PreviewServer(a, board)))
-            ready["preview"] = f"http://{settings.preview[0]}:{local_port(servers[-1])}/"
+        if settings.preview is not None:
+            preview = _listen("preview", settings.preview, PreviewSink)
+            settings.sinks.append(preview)
+            ready["preview"] = preview.url
         for server in servers:
             start(server)
         with Renderer(ctx, settings.size, settings.samples) as renderer:
@@ -108,8 +108,6 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 picture = renderer.render(rig.geometry(values))
                 for sink in settings.sinks:
                     sink.write(picture)
-                if board is not None:
-                    board.post(picture)
 
             loops = None if settings.seconds is None else max(1, int(round(settings.seconds / settings.loop_time)))
             if settings.track is not None and not settings.repeat:
@@ -126,11 +124,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         return LiveReport(count, loop.lateness, loop.dropped)
     finally:
         for server in servers:
-            if isinstance(server, PreviewServer):
-                server.stop()
-            else:
-                server.shutdown()
-                server.server_close()
+            server.shutdown()
+            server.server_close()
         for sink in settings.sinks:
             sink.close()
         ctx.release()

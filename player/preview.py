@@ -126,3 +126,38 @@ class PreviewServer(ThreadingHTTPServer):
         self.closing.set()
         self.shutdown()
         self.server_close()
+
+
+class PreviewSink:
+    """A picture sink that serves the frames written to it as the preview (see the module
+    docstring); it listens from the moment it is made (OSError if it cannot) until :meth:`close`.
+
+    Parameters
+    ----------
+    address : tuple
+        ``(host, port)``; port 0 picks a free one (:attr:`url` says which).
+    """
+
+    def __init__(self, address: tuple[str, int], quality: int = 85, max_viewers: int = 4) -> None:
+        self.board = FrameBoard(quality)
+        self.server = PreviewServer(address, self.board, max_viewers)
+        threading.Thread(target=self.server.serve_forever, kwargs={"poll_interval": 0.1}, daemon=True).start()
+        self.url = f"http://{address[0]}:{self.server.socket.getsockname()[1]}/"
+        self._open = True
+
+    def write(self, frame: np.ndarray) -> None:
+        """Show ``frame`` ``(height, width, 3)`` RGB as the newest."""
+        self.board.post(frame)
+
+    def skip(self, frames: int) -> None:
+        """Nothing to keep in time: viewers see the newest frame."""
+
+    def close(self) -> None:
+        """Stop serving."""
+        if self._open:
+            self._open = False
+            self.server.stop()
+
+    def abort(self) -> None:
+        """The same as :meth:`close`."""
+        self.close()

@@ -99,6 +99,9 @@ class Playout:
         self._first = np.iinfo(np.int64).max  # the first frame index received
         self._index = 0  # the frame shown last (the first received, before any is shown)
         self._last_stream: np.ndarray | None = None
+        self.shown: Callable[[float, np.ndarray], None] | None = None  # see values_at
+        self._shown_from: int | None = None  # the first stream frame passed to ``shown``
+        self._shown_last: int | None = None  # the last one
 
     def add(self, frames: Frames) -> None:
         """Take a packet's frames (arrival on the caller's clock)."""
@@ -151,7 +154,13 @@ class Playout:
 
     def values_at(self, now: float) -> tuple[np.ndarray, str]:
         """The face at ``now`` (caller's clock) and the state: ``live``, ``concealed``,
-        ``recovering`` or ``waiting`` (nothing received yet)."""
+        ``recovering`` or ``waiting`` (nothing received yet).
+
+        With :attr:`shown` set (``shown(t, values)``), every stream frame the playout passes is
+        told once, in order, at its stream time ``t`` (seconds from the first frame shown): the
+        frame as it arrived where it was shown live, else what was shown in its place. A
+        recording made so keeps stream time, frame for frame, whatever the drawing rate.
+        """
         if self._anchor is None or self.delay is None:
             self.stats.waiting += 1
             return self.neutral.copy(), "waiting"
@@ -178,11 +187,23 @@ class Playout:
                 self._concealed.setdefault(index, value)
         self._last_stream = stream
         self._output = value
+        if self.shown is not None:
+            self._tell_shown(index, value, state == "live")
         setattr(self.stats, state, getattr(self.stats, state) + 1)
         latency = self.latency()
         if latency is not None:
             self.stats.latencies.append(latency)
         return value.copy(), state
+
+    def _tell_shown(self, index: int, value: np.ndarray, live: bool) -> None:
+        """Pass the stream frames up to ``index`` not yet told to :attr:`shown`."""
+        assert self.shown is not None
+        if self._shown_from is None or self._shown_last is None:
+            self._shown_from = self._shown_last = index - 1
+        for k in range(self._shown_last + 1, index + 1):
+            frame = self._frames.get(k)
+            self.shown((k - self._shown_from - 1) / self.rate, frame if live and frame is not None else value)
+        self._shown_last = max(self._shown_last, index)
 
     def _stream_at(self, index: int, fraction: float) -> np.ndarray | None:
         here = self._frames.get(index)

@@ -250,13 +250,22 @@ def test_a_player_that_cannot_keep_up_drops_frames_and_its_video_keeps_real_time
         assert len(list(c.decode(video=0))) == report.loops
 
 
-def test_a_recording_holds_dropped_slots_and_clips_stray_values():
-    from toonface.cli_stream import _recorded
+def test_a_recording_holds_dropped_slots_and_clips_stray_values(tmp_path):
+    from toon import load_track
+    from toon.recording import MotorRecorder
 
-    shown = [(0.0, np.full(21, 0.2)), (0.1, np.full(21, 0.4)), (0.3, np.full(21, 1.0000001))]
-    track = _recorded(shown, 10.0)
+    recorder = MotorRecorder(tmp_path / "shown.csv", 10.0)
+    for t, value in [(0.0, 0.2), (0.1, 0.4), (0.3, 1.0000001)]:
+        recorder.write(t, np.full(21, value))
+    recorder.close()
+    track = load_track(recorder.written)
     assert track.frames == 4 and track.rate == 10.0
     assert track.values[:, 0] == pytest.approx([0.2, 0.4, 0.4, 1.0])
+    nothing = MotorRecorder(tmp_path / "none.npz", 10.0)
+    nothing.write(0.0, np.zeros(21))
+    nothing.abort()
+    nothing.close()
+    assert nothing.written is None and not (tmp_path / "none.npz").exists()
 
 
 @pytest.mark.gl

@@ -10,17 +10,19 @@ from hypothesis import strategies as st
 
 from capture import load_take, synthesize
 from capture.performance import default_performance
+from capture.sources import take_source
 from stream.packets import StreamReader, StreamWriter, is_key_request, key_request
 from stream.playout import Playout
 from stream.rangecode import Decoder, Encoder, Model
 from stream.receiver import StreamReceiver
 from stream.relay import FaultPlan, NetworkFaults, Relay
+from stream.sender import StreamSender
 from stream.wire import HEADER, MAX_PACKET, quantise
 from toon import motor_index, standard_neutral
 from toonface import truth_track
 from toonface.cli import main
 from toonface.pipeline import map_take
-from toonface.send import build_mapper, run_sender, take_source
+from toonface.send import build_mapper, run_sender
 
 RATE = 60.0
 
@@ -205,7 +207,7 @@ def test_live_mapping_follows_the_performer_close_to_offline():
     syn = synthesize(seconds=20, rate=RATE, performance=default_performance(20))
     source = take_source(syn.take)
     mapper = build_mapper(source)
-    live = np.array([mapper.step(p, i / RATE)[0] for i, p in enumerate(syn.take.positions)])
+    live = np.array([mapper.step(p, t)[0] for t, p in source.frames])
     truth, offline = truth_track(syn).values, map_take(syn.take).values
     after = slice(int(16 * RATE), None)  # after the calibration segment
     live_error = np.sqrt(np.mean((live[after] - truth[after]) ** 2))
@@ -219,10 +221,11 @@ def test_sender_receiver_and_relay_over_loopback_sockets():
     clock = iter(np.arange(10000) / RATE).__next__  # the sender never waits
     with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as receiver, \
             Relay(("127.0.0.1", 0), receiver.address, NetworkFaults(duplicate=0.5), seed=1) as relay:
-        report = run_sender(source, build_mapper(source), StreamWriter(RATE), relay.address, clock=clock,
-                            sleep=lambda s: None)
-        receiver.wait_for_packets(report.packets, timeout=10)
-    assert report.frames == 180 and receiver.reader.packets == report.packets == 90
+        sender = StreamSender(relay.address, StreamWriter(RATE))
+        report = run_sender(source, build_mapper(source), [sender], clock=clock, sleep=lambda s: None)
+        sender.close()
+        receiver.wait_for_packets(sender.writer.packets, timeout=10)
+    assert report.frames == 180 and receiver.reader.packets == sender.writer.packets == 90
     assert receiver.reader.dropped["replay"] == relay.forward.counts["duplicated"] > 0
 
 
@@ -275,3 +278,37 @@ def test_a_take_without_a_typical_profile_is_sent_with_its_own(realdata):
     assert notes and notes[0].startswith("no typical profile for marker set animface41: a profile from the take")
     jaw = [mapper.step(row, i / take.rate)[0][motor_index("MB")] for i, row in enumerate(take.positions[:900])]
     assert max(jaw) - min(jaw) > 0.3  # the jaw opens on the stream as it does in the take
+
+
+def _play_through(receiver: StreamReceiver, frames: int) -> None:
+    """Show every frame of a stream that has wholly arrived, at half-frame steps of the
+    playout's own clock (no waiting: ``now`` is given)."""
+    playout = receiver.playout
+    first_index, first_time = playout._anchor[0], playout._anchor[1]  # the newest packet's first frame
+    start = first_time - (first_index - playout._first) / RATE + playout.delay
+    for k in range(2 * frames + 10):
+        receiver.values_at(start + k / (2 * RATE) + 1e-6)
+
+
+def test_send_to_receive_over_loopback_records_what_the_sender_mapped(tmp_path):
+    """`toonface send` (real time, a real UDP socket) to the receiving end's socket, playout and
+    recording, as `receive --record` assembles them: with no loss the recording is the sender's
+    own, frame for frame at stream time, within the wire's quantisation step."""
+    from toon import load_track
+    from toon.recording import MotorRecorder
+
+    recorded = MotorRecorder(tmp_path / "received.csv", RATE)
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as receiver:
+        receiver.playout.shown = recorded.write
+        host, port = receiver.address
+        assert main(["send", "synthetic", "--to", f"{host}:{port}", "--seconds", "1.5",
+                     "--record", str(tmp_path / "sent.csv")]) == 0
+        sent = load_track(tmp_path / "sent.csv")
+        assert receiver.wait_for_packets(sent.frames // 2, timeout=10)
+        _play_through(receiver, sent.frames)
+    recorded.close()
+    received = load_track(recorded.written)
+    assert sent.frames == 90 and received.frames >= sent.frames and receiver.reader.lost == 0
+    error = np.abs(received.values[:sent.frames] - sent.values).max()
+    assert error <= 0.5 / StreamWriter(RATE).steps + 1e-9, error
+    assert np.abs(np.diff(sent.values, axis=0)).max() > 0.01  # the face moved, so a shift of a frame would show

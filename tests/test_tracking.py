@@ -12,7 +12,7 @@ from capture.dots import DotStyle, DotTracker, find_dots, fit_similarity, sticke
 from capture.performance import default_performance
 from capture.track import track_video
 from capture.videogen import VideoFaults, dot_video, score_tracking
-from capture.videoio import write_video
+from capture.videoio import frames, probe, write_video
 from toonface.cli import main
 
 ARUCO_IDS = {101, 601, 701, 801, 901, 1001}
@@ -147,6 +147,23 @@ def test_generated_video_file_through_the_track_command(generated, tmp_path):
     ms = load_markerset("toon32")
     neutral = np.array([ms.neutral_of(x)[:2] for x in take.labels])
     assert np.nanmedian(np.abs(take.positions[0, :, :2] - neutral)) < 1.0
+
+
+def test_a_video_played_as_a_source_is_the_tracking_loop_in_millimetres(generated, tmp_path):
+    """`send`'s video source and `track` run one loop; its pixels become mm about the fitted
+    origin, y up (by hand here)."""
+    from capture.sources import video_source
+
+    truth, images = generated
+    video = write_video(images, tmp_path / "dots.mp4", truth.rate)
+    source = video_source(video)
+    played = np.stack([f.positions for f in source.frames])
+    ms = load_markerset("toon32")
+    pixels, tracker = track_dots(frames(probe(video)), np.array([ms.neutral_of(x)[:2] for x in source.labels]))
+    scale, (x0, y0) = tracker.mm_per_pixel, tracker.origin
+    np.testing.assert_allclose(played[..., 0], (pixels[..., 0] - x0) * scale)
+    np.testing.assert_allclose(played[..., 1], (y0 - pixels[..., 1]) * scale)
+    assert source.meta["mm_per_pixel"] == scale and (played[..., 2][np.isfinite(played[..., 2])] == 0).all()
 
 
 def test_faults_switch_off():

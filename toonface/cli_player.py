@@ -63,8 +63,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     Stop with Ctrl-C; recorded output is kept.
     """
     from player.live import ListenError, LiveSettings, run_live
-    from player.sinks import open_sink
     from toon import load_face, load_track
+    from toonface.outputs import Outputs
 
     loop_time = loop_ms / 1000
     dims = parse_size(size)
@@ -72,8 +72,9 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
                             udp=_address(udp, "--udp", 7708), preview=_address(preview, "--preview", 8080),
                             track=load_track(track_path) if track_path else None, repeat=not once, seconds=seconds)
     face_obj = load_face(face)
+    outputs = Outputs()
     if output is not None:
-        settings.sinks.append(open_sink(output, 1 / loop_time, dims))
+        settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims))
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
 
     def ready(addresses: dict[str, str]) -> None:
@@ -83,7 +84,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
         (sys.stderr if output == "-" else sys.stdout).flush()
 
     try:
-        report = run_live(face_obj, settings, ready)
+        with outputs:
+            report = run_live(face_obj, settings, ready)
     except ListenError as exc:
         raise click.BadParameter(str(exc), param_hint={"tcp": "--listen", "udp": "--udp", "preview": "--preview"}[
             exc.kind]) from None

@@ -10,16 +10,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
 from toonface.cli_options import FACE, SIZE, TakeReading, check_output, parse_size, read_take, take_options
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
-    from stream.receiver import StreamReceiver
-    from toon import MotorTrack
+    import numpy as np
 
-VIDEO_SUFFIXES = {".mp4", ".mov", ".avi", ".mkv", ".webm"}
+    from stream.receiver import StreamReceiver
+
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
                    help="Shared secret (the file's bytes): every packet carries an HMAC, others are dropped. "
                         "Or set TOONFACE_STREAM_KEY.")
@@ -62,39 +61,36 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     Cleaning and mapping run live at this end; only the 21 motor values cross the network,
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
     """
+    from capture.sources import open_source
     from mapping import load_profile
-    from stream.packets import StreamWriter
-    from toon import MotorTrack, save_track
-    from toonface.send import build_mapper, run_sender, synthetic_source, take_source, video_source
+    from toonface.outputs import Outputs
+    from toonface.send import build_mapper, run_sender
 
-    address = _required_address(target, "--to", 7710)
+    host, port = _required_address(target, "--to", 7710)
     check_output(record, "--record")
-    if source == "synthetic":
-        src = synthetic_source(seconds or 60.0)
-    elif Path(source).suffix.lower() in VIDEO_SUFFIXES:
-        src = video_source(source, colour)
-    else:
-        src = take_source(read_take(source, reading), repeat)
+    src = open_source(source, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
+                      seconds=seconds)
     notes: list[str] = []
     mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes)
     for note in notes:
         click.echo(f"note: {note}", err=True)
-    writer = StreamWriter(src.rate, frames_per_packet, keyframe_seconds, key=_key(key_file))
-    sent: list[np.ndarray] = []
-    click.echo(f"sending {src.name} at {src.rate:g} Hz to {address[0]}:{address[1]} (Ctrl-C stops)")
-    try:
-        report = run_sender(src, mapper, writer, address, seconds,
-                            on_frame=(lambda i, v, t: sent.append(v)) if record else None)
-    except KeyboardInterrupt:
-        report = None
-    if record and sent:
-        click.echo(f"wrote {save_track(MotorTrack(np.array(sent), src.rate), record)}")
+    with Outputs() as outputs:
+        stream = outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=_key(key_file),
+                               frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds)
+        recording = outputs.motor(record, rate=src.rate) if record else None
+        click.echo(f"sending {src.name} at {src.rate:g} Hz to {host}:{port} (Ctrl-C stops)")
+        try:
+            report = run_sender(src, mapper, outputs.motors, seconds)
+        except KeyboardInterrupt:
+            report = None
+    if recording is not None and recording.written is not None:
+        click.echo(f"wrote {recording.written}")
     if report is not None:
-        rates = report.rates(src.rate)
+        rates = stream.rates(report.frames)
         click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets: payload {rates['payload_kbps']} "
                    f"kbit/s, wire {rates['wire_kbps']} kbit/s")
         if stats:
-            click.echo(json.dumps(rates))
+            click.echo(json.dumps({**rates, **report.cost()}))
 
 
 @click.command()
@@ -128,33 +124,32 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
     """
     from player.live import ListenError, LiveSettings, run_live
-    from player.sinks import open_sink
     from stream.playout import Playout
     from stream.receiver import StreamReceiver
-    from toon import load_face, save_track
+    from toon import load_face
+    from toonface.outputs import Outputs
 
     check_output(record, "--record")
     face_obj = load_face(face)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
-    shown: list[tuple[float, np.ndarray]] = []  # (slot time, values) of each frame drawn
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file))
     except OSError as exc:
         raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
-    with receiver:
+    with receiver, Outputs() as outputs:
         settings = LiveSettings(loop_time=1 / fps, size=dims, tcp=None, preview=_address(preview, "--preview", 8080),
                                 seconds=seconds)
         if output is not None:
-            settings.sinks.append(open_sink(output, fps, dims))
-
-        def values(t: float) -> np.ndarray:
-            value, _state = receiver.values_at()
-            if record:
-                shown.append((t, value))
-            return value
-        settings.source = values
+            settings.sinks.append(outputs.picture(output, rate=fps, size=dims))
+        recording = outputs.motor(record, rate=playout.rate) if record else None
+        if recording is not None:
+            def keep(t: float, values: np.ndarray) -> None:  # the stream's frames at stream time, as shown
+                recording.rate = playout.rate
+                recording.write(t, values)
+            playout.shown = keep
+        settings.source = lambda t: receiver.values_at()[0]
         done = threading.Event()
         if stats:
             threading.Thread(target=_print_stats, args=(receiver, done, say), daemon=True).start()
@@ -170,25 +165,13 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
             raise click.BadParameter(str(exc), param_hint="--preview") from None
         finally:
             done.set()
-            if record and shown:  # kept however the run ends
-                say(f"wrote {save_track(_recorded(shown, fps), record)}")
+    if recording is not None and recording.written is not None:  # kept however the run ends
+        say(f"wrote {recording.written}")
     if (dropped := report.summary(1 / fps)) is not None:
         say(dropped)
     if (why := receiver.diagnosis()) is not None:
         click.echo(f"toonface: warning: {why}", err=True)
     say(json.dumps(receiver.summary()))
-
-
-def _recorded(shown: list[tuple[float, np.ndarray]], fps: float) -> MotorTrack:
-    """The motors shown, one row per frame slot at ``fps`` (a dropped slot holds the frame
-    before it), clipped to [0, 1] so that no stray value can cost the recording."""
-    from toon import MotorTrack
-
-    times = np.array([t for t, _ in shown])
-    slots = np.arange(int(round(times[-1] * fps)) + 1) / fps
-    rows = np.searchsorted(times, slots + 0.5 / fps, side="right") - 1
-    values = np.array([v for _, v in shown])[np.maximum(rows, 0)]
-    return MotorTrack(np.clip(values, 0.0, 1.0), fps)
 
 
 def _print_stats(receiver: StreamReceiver, done: threading.Event, say) -> None:

@@ -15,9 +15,10 @@ from capture import SyntheticTake, Take, save_take, synthesize
 from common.errors import Interrupted, Terminated
 from mapping import CleanSettings, Mapping, Profile
 from mapping import map_take as mapping_map_take
-from player import Renderer, create_context, open_sink, render_track
+from player import Renderer, create_context, render_track
 from player.offline import frame_count
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
+from toonface.outputs import Outputs
 
 
 def truth_track(synthetic: SyntheticTake) -> MotorTrack:
@@ -52,7 +53,7 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
     ctx = create_context()
     try:
         with Renderer(ctx, size, samples) as renderer:
-            sink = open_sink(output, fps or track.rate, size)
+            sink = Outputs().picture(str(output), rate=fps or track.rate, size=size)
             try:
                 frames = render_track(track, FaceRig(face), renderer, sink, fps, progress)
             except KeyboardInterrupt as stop:

@@ -1,0 +1,209 @@
+"""Performer data arriving frame by frame: one interface for every live source.
+
+A :class:`Source` has marker labels, a frame rate and an iterator of :class:`Frame` (a time in
+seconds from the source's start and world positions ``(M, 3)``, mm, NaN unseen). A recorded
+source (a take file, a video, the synthetic performer) can produce its frames as fast as asked;
+:func:`paced` plays it in real time on a clock. A live source (a camera, a network bridge) sets
+``live`` and delivers frames when they happen, and :func:`paced` passes them on as they come.
+
+Kinds are registered in :data:`KINDS`: a kind is a function ``open(target, **options) ->
+Source`` named by ``"module:function"`` (imported only when used) and a test of whether a
+command-line spec is one of its kind. ``open_source("synthetic")``, ``open_source("face.mp4")``,
+``open_source("take.c3d")``, or with an explicit kind, ``open_source("video:face.mkv")``.
+A new kind is one module with its function and one line in :data:`KINDS`.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from capture.take import Take
+from common import InputError
+
+VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm"})
+
+
+class Frame(NamedTuple):
+    """One frame of a source: ``t`` seconds from its start, ``positions`` ``(M, 3)`` mm."""
+
+    t: float
+    positions: np.ndarray
+
+
+@dataclass
+class Source:
+    """Marker frames as they come (see the module docstring).
+
+    Attributes
+    ----------
+    labels : tuple of str
+        The markers, one per row of each frame's positions.
+    rate : float
+        Nominal frames per second.
+    frames : iterator of Frame
+    name : str
+        For messages ("face.mp4", "synthetic performer").
+    dims : int
+        3, or 2 for planar (video) markers whose z is 0.
+    live : bool
+        Frames arrive on their own clock; :func:`paced` does not wait for them.
+    recording : Take, optional
+        The whole take, where the source is one (a profile can be calibrated from it).
+    meta : dict
+        What the source learned (a video's ``mm_per_pixel`` once tracking has started).
+    """
+
+    labels: tuple[str, ...]
+    rate: float
+    frames: Iterator[Frame]
+    name: str
+    dims: int = 3
+    live: bool = False
+    recording: Take | None = None
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def to_take(self, progress: Callable[[int], None] | None = None) -> Take:
+        """Every frame (as fast as they come) as a take; ``progress(1)`` after each."""
+        times, rows = [], []
+        for frame in self.frames:
+            times.append(frame.t)
+            rows.append(frame.positions)
+            if progress:
+                progress(1)
+        if not rows:
+            return Take(np.empty((0, len(self.labels), 3)), self.labels, self.rate, dims=self.dims,
+                        meta=dict(self.meta))
+        return Take(np.stack(rows), self.labels, self.rate, times=np.array(times), dims=self.dims,
+                    meta=dict(self.meta))
+
+
+@dataclass(frozen=True)
+class SourceKind:
+    """A registered kind: ``opener`` (``"module:function"``), and ``claims(spec)``: whether a
+    spec with no ``kind:`` prefix is of this kind."""
+
+    opener: str
+    claims: Callable[[str], bool] = lambda spec: False
+
+
+#: The kinds of source, tried in order for a spec without a ``kind:`` prefix.
+KINDS: dict[str, SourceKind] = {
+    "synthetic": SourceKind("capture.sources:synthetic_source", lambda spec: spec == "synthetic"),
+    "video": SourceKind("capture.sources:video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
+    "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
+}
+
+
+def open_source(spec: str, kinds: dict[str, SourceKind] | None = None, **options: Any) -> Source:
+    """The source a command-line ``spec`` names (see the module docstring); ``options`` go to
+    its kind's function, which ignores those it does not take."""
+    kinds = KINDS if kinds is None else kinds
+    kind, _, rest = spec.partition(":")
+    if rest and kind in kinds and not Path(spec).exists():
+        chosen, target = kinds[kind], rest
+    else:
+        found = next((k for k in kinds.values() if k.claims(spec)), None)
+        if found is None:
+            raise InputError(f"not a known kind of source (known: {', '.join(kinds)})", spec)
+        chosen, target = found, spec
+    module, _, function = chosen.opener.partition(":")
+    opener: Callable[..., Source] = getattr(importlib.import_module(module), function)
+    return opener(target, **options)
+
+
+def paced(source: Source, clock: Callable[[], float] = time.perf_counter,
+          sleep: Callable[[float], None] = time.sleep) -> Iterator[Frame]:
+    """The source's frames in real time: each recorded frame when its time comes on ``clock``
+    (a live source's as they arrive)."""
+    start = clock()
+    for frame in source.frames:
+        if not source.live:
+            wait = start + frame.t - clock()
+            if wait > 0:
+                sleep(wait)
+        yield frame
+
+
+def take_source(take: Take, repeat: bool = False, **_: Any) -> Source:
+    """A take played from its start (and again, if ``repeat``): frame times from its start."""
+    times = take.times - take.times[0] if take.frames else take.times
+    period = (float(times[-1]) + 1.0 / take.rate) if take.frames else 0.0
+
+    def play() -> Iterator[Frame]:
+        offset = 0.0
+        while take.frames:
+            for t, positions in zip(times, take.positions, strict=True):
+                yield Frame(offset + float(t), positions)
+            if not repeat:
+                return
+            offset += period
+    return Source(take.labels, take.rate, play(), take.meta.get("file", "take"), take.dims, recording=take,
+                  meta=dict(take.meta))
+
+
+def take_file_source(path: str, read_take: Callable[[str], Take] | None = None, repeat: bool = False,
+                     **_: Any) -> Source:
+    """A take file played from its start; ``read_take`` reads it (:func:`capture.load_take` by default)."""
+    if read_take is None:
+        from capture.takefile import load_take
+        read_take = load_take
+    return take_source(read_take(path), repeat)
+
+
+def synthetic_source(target: str = "synthetic", seconds: float | None = None, rate: float = 60.0, seed: int = 0,
+                     noise_mm: float = 0.2, **_: Any) -> Source:
+    """The synthetic performer (calibration segment, then expressions), ``seconds`` long (60 by default)."""
+    from capture.performance import default_performance
+    from capture.synthetic import synthesize
+
+    length = 60.0 if seconds is None else seconds
+    take = synthesize(seconds=length, rate=rate, noise_mm=noise_mm, seed=seed,
+                      performance=default_performance(length)).take
+    return Source(take.labels, take.rate, (Frame(float(t), p) for t, p in zip(take.times, take.positions,
+                                                                                strict=True)),
+                  "synthetic performer", recording=take)
+
+
+def video_source(path: str | os.PathLike, colour: str = "blue", markerset: str = "toon32", start_frame: int = 0,
+                 **_: Any) -> Source:
+    """Dot markers tracked frame by frame as the video plays (:func:`capture.dots.follow_dots`,
+    the loop ``toonface track`` runs too); ``start_frame`` must show the face neutral with
+    every dot. Positions are mm in the marker set's front view (``dims`` 2), placed by fitting
+    its layout on that frame (``meta["mm_per_pixel"]``)."""
+    from capture.dots import DotStyle, DotTracker, follow_dots, front_layout, pixels_to_mm, sticker_labels
+    from capture.markerset import load_markerset
+    from capture.videoio import frames, probe
+
+    info = probe(path)
+    ms = load_markerset(markerset)
+    labels = sticker_labels(ms.labels)
+    tracker = DotTracker(front_layout(ms, labels))
+    style = DotStyle.named(colour)
+    rate = info.rate or 30.0
+    meta: dict[str, Any] = {"source": "video", "file": Path(path).name, "tracker": "dots",
+                            "image_size": [info.width, info.height], "decoder": info.backend,
+                            "markerset": ms.name, "dot_colour": colour, "start_frame": start_frame}
+
+    def play() -> Iterator[Frame]:
+        tracked = follow_dots(frames(info), tracker, style, start_frame)
+        index = 0
+        while True:
+            try:
+                pixels = next(tracked)
+            except StopIteration:
+                return
+            except ValueError as exc:
+                raise InputError(f"cannot identify the {ms.name} dots on frame {start_frame}: {exc}; start on a "
+                                 "frame where the face is neutral and every dot shows (track: --init)", path) from None
+            meta["mm_per_pixel"] = tracker.mm_per_pixel
+            yield Frame(index / rate, pixels_to_mm(pixels, tracker.origin, tracker.mm_per_pixel))
+            index += 1
+    return Source(tuple(labels), rate, play(), Path(path).name, dims=2, meta=meta)

@@ -1,0 +1,87 @@
+"""The motor stream's sending socket: a motor sink whose frames leave over UDP.
+
+Each frame written is packed (:class:`~stream.packets.StreamWriter`, stamped with its capture
+time on this machine's clock) and, when a packet is full, sent to the receiver (or a relay).
+Keyframe requests arriving on the same socket are honoured at the next packet. A send that
+fails (nobody listening yet, a full buffer) is not an error: the stream goes on.
+"""
+
+from __future__ import annotations
+
+import socket
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from stream.packets import StreamWriter, is_key_request
+
+UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
+
+
+class StreamSender:
+    """Send motor frames to ``target`` (``(host, port)``); a :class:`toon.recording.MotorSink`.
+
+    Parameters
+    ----------
+    target : tuple
+        ``(host, port)`` of the receiver or relay.
+    writer : StreamWriter
+        Packs the frames (its rate, frames per packet, keyframe interval and key).
+    clock : callable
+        Stamps frames whose capture time is not given.
+    """
+
+    def __init__(self, target: tuple[str, int], writer: StreamWriter,
+                 clock: Callable[[], float] = time.perf_counter) -> None:
+        self.target, self.writer, self.clock = target, writer, clock
+        self.key_requests = 0
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.setblocking(False)
+
+    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
+        """Pack one frame ``(21,)``; send the packet it completes."""
+        self._take_requests()
+        datagram = self.writer.push(values, self.clock() if captured is None else captured)
+        if datagram is not None:
+            self._send(datagram)
+
+    def close(self) -> None:
+        """Send what is pending and release the socket."""
+        if self.sock.fileno() < 0:
+            return
+        try:
+            datagram = self.writer.flush()
+            if datagram is not None:
+                self._send(datagram)
+        finally:
+            self.sock.close()
+
+    def abort(self) -> None:
+        """Frames sent cannot be taken back: the same as :meth:`close`."""
+        self.close()
+
+    def rates(self, frames: int) -> dict:
+        """Packets and payload, stream and wire bit rates (kbit/s) over ``frames`` frames sent."""
+        w = self.writer
+        seconds = max(frames / w.rate, 1e-9)
+        return {"frames": frames, "packets": w.packets, "keyframes": w.keyframes, "key_requests": self.key_requests,
+                "payload_kbps": round(w.payload_bytes * 8 / seconds / 1000, 3),
+                "stream_kbps": round(w.packet_bytes * 8 / seconds / 1000, 3),
+                "wire_kbps": round((w.packet_bytes + UDP_IP_HEADER * w.packets) * 8 / seconds / 1000, 3)}
+
+    def _send(self, datagram: bytes) -> None:
+        try:
+            self.sock.sendto(datagram, self.target)
+        except OSError:
+            pass  # nobody listening (ICMP refused) or a full buffer: the stream goes on
+
+    def _take_requests(self) -> None:
+        while True:
+            try:
+                data = self.sock.recv(256)
+            except (BlockingIOError, OSError):
+                return
+            if is_key_request(data, self.writer.key):
+                self.writer.request_keyframe()
+                self.key_requests += 1

@@ -1,0 +1,90 @@
+"""Where motor values go, frame by frame: the :class:`MotorSink` interface and the recording.
+
+A motor sink takes frames of the 21 motor values as they are made, live or offline, and is kept
+(:meth:`~MotorSink.close`) or dropped (:meth:`~MotorSink.abort`) at the end. The recording
+(:class:`MotorRecorder`) writes a ``.csv`` or ``.npz`` track; the stream sender
+(:class:`stream.sender.StreamSender`) sends the frames over UDP; ``toonface.outputs`` opens
+either from a command-line spec.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+
+from common import InputError
+from toon.track import MotorTrack
+from toon.track_io import save_track
+
+
+class MotorSink(Protocol):
+    """A consumer of motor frames.
+
+    ``write(t, values, captured)``: ``t`` the frame's time in seconds on the producer's clock
+    (the take's, the source's or the stream's), ``values`` ``(21,)``, ``captured`` when its
+    performer data was captured on this machine's ``time.perf_counter`` clock, where known.
+    """
+
+    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None: ...
+    def close(self) -> None: ...
+    def abort(self) -> None: ...
+
+
+class MotorRecorder:
+    """Motor frames into a track file (``.csv`` or ``.npz``), written atomically on :meth:`close`.
+
+    The track has one row per frame slot at ``rate`` from time 0 to the last frame written: a
+    slot holds the newest frame at or before it (within half a slot), so slots that went by
+    without a frame (a player that fell behind) repeat the frame before them. Values are clipped
+    to [0, 1], so that no stray value can cost the recording.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        ``.csv`` or ``.npz``; checked at once.
+    rate : float
+        Frames per second of the track.
+    meta : dict, optional
+        Goes into the track (``.npz``).
+    """
+
+    def __init__(self, path: str | os.PathLike, rate: float, meta: dict | None = None) -> None:
+        self.path = Path(path)
+        if self.path.suffix.lower() not in (".csv", ".npz"):
+            raise InputError(f"unknown motor track format {self.path.suffix!r} (use .csv or .npz)", self.path)
+        self.rate, self.meta = rate, dict(meta or {})
+        self.written: Path | None = None
+        self._times: list[float] = []
+        self._values: list[np.ndarray] = []
+
+    @property
+    def frames(self) -> int:
+        """Frames written so far."""
+        return len(self._times)
+
+    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
+        """Keep one frame ``(21,)`` at ``t`` seconds."""
+        self._times.append(float(t))
+        self._values.append(np.array(values, dtype=float))
+
+    def track(self) -> MotorTrack:
+        """The frames so far as a track (see the class docstring); needs at least one frame."""
+        times = np.array(self._times)
+        slots = np.arange(int(round(times.max() * self.rate)) + 1) / self.rate
+        order = np.argsort(times, kind="stable")
+        rows = np.searchsorted(times[order], slots + 0.5 / self.rate, side="right") - 1
+        values = np.array(self._values)[order][np.maximum(rows, 0)]
+        return MotorTrack(np.clip(values, 0.0, 1.0), self.rate, meta=self.meta)
+
+    def close(self) -> None:
+        """Write the track (nothing when no frame came); :attr:`written` is its path."""
+        if self._times and self.written is None:
+            self.written = save_track(self.track(), self.path)
+
+    def abort(self) -> None:
+        """Write nothing."""
+        self._times.clear()
+        self._values.clear()

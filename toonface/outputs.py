@@ -1,0 +1,143 @@
+"""Where a command's results go: picture sinks and motor sinks, opened by kind from a spec.
+
+Two interfaces. A picture sink (:class:`player.sinks.FrameSink`) takes rendered RGB frames: an
+MP4 file, a folder of PNG frames, raw RGB on standard output, the MJPEG preview. A motor sink
+(:class:`toon.recording.MotorSink`) takes frames of the 21 motor values: a ``.csv``/``.npz``
+recording, the UDP motor stream. ``play``, ``receive``, ``send`` and ``retarget`` open theirs
+here, the same way, and :class:`Outputs` keeps them (closes) at the end or, on an error, drops
+them (aborts).
+
+Each kind is registered in :data:`PICTURE_SINKS` or :data:`MOTOR_SINKS`: a function
+``open(target, **options) -> sink`` named by ``"module:function"`` (imported only when used) and
+a test of whether a spec is of that kind. Options every opener may take: ``rate`` (frames per
+second), ``size`` (``(width, height)``), ``key`` (a stream's shared secret); each ignores the
+rest. A new kind is one module with its function and one line in a table.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from common import InputError
+
+
+@dataclass(frozen=True)
+class SinkKind:
+    """A registered kind: ``opener`` (``"module:function"``) and ``claims(spec)``."""
+
+    opener: str
+    claims: Callable[[str], bool]
+
+
+#: Picture sinks, tried in order.
+PICTURE_SINKS: dict[str, SinkKind] = {
+    "preview": SinkKind("toonface.outputs:open_preview", lambda spec: spec.startswith("http://")),
+    "raw": SinkKind("toonface.outputs:open_pictures", lambda spec: spec == "-"),
+    "mp4": SinkKind("toonface.outputs:open_pictures", lambda spec: Path(spec).suffix.lower() == ".mp4"),
+    "png": SinkKind("toonface.outputs:open_pictures", lambda spec: not Path(spec).suffix),
+}
+
+#: Motor sinks, tried in order.
+MOTOR_SINKS: dict[str, SinkKind] = {
+    "stream": SinkKind("toonface.outputs:open_stream", lambda spec: spec.startswith("udp://")),
+    "recording": SinkKind("toonface.outputs:open_recording",
+                          lambda spec: Path(spec).suffix.lower() in (".csv", ".npz")),
+}
+
+
+def open_sink(spec: str, kinds: dict[str, SinkKind], what: str, **options: Any) -> Any:
+    """The sink of ``kinds`` that claims ``spec``, opened with ``options``; an :class:`InputError`
+    naming ``spec`` when none does (``what`` says what was expected)."""
+    for kind in kinds.values():
+        if kind.claims(spec):
+            module, _sep, function = kind.opener.partition(":")
+            return getattr(importlib.import_module(module), function)(spec, **options)
+    raise InputError(f"not a known output: expected {what}", spec)
+
+
+def open_pictures(spec: str, rate: float = 30.0, size: tuple[int, int] = (512, 512), **_: Any) -> Any:
+    """An MP4 file, a folder of PNG frames, or raw RGB on standard output (``-``)."""
+    from player.sinks import open_sink as open_picture_file
+
+    return open_picture_file(spec, rate, size)
+
+
+def open_preview(spec: str, **_: Any) -> Any:
+    """The MJPEG preview served at ``http://HOST:PORT`` (port 0: any free one)."""
+    from player.preview import PreviewSink
+
+    host, _sep, port = spec.removeprefix("http://").rstrip("/").rpartition(":")
+    if not host or not port.isdigit():
+        raise InputError("expected http://HOST:PORT for a preview", spec)
+    try:
+        return PreviewSink((host, int(port)))
+    except OSError as exc:
+        raise InputError(f"cannot listen: {exc.strerror or exc}", spec) from None
+
+
+def open_recording(spec: str, rate: float = 60.0, **_: Any) -> Any:
+    """A motor track file (``.csv`` or ``.npz``) written when the run ends."""
+    from toon.recording import MotorRecorder
+
+    return MotorRecorder(spec, rate)
+
+
+def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_per_packet: int = 2,
+                keyframe_seconds: float = 0.5, **_: Any) -> Any:
+    """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay)."""
+    from stream.packets import StreamWriter
+    from stream.sender import StreamSender
+
+    host, _sep, port = spec.removeprefix("udp://").rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise InputError("expected udp://HOST:PORT for a motor stream", spec)
+    return StreamSender((host, int(port)), StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key))
+
+
+@dataclass
+class Outputs:
+    """A command's sinks, kept together: closed (their output kept) when the ``with`` block ends
+    normally or by Ctrl-C/SIGTERM, aborted (nothing left that looks complete) on an error."""
+
+    pictures: list[Any] = field(default_factory=list)
+    motors: list[Any] = field(default_factory=list)
+
+    def picture(self, spec: str, **options: Any) -> Any:
+        """Open a picture sink for ``spec`` and keep it."""
+        sink = open_sink(spec, PICTURE_SINKS, "a .mp4 file, a folder for PNG frames, - for raw RGB on standard "
+                         "output, or http://HOST:PORT for a preview", **options)
+        self.pictures.append(sink)
+        return sink
+
+    def motor(self, spec: str, **options: Any) -> Any:
+        """Open a motor sink for ``spec`` and keep it."""
+        sink = open_sink(spec, MOTOR_SINKS, "a .csv or .npz motor track, or udp://HOST:PORT for a motor stream",
+                         **options)
+        self.motors.append(sink)
+        return sink
+
+    def close(self) -> None:
+        """Keep every output."""
+        for sink in [*self.pictures, *self.motors]:
+            sink.close()
+
+    def abort(self) -> None:
+        """Drop every output."""
+        for sink in [*self.pictures, *self.motors]:
+            with contextlib.suppress(Exception):
+                sink.abort()
+
+    def __enter__(self) -> Outputs:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> None:
+        if kind is None or issubclass(kind, KeyboardInterrupt):
+            self.close()
+        else:
+            self.abort()
