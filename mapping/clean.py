@@ -47,15 +47,17 @@ class CleanReport:
                                               if self.no_head_frames else ""))
 
 
-def head_references(take: Take, markerset: MarkerSet) -> tuple[list[int], np.ndarray] | Failure:
-    """Columns of ``take`` holding ``markerset``'s head references and their rest positions
-    ``(K, 3)`` in the head frame, or why they cannot be used."""
-    found = markerset.match(take.labels)
+def head_references(labels: tuple[str, ...], markerset: MarkerSet) -> tuple[list[int], np.ndarray] | Failure:
+    """Columns of ``labels`` (a take's or a stream's markers) holding ``markerset``'s head
+    references and their rest positions ``(K, 3)`` in the head frame, or why they cannot be used
+    (fewer than three)."""
+    found = markerset.match(labels)
     present = [r for r in markerset.head_reference if r in found]
     if len(present) < 3:
         missing = [r for r in markerset.head_reference if r not in found]
-        return Failure(f"the take lacks head reference markers {missing} of marker set {markerset.name}")
-    return [take.index(found[r]) for r in present], np.array([markerset.neutral_of(r) for r in present])
+        return Failure(f"fewer than 3 of marker set {markerset.name}'s head reference markers are present "
+                       f"(missing: {', '.join(missing)})")
+    return [list(labels).index(found[r]) for r in present], np.array([markerset.neutral_of(r) for r in present])
 
 
 def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSettings()
@@ -64,7 +66,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
 
     Returns a :class:`~common.Failure` saying why when the head cannot be found.
     """
-    references = head_references(take, markerset)
+    references = head_references(take.labels, markerset)
     if not references:
         return references
     rows, neutral = references

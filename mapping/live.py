@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from capture import MarkerSet
+from mapping.clean import head_references
 from mapping.filters import OneEuro
 from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
@@ -62,14 +63,12 @@ class LiveMapper:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
         check_profile(mapping, profile)
-        found = markerset.match(labels)
-        present = [r for r in markerset.head_reference if r in found]
-        if len(present) < 3:
-            raise ValueError(f"the stream lacks head reference markers of marker set {markerset.name}")
+        references = head_references(labels, markerset)
+        if not references:
+            raise ValueError(str(references))
         self.mapping, self.profile, self.rate = mapping, profile, rate
-        self.columns = {label: list(labels).index(name) for label, name in found.items()}
-        self.rows = [self.columns[r] for r in present]
-        self.shape = np.array([markerset.neutral_of(r) for r in present])
+        self.columns = {label: list(labels).index(name) for label, name in markerset.match(labels).items()}
+        self.rows, self.shape = references
         self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
         self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
         self.spikes = SpikeFilter() if spikes else None

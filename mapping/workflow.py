@@ -151,9 +151,9 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
     prepared = prepare(take, markerset, settings)
     notes = stabilisation_notes(prepared)
     rest_from_take = neutral_window is not None
-    typical = builtin_profile(markerset.name) if profile is None else None
+    typical = typical_profile(markerset.name) if profile is None else None
     if typical is not None:
-        profile, rest_from_take = load_profile(typical), True
+        profile, rest_from_take = typical, True
         notes.append(f"ranges from the built-in typical profile for {markerset.name}")
     if profile is None:
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
@@ -221,6 +221,13 @@ def builtin_profile(markerset: str) -> Path | None:
     """The built-in typical performer profile for a marker set, if there is one."""
     path = data_path("profiles", f"{markerset}.toml")
     return path if path.is_file() else None
+
+
+def typical_profile(markerset: str) -> Profile | None:
+    """The profile used when none is given: the marker set's built-in typical one, if it has one
+    (else ``map`` and ``send`` calibrate on the take itself)."""
+    path = builtin_profile(markerset)
+    return None if path is None else load_profile(path)
 
 
 def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool) -> Profile:

@@ -19,9 +19,9 @@ import numpy as np
 from capture import MarkerSet, Take
 from capture.sources import Source, paced
 from common import InputError
-from mapping import Mapping, Profile, calibrate, choose_mapping, load_profile, prepare
+from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
 from mapping.live import LiveMapper
-from mapping.workflow import SELF_MIN_SIDE, builtin_profile, check_profile
+from mapping.workflow import SELF_MIN_SIDE, check_profile, typical_profile
 from toon.recording import MotorSink
 
 #: Seconds of a take its own profile is calibrated on, when its marker set has no typical one.
@@ -37,18 +37,15 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate)
     chosen, markerset = choose_mapping(probe_take, mapping)
+    profile = profile or typical_profile(markerset.name)
     if profile is None:
-        typical = builtin_profile(markerset.name)
-        if typical is not None:
-            profile = load_profile(typical)
-        elif source.recording is not None:
-            profile = _own_profile(source.recording, chosen, markerset)
-            if notes is not None:
-                notes.append(f"no typical profile for marker set {markerset.name}: a profile from the take's "
-                             f"first {CALIBRATION_SECONDS:g} s (rest {profile.notes['neutral']}, ranges "
-                             f"{profile.notes['range']})")
-        else:
+        if source.recording is None:
             raise InputError(f"no typical profile for marker set {markerset.name}; give one with --profile")
+        profile = _own_profile(source.recording, chosen, markerset)
+        if notes is not None:
+            notes.append(f"no typical profile for marker set {markerset.name}: a profile from the take's "
+                         f"first {CALIBRATION_SECONDS:g} s (rest {profile.notes['neutral']}, ranges "
+                         f"{profile.notes['range']})")
     check_profile(profile, chosen, markerset.name)
     try:
         return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds)
