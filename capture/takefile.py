@@ -36,16 +36,17 @@ def _write_npz(take: Take, path: Path) -> None:
 
 
 def _read_npz(path: Path) -> Take:
-    check_npz(path, "toonface take")
     try:
         # np.load leaks the handle of a file it opened itself when the zip is corrupt: open it here.
-        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            if not hasattr(z, "files"):
-                raise InputError("a single .npy array, not a toonface take archive", path)
-            if "format" not in z.files or str(z["format"]) != NPZ_FORMAT:
-                raise InputError(f'not a toonface take (missing format "{NPZ_FORMAT}")', path)
-            return Take(z["positions"], tuple(str(x) for x in z["labels"]), float(z["rate"]),
-                        times=z["times"], dims=int(z["dims"]), meta=json.loads(str(z["meta"])))
+        with open(path, "rb") as fh:
+            check_npz(fh, path, "toonface take")
+            with np.load(fh, allow_pickle=False) as z:
+                if not hasattr(z, "files"):
+                    raise InputError("a single .npy array, not a toonface take archive", path)
+                if "format" not in z.files or str(z["format"]) != NPZ_FORMAT:
+                    raise InputError(f'not a toonface take (missing format "{NPZ_FORMAT}")', path)
+                return Take(z["positions"], tuple(str(x) for x in z["labels"]), float(z["rate"]),
+                            times=z["times"], dims=int(z["dims"]), meta=json.loads(str(z["meta"])))
     except InputError as exc:
         raise InputError(exc.message, path) from None
     except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error,

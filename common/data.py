@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+import functools
 import json
 import os
 import tomllib
@@ -56,7 +58,23 @@ def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, w
 
 
 def read_document(path: Path) -> dict:
-    """Parse a ``.json`` or ``.toml`` file into a dict; an undecodable file is an :class:`InputError`."""
+    """Parse a ``.json`` or ``.toml`` file into a dict; an undecodable file is an :class:`InputError`.
+
+    A file is read once per process while it is unchanged (same modification time and size):
+    a built-in marker set, mapping or face that several stages load costs one read. Each call
+    returns its own copy, free to change.
+    """
+    stat = path.stat()
+    try:
+        return copy.deepcopy(_parsed(path.resolve(), stat.st_mtime_ns, stat.st_size))
+    except InputError as exc:
+        raise InputError(exc.message, path) from None  # named as the caller named it
+
+
+@functools.lru_cache(maxsize=256)
+def _parsed(path: Path, mtime_ns: int, size: int) -> dict:
+    """The parsed document (the process's one cache: keyed by the file's path, modification time
+    and size, so that a changed file is read again; errors are not kept)."""
     kind = "TOML" if path.suffix.lower() == ".toml" else "JSON"
     try:
         text = path.read_text(encoding="utf-8")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import BinaryIO
 
 from common.errors import InputError
 
@@ -11,17 +12,18 @@ _ZIP = b"PK\x03\x04"  # every .npz is a zip archive; an empty one starts PK\x05\
 _EMPTY_ZIP = b"PK\x05\x06"
 
 
-def check_npz(path: str | os.PathLike, what: str) -> None:
+def check_npz(fh: BinaryIO, path: str | os.PathLike, what: str) -> None:
     """Refuse a file that is no zip archive, saying what it looks like (numpy would answer a text
-    file with advice about pickles).
+    file with advice about pickles). ``fh`` is the file open for reading, left at its start (the
+    caller reads it next: one open per file).
 
     Raises
     ------
     InputError
         Naming the file: empty, a text file, a single ``.npy`` array, or some other content.
     """
-    with open(path, "rb") as fh:
-        head = fh.read(64)
+    head = fh.read(64)
+    fh.seek(0)
     if head.startswith((_ZIP, _EMPTY_ZIP)):
         return
     if not head:

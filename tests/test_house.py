@@ -40,3 +40,38 @@ def test_imports_point_one_way(package):
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module), optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0 and result.failed == 0
+
+
+_COUNT_OPENS = """
+import collections, sys
+opened = collections.Counter()
+def hook(event, args):
+    if event == "open" and isinstance(args[0], str) and not any(m in str(args[1] or "r") for m in "wax+"):
+        opened[args[0]] += 1
+sys.addaudithook(hook)
+from toonface.cli import main
+code = main(sys.argv[1:])
+print(repr(dict(opened)))
+sys.exit(code)
+"""
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("extra", [["--calibrate", "take.npz"], ["--mapping", "toon32", "--face", "round"]])
+def test_a_retarget_reads_no_file_twice(tmp_path, extra):
+    """One `retarget --calibrate` opened markersets/toon32.toml four times, mappings/toon32.toml
+    twice and the take twice; every file it reads (built-in data, the user's take) is read once."""
+    import subprocess
+    import sys
+
+    from capture import save_take, synthesize
+
+    save_take(synthesize(seconds=1.0, rate=30.0).take, tmp_path / "take.npz")
+    run = subprocess.run([sys.executable, "-c", _COUNT_OPENS, "retarget", "take.npz", "-o", "out.mp4",
+                          "--size", "32x32", *extra], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    opened = ast.literal_eval(run.stdout.strip().splitlines()[-1])
+    ours = {path: n for path, n in opened.items() if not path.endswith((".py", ".pyc", ".pyi"))
+            and not path.startswith(("/dev/", "/proc/", sys.base_prefix, sys.prefix)) and "dist-info" not in path}
+    assert any(path.endswith("toon32.toml") for path in ours) and "take.npz" in ours
+    assert {path: n for path, n in ours.items() if n > 1} == {}, ours

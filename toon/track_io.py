@@ -49,15 +49,16 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
         raise InputError("no such file", path)
     if suffix == ".csv":
         return _from_csv(path)
-    check_npz(path, "toonface motor track")
     try:
-        with np.load(path, allow_pickle=False) as z:
-            codes = tuple(str(c) for c in z["codes"])
-            conf = z["confidence"] if "confidence" in z.files else None
-            meta = json.loads(str(z["meta"])) if "meta" in z.files else {}
-            if conf is not None:
-                conf = conf[:, [codes.index(c) for c in MOTOR_CODES]]
-            return MotorTrack.from_columns(codes, z["values"], float(z["rate"]), confidence=conf, meta=meta)
+        with open(path, "rb") as fh:
+            check_npz(fh, path, "toonface motor track")
+            with np.load(fh, allow_pickle=False) as z:
+                codes = tuple(str(c) for c in z["codes"])
+                conf = z["confidence"] if "confidence" in z.files else None
+                meta = json.loads(str(z["meta"])) if "meta" in z.files else {}
+                if conf is not None:
+                    conf = conf[:, [codes.index(c) for c in MOTOR_CODES]]
+                return MotorTrack.from_columns(codes, z["values"], float(z["rate"]), confidence=conf, meta=meta)
     except InputError as exc:
         raise InputError(exc.message, path) from None
     except (OSError, ValueError, KeyError) as exc:

@@ -24,6 +24,7 @@ from toonface.cli_options import (
 )
 
 if TYPE_CHECKING:
+    from capture import Take
     from mapping import CleanSettings
 
 _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
@@ -167,14 +168,17 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
                    "move little", err=True)
 
 
-def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, reading: TakeReading):
+def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, reading: TakeReading,
+             read: dict[str, Take] | None = None):
+    """The profile --profile names or --calibrate makes (None: neither); ``read`` holds takes
+    already read by path, so that a take named twice is read once."""
     from mapping import calibrate, choose_mapping, load_profile, prepare
     if profile_path and calibration:
         raise click.BadParameter("give --profile or --calibrate, not both", param_hint="--calibrate")
     if profile_path:
         return load_profile(profile_path)
     if calibration:
-        source = read_take(calibration, reading)
+        source = (read or {}).get(calibration) or read_take(calibration, reading)
         chosen, markerset = choose_mapping(source, mapping)
         return calibrate(chosen, prepare(source, markerset))
     return None
@@ -200,8 +204,8 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     from toonface.pipeline import map_take
 
     window = parse_window(neutral, words=_WORDS)
-    profile = _profile(profile_path, calibration, mapping, reading)
     loaded = read_take(take, reading)
+    profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_take(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
                      cleaning.settings(loaded.rate))
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
@@ -232,8 +236,9 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
 
     window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
-    profile = _profile(profile_path, calibration, mapping, reading)
-    track = map_take(read_take(take, reading), window, face_obj, mirror, mapping, profile)
+    loaded = read_take(take, reading)
+    profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
+    track = map_take(loaded, window, face_obj, mirror, mapping, profile)
     frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
 
