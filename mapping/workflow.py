@@ -135,16 +135,21 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     return profile
 
 
-def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
-             neutral_window: NeutralSpec = None, target_neutral: np.ndarray | None = None,
-             settings: CleanSettings = CleanSettings(), mirror: bool = False) -> MotorTrack:
-    """Clean, calibrate (unless ``profile`` is given) and map ``take``.
+@dataclass(frozen=True)
+class ReadyTake:
+    """A take cleaned, stabilised and calibrated for one mapping: everything mapping needs but
+    the face, so that one take is cleaned once for all the faces it goes on."""
 
-    ``neutral_window`` (see :func:`rest_window`) sets the rest pose from the take even with a profile
-    (its ranges are kept around the new rest), for a take whose head rests differently from the
-    profile's session; None keeps a given profile's rest. ``mirror`` swaps the sides whatever the
-    mapping says.
-    """
+    prepared: Prepared
+    mapping: Mapping
+    profile: Profile
+    notes: tuple[str, ...]
+
+
+def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
+               neutral_window: NeutralSpec = None, settings: CleanSettings = CleanSettings(),
+               mirror: bool = False) -> ReadyTake:
+    """Clean ``take`` and settle its profile (given, typical or its own; see :func:`map_take`)."""
     chosen, markerset = choose_mapping(take, mapping)
     if mirror:
         chosen = replace(chosen, mirror=True)
@@ -169,10 +174,29 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
             if rest_from_take:
                 notes.append(f"neutral from the take ({own.notes['neutral']})")
-    track = map_stabilised(prepared.stable, prepared.columns, take.times, take.rate, chosen, profile, target_neutral,
-                           prepared.stable.filled)
-    meta = {**track.meta, "source": take.meta.get("source", ""), "notes": notes}
+    return ReadyTake(prepared, chosen, profile, tuple(notes))
+
+
+def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None) -> MotorTrack:
+    """The motor track of a :class:`ReadyTake` on a face whose neutral is ``target_neutral``."""
+    take, stable = ready.prepared.take, ready.prepared.stable
+    track = map_stabilised(stable, ready.prepared.columns, take.times, take.rate, ready.mapping, ready.profile,
+                           target_neutral, stable.filled)
+    meta = {**track.meta, "source": take.meta.get("source", ""), "notes": list(ready.notes)}
     return MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+
+
+def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
+             neutral_window: NeutralSpec = None, target_neutral: np.ndarray | None = None,
+             settings: CleanSettings = CleanSettings(), mirror: bool = False) -> MotorTrack:
+    """Clean, calibrate (unless ``profile`` is given) and map ``take``.
+
+    ``neutral_window`` (see :func:`rest_window`) sets the rest pose from the take even with a profile
+    (its ranges are kept around the new rest), for a take whose head rests differently from the
+    profile's session; None keeps a given profile's rest. ``mirror`` swaps the sides whatever the
+    mapping says. The same as :func:`map_ready` of :func:`ready_take`.
+    """
+    return map_ready(ready_take(take, mapping, profile, neutral_window, settings, mirror), target_neutral)
 
 
 #: Head references further than this (RMS, mm) from the marker set's shape are worth a warning.

@@ -11,15 +11,17 @@ from player.sinks import FrameWriter
 from toon import FaceRig, MotorTrack
 
 
-def resample(track: MotorTrack, fps: float) -> np.ndarray:
-    """Motor values at the frame times of a ``fps`` video of the same duration; ``(frames, 21)``.
+def resample(track: MotorTrack, fps: float, start: int = 0, stop: int | None = None) -> np.ndarray:
+    """Motor values at the frame times of a ``fps`` video of the same duration, frames
+    ``[start, stop)`` of it (all by default); ``(frames, 21)``.
 
     Linear interpolation between the track's frames (CharToon's knot points interpolate
-    linearly too); the track's own rate returns its values unchanged.
+    linearly too); the track's own rate returns its values unchanged. Only the frames asked
+    for are made (a part of a long video costs its own length).
     """
     if abs(fps - track.rate) < 1e-9:
-        return track.values
-    times = np.arange(frame_count(track, fps)) / fps
+        return track.values[start:stop]
+    times = np.arange(frame_count(track, fps))[start:stop] / fps
     return np.column_stack([np.interp(times, track.times, col) for col in track.values.T])
 
 

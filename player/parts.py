@@ -50,7 +50,7 @@ def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: flo
     One x264 thread and no B-frames, so parts from many processes can be joined by
     :func:`join_parts`. Returns the MP4 file's bytes.
     """
-    values = resample(track, fps)[start:stop]
+    values = resample(track, fps, start, stop)
     if not len(values):
         raise ValueError(f"frames {start}:{stop} are outside the video's {frame_count(track, fps)} frames")
     buffer = io.BytesIO()

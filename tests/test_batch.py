@@ -16,6 +16,7 @@ from pathlib import Path
 import av
 import numpy as np
 import pytest
+from distributed import get_task_stream
 
 from capture import load_take, save_take, synthesize
 from common import InputError
@@ -134,6 +135,19 @@ def test_frame_ranges_cover_every_frame_once():
 
 
 @pytest.mark.gl
+@pytest.mark.parametrize("fps", [30.0, 24.0, 60.0])
+def test_a_part_resamples_only_its_own_frames_and_they_are_the_whole_videos(fps):
+    from player.offline import resample
+    from toon import MotorTrack
+
+    track = MotorTrack(np.random.default_rng(0).random((100, 21)), 30.0)
+    whole = resample(track, fps)
+    for start, stop in ((0, 10), (5, 37), (40, None)):
+        np.testing.assert_array_equal(resample(track, fps, start, stop), whole[start:stop])
+    assert resample(track, 60.0, 10, 12) == pytest.approx(
+        np.array([[np.interp(t, track.times, c) for c in track.values.T] for t in (10 / 60, 11 / 60)]))
+
+
 def test_parts_join_into_the_whole_video_in_order(tmp_path):
     track = map_take(synthesize(seconds=2.0, rate=30.0, seed=3).take)
     rig = FaceRig(load_face("classic"))
@@ -173,8 +187,11 @@ def run(path: Path, client, force: bool = False, progress=None):
 @pytest.mark.slow
 def test_a_job_makes_every_output_and_a_rerun_skips_them_all(tmp_path, client, monkeypatch):
     path = write_job(tmp_path, {"a": 2.0, "b": 1.0, "c": 1.3}, ["classic", "round"])
-    report = run(path, client)
+    with get_task_stream(client) as stream:
+        report = run(path, client)
     assert report.ok and report.count("done") == 6
+    ran = [record["key"].split("-")[0] for record in stream.data]
+    assert ran.count("ready") == 3 and ran.count("map") == 6  # each take cleaned once for its two faces
     out = tmp_path / "out"
     for take, seconds in (("a", 2.0), ("b", 1.0), ("c", 1.3)):
         for face in ("classic", "round"):
@@ -298,8 +315,8 @@ def test_csv_options_apply_to_csv_takes_only(tmp_path):
     in_cm = replace(take, positions=take.positions / 10.0, meta={})
     save_take(in_cm, tmp_path / "takes" / "b.csv")
     job = load_job(path)
-    from_npz = tasks.map_pair(tmp_path / "takes" / "a.npz", "classic", job)
-    from_csv = tasks.map_pair(tmp_path / "takes" / "b.csv", "classic", job)  # read in cm: the same take
+    from_npz = tasks.map_pair(tasks.ready_pair_take(tmp_path / "takes" / "a.npz", job), "classic")
+    from_csv = tasks.map_pair(tasks.ready_pair_take(tmp_path / "takes" / "b.csv", job), "classic")  # cm: the same
     assert np.allclose(from_npz.values, from_csv.values, atol=1e-4)
 
 

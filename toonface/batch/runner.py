@@ -1,7 +1,8 @@
 """Run a planned batch on a Dask cluster: one small task graph per (take, face) pair.
 
-Per pair: ``map`` (load, clean, map) feeds ``count`` (video frames), ``motors``, ``score`` and
-``sheet``; once the frame count is known, the video is rendered as ``part`` tasks of at most
+Per take: ``ready`` (load, clean, calibrate), once for all its faces. Per pair: ``map`` (the
+ready take onto the face) feeds ``count`` (video frames), ``motors``, ``score`` and ``sheet``;
+once the frame count is known, the video is rendered as ``part`` tasks of at most
 ``part_seconds`` each and joined by a ``join`` task. Follow-up tasks have a higher priority than
 new pairs' maps, and at most four pairs per worker thread are in flight, so pairs finish in order
 and the cluster holds few motor tracks at a time. A task that raises fails its own pair only (its
@@ -18,6 +19,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import replace
+from pathlib import Path
 from uuid import uuid4
 
 from distributed import Client, Future, KilledWorker, LocalCluster, as_completed, get_task_stream
@@ -130,6 +132,8 @@ class _Run:
         self.active: dict[str, _PairWork] = {}
         self.results: dict[str, PairResult] = {}
         self.keys: dict[str, list[str]] = {}  # each started pair's task keys
+        self.ready: dict[Path, Future] = {}  # each take's ready task, while pairs of it remain
+        self.remaining: dict[Path, int] = {}  # pairs of each take not yet finished
         self.finished = self.submitted = 0
 
     def execute(self, pairs: list[Pair]) -> None:
@@ -142,6 +146,7 @@ class _Run:
                 self.results[pair.name] = PairResult(pair, "skipped", frames=pair.recorded.get("frames", 0))
             else:
                 waiting.append(pair)
+                self.remaining[pair.take] = self.remaining.get(pair.take, 0) + 1
         self._start_more(waiting)
         for future in self.queue or ():
             work, stage = self.owner.pop(future)
@@ -187,7 +192,12 @@ class _Run:
         work = _PairWork(pair)
         self.active[pair.name] = work
         self.keys[pair.name] = work.keys
-        work.track = self._submit(work, "map", tasks.map_pair, pair.take, pair.face, self.map_job, priority=0)
+        if pair.take not in self.ready:  # the first pair of its take (its compute time counts here)
+            key = f"ready-{uuid4().hex}"
+            self.ready[pair.take] = self.cluster.submit(tasks.ready_pair_take, pair.take, self.map_job, key=key,
+                                                        pure=False, priority=0)
+            work.keys.append(key)
+        work.track = self._submit(work, "map", tasks.map_pair, self.ready[pair.take], pair.face, priority=0)
         self._submit(work, "count", tasks.count_frames, work.track, self.job.render.fps)
         for kind in pair.stale:
             path = pair.output(kind).path
@@ -226,6 +236,9 @@ class _Run:
     def _finish(self, work: _PairWork) -> None:
         del self.active[work.pair.name]
         work.track = None
+        self.remaining[work.pair.take] -= 1
+        if self.remaining[work.pair.take] == 0:  # the last pair of its take: the cleaned take may go
+            self.ready.pop(work.pair.take, None)
         if work.written:
             write_stamp(work.pair, work.written, work.frames)
         status = "failed" if work.reason else "done"
@@ -233,6 +246,9 @@ class _Run:
 
     def cancel_unfinished(self) -> None:
         """Cancel the tasks of pairs still in flight and report those pairs as cancelled."""
+        if self.ready:
+            self.cluster.cancel(list(self.ready.values()))
+            self.ready.clear()
         for work in list(self.active.values()):
             self.cluster.cancel([f for f, (w, _) in self.owner.items() if w is work])
             self.results[work.pair.name] = PairResult(work.pair, "cancelled", "interrupted before it finished",
