@@ -26,6 +26,7 @@ import numpy as np
 
 from capture.take import UNIT_MM
 from common import InputError, builtin_names, read_versioned, resolve_builtin
+from common.validate import Validator, at, is_number
 
 FORMAT = "toonface.markerset/1"
 _MPEG4 = re.compile(r"^\d{1,2}\.\d{1,2}$")
@@ -142,57 +143,40 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     """Load a built-in marker set by name (``"toon32"``, ``"animface41"``, ``"gluedots16"``) or a TOML file."""
     path = resolve_builtin(name_or_path, "markersets", ".toml", "marker set")
     doc = read_versioned(path, FORMAT, "marker set")
+    check = Validator(path)
     markers = doc.get("markers")
-    if not isinstance(markers, dict) or not markers:
-        raise InputError("missing [markers] table", path, "markers")
+    check.require(isinstance(markers, dict) and bool(markers), "missing [markers] table", "markers")
+    assert isinstance(markers, dict)
     labels = tuple(markers)
     neutral = np.empty((len(labels), 3))
     aliases: dict[str, str] = {}
     mpeg4: dict[str, str] = {}
     for i, label in enumerate(labels):
-        entry = markers[label]
-        where = f"markers.{label}"
-        if not isinstance(entry, dict):
-            raise InputError(f"expected a table with neutral = [x, y, z], got {entry!r}", path, where)
-        unknown = sorted(set(entry) - {"neutral", "aliases", "mpeg4"})
-        if unknown:
-            raise InputError(f"unknown keys {unknown} (known: neutral, aliases, mpeg4)", path, where)
-        value = entry.get("neutral")
-        if not (isinstance(value, list) and len(value) == 3
-                and all(isinstance(v, (int, float)) and np.isfinite(v) for v in value)):
-            raise InputError(f"expected neutral = [x, y, z] in mm, got {value!r}", path, f"{where}.neutral")
-        neutral[i] = value
-        names = entry.get("aliases", [])
-        if not (isinstance(names, list) and all(isinstance(n, str) and n for n in names)):
-            raise InputError(f"expected a list of names, got {names!r}", path, f"{where}.aliases")
-        for alias in names:
-            if alias in labels or alias in aliases:
-                raise InputError(f'alias "{alias}" is already a label or another marker\'s alias', path,
-                                 f"{where}.aliases")
+        where = at("markers", label)
+        entry = check.fields(markers[label], {"neutral", "aliases", "mpeg4"}, where, "a table with neutral = [x, y, z]")
+        neutral[i] = check.numbers(check.present(entry.get("neutral"), at(where, "neutral")), 3, at(where, "neutral"))
+        for alias in check.strings(entry.get("aliases", []), at(where, "aliases")):
+            check.require(alias not in labels and alias not in aliases,
+                          f'alias "{alias}" is already a label or another marker\'s alias', at(where, "aliases"))
             aliases[alias] = label
         if "mpeg4" in entry:
             code = entry["mpeg4"]
-            if not (isinstance(code, str) and _MPEG4.match(code)):
-                raise InputError(f'expected an MPEG-4 feature point such as "4.1", got {code!r}', path,
-                                 f"{where}.mpeg4")
+            check.require(isinstance(code, str) and bool(_MPEG4.match(code)),
+                          f'expected an MPEG-4 feature point such as "4.1", got {code!r}', at(where, "mpeg4"))
             mpeg4[label] = code
-    refs = tuple(doc.get("head_reference", ()))
+    refs = tuple(check.strings(doc.get("head_reference", []), "head_reference"))
     unknown_refs = [r for r in refs if r not in labels]
-    if unknown_refs or len(refs) < 3:
-        raise InputError(f"needs at least 3 known head reference markers; unknown {unknown_refs}", path,
-                         "head_reference")
+    check.require(not unknown_refs and len(refs) >= 3,
+                  f"expected at least 3 head reference markers of this set; unknown {unknown_refs}", "head_reference")
     neutral.setflags(write=False)
-    tables = doc.get("tables", {})
-    if not isinstance(tables, dict) or set(tables) - {"rate", "units"}:
-        raise InputError("expected a [tables] section with rate and units only", path, "tables")
+    tables = check.fields(doc.get("tables", {}), {"rate", "units"}, "tables")
     rate = tables.get("rate")
-    if rate is not None and not (isinstance(rate, (int, float)) and 0 < rate <= 100_000):
-        raise InputError(f"expected frames per second, got {rate!r}", path, "tables.rate")
+    if rate is not None:
+        check.require(check.number(rate, "tables.rate", 0, 100_000) > 0, "expected a number above 0, got 0",
+                      "tables.rate")
     units = tables.get("units")
-    if units is not None and not (isinstance(units, str) and units in UNIT_MM
-                                  or isinstance(units, (int, float)) and units > 0):
-        raise InputError(f"expected a unit ({', '.join(UNIT_MM)}) or millimetres per unit, got {units!r}", path,
-                         "tables.units")
+    check.require(units is None or isinstance(units, str) and units in UNIT_MM or is_number(units) and units > 0,
+                  f"expected a unit ({', '.join(UNIT_MM)}) or millimetres per unit, got {units!r}", "tables.units")
     return MarkerSet(str(doc.get("name", path.stem)), labels, neutral, refs, str(doc.get("description", "")),
                      aliases, mpeg4, None if rate is None else float(rate), None if units is None else str(units))
 

@@ -29,12 +29,14 @@ table per cue) or made by :func:`default_performance`.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from common import InputError, data_path, read_document, read_versioned
+from common.validate import Validator, at
 
 FORMAT = "toonface.performance/1"
 KINDS = ("expression", "blink", "wink", "gaze", "talk", "turn", "calibrate")
@@ -151,52 +153,37 @@ def default_performance(seconds: float = 10.0, expressions: tuple[str, ...] | No
 def load_performance(path: str | os.PathLike) -> Performance:
     """Read a performance script (TOML); errors name the file and the bad field."""
     doc = read_versioned(path, FORMAT, "performance")
-    seconds = _number(doc.get("seconds"), path, "seconds", low=0.0)
-    if seconds == 0:
-        raise InputError("must be more than 0", path, "seconds")
-    seed = doc.get("seed", 0)
-    if not isinstance(seed, int) or isinstance(seed, bool):
-        raise InputError(f"must be an integer, got {seed!r}", path, "seed")
+    check = Validator(path)
+    seconds = check.number(check.present(doc.get("seconds"), "seconds"), "seconds", 0.0)
+    check.require(seconds > 0, "expected a number above 0, got 0", "seconds")
+    seed = check.integer(doc.get("seed", 0), "seed")
     entries = doc.get("cue", [])
-    if not isinstance(entries, list):
-        raise InputError("must be an array of tables ([[cue]])", path, "cue")
-    cues = [_cue(entry, path, f"cue[{i}]") for i, entry in enumerate(entries)]
+    check.require(isinstance(entries, list), f"expected an array of tables ([[cue]]), got {entries!r}", "cue")
+    cues = [_cue(check, entry, at("cue", i)) for i, entry in enumerate(entries)]
     return Performance(seconds, tuple(cues), seed)
 
 
-def _cue(entry: object, path: str | os.PathLike, where: str) -> Cue:
-    if not isinstance(entry, dict):
-        raise InputError("must be a table", path, where)
-    unknown = sorted(set(entry) - _FIELDS)
-    if unknown:
-        raise InputError(f"unknown field(s) {', '.join(unknown)} (known: {', '.join(sorted(_FIELDS))})", path, where)
-    kind = entry.get("kind")
-    if kind not in KINDS:
-        raise InputError(f"unknown kind {kind!r} (expected one of {', '.join(KINDS)})", path, f"{where}.kind")
-    values = {"kind": kind, "start": _number(entry.get("start"), path, f"{where}.start", low=0.0)}
+#: Each cue field's range.
+_LIMITS = {"seconds": (0.0, math.inf), "strength": (0.0, 1.0), "x": (-1.0, 1.0), "y": (-1.0, 1.0),
+           "yaw": (-30.0, 30.0), "pitch": (-30.0, 30.0), "hold": (0.0, math.inf), "step": (0.1, math.inf)}
+
+
+def _cue(check: Validator, entry: object, where: str) -> Cue:
+    entry = check.fields(entry, _FIELDS, where)
+    kind = check.choice(entry.get("kind"), KINDS, at(where, "kind"))
+    values: dict = {"kind": kind, "start": check.number(check.present(entry.get("start"), at(where, "start")),
+                                                        at(where, "start"), 0.0)}
     if kind == "expression":
         name = entry.get("name")
-        if not isinstance(name, str) or not name:
-            raise InputError("an expression cue needs a name from the repertoire", path, f"{where}.name")
+        check.require(isinstance(name, str) and bool(name), "an expression cue needs a name from the repertoire",
+                      at(where, "name"))
         values["name"] = name
-    limits = {"seconds": (0.0, None), "strength": (0.0, 1.0), "x": (-1.0, 1.0), "y": (-1.0, 1.0),
-              "yaw": (-30.0, 30.0), "pitch": (-30.0, 30.0), "hold": (0.0, None), "step": (0.1, None)}
-    for key, (low, high) in limits.items():
+    for key, (low, high) in _LIMITS.items():
         if key in entry:
-            values[key] = _number(entry[key], path, f"{where}.{key}", low, high)
+            values[key] = check.number(entry[key], at(where, key), low, high)
     if "seconds" not in values and kind in _DEFAULT_SECONDS:
         values["seconds"] = _DEFAULT_SECONDS[kind]
     return Cue(**values)
-
-
-def _number(value: object, path: str | os.PathLike, where: str, low: float | None = None,
-            high: float | None = None) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
-        raise InputError(f"must be a number, got {value!r}", path, where)
-    if (low is not None and value < low) or (high is not None and value > high):
-        span = f"{low:g}" if high is None else f"{low:g}-{high:g}"
-        raise InputError(f"must be {'at least ' if high is None else ''}{span}, got {value:g}", path, where)
-    return float(value)
 
 
 def load_poses() -> dict[str, dict[str, float]]:
@@ -208,10 +195,10 @@ def load_poses() -> dict[str, dict[str, float]]:
     path = data_path("expressions.toml")
     table = read_document(path).get("expressions", {})
     poses = {name: dict(entry.get("motors", {})) for name, entry in table.items()}
+    check = Validator(path)
     for name, motors in poses.items():
-        bad = sorted(set(motors) - set(CODES))
-        if bad:
-            raise InputError(f"unknown motor(s) {bad}", path, f"expressions.{name}.motors")
+        for code in motors:
+            check.choice(code, CODES, f"expressions.{name}.motors.{code}")
     return poses
 
 

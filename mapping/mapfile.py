@@ -31,9 +31,9 @@ import os
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
-from typing import NoReturn
 
-from common import InputError, read_document, resolve_builtin
+from common import read_document, resolve_builtin
+from common.validate import Validator, at, is_number
 from mapping.sources import AXES, Source
 from toon import MOTOR_CODES
 
@@ -115,184 +115,123 @@ def load_mapping(name_or_path: str | os.PathLike) -> Mapping:
 
 def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
     """Validate a mapping document; raises :class:`InputError` naming ``path`` and the field."""
-    check = _Checker(Path(path))
+    check = Validator(Path(path))
     if doc.get("format") != FORMAT:
-        check.fail("format", f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")')
-    check.keys(doc, _TOP_KEYS, "")
-    markerset = check.typed(doc, "markerset", str, "", required=True)
+        check.fail(f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")', "format")
+    check.fields(doc, _TOP_KEYS, "")
+    markerset = check.text(check.present(doc.get("markerset"), "markerset"), "markerset", empty=False)
     if (Path(markerset).suffix or "/" in markerset) and not Path(markerset).is_absolute() and path != "<mapping>":
         markerset = str(Path(path).parent / markerset)  # a file named in a file: beside it, not in the cwd
     motors = doc.get("motor", {})
-    if not isinstance(motors, dict) or not motors:
-        check.fail("motor", "expected at least one [motor.CODE] table")
+    check.require(isinstance(motors, dict) and bool(motors), "expected at least one [motor.CODE] table", "motor")
     rules = tuple(_rule(check, code, spec) for code, spec in motors.items())
-    copy_side = check.typed(doc, "copy_side", str, "", default="")
-    if copy_side not in ("", "right", "left"):
-        check.fail("copy_side", f'expected "right" or "left", got {copy_side!r}')
+    copy_side = check.choice(doc.get("copy_side", ""), ("", "right", "left"), "copy_side")
     pairs = doc.get("symmetric", [])
-    if not (isinstance(pairs, list) and all(isinstance(p, list) and len(p) == 2 for p in pairs)):
-        check.fail("symmetric", "expected a list of [right, left] motor pairs")
+    check.require(isinstance(pairs, list) and all(isinstance(p, list) and len(p) == 2 for p in pairs),
+                  f"expected a list of [right, left] motor pairs, got {pairs!r}", "symmetric")
     for i, pair in enumerate(pairs):
         for code in pair:
-            check.motor(code, f"symmetric[{i}]")
+            check.choice(code, MOTOR_CODES, at("symmetric", i))
     return Mapping(str(doc.get("name", Path(path).stem)), markerset, rules,
-                   check.typed(doc, "mirror", bool, "", default=False), copy_side,
+                   check.boolean(doc.get("mirror", False), "mirror"), copy_side,
                    tuple(tuple(p) for p in pairs), _style(check, doc.get("style", {})),
                    str(doc.get("description", "")), str(path))
 
 
-def _rule(check: _Checker, code: str, spec: object) -> MotorRule:
+def _rule(check: Validator, code: str, spec: object) -> MotorRule:
     where = f"motor.{code}"
-    check.motor(code, where)
-    if not isinstance(spec, dict):
-        check.fail(where, "expected a table")
-    check.keys(spec, _MOTOR_KEYS, where)
-    raw = spec.get("sources")
-    if not isinstance(raw, list) or not raw:
-        check.fail(f"{where}.sources", "expected a list of at least one source")
-    sources = tuple(_source(check, s, f"{where}.sources[{i}]") for i, s in enumerate(raw))
-    combine = check.choice(spec, "combine", COMBINES, where, "max")
-    normalise = check.choice(spec, "normalise", ("profile", "scale"), where, "profile")
-    scale = check.number(spec, "scale", where, 1.0)
-    if scale == 0:
-        check.fail(f"{where}.scale", "must not be 0")
+    check.choice(code, MOTOR_CODES, where)
+    check.fields(spec, _MOTOR_KEYS, where)
+    assert isinstance(spec, dict)  # fields() checked it
+    raw = spec.get("sources") or []
+    check.require(isinstance(raw, list) and bool(raw), f"expected a list of at least one source, got {raw!r}",
+                  at(where, "sources"))
+    sources = tuple(_source(check, s, at(at(where, "sources"), i)) for i, s in enumerate(raw))
+    combine = check.choice(spec.get("combine", "max"), COMBINES, at(where, "combine"))
+    normalise = check.choice(spec.get("normalise", "profile"), ("profile", "scale"), at(where, "normalise"))
+    scale = check.number(spec.get("scale", 1.0), at(where, "scale"))
+    check.require(scale != 0, "expected a number other than 0, got 0", at(where, "scale"))
     curve = spec.get("curve", [])
-    if not (isinstance(curve, list) and all(isinstance(p, list) and len(p) == 2
-                                            and all(isinstance(v, (int, float)) for v in p) for p in curve)):
-        check.fail(f"{where}.curve", "expected a list of [input, output] points")
-    if len(curve) == 1 or any(b[0] <= a[0] for a, b in pairwise(curve)):
-        check.fail(f"{where}.curve", "needs at least 2 points with increasing inputs")
+    check.require(isinstance(curve, list) and all(isinstance(p, list) and len(p) == 2 and all(is_number(v) for v in p)
+                                                  for p in curve),
+                  f"expected a list of [input, output] points, got {curve!r}", at(where, "curve"))
+    check.require(len(curve) != 1 and all(b[0] > a[0] for a, b in pairwise(curve)),
+                  "expected at least 2 points with increasing inputs", at(where, "curve"))
     limits = spec.get("limits", [0.0, 1.0])
-    if not (isinstance(limits, list) and len(limits) == 2 and all(isinstance(v, (int, float)) for v in limits)
-            and 0 <= limits[0] < limits[1] <= 1):
-        check.fail(f"{where}.limits", f"expected [low, high] with 0 <= low < high <= 1, got {limits!r}")
-    loss = spec.get("loss", {})
-    if not isinstance(loss, dict):
-        check.fail(f"{where}.loss", "expected a table { policy, seconds }")
-    check.keys(loss, {"policy", "seconds"}, f"{where}.loss")
-    invert = check.typed(spec, "invert", bool, where, default=False)
-    return MotorRule(code, sources, combine, normalise, float(scale), invert,
-                     check.number(spec, "gain", where, 1.0), check.number(spec, "offset", where, 0.0),
-                     tuple((float(a), float(b)) for a, b in curve), check.choice(spec, "clamp", CLAMPS, where, "hard"),
-                     (float(limits[0]), float(limits[1])), _filter(check, spec.get("filter", {}), f"{where}.filter"),
-                     check.number(spec, "max_speed", where, 0.0, minimum=0.0),
-                     check.number(spec, "delay", where, 0.0, minimum=0.0),
-                     check.choice(loss, "policy", POLICIES, f"{where}.loss", "hold"),
-                     check.number(loss, "seconds", f"{where}.loss", 0.5, minimum=0.0))
+    low, high = check.numbers(limits, 2, at(where, "limits"))
+    check.require(0 <= low < high <= 1, f"expected [low, high] with 0 <= low < high <= 1, got {limits!r}",
+                  at(where, "limits"))
+    loss = check.fields(spec.get("loss", {}), {"policy", "seconds"}, at(where, "loss"), "a table { policy, seconds }")
+    invert = check.boolean(spec.get("invert", False), at(where, "invert"))
+    return MotorRule(code, sources, combine, normalise, scale, invert,
+                     check.number(spec.get("gain", 1.0), at(where, "gain")),
+                     check.number(spec.get("offset", 0.0), at(where, "offset")),
+                     tuple((float(a), float(b)) for a, b in curve),
+                     check.choice(spec.get("clamp", "hard"), CLAMPS, at(where, "clamp")), (low, high),
+                     _filter(check, spec.get("filter", {}), at(where, "filter")),
+                     check.number(spec.get("max_speed", 0.0), at(where, "max_speed"), 0.0),
+                     check.number(spec.get("delay", 0.0), at(where, "delay"), 0.0),
+                     check.choice(loss.get("policy", "hold"), POLICIES, at(where, "loss.policy")),
+                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0))
 
 
-def _source(check: _Checker, spec: object, where: str) -> Source:
-    if not isinstance(spec, dict):
-        check.fail(where, "expected a table such as { marker = \"LID_R_UP\", axis = \"y\" }")
+def _source(check: Validator, spec: object, where: str) -> Source:
+    check.require(isinstance(spec, dict), f'expected a table such as {{ marker = "LID_R_UP", axis = "y" }}, got '
+                  f"{spec!r}", where)
+    assert isinstance(spec, dict)
     kinds = [k for k in ("marker", "distance", "difference", "angle", "head") if k in spec]
-    if len(kinds) != 1:
-        check.fail(where, "needs exactly one of marker, distance, difference, angle, head")
+    check.require(len(kinds) == 1, "expected exactly one of marker, distance, difference, angle, head", where)
     kind = kinds[0]
-    check.keys(spec, {kind, "axis", "invert", "weight"}, where)
+    check.fields(spec, {kind, "axis", "invert", "weight"}, where)
     value = spec[kind]
     count = {"marker": 1, "distance": 2, "difference": 2, "angle": 3}.get(kind, 0)
     markers: tuple[str, ...] | list[str]
     if kind == "head":
-        if value not in ("yaw", "pitch"):
-            check.fail(f"{where}.head", f'expected "yaw" or "pitch", got {value!r}')
-        markers, axis = (), ("yaw", "pitch").index(value)
+        markers, axis = (), ("yaw", "pitch").index(check.choice(value, ("yaw", "pitch"), at(where, "head")))
     else:
         markers = (value,) if kind == "marker" and isinstance(value, str) else value
-        if not (isinstance(markers, (list, tuple)) and len(markers) == count
-                and all(isinstance(m, str) and m for m in markers)):
-            check.fail(f"{where}.{kind}", f"expected {count} marker name{'s' if count > 1 else ''}, got {value!r}")
-        axis_name = spec.get("axis", "y")
-        if axis_name not in tuple(AXES):
-            check.fail(f"{where}.axis", f'expected "x", "y" or "z", got {axis_name!r}')
-        axis = AXES.index(axis_name)
-    weight = check.number(spec, "weight", where, 1.0)
-    return Source(kind, tuple(markers), axis, check.typed(spec, "invert", bool, where, default=False), weight)
+        check.require(isinstance(markers, (list, tuple)) and len(markers) == count
+                      and all(isinstance(m, str) and m for m in markers),
+                      f"expected {count} marker name{'s' if count > 1 else ''}, got {value!r}", at(where, kind))
+        axis = AXES.index(check.choice(spec.get("axis", "y"), tuple(AXES), at(where, "axis")))
+    weight = check.number(spec.get("weight", 1.0), at(where, "weight"))
+    return Source(kind, tuple(markers), axis, check.boolean(spec.get("invert", False), at(where, "invert")), weight)
 
 
-def _filter(check: _Checker, spec: object, where: str) -> dict:
-    if not isinstance(spec, dict):
-        check.fail(where, "expected a table such as { kind = \"one-euro\", min_cutoff = 1.0, beta = 0.5 }")
+def _filter(check: Validator, spec: object, where: str) -> dict:
+    check.require(isinstance(spec, dict), f'expected a table such as {{ kind = "one-euro", min_cutoff = 1.0, '
+                  f"beta = 0.5 }}, got {spec!r}", where)
+    assert isinstance(spec, dict)
     if not spec:
         return {}
-    kind = spec.get("kind")
-    if kind not in FILTERS:
-        check.fail(f"{where}.kind", f"expected one of {', '.join(FILTERS)}, got {kind!r}")
-    check.keys(spec, FILTERS[kind] | {"kind"}, where)
+    kind = check.choice(spec.get("kind"), tuple(FILTERS), at(where, "kind"))
+    check.fields(spec, FILTERS[kind] | {"kind"}, where)
     for key in FILTERS[kind]:
         if key in spec:
-            check.number(spec, key, where, 0.0, minimum=0.0)
+            check.number(spec[key], at(where, key), 0.0)
     return dict(spec)
 
 
-def _style(check: _Checker, spec: object) -> Style:
-    if not isinstance(spec, dict):
-        check.fail("style", "expected a table")
-    check.keys(spec, {"tremble", "sharpen", "smooth", "time_scale"}, "style")
+def _style(check: Validator, spec: object) -> Style:
+    check.fields(spec, {"tremble", "sharpen", "smooth", "time_scale"}, "style")
+    assert isinstance(spec, dict)
     parts = {}
     for name, keys in (("tremble", {"amplitude", "frequency", "motors"}), ("sharpen", {"steps", "motors"}),
                        ("smooth", {"seconds", "motors"})):
-        part = spec.get(name, {})
-        if not isinstance(part, dict):
-            check.fail(f"style.{name}", "expected a table")
-        check.keys(part, keys, f"style.{name}")
+        where = at("style", name)
+        part = check.fields(spec.get(name, {}), keys, where)
         motors = part.get("motors", [])
-        if not isinstance(motors, list):
-            check.fail(f"style.{name}.motors", "expected a list of motor codes")
-        for code in motors:
-            check.motor(code, f"style.{name}.motors")
+        check.require(isinstance(motors, list), f"expected a list of motor codes, got {motors!r}", at(where, "motors"))
+        for i, code in enumerate(motors):
+            check.choice(code, MOTOR_CODES, at(at(where, "motors"), i))
         parts[name] = (part, tuple(motors))
     steps = parts["sharpen"][0].get("steps", 0)
-    if not isinstance(steps, int) or isinstance(steps, bool) or steps < 0 or steps == 1:
-        check.fail("style.sharpen.steps", f"expected 0 (off) or an integer >= 2, got {steps!r}")
-    scale = check.number(spec, "time_scale", "style", 1.0)
-    if scale <= 0:
-        check.fail("style.time_scale", f"must be > 0, got {scale:g}")
-    return Style(check.number(parts["tremble"][0], "amplitude", "style.tremble", 0.0, minimum=0.0),
-                 check.number(parts["tremble"][0], "frequency", "style.tremble", 6.0, minimum=0.0),
+    check.require(isinstance(steps, int) and not isinstance(steps, bool) and steps >= 0 and steps != 1,
+                  f"expected 0 (off) or an integer of at least 2, got {steps!r}", "style.sharpen.steps")
+    scale = check.number(spec.get("time_scale", 1.0), "style.time_scale")
+    check.require(scale > 0, f"expected a number above 0, got {scale:g}", "style.time_scale")
+    tremble, smooth = parts["tremble"][0], parts["smooth"][0]
+    return Style(check.number(tremble.get("amplitude", 0.0), "style.tremble.amplitude", 0.0),
+                 check.number(tremble.get("frequency", 6.0), "style.tremble.frequency", 0.0),
                  parts["tremble"][1], steps, parts["sharpen"][1],
-                 check.number(parts["smooth"][0], "seconds", "style.smooth", 0.0, minimum=0.0), parts["smooth"][1],
-                 scale)
-
-
-class _Checker:
-    """Raises :class:`InputError` with the file and the dotted field path."""
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-
-    def fail(self, where: str, message: str) -> NoReturn:
-        raise InputError(message, self.path, where or None)
-
-    def keys(self, table: dict, known: set[str], where: str) -> None:
-        unknown = sorted(set(table) - known)
-        if unknown:
-            self.fail(f"{where}.{unknown[0]}" if where else unknown[0],
-                      f"unknown key (known: {', '.join(sorted(known))})")
-
-    def motor(self, code: object, where: str) -> None:
-        if code not in MOTOR_CODES:
-            self.fail(where, f"unknown motor {code!r} (motors: {' '.join(MOTOR_CODES)})")
-
-    def typed(self, table: dict, key: str, kind: type, where: str, default: object = None, required: bool = False):
-        name = f"{where}.{key}" if where else key
-        if key not in table:
-            if required:
-                self.fail(name, "missing")
-            return default
-        if not isinstance(table[key], kind):
-            self.fail(name, f"expected {kind.__name__}, got {table[key]!r}")
-        return table[key]
-
-    def number(self, table: dict, key: str, where: str, default: float, minimum: float | None = None) -> float:
-        value = table.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            self.fail(f"{where}.{key}", f"expected a number, got {value!r}")
-        if minimum is not None and value < minimum:
-            self.fail(f"{where}.{key}", f"must be >= {minimum:g}, got {value:g}")
-        return float(value)
-
-    def choice(self, table: dict, key: str, options: tuple[str, ...], where: str, default: str) -> str:
-        value = table.get(key, default)
-        if value not in options:
-            self.fail(f"{where}.{key}", f"expected one of {', '.join(options)}, got {value!r}")
-        return value
+                 check.number(smooth.get("seconds", 0.0), "style.smooth.seconds", 0.0), parts["smooth"][1], scale)

@@ -20,7 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from common import Failure, InputError, read_versioned, write_document
+from common import Failure, read_versioned, write_document
+from common.validate import Validator
 from mapping.sources import Source, head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation
 
@@ -179,25 +180,23 @@ def load_profile(path: str | os.PathLike) -> Profile:
     """Read a profile; an unusable file raises :class:`InputError` naming the field."""
     path = Path(path)
     doc = read_versioned(path, FORMAT, "profile")
+    check = Validator(path)
     for key in ("markerset", "rest_rotation", "sources"):
-        if key not in doc:
-            raise InputError("missing", path, key)
+        check.present(doc.get(key), key)
     rot = np.asarray(doc["rest_rotation"], dtype=float) if _is_matrix(doc["rest_rotation"]) else None
-    if rot is None or not np.allclose(rot @ rot.T, np.eye(3), atol=1e-4):
-        raise InputError("expected a 3x3 rotation matrix", path, "rest_rotation")
-    if not isinstance(doc["sources"], dict):
-        raise InputError("expected a table of sources", path, "sources")
+    check.require(rot is not None and np.allclose(rot @ rot.T, np.eye(3), atol=1e-4),
+                  "expected a 3x3 rotation matrix", "rest_rotation")
+    assert rot is not None
+    sources = check.fields(doc["sources"], doc["sources"] if isinstance(doc["sources"], dict) else (), "sources",
+                           "a table of sources")
     ranges = {}
-    for key, entry in doc["sources"].items():
+    for key, entry in sources.items():
         where = f'sources."{key}"'
-        if not isinstance(entry, dict) or set(entry) != {"neutral", "low", "high"}:
-            raise InputError("expected { neutral, low, high }", path, where)
-        values = [entry[k] for k in ("neutral", "low", "high")]
-        if not all(isinstance(v, (int, float)) and np.isfinite(v) for v in values):
-            raise InputError(f"expected finite numbers, got {values}", path, where)
-        neutral, low, high = map(float, values)
-        if not low <= neutral <= high:
-            raise InputError(f"needs low <= neutral <= high, got {low:g}, {neutral:g}, {high:g}", path, where)
+        check.fields(entry, {"neutral", "low", "high"}, where, "a table { neutral, low, high }")
+        neutral, low, high = (check.number(check.present(entry.get(k), f"{where}.{k}"), f"{where}.{k}")
+                              for k in ("neutral", "low", "high"))
+        check.require(low <= neutral <= high, f"expected low <= neutral <= high, got {low:g}, {neutral:g}, {high:g}",
+                      where)
         ranges[key] = SourceRange(neutral, low, high)
     notes = doc.get("notes", {})
     return Profile(str(doc["markerset"]), ranges, rot, str(doc.get("performer", "")),

@@ -75,3 +75,62 @@ def test_a_retarget_reads_no_file_twice(tmp_path, extra):
             and not path.startswith(("/dev/", "/proc/", sys.base_prefix, sys.prefix)) and "dist-info" not in path}
     assert any(path.endswith("toon32.toml") for path in ours) and "take.npz" in ours
     assert {path: n for path, n in ours.items() if n > 1} == {}, ours
+
+
+def _toml(doc: dict) -> str:
+    import tomli_w
+
+    return tomli_w.dumps(doc)
+
+
+@pytest.mark.parametrize("kind", ["markerset", "mapping", "profile", "performance", "face", "expressions", "job"])
+def test_every_file_kind_words_a_bad_field_alike(tmp_path, kind):
+    """Five validators had four wordings ('unknown key', 'unknown keys [...]', 'unknown field(s)',
+    'unexpected field(s)'); one validator now says `FILE: field.path: what is wrong` for all."""
+    import json
+    import tomllib
+
+    from capture import load_markerset
+    from capture.performance import load_performance
+    from common import InputError, data_path
+    from mapping import load_mapping, load_profile
+    from toon import load_expressions, load_face
+    from toonface.batch import load_job
+
+    def builtin(*parts):
+        path = data_path(*parts)
+        return json.loads(path.read_text()) if path.suffix == ".json" else tomllib.loads(path.read_text())
+
+    if kind == "markerset":
+        doc, nested = builtin("markersets", "toon32.toml"), "markers.LID_R_UP"
+        doc["markers"]["LID_R_UP"]["colour"] = "red"
+    elif kind == "mapping":
+        doc, nested = builtin("mappings", "toon32.toml"), "motor.ERU"
+        doc["motor"]["ERU"]["colour"] = "red"
+    elif kind == "profile":
+        doc, nested = builtin("profiles", "toon32.toml"), 'sources."LID_R_UP.y"'
+        doc["sources"]["LID_R_UP.y"]["colour"] = "red"
+    elif kind == "performance":
+        doc, nested = {"format": "toonface.performance/1", "seconds": 2,
+                               "cue": [{"kind": "blink", "start": 0, "colour": "red"}]}, "cue[0]"
+    elif kind == "face":
+        doc, nested = builtin("faces", "classic.json"), "polygons[0]"
+        doc["polygons"][0]["colour"] = "red"
+    elif kind == "expressions":
+        doc, nested = builtin("expressions.toml"), "expressions.happiness"
+        doc["expressions"]["happiness"]["colour"] = "red"
+    else:
+        (tmp_path / "a.npz").write_bytes(b"")
+        doc, nested = {"format": "toonface.batch/1", "takes": ["a.npz"], "faces": ["classic"],
+                               "render": {"size": "64", "colour": "red"}}, "render"
+    suffix = ".json" if kind == "face" else ".toml"
+    path = tmp_path / f"bad{suffix}"
+    path.write_text(json.dumps(doc) if suffix == ".json" else _toml(doc))
+    load = {"markerset": load_markerset, "mapping": load_mapping, "profile": load_profile,
+            "performance": load_performance, "face": load_face, "expressions": load_expressions,
+            "job": load_job}[kind]
+    with pytest.raises(InputError) as caught:
+        load(path)
+    message = str(caught.value)
+    assert message.startswith(f"{path}: {nested}.colour: unknown field (known: "), message
+    assert message.count("\n") == 0

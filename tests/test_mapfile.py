@@ -23,14 +23,15 @@ def _doc(**motor):
 
 @pytest.mark.parametrize("change, field, message", [
     ({"format": "x"}, "format", "unsupported format"),
-    ({"colour": 1}, "colour", "unknown key"),
-    ({"motor": {"XYZ": {"sources": []}}}, "motor.XYZ", "unknown motor 'XYZ'"),
+    ({"colour": 1}, "colour", "unknown field (known: copy_side, description"),
+    ({"motor": {"XYZ": {"sources": []}}}, "motor.XYZ", "expected one of BRL, BRC"),
     ({"motor": {"ERU": {"sources": []}}}, "motor.ERU.sources", "at least one source"),
-    ({"motor": {"ERU": {"sources": [{"marker": "A", "axis": "w"}]}}}, "motor.ERU.sources[0].axis", "expected \"x\""),
+    ({"motor": {"ERU": {"sources": [{"marker": "A", "axis": "w"}]}}}, "motor.ERU.sources[0].axis",
+     "expected one of x, y, z, got 'w'"),
     ({"motor": {"ERU": {"sources": [{"distance": ["A"]}]}}}, "motor.ERU.sources[0].distance", "expected 2 marker"),
     ({"motor": {"ERU": {"sources": [{"marker": "A", "head": "yaw"}]}}}, "motor.ERU.sources[0]", "exactly one of"),
-    ({"symmetric": [["BRL", "QQQ"]]}, "symmetric[0]", "unknown motor"),
-    ({"style": {"sharpen": {"steps": 1}}}, "style.sharpen.steps", "integer >= 2"),
+    ({"symmetric": [["BRL", "QQQ"]]}, "symmetric[0]", "got 'QQQ'"),
+    ({"style": {"sharpen": {"steps": 1}}}, "style.sharpen.steps", "integer of at least 2, got 1"),
 ])
 def test_bad_top_level_and_source_fields_are_named(change, field, message):
     doc = {**copy.deepcopy(BASE), **change}
@@ -45,8 +46,9 @@ def test_bad_top_level_and_source_fields_are_named(change, field, message):
     ({"curve": [[0, 0], [0, 1]]}, "motor.ERU.curve", "increasing inputs"),
     ({"limits": [0.5, 0.2]}, "motor.ERU.limits", "0 <= low < high <= 1"),
     ({"filter": {"kind": "kalman"}}, "motor.ERU.filter.kind", "one-euro"),
-    ({"filter": {"kind": "one-euro", "cutoff": 2}}, "motor.ERU.filter.cutoff", "unknown key"),
-    ({"max_speed": -1}, "motor.ERU.max_speed", "must be >= 0"),
+    ({"filter": {"kind": "one-euro", "cutoff": 2}}, "motor.ERU.filter.cutoff",
+     "unknown field (known: beta, d_cutoff, kind, min_cutoff)"),
+    ({"max_speed": -1}, "motor.ERU.max_speed", "expected a number of at least 0, got -1"),
     ({"loss": {"policy": "panic"}}, "motor.ERU.loss.policy", "hold, ease, idle"),
 ])
 def test_bad_motor_fields_are_named(motor, field, message):

@@ -45,7 +45,7 @@ def test_profile_round_trips_and_bad_profiles_name_the_field(tmp_path):
         load_profile(bad)
     start = text.index("[sources.")
     bad.write_text(text[:start] + '[sources."LID_R_UP.y"]\nneutral = 1.0\nlow = 2.0\nhigh = 3.0\n')
-    with pytest.raises(InputError, match=r'sources."LID_R_UP.y": needs low <= neutral <= high'):
+    with pytest.raises(InputError, match=r'sources."LID_R_UP.y": expected low <= neutral <= high'):
         load_profile(bad)
 
 

@@ -14,7 +14,7 @@ from typing import Any
 from common import InputError, read_document, resolve_builtin
 from toon.components import Component, MotorParam, PointRef, Visibility
 from toon.motors import MOTOR_CODES
-from toon.validate import Validator
+from toon.validate import ShapeValidator
 
 LIBRARY_FORMAT = "toonface.components/1"
 COMPONENT_KINDS: tuple[str, ...] = ("polyline", "polygon", "ellipse", "skeleton", "composite")
@@ -41,7 +41,7 @@ class ComponentParser:
     base_dir: Path | None = None
     _libraries: dict[Path, dict] = field(default_factory=dict)
 
-    def parse_list(self, raw: Any, v: Validator, where: str, depth: int = 0,
+    def parse_list(self, raw: Any, v: ShapeValidator, where: str, depth: int = 0,
                    rename: dict[str, str] | None = None) -> tuple[Component, ...]:
         """Parse a list of components; ``rename`` maps a composite's names onto the face's."""
         v.require(isinstance(raw, list), "must be a list of components", where)
@@ -49,10 +49,10 @@ class ComponentParser:
                   where)
         return tuple(self.parse(c, v, f"{where}[{i}]", depth, rename or {}) for i, c in enumerate(raw))
 
-    def parse(self, c: Any, v: Validator, where: str, depth: int, rename: dict[str, str]) -> Component:
+    def parse(self, c: Any, v: ShapeValidator, where: str, depth: int, rename: dict[str, str]) -> Component:
         """Parse one component (recursing into composites)."""
         v.require(isinstance(c, dict), "must be an object", where)
-        kind = v.choice(c.get("kind"), COMPONENT_KINDS, f"{where}.kind", "component kind")
+        kind = v.choice(c.get("kind"), COMPONENT_KINDS, f"{where}.kind")
         if kind == "composite":
             return self._composite(c, v, where, depth, rename)
         shape = {"skeleton": {"coupling", "skeleton", "body", "skeleton_closed", "closed"},
@@ -64,7 +64,7 @@ class ComponentParser:
         spec["layer"] = v.integer(c.get("layer", 1), f"{where}.layer", -10, 10)
         v.require(spec["layer"] != 0, "layer 0 is the ToonFace face itself: use -10..-1 or 1..10", f"{where}.layer")
         if kind == "skeleton":
-            spec["coupling"] = v.choice(c.get("coupling"), COUPLINGS, f"{where}.coupling", "coupling")
+            spec["coupling"] = v.choice(c.get("coupling"), COUPLINGS, f"{where}.coupling")
             spec["points"] = self._points(c.get("skeleton"), v, f"{where}.skeleton", 2, rename,
                                           ("master", "slave", "fixed"))
             v.require(any(p.animated for p in spec["points"]), "a skeleton needs at least one control point",
@@ -96,7 +96,7 @@ class ComponentParser:
         for key in ("clip", "hole"):
             if key in c:
                 name = rename.get(c[key], c[key]) if isinstance(c[key], str) else c[key]
-                spec[key] = v.choice(name, self.clip_groups, f"{where}.{key}", "hole feature")
+                spec[key] = v.choice(name, self.clip_groups, f"{where}.{key}")
         v.require(not spec.get("hole") or spec["fill"] is not None, "a hole needs a fill", f"{where}.hole")
         if "depth" in c:
             spec["depth"] = v.number(c["depth"], f"{where}.depth")
@@ -104,7 +104,7 @@ class ComponentParser:
             raw = c["visible"]
             v.fields(raw, {"motor", "range"}, f"{where}.visible", "visible")
             low, high = v.numbers(raw.get("range"), 2, f"{where}.visible.range")
-            spec["visible"] = Visibility(v.choice(raw.get("motor"), MOTOR_CODES, f"{where}.visible.motor", "motor"),
+            spec["visible"] = Visibility(v.choice(raw.get("motor"), MOTOR_CODES, f"{where}.visible.motor"),
                                          low, high)
         for key, extra in (("translate", set()), ("scale", {"origin"})):
             if key in c:
@@ -115,7 +115,7 @@ class ComponentParser:
                       "no control points, visibility, translation or scale", f"{where}.layer")
         return component
 
-    def _composite(self, c: dict, v: Validator, where: str, depth: int, rename: dict[str, str]) -> Component:
+    def _composite(self, c: dict, v: ShapeValidator, where: str, depth: int, rename: dict[str, str]) -> Component:
         v.fields(c, {"kind", "name", "components", "use", "library", "controls", "transform"}, where,
                  "a composite component")
         controls = c.get("controls", {})
@@ -136,14 +136,14 @@ class ComponentParser:
             if not (isinstance(library, str) and library):
                 v.fail("must name a component library", f"{where}.library")
             raw, lib_path = self._library_entry(library, use, v, where)
-            children = self.parse_list(raw, Validator(lib_path), f'composites.{use}.components', depth + 1, scope)
+            children = self.parse_list(raw, ShapeValidator(lib_path), f'composites.{use}.components', depth + 1, scope)
             return Component("composite", name=str(c.get("name", "")), children=children, use=use, library=library,
                              controls=tuple(controls.items()), transform=(sx, sy, tx, ty))
         children = self.parse_list(c.get("components"), v, f"{where}.components", depth + 1, scope)
         return Component("composite", name=str(c.get("name", "")), children=children,
                          controls=tuple(controls.items()), transform=(sx, sy, tx, ty))
 
-    def _library_entry(self, library: str, use: str, v: Validator, where: str) -> tuple[Any, Path]:
+    def _library_entry(self, library: str, use: str, v: ShapeValidator, where: str) -> tuple[Any, Path]:
         candidate = Path(library)
         if self.base_dir is not None and (candidate.suffix or os.sep in library) and not candidate.is_absolute():
             candidate = self.base_dir / candidate
@@ -153,7 +153,7 @@ class ComponentParser:
             raise InputError(str(exc), v.source, f"{where}.library") from None
         if path not in self._libraries:
             doc = read_document(path)
-            lv = Validator(path)
+            lv = ShapeValidator(path)
             lv.require(doc.get("format") == LIBRARY_FORMAT,
                        f'unsupported format {doc.get("format")!r} (expected "{LIBRARY_FORMAT}")', "format")
             lv.require(isinstance(doc.get("composites"), dict), "missing object", "composites")
@@ -162,16 +162,17 @@ class ComponentParser:
         v.require(use in entries, f'library {path.name} has no composite "{use}" (it has: {", ".join(entries)})',
                   f"{where}.use")
         entry = entries[use]
-        Validator(path).fields(entry, {"description", "components"}, f"composites.{use}", "a library composite")
+        ShapeValidator(path).fields(entry, {"description", "components"}, f"composites.{use}", "a library composite")
         return entry.get("components"), path
 
-    def _points(self, raw: Any, v: Validator, where: str, minimum: int, rename: dict[str, str],
+    def _points(self, raw: Any, v: ShapeValidator, where: str, minimum: int, rename: dict[str, str],
                 allowed: tuple[str, ...]) -> tuple[PointRef, ...]:
         v.require(isinstance(raw, list) and len(raw) >= minimum, f"expected a list of at least {minimum} points",
                   where)
         return tuple(self._point(p, v, f"{where}[{i}]", rename, allowed) for i, p in enumerate(raw))
 
-    def _point(self, p: Any, v: Validator, where: str, rename: dict[str, str], allowed: tuple[str, ...]) -> PointRef:
+    def _point(self, p: Any, v: ShapeValidator, where: str, rename: dict[str, str],
+               allowed: tuple[str, ...]) -> PointRef:
         if isinstance(p, str):
             ref = PointRef("master", self._master(p, v, where, rename))
         elif isinstance(p, list):
@@ -190,13 +191,13 @@ class ComponentParser:
                   where)
         return ref
 
-    def _master(self, name: Any, v: Validator, where: str, rename: dict[str, str]) -> str:
+    def _master(self, name: Any, v: ShapeValidator, where: str, rename: dict[str, str]) -> str:
         target = rename.get(name, name) if isinstance(name, str) else name
         v.require(target in self.control_points, f'unknown control point "{target}" (known: '
                   f'{" ".join(self.control_points)})', where)
         return str(target)
 
-    def _smooth(self, raw: Any, n: int, closed: bool, v: Validator, where: str) -> tuple[tuple[int, int], ...]:
+    def _smooth(self, raw: Any, n: int, closed: bool, v: ShapeValidator, where: str) -> tuple[tuple[int, int], ...]:
         if raw is False:
             return ()
         if raw is True:
@@ -215,9 +216,9 @@ class ComponentParser:
                   "smoothing all the way round leaves no other range", where)
         return tuple(ranges)
 
-    def _param(self, raw: Any, v: Validator, where: str, extra: set[str]) -> MotorParam:
+    def _param(self, raw: Any, v: ShapeValidator, where: str, extra: set[str]) -> MotorParam:
         v.fields(raw, {"motor", "at0", "at1"} | extra, where, where.rsplit(".", 1)[-1])
-        motor = v.choice(raw.get("motor"), MOTOR_CODES, f"{where}.motor", "motor")
+        motor = v.choice(raw.get("motor"), MOTOR_CODES, f"{where}.motor")
         at0 = tuple(v.numbers(raw.get("at0"), 2, f"{where}.at0"))
         at1 = tuple(v.numbers(raw.get("at1"), 2, f"{where}.at1"))
         origin = tuple(v.numbers(raw.get("origin", [0.0, 0.0]), 2, f"{where}.origin"))

@@ -16,7 +16,7 @@ import numpy as np
 
 from common import read_document, resolve_builtin
 from toon.motors import MOTOR_CODES, MOTOR_INDEX
-from toon.validate import Validator
+from toon.validate import ShapeValidator
 
 FORMAT = "toonface.expressions/1"
 #: Expressions every repertoire must define: neutral, CharToon's six basic ones, blink and wink.
@@ -51,7 +51,7 @@ def load_expressions(name_or_path: str | os.PathLike = "expressions") -> dict[st
     """
     path = resolve_builtin(name_or_path, ".", ".toml", "expression repertoire")
     doc = read_document(path)
-    v = Validator(path)
+    v = ShapeValidator(path)
     v.require(doc.get("format") == FORMAT, f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")',
               "format")
     table = doc.get("expressions")
@@ -65,7 +65,7 @@ def load_expressions(name_or_path: str | os.PathLike = "expressions") -> dict[st
         v.require(isinstance(motors, dict), "must be a table of motor = value", f"{where}.motors")
         values = {}
         for code, value in motors.items():
-            v.choice(code, MOTOR_CODES, f"{where}.motors.{code}", "motor")
+            v.choice(code, MOTOR_CODES, f"{where}.motors.{code}")
             values[code] = v.number(value, f"{where}.motors.{code}", 0.0, 1.0)
         out[name] = Expression(name, MappingProxyType(values), str(entry.get("description", "")))
     missing = [n for n in REQUIRED if n not in out]

@@ -35,7 +35,7 @@ from common import atomic_path, builtin_names, read_document, resolve_builtin
 from toon.component_parser import ComponentParser
 from toon.components import Component, flatten
 from toon.motors import MOTOR_CODES, MOTORS
-from toon.validate import Color, Validator, Vertices, format_color
+from toon.validate import Color, ShapeValidator, Vertices, format_color
 
 FORMAT = "toonface.face/1"
 
@@ -156,7 +156,7 @@ def save_face(face: Face, path: str | os.PathLike) -> Path:
 
 def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     """Validate a face document; errors name ``source`` and the path of the bad field."""
-    v = Validator(source)
+    v = ShapeValidator(source)
     v.require(isinstance(doc, dict), "a face file must hold a JSON object", "")
     v.require(doc.get("format") == FORMAT, f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")',
               "format")
@@ -214,16 +214,16 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     )
 
 
-def _motor_range(v: Validator, value: Any, where: str) -> tuple[float, float]:
+def _motor_range(v: ShapeValidator, value: Any, where: str) -> tuple[float, float]:
     v.require(value is not None, "missing motor range [min, max]", where)
     lo, hi = v.numbers(value, 2, where)
     v.require(lo != hi, f"min and max are both {lo}", where)
     return (lo, hi)
 
 
-def _polygon(v: Validator, p: Any, where: str) -> PolygonSpec:
+def _polygon(v: ShapeValidator, p: Any, where: str) -> PolygonSpec:
     v.require(isinstance(p, dict), "must be an object", where)
-    kind = v.choice(p.get("kind"), KINDS, f"{where}.kind", "kind")
+    kind = v.choice(p.get("kind"), KINDS, f"{where}.kind")
     attached = kind in ("hole", "feature", "pupil", "point")
     allowed = {"kind", "name", "color", "vertices", "depth", "stroke", "width"}
     allowed |= {"attach"} if attached else set()
@@ -242,7 +242,7 @@ def _polygon(v: Validator, p: Any, where: str) -> PolygonSpec:
     attach = p.get("attach")
     if kind in ("hole", "feature"):
         options = HOLE_FEATURES if kind == "hole" else tuple(FEATURES)
-        spec["attach"] = v.choice(attach, options, f"{where}.attach", "feature")
+        spec["attach"] = v.choice(attach, options, f"{where}.attach")
     elif kind == "pupil":
         v.require(attach in PUPIL_EYES, f'unknown control point "{attach}" for a pupil (PR or PL)', f"{where}.attach")
         spec["attach"] = attach

@@ -1,4 +1,5 @@
-"""Checks for pieces of a face or component-library document.
+"""Checks for pieces of a face or component-library document: the project's one validator
+(:mod:`common.validate`) with points, colours and outlines added.
 
 Every check raises :class:`common.InputError` naming the document and the path of the bad field
 (``polygons[3].attach``), so a user can find what to fix without reading a traceback.
@@ -6,12 +7,10 @@ Every check raises :class:`common.InputError` naming the document and the path o
 
 from __future__ import annotations
 
-import math
-import os
 import re
-from typing import Any, NoReturn
+from typing import Any
 
-from common import InputError
+from common.validate import Validator
 
 Color = tuple[float, float, float, float]
 Vertices = tuple[tuple[float, float], ...]
@@ -29,66 +28,9 @@ def format_color(c: Color) -> str:
     return f"#{rgb}" if c[3] >= 1.0 else f"#{rgb}{round(c[3] * 255):02x}"
 
 
-def is_number(x: Any) -> bool:
-    """A finite int or float that is not a bool."""
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
-
-
-class Validator:
-    """Checks pieces of a document, raising :class:`InputError` with the field's path.
-
-    Parameters
-    ----------
-    source : path or None
-        The document's file, named in every error.
-    """
-
-    def __init__(self, source: str | os.PathLike | None) -> None:
-        self.source = source
-
-    def require(self, ok: bool, message: str, where: str) -> None:
-        """Raise ``InputError(message)`` at ``where`` unless ``ok``."""
-        if not ok:
-            self.fail(message, where)
-
-    def fail(self, message: str, where: str) -> NoReturn:
-        """Raise ``InputError(message)`` at ``where``."""
-        raise InputError(message, self.source, where or None)
-
-    def fields(self, value: Any, allowed: set[str], where: str, what: str) -> None:
-        """``value`` is an object with no keys outside ``allowed``."""
-        self.require(isinstance(value, dict), "must be an object", where)
-        extra = sorted(set(value) - allowed)
-        self.require(not extra, f"unexpected field(s) {extra} for {what}", where)
-
-    def numbers(self, value: Any, n: int, where: str) -> list[float]:
-        """A list of exactly ``n`` finite numbers."""
-        ok = isinstance(value, list) and len(value) == n and all(is_number(x) for x in value)
-        self.require(ok, f"expected {n} finite number{'s' if n > 1 else ''}, got {value!r}", where)
-        return [float(x) for x in value]
-
-    def number(self, value: Any, where: str, low: float = -math.inf, high: float = math.inf) -> float:
-        """One finite number in ``[low, high]``."""
-        self.require(is_number(value), f"expected a finite number, got {value!r}", where)
-        self.require(low <= value <= high, f"must be between {low} and {high}, got {value}", where)
-        return float(value)
-
-    def integer(self, value: Any, where: str, low: int, high: int) -> int:
-        """One integer in ``[low, high]``."""
-        ok = isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
-        self.require(ok, f"expected an integer from {low} to {high}, got {value!r}", where)
-        return int(value)
-
-    def boolean(self, value: Any, where: str) -> bool:
-        """``true`` or ``false``."""
-        self.require(isinstance(value, bool), f"expected true or false, got {value!r}", where)
-        return bool(value)
-
-    def choice(self, value: Any, options: tuple[str, ...] | list[str], where: str, what: str) -> str:
-        """One of ``options``; the error lists them."""
-        self.require(value in options, f'unknown {what} "{value}" (one of {", ".join(options)})'
-                     if isinstance(value, str) else f"expected a {what} name, got {value!r}", where)
-        return str(value)
+class ShapeValidator(Validator):
+    """The project's validator (:class:`common.validate.Validator`) with the checks of faces
+    and component libraries: points, colours and outlines."""
 
     def point(self, value: Any, where: str) -> tuple[float, float]:
         """An ``[x, y]`` pair."""

@@ -43,6 +43,7 @@ from pathlib import Path
 from typing import Any
 
 from common import InputError, read_versioned
+from common.validate import Validator, is_number
 from mapping import CleanSettings
 from toonface.cli_options import frame_size
 
@@ -116,7 +117,7 @@ def load_job(path: str | os.PathLike) -> Job:
     base = path.parent
     known = {"format", "takes", "faces", "output", "mapping", "profile", "neutral", "mirror", "write", "render",
              "clean", "csv"}
-    fields.refuse_unknown(doc, known, "")
+    fields.check.fields(doc, known, "")
     patterns = fields.strings("takes", required=True)
     output = base / (fields.text("output") or "batch-out")
     takes, empty = _expand(patterns, base, path, output)
@@ -213,10 +214,11 @@ def _take_options(fields: _Fields) -> TakeOptions:
 
 
 class _Fields:
-    """Typed access to a job document's fields, each failure naming the field."""
+    """A job document's fields by dotted name (``render.size``), checked by the project's
+    validator (:class:`common.validate.Validator`), so that each failure names the field."""
 
     def __init__(self, doc: dict, path: Path) -> None:
-        self.doc, self.path = doc, path
+        self.doc, self.path, self.check = doc, path, Validator(path)
 
     def get(self, dotted: str, default: Any = None) -> Any:
         node: Any = self.doc
@@ -227,44 +229,22 @@ class _Fields:
         return node
 
     def table(self, name: str, known: set[str]) -> dict:
-        table = self.get(name, {})
-        if not isinstance(table, dict):
-            raise InputError(f"expected a table, got {table!r}", self.path, name)
-        self.refuse_unknown(table, known, f"{name}.")
-        return table
-
-    def refuse_unknown(self, table: dict, known: set[str], prefix: str) -> None:
-        unknown = sorted(set(table) - known)
-        if unknown:
-            raise InputError(f"unknown field (known: {', '.join(sorted(known))})", self.path, prefix + unknown[0])
+        return self.check.fields(self.get(name, {}), known, name)
 
     def strings(self, name: str, required: bool = False) -> list[str]:
         value = self.get(name)
         if value is None and not required:
             return []
-        if isinstance(value, str):
-            value = [value]
-        if not isinstance(value, list) or not value or not all(isinstance(v, str) and v for v in value):
-            raise InputError(f"expected a non-empty list of strings, got {value!r}", self.path, name)
-        return value
+        return self.check.strings([value] if isinstance(value, str) else value, name, empty=False)
 
     def text(self, name: str) -> str:
-        value = self.get(name, "")
-        if not isinstance(value, str):
-            raise InputError(f"expected a string, got {value!r}", self.path, name)
-        return value
+        return self.check.text(self.get(name, ""), name)
 
     def flag(self, name: str, default: bool) -> bool:
-        value = self.get(name, default)
-        if not isinstance(value, bool):
-            raise InputError(f"expected true or false, got {value!r}", self.path, name)
-        return value
+        return self.check.boolean(self.get(name, default), name)
 
     def number(self, name: str, default: float, low: float, high: float) -> float:
-        value = self.get(name, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-            raise InputError(f"expected a number in {low:g}..{high:g}, got {value!r}", self.path, name)
-        return float(value)
+        return self.check.number(self.get(name, default), name, low, high)
 
     def neutral(self, name: str) -> tuple[float, float] | str | None:
         value = self.get(name, "")
@@ -272,7 +252,7 @@ class _Fields:
             return None
         if value in ("first", "stillest"):
             return value
-        if (isinstance(value, list) and len(value) == 2 and all(isinstance(v, (int, float)) for v in value)
+        if (isinstance(value, list) and len(value) == 2 and all(is_number(v) for v in value)
                 and 0 <= value[0] < value[1]):
             return float(value[0]), float(value[1])
-        raise InputError(f'expected "first", "stillest" or [start, end] seconds, got {value!r}', self.path, name)
+        self.check.fail(f'expected "first", "stillest" or [start, end] seconds, got {value!r}', name)
