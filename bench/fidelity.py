@@ -32,7 +32,7 @@ from capture.performance import default_performance
 from mapping import calibrate, choose_mapping, map_stabilised, prepare
 from mapping.filters import OneEuro
 from mapping.gaps import GapFiller
-from mapping.live import LIVE_BETA, LIVE_MIN_CUTOFF
+from mapping.stepwise import LIVE_BETA, LIVE_MIN_CUTOFF
 from toon import MOTOR_CODES
 from toonface import truth_track
 

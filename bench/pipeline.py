@@ -1,6 +1,6 @@
 """``pipeline``: synthetic take to motor track, frames per second on one core.
 
-Times :func:`toonface.map_take` (cleaning with head stabilisation, the built-in profile with the
+Times :func:`toonface.map_onto_face` (cleaning with head stabilisation, the built-in profile with the
 rest pose from the take, the toon32 mapping) on a 60 s synthetic take at 60 Hz. "One core" is
 enforced from the start: the measurement runs in a
 child process pinned to one CPU before it imports numpy, with the BLAS/OpenMP pools set to one
@@ -32,7 +32,7 @@ def run(quick: bool = False) -> list[Figure]:
 
 
 def pinned_rate(seconds: float, repeats: int, rate: float) -> dict:
-    """Frames per second of :func:`toonface.map_take` (clean + map) on a synthetic take, measured
+    """Frames per second of :func:`toonface.map_onto_face` (clean + map) on a synthetic take, measured
     in a child process pinned to one CPU with one BLAS thread; a dict with ``fps``, ``runs``,
     ``frames``, ``markers`` and ``one_core``."""
     pinned = hasattr(os, "sched_setaffinity")
@@ -48,9 +48,9 @@ def _child(seconds: float, repeats: int, rate: float) -> None:
     """Runs in the pinned child: measure and print one JSON object."""
     from bench.core import median_rate
     from capture import synthesize
-    from toonface import map_take
+    from toonface import map_onto_face
 
     take = synthesize(seconds=seconds, rate=rate).take
-    fps, runs = median_rate(lambda: map_take(take).frames, repeats)
+    fps, runs = median_rate(lambda: map_onto_face(take).frames, repeats)
     print(json.dumps({"fps": fps, "runs": [round(r, 1) for r in runs], "frames": take.frames,
                       "markers": take.markers}))

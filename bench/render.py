@@ -30,7 +30,7 @@ from player import Renderer, create_context
 from player.layout import triangulate
 from toon import FaceRig, Geometry, builtin_faces, load_face
 from toon.curves import stroke_triangles
-from toonface import map_take
+from toonface import map_onto_face
 
 GOAL_FPS = 150.0  # the issue's figure for this machine's 2 cores (0.7 of a floor near 215 fps)
 GOAL_RATIO = 0.7  # per-frame deformation, triangulation and upload cost under half the drawing
@@ -40,7 +40,7 @@ BLOCK = 10  # frames per timed block: the face and its floor alternate block by 
 def run(quick: bool = False) -> list[Figure]:
     """Measure every built-in face; return per-face figures and the slowest face's summary."""
     size, frames, passes = (512, 512), (20 if quick else 60), (1 if quick else 5)
-    values = map_take(synthesize(seconds=max(frames / 30, 1.0), rate=30.0).take).values[:frames]
+    values = map_onto_face(synthesize(seconds=max(frames / 30, 1.0), rate=30.0).take).values[:frames]
     figures: list[Figure] = []
     worst: tuple[float, float, str] | None = None
     ctx = create_context()

@@ -49,10 +49,11 @@ def read_csv(path: Path, rate: float | None = None, labels: list[str] | None = N
              units: str | float | None = None) -> Take:
     """Read a CSV take; see the module docstring for the layouts and options."""
     lines = read_lines(path)
-    first = next((i for i, line in enumerate(lines) if line.strip(" ,;\t|")), None)
+    first = next((i for i, line in enumerate(lines) if line.strip().strip(",;|")), None)  # any whitespace
     if first is None:
         raise InputError("no data (only blank lines)", path)
-    if split(lines[first], detect_separator(lines[first]))[0].lower() == "trajectories":
+    cells = split(lines[first], detect_separator(lines[first]))
+    if cells and cells[0].lower() == "trajectories":
         return _read_nexus(path, lines, first, units)
     sep = detect_separator(lines[first])
     header = split(lines[first], sep)

@@ -186,7 +186,7 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
           marker_mm: float | None) -> None:
     """Track markers in a video (anything OpenCV or PyAV decodes) into a planar take."""
     from capture import save_take
-    from capture.track import load_aruco_names, track_video
+    from capture.video_tracking import load_aruco_names, track_video
 
     names = load_aruco_names(names_file) if names_file else None
     take = track_video(video, method, markerset, colour, start_frame, names, corners, dictionary, mm_per_pixel,

@@ -201,12 +201,12 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
             reading: TakeReading) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
     from toon import load_face, save_track
-    from toonface.pipeline import map_take
+    from toonface.pipeline import map_onto_face
 
     window = parse_window(neutral, words=_WORDS)
     loaded = read_take(take, reading)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
-    track = map_take(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
+    track = map_onto_face(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
                      cleaning.settings(loaded.rate))
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
                f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)")
@@ -232,13 +232,13 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
              reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go."""
     from toon import load_face
-    from toonface.pipeline import map_take, render
+    from toonface.pipeline import map_onto_face, render
 
     window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
     loaded = read_take(take, reading)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
-    track = map_take(loaded, window, face_obj, mirror, mapping, profile)
+    track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
     frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
 

@@ -43,9 +43,9 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--loop-ms", default=DEFAULT_LOOP_TIME * 1000, show_default=True, type=click.FloatRange(5, 1000),
               help="Loop time: one frame and one slice per moving motor per loop (ToonFace used 100).")
 @SIZE
-@click.option("--track", "track_path", default=None, type=click.Path(dir_okay=False),
+@click.option("--motors", "--track", "track_path", default=None, type=click.Path(dir_okay=False),
               help="Play a motor track (.csv movie script or .npz) at its own rate instead of commands.")
-@click.option("--once", is_flag=True, help="With --track: play it once and stop (default: loop).")
+@click.option("--once", is_flag=True, help="With --motors: play it once and stop (default: loop).")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, seconds: float | None) -> None:

@@ -13,8 +13,7 @@ import numpy as np
 
 from capture import SyntheticTake, Take, save_take, synthesize
 from common.errors import Interrupted, Terminated
-from mapping import CleanSettings, Mapping, Profile
-from mapping import map_take as mapping_map_take
+from mapping import CleanSettings, Mapping, Profile, map_take
 from player import Renderer, create_context, render_track
 from player.offline import frame_count
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
@@ -27,7 +26,7 @@ def truth_track(synthetic: SyntheticTake) -> MotorTrack:
                                    meta={"source": "synthetic ground truth"})
 
 
-def map_take(take: Take, neutral_window: tuple[float, float] | str | None = (0.0, 1.0), face: Face | None = None,
+def map_onto_face(take: Take, neutral_window: tuple[float, float] | str | None = (0.0, 1.0), face: Face | None = None,
              mirror: bool = False, mapping: Mapping | str | None = None, profile: Profile | None = None,
              settings: CleanSettings = CleanSettings()) -> MotorTrack:
     """Clean and map a take (see :func:`mapping.map_take`).
@@ -38,7 +37,7 @@ def map_take(take: Take, neutral_window: tuple[float, float] | str | None = (0.0
     profile's rest, else the first second); see :func:`mapping.workflow.rest_window`.
     """
     target = None if face is None else face.neutral()
-    return mapping_map_take(take, mapping, profile, neutral_window, target, settings, mirror)
+    return map_take(take, mapping, profile, neutral_window, target, settings, mirror)
 
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),
@@ -114,7 +113,7 @@ def run_demo(out_dir: str | os.PathLike, seconds: float = 10.0, rate: float = 30
     with times.stage("synthesise"):
         synthetic = synthesize(seconds=seconds, rate=rate, seed=seed)
     with times.stage("map"):
-        track = map_take(synthetic.take)
+        track = map_onto_face(synthetic.take)
     truth = truth_track(synthetic)
     with times.stage("write take and tracks"):
         paths = (save_take(synthetic.take, out / "take.npz"), save_track(track, out / "motors.csv"),

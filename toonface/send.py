@@ -2,7 +2,7 @@
 
 A source (:mod:`capture.sources`: a take file, a dot-marker video tracked as it plays, the
 synthetic performer) plays on the wall clock; each frame is cleaned and mapped in its live form
-(:class:`mapping.live.LiveMapper`) and written, stamped with its capture time, to every motor
+(:class:`mapping.stepwise.LiveMapper`) and written, stamped with its capture time, to every motor
 sink: the stream sender (:class:`stream.sender.StreamSender`: only motor values cross the
 network), and a recording if asked.
 """
@@ -20,7 +20,7 @@ from capture import MarkerSet, Take
 from capture.sources import Source, paced
 from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
-from mapping.live import LiveMapper
+from mapping.stepwise import LiveMapper
 from mapping.workflow import SELF_MIN_SIDE, check_profile, typical_profile
 from toon.recording import MotorSink
 

@@ -6,9 +6,9 @@ import pytest
 from capture import load_markerset, synthesize
 from capture.performance import default_performance
 from mapping import CleanSettings, Stabilised, calibrate, load_mapping, map_stabilised, parse_mapping, prepare
-from mapping.live import LiveMapper
 from mapping.mapper import marker_quality
 from mapping.rules import MotorRules, trailing_mean
+from mapping.stepwise import LiveMapper
 from toon import MOTOR_CODES, motor_index, standard_neutral
 
 RATE = 60.0

@@ -21,7 +21,7 @@ from stream.wire import HEADER, MAX_PACKET, quantise
 from toon import motor_index, standard_neutral
 from toonface import truth_track
 from toonface.cli import main
-from toonface.pipeline import map_take
+from toonface.pipeline import map_onto_face
 from toonface.send import build_mapper, run_sender
 
 RATE = 60.0
@@ -208,7 +208,7 @@ def test_live_mapping_follows_the_performer_close_to_offline():
     source = take_source(syn.take)
     mapper = build_mapper(source)
     live = np.array([mapper.step(p, t)[0] for t, p in source.frames])
-    truth, offline = truth_track(syn).values, map_take(syn.take).values
+    truth, offline = truth_track(syn).values, map_onto_face(syn.take).values
     after = slice(int(16 * RATE), None)  # after the calibration segment
     live_error = np.sqrt(np.mean((live[after] - truth[after]) ** 2))
     assert live_error < 0.03

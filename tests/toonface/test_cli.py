@@ -20,7 +20,7 @@ from capture.performance import DEFAULT_EXPRESSIONS
 from toon import MOTOR_CODES, builtin_faces, load_track, motor_index
 from toonface import cli_options
 from toonface.cli import cli, main
-from toonface.pipeline import map_take
+from toonface.pipeline import map_onto_face
 
 SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
                "anim", "send", "receive", "relay", "batch", "markerset",
@@ -313,7 +313,7 @@ def test_every_option_s_help_default_is_its_real_default():
 
 
 def test_map_without_a_profile_uses_the_typical_one_as_its_help_says(small_take):
-    mapped = map_take(load_take(small_take / "t.npz"))  # what `map` runs without --profile
+    mapped = map_onto_face(load_take(small_take / "t.npz"))  # what `map` runs without --profile
     assert any("built-in typical profile for toon32" in note for note in mapped.meta["notes"])
 
 

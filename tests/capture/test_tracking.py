@@ -10,7 +10,7 @@ from capture import load_markerset, load_take, synthesize
 from capture.aruco import detect, make_detector, track_aruco
 from capture.dots import DotStyle, DotTracker, find_dots, fit_similarity, sticker_labels, track_dots
 from capture.performance import default_performance
-from capture.track import track_video
+from capture.video_tracking import track_video
 from capture.videogen import VideoFaults, dot_video, score_tracking
 from capture.videoio import frames, probe, write_video
 from toonface.cli import main

@@ -26,7 +26,7 @@ from toonface.batch import connect, load_job, plan, run_batch, tasks, write_mani
 from toonface.batch import pairs as batch_pairs
 from toonface.batch.pairs import file_digest as digest
 from toonface.cli import main
-from toonface.pipeline import map_take, render
+from toonface.pipeline import map_onto_face, render
 
 SIZE = 64
 
@@ -149,7 +149,7 @@ def test_a_part_resamples_only_its_own_frames_and_they_are_the_whole_videos(fps)
 
 
 def test_parts_join_into_the_whole_video_in_order(tmp_path):
-    track = map_take(synthesize(seconds=2.0, rate=30.0, seed=3).take)
+    track = map_onto_face(synthesize(seconds=2.0, rate=30.0, seed=3).take)
     rig = FaceRig(load_face("classic"))
     parts = [render_part(track, rig, a, b, 30.0, (SIZE, SIZE), samples=0) for a, b in frame_ranges(60, 16)]
     assert len(parts) == 4
@@ -198,7 +198,7 @@ def test_a_job_makes_every_output_and_a_rerun_skips_them_all(tmp_path, client, m
             assert {p.name for p in (out / take).glob(f"{face}.*")} == {
                 f"{face}.csv", f"{face}.mp4", f"{face}.score.png", f"{face}.sheet.png"}
             # the motors the cluster wrote are the ones the one-machine pipeline maps
-            mapped = map_take(load_take(tmp_path / "takes" / f"{take}.npz"), face=load_face(face))
+            mapped = map_onto_face(load_take(tmp_path / "takes" / f"{take}.npz"), face=load_face(face))
             assert np.allclose(load_track(out / take / f"{face}.csv").values, mapped.values, atol=1e-6)
             assert len(decode(out / take / f"{face}.mp4")) == mapped.frames == round(seconds * 30)
     assert report.results[0].frames == 60 and report.results[0].seconds > 0
@@ -347,7 +347,7 @@ def test_dry_run_lists_what_a_changed_setting_remakes_as_the_readme_says(tmp_pat
         pair.output(kind).path.write_bytes(b"x")
     batch_pairs.write_stamp(pair, {kind: 1 for kind in pair.stale}, 30)
     assert plan(load_job(path))[0].stale == ()
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
     assert "changing `size` or `fps` remakes the videos only, `samples` the videos and contact sheets" in readme
     for old, new, remade in ((f'size = "{SIZE}"', 'size = "48"', "makes video"),
                              ("samples = 0", "samples = 2", "makes video, sheet")):

@@ -256,7 +256,7 @@ def test_the_readme_chapter_runs_as_written(realdata, tmp_path, monkeypatch):
     order = np.random.default_rng(5).permutation(brows.markers)
     np.savetxt(tmp_path / "other.csv", brows.positions[:, order].reshape(brows.frames, -1) / 10.0, delimiter=",",
                fmt="%.5f")
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
     chapter = readme.split("## Your own marker layout", 1)[1]
     block = re.search(r"```sh\n(.*?)```", chapter, re.S).group(1).replace("\\\n", " ")
     commands = [line.split("  #")[0].strip() for line in block.splitlines() if line.strip()]
