@@ -13,12 +13,18 @@ system-deps:
 	@scripts/ensure-system-deps.sh
 
 # Re-installs only when the package metadata changed; a second run is a no-op.
-$(STAMP): pyproject.toml scripts/ensure-system-deps.sh
+$(STAMP): pyproject.toml requirements-faces.txt scripts/ensure-system-deps.sh
 	@scripts/ensure-system-deps.sh
 	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "toonface needs Python >= 3.11, found " + sys.version.split()[0])'
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	@$(PY) -m pip install --quiet --disable-pip-version-check --upgrade pip
-	@$(PY) -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	@$(PY) -m pip install --quiet --disable-pip-version-check -e '.[test,faces]'
+	@$(PY) -m pip install --quiet --disable-pip-version-check --no-deps -r requirements-faces.txt
+	@# Exactly one OpenCV, the headless contrib build: a GUI build installed by hand writes the same cv2/.
+	@others=$$($(PY) scripts/other-opencv.py); if [ -n "$$others" ]; then \
+		$(PY) -m pip uninstall --quiet -y $$others; \
+		$(PY) -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps \
+			"opencv-contrib-python-headless==$$($(PY) -c 'import importlib.metadata as m; print(m.version("opencv-contrib-python-headless"))')"; fi
 	@touch $(STAMP)
 
 install: $(STAMP)

@@ -183,11 +183,14 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
 
 def find_markerset(labels: tuple[str, ...] | list[str], min_share: float = 0.5) -> MarkerSet | None:
     """The built-in marker set that names most of ``labels`` (at least ``min_share`` of them,
-    and at least 3 of its head references), or None."""
-    best, best_count = None, 0
+    and at least 3 of its head references), or None. Between sets that name as many, the one
+    more of whose own markers are there wins (a toon32 take is toon32's, not the larger face set's)."""
+    best, best_key = None, (0, 0.0)
     for name in builtin_names("markersets", ".toml"):
         markerset = load_markerset(name)
         found = markerset.match(labels)
-        if sum(r in found for r in markerset.head_reference) >= 3 and len(found) > best_count:
-            best, best_count = markerset, len(found)
+        key = (len(found), len(found) / len(markerset.labels))
+        if sum(r in found for r in markerset.head_reference) >= 3 and key > best_key:
+            best, best_key = markerset, key
+    best_count = best_key[0]
     return best if best is not None and best_count >= min_share * len(labels) else None

@@ -19,7 +19,7 @@ import numpy as np
 
 from capture.aruco import track_aruco
 from capture.dots import pixels_to_mm
-from capture.sources import video_source
+from capture.sources import face_source, video_source
 from capture.take import Take
 from capture.videoio import frames, probe
 from common import InputError, read_document
@@ -30,7 +30,8 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
                 corners: bool = False, dictionary: str = "aruco_original", mm_per_pixel: float | None = None,
                 marker_mm: float | None = None, progress_factory: Callable[[int], Callable[[int], None]] | None = None
                 ) -> Take:
-    """Track ``method`` (``dots`` or ``aruco``) markers through a video; see the module docstring.
+    """Track ``method`` (``dots``, ``aruco``, or ``face`` for no markers) through a video; see the
+    module docstring and :func:`capture.sources.face_source`.
 
     Raises
     ------
@@ -40,6 +41,15 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
     info = probe(path)
     rate = info.rate or 30.0
     progress = progress_factory(info.frames) if progress_factory else None
+    if method == "face":
+        take = face_source(path).to_take(progress)
+        if not take.frames:
+            raise InputError("the video has no frames", path)
+        seen = np.isfinite(take.positions).all(axis=2).any(axis=1)
+        if not seen.any():
+            raise InputError(f"no face found in any of its {take.frames} frames", path)
+        take.meta["faces_found"] = int(seen.sum())
+        return take
     if method == "dots":
         take = video_source(path, colour, markerset, start_frame).to_take(progress)
         if not take.frames:
@@ -48,7 +58,7 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
             raise InputError(f"no {colour} dot markers found in {take.frames} frames", path)
         return take
     if method != "aruco":
-        raise InputError(f"unknown marker kind {method!r} (dots or aruco)", path)
+        raise InputError(f"unknown marker kind {method!r} (dots, aruco or face)", path)
     meta: dict[str, Any] = {"source": "video", "file": Path(path).name, "tracker": method,
                             "image_size": [info.width, info.height], "decoder": info.backend}
     try:

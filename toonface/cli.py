@@ -165,8 +165,9 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, rea
 @click.argument("video", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Take file to write (.npz or .csv: the take is planar).")
-@click.option("--markers", "method", type=click.Choice(["dots", "aruco"]), default="dots", show_default=True,
-              help="Coloured dots identified by a marker set's layout, or ArUco markers identified by id.")
+@click.option("--markers", "method", type=click.Choice(["dots", "aruco", "face"]), default="dots", show_default=True,
+              help="Coloured dots identified by a marker set's layout, ArUco markers identified by id, or face: no "
+                   "markers, a face's landmarks (MediaPipe; the marker set face, in 3-D).")
 @click.option("--markerset", default="toon32", show_default=True, metavar="NAME|FILE",
               help="Dots: the layout whose neutral pose identifies them (pupils excluded).")
 @click.option("--colour", default="blue", show_default=True, type=click.Choice(sorted(HUES)),
@@ -184,7 +185,8 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, rea
 def track(video: str, output: str, method: str, markerset: str, colour: str, start_frame: int,
           names_file: str | None, corners: bool, dictionary: str, mm_per_pixel: float | None,
           marker_mm: float | None) -> None:
-    """Track markers in a video (anything OpenCV or PyAV decodes) into a planar take."""
+    """Track markers in a video (anything OpenCV or PyAV decodes) into a take: planar for dots and
+    ArUco, 3-D camera-space millimetres for a face without markers."""
     from capture import save_take
     from capture.video_tracking import load_aruco_names, track_video
 
@@ -193,8 +195,10 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
                        marker_mm, progress_factory=progress("track"))
     path = save_take(take, output)
     seen = take.valid.any(axis=0).sum()
+    scale = f", {take.meta['mm_per_pixel']:.4g} mm per pixel" if "mm_per_pixel" in take.meta else ""
+    faces = f", a face in {take.meta['faces_found']} frames" if "faces_found" in take.meta else ""
     click.echo(f"wrote {path} ({take.frames} frames, {seen} of {take.markers} markers seen, "
-               f"{int((~take.valid).sum())} missing samples, {take.meta['mm_per_pixel']:.4g} mm per pixel)")
+               f"{int((~take.valid).sum())} missing samples{scale}{faces})")
 
 
 @cli.command("render")

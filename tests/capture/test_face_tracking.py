@@ -1,0 +1,98 @@
+"""Faces without markers: the one OpenCV, the model and its canonical face, real talking-head
+clips tracked into takes whose jaw follows the clip's own sound, and clear errors."""
+
+from __future__ import annotations
+
+import importlib.metadata
+from itertools import pairwise
+
+import av
+import numpy as np
+import pytest
+
+from capture.face_landmarks import LANDMARKS, canonical_face, model_path
+from capture.video_tracking import track_video
+from common import InputError
+from toonface.cli import main
+
+
+def test_exactly_one_opencv_the_headless_contrib_build():
+    """mediapipe declares opencv-contrib-python (the GUI build), which writes the same cv2/."""
+    import cv2
+
+    installed = {d.metadata["Name"].lower() for d in importlib.metadata.distributions()}
+    builds = sorted(n for n in installed if n.startswith("opencv"))
+    assert builds == ["opencv-contrib-python-headless"], builds
+    gui = [line for line in cv2.getBuildInformation().splitlines() if line.strip().startswith("GUI:")]
+    assert gui and gui[0].split(":")[1].strip() == "NONE"
+    detector = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_4X4_50))
+    marker = np.pad(cv2.aruco.generateImageMarker(detector.getDictionary(), 7, 100), 40, constant_values=255)
+    _, ids, _ = detector.detectMarkers(marker)
+    assert ids is not None and ids.ravel().tolist() == [7]
+
+
+def test_a_missing_model_says_how_to_install_it(tmp_path, monkeypatch):
+    monkeypatch.setenv("TOONFACE_FACE_MODEL", str(tmp_path / "nowhere.task"))
+    with pytest.raises(InputError, match=r"nowhere\.task: no face landmark model there .*make install"):
+        model_path()
+
+
+def test_the_canonical_face_is_a_symmetric_head_frame_in_millimetres():
+    face = canonical_face()
+    assert face.shape == (468, 3)
+    right_out, left_out = face[LANDMARKS["EYE_R_OUT"]], face[LANDMARKS["EYE_L_OUT"]]
+    np.testing.assert_allclose(right_out * [-1, 1, 1], left_out, atol=0.01)  # mirror images across x = 0
+    assert right_out[0] < 0 < left_out[0]  # x to the face's left
+    assert 80 < np.linalg.norm(left_out - right_out) < 100  # outer eye corners of an adult, mm
+    assert face[LANDMARKS["FOREHEAD"], 1] > face[LANDMARKS["CHIN"], 1]  # y up
+    assert face[LANDMARKS["NOSE_TIP"], 2] > face[:, 2].max() - 2.0  # z out of the face: the nose leads
+
+
+def _speech_envelope(path, times: np.ndarray, start: float) -> np.ndarray:
+    """The clip's own sound: RMS over each video frame's 40 ms, ``(frames,)``; ``times`` count
+    from the first video frame, at ``start`` on the container's clock."""
+    with av.open(str(path)) as container:
+        stream = container.streams.audio[0]
+        rate, channels = stream.sample_rate, stream.codec_context.channels
+        sound_start = float(stream.start_time * stream.time_base)
+        chunks = []
+        for frame in container.decode(stream):
+            data = frame.to_ndarray().astype(float)  # planar: (channels, n); packed: (1, n * channels)
+            chunks.append(data.mean(axis=0) if frame.format.is_planar else data.reshape(-1, channels).mean(axis=1))
+    samples = np.concatenate(chunks)
+    times = times + start - sound_start  # on the sound's own clock
+    edges = np.round(np.append(times, times[-1] + 0.04) * rate).astype(int)
+    return np.array([np.sqrt(np.mean(samples[a:b] ** 2)) if b > a else 0.0 for a, b in pairwise(edges)])
+
+
+@pytest.mark.parametrize("clip", ["bbaf2n.mpg", "lbax4n.mpg"])
+def test_a_real_talking_face_is_found_in_every_frame_and_its_lips_stop_when_its_voice_does(realdata, clip):
+    """GRID clips speak six words and end in silence: the lips travel while the clip's own sound
+    is on and rest once it has stopped; the mapped jaw opens while it speaks."""
+    from mapping import map_take
+
+    path = realdata / "video" / "grid" / clip
+    take = track_video(path, "face")
+    assert take.frames == 75 and take.meta["faces_found"] == 75 and take.dims == 3
+    assert take.labels == tuple(LANDMARKS) and len(take.meta["blendshapes"][0]) == 52
+    gap = np.linalg.norm(take.positions[:, take.index("LIP_UP_IN")] - take.positions[:, take.index("LIP_LOW_IN")],
+                         axis=1)
+    loud = _speech_envelope(path, take.times, take.meta["start_time"])
+    last = np.flatnonzero(loud > 0.1 * loud.max())[-1]
+    assert last < 60  # the clip ends in silence
+    motion = np.abs(np.diff(gap))
+    assert np.ptp(gap) > 5.0  # mm: the lips part and close
+    assert motion[:last].mean() > 10 * motion[last + 8:].mean()  # still once the voice has stopped
+    jaw = map_take(take).values[:, 18]  # MB
+    assert np.ptp(jaw[:last]) > 0.3 and np.ptp(jaw[last + 8:]) < 0.05
+
+
+def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capsys):
+    from capture.videoio import write_video
+
+    frames = [np.full((96, 128, 3), 90 + 3 * i, dtype=np.uint8) for i in range(8)]
+    video = write_video(frames, tmp_path / "wall.mp4", 8.0)
+    assert main(["track", str(video), "--markers", "face", "-o", str(tmp_path / "t.npz")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "wall.mp4: no face found in any of its 8 frames" in err, err
+    assert not (tmp_path / "t.npz").exists()
