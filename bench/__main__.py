@@ -6,7 +6,7 @@ import argparse
 import importlib
 import sys
 
-GROUPS = ("cli", "render", "pipeline", "track", "read", "fidelity", "predict", "live", "stream", "batch")
+GROUPS = ("cli", "render", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream", "batch")
 
 
 def main(argv: list[str] | None = None) -> int:

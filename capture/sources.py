@@ -28,7 +28,7 @@ import numpy as np
 from capture.take import Take
 from common import InputError
 
-VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm"})
+VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".mpeg", ".m4v"})
 
 
 class Frame(NamedTuple):

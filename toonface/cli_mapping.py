@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
@@ -230,17 +231,30 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
              reading: TakeReading) -> None:
-    """Clean, map and render a take on a face, in one go."""
+    """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
+    with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4."""
+    from capture.sources import VIDEO_SUFFIXES
     from toon import load_face
-    from toonface.pipeline import map_onto_face, render
+    from toonface.pipeline import map_onto_face, render, render_with_sound
 
     window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
-    loaded = read_take(take, reading)
+    video = Path(take).suffix.lower() in VIDEO_SUFFIXES
+    if video:
+        from capture.video_tracking import track_video
+
+        loaded = track_video(take, "face", progress_factory=progress("track"))
+    else:
+        loaded = read_take(take, reading)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
-    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
-    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})")
+    bar = progress("render")(track.frames)
+    if video:  # the performer's own voice goes with the cartoon
+        frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0)), dims,
+                                   fps, progress=bar)
+    else:
+        frames = render(track, face_obj, output, dims, fps, progress=bar)
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]}{', with its sound' if video else ''})")
 
 
 @click.command()

@@ -68,6 +68,25 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
         ctx.release()
 
 
+def render_with_sound(track: MotorTrack, face: Face, output: str | os.PathLike, sound: str | os.PathLike,
+                      start: float = 0.0, size: tuple[int, int] = (512, 512), fps: float | None = None,
+                      progress: Callable[[int], None] | None = None) -> int:
+    """:func:`render` into an MP4 that carries ``sound``'s audio from ``start`` seconds (a
+    talking-head video's own voice); without an audio stream in ``sound``, the picture alone."""
+    from player.mux import has_audio, mux_audio
+
+    output = Path(output)
+    if output.suffix.lower() != ".mp4" or not has_audio(sound):
+        return render(track, face, output, size, fps, progress=progress)
+    picture = output.with_name(f".{output.stem}.picture.mp4")
+    try:
+        frames = render(track, face, picture, size, fps, progress=progress)
+        mux_audio(picture, sound, output, start)
+    finally:
+        picture.unlink(missing_ok=True)
+    return frames
+
+
 @dataclass
 class StageTimes:
     """Wall-clock seconds per named stage, in the order they ran."""

@@ -96,3 +96,24 @@ def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "wall.mp4: no face found in any of its 8 frames" in err, err
     assert not (tmp_path / "t.npz").exists()
+
+
+@pytest.mark.gl
+def test_a_talking_head_video_becomes_a_cartoon_with_its_own_sound(realdata, tmp_path):
+    source = realdata / "video" / "grid" / "bbaf2n.mpg"
+    out = tmp_path / "cartoon.mp4"
+    assert main(["retarget", str(source), "-o", str(out), "--face", "round", "--size", "64"]) == 0
+    with av.open(str(out)) as made:
+        video, audio = made.streams.video[0], made.streams.audio[0]
+        assert audio.codec_context.name == "aac" and video.frames == 75
+        seconds = float(video.duration * video.time_base)
+        ours = np.concatenate([f.to_ndarray().mean(axis=0) for f in made.decode(audio)])  # fltp, in [-1, 1]
+    assert seconds == pytest.approx(3.0, abs=0.05)
+    assert len(ours) / 44100 == pytest.approx(seconds, abs=0.06)  # the sound lasts as long as the picture
+    with av.open(str(source)) as original:  # s16p
+        theirs = np.concatenate([f.to_ndarray().astype(float).mean(axis=0) / 32768 for f in original.decode(audio=0)])
+    window = 1764  # 40 ms at 44.1 kHz: the voice itself, not silence, at its own loudness
+    loudest = [max(np.sqrt(np.mean(x[i:i + window] ** 2)) for i in range(0, len(x) - window, window))
+               for x in (ours, theirs)]
+    assert loudest[0] == pytest.approx(loudest[1], rel=0.2)
+    assert not list(tmp_path.glob(".*"))  # the picture-only file is gone
