@@ -23,7 +23,7 @@ import numpy as np
 from bench.core import Figure, median_rate
 from bench.fidelity import REALDATA
 from capture import load_markerset
-from capture.sources import face_source
+from capture.face_sources import face_source
 from capture.video_tracking import track_video
 from capture.videoio import write_video
 from mapping import calibrate, load_mapping, prepare

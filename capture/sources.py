@@ -97,7 +97,8 @@ class SourceKind:
 #: The kinds of source, tried in order for a spec without a ``kind:`` prefix.
 KINDS: dict[str, SourceKind] = {
     "synthetic": SourceKind("capture.sources:synthetic_source", lambda spec: spec == "synthetic"),
-    "face": SourceKind("capture.sources:face_source"),  # face:VIDEO, a video without markers
+    "face": SourceKind("capture.face_sources:face_source"),  # face:VIDEO, a video without markers
+    "camera": SourceKind("capture.face_sources:camera_source"),  # camera:N, or camera:VIDEO played as one
     "video": SourceKind("capture.sources:video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
     "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
 }
@@ -209,43 +210,3 @@ def video_source(path: str | os.PathLike, colour: str = "blue", markerset: str =
             index += 1
     return Source(tuple(labels), rate, play(), Path(path).name, dims=2, meta=meta)
 
-
-def face_source(path: str | os.PathLike, **_: Any) -> Source:
-    """A talking-head video with no markers, its face tracked as it plays (MediaPipe's Face
-    Landmarker, :mod:`capture.face_landmarks`): the marker set ``face``'s points in camera-space
-    mm, NaN on frames with no face. Times are the container's (a variable frame rate is kept).
-    ``meta["blendshapes"]`` collects each frame's 52 scores (None without a face) as it plays.
-    Frame times count from the first frame; ``meta["start_time"]`` is that frame's time on the
-    container's clock (where the sound's clock lines up)."""
-    import av
-
-    from capture.face_landmarks import LANDMARKS, FaceTracker
-    from capture.videoio import probe
-
-    info = probe(path)
-    tracker = FaceTracker()
-    columns = list(LANDMARKS.values())
-    meta: dict[str, Any] = {"source": "video", "file": Path(path).name, "tracker": "face", "markerset": "face",
-                            "image_size": [info.width, info.height], "blendshapes": [], "blendshape_names": []}
-
-    def play() -> Iterator[Frame]:
-        try:
-            with av.open(str(path)) as container:
-                stream = container.streams.video[0]
-                for index, image in enumerate(container.decode(stream)):
-                    clock = float(image.time) if image.time is not None else index / (info.rate or 30.0)
-                    meta.setdefault("start_time", clock)
-                    t = clock - meta["start_time"]
-                    face = tracker.track(image.to_ndarray(format="rgb24"), t)
-                    if face is None:
-                        meta["blendshapes"].append(None)
-                        yield Frame(t, np.full((len(columns), 3), np.nan))
-                        continue
-                    meta["blendshape_names"] = list(tracker.blendshape_names)
-                    meta["blendshapes"].append([round(float(s), 4) for s in face.blendshapes])
-                    yield Frame(t, face.points[columns])
-        except av.error.FFmpegError as exc:
-            raise InputError(f"cannot decode the video ({exc})", path) from None
-        finally:
-            tracker.close()
-    return Source(tuple(LANDMARKS), info.rate or 30.0, play(), Path(path).name, meta=meta)

@@ -19,7 +19,8 @@ import numpy as np
 
 from capture.aruco import track_aruco
 from capture.dots import pixels_to_mm
-from capture.sources import face_source, video_source
+from capture.face_sources import face_source
+from capture.sources import video_source
 from capture.take import Take
 from capture.videoio import frames, probe
 from common import InputError, read_document

@@ -21,6 +21,7 @@ import numpy as np
 from capture import MarkerSet
 from mapping.clean import head_references
 from mapping.filters import OneEuro
+from mapping.learning import RangeLearner
 from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
@@ -55,14 +56,22 @@ class LiveMapper:
     spikes : bool
     seed : int
         Seeds the idle drift and the tremble.
+    learn_seconds : float
+        Above 0: the ranges are learned as the stream runs, for this long after the rest
+        (:mod:`mapping.learning`), and ``profile`` need hold no ranges (a camera with no profile).
     """
 
     def __init__(self, mapping: Mapping, markerset: MarkerSet, profile: Profile, labels: tuple[str, ...],
                  rate: float, target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
-                 max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0) -> None:
+                 max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0) -> None:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
-        check_profile(mapping, profile)
+        if learn_seconds > 0 and rest_seconds <= 0:
+            raise ValueError("ranges learned live need a rest to start from (rest_seconds > 0)")
+        if learn_seconds <= 0:
+            check_profile(mapping, profile)
+        self.learn_seconds = learn_seconds
+        self.learner: RangeLearner | None = None
         references = head_references(labels, markerset)
         if not references:
             raise ValueError(str(references))
@@ -145,10 +154,17 @@ class LiveMapper:
                 rest = float(np.nanmedian(measured))
                 rests[source.key] = SourceRange(rest, rest, rest)
         own = Profile(self.profile.markerset, rests, rest_rotation)
+        if self.learn_seconds > 0:
+            learner = self.learner = RangeLearner(own, freeze_after=self.learn_seconds)
+            return learner.profile
         return merge_profile(self.profile, own, [], rest_from_take=True)
 
     def map_frame(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The mapping of one cleaned frame (``stable`` holds one frame; ``quality`` ``(1, M)``):
         motors ``(21,)`` and confidence ``(21,)``; what offline mapping gives that frame."""
+        if self.learner is not None and not self.learner.frozen:
+            head = head_angles(stable.rotation, self.profile.rest_rotation)
+            self.learner.update({source.key: float(measure(source, stable.local, self.columns, head)[0])
+                                 for source in self.mapping.sources()}, t)
         raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral)
         return self.rules.step(raw[0], t), np.clip(confidence[0], 0.0, 1.0)

@@ -26,6 +26,8 @@ from toon.recording import MotorSink
 
 #: Seconds of a take its own profile is calibrated on, when its marker set has no typical one.
 CALIBRATION_SECONDS = 10.0
+#: Seconds a live source with no profile (a camera) learns its ranges for, after its rest.
+LEARN_SECONDS = 60.0
 
 
 def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: Profile | None = None,
@@ -38,9 +40,14 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate)
     chosen, markerset = choose_mapping(probe_take, mapping)
     profile = profile or typical_profile(markerset.name)
-    if profile is None:
-        if source.recording is None:
-            raise InputError(f"no typical profile for marker set {markerset.name}; give one with --profile")
+    learn = 0.0
+    if profile is None and source.recording is None:  # a camera: rest from its first second, ranges as it runs
+        profile, learn = Profile(markerset.name, {}, np.eye(3)), LEARN_SECONDS
+        if notes is not None:
+            notes.append(f"no profile for marker set {markerset.name}: rest from the first {rest_seconds:g} s, "
+                         f"ranges learned over the next {LEARN_SECONDS:g} s")
+    elif profile is None:
+        assert source.recording is not None
         profile = _own_profile(source.recording, chosen, markerset)
         if notes is not None:
             notes.append(f"no typical profile for marker set {markerset.name}: a profile from the take's "
@@ -48,7 +55,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
                          f"{profile.notes['range']})")
     check_profile(profile, chosen, markerset.name)
     try:
-        return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds)
+        return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
+                          learn_seconds=learn)
     except ValueError as exc:
         raise InputError(str(exc)) from None
 

@@ -117,3 +117,53 @@ def test_a_talking_head_video_becomes_a_cartoon_with_its_own_sound(realdata, tmp
                for x in (ours, theirs)]
     assert loudest[0] == pytest.approx(loudest[1], rel=0.2)
     assert not list(tmp_path.glob(".*"))  # the picture-only file is gone
+
+
+def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_path):
+    """No camera exists here: `send camera:FILE` reads the file as a camera would deliver it (in
+    real time, nothing waiting for it), learns the performer's ranges as it runs, and the
+    receiving end records what was sent within the wire's quantisation step."""
+    from stream.packets import StreamWriter
+    from stream.playout import Playout
+    from stream.receiver import StreamReceiver
+    from toon import load_track, standard_neutral
+    from toon.recording import MotorRecorder
+
+    clip = realdata / "video" / "grid" / "bbaf2n.mpg"
+    recorded = MotorRecorder(tmp_path / "received.csv", 25.0)
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as receiver:
+        receiver.playout.shown = recorded.write
+        host, port = receiver.address
+        assert main(["send", f"camera:{clip}", "--to", f"{host}:{port}", "--record", str(tmp_path / "sent.csv")]) == 0
+        sent = load_track(tmp_path / "sent.csv")
+        assert receiver.wait_for_packets(sent.frames // 2, timeout=10)
+        playout = receiver.playout
+        start = playout._anchor[1] - (playout._anchor[0] - playout._first) / 25.0 + playout.delay
+        for k in range(2 * sent.frames + 10):
+            receiver.values_at(start + k / 50.0 + 1e-6)
+    recorded.close()
+    received = load_track(recorded.written)
+    assert sent.frames == 75 and received.frames >= 75 and receiver.reader.lost == 0
+    assert np.abs(received.values[:75] - sent.values).max() <= 0.5 / StreamWriter(25.0).steps + 1e-9
+    assert np.ptp(sent.values[:, 18]) > 0.3  # the jaw moved on the stream, from ranges learned as it ran
+
+
+def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_named(realdata):
+    from capture.face_sources import camera_source
+
+    class Clock:
+        now = 0.0
+
+        def __call__(self):
+            return self.now
+
+        def sleep(self, seconds):
+            self.now += seconds
+
+    clock = Clock()
+    source = camera_source(str(realdata / "video" / "grid" / "bbaf2n.mpg"), clock=clock, sleep=clock.sleep)
+    assert source.live and source.rate == pytest.approx(25.0)
+    times = [frame.t for frame, _ in zip(source.frames, range(4), strict=False)]
+    assert times == pytest.approx([0.0, 0.04, 0.08, 0.12])  # each frame when it is due, stamped on arrival
+    with pytest.raises(InputError, match="no camera 9"):
+        camera_source("9")

@@ -1,0 +1,103 @@
+"""Markerless sources: a talking-head video tracked as it plays, and a camera (or a video played
+as one), both through MediaPipe's Face Landmarker (:mod:`capture.face_landmarks`).
+
+Frames carry the marker set ``face``'s points in camera-space mm, NaN where no face is seen;
+``meta["blendshapes"]`` collects each frame's 52 scores (None without a face).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from capture.face_landmarks import LANDMARKS, FaceTracker
+from capture.sources import Frame, Source
+from common import InputError
+
+
+def face_source(path: str | os.PathLike, **_: Any) -> Source:
+    """A video's face tracked as it plays. Times are the container's, counted from the first
+    frame (a variable frame rate is kept); ``meta["start_time"]`` is that frame's time on the
+    container's clock, where the sound's clock lines up."""
+    import av
+
+    from capture.videoio import probe
+
+    info = probe(path)
+    meta = _meta(Path(path).name, [info.width, info.height])
+
+    def images() -> Iterator[tuple[float, np.ndarray]]:
+        try:
+            with av.open(str(path)) as container:
+                for index, image in enumerate(container.decode(container.streams.video[0])):
+                    clock = float(image.time) if image.time is not None else index / (info.rate or 30.0)
+                    meta.setdefault("start_time", clock)
+                    yield clock - meta["start_time"], image.to_ndarray(format="rgb24")
+        except av.error.FFmpegError as exc:
+            raise InputError(f"cannot decode the video ({exc})", path) from None
+    return Source(tuple(LANDMARKS), info.rate or 30.0, _tracked(images(), meta), Path(path).name, meta=meta)
+
+
+def camera_source(target: str, clock: Callable[[], float] = time.perf_counter,
+                  sleep: Callable[[float], None] = time.sleep, **_: Any) -> Source:
+    """A camera (``N``: the N-th device, V4L2 through OpenCV) or a video file played as one: its
+    frames come in real time, each stamped on ``clock`` when it arrives, and the source is
+    ``live`` (nothing waits for it). A file is read at its own frame rate."""
+    import cv2
+
+    device = int(target) if target.isdigit() else None
+    capture = cv2.VideoCapture(device if device is not None else str(target))
+    if not capture.isOpened():
+        capture.release()
+        raise InputError("cannot open it as a camera" if device is None else f"no camera {device}", target)
+    rate = capture.get(cv2.CAP_PROP_FPS) or 30.0
+    size = [int(capture.get(cv2.CAP_PROP_FRAME_WIDTH)), int(capture.get(cv2.CAP_PROP_FRAME_HEIGHT))]
+    meta = _meta(f"camera {target}", size)
+
+    def images() -> Iterator[tuple[float, np.ndarray]]:
+        start, index = clock(), 0
+        try:
+            while True:
+                if device is None:  # a file stands in for a camera: its frames come when due
+                    wait = start + index / rate - clock()
+                    if wait > 0:
+                        sleep(wait)
+                ok, image = capture.read()
+                if not ok:
+                    return
+                index += 1
+                yield clock() - start, image[:, :, ::-1]
+        finally:
+            capture.release()
+    return Source(tuple(LANDMARKS), rate, _tracked(images(), meta), f"camera {target}", live=True, meta=meta)
+
+
+def _meta(name: str, size: list[int]) -> dict[str, Any]:
+    return {"source": "video", "file": name, "tracker": "face", "markerset": "face", "image_size": size,
+            "blendshapes": [], "blendshape_names": []}
+
+
+def _tracked(images: Iterator[tuple[float, np.ndarray]], meta: dict[str, Any]) -> Iterator[Frame]:
+    """Each ``(t, RGB image)`` through one face tracker, made when the first image comes and
+    released when the images end."""
+    columns = list(LANDMARKS.values())
+    tracker: FaceTracker | None = None
+    try:
+        for t, image in images:
+            tracker = tracker or FaceTracker()
+            face = tracker.track(image, t)
+            if face is None:
+                meta["blendshapes"].append(None)
+                yield Frame(t, np.full((len(columns), 3), np.nan))
+                continue
+            meta["blendshape_names"] = list(tracker.blendshape_names)
+            meta["blendshapes"].append([round(float(s), 4) for s in face.blendshapes])
+            yield Frame(t, face.points[columns])
+    finally:
+        if tracker is not None:
+            tracker.close()
