@@ -90,6 +90,11 @@ class LiveMapper:
         self._rest_start: float | None = None
         self._ready = rest_seconds <= 0
 
+    @property
+    def ready(self) -> bool:
+        """Whether the rest has been taken (and :attr:`profile` holds it)."""
+        return self._ready
+
     def step(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """One frame of world marker positions ``(M, 3)`` (NaN unseen) at ``t`` seconds; returns
         the motors ``(21,)`` in [0, 1] and their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost)."""

@@ -50,11 +50,14 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--colour", default="blue", show_default=True, help="A video: the dot markers' colour.")
 @KEY
 @click.option("--record", default=None, type=click.Path(dir_okay=False), help="Also write the motors sent (.csv/.npz).")
+@click.option("--save-profile", default=None, type=click.Path(dir_okay=False),
+              help="At the end, write the profile used (with ranges learned live, for a camera) to reuse with "
+                   "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
 @take_options
 def send(source: str, target: str, mapping: str | None, profile_path: str | None, seconds: float | None, repeat: bool,
          frames_per_packet: int, keyframe_seconds: float, colour: str, key_file: str | None, record: str | None,
-         stats: bool, reading: TakeReading) -> None:
+         save_profile: str | None, stats: bool, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), or `synthetic` (the synthetic performer).
 
@@ -63,11 +66,13 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     """
     from capture.sources import open_source
     from mapping import load_profile
+    from mapping import save_profile as write_profile
     from toonface.outputs import Outputs
     from toonface.send import build_mapper, run_sender
 
     host, port = _required_address(target, "--to", 7710)
     check_output(record, "--record")
+    check_output(save_profile, "--save-profile")
     src = open_source(source, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
                       seconds=seconds)
     notes: list[str] = []
@@ -85,6 +90,11 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
             report = None
     if recording is not None and recording.written is not None:
         click.echo(f"wrote {recording.written}")
+    if save_profile and mapper.ready:
+        click.echo(f"wrote {write_profile(mapper.profile, save_profile)}")
+    elif save_profile:
+        click.echo(f"toonface: warning: no profile written to {save_profile}: the stream ended during its rest",
+                   err=True)
     if report is not None:
         rates = stream.rates(report.frames)
         click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets: payload {rates['payload_kbps']} "

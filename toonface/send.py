@@ -88,7 +88,9 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
                clock: Callable[[], float] = time.perf_counter, sleep: Callable[[float], None] = time.sleep,
                stop: Callable[[], bool] = lambda: False) -> SendReport:
     """Play ``source`` in real time, map each frame and write it to every sink; returns what was
-    done. The sinks stay open (the caller closes them)."""
+    done. The mapper sees the source's own times; the sinks see stream time (frame n at
+    n / rate), so that a recording lines up with the stream frame for frame. The sinks stay open
+    (the caller closes them)."""
     report = SendReport()
     for frame in paced(source, clock, sleep):
         if (seconds is not None and frame.t >= seconds - 0.5 / source.rate) or stop():
@@ -96,7 +98,7 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
         captured = clock()
         values, _ = mapper.step(frame.positions, frame.t)
         report.step_seconds.append(clock() - captured)
-        for sink in sinks:
-            sink.write(frame.t, values, captured)
+        for sink in sinks:  # stream time: frame n at n / rate, as the wire carries it (a camera's stamps jitter)
+            sink.write(report.frames / source.rate, values, captured)
         report.frames += 1
     return report

@@ -123,6 +123,7 @@ def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_pa
     """No camera exists here: `send camera:FILE` reads the file as a camera would deliver it (in
     real time, nothing waiting for it), learns the performer's ranges as it runs, and the
     receiving end records what was sent within the wire's quantisation step."""
+    from mapping import load_profile
     from stream.packets import StreamWriter
     from stream.playout import Playout
     from stream.receiver import StreamReceiver
@@ -134,9 +135,10 @@ def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_pa
     with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as receiver:
         receiver.playout.shown = recorded.write
         host, port = receiver.address
-        assert main(["send", f"camera:{clip}", "--to", f"{host}:{port}", "--record", str(tmp_path / "sent.csv")]) == 0
+        assert main(["send", f"camera:{clip}", "--to", f"{host}:{port}", "--record", str(tmp_path / "sent.csv"),
+                     "--save-profile", str(tmp_path / "learned.toml")]) == 0
         sent = load_track(tmp_path / "sent.csv")
-        assert receiver.wait_for_packets(sent.frames // 2, timeout=10)
+        assert receiver.wait_for_packets(-(-sent.frames // 2), timeout=10)  # two frames a packet, the last maybe one
         playout = receiver.playout
         start = playout._anchor[1] - (playout._anchor[0] - playout._first) / 25.0 + playout.delay
         for k in range(2 * sent.frames + 10):
@@ -146,6 +148,9 @@ def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_pa
     assert sent.frames == 75 and received.frames >= 75 and receiver.reader.lost == 0
     assert np.abs(received.values[:75] - sent.values).max() <= 0.5 / StreamWriter(25.0).steps + 1e-9
     assert np.ptp(sent.values[:, 18]) > 0.3  # the jaw moved on the stream, from ranges learned as it ran
+    learned = load_profile(tmp_path / "learned.toml")  # kept for next time (--profile)
+    lid = learned.sources["LID_R_UP.y"]
+    assert learned.markerset == "face" and lid.neutral - lid.low > 4.0  # the blink widened it past its start
 
 
 def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_named(realdata):
@@ -167,3 +172,23 @@ def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_name
     assert times == pytest.approx([0.0, 0.04, 0.08, 0.12])  # each frame when it is due, stamped on arrival
     with pytest.raises(InputError, match="no camera 9"):
         camera_source("9")
+
+
+def test_a_real_blink_closes_the_characters_eyes_fully(realdata):
+    """bbaf2n blinks once near 2 s: the lid gap falls to a tenth of its open width, and the
+    mapped upper lids reach closed (0) on both sides, each staying open elsewhere."""
+    from mapping import map_take
+
+    take = track_video(realdata / "video" / "grid" / "bbaf2n.mpg", "face")
+
+    def gap(a, b):
+        return np.linalg.norm(take.positions[:, take.index(a)] - take.positions[:, take.index(b)], axis=1)
+
+    ratio = gap("LID_R_UP", "LID_R_LOW") / gap("EYE_R_IN", "EYE_R_OUT")
+    assert ratio.min() < 0.1 * np.median(ratio) and np.median(ratio) > 0.25
+    blink = int(np.argmin(ratio))
+    assert 40 <= blink <= 55
+    motors = map_take(take).values
+    for lid in (6, 8):  # ERU, ELU
+        assert motors[blink - 2:blink + 3, lid].min() < 0.05
+        assert np.median(motors[:, lid]) > 0.5
