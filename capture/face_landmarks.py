@@ -17,11 +17,14 @@ is not in the ``mediapipe`` wheel: ``make install`` takes it from the ``facelaps
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import math
 import os
 import struct
+import sys
 import zipfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -118,6 +121,24 @@ def _varint(data: bytes, i: int) -> tuple[int, int]:
             return value, i
 
 
+@contextlib.contextmanager
+def quiet_native_stderr() -> Iterator[None]:
+    """Send what native code writes to file descriptor 2 to nowhere while the block runs.
+
+    MediaPipe's C++ logs (absl, TensorFlow Lite) write there when a landmarker starts and first
+    runs, whatever the logging settings; the command's own errors must stay one line.
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "wb") as sink:
+            os.dup2(sink.fileno(), 2)
+            yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 @dataclass(frozen=True)
 class FaceFrame:
     """One frame's face: ``points`` ``(478, 3)`` camera-space mm, ``blendshapes`` ``(52,)``
@@ -149,7 +170,9 @@ class FaceTracker:
         options = vision.FaceLandmarkerOptions(
             base_options=BaseOptions(model_asset_path=str(path)), running_mode=vision.RunningMode.VIDEO,
             num_faces=max_faces, output_face_blendshapes=True, output_facial_transformation_matrixes=True)
-        self._landmarker = vision.FaceLandmarker.create_from_options(options)
+        with quiet_native_stderr():
+            self._landmarker = vision.FaceLandmarker.create_from_options(options)
+        self._quiet_first = True  # its first inference logs too
         self._last_nose: np.ndarray | None = None
         self._last_ms = -1
         self.blendshape_names: tuple[str, ...] = ()
@@ -162,7 +185,12 @@ class FaceTracker:
         ms = max(int(round(t * 1000)), self._last_ms + 1)  # the landmarker needs increasing stamps
         self._last_ms = ms
         frame = mp.Image(image_format=mp.ImageFormat.SRGB, data=np.ascontiguousarray(image))  # strides matter
-        result = self._landmarker.detect_for_video(frame, ms)
+        if self._quiet_first:
+            with quiet_native_stderr():
+                result = self._landmarker.detect_for_video(frame, ms)
+            self._quiet_first = False
+        else:
+            result = self._landmarker.detect_for_video(frame, ms)
         if not result.face_landmarks:
             return None
         height, width = image.shape[:2]

@@ -46,6 +46,8 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
         take = face_source(path).to_take(progress)
         if not take.frames:
             raise InputError("the video has no frames", path)
+        if take.frames == 1:
+            raise InputError("a still image (one frame), not a video of a face", path)
         seen = np.isfinite(take.positions).all(axis=2).any(axis=1)
         if not seen.any():
             raise InputError(f"no face found in any of its {take.frames} frames", path)

@@ -33,6 +33,7 @@ def probe(path: str | os.PathLike) -> VideoInfo:
         raise InputError("no such video file", path)
     if path.stat().st_size == 0:
         raise InputError("empty file (0 bytes), not a video", path)
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")  # FFmpeg's own complaints would break the one-line error
     cap = cv2.VideoCapture(str(path))
     try:
         if cap.isOpened():
@@ -51,8 +52,11 @@ def probe(path: str | os.PathLike) -> VideoInfo:
             rate = float(stream.average_rate) if stream.average_rate else 0.0
             return VideoInfo(path, stream.codec_context.width, stream.codec_context.height, _sane_rate(rate),
                              int(stream.frames or 0), "pyav")
+    except InputError:
+        raise
     except (av.error.FFmpegError, ValueError, OSError) as exc:
-        raise InputError(f"neither OpenCV nor PyAV can decode this video ({exc})", path) from None
+        why = getattr(exc, "strerror", None) or str(exc)
+        raise InputError(f"cannot be decoded: damaged, cut short or not a video ({why})", path) from None
 
 
 def frames(info: VideoInfo) -> Iterator[np.ndarray]:

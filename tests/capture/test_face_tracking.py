@@ -87,13 +87,14 @@ def test_a_real_talking_face_is_found_in_every_frame_and_its_lips_stop_when_its_
     assert np.ptp(jaw[:last]) > 0.3 and np.ptp(jaw[last + 8:]) < 0.05
 
 
-def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capsys):
+def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
+    """One line on the process's stderr, MediaPipe's native logs included."""
     from capture.videoio import write_video
 
     frames = [np.full((96, 128, 3), 90 + 3 * i, dtype=np.uint8) for i in range(8)]
     video = write_video(frames, tmp_path / "wall.mp4", 8.0)
     assert main(["track", str(video), "--markers", "face", "-o", str(tmp_path / "t.npz")]) == 2
-    err = capsys.readouterr().err
+    err = capfd.readouterr().err
     assert err.count("\n") == 1 and "wall.mp4: no face found in any of its 8 frames" in err, err
     assert not (tmp_path / "t.npz").exists()
 
@@ -192,3 +193,41 @@ def test_a_real_blink_closes_the_characters_eyes_fully(realdata):
     for lid in (6, 8):  # ERU, ELU
         assert motors[blink - 2:blink + 3, lid].min() < 0.05
         assert np.median(motors[:, lid]) > 0.5
+
+
+def _audio_only(path):
+    with av.open(str(path), "w") as container:
+        stream = container.add_stream("aac", rate=44100)
+        stream.layout = "mono"
+        frame = av.AudioFrame.from_ndarray(np.zeros((1, 1024), dtype=np.float32), format="fltp", layout="mono")
+        frame.sample_rate, frame.pts = 44100, 0
+        container.mux(stream.encode(frame))
+        container.mux(stream.encode(None))
+
+
+def _still(path):
+    import cv2
+
+    cv2.imwrite(str(path), np.full((64, 64, 3), 128, np.uint8))
+
+
+def _cut_short(path):
+    from capture.videoio import write_video
+
+    whole = write_video([np.full((64, 64, 3), i, np.uint8) for i in range(0, 200, 10)], path.with_suffix(".whole.mp4"),
+                        10.0)
+    data = whole.read_bytes()
+    path.write_bytes(data[: len(data) // 2])  # the index (moov) is at the end: gone
+
+
+@pytest.mark.parametrize("name, make, message", [
+    ("sound.m4a", _audio_only, "sound.m4a: no video stream in the file"),
+    ("face.png", _still, "face.png: a still image (one frame), not a video of a face"),
+    ("cut.mp4", _cut_short, "cut.mp4: cannot be decoded: damaged, cut short or not a video"),
+])
+def test_each_bad_video_says_what_it_is_in_one_line(tmp_path, capfd, name, make, message):
+    """One line on the process's own stderr: FFmpeg's complaints inside OpenCV are silenced too."""
+    make(tmp_path / name)
+    assert main(["track", str(tmp_path / name), "--markers", "face", "-o", str(tmp_path / "t.npz")]) == 2
+    err = capfd.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
