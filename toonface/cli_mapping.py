@@ -227,10 +227,11 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
 @click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0),
               help="Output rate [default: the take's].")
 @MIRROR
+@click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             reading: TakeReading) -> None:
+             side_by_side: bool, reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4."""
     from capture.sources import VIDEO_SUFFIXES
@@ -240,6 +241,8 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
     face_obj = load_face(face)
     video = Path(take).suffix.lower() in VIDEO_SUFFIXES
+    if side_by_side and not video:
+        raise click.BadParameter("needs a video TAKE to show beside the cartoon", param_hint="--side-by-side")
     if video:
         from capture.video_tracking import track_video
 
@@ -251,7 +254,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     bar = progress("render")(track.frames)
     if video:  # the performer's own voice goes with the cartoon
         frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0)), dims,
-                                   fps, progress=bar)
+                                   fps, progress=bar, side_by_side=side_by_side)
     else:
         frames = render(track, face_obj, output, dims, fps, progress=bar)
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]}{', with its sound' if video else ''})")

@@ -15,6 +15,7 @@ from capture import SyntheticTake, Take, save_take, synthesize
 from common.errors import Interrupted, Terminated
 from mapping import CleanSettings, Mapping, Profile, map_take
 from player import Renderer, create_context, render_track
+from player.beside import SideBySide, beside_width
 from player.offline import frame_count
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
 from toonface.outputs import Outputs
@@ -41,20 +42,24 @@ def map_onto_face(take: Take, neutral_window: tuple[float, float] | str | None =
 
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),
-           fps: float | None = None, samples: int = 4, progress: Callable[[int], None] | None = None) -> int:
+           fps: float | None = None, samples: int = 4, progress: Callable[[int], None] | None = None,
+           beside: str | os.PathLike | None = None, beside_start: float = 0.0) -> int:
     """Render ``track`` on ``face`` to an MP4 (``*.mp4``), a PNG folder or raw RGB (``-``);
     returns frames written.
 
     The output appears only when complete, or when Ctrl-C or SIGTERM stops it: then, as ffmpeg
     does, it is closed with the frames written so far and :class:`~common.errors.Interrupted`
-    says how many. On an error nothing is left.
+    says how many. On an error nothing is left. ``beside``: a video shown left of the cartoon,
+    frame for frame from ``beside_start`` seconds of its clock (:mod:`player.beside`).
     """
     ctx = create_context()
     try:
         with Renderer(ctx, size, samples) as renderer:
-            sink = Outputs().picture(str(output), rate=fps or track.rate, size=size)
+            extra = beside_width(beside, size[1]) if beside is not None else 0
+            sink = Outputs().picture(str(output), rate=fps or track.rate, size=(size[0] + extra, size[1]))
+            writer = SideBySide(sink, beside, extra, size[1], fps or track.rate, beside_start) if beside else sink
             try:
-                frames = render_track(track, FaceRig(face), renderer, sink, fps, progress)
+                frames = render_track(track, FaceRig(face), renderer, writer, fps, progress)
             except KeyboardInterrupt as stop:
                 sink.close()
                 raise Interrupted(str(output), sink.frames, frame_count(track, fps or track.rate),
@@ -62,6 +67,9 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
             except BaseException:
                 sink.abort()
                 raise
+            finally:
+                if isinstance(writer, SideBySide):
+                    writer.close()
             sink.close()
             return frames
     finally:
@@ -70,17 +78,19 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
 
 def render_with_sound(track: MotorTrack, face: Face, output: str | os.PathLike, sound: str | os.PathLike,
                       start: float = 0.0, size: tuple[int, int] = (512, 512), fps: float | None = None,
-                      progress: Callable[[int], None] | None = None) -> int:
+                      progress: Callable[[int], None] | None = None, side_by_side: bool = False) -> int:
     """:func:`render` into an MP4 that carries ``sound``'s audio from ``start`` seconds (a
-    talking-head video's own voice); without an audio stream in ``sound``, the picture alone."""
+    talking-head video's own voice; with ``side_by_side``, its picture left of the cartoon);
+    without an audio stream in ``sound``, the picture alone."""
     from player.mux import has_audio, mux_audio
 
     output = Path(output)
+    beside = sound if side_by_side else None
     if output.suffix.lower() != ".mp4" or not has_audio(sound):
-        return render(track, face, output, size, fps, progress=progress)
+        return render(track, face, output, size, fps, progress=progress, beside=beside, beside_start=start)
     picture = output.with_name(f".{output.stem}.picture.mp4")
     try:
-        frames = render(track, face, picture, size, fps, progress=progress)
+        frames = render(track, face, picture, size, fps, progress=progress, beside=beside, beside_start=start)
         mux_audio(picture, sound, output, start)
     finally:
         picture.unlink(missing_ok=True)

@@ -231,3 +231,27 @@ def test_each_bad_video_says_what_it_is_in_one_line(tmp_path, capfd, name, make,
     assert main(["track", str(tmp_path / name), "--markers", "face", "-o", str(tmp_path / "t.npz")]) == 2
     err = capfd.readouterr().err
     assert err.count("\n") == 1 and message in err, err
+
+
+@pytest.mark.gl
+def test_side_by_side_puts_the_performers_own_frame_left_of_the_cartoon(realdata, tmp_path, capsys):
+    import cv2
+
+    source = realdata / "video" / "grid" / "bbaf2n.mpg"
+    out = tmp_path / "both.mp4"
+    assert main(["retarget", str(source), "-o", str(out), "--face", "round", "--size", "64", "--side-by-side"]) == 0
+    with av.open(str(out)) as made, av.open(str(source)) as original:
+        ours = [f.to_ndarray(format="rgb24") for f in made.decode(video=0)]
+        theirs = [f.to_ndarray(format="rgb24") for f in original.decode(video=0)]
+    assert len(ours) == 75 and ours[0].shape == (64, 80 + 64, 3)  # 360x288 scaled to height 64: 80 wide
+    for i in (0, 36, 74):  # the same moment, within what H.264 keeps of it
+        expected = cv2.resize(theirs[i], (80, 64), interpolation=cv2.INTER_AREA).astype(int)
+        assert np.abs(ours[i][:, :80].astype(int) - expected).mean() < 6
+    assert np.abs(ours[36][:, :80].astype(int) - ours[0][:, :80]).mean() > 1  # it moves with the clip
+    take = tmp_path / "take.npz"
+    from capture import save_take, synthesize
+
+    save_take(synthesize(seconds=1.0, rate=30.0).take, take)
+    capsys.readouterr()
+    assert main(["retarget", str(take), "-o", str(out), "--side-by-side"]) == 2
+    assert "needs a video TAKE" in capsys.readouterr().err
