@@ -12,6 +12,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import av
+import numpy as np
 
 from common import InputError, atomic_path
 
@@ -23,6 +24,40 @@ def has_audio(path: str | os.PathLike) -> bool:
             return bool(container.streams.audio)
     except av.error.FFmpegError:
         return False
+
+
+def sound_envelope(path: str | os.PathLike, step: float = 0.02) -> tuple[np.ndarray, np.ndarray]:
+    """The loudness of a file's sound: RMS over each ``step`` seconds, scaled to its loudest as 1;
+    ``(times, envelope)``, each ``(n,)``, times from the file's first video frame where it has
+    one (the clock a track mapped from that video keeps), else from the sound's start.
+
+    Raises
+    ------
+    InputError
+        When the file has no audio stream or cannot be decoded.
+    """
+    try:
+        with av.open(str(path)) as container:
+            if not container.streams.audio:
+                raise InputError("no audio stream to draw", path)
+            stream = container.streams.audio[0]
+            offset = _start(stream)
+            if container.streams.video:
+                offset -= _start(container.streams.video[0])
+            rate = stream.codec_context.sample_rate or 48000
+            resampler = av.AudioResampler(format="flt", layout="mono", rate=rate)
+            samples = np.concatenate([piece.to_ndarray().reshape(-1) for frame in container.decode(stream)
+                                      for piece in resampler.resample(frame)] or [np.zeros(0, np.float32)])
+    except av.error.FFmpegError as exc:
+        raise InputError(f"cannot decode its sound ({exc})", path) from None
+    size = max(1, int(round(step * rate)))
+    count = len(samples) // size
+    rms = np.sqrt(np.mean(samples[:count * size].reshape(count, size).astype(float) ** 2, axis=1))
+    return offset + np.arange(count) * size / rate, rms / max(float(rms.max(initial=0.0)), 1e-12)
+
+
+def _start(stream: av.stream.Stream) -> float:
+    return float(stream.start_time * stream.time_base) if stream.start_time is not None and stream.time_base else 0.0
 
 
 def mux_audio(picture: str | os.PathLike, sound: str | os.PathLike, output: str | os.PathLike,

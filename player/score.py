@@ -25,7 +25,7 @@ _BLOCKS = "▁▂▃▄▅▆▇█"  # 0 is the lowest bar, not a blank that re
 
 
 def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple[str, ...] | None = None,
-                width: int = 1200) -> np.ndarray:
+                width: int = 1200, sound: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """The score as an RGB image ``(height, width, 3)`` uint8.
 
     Parameters
@@ -37,13 +37,17 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
         Motors to draw, in order; default all 21.
     width : int
         Pixels.
+    sound : tuple of ndarray, optional
+        ``(times, loudness in [0, 1])`` drawn as a last stave, ``sound``, filled (to check a
+        mouth against the voice; :func:`player.mux.sound_envelope`).
     """
     codes = tuple(codes or MOTOR_CODES)
     for code in codes:
         motor_index(code)  # unknown codes raise, naming the code
     duration = max(track.duration, other.duration if other is not None else 0.0, 1e-6)
     plot_w = width - MARGIN_LEFT - MARGIN_RIGHT
-    height = STAVE_PX * len(codes) + MARGIN_BOTTOM
+    rows = len(codes) + (sound is not None)
+    height = STAVE_PX * rows + MARGIN_BOTTOM
     image = np.full((height, width, 3), 255, np.uint8)
     for row, code in enumerate(codes):
         top = row * STAVE_PX + 6
@@ -66,7 +70,16 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
             rms = float(np.sqrt(np.mean((track.column(code) - theirs) ** 2)))
             cv2.putText(image, f"{100 * rms:.1f}%", (width - MARGIN_RIGHT + 8, top + span // 2 + 5),
                         cv2.FONT_HERSHEY_SIMPLEX, 0.45, (90, 90, 90), 1, cv2.LINE_AA)
-    axis_y = STAVE_PX * len(codes) + 4
+    if sound is not None:
+        top, span = len(codes) * STAVE_PX + 6, STAVE_PX - 12
+        cv2.putText(image, "sound", (8, top + span // 2 + 5), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1,
+                    cv2.LINE_AA)
+        times, loud = sound
+        xs = MARGIN_LEFT + np.clip(times / duration, 0, 1) * plot_w
+        ys = top + span * (1 - np.clip(loud, 0, 1))
+        outline = np.column_stack([np.r_[xs[:1], xs, xs[-1:]], np.r_[top + span, ys, top + span]])
+        cv2.fillPoly(image, [np.round(outline).astype(np.int32)[:, None, :]], (150, 150, 150), cv2.LINE_AA)
+    axis_y = STAVE_PX * rows + 4
     step = _tick_step(duration)
     for second in np.arange(0.0, duration + 1e-9, step):
         x = int(round(MARGIN_LEFT + second / duration * plot_w))
@@ -77,9 +90,10 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
 
 
 def save_score(track: MotorTrack, path: str | os.PathLike, other: MotorTrack | None = None,
-               codes: tuple[str, ...] | None = None, width: int = 1200) -> Path:
+               codes: tuple[str, ...] | None = None, width: int = 1200,
+               sound: tuple[np.ndarray, np.ndarray] | None = None) -> Path:
     """Write :func:`score_image` as PNG (atomically)."""
-    return save_image(score_image(track, other, codes, width), path)
+    return save_image(score_image(track, other, codes, width, sound), path)
 
 
 def score_text(track: MotorTrack, codes: tuple[str, ...] | None = None, columns: int = 60) -> list[str]:

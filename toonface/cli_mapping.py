@@ -269,7 +269,11 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
 @click.option("--motors", "codes", default=None, metavar="CODE,CODE,...", help="Staves to draw [default: all 21].")
 @click.option("--width", default=1200, show_default=True, type=click.IntRange(200, 8000), help="Image width, pixels.")
 @click.option("--text", is_flag=True, help="Also print the staves as text (block characters), one line per motor.")
-def score(motors: str, output: str, compare: str | None, codes: str | None, width: int, text: bool) -> None:
+@click.option("--sound", "sound_path", default=None, type=click.Path(dir_okay=False, exists=True),
+              help="Draw this file's loudness as a last stave (the video the track was mapped from: check the "
+                   "mouth against the voice).")
+def score(motors: str, output: str, compare: str | None, codes: str | None, width: int, text: bool,
+          sound_path: str | None) -> None:
     """Draw motor curves as staves, one per motor, like CharToon's Animation Editor.
 
     Each stave spans 0..1 with the motor's code at the left and a time axis below; with
@@ -287,11 +291,16 @@ def score(motors: str, output: str, compare: str | None, codes: str | None, widt
         check_image_suffix(output)
     track = load_track(motors)
     other = load_track(compare) if compare else None
+    sound = None
+    if sound_path:
+        from player.mux import sound_envelope
+
+        sound = sound_envelope(sound_path)
     if as_text:
         with atomic_path(output) as tmp:
             tmp.write_text("\n".join(score_text(track, picked)) + "\n", encoding="utf-8")
     else:
-        save_score(track, output, other, picked, width)
+        save_score(track, output, other, picked, width, sound)
     if text:
         for line in score_text(track, picked):
             click.echo(line)
