@@ -88,3 +88,32 @@ class MotorRecorder:
         """Write nothing."""
         self._times.clear()
         self._values.clear()
+
+
+class LatestMotors:
+    """A motor sink that keeps only the newest frame, for a loop that draws at its own pace
+    (``play --source``); safe to write from one thread and read from another."""
+
+    def __init__(self, neutral: np.ndarray) -> None:
+        import threading
+
+        self._lock = threading.Lock()
+        self._values = np.array(neutral, dtype=float)
+        self.frames = 0
+
+    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
+        """Keep ``values`` ``(21,)`` as the newest."""
+        with self._lock:
+            self._values = np.array(values, dtype=float)
+            self.frames += 1
+
+    def values(self) -> np.ndarray:
+        """The newest frame ``(21,)`` (the neutral before any)."""
+        with self._lock:
+            return self._values.copy()
+
+    def close(self) -> None:
+        """Nothing to keep."""
+
+    def abort(self) -> None:
+        """Nothing to drop."""

@@ -46,9 +46,12 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--motors", "--track", "track_path", default=None, type=click.Path(dir_okay=False),
               help="Play a motor track (.csv movie script or .npz) at its own rate instead of commands.")
 @click.option("--once", is_flag=True, help="With --motors: play it once and stop (default: loop).")
+@click.option("--source", "source_spec", default=None, metavar="SPEC",
+              help="Drive the face from a performer, mapped live: camera:N, camera:VIDEO, face:VIDEO, a take "
+                   "file or synthetic (as toonface send takes them).")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
-         size: str, track_path: str | None, once: bool, seconds: float | None) -> None:
+         size: str, track_path: str | None, once: bool, source_spec: str | None, seconds: float | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -76,6 +79,14 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     if output is not None:
         settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims))
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
+    follower = None
+    if source_spec is not None:
+        if track_path:
+            raise click.BadParameter("give --motors or --source, not both", param_hint="--source")
+        from toonface.send import Follower
+
+        follower = Follower.open(source_spec, face_obj.neutral(), say)
+        settings.source = lambda t: follower.latest.values()
 
     def ready(addresses: dict[str, str]) -> None:
         for kind, where in addresses.items():
@@ -85,7 +96,15 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
 
     try:
         with outputs:
-            report = run_live(face_obj, settings, ready)
+            if follower is not None:
+                follower.start()
+            try:
+                report = run_live(face_obj, settings, ready)
+            finally:
+                if follower is not None:
+                    follower.stop()
+        if follower is not None and follower.error is not None:
+            raise follower.error
     except ListenError as exc:
         raise click.BadParameter(str(exc), param_hint={"tcp": "--listen", "udp": "--udp", "preview": "--preview"}[
             exc.kind]) from None

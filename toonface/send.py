@@ -9,6 +9,7 @@ network), and a recording if asked.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
@@ -22,7 +23,7 @@ from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
 from mapping.stepwise import LiveMapper
 from mapping.workflow import SELF_MIN_SIDE, check_profile, typical_profile
-from toon.recording import MotorSink
+from toon.recording import LatestMotors, MotorSink
 
 #: Seconds of a take its own profile is calibrated on, when its marker set has no typical one.
 CALIBRATION_SECONDS = 10.0
@@ -102,3 +103,45 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
             sink.write(report.frames / source.rate, values, captured)
         report.frames += 1
     return report
+
+
+class Follower:
+    """A performer source mapped live in a background thread, its newest motors always at hand
+    (``play --source``): the thread plays the source in real time and writes each frame to
+    :attr:`latest`; :meth:`stop` ends it."""
+
+    def __init__(self, source: Source, mapper: LiveMapper, neutral: np.ndarray) -> None:
+        self.source, self.mapper = source, mapper
+        self.latest = LatestMotors(neutral)
+        self.error: BaseException | None = None
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    @classmethod
+    def open(cls, spec: str, neutral: np.ndarray, say: Callable[[str], None] = lambda _: None) -> Follower:
+        """The follower of the source ``spec`` names (as ``send`` takes it), mapped onto a face
+        whose neutral is ``neutral``; the choices made are said through ``say``."""
+        from capture.sources import open_source
+
+        source = open_source(spec)
+        notes: list[str] = []
+        mapper = build_mapper(source, target_neutral=neutral, notes=notes)
+        for note in notes:
+            say(f"note: {note}")
+        return cls(source, mapper, neutral)
+
+    def start(self) -> None:
+        """Begin following."""
+        self._thread.start()
+
+    def stop(self) -> None:
+        """Stop following and wait for the thread."""
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join(timeout=5.0)
+
+    def _run(self) -> None:
+        try:
+            run_sender(self.source, self.mapper, [self.latest], stop=self._stop.is_set)
+        except Exception as exc:  # noqa: BLE001 - kept for the caller; the face holds its last frame
+            self.error = exc
