@@ -166,7 +166,8 @@ class FaceTracker:
         path = model_path() if model is None else model
         self.canonical = canonical_face(path)
         eyes = {i: self.canonical[list(contour)].mean(axis=0) for i, contour in IRIS_EYES.items()}
-        self._irises = np.array([eyes[468]] * 5 + [eyes[473]] * 5)  # landmarks 468-472, 473-477
+        irises = np.array([eyes[468]] * 5 + [eyes[473]] * 5)  # landmarks 468-472, 473-477
+        self._vertices_cm = np.vstack([self.canonical, irises]) / 10.0  # every landmark's canonical vertex
         options = vision.FaceLandmarkerOptions(
             base_options=BaseOptions(model_asset_path=str(path)), running_mode=vision.RunningMode.VIDEO,
             num_faces=max_faces, output_face_blendshapes=True, output_facial_transformation_matrixes=True)
@@ -211,7 +212,7 @@ class FaceTracker:
     def _lift(self, pixels: np.ndarray, pose: np.ndarray, width: int, height: int) -> np.ndarray:
         """Image positions ``(478, 2)`` at the depths their canonical vertices have under
         ``pose``: camera-space mm ``(478, 3)``."""
-        vertices = np.vstack([self.canonical, self._irises])[:len(pixels)] / 10.0  # cm
+        vertices = self._vertices_cm[:len(pixels)]
         depth = -(vertices @ pose[:3, :3].T + pose[:3, 3])[:, 2]  # the camera looks down -z
         focal = (height / 2) / math.tan(math.radians(VERTICAL_FOV_DEG) / 2)
         out = np.empty((len(pixels), 3))

@@ -11,7 +11,7 @@ import os
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -19,16 +19,20 @@ from capture.face_landmarks import LANDMARKS, FaceTracker
 from capture.sources import Frame, Source
 from common import InputError
 
+if TYPE_CHECKING:
+    from capture.videoio import VideoInfo
 
-def face_source(path: str | os.PathLike, **_: Any) -> Source:
+
+def face_source(path: str | os.PathLike, info: VideoInfo | None = None, **_: Any) -> Source:
     """A video's face tracked as it plays. Times are the container's, counted from the first
     frame (a variable frame rate is kept); ``meta["start_time"]`` is that frame's time on the
-    container's clock, where the sound's clock lines up."""
+    container's clock, where the sound's clock lines up. ``info``: the video's probe, where the
+    caller has it."""
     import av
 
     from capture.videoio import probe
 
-    info = probe(path)
+    info = probe(path) if info is None else info
     meta = _meta(Path(path).name, [info.width, info.height])
 
     def images() -> Iterator[tuple[float, np.ndarray]]:

@@ -21,12 +21,15 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from capture.take import Take
 from common import InputError
+
+if TYPE_CHECKING:
+    from capture.videoio import VideoInfo
 
 VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".mpeg", ".m4v"})
 
@@ -175,16 +178,17 @@ def synthetic_source(target: str = "synthetic", seconds: float | None = None, ra
 
 
 def video_source(path: str | os.PathLike, colour: str = "blue", markerset: str = "toon32", start_frame: int = 0,
-                 **_: Any) -> Source:
+                 info: VideoInfo | None = None, **_: Any) -> Source:
     """Dot markers tracked frame by frame as the video plays (:func:`capture.dots.follow_dots`,
     the loop ``toonface track`` runs too); ``start_frame`` must show the face neutral with
     every dot. Positions are mm in the marker set's front view (``dims`` 2), placed by fitting
-    its layout on that frame (``meta["mm_per_pixel"]``)."""
+    its layout on that frame (``meta["mm_per_pixel"]``). ``info``: the video's :func:`probe`,
+    where the caller has it."""
     from capture.dots import DotStyle, DotTracker, follow_dots, front_layout, pixels_to_mm, sticker_labels
     from capture.markerset import load_markerset
     from capture.videoio import frames, probe
 
-    info = probe(path)
+    info = probe(path) if info is None else info  # a caller that probed passes what it found
     ms = load_markerset(markerset)
     labels = sticker_labels(ms.labels)
     tracker = DotTracker(front_layout(ms, labels))

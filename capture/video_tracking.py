@@ -1,4 +1,5 @@
-"""Markers from a video file into a planar :class:`Take` (``toonface track``).
+"""Markers from a video file into a :class:`Take` (``toonface track``): planar for dots and ArUco,
+3-D for a face without markers (:mod:`capture.face_sources`).
 
 Image positions (x right, y down, pixels) become millimetres with y up: ``(x s, -y s, 0)`` for a
 scale ``s`` in mm per pixel, with ``dims=2``. For dots, ``s`` and the origin come from fitting the
@@ -43,9 +44,7 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
     rate = info.rate or 30.0
     progress = progress_factory(info.frames) if progress_factory else None
     if method == "face":
-        take = face_source(path).to_take(progress)
-        if not take.frames:
-            raise InputError("the video has no frames", path)
+        take = _some_frames(face_source(path, info).to_take(progress), path)
         if take.frames == 1:
             raise InputError("a still image (one frame), not a video of a face", path)
         seen = np.isfinite(take.positions).all(axis=2).any(axis=1)
@@ -54,9 +53,7 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
         take.meta["faces_found"] = int(seen.sum())
         return take
     if method == "dots":
-        take = video_source(path, colour, markerset, start_frame).to_take(progress)
-        if not take.frames:
-            raise InputError("the video has no frames", path)
+        take = _some_frames(video_source(path, colour, markerset, start_frame, info).to_take(progress), path)
         if not np.isfinite(take.positions).any():
             raise InputError(f"no {colour} dot markers found in {take.frames} frames", path)
         return take
@@ -78,6 +75,12 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
         raise InputError("the video has no frames", path)
     meta["mm_per_pixel"] = float(scale)
     return Take(pixels_to_mm(pixels, origin, scale), tuple(labels), rate, dims=2, meta=meta)
+
+
+def _some_frames(take: Take, path: str | os.PathLike) -> Take:
+    if not take.frames:
+        raise InputError("the video has no frames", path)
+    return take
 
 
 def _aruco_scale(pixels: np.ndarray, marker_mm: float, corners: bool) -> float:

@@ -61,7 +61,7 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
         values, confidence = _resample(values, stretched, new_times), _resample(confidence, stretched, new_times)
     meta = {"mapping": mapping.name, "profile": profile.performer or profile.markerset,
             "mapped": [r.code for r in mapping.rules], "lost_frames": int(np.isnan(raw).any(axis=1).sum())}
-    return MotorTrack(np.clip(values, 0.0, 1.0), rate, confidence=np.clip(confidence, 0.0, 1.0), meta=meta)
+    return MotorTrack(values, rate, confidence=np.clip(confidence, 0.0, 1.0), meta=meta)  # the rules clip values
 
 
 def marker_quality(local: np.ndarray, filled: np.ndarray | None = None) -> np.ndarray:

@@ -83,6 +83,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     loop = Loop(animator, clock, sleep)
     commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started)
     servers: list[socketserver.TCPServer | socketserver.UDPServer] = []
+    sinks = list(settings.sinks)  # the preview joins them here, not in the caller's settings
     ready: dict[str, str] = {}
     ctx = create_context()
     try:
@@ -94,7 +95,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
             ready["udp"] = f"{settings.udp[0]}:{local_port(servers[-1])}"
         if settings.preview is not None:
             preview = _listen("preview", settings.preview, PreviewSink)
-            settings.sinks.append(preview)
+            sinks.append(preview)
             ready["preview"] = preview.url
         for server in servers:
             start(server)
@@ -106,14 +107,14 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                     values = track_values(t)
                     animator.set_values(values)
                 picture = renderer.render(rig.geometry(values))
-                for sink in settings.sinks:
+                for sink in sinks:
                     sink.write(picture)
 
             loops = None if settings.seconds is None else max(1, int(round(settings.seconds / settings.loop_time)))
             if settings.track is not None and not settings.repeat:
                 loops = max(1, int(round(settings.track.duration / settings.loop_time)))
             def skip(frames: int) -> None:
-                for sink in settings.sinks:
+                for sink in sinks:
                     sink.skip(frames)
 
             on_ready(ready)
@@ -126,7 +127,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         for server in servers:
             server.shutdown()
             server.server_close()
-        for sink in settings.sinks:
+        for sink in sinks:
             sink.close()
         ctx.release()
 

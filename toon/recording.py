@@ -10,6 +10,7 @@ either from a command-line spec.
 from __future__ import annotations
 
 import os
+import threading
 from pathlib import Path
 from typing import Protocol
 
@@ -95,8 +96,6 @@ class LatestMotors:
     (``play --source``); safe to write from one thread and read from another."""
 
     def __init__(self, neutral: np.ndarray) -> None:
-        import threading
-
         self._lock = threading.Lock()
         self._values = np.array(neutral, dtype=float)
         self.frames = 0
