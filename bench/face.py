@@ -64,7 +64,8 @@ def _latencies(video: Path) -> list[float]:
     mapping, markerset = load_mapping("face"), load_markerset("face")
     profile = calibrate(mapping, prepare(take, markerset))
     source = face_source(video)
-    mapper = LiveMapper(mapping, markerset, profile, source.labels, source.rate, rest_seconds=0.0)
+    mapper = LiveMapper(mapping, markerset, profile, source.labels, source.rate, rest_seconds=0.0,
+                        channel_names=source.channel_names)
     out: list[float] = []
     frames = iter(source.frames)
     while True:
@@ -72,5 +73,5 @@ def _latencies(video: Path) -> list[float]:
         frame = next(frames, None)
         if frame is None:
             return out
-        mapper.step(frame.positions, frame.t)
+        mapper.step(frame.positions, frame.t, frame.channels)
         out.append((time.perf_counter() - start) * 1000)

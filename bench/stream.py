@@ -66,9 +66,9 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
         os.sched_setaffinity(0, {min(cpus)})
     try:
         out, start = [], time.perf_counter()
-        for t, positions in source.frames:
-            values, _ = mapper.step(positions, t)
-            writer.push(values, t)
+        for frame in source.frames:
+            values, _ = mapper.step(frame.positions, frame.t)
+            writer.push(values, frame.t)
             out.append(values)
         elapsed = time.perf_counter() - start
     finally:

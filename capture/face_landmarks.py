@@ -51,6 +51,23 @@ LANDMARKS: dict[str, int] = {
     "LIP_UP_R": 39, "LIP_UP_L": 269, "LIP_LOW_R": 181, "LIP_LOW_L": 405,
     "CHIN": 152, "CHEEK_R": 50, "CHEEK_L": 280, "JAW_R": 172, "JAW_L": 397,
 }
+#: The blendshape scores a frame carries, in MediaPipe's order: ARKit's names (its ``_neutral``
+#: score, which means nothing to a mapping, is left out).
+BLENDSHAPES: tuple[str, ...] = (
+    "browDownLeft", "browDownRight", "browInnerUp", "browOuterUpLeft", "browOuterUpRight", "cheekPuff",
+    "cheekSquintLeft", "cheekSquintRight", "eyeBlinkLeft", "eyeBlinkRight", "eyeLookDownLeft", "eyeLookDownRight",
+    "eyeLookInLeft", "eyeLookInRight", "eyeLookOutLeft", "eyeLookOutRight", "eyeLookUpLeft", "eyeLookUpRight",
+    "eyeSquintLeft", "eyeSquintRight", "eyeWideLeft", "eyeWideRight", "jawForward", "jawLeft", "jawOpen", "jawRight",
+    "mouthClose", "mouthDimpleLeft", "mouthDimpleRight", "mouthFrownLeft", "mouthFrownRight", "mouthFunnel",
+    "mouthLeft", "mouthLowerDownLeft", "mouthLowerDownRight", "mouthPressLeft", "mouthPressRight", "mouthPucker",
+    "mouthRight", "mouthRollLower", "mouthRollUpper", "mouthShrugLower", "mouthShrugUpper", "mouthSmileLeft",
+    "mouthSmileRight", "mouthStretchLeft", "mouthStretchRight", "mouthUpperUpLeft", "mouthUpperUpRight",
+    "noseSneerLeft", "noseSneerRight")
+#: An eye whose lid gap is below this share of its width is closed: its iris, which the model
+#: places even through a lid, is not reported (the pupils hold while the lid is down).
+IRIS_HIDDEN_RATIO = 0.15
+#: Per eye: the iris landmarks, the lid pair (upper, lower) and the corner pair.
+EYE_LANDMARKS = {"right": (range(468, 473), (159, 145), (33, 133)), "left": (range(473, 478), (386, 374), (263, 362))}
 #: Each iris centre's depth is its eye's: the mean of these contour points' canonical vertices.
 IRIS_EYES = {468: (33, 133, 159, 145), 473: (263, 362, 386, 374)}
 
@@ -141,13 +158,19 @@ def quiet_native_stderr() -> Iterator[None]:
 
 @dataclass(frozen=True)
 class FaceFrame:
-    """One frame's face: ``points`` ``(478, 3)`` camera-space mm, ``blendshapes`` ``(52,)``
-    scores in [0, 1] (ARKit names, :attr:`FaceTracker.blendshape_names`), ``pose`` ``(4, 4)``
-    (canonical face, cm -> camera, cm)."""
+    """One frame's face: ``points`` ``(478, 3)`` camera-space mm (an iris NaN behind a closed
+    lid), ``blendshapes`` ``(51,)`` scores in [0, 1] named by :data:`BLENDSHAPES` (NaN for one
+    the model did not give), ``pose`` ``(4, 4)`` (canonical face, cm -> camera, cm)."""
 
     points: np.ndarray
     blendshapes: np.ndarray
     pose: np.ndarray
+
+
+def lid_gap_ratio(pixels: np.ndarray, lids: tuple[int, int], corners: tuple[int, int]) -> float:
+    """An eye's opening: its lids' distance over its corners' in the image ``(478, 2)``."""
+    return float(np.linalg.norm(pixels[lids[0]] - pixels[lids[1]])
+                 / max(float(np.linalg.norm(pixels[corners[0]] - pixels[corners[1]])), 1e-9))
 
 
 class FaceTracker:
@@ -176,7 +199,6 @@ class FaceTracker:
         self._quiet_first = True  # its first inference logs too
         self._last_nose: np.ndarray | None = None
         self._last_ms = -1
-        self.blendshape_names: tuple[str, ...] = ()
 
     def track(self, image: np.ndarray, t: float) -> FaceFrame | None:
         """The face in an RGB ``uint8`` image ``(H, W, 3)`` at ``t`` seconds (increasing), or
@@ -199,10 +221,12 @@ class FaceTracker:
         pick = self._pick(faces)
         self._last_nose = faces[pick][1]
         pose = np.array(result.facial_transformation_matrixes[pick], dtype=float)
-        scores = result.face_blendshapes[pick] if result.face_blendshapes else []
-        if scores and not self.blendshape_names:
-            self.blendshape_names = tuple(s.category_name for s in scores)
-        return FaceFrame(self._lift(faces[pick], pose, width, height), np.array([s.score for s in scores]), pose)
+        scores = {s.category_name: s.score for s in result.face_blendshapes[pick]} if result.face_blendshapes else {}
+        points = self._lift(faces[pick], pose, width, height)
+        for irises, lids, corners in EYE_LANDMARKS.values():
+            if len(points) > irises[-1] and lid_gap_ratio(faces[pick], lids, corners) < IRIS_HIDDEN_RATIO:
+                points[list(irises)] = np.nan
+        return FaceFrame(points, np.array([scores.get(name, np.nan) for name in BLENDSHAPES]), pose)
 
     def _pick(self, faces: list[np.ndarray]) -> int:
         if self._last_nose is None:

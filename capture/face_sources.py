@@ -1,8 +1,8 @@
 """Markerless sources: a talking-head video tracked as it plays, and a camera (or a video played
 as one), both through MediaPipe's Face Landmarker (:mod:`capture.face_landmarks`).
 
-Frames carry the marker set ``face``'s points in camera-space mm, NaN where no face is seen;
-``meta["blendshapes"]`` collects each frame's 52 scores (None without a face).
+Frames carry the marker set ``face``'s points in camera-space mm and the 51 blendshape scores
+as channels (:data:`~capture.face_landmarks.BLENDSHAPES`), NaN where no face is seen.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from capture.face_landmarks import LANDMARKS, FaceTracker
+from capture.face_landmarks import BLENDSHAPES, LANDMARKS, FaceTracker
 from capture.sources import Frame, Source
 from common import InputError
 
@@ -44,7 +44,8 @@ def face_source(path: str | os.PathLike, info: VideoInfo | None = None, **_: Any
                     yield clock - meta["start_time"], image.to_ndarray(format="rgb24")
         except av.error.FFmpegError as exc:
             raise InputError(f"cannot decode the video ({exc})", path) from None
-    return Source(tuple(LANDMARKS), info.rate or 30.0, _tracked(images(), meta), Path(path).name, meta=meta)
+    return Source(tuple(LANDMARKS), info.rate or 30.0, _tracked(images(), meta), Path(path).name, meta=meta,
+                  channel_names=BLENDSHAPES)
 
 
 def camera_source(target: str, clock: Callable[[], float] = time.perf_counter,
@@ -78,12 +79,12 @@ def camera_source(target: str, clock: Callable[[], float] = time.perf_counter,
                 yield clock() - start, image[:, :, ::-1]
         finally:
             capture.release()
-    return Source(tuple(LANDMARKS), rate, _tracked(images(), meta), f"camera {target}", live=True, meta=meta)
+    return Source(tuple(LANDMARKS), rate, _tracked(images(), meta), f"camera {target}", live=True, meta=meta,
+                  channel_names=BLENDSHAPES)
 
 
 def _meta(name: str, size: list[int]) -> dict[str, Any]:
-    return {"source": "video", "file": name, "tracker": "face", "markerset": "face", "image_size": size,
-            "blendshapes": [], "blendshape_names": []}
+    return {"source": "video", "file": name, "tracker": "face", "markerset": "face", "image_size": size}
 
 
 def _tracked(images: Iterator[tuple[float, np.ndarray]], meta: dict[str, Any]) -> Iterator[Frame]:
@@ -96,12 +97,9 @@ def _tracked(images: Iterator[tuple[float, np.ndarray]], meta: dict[str, Any]) -
             tracker = tracker or FaceTracker()
             face = tracker.track(image, t)
             if face is None:
-                meta["blendshapes"].append(None)
-                yield Frame(t, np.full((len(columns), 3), np.nan))
-                continue
-            meta["blendshape_names"] = list(tracker.blendshape_names)
-            meta["blendshapes"].append([round(float(s), 4) for s in face.blendshapes])
-            yield Frame(t, face.points[columns])
+                yield Frame(t, np.full((len(columns), 3), np.nan), np.full(len(BLENDSHAPES), np.nan))
+            else:
+                yield Frame(t, face.points[columns], face.blendshapes)
     finally:
         if tracker is not None:
             tracker.close()

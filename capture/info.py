@@ -16,7 +16,9 @@ def summarize(take: Take) -> dict:
         ``frames``, ``markers``, ``rate`` (Hz), ``duration`` (seconds, first to last frame plus
         one frame), ``units`` (always ``"mm"``: every reader converts), ``dims``, ``labels``,
         ``missing`` (total missing marker-samples), ``missing_per_marker`` (label -> count, only
-        markers with gaps), ``longest_gap`` (label -> frames) and ``source`` (reader metadata).
+        markers with gaps), ``longest_gap`` (label -> frames), ``source`` (reader metadata) and
+        ``channels`` (name -> ``{"min", "max", "measured"}``: the range of each channel, such as
+        a markerless tracker's blendshape scores, and in how many frames it was measured).
     """
     missing = ~take.valid  # (frames, markers)
     per_marker = missing.sum(axis=0)
@@ -33,7 +35,14 @@ def summarize(take: Take) -> dict:
         "missing_per_marker": {lab: int(n) for lab, n in zip(take.labels, per_marker, strict=True) if n},
         "longest_gap": {lab: _longest_run(missing[:, m]) for m, lab in enumerate(take.labels) if per_marker[m]},
         "source": dict(take.meta),
+        "channels": {name: _channel_summary(take.channels[:, c]) for c, name in enumerate(take.channel_names)},
     }
+
+
+def _channel_summary(values: np.ndarray) -> dict:
+    seen = values[np.isfinite(values)]
+    return {"min": round(float(seen.min()), 4) if seen.size else None,
+            "max": round(float(seen.max()), 4) if seen.size else None, "measured": int(seen.size)}
 
 
 def _longest_run(flags: np.ndarray) -> int:
@@ -72,4 +81,11 @@ def describe(summary: dict) -> list[str]:
         n = summary["missing_per_marker"].get(label, 0)
         gap = summary["longest_gap"].get(label, 0)
         lines.append(f"{label:<{width}}  {n:>7}  {gap:>11}")
+    channels = summary.get("channels", {})
+    if channels:
+        width = max(len(x) for x in channels)
+        lines += ["", f"{'channel':<{width}}  measured     min     max"]
+        for name, c in channels.items():
+            span = f"{c['min']:>7.3f} {c['max']:>7.3f}" if c["measured"] else f"{'-':>7} {'-':>7}"
+            lines.append(f"{name:<{width}}  {c['measured']:>8} {span}")
     return lines

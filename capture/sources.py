@@ -35,10 +35,13 @@ VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".m
 
 
 class Frame(NamedTuple):
-    """One frame of a source: ``t`` seconds from its start, ``positions`` ``(M, 3)`` mm."""
+    """One frame of a source: ``t`` seconds from its start, ``positions`` ``(M, 3)`` mm, and
+    ``channels`` ``(C,)`` (the source's :attr:`Source.channel_names`, NaN not measured) where
+    it has any."""
 
     t: float
     positions: np.ndarray
+    channels: np.ndarray | None = None
 
 
 @dataclass
@@ -62,6 +65,8 @@ class Source:
         The whole take, where the source is one (a profile can be calibrated from it).
     meta : dict
         What the source learned (a video's ``mm_per_pixel`` once tracking has started).
+    channel_names : tuple of str
+        Names of each frame's ``channels`` (a markerless tracker's blendshapes); empty for none.
     """
 
     labels: tuple[str, ...]
@@ -72,20 +77,25 @@ class Source:
     live: bool = False
     recording: Take | None = None
     meta: dict[str, Any] = field(default_factory=dict)
+    channel_names: tuple[str, ...] = ()
 
     def to_take(self, progress: Callable[[int], None] | None = None) -> Take:
         """Every frame (as fast as they come) as a take; ``progress(1)`` after each."""
-        times, rows = [], []
+        times, rows, channels = [], [], []
+        blank = np.full(len(self.channel_names), np.nan)
         for frame in self.frames:
             times.append(frame.t)
             rows.append(frame.positions)
+            channels.append(blank if frame.channels is None else frame.channels)
             if progress:
                 progress(1)
         if not rows:
             return Take(np.empty((0, len(self.labels), 3)), self.labels, self.rate, dims=self.dims,
-                        meta=dict(self.meta))
+                        meta=dict(self.meta), channels=np.empty((0, len(self.channel_names))),
+                        channel_names=self.channel_names)
         return Take(np.stack(rows), self.labels, self.rate, times=np.array(times), dims=self.dims,
-                    meta=dict(self.meta))
+                    meta=dict(self.meta), channels=np.array(channels).reshape(len(rows), len(self.channel_names)),
+                    channel_names=self.channel_names)
 
 
 @dataclass(frozen=True)
@@ -145,13 +155,13 @@ def take_source(take: Take, repeat: bool = False, **_: Any) -> Source:
     def play() -> Iterator[Frame]:
         offset = 0.0
         while take.frames:
-            for t, positions in zip(times, take.positions, strict=True):
-                yield Frame(offset + float(t), positions)
+            for t, positions, channels in zip(times, take.positions, take.channels, strict=True):
+                yield Frame(offset + float(t), positions, channels if take.channel_names else None)
             if not repeat:
                 return
             offset += period
     return Source(take.labels, take.rate, play(), take.meta.get("file", "take"), take.dims, recording=take,
-                  meta=dict(take.meta))
+                  meta=dict(take.meta), channel_names=take.channel_names)
 
 
 def take_file_source(path: str, read_take: Callable[[str], Take] | None = None, repeat: bool = False,

@@ -32,6 +32,12 @@ class Take:
         3, or 2 for planar sources.
     meta : dict
         Free-form provenance (source file, vendor, ...).
+    channels : array_like, shape (frames, channels), optional
+        Scalar measurements a tracker reports beside the markers, one column per name in
+        ``channel_names`` (a markerless tracker's blendshape scores, 0..1); NaN where not
+        measured. None: no channels.
+    channel_names : sequence of str
+        Unique names of ``channels``' columns (``jawOpen``, ``eyeBlinkLeft``, ...).
     """
 
     positions: np.ndarray
@@ -40,6 +46,8 @@ class Take:
     times: np.ndarray = None  # type: ignore[assignment]  # None: frame / rate; __post_init__ stores an array
     dims: int = 3
     meta: dict = field(default_factory=dict)
+    channels: np.ndarray = None  # type: ignore[assignment]  # None: no channels; __post_init__ stores an array
+    channel_names: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         pos = np.asarray(self.positions, dtype=np.float64)
@@ -68,6 +76,22 @@ class Take:
         object.__setattr__(self, "labels", labels)
         object.__setattr__(self, "rate", float(self.rate))
         object.__setattr__(self, "times", readonly(times))
+        self._check_channels(pos.shape[0])
+
+    def _check_channels(self, frames: int) -> None:
+        names = tuple(str(x) for x in self.channel_names)
+        channels = (np.empty((frames, 0)) if self.channels is None and not names
+                    else np.asarray(self.channels, dtype=np.float64))
+        if channels.shape != (frames, len(names)):
+            raise InputError(f"channels must have shape ({frames}, {len(names)}) for {len(names)} channel names, "
+                             f"got {channels.shape}")
+        if len(set(names)) != len(names):
+            repeated = sorted({x for x in names if names.count(x) > 1})
+            raise InputError(f"channel names must be unique; repeated: {repeated}")
+        if np.isinf(channels).any():
+            raise InputError("channels contain infinities; use NaN for values not measured")
+        object.__setattr__(self, "channels", readonly(channels.copy()))
+        object.__setattr__(self, "channel_names", names)
 
     @property
     def frames(self) -> int:
@@ -98,6 +122,12 @@ class Take:
     def select(self, labels: list[str] | tuple[str, ...]) -> np.ndarray:
         """Several markers' trajectories in the given order, shape ``(frames, len(labels), 3)``."""
         return self.positions[:, [self.index(x) for x in labels]]
+
+    def channel(self, name: str) -> np.ndarray:
+        """One channel's values, shape ``(frames,)``; raises :class:`InputError` naming a missing one."""
+        if name not in self.channel_names:
+            raise InputError(f'no channel "{name}" in this take')
+        return self.channels[:, self.channel_names.index(name)]
 
     def window(self, start: float, end: float) -> np.ndarray:
         """Boolean frame mask for times in ``[start, end)`` seconds, shape ``(frames,)``."""

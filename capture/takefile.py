@@ -2,7 +2,8 @@
 
 ``load_take`` reads any of them; ``save_take`` writes any of them atomically. Every format
 round-trips: read -> write -> read gives equal positions, labels, rate and (except C3D, which
-stores only a rate) times.
+stores only a rate) times. Only ``.npz`` keeps a take's channels (a markerless tracker's
+blendshape scores); :func:`dropped_channels` words what another format drops.
 """
 
 from __future__ import annotations
@@ -32,7 +33,8 @@ def _write_npz(take: Take, path: Path) -> None:
     with open(path, "wb") as fh:
         np.savez_compressed(fh, format=NPZ_FORMAT, positions=take.positions, labels=np.array(take.labels),
                             rate=np.float64(take.rate), times=take.times, dims=np.int64(take.dims),
-                            meta=json.dumps(take.meta))
+                            meta=json.dumps(take.meta), channels=take.channels,
+                            channel_names=np.array(take.channel_names, dtype=str))
 
 
 def _read_npz(path: Path) -> Take:
@@ -45,8 +47,11 @@ def _read_npz(path: Path) -> Take:
                     raise InputError("a single .npy array, not a toonface take archive", path)
                 if "format" not in z.files or str(z["format"]) != NPZ_FORMAT:
                     raise InputError(f'not a toonface take (missing format "{NPZ_FORMAT}")', path)
+                channels = ((z["channels"], tuple(str(x) for x in z["channel_names"])) if "channels" in z.files
+                            else (np.empty((len(z["times"]), 0)), ()))  # written before takes had channels
                 return Take(z["positions"], tuple(str(x) for x in z["labels"]), float(z["rate"]),
-                            times=z["times"], dims=int(z["dims"]), meta=json.loads(str(z["meta"])))
+                            times=z["times"], dims=int(z["dims"]), meta=json.loads(str(z["meta"])),
+                            channels=channels[0], channel_names=channels[1])
     except InputError as exc:
         raise InputError(exc.message, path) from None
     except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error,
@@ -97,6 +102,15 @@ def is_table(path: str | os.PathLike) -> bool:
     """Whether ``path`` is a CSV-like table, the one kind of take that ``rate``, ``labels`` and
     ``units`` apply to."""
     return Path(path).suffix.lower() in _TABLES
+
+
+def dropped_channels(take: Take, path: str | os.PathLike) -> str:
+    """What writing ``take`` to ``path`` leaves out, as a note for the user ("" when nothing):
+    only ``.npz`` keeps channels."""
+    if not take.channel_names or Path(path).suffix.lower() == ".npz":
+        return ""
+    return (f"note: {Path(path).name} keeps the markers only; its {len(take.channel_names)} channels "
+            f"({', '.join(take.channel_names[:3])}, ...) need a .npz take")
 
 
 def save_take(take: Take, path: str | os.PathLike) -> Path:

@@ -7,7 +7,9 @@ head references too) and the head is fitted again without them, with the perform
 shape the first fit measured. Gaps are filled in the head
 frame (from both sides, and from the other markers for long ones), then everything is smoothed
 with a zero-phase low-pass, which has no lag because it may look ahead. The head pose is smoothed
-the same way. Samples left unseen (gaps too long to fill) stay NaN.
+the same way. Samples left unseen (gaps too long to fill) stay NaN. A take's channels (a
+markerless tracker's blendshape scores) are filled across the same short gaps, straight from one
+side to the other, and smoothed by the same low-pass.
 
 A take whose markers match no known marker set (or lack the head references) is cleaned as it
 is, in world coordinates, and the report says so.
@@ -23,7 +25,7 @@ from capture import MarkerSet, Take
 from capture.markerset import find_markerset
 from common import Failure
 from mapping.filters import Butterworth
-from mapping.gaps import GapFiller
+from mapping.gaps import GapFiller, gap_runs
 from mapping.outliers import SpikeFilter
 from mapping.settings import CleanSettings
 from mapping.stabilise import Stabilised, nearest_rotation, stabilise, yaw_pitch_degrees
@@ -85,7 +87,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     rotation, translation = first.rotation, first.translation
     if settings.cutoff_hz > 0 and take.frames > 1:
         rotation, translation = _smooth_pose(rotation, translation, _smoother(settings, take.rate))
-    cleaned = Stabilised(local, rotation, translation, first.ok, first.reference, filled_mask)
+    cleaned = Stabilised(local, rotation, translation, first.ok, first.reference, filled_mask,
+                         clean_channels(take, settings))
     missing = int(np.isnan(local[..., 0]).sum())
     return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()))
 
@@ -104,6 +107,7 @@ def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset:
     """
     markerset = markerset or find_markerset(take.labels)
     result = clean_stabilised(take, markerset, settings) if markerset else Failure("no known marker set")
+    channels = result[0].channels if result else clean_channels(take, settings)
     meta = {**take.meta, "cleaned": {"spikes": settings.spikes, "max_gap_seconds": settings.max_gap_seconds,
                                      "cutoff_hz": settings.cutoff_hz}}
     if not result:
@@ -120,8 +124,27 @@ def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset:
             report = CleanReport(report.rejected, report.filled, int(np.isnan(pos[..., 0]).sum()),
                                  report.no_head_frames, "removed while cleaning, then restored")
     meta["cleaned"].update(rejected=report.rejected, filled=report.filled, head=report.head)
-    cleaned = Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta)
+    cleaned = Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta,
+                   channels=np.column_stack([channels[n] for n in take.channel_names]) if channels else take.channels,
+                   channel_names=take.channel_names)
     return cleaned, report
+
+
+def clean_channels(take: Take, settings: CleanSettings) -> dict[str, np.ndarray]:
+    """The take's channels by name, ``(F,)`` each: gaps up to ``settings.max_gap_seconds`` with
+    values on both sides filled by a straight line, then smoothed as markers are."""
+    values = np.array(take.channels, dtype=np.float64)
+    longest = int(round(settings.max_gap_seconds * take.rate))  # frames, as markers' gaps are counted
+    if longest > 0 and take.frames > 1:
+        for c in range(values.shape[1]):
+            column = values[:, c]
+            for start, end in gap_runs(np.isnan(column)):
+                if start > 0 and end < take.frames and end - start <= longest:
+                    column[start:end] = np.interp(take.times[start:end], take.times[[start - 1, end]],
+                                                  column[[start - 1, end]])
+    if settings.cutoff_hz > 0 and take.frames > 1 and values.size:
+        values = _smoother(settings, take.rate).smooth_offline(values)
+    return {name: values[:, c] for c, name in enumerate(take.channel_names)}
 
 
 def _clean_world(take: Take, settings: CleanSettings, head: str) -> tuple[np.ndarray, CleanReport]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from mapping.profile import Profile, SourceRange
+from mapping.sources import mm_scale
 
 
 @dataclass
@@ -25,7 +26,8 @@ class RangeLearner:
     profile : Profile
         Its ranges' rests are kept; its lows and highs are learned.
     min_side : float
-        Starting span either side of rest, in each source's units (mm, degrees).
+        Starting span either side of rest, mm or degrees (scaled for blendshape scores by
+        :func:`~mapping.sources.mm_scale`).
     decay_seconds : float
         Time constant of the ease back toward the starting span.
     freeze_after : float
@@ -40,12 +42,15 @@ class RangeLearner:
     _last: float | None = field(default=None, init=False)
 
     def __post_init__(self) -> None:
-        sources = {key: SourceRange(span.neutral, min(span.low, span.neutral - self.min_side),
-                                    max(span.high, span.neutral + self.min_side))
+        sources = {key: SourceRange(span.neutral, min(span.low, span.neutral - self._side(key)),
+                                    max(span.high, span.neutral + self._side(key)))
                    for key, span in self.profile.sources.items()}
         self.profile = Profile(self.profile.markerset, sources, self.profile.rest_rotation, self.profile.performer,
                                {**self.profile.notes, "range": f"learned live over {self.freeze_after:g} s"},
                                self.profile.source)
+
+    def _side(self, key: str) -> float:
+        return self.min_side * mm_scale(key)
 
     @property
     def frozen(self) -> bool:
@@ -65,7 +70,8 @@ class RangeLearner:
             span = self.profile.sources.get(key)
             if span is None or value != value:  # NaN
                 continue
-            floor_low, floor_high = span.neutral - self.min_side, span.neutral + self.min_side
+            side = self._side(key)
+            floor_low, floor_high = span.neutral - side, span.neutral + side
             high = max(value, floor_high + (span.high - floor_high) * (1.0 - ease))  # spans start at the floor
             low = min(value, floor_low + (span.low - floor_low) * (1.0 - ease))
             self.profile.sources[key] = SourceRange(span.neutral, low, high)

@@ -3,7 +3,8 @@
 One ``[motor.CODE]`` table per mapped motor::
 
     [motor.MB]
-    sources = [{ marker = "LIP_LOW", axis = "y", invert = true }, { distance = ["LIP_UP", "LIP_LOW"] }]
+    sources = [{ marker = "LIP_LOW", axis = "y", invert = true }, { distance = ["LIP_UP", "LIP_LOW"] },
+               { blendshape = "jawOpen" }]   # kinds: mapping.sources
     combine = "max"          # max | mean | min | weighted (each source's weight)
     normalise = "profile"    # profile: the performer's range -> the motor's 0..1 | scale: units per motor unit
     scale = 60.0             # with normalise = "scale"
@@ -34,7 +35,7 @@ from pathlib import Path
 
 from common import read_document, resolve_builtin
 from common.validate import Validator, at, is_number
-from mapping.sources import AXES, Source
+from mapping.sources import AXES, BLENDSHAPE_NAMES, KINDS, Source
 from toon import MOTOR_CODES
 
 FORMAT = "toonface.mapping/1"
@@ -179,14 +180,20 @@ def _source(check: Validator, spec: object, where: str) -> Source:
     check.require(isinstance(spec, dict), f'expected a table such as {{ marker = "LID_R_UP", axis = "y" }}, got '
                   f"{spec!r}", where)
     assert isinstance(spec, dict)
-    kinds = [k for k in ("marker", "distance", "difference", "angle", "head") if k in spec]
-    check.require(len(kinds) == 1, "expected exactly one of marker, distance, difference, angle, head", where)
+    kinds = [k for k in KINDS if k in spec]
+    check.require(len(kinds) == 1, f"expected exactly one of {', '.join(KINDS)}", where)
     kind = kinds[0]
-    check.fields(spec, {kind, "axis", "invert", "weight"}, where)
+    check.fields(spec, {kind, "axis", "invert", "weight"} if kind != "blendshape" else {kind, "invert", "weight"},
+                 where)
     value = spec[kind]
     count = {"marker": 1, "distance": 2, "difference": 2, "angle": 3}.get(kind, 0)
     markers: tuple[str, ...] | list[str]
-    if kind == "head":
+    channel = ""
+    if kind == "blendshape":
+        check.require(value in BLENDSHAPE_NAMES, f"expected one of ARKit's blendshape names (jawOpen, "
+                      f"eyeBlinkLeft, ...), got {value!r}", at(where, kind))
+        markers, axis, channel = (), 0, str(value)
+    elif kind == "head":
         markers, axis = (), ("yaw", "pitch").index(check.choice(value, ("yaw", "pitch"), at(where, "head")))
     else:
         markers = (value,) if kind == "marker" and isinstance(value, str) else value
@@ -195,7 +202,8 @@ def _source(check: Validator, spec: object, where: str) -> Source:
                       f"expected {count} marker name{'s' if count > 1 else ''}, got {value!r}", at(where, kind))
         axis = AXES.index(check.choice(spec.get("axis", "y"), tuple(AXES), at(where, "axis")))
     weight = check.number(spec.get("weight", 1.0), at(where, "weight"))
-    return Source(kind, tuple(markers), axis, check.boolean(spec.get("invert", False), at(where, "invert")), weight)
+    return Source(kind, tuple(markers), axis, check.boolean(spec.get("invert", False), at(where, "invert")), weight,
+                  channel)
 
 
 def _filter(check: Validator, spec: object, where: str) -> dict:

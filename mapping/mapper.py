@@ -10,7 +10,7 @@ sender): the loss policy, the per-channel filter, speed limit and delay, the cro
 operations and the style operators. Offline mapping alone has style's time scaling.
 
 Confidence per motor and frame is the mean over its sources of their markers' quality: 1 seen,
-0.5 filled by the gap filler, 0 unseen.
+0.5 filled by the gap filler, 0 unseen (a blendshape source: 1 measured, 0 not).
 """
 
 from __future__ import annotations
@@ -120,10 +120,12 @@ def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], h
     normalised, confidences = [], []
     for source in rule.sources:
         span = profile.sources.get(source.key)
-        raw = measure(source, stable.local, columns, head)
+        raw = measure(source, stable.local, columns, head, stable.channels)
         normalised.append(normalise(raw, source, rule, span))
         if source.markers:
             confidences.append(np.min(quality[:, [columns[m] for m in source.markers]], axis=1))
+        elif source.kind == "blendshape":
+            confidences.append(np.isfinite(raw).astype(float))
         else:
             confidences.append(stable.ok.astype(float))
     stack = np.column_stack(normalised)

@@ -22,7 +22,7 @@ import numpy as np
 
 from common import Failure, read_versioned, write_document
 from common.validate import Validator
-from mapping.sources import Source, head_angles, measure
+from mapping.sources import Source, head_angles, measure, mm_scale
 from mapping.stabilise import Stabilised, nearest_rotation
 
 FORMAT = "toonface.profile/1"
@@ -134,9 +134,11 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     wanted += [Source("head", axis=a) for a in (0, 1)]
     wanted += [s for s in extra if all(m in columns and m in range_columns for m in s.markers)]
     rest_values = _measure_all(wanted, neutral_take.local[at_rest], columns,
-                               head_angles(neutral_take.rotation[at_rest], rest))
+                               head_angles(neutral_take.rotation[at_rest], rest),
+                               {k: v[at_rest] for k, v in neutral_take.channels.items()})
     range_values = _measure_all(wanted, range_take.local[usable], range_columns,
-                                head_angles(range_take.rotation[usable], rest))
+                                head_angles(range_take.rotation[usable], rest),
+                                {k: v[usable] for k, v in range_take.channels.items()})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
         rest_value = np.nanmedian(rest_values, axis=0)
@@ -148,13 +150,14 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         if not np.isfinite([rest_value[i], low[i], high[i]]).all():
             continue
         lo, hi = min(low[i], rest_value[i]), max(high[i], rest_value[i])
-        if source.kind != "head" and hi - lo >= MIN_RANGE:
+        unit = mm_scale(source.key)  # thresholds in mm, as a blendshape score's worth
+        if source.kind != "head" and hi - lo >= MIN_RANGE * unit:
             moving.append(source.key)
         if source.kind != "head":
-            side = min_side
-            if hi - lo < MIN_MOTION:
+            side = min_side * unit
+            if hi - lo < MIN_MOTION * unit:
                 still.append(source.key)
-                side = max(side, STILL_SIDE)
+                side = max(side, STILL_SIDE * unit)
             lo, hi = min(lo, rest_value[i] - side), max(hi, rest_value[i] + side)
         elif hi - lo < MIN_RANGE:
             still.append(source.key)
@@ -203,7 +206,8 @@ def load_profile(path: str | os.PathLike) -> Profile:
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path))
 
 
-def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, int], head: np.ndarray) -> np.ndarray:
+def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, int], head: np.ndarray,
+                 channels: dict[str, np.ndarray]) -> np.ndarray:
     """Every source's values, ``(F, len(sources))``; marker axes in one gather."""
     out = np.empty((len(local), len(sources)))
     plain = [i for i, s in enumerate(sources) if s.kind == "marker"]
@@ -213,7 +217,7 @@ def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, in
         out[:, plain] = local[:, rows, axes]
     for i, source in enumerate(sources):
         if source.kind != "marker":
-            out[:, i] = measure(source, local, columns, head)
+            out[:, i] = measure(source, local, columns, head, channels)
     return out
 
 

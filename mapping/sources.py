@@ -15,9 +15,13 @@ Kinds (all in the marker set's head frame: x to the performer's left, y up, z ou
 ``head``
     The head's ``yaw`` (toward the performer's left) or ``pitch`` (chin up) from its rest pose,
     degrees: ``{ head = "yaw" }``.
+``blendshape``
+    A blendshape score, 0..1, from a take's channels (a markerless tracker's, ARKit's names):
+    ``{ blendshape = "jawOpen" }``. Not head-relative: the tracker has taken the head out.
 
 Every source has a canonical text key (``LID_R_UP.y``, ``distance(LIP_UP,LIP_LOW)``,
-``head.yaw``) under which a performer profile keeps its neutral value and range.
+``head.yaw``, ``blendshape.jawOpen``) under which a performer profile keeps its neutral value
+and range.
 """
 
 from __future__ import annotations
@@ -29,7 +33,22 @@ import numpy as np
 from mapping.stabilise import yaw_pitch_degrees
 
 AXES = "xyz"
-KINDS = ("marker", "distance", "difference", "angle", "head")
+KINDS = ("marker", "distance", "difference", "angle", "head", "blendshape")
+#: A score's worth of one millimetre, where thresholds written in mm (the least range a source
+#: must span, the span a range starts from) apply to blendshape scores: 4 mm, a small deliberate
+#: motion of a lip or a brow, is 0.2 of a score.
+SCORE_PER_MM = 0.05
+#: The names a blendshape source may read: ARKit's 52 (MediaPipe reports all but ``tongueOut``).
+BLENDSHAPE_NAMES = frozenset({
+    "browDownLeft", "browDownRight", "browInnerUp", "browOuterUpLeft", "browOuterUpRight", "cheekPuff",
+    "cheekSquintLeft", "cheekSquintRight", "eyeBlinkLeft", "eyeBlinkRight", "eyeLookDownLeft", "eyeLookDownRight",
+    "eyeLookInLeft", "eyeLookInRight", "eyeLookOutLeft", "eyeLookOutRight", "eyeLookUpLeft", "eyeLookUpRight",
+    "eyeSquintLeft", "eyeSquintRight", "eyeWideLeft", "eyeWideRight", "jawForward", "jawLeft", "jawOpen", "jawRight",
+    "mouthClose", "mouthDimpleLeft", "mouthDimpleRight", "mouthFrownLeft", "mouthFrownRight", "mouthFunnel",
+    "mouthLeft", "mouthLowerDownLeft", "mouthLowerDownRight", "mouthPressLeft", "mouthPressRight", "mouthPucker",
+    "mouthRight", "mouthRollLower", "mouthRollUpper", "mouthShrugLower", "mouthShrugUpper", "mouthSmileLeft",
+    "mouthSmileRight", "mouthStretchLeft", "mouthStretchRight", "mouthUpperUpLeft", "mouthUpperUpRight",
+    "noseSneerLeft", "noseSneerRight", "tongueOut"})
 
 
 @dataclass(frozen=True)
@@ -40,13 +59,16 @@ class Source:
     ----------
     kind : str
     markers : tuple of str
-        Marker-set labels: 1 (marker), 2 (distance, difference), 3 (angle) or none (head).
+        Marker-set labels: 1 (marker), 2 (distance, difference), 3 (angle) or none (head,
+        blendshape).
     axis : int
         0, 1, 2 for x, y, z (marker, difference); for head, 0 yaw and 1 pitch.
     invert : bool
         Follow the source's decrease instead of its increase.
     weight : float
         Weight in a weighted combine.
+    channel : str
+        The blendshape's name (blendshape).
     """
 
     kind: str
@@ -54,6 +76,7 @@ class Source:
     axis: int = 1
     invert: bool = False
     weight: float = 1.0
+    channel: str = ""
 
     @property
     def key(self) -> str:
@@ -62,11 +85,20 @@ class Source:
             return f"{self.markers[0]}.{AXES[self.axis]}"
         if self.kind == "head":
             return f"head.{('yaw', 'pitch')[self.axis]}"
+        if self.kind == "blendshape":
+            return f"blendshape.{self.channel}"
         axis = f".{AXES[self.axis]}" if self.kind == "difference" else ""
         return f"{self.kind}({','.join(self.markers)}){axis}"
 
 
-def measure(source: Source, local: np.ndarray, columns: dict[str, int], head: np.ndarray | None) -> np.ndarray:
+def mm_scale(key: str) -> float:
+    """What one millimetre is worth in the units of the source keyed ``key`` (1 but for a
+    blendshape score's :data:`SCORE_PER_MM`), to scale thresholds written in mm."""
+    return SCORE_PER_MM if key.startswith("blendshape.") else 1.0
+
+
+def measure(source: Source, local: np.ndarray, columns: dict[str, int], head: np.ndarray | None,
+            channels: dict[str, np.ndarray] | None = None) -> np.ndarray:
     """Values of ``source`` per frame.
 
     Parameters
@@ -77,12 +109,17 @@ def measure(source: Source, local: np.ndarray, columns: dict[str, int], head: np
         Marker-set label -> column of ``local``.
     head : ndarray, shape (F, 2), optional
         Head yaw and pitch from rest, degrees (needed by ``head`` sources).
+    channels : dict of str to ndarray, shape (F,), optional
+        The take's channels by name (read by ``blendshape`` sources).
 
     Returns
     -------
     ndarray, shape (F,)
-        NaN where a marker it needs is unseen.
+        NaN where a marker it needs is unseen (or the channel it reads is absent).
     """
+    if source.kind == "blendshape":
+        found = (channels or {}).get(source.channel)
+        return np.full(len(local), np.nan) if found is None else np.asarray(found, dtype=float)
     points = [local[:, columns[m]] for m in source.markers]
     if source.kind == "marker":
         return points[0][:, source.axis]

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -96,6 +96,9 @@ class Stabilised:
         The head references' shape on this performer (head frame), which the fit used.
     filled : ndarray of bool, shape (F, M), optional
         Samples made up by gap filling (set by cleaning).
+    channels : dict of str to ndarray, shape (F,)
+        The take's channels by name (blendshape scores), NaN where not measured; they have no
+        head frame and pass through as they are.
     """
 
     local: np.ndarray
@@ -104,6 +107,7 @@ class Stabilised:
     ok: np.ndarray
     reference: np.ndarray
     filled: np.ndarray | None = None
+    channels: dict[str, np.ndarray] = field(default_factory=dict)
 
     def world(self) -> np.ndarray:
         """``local`` back in world coordinates, ``(F, M, 3)``."""

@@ -3,7 +3,8 @@
 Per frame, in the offline order where the future is not needed: the robust head fit (on the
 performer's reference shape once it is known), spikes rejected in the head frame and the head
 fitted again without them, short gaps held at the marker's last head-frame position (counted as
-filled), One Euro smoothing of the head-frame markers and of the head pose, then the mapping's
+filled; a channel such as a blendshape score likewise), One Euro smoothing of the head-frame
+markers and of the head pose, then the mapping's
 motor values (:func:`mapping.mapper.motor_values`) on that one frame and the per-frame rules
 (:class:`mapping.rules.MotorRules`), the same code offline mapping runs. Only cleaning differs:
 offline it looks ahead (zero-phase smoothing, gap filling from both sides); live it cannot, so
@@ -59,11 +60,14 @@ class LiveMapper:
     learn_seconds : float
         Above 0: the ranges are learned as the stream runs, for this long after the rest
         (:mod:`mapping.learning`), and ``profile`` need hold no ranges (a camera with no profile).
+    channel_names : sequence of str
+        Names of the incoming frames' channels (blendshape scores), if they have any.
     """
 
     def __init__(self, mapping: Mapping, markerset: MarkerSet, profile: Profile, labels: tuple[str, ...],
                  rate: float, target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
-                 max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0) -> None:
+                 max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0,
+                 channel_names: tuple[str, ...] = ()) -> None:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
         if learn_seconds > 0 and rest_seconds <= 0:
@@ -86,7 +90,10 @@ class LiveMapper:
         self.rules = MotorRules(mapping, rate, self.neutral, seed)
         self._last_local = np.full((len(labels), 3), np.nan)
         self._last_seen = np.full(len(labels), -np.inf)
-        self._rest: list[tuple[np.ndarray, np.ndarray]] = []
+        self.channel_names = tuple(channel_names)
+        self._last_channels = np.full(len(self.channel_names), np.nan)
+        self._channel_seen = np.full(len(self.channel_names), -np.inf)
+        self._rest: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]] = []
         self._rest_start: float | None = None
         self._ready = rest_seconds <= 0
 
@@ -95,9 +102,11 @@ class LiveMapper:
         """Whether the rest has been taken (and :attr:`profile` holds it)."""
         return self._ready
 
-    def step(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """One frame of world marker positions ``(M, 3)`` (NaN unseen) at ``t`` seconds; returns
-        the motors ``(21,)`` in [0, 1] and their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost)."""
+    def step(self, positions: np.ndarray, t: float, channels: np.ndarray | None = None
+             ) -> tuple[np.ndarray, np.ndarray]:
+        """One frame of world marker positions ``(M, 3)`` (NaN unseen) and channels ``(C,)``
+        (NaN or None: not measured) at ``t`` seconds; returns the motors ``(21,)`` in [0, 1] and
+        their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost)."""
         local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t)
         local, held = self._hold(local, t)
         quality = marker_quality(local)
@@ -106,7 +115,8 @@ class LiveMapper:
         if ok:
             pose = self.pose.step(np.concatenate([rotation.reshape(-1), translation]), t)
             rotation, translation = nearest_rotation(pose[:9].reshape(3, 3)), pose[9:]
-        stable = Stabilised(local[None], rotation[None], translation[None], np.array([ok]), self.shape)
+        stable = Stabilised(local[None], rotation[None], translation[None], np.array([ok]), self.shape,
+                            channels=self._hold_channels(channels, t))
         if not self._ready:
             self._collect_rest(stable, t)
             return self.neutral.copy(), np.zeros(N_MOTORS)
@@ -137,11 +147,21 @@ class LiveMapper:
         held = ~seen & (t - self._last_seen <= self.max_gap)
         return np.where(held[:, None], self._last_local, local), held
 
+    def _hold_channels(self, channels: np.ndarray | None, t: float) -> dict[str, np.ndarray]:
+        """This frame's channels by name, ``(1,)`` each, a missing value held for ``max_gap``."""
+        if not self.channel_names:
+            return {}
+        values = np.full(len(self.channel_names), np.nan) if channels is None else np.asarray(channels, dtype=float)
+        seen = np.isfinite(values)
+        self._last_channels[seen], self._channel_seen[seen] = values[seen], t
+        held = np.where(~seen & (t - self._channel_seen <= self.max_gap), self._last_channels, values)
+        return {name: held[i:i + 1] for i, name in enumerate(self.channel_names)}
+
     def _collect_rest(self, stable: Stabilised, t: float) -> None:
         if not stable.ok[0]:
             return
         self._rest_start = t if self._rest_start is None else self._rest_start
-        self._rest.append((stable.local[0], stable.rotation[0]))
+        self._rest.append((stable.local[0], stable.rotation[0], stable.channels))
         if t - self._rest_start + 1.0 / self.rate >= self.rest_seconds:
             self.profile = self._profile_at_rest()
             self._ready = True
@@ -150,11 +170,12 @@ class LiveMapper:
         """The profile with its ranges kept around the rest measured at the start."""
         local = np.array([f[0] for f in self._rest])
         rotations = np.array([f[1] for f in self._rest])
+        channels = {name: np.concatenate([f[2][name] for f in self._rest]) for name in self.channel_names}
         rest_rotation = nearest_rotation(rotations.mean(axis=0))
         head = head_angles(rotations, rest_rotation)
         rests = {}
         for source in self.mapping.sources():
-            measured = measure(source, local, self.columns, head)
+            measured = measure(source, local, self.columns, head, channels)
             if np.isfinite(measured).any():
                 rest = float(np.nanmedian(measured))
                 rests[source.key] = SourceRange(rest, rest, rest)
@@ -169,7 +190,8 @@ class LiveMapper:
         motors ``(21,)`` and confidence ``(21,)``; what offline mapping gives that frame."""
         if self.learner is not None and not self.learner.frozen:
             head = head_angles(stable.rotation, self.profile.rest_rotation)
-            self.learner.update({source.key: float(measure(source, stable.local, self.columns, head)[0])
+            self.learner.update({source.key: float(measure(source, stable.local, self.columns, head,
+                                                           stable.channels)[0])
                                  for source in self.mapping.sources()}, t)
         raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral)
         return self.rules.step(raw[0], t), np.clip(confidence[0], 0.0, 1.0)

@@ -62,12 +62,16 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
 
 
 def check_markers(mapping: Mapping, markerset: MarkerSet, take: Take | None = None) -> None:
-    """Every marker the mapping reads must be in its marker set (and in ``take``, if given)."""
+    """Every marker the mapping reads must be in its marker set (and in ``take``, if given, with
+    every channel its blendshape sources read)."""
     found = markerset.match(take.labels) if take is not None else None
     for rule in mapping.rules:
         for i, source in enumerate(rule.sources):
+            where = f"mapping {mapping.name}: motor.{rule.code}.sources[{i}]"
+            if source.kind == "blendshape" and take is not None and source.channel not in take.channel_names:
+                raise InputError(f'the take has no blendshape channel "{source.channel}" (a markerless take '
+                                 "written as .npz keeps them)", None, where)
             for marker in source.markers:
-                where = f"mapping {mapping.name}: motor.{rule.code}.sources[{i}]"
                 if marker not in markerset.labels:
                     raise InputError(f'marker "{marker}" is not in marker set {markerset.name}', None, where)
                 if found is not None and marker not in found:

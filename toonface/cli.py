@@ -138,7 +138,8 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, rea
     """Frames, markers, rate, duration, units and gaps of a take (.c3d .trc .csv .npz).
 
     With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
-    labels, missing (total missing marker-samples), missing_per_marker, longest_gap and source.
+    labels, missing (total missing marker-samples), missing_per_marker, longest_gap, source and
+    channels (each blendshape score of a markerless take: its range and frames measured).
     """
     from capture.info import describe, summarize
 
@@ -188,6 +189,7 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
     """Track markers in a video (anything OpenCV or PyAV decodes) into a take: planar for dots and
     ArUco, 3-D camera-space millimetres for a face without markers."""
     from capture import save_take
+    from capture.takefile import dropped_channels
     from capture.video_tracking import load_aruco_names, track_video
 
     names = load_aruco_names(names_file) if names_file else None
@@ -199,6 +201,8 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
     faces = f", a face in {take.meta['faces_found']} frames" if "faces_found" in take.meta else ""
     click.echo(f"wrote {path} ({take.frames} frames, {seen} of {take.markers} markers seen, "
                f"{int((~take.valid).sum())} missing samples{scale}{faces})")
+    if note := dropped_channels(take, path):
+        click.echo(note, err=True)
 
 
 @cli.command("render")

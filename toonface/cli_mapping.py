@@ -104,6 +104,7 @@ def clean(take: str, output: str, head_frame: bool, markerset: str | None, mappi
     a marker missing longer than --max-gap stays unseen.
     """
     from capture import load_markerset, save_take
+    from capture.takefile import dropped_channels
     from mapping import choose_mapping, clean_take
 
     if markerset and mapping:
@@ -113,6 +114,8 @@ def clean(take: str, output: str, head_frame: bool, markerset: str | None, mappi
     cleaned, report = clean_take(loaded, cleaning.settings(loaded.rate), layout, head_frame=head_frame)
     path = save_take(cleaned, output)
     click.echo(f"wrote {path}: {report.summary()}")
+    if note := dropped_channels(cleaned, path):
+        click.echo(note, err=True)
 
 
 @click.command("calibrate")

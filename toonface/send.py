@@ -38,7 +38,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     given profile or the marker set's typical one, with the rest taken from the first
     ``rest_seconds``. Where the marker set has no typical profile, a take's own first
     :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
-    probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate)
+    probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate,
+                      channels=np.zeros((1, len(source.channel_names))), channel_names=source.channel_names)
     chosen, markerset = choose_mapping(probe_take, mapping)
     profile = profile or typical_profile(markerset.name)
     learn = 0.0
@@ -57,7 +58,7 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     check_profile(profile, chosen, markerset.name)
     try:
         return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
-                          learn_seconds=learn)
+                          learn_seconds=learn, channel_names=source.channel_names)
     except ValueError as exc:
         raise InputError(str(exc)) from None
 
@@ -67,7 +68,7 @@ def _own_profile(take: Take, mapping: Mapping, markerset: MarkerSet) -> Profile:
     from all of them, as ``map`` makes one for a take without a profile."""
     first = take.window(float(take.times[0]), float(take.times[0]) + CALIBRATION_SECONDS)
     start = Take(take.positions[first], take.labels, take.rate, take.times[first] - take.times[0], take.dims,
-                 take.meta)
+                 take.meta, take.channels[first], take.channel_names)
     return calibrate(mapping, prepare(start, markerset), percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
 
 
@@ -97,7 +98,7 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
         if (seconds is not None and frame.t >= seconds - 0.5 / source.rate) or stop():
             break
         captured = clock()
-        values, _ = mapper.step(frame.positions, frame.t)
+        values, _ = mapper.step(frame.positions, frame.t, frame.channels)
         report.step_seconds.append(clock() - captured)
         for sink in sinks:  # stream time: frame n at n / rate, as the wire carries it (a camera's stamps jitter)
             sink.write(report.frames / source.rate, values, captured)

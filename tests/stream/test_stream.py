@@ -207,7 +207,7 @@ def test_live_mapping_follows_the_performer_close_to_offline():
     syn = synthesize(seconds=20, rate=RATE, performance=default_performance(20))
     source = take_source(syn.take)
     mapper = build_mapper(source)
-    live = np.array([mapper.step(p, t)[0] for t, p in source.frames])
+    live = np.array([mapper.step(f.positions, f.t)[0] for f in source.frames])
     truth, offline = truth_track(syn).values, map_onto_face(syn.take).values
     after = slice(int(16 * RATE), None)  # after the calibration segment
     live_error = np.sqrt(np.mean((live[after] - truth[after]) ** 2))
