@@ -24,6 +24,7 @@ import os
 import struct
 import sys
 import zipfile
+from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -66,6 +67,11 @@ BLENDSHAPES: tuple[str, ...] = (
 #: An eye whose lid gap is below this share of its width is closed: its iris, which the model
 #: places even through a lid, is not reported (the pupils hold while the lid is down).
 IRIS_HIDDEN_RATIO = 0.15
+#: An eye open less than this share of its usual opening (the median of its last
+#: :data:`OPEN_FRAMES`) hides its iris too: on the GRID clips the model's iris drops by a third
+#: of its travel as a lid comes down through 0.6-0.8 of its opening, a gaze the performer never made.
+IRIS_HIDDEN_SHARE = 0.8
+OPEN_FRAMES = 50
 #: Per eye: the iris landmarks, the lid pair (upper, lower) and the corner pair.
 EYE_LANDMARKS = {"right": (range(468, 473), (159, 145), (33, 133)), "left": (range(473, 478), (386, 374), (263, 362))}
 #: Each iris centre's depth is its eye's: the mean of these contour points' canonical vertices.
@@ -199,6 +205,7 @@ class FaceTracker:
         self._quiet_first = True  # its first inference logs too
         self._last_nose: np.ndarray | None = None
         self._last_ms = -1
+        self._openings = {eye: deque[float](maxlen=OPEN_FRAMES) for eye in EYE_LANDMARKS}
 
     def track(self, image: np.ndarray, t: float) -> FaceFrame | None:
         """The face in an RGB ``uint8`` image ``(H, W, 3)`` at ``t`` seconds (increasing), or
@@ -223,8 +230,11 @@ class FaceTracker:
         pose = np.array(result.facial_transformation_matrixes[pick], dtype=float)
         scores = {s.category_name: s.score for s in result.face_blendshapes[pick]} if result.face_blendshapes else {}
         points = self._lift(faces[pick], pose, width, height)
-        for irises, lids, corners in EYE_LANDMARKS.values():
-            if len(points) > irises[-1] and lid_gap_ratio(faces[pick], lids, corners) < IRIS_HIDDEN_RATIO:
+        for eye, (irises, lids, corners) in EYE_LANDMARKS.items():
+            opening = lid_gap_ratio(faces[pick], lids, corners)
+            self._openings[eye].append(opening)
+            usual = float(np.median(self._openings[eye]))
+            if len(points) > irises[-1] and opening < max(IRIS_HIDDEN_RATIO, IRIS_HIDDEN_SHARE * usual):
                 points[list(irises)] = np.nan
         return FaceFrame(points, np.array([scores.get(name, np.nan) for name in BLENDSHAPES]), pose)
 

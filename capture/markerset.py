@@ -6,13 +6,17 @@ Format ``toonface.markerset/1``::
     name = "toon32"
     description = "..."
     head_reference = ["FOREHEAD", "TEMPLE_R", "TEMPLE_L"]   # at least 3, rigid with the skull
+    independent = ["PUPIL_R", "PUPIL_L"]   # optional: gaps filled from their own ends only
 
     [markers]
     BROW_R_MED = { neutral = [-17.0, 20.0, 12.0], aliases = ["RBRO_IN"], mpeg4 = "4.2" }
 
 ``neutral`` is in the head frame, millimetres (x to the performer's left, y up, z out of the
 face, origin between the eyes). ``aliases`` are other names the marker goes by (another
-vendor's label); ``mpeg4`` is its MPEG-4 facial feature point ("group.index"). A take whose
+vendor's label); ``mpeg4`` is its MPEG-4 facial feature point ("group.index"). Markers listed
+as ``independent`` move on their own (a gaze is not foretold by the lids or the lips): their
+gaps are bridged straight from one end to the other, never predicted from the other markers.
+A take whose
 labels carry a subject prefix (Vicon's ``Subject:LABEL``) still matches.
 """
 
@@ -56,6 +60,8 @@ class MarkerSet:
     table_units : str or None
         The units of this set's tables (``[tables]`` ``units``: a unit name or millimetres per
         unit), used when no ``--units`` is given.
+    independent : tuple of str
+        Markers whose gaps are bridged from their own ends only (see the module docstring).
     """
 
     name: str
@@ -67,6 +73,7 @@ class MarkerSet:
     mpeg4: dict[str, str] = field(default_factory=dict)
     table_rate: float | None = None
     table_units: str | None = None
+    independent: tuple[str, ...] = ()
 
     def doubts(self) -> list[str]:
         """Reasons to think the neutral is not in head-frame millimetres, each a sentence (none
@@ -168,6 +175,9 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     unknown_refs = [r for r in refs if r not in labels]
     check.require(not unknown_refs and len(refs) >= 3,
                   f"expected at least 3 head reference markers of this set; unknown {unknown_refs}", "head_reference")
+    independent = tuple(check.strings(doc.get("independent", []), "independent"))
+    unknown = [m for m in independent if m not in labels]
+    check.require(not unknown, f"expected markers of this set; unknown {unknown}", "independent")
     neutral.setflags(write=False)
     tables = check.fields(doc.get("tables", {}), {"rate", "units"}, "tables")
     rate = tables.get("rate")
@@ -178,7 +188,8 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     check.require(units is None or isinstance(units, str) and units in UNIT_MM or is_number(units) and units > 0,
                   f"expected a unit ({', '.join(UNIT_MM)}) or millimetres per unit, got {units!r}", "tables.units")
     return MarkerSet(str(doc.get("name", path.stem)), labels, neutral, refs, str(doc.get("description", "")),
-                     aliases, mpeg4, None if rate is None else float(rate), None if units is None else str(units))
+                     aliases, mpeg4, None if rate is None else float(rate), None if units is None else str(units),
+                     independent)
 
 
 def find_markerset(labels: tuple[str, ...] | list[str], min_share: float = 0.5) -> MarkerSet | None:

@@ -18,6 +18,7 @@ NaN (never invented), and the caller lowers the marker's confidence there.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,26 +76,34 @@ class GapFiller:
             raise ValueError("blend_seconds must be (low, high) with 0 <= low < high")
         self.ridge, self.window_seconds, self.blend_seconds = ridge, window_seconds, blend_seconds
 
-    def apply(self, positions: np.ndarray, times: np.ndarray) -> Filled:
-        """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``."""
+    def apply(self, positions: np.ndarray, times: np.ndarray, straight: Sequence[int] = ()) -> Filled:
+        """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``;
+        the markers (columns) in ``straight`` are bridged by a straight line between each gap's
+        ends instead (a marker set's ``independent`` markers)."""
         pos = np.array(positions, dtype=np.float64, copy=True)
         frames, markers, dims = pos.shape
         missing = np.asarray(np.isnan(pos).any(axis=2))
         pos[missing] = np.nan
         rate = (frames - 1) / (times[-1] - times[0]) if frames > 1 and times[-1] > times[0] else 1.0
         max_frames = int(round(self.max_gap_seconds * rate))
-        short, long_ = np.zeros_like(missing), np.zeros_like(missing)
+        short, long_, lined = np.zeros_like(missing), np.zeros_like(missing), np.zeros_like(missing)
         for m in range(markers):
             for start, end in gap_runs(missing[:, m]):
                 if start == 0 or end == frames or end - start > max_frames:
                     continue  # nothing on one side, or too long: left unseen
+                if m in straight:
+                    ends = [start - 1, end]
+                    for d in range(dims):
+                        pos[start:end, m, d] = np.interp(times[start:end], times[ends], pos[ends, m, d])
+                    lined[start:end, m] = True
+                    continue
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True
         out = pos.copy()
         if short.any():  # first, so that brief dropouts do not disqualify a marker as a predictor
             self._splines(out, times, short)
         if long_.any():
             self._from_neighbours(out, times, long_, rate)
-        return Filled(out, short | long_)
+        return Filled(out, short | long_ | lined)
 
     def _splines(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray) -> None:
         """Cubic spline through each marker's seen samples, written where ``wanted``."""

@@ -20,7 +20,9 @@ One ``[motor.CODE]`` table per mapped motor::
     loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle
 
 Across motors (top level): ``mirror`` (swap sides), ``copy_side = "right"|"left"`` (one side
-drives both), ``symmetric = [["BRL", "BLL"], ...]`` (pairs move as their mean), and a
+drives both), ``symmetric = [["BRL", "BLL"], ...]`` (pairs move as their mean), an ``[eyes]``
+table (``lids = ["ERU", "ELU"]``, ``sync = 0.25``, ``closed = 0.35``: a pair of lids that blink
+together and wink cleanly, see :func:`mapping.rules.eyes_pair`), and a
 ``[style]`` table with CharToon's style operators: ``tremble = { amplitude, frequency, motors }``,
 ``sharpen = { steps, motors }``, ``smooth = { seconds, motors }``, ``time_scale``.
 Motors with no table stay at the face's neutral. Errors name the file and the field.
@@ -46,7 +48,8 @@ FILTERS = {"one-euro": {"min_cutoff", "beta", "d_cutoff"}, "butterworth": {"cuto
            "savitzky-golay": {"window", "order"}}
 _MOTOR_KEYS = {"sources", "combine", "normalise", "scale", "invert", "gain", "offset", "curve", "clamp", "limits",
                "filter", "max_speed", "delay", "loss"}
-_TOP_KEYS = {"format", "name", "description", "markerset", "mirror", "copy_side", "symmetric", "motor", "style"}
+_TOP_KEYS = {"format", "name", "description", "markerset", "mirror", "copy_side", "symmetric", "eyes", "motor",
+             "style"}
 
 
 @dataclass(frozen=True)
@@ -86,6 +89,16 @@ class Style:
 
 
 @dataclass(frozen=True)
+class Eyes:
+    """A pair of lid motors that blink together and wink cleanly (:func:`mapping.rules.eyes_pair`);
+    no ``lids``: off."""
+
+    lids: tuple[str, ...] = ()
+    sync: float = 0.25
+    closed: float = 0.35
+
+
+@dataclass(frozen=True)
 class Mapping:
     """A parsed mapping file."""
 
@@ -98,6 +111,7 @@ class Mapping:
     style: Style = Style()
     description: str = ""
     source: str = ""  # the file it was read from, for messages
+    eyes: Eyes = Eyes()
 
     def sources(self) -> list[Source]:
         """Every source the rules read (each once, by key)."""
@@ -136,7 +150,20 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
     return Mapping(str(doc.get("name", Path(path).stem)), markerset, rules,
                    check.boolean(doc.get("mirror", False), "mirror"), copy_side,
                    tuple(tuple(p) for p in pairs), _style(check, doc.get("style", {})),
-                   str(doc.get("description", "")), str(path))
+                   str(doc.get("description", "")), str(path), _eyes(check, doc.get("eyes", {})))
+
+
+def _eyes(check: Validator, spec: object) -> Eyes:
+    part = check.fields(spec, {"lids", "sync", "closed"}, "eyes")
+    if not part:
+        return Eyes()
+    lids = check.strings(check.present(part.get("lids"), "eyes.lids"), "eyes.lids")
+    check.require(len(lids) == 2 and lids[0] != lids[1], f"expected two lid motors [right, left], got {lids!r}",
+                  "eyes.lids")
+    for i, code in enumerate(lids):
+        check.choice(code, MOTOR_CODES, at("eyes.lids", i))
+    return Eyes(tuple(lids), check.number(part.get("sync", 0.25), "eyes.sync", 0.0, 1.0),
+                check.number(part.get("closed", 0.35), "eyes.closed", 0.0, 0.95))
 
 
 def _rule(check: Validator, code: str, spec: object) -> MotorRule:

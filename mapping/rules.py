@@ -9,8 +9,8 @@ its sources is seen), :class:`MotorRules` applies, in this order:
    :data:`IDLE_HZ`). Before anything is seen the last value is the neutral;
 2. each motor's **filter** (One Euro, causal Butterworth or trailing Savitzky-Golay);
 3. the **speed limits**, then the **delays** (whole frames);
-4. the operations **across motors**: symmetric pairs move as their mean, one side copied,
-   mirror;
+4. the operations **across motors**: the eyes' pair of lids (:func:`eyes_pair`), symmetric
+   pairs move as their mean, one side copied, mirror;
 5. the **style** operators: ``smooth`` (a trailing moving average over ``seconds``, the first
    frame standing in for the frames before it), ``tremble`` (a sine per motor with a seeded
    phase), ``sharpen`` (quantise to ``steps`` levels);
@@ -187,8 +187,11 @@ class MotorRules:
 
 
 def across_motors(values: np.ndarray, mapping: Mapping, neutral: np.ndarray) -> np.ndarray:
-    """Symmetric pairs, one side copied and mirror on frames ``(F, 21)``; a new array."""
+    """The eyes' pair, symmetric pairs, one side copied and mirror on frames ``(F, 21)``; a new array."""
     out = values.copy()
+    if mapping.eyes.lids:
+        cols = [motor_index(code) for code in mapping.eyes.lids]
+        out[:, cols] = eyes_pair(out[:, cols], neutral[cols], mapping.eyes.sync, mapping.eyes.closed)
     for right, left in mapping.symmetric:
         i, j = motor_index(right), motor_index(left)
         out[:, i] = out[:, j] = 0.5 * (out[:, i] + out[:, j])
@@ -198,6 +201,36 @@ def across_motors(values: np.ndarray, mapping: Mapping, neutral: np.ndarray) -> 
             src, dst = (i, j) if mapping.copy_side == "right" else (j, i)
             out[:, dst] = out[:, src]
     return mirror_values(out, neutral) if mapping.mirror else out
+
+
+#: Past ``sync``, the share of a lid's neutral over which a pair goes from blinking together to
+#: winking, so that the eyes do not flick between the two.
+WINK_BLEND = 0.15
+
+
+def eyes_pair(lids: np.ndarray, neutral: np.ndarray, sync: float, closed: float) -> np.ndarray:
+    """Two upper lids ``(F, 2)`` (right, left) that blink together and wink cleanly; ``(F, 2)``.
+
+    Each lid's openness is its value over its ``neutral`` (1 at rest). Trackers see a pair of
+    eyes as one: a wink drags the open eye a fifth of the way shut and closes the winking one only
+    two thirds of the way (MediaPipe on a GRID frame whose one eye is taken from a blink), and
+    their two lids jitter apart. So where the openings differ by at most ``sync`` both lids take
+    their mean (a blink, or jitter); where they differ by more (a wink) the more open eye opens at
+    least to its rest and the other closes, its openness below ``closed`` reaching 0; between,
+    over :data:`WINK_BLEND`, the two blend.
+    """
+    rest = np.maximum(np.asarray(neutral, dtype=float), 1e-6)
+    open_ = lids / rest
+    together = np.repeat(open_.mean(axis=1, keepdims=True), 2, axis=1)
+    wide = np.argmax(open_, axis=1)
+    wink = open_.copy()
+    rows = np.arange(len(open_))
+    wink[rows, wide] = np.maximum(open_[rows, wide], 1.0)
+    shut = 1 - wide
+    wink[rows, shut] = np.clip((open_[rows, shut] - closed) / (1.0 - closed), 0.0, None)
+    share = np.clip((np.abs(open_[:, 0] - open_[:, 1]) - sync) / WINK_BLEND, 0.0, 1.0)[:, None]
+    out = ((1 - share) * together + share * wink) * rest
+    return np.where(np.isnan(lids).any(axis=1, keepdims=True), lids, out)
 
 
 def trailing_mean(values: np.ndarray, window: int) -> np.ndarray:

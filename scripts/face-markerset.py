@@ -23,12 +23,14 @@ lines = [
     "# capture/face_landmarks.py), named as toon32 names them where the two agree. Neutral: MediaPipe's",
     "# canonical face model (Apache-2.0), millimetres, x to the face's left, y up, z out of the face; an",
     "# iris centre sits at its eye's contour mean. Head references: forehead, glabella, nose bridge and",
-    "# temples, which expressions barely move.",
+    "# temples, which expressions barely move. The irises are independent: a gaze is not foretold by",
+    "# the lids or the lips, so a gap (a blink) is bridged straight across, not predicted from them.",
     'format = "toonface.markerset/1"',
     'name = "face"',
     'description = "markerless face: MediaPipe Face Landmarker points, brows, lids, eye corners, irises, lips, '
     'jaw, rigid forehead and nose references"',
     f"head_reference = {HEAD_REFERENCE!r}".replace("'", '"'),
+    'independent = ["PUPIL_R", "PUPIL_L"]',
     "",
     "[markers]",
 ]

@@ -151,7 +151,7 @@ def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_pa
     assert np.abs(received.values[:75] - sent.values).max() <= 0.5 / StreamWriter(25.0).steps + 1e-9
     assert np.ptp(sent.values[:, 18]) > 0.3  # the jaw moved on the stream, from ranges learned as it ran
     learned = load_profile(tmp_path / "learned.toml")  # kept for next time (--profile)
-    lid = learned.sources["LID_R_UP.y"]
+    lid = learned.sources["distance(LID_R_UP,LID_R_LOW)"]
     assert learned.markerset == "face" and lid.neutral - lid.low > 4.0  # the blink widened it past its start
 
 
@@ -176,12 +176,16 @@ def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_name
         camera_source("9")
 
 
-def test_a_real_blink_closes_the_characters_eyes_fully(realdata):
-    """bbaf2n blinks once near 2 s: the lid gap falls to a tenth of its open width, and the
-    mapped upper lids reach closed (0) on both sides, each staying open elsewhere."""
+def test_a_real_blink_closes_the_characters_eyes_fully_and_the_pupils_hold(realdata, monkeypatch):
+    """bbaf2n blinks twice near 2 s: the lid gap falls to a tenth of its open width, and the
+    mapped upper lids reach closed (0) on both sides, each staying open elsewhere. The irises
+    are not reported behind the lids, so the pupils hold; reported (as the model places them),
+    they would drop with the lids."""
     from mapping import map_take
+    from toon import motor_index
 
-    take = track_video(realdata / "video" / "grid" / "bbaf2n.mpg", "face")
+    clip = realdata / "video" / "grid" / "bbaf2n.mpg"
+    take = track_video(clip, "face")
 
     def gap(a, b):
         return np.linalg.norm(take.positions[:, take.index(a)] - take.positions[:, take.index(b)], axis=1)
@@ -190,10 +194,57 @@ def test_a_real_blink_closes_the_characters_eyes_fully(realdata):
     assert ratio.min() < 0.1 * np.median(ratio) and np.median(ratio) > 0.25
     blink = int(np.argmin(ratio))
     assert 40 <= blink <= 55
+    assert np.isnan(take.positions[blink, take.index("PUPIL_R")]).all()
     motors = map_take(take).values
-    for lid in (6, 8):  # ERU, ELU
-        assert motors[blink - 2:blink + 3, lid].min() < 0.05
-        assert np.median(motors[:, lid]) > 0.5
+    for lid in ("ERU", "ELU"):
+        assert motors[blink - 2:blink + 3, motor_index(lid)].min() < 0.05
+        assert np.median(motors[:, motor_index(lid)]) > 0.5
+    pupils = [motor_index(code) for code in ("PRV", "PLV")]
+    before = motors[30:40, pupils].mean(axis=0)
+    assert np.abs(motors[blink - 3:blink + 4, pupils] - before).max() < 0.03
+    monkeypatch.setattr("capture.face_landmarks.IRIS_HIDDEN_RATIO", -1.0)
+    monkeypatch.setattr("capture.face_landmarks.IRIS_HIDDEN_SHARE", 0.0)
+    seen_through = map_take(track_video(clip, "face")).values
+    assert np.abs(seen_through[blink - 3:blink + 4, pupils] - before).max() > 0.05
+
+
+def _winking(realdata, path):
+    """bbaf2n's first 41 frames, then frame 40 with the performer's left eye taken from frame 52
+    (mid-blink; the box is its landmarks 263, 362, 386, 374 and the brow above, 6 px around) for
+    8 frames, then frame 40 for 10: a real wink, made of real pixels."""
+    from capture.videoio import write_video
+
+    with av.open(str(realdata / "video" / "grid" / "bbaf2n.mpg")) as container:
+        images = [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
+    wink = images[40].copy()
+    wink[129:167, 161:203] = images[52][129:167, 161:203]
+    return write_video(images[:41] + [wink] * 8 + [images[40]] * 10, path, 25.0)
+
+
+def test_a_wink_closes_one_eye_and_leaves_the_other_open(realdata, tmp_path):
+    """The tracker sees a pair of eyes as one: on a wink it drags the open eye part of the way
+    shut and closes the winking one only part of the way. The face preset's [eyes] pair shuts
+    the one and keeps the other at its rest, and the pupils do not move."""
+    from mapping import map_take
+    from toon import motor_index
+
+    take = track_video(_winking(realdata, tmp_path / "wink.mp4"), "face")
+
+    def opening(side):
+        lids = np.linalg.norm(take.marker(f"LID_{side}_UP") - take.marker(f"LID_{side}_LOW"), axis=1)
+        return lids / np.linalg.norm(take.marker(f"EYE_{side}_IN") - take.marker(f"EYE_{side}_OUT"), axis=1)
+
+    right, left = opening("R"), opening("L")
+    winking = slice(43, 48)
+    assert right[winking].max() < 0.9 * right[35:41].mean()  # the open eye dragged
+    assert left[winking].min() > 0.2 * left[35:41].mean()  # the winking one not shut
+    motors = map_take(take).values
+    eru, elu = motor_index("ERU"), motor_index("ELU")
+    assert motors[winking, elu].max() < 0.05
+    assert motors[winking, eru].min() > motors[35:41, eru].mean() - 0.02
+    for code in ("PRH", "PRV", "PLH", "PLV"):
+        pupil = motor_index(code)
+        assert np.abs(motors[winking, pupil] - motors[35:41, pupil].mean()).max() < 0.03, code
 
 
 def _audio_only(path):

@@ -9,6 +9,11 @@ from capture import load_markerset, load_take
 from common import InputError, data_path
 
 
+def test_the_face_set_bridges_its_pupils_on_their_own():
+    assert load_markerset("face").independent == ("PUPIL_R", "PUPIL_L")
+    assert load_markerset("toon32").independent == ()
+
+
 def test_toon32_aliases_prefixes_and_mpeg4():
     ms = load_markerset("toon32")
     assert len(ms.labels) == 32 and ms.head_reference[0] == "FOREHEAD"
@@ -56,6 +61,8 @@ def test_real_layouts_describe_their_files(realdata, name, file, options, marker
     ('[markers]\nA = { neutral = [0, 0, 0], colour = "red" }\n',
      "markers.A.colour: unknown field (known: aliases, mpeg4, neutral)"),
     ('[markers]\nA = { neutral = [0, 0] }\n', "markers.A.neutral"),
+    ('independent = ["Z"]\n[markers]\nA = { neutral = [0, 0, 0] }\nB = { neutral = [1, 0, 0] }\n'
+     'C = { neutral = [0, 1, 0] }\n', "independent: expected markers of this set; unknown ['Z']"),
 ])
 def test_bad_marker_sets_name_the_field(tmp_path, body, fragment):
     path = tmp_path / "set.toml"

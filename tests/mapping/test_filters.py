@@ -134,6 +134,23 @@ def test_short_gaps_are_exactly_the_cubic_spline_and_long_or_open_ones_stay_unse
     assert gap_runs(np.isnan(cut[:, 1, 0])) == [(0, 10), (150, 290)]
 
 
+def test_an_independent_marker_is_bridged_straight_across_whatever_its_neighbours_do():
+    """The second marker's gap would be predicted from the first, which it follows; listed as
+    straight, it is a line between the gap's ends (a pupil held through a blink)."""
+    t = np.arange(120) / 60.0
+    lid = np.stack([np.zeros(120), 10 * np.sin(3 * t), np.zeros(120)], axis=-1)
+    pupil = 0.2 * lid + [1.0, 2.0, 3.0]
+    cut = np.stack([lid, pupil], axis=1)
+    cut[40:70, 1] = np.nan
+    result = GapFiller().apply(cut, t, straight=[1])
+    ends = cut[[39, 70], 1]
+    line = ends[0] + (ends[1] - ends[0]) * ((t[40:70] - t[39]) / (t[70] - t[39]))[:, None]
+    np.testing.assert_allclose(result.positions[40:70, 1], line)
+    assert result.filled[40:70, 1].all() and result.filled.sum() == 30
+    predicted = GapFiller().apply(cut, t).positions[40:70, 1]
+    assert np.abs(predicted - pupil[40:70]).max() < 0.05 < np.abs(line - pupil[40:70]).max()
+
+
 def test_a_long_gap_is_filled_from_markers_that_move_with_it():
     rng = np.random.default_rng(4)
     t = np.arange(600) / 60.0

@@ -7,7 +7,7 @@ from capture import load_markerset, synthesize
 from capture.performance import default_performance
 from mapping import CleanSettings, Stabilised, calibrate, load_mapping, map_stabilised, parse_mapping, prepare
 from mapping.mapper import marker_quality
-from mapping.rules import MotorRules, trailing_mean
+from mapping.rules import WINK_BLEND, MotorRules, eyes_pair, trailing_mean
 from mapping.stepwise import LiveMapper
 from toon import MOTOR_CODES, motor_index, standard_neutral
 
@@ -20,6 +20,7 @@ name = "everything"
 markerset = "toon32"
 mirror = true
 symmetric = [["BRL", "BLL"]]
+eyes = { lids = ["ERU", "ELU"], sync = 0.2, closed = 0.3 }
 
 [style]
 tremble = { amplitude = 0.02, frequency = 5.0, motors = ["BRC", "BLC", "MB"] }
@@ -144,3 +145,35 @@ def test_the_tremble_phases_come_from_the_seed_and_every_motor_has_its_own():
     np.testing.assert_array_equal(a.phases, b.phases)
     assert not np.allclose(a.phases, c.phases)
     assert len(set(np.round(a.phases[1], 6))) == len(MOTOR_CODES)
+
+
+def test_a_pair_of_eyes_blinks_together_and_winks_cleanly_by_hand():
+    """Openness is a share of each lid's neutral (0.8 and 0.6 here)."""
+    neutral = np.array([0.8, 0.6])
+    lids = np.array([[0.8 * 0.9, 0.6 * 1.0],   # jitter: both take the mean opening, 0.95
+                     [0.8 * 0.05, 0.6 * 0.0],  # a blink: both 0.025
+                     [0.8 * 0.8, 0.6 * 0.3],   # a wink: right opens to rest, left (0.3 < closed) shuts
+                     [0.8 * 1.2, 0.6 * 0.6],   # a wink with the open eye wide: kept wide, left (0.6-0.35)/0.65
+                     [np.nan, 0.3]])
+    out = eyes_pair(lids, neutral, sync=0.25, closed=0.35)
+    np.testing.assert_allclose(out[0], [0.8 * 0.95, 0.6 * 0.95])
+    np.testing.assert_allclose(out[1], [0.8 * 0.025, 0.6 * 0.025])
+    np.testing.assert_allclose(out[2], [0.8, 0.0])
+    np.testing.assert_allclose(out[3], [0.8 * 1.2, 0.6 * (0.6 - 0.35) / 0.65])
+    assert np.isnan(out[4, 0]) and out[4, 1] == 0.3  # a lost lid is left to its loss policy
+    between = 0.25 + WINK_BLEND / 2  # half way from blinking together to winking
+    half = eyes_pair(np.array([[0.8 * 1.0, 0.6 * (1.0 - between)]]), neutral, 0.25, 0.35)[0]
+    together, wink = 1.0 - between / 2, ((1.0 - between) - 0.35) / 0.65
+    np.testing.assert_allclose(half, [0.8 * (together + 1.0) / 2, 0.6 * (together + wink) / 2])
+
+
+def test_an_eyes_table_names_two_lid_motors():
+    from common import InputError
+
+    doc = {"format": "toonface.mapping/1", "markerset": "toon32", "eyes": {"lids": ["ERU"]},
+           "motor": {"ERU": {"sources": [{"marker": "LID_R_UP", "axis": "y"}]}}}
+    with pytest.raises(InputError, match=r"m.toml: eyes.lids: expected two lid motors"):
+        parse_mapping(doc, "m.toml")
+    doc["eyes"] = {"lids": ["ERU", "ELU"], "closed": 1.0}
+    with pytest.raises(InputError, match=r"m.toml: eyes.closed: expected a number"):
+        parse_mapping(doc, "m.toml")
