@@ -123,7 +123,7 @@ class Mapping:
 
 
 def load_mapping(name_or_path: str | os.PathLike) -> Mapping:
-    """A built-in mapping by name (``toon32``, ``animface41``, ``gluedots16``) or a TOML file."""
+    """A built-in mapping by name (``toon32``, ``animface41``, ``gluedots16``, ``face``) or a TOML file."""
     path = resolve_builtin(name_or_path, "mappings", ".toml", "mapping")
     return parse_mapping(read_document(path), path)
 

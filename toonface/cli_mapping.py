@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from mapping import CleanSettings
 
 _MAPPING = click.option("--mapping", default=None, metavar="NAME|FILE",
-                        help="A mapping file or built-in preset (toon32, animface41, gluedots16) "
+                        help="A mapping file or built-in preset (toon32, animface41, gluedots16, face) "
                              "[default: the preset whose marker set matches the take].")
 _PROFILE = click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False),
                         help="A performer profile (from `toonface calibrate`) [default: the marker set's built-in "

@@ -121,6 +121,41 @@ def test_a_talking_head_video_becomes_a_cartoon_with_its_own_sound(realdata, tmp
     assert not list(tmp_path.glob(".*"))  # the picture-only file is gone
 
 
+@pytest.mark.gl
+@pytest.mark.parametrize("name", ["cat", "classic", "lines", "round", "wizard"])
+def test_every_built_in_face_speaks_with_the_clip_s_own_sound(realdata, tmp_path, ctx, name):
+    """Each face's MP4 has the clip's sound for as long as its picture, and its mouth (the
+    pixels that differ between the face at rest and with its mouth open, MB = 1) is open while
+    the performer speaks (frame 37) and shut in the silences before and after (frames 5, 70)."""
+    from player import Renderer
+    from toon import FaceRig, builtin_faces, load_face, motor_index
+
+    assert name in builtin_faces()
+    out = tmp_path / f"{name}.mp4"
+    assert main(["retarget", str(realdata / "video" / "grid" / "bbaf2n.mpg"), "-o", str(out), "--face", name,
+                 "--size", "64"]) == 0
+    with av.open(str(out)) as made:
+        video, audio = made.streams.video[0], made.streams.audio[0]
+        assert audio.codec_context.name == "aac" and video.frames == 75
+        samples = sum(f.samples for f in made.decode(audio))
+        assert samples / audio.rate == pytest.approx(3.0, abs=0.06)
+        made.seek(0)
+        frames = np.array([f.to_ndarray(format="rgb24").astype(float) for f in made.decode(video=0)])
+    face = load_face(name)
+    rig, pose = FaceRig(face), face.neutral().copy()
+    with Renderer(ctx, (64, 64), samples=0) as renderer:
+        shut = renderer.render(rig.geometry(pose))
+        pose[motor_index("MB")] = 1.0
+        wide = renderer.render(rig.geometry(pose))
+    mouth = np.any(shut != wide, axis=2)
+    assert mouth.sum() > 20
+
+    def change(a, b):
+        return np.abs(frames[a] - frames[b])[mouth].mean()
+
+    assert change(37, 70) > 3 * change(5, 70) and change(37, 70) > 20, (change(37, 70), change(5, 70))
+
+
 def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_path):
     """No camera exists here: `send camera:FILE` reads the file as a camera would deliver it (in
     real time, nothing waiting for it), learns the performer's ranges as it runs, and the
