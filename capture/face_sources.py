@@ -18,6 +18,7 @@ import numpy as np
 from capture.face_landmarks import BLENDSHAPES, LANDMARKS, FaceTracker
 from capture.sources import Frame, Source
 from common import InputError
+from common.video import upright
 
 if TYPE_CHECKING:
     from capture.videoio import VideoInfo
@@ -41,7 +42,7 @@ def face_source(path: str | os.PathLike, info: VideoInfo | None = None, **_: Any
                 for index, image in enumerate(container.decode(container.streams.video[0])):
                     clock = float(image.time) if image.time is not None else index / (info.rate or 30.0)
                     meta.setdefault("start_time", clock)
-                    yield clock - meta["start_time"], image.to_ndarray(format="rgb24")
+                    yield clock - meta["start_time"], upright(image)
         except av.error.FFmpegError as exc:
             raise InputError(f"cannot decode the video ({exc})", path) from None
     return Source(tuple(LANDMARKS), info.rate or 30.0, _tracked(images(), meta), Path(path).name, meta=meta,

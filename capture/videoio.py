@@ -12,6 +12,7 @@ import cv2
 import numpy as np
 
 from common import InputError
+from common.video import upright
 
 
 @dataclass(frozen=True)
@@ -60,7 +61,8 @@ def probe(path: str | os.PathLike) -> VideoInfo:
 
 
 def frames(info: VideoInfo) -> Iterator[np.ndarray]:
-    """Decode every frame as BGR ``uint8`` ``(height, width, 3)``, with the backend :func:`probe` chose."""
+    """Decode every frame as BGR ``uint8`` ``(height, width, 3)``, with the backend :func:`probe` chose,
+    turned upright by the container's display matrix (OpenCV turns its own)."""
     if info.backend == "opencv":
         cap = cv2.VideoCapture(str(info.path))
         try:
@@ -75,7 +77,7 @@ def frames(info: VideoInfo) -> Iterator[np.ndarray]:
         try:
             with av.open(str(info.path)) as container:
                 for decoded in container.decode(video=0):
-                    yield decoded.to_ndarray(format="bgr24")
+                    yield upright(decoded, "bgr24")
         except av.error.FFmpegError as exc:
             raise InputError(f"decoding failed part-way ({exc})", info.path) from None
 

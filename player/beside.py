@@ -15,14 +15,14 @@ import av
 import cv2
 import numpy as np
 
+from common.video import upright
 from player.sinks import FrameWriter
 
 
 def beside_width(video: str | os.PathLike, height: int) -> int:
-    """Width (even) of ``video``'s frames scaled to ``height``."""
+    """Width (even) of ``video``'s frames, upright, scaled to ``height``."""
     with av.open(str(video)) as container:
-        stream = container.streams.video[0]
-        width, source_height = stream.codec_context.width, stream.codec_context.height
+        source_height, width = upright(next(container.decode(video=0))).shape[:2]
     return max(2, int(round(width * height / max(source_height, 1) / 2)) * 2)
 
 
@@ -56,7 +56,7 @@ class SideBySide:
         stream = self._container.streams.video[0]
         for index, frame in enumerate(self._container.decode(stream)):
             t = float(frame.time) if frame.time is not None else index / self.fps
-            yield t, cv2.resize(frame.to_ndarray(format="rgb24"), self.size, interpolation=cv2.INTER_AREA)
+            yield t, cv2.resize(upright(frame), self.size, interpolation=cv2.INTER_AREA)
 
     def write(self, frame: np.ndarray) -> None:
         """Put the source's frame of this moment beside ``frame`` and pass both on."""

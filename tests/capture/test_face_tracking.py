@@ -88,6 +88,34 @@ def test_a_real_talking_face_is_found_in_every_frame_and_its_lips_stop_when_its_
     assert np.ptp(jaw[:last]) > 0.3 and np.ptp(jaw[last + 8:]) < 0.05
 
 
+def test_a_video_stored_on_its_side_is_tracked_upright(realdata, tmp_path):
+    """A phone stores a portrait video on its side with a display matrix: its frames are turned
+    as players turn them, so the face is upright in camera space (forehead above chin) and its
+    points are the upright clip's; OpenCV, which turns its own, agrees on the size."""
+    from capture.videoio import probe
+
+    clip = realdata / "video" / "grid" / "bbaf2n.mpg"
+    with av.open(str(clip)) as container:
+        images = [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
+    path = tmp_path / "portrait.mp4"
+    with av.open(str(path), "w") as container:
+        stream = container.add_stream("libx264", rate=25)
+        stream.width, stream.height, stream.pix_fmt = images[0].shape[0], images[0].shape[1], "yuv420p"
+        stream.set_display_rotation(90)  # stored a quarter turn clockwise; shown a quarter turn back
+        for image in images:
+            sideways = av.VideoFrame.from_ndarray(np.ascontiguousarray(np.rot90(image, -1)), format="rgb24")
+            for packet in stream.encode(sideways):
+                container.mux(packet)
+        for packet in stream.encode():
+            container.mux(packet)
+    assert (probe(path).width, probe(path).height) == (360, 288)
+    turned, upright = track_video(path, "face"), track_video(clip, "face")
+    assert turned.meta["faces_found"] == 75
+    rise = turned.marker("FOREHEAD") - turned.marker("CHIN")
+    assert (rise[:, 1] > 100).all() and (np.abs(rise[:, 0]) < 30).all()
+    assert np.nanmedian(np.linalg.norm(turned.positions - upright.positions, axis=2)) < 2.0  # mm (irises hidden: NaN)
+
+
 def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
     """One line on the process's stderr, MediaPipe's native logs included."""
     from capture.videoio import write_video
