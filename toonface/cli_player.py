@@ -49,9 +49,12 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--source", "source_spec", default=None, metavar="SPEC",
               help="Drive the face from a performer, mapped live: camera:N, camera:VIDEO, face:VIDEO, a take "
                    "file or synthetic (as toonface send takes them).")
+@click.option("--camera", default=None, metavar="N|VIDEO",
+              help="The same as --source camera:N: a camera (or a video played as one) drives the face.")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
-         size: str, track_path: str | None, once: bool, source_spec: str | None, seconds: float | None) -> None:
+         size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
+         seconds: float | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -80,6 +83,10 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
         settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims))
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     follower = None
+    if camera is not None:
+        if source_spec is not None:
+            raise click.BadParameter("give --camera or --source, not both", param_hint="--camera")
+        source_spec = f"camera:{camera}"
     if source_spec is not None:
         if track_path:
             raise click.BadParameter("give --motors or --source, not both", param_hint="--source")

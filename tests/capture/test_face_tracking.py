@@ -374,13 +374,14 @@ def test_side_by_side_puts_the_performers_own_frame_left_of_the_cartoon(realdata
 
 @pytest.mark.gl
 def test_play_follows_a_camera_live(realdata, tmp_path, capsys):
-    """`play --source camera:FILE`: the performer's face, tracked and mapped in a thread, drives the
-    local player; the frames move with the speech and the player keeps its own loop time."""
+    """`play --camera FILE` (the same as --source camera:FILE): the performer's face, tracked and
+    mapped in a thread, drives the local player; the frames move with the speech and the player
+    keeps its own loop time."""
     import cv2
 
     clip = realdata / "video" / "grid" / "bbaf2n.mpg"
     frames = tmp_path / "frames"
-    assert main(["play", "--listen", "off", "--source", f"camera:{clip}", "--seconds", "3.2", "--size", "64",
+    assert main(["play", "--listen", "off", "--camera", str(clip), "--seconds", "3.2", "--size", "64",
                  "-o", str(frames)]) == 0
     images = [cv2.imread(str(p)).astype(int) for p in sorted(frames.glob("frame_*.png"))]
     assert 70 <= len(images) <= 82  # 80 loops of 40 ms, some maybe dropped
@@ -388,3 +389,5 @@ def test_play_follows_a_camera_live(realdata, tmp_path, capsys):
     assert max(change[:20]) < 0.5 and max(change[30:60]) > 2.0  # at rest during the first second, then speaking
     assert main(["play", "--listen", "off", "--source", "camera:9", "--seconds", "1"]) == 2
     assert "no camera 9" in capsys.readouterr().err
+    assert main(["play", "--listen", "off", "--camera", "0", "--source", "synthetic"]) == 2
+    assert "give --camera or --source, not both" in capsys.readouterr().err
