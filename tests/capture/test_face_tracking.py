@@ -116,6 +116,29 @@ def test_a_video_stored_on_its_side_is_tracked_upright(realdata, tmp_path):
     assert np.nanmedian(np.linalg.norm(turned.positions - upright.positions, axis=2)) < 2.0  # mm (irises hidden: NaN)
 
 
+def test_with_two_faces_in_view_the_same_person_is_followed(realdata, tmp_path):
+    """Two GRID speakers side by side, each saying their own sentence: the take follows one of
+    them in every frame (its lips are that speaker's own, not the other's)."""
+    from capture.videoio import write_video
+
+    def clip(name):
+        with av.open(str(realdata / "video" / "grid" / name)) as container:
+            return [f.to_ndarray(format="bgr24") for f in container.decode(video=0)]
+
+    left, right = clip("bbaf2n.mpg"), clip("lbax4n.mpg")
+    pair = track_video(write_video([np.hstack(p) for p in zip(left, right, strict=True)], tmp_path / "two.mp4",
+                                   25.0), "face")
+
+    def lips(take):
+        return np.linalg.norm(take.marker("LIP_UP_IN") - take.marker("LIP_LOW_IN"), axis=1)
+
+    alone = [lips(track_video(realdata / "video" / "grid" / n, "face")) for n in ("bbaf2n.mpg", "lbax4n.mpg")]
+    likeness = [np.corrcoef(lips(pair), own)[0, 1] for own in alone]
+    assert pair.meta["faces_found"] == 75 and max(likeness) > 0.95 and min(likeness) < 0.3, likeness
+    side = np.sign(pair.marker("NOSE_TIP")[:, 0])
+    assert (side == side[0]).all()
+
+
 def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
     """One line on the process's stderr, MediaPipe's native logs included."""
     from capture.videoio import write_video
