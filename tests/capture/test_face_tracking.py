@@ -116,6 +116,31 @@ def test_a_video_stored_on_its_side_is_tracked_upright(realdata, tmp_path):
     assert np.nanmedian(np.linalg.norm(turned.positions - upright.positions, axis=2)) < 2.0  # mm (irises hidden: NaN)
 
 
+def test_a_variable_frame_rate_keeps_each_frame_s_own_time(realdata, tmp_path):
+    """Every third frame of a GRID clip dropped, the rest stamped with their own times (a phone's
+    variable frame rate): the take's times are the container's, not frame / rate."""
+    from fractions import Fraction
+
+    with av.open(str(realdata / "video" / "grid" / "bbaf2n.mpg")) as container:
+        images = [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
+    kept = [i for i in range(len(images)) if i % 3 != 2]
+    path = tmp_path / "vfr.mkv"
+    with av.open(str(path), "w") as container:
+        stream = container.add_stream("libx264", rate=25)
+        stream.width, stream.height, stream.pix_fmt = images[0].shape[1], images[0].shape[0], "yuv420p"
+        stream.codec_context.time_base = Fraction(1, 1000)
+        for i in kept:
+            frame = av.VideoFrame.from_ndarray(images[i], format="rgb24")
+            frame.pts, frame.time_base = 40 * i, Fraction(1, 1000)
+            for packet in stream.encode(frame):
+                container.mux(packet)
+        for packet in stream.encode():
+            container.mux(packet)
+    take = track_video(path, "face")
+    assert take.frames == len(kept)
+    np.testing.assert_allclose(take.times, 0.04 * np.array(kept), atol=1e-3)
+
+
 def test_with_two_faces_in_view_the_same_person_is_followed(realdata, tmp_path):
     """Two GRID speakers side by side, each saying their own sentence: the take follows one of
     them in every frame (its lips are that speaker's own, not the other's)."""
