@@ -9,10 +9,8 @@ filtered jitter (no goal; reported beside the lag).
 facial takes (``../shared/realdata/facial/animface/``) and filled; mean error over cubic
 spline's mean error on the same cuts (goal 0.5). ``fidelity.gapfill_4frames_ratio``: the same
 for 4-frame gaps (goal 1: never worse than a spline).
-``fidelity.motor_rmse_pct``: the synthetic performer with 0.3 mm jitter, 10 % of samples
-dropped, 0.5 s occlusions, spikes and ±20° head turns, cleaned and mapped by the toon32 preset
-with a profile calibrated on the take's own calibration segment; RMSE against the true motors
-after that segment, % of the 0-1 range, per motor in the detail (goal 2).
+``fidelity.motor_*`` and ``fidelity.second_*``: mapping fidelity on the project's own synthetic
+performer and on a second one designed apart, beside a plain peer (:mod:`bench.generators`).
 ``fidelity.clean_map_fps``: clean + map of a 120 Hz toon32 take, frames per second on one core
 (goal 50 000).
 """
@@ -24,27 +22,22 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from bench import generators
 from bench.core import Figure
 from bench.pipeline import pinned_rate
-from capture import Take, load_take, synthesize
-from capture.faults import Faults, apply_faults
+from capture import load_take, synthesize
 from capture.performance import default_performance
-from mapping import calibrate, choose_mapping, map_stabilised, prepare
 from mapping.filters import OneEuro
 from mapping.gaps import GapFiller
 from mapping.stepwise import LIVE_BETA, LIVE_MIN_CUTOFF
-from toon import MOTOR_CODES
-from toonface import truth_track
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
 LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's marker filter
-CALIBRATION_END = 1.0 + 12 * 1.2  # the synthetic calibration segment: 1 s neutral, 12 groups
 
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``fidelity.*`` figures."""
-    return [*_live_filter(), *_gap_filling(trials=5 if quick else 30), _motor_rmse(seconds=6 if quick else 20),
-            _throughput(quick)]
+    return [*_live_filter(), *_gap_filling(trials=5 if quick else 30), *generators.run(quick), _throughput(quick)]
 
 
 def _live_filter() -> list[Figure]:
@@ -94,32 +87,6 @@ def _gap_filling(trials: int) -> list[Figure]:
         figures.append(Figure(f"fidelity.gapfill_{label}_ratio", float(np.mean(ours) / np.mean(spline)), "ratio",
                               goal, False, detail))
     return figures
-
-
-def _motor_rmse(seconds: float) -> Figure:
-    syn = synthesize(rate=60.0, noise_mm=0.3, seed=1,
-                     performance=default_performance(seconds, calibration=True, max_turn_deg=20))
-    faults = Faults(gap_rate=0.1, gap_seconds=0.5, spike_rate=0.01)
-    take, _ = apply_faults(syn.take, faults, seed=1)
-    rng = np.random.default_rng(1)
-    positions = take.positions.copy()
-    positions[rng.random(positions.shape[:2]) < 0.10] = np.nan  # 10 % dropout
-    take = Take(positions, take.labels, take.rate, times=take.times, meta=take.meta)
-    mapping, markerset = choose_mapping(take)
-    prepared = prepare(take, markerset)  # cleaned once: calibrated on and mapped
-    profile = calibrate(mapping, prepared, (0.0, 1.0), range_window=(1.0, CALIBRATION_END))
-    track = map_stabilised(prepared.stable, prepared.columns, take.times, take.rate, mapping, profile,
-                           filled=prepared.stable.filled)
-    error = track.values - truth_track(syn).values
-    after = syn.take.times >= CALIBRATION_END
-    rmse = float(np.sqrt(np.mean(error[after] ** 2)))
-    per_motor = np.sqrt(np.mean(error[after] ** 2, axis=0))
-    detail = {"seconds_after_calibration": seconds, "overall_incl_calibration_pct": round(
-              100 * float(np.sqrt(np.mean(error ** 2))), 3),
-              "per_motor_pct": {code: round(100 * float(v), 2) for code, v in zip(MOTOR_CODES, per_motor, strict=True)},
-              "pipeline": "clean (head fit, spikes, gap fill, 8 Hz zero-phase) + toon32 mapping; profile from the "
-                          "take's own calibration segment (neutral 0-1 s, range 1-15.4 s)"}
-    return Figure("fidelity.motor_rmse_pct", 100 * rmse, "%", 2.0, False, detail)
 
 
 def _throughput(quick: bool) -> Figure:

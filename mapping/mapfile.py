@@ -7,7 +7,8 @@ One ``[motor.CODE]`` table per mapped motor::
                { blendshape = "jawOpen" }]   # kinds: mapping.sources
     combine = "max"          # max | mean | min | weighted (each source's weight)
     normalise = "profile"    # profile: the performer's range -> the motor's 0..1 | scale: units per motor unit
-    scale = 60.0             # with normalise = "scale"
+                             # | calibrated: a range-of-motion calibration's range where the profile has one, else scale
+    scale = 60.0             # with normalise = "scale" (or "calibrated" without such a range)
     invert = false           # the motor follows the combined value's decrease
     gain = 1.0               # range exaggeration around neutral
     offset = 0.0
@@ -43,6 +44,7 @@ from toon import MOTOR_CODES
 FORMAT = "toonface.mapping/1"
 COMBINES = ("max", "mean", "min", "weighted")
 CLAMPS = ("hard", "soft", "none")
+NORMALISES = ("profile", "scale", "calibrated")
 POLICIES = ("hold", "ease", "idle")
 FILTERS = {"one-euro": {"min_cutoff", "beta", "d_cutoff"}, "butterworth": {"cutoff", "order"},
            "savitzky-golay": {"window", "order"}}
@@ -176,7 +178,7 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
                   at(where, "sources"))
     sources = tuple(_source(check, s, at(at(where, "sources"), i)) for i, s in enumerate(raw))
     combine = check.choice(spec.get("combine", "max"), COMBINES, at(where, "combine"))
-    normalise = check.choice(spec.get("normalise", "profile"), ("profile", "scale"), at(where, "normalise"))
+    normalise = check.choice(spec.get("normalise", "profile"), NORMALISES, at(where, "normalise"))
     scale = check.number(spec.get("scale", 1.0), at(where, "scale"))
     check.require(scale != 0, "expected a number other than 0, got 0", at(where, "scale"))
     curve = spec.get("curve", [])

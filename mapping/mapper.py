@@ -3,11 +3,13 @@
 For each mapped motor (in this order): measure its sources; normalise each by the performer
 profile (``profile``: the side of the performer's range the value is on becomes the motor's way
 to 0 or to 1 from its neutral, so the performer's range fills the motor's; ``scale``: units per
-motor unit); invert a source if asked; combine (max, mean, min or weighted, over the sources seen
-in the frame); invert; ``value = neutral + gain * delta + offset``; the curve; the clamp. Where no
-source is seen the per-frame rules take over (:mod:`mapping.rules`, shared with the live
-sender): the loss policy, the per-channel filter, speed limit and delay, the cross-motor
-operations and the style operators. Offline mapping alone has style's time scaling.
+motor unit; ``calibrated``: as ``profile`` where the profile's ranges come from a range-of-motion
+calibration and it has this source's, else as ``scale``); invert a source if asked; combine
+(max, mean, min or weighted, over the sources seen in the frame); invert;
+``value = neutral + gain * delta + offset``; the curve; the clamp. Where no source is seen the
+per-frame rules take over (:mod:`mapping.rules`, shared with the live sender): the loss policy,
+the per-channel filter, speed limit and delay, the cross-motor operations and the style
+operators. Offline mapping alone has style's time scaling.
 
 Confidence per motor and frame is the mean over its sources of their markers' quality: 1 seen,
 0.5 filled by the gap filler, 0 unseen (a blendshape source: 1 measured, 0 not).
@@ -92,16 +94,19 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
 def check_profile(mapping: Mapping, profile: Profile) -> None:
     """Raise ValueError naming the sources ``profile`` has no range for (the performer's range is
     what ``profile`` normalisation divides by)."""
-    wanted = {s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources}
+    wanted = {s.key for r in mapping.rules if r.normalise == "profile" for s in r.sources}  # calibrated: optional
     missing = sorted(wanted - set(profile.sources))
     if missing:
         raise ValueError(f"the profile has no range for {', '.join(missing)}; calibrate with this mapping")
 
 
-def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRange | None) -> np.ndarray:
+def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRange | None,
+              mode: str = "") -> np.ndarray:
     """A source's value as a signed fraction of the performer's range (``profile``: -1 at
-    ``low``, 0 at rest, 1 at ``high``) or in motor units (``scale``); inverted if the source says."""
-    if rule.normalise == "scale":
+    ``low``, 0 at rest, 1 at ``high``) or in motor units (``scale``); inverted if the source says.
+    ``mode``: ``profile`` or ``scale``, what a ``calibrated`` rule resolved to (the rule's own
+    by default)."""
+    if (mode or rule.normalise) == "scale":
         rest = span.neutral if span is not None else 0.0
         out = (value - rest) / rule.scale
     else:
@@ -118,10 +123,14 @@ def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], h
                  quality: np.ndarray, profile: Profile, rest: float) -> tuple[np.ndarray, np.ndarray]:
     """One motor's value before loss handling (NaN where no source is seen) and its confidence."""
     normalised, confidences = [], []
+    mode = rule.normalise
+    if mode == "calibrated":  # the range where a range-of-motion calibration measured it
+        calibrated = profile.full_range and all(s.key in profile.sources for s in rule.sources)
+        mode = "profile" if calibrated else "scale"
     for source in rule.sources:
         span = profile.sources.get(source.key)
         raw = measure(source, stable.local, columns, head, stable.channels)
-        normalised.append(normalise(raw, source, rule, span))
+        normalised.append(normalise(raw, source, rule, span, mode))
         if source.markers:
             confidences.append(np.min(quality[:, [columns[m] for m in source.markers]], axis=1))
         elif source.kind == "blendshape":
@@ -132,7 +141,7 @@ def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], h
     combined = _combine(stack, rule)
     if rule.invert:
         combined = -combined
-    if rule.normalise == "profile":  # the performer's range onto the motor's way to 0 or to 1
+    if mode == "profile":  # the performer's range onto the motor's way to 0 or to 1
         delta = np.where(combined >= 0, combined * (1.0 - rest), combined * rest)
     else:
         delta = combined

@@ -61,6 +61,9 @@ class Profile:
         Where the neutral and the range came from, and sources left out for lack of motion.
     source : str
         The file it was read from ("" for one made in memory), for messages.
+    full_range : bool
+        The ranges come from a range-of-motion take (``calibrate --range``): the performer's
+        whole range, which ``normalise = "calibrated"`` rules (the head's) then use.
     """
 
     markerset: str
@@ -69,6 +72,7 @@ class Profile:
     performer: str = ""
     notes: dict[str, str] = field(default_factory=dict)
     source: str = ""
+    full_range: bool = False
 
 
 def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = 1.0) -> tuple[float, float]:
@@ -175,7 +179,8 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
     """Write ``profile`` as TOML or JSON, as the suffix says (atomically)."""
     doc = {"format": FORMAT, "markerset": profile.markerset, "performer": profile.performer,
            "notes": dict(profile.notes), "rest_rotation": [[float(v) for v in row] for row in profile.rest_rotation],
-           "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()}}
+           "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()},
+           "full_range": profile.full_range}
     return write_document(doc, path, "profile")
 
 
@@ -203,7 +208,8 @@ def load_profile(path: str | os.PathLike) -> Profile:
         ranges[key] = SourceRange(neutral, low, high)
     notes = doc.get("notes", {})
     return Profile(str(doc["markerset"]), ranges, rot, str(doc.get("performer", "")),
-                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path))
+                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path),
+                   check.boolean(doc.get("full_range", False), "full_range"))
 
 
 def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, int], head: np.ndarray,

@@ -136,7 +136,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
                             min_side, require_motion)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
-    return profile
+    return replace(profile, full_range=range_from is not None or range_window is not None)
 
 
 @dataclass(frozen=True)
@@ -272,4 +272,5 @@ def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_
             if key in own.sources:
                 shift = own.sources[key].neutral - span.neutral
                 sources[key] = type(span)(span.neutral + shift, span.low + shift, span.high + shift)
-    return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes), profile.source)
+    return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes), profile.source,
+                   profile.full_range)

@@ -9,9 +9,9 @@ from capture import load_markerset, load_take
 from common import InputError, data_path
 
 
-def test_the_face_set_bridges_its_pupils_on_their_own():
-    assert load_markerset("face").independent == ("PUPIL_R", "PUPIL_L")
-    assert load_markerset("toon32").independent == ()
+def test_the_sets_with_pupils_bridge_them_on_their_own():
+    assert load_markerset("face").independent == load_markerset("toon32").independent == ("PUPIL_R", "PUPIL_L")
+    assert load_markerset("animface41").independent == ()
 
 
 def test_toon32_aliases_prefixes_and_mpeg4():
