@@ -6,7 +6,7 @@ references expresses every marker in the head frame. Spikes are then rejected th
 head references too) and the head is fitted again without them, with the performer's reference
 shape the first fit measured. Gaps are filled in the head
 frame (from both sides, and from the other markers for long ones; a marker set's independent
-markers, the pupils, only straight across), then everything is smoothed
+markers, the pupils, only from each other or straight across), then everything is smoothed
 with a zero-phase low-pass, which has no lag because it may look ahead. The head pose is smoothed
 the same way. Samples left unseen (gaps too long to fill) stay NaN. A take's channels (a
 markerless tracker's blendshape scores) are filled across the same short gaps, straight from one
@@ -85,8 +85,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         if isinstance(first, Failure):
             return first
     found = markerset.match(take.labels)
-    straight = [take.index(found[m]) for m in markerset.independent if m in found]
-    local, filled_mask = _fill_and_smooth(first.local, take, settings, straight)
+    apart = [take.index(found[m]) for m in markerset.independent if m in found]
+    local, filled_mask = _fill_and_smooth(first.local, take, settings, apart)
     rotation, translation = first.rotation, first.translation
     if settings.cutoff_hz > 0 and take.frames > 1:
         rotation, translation = _smooth_pose(rotation, translation, _smoother(settings, take.rate))
@@ -164,13 +164,13 @@ def _smoother(settings: CleanSettings, rate: float) -> Butterworth:
     return Butterworth(min(settings.cutoff_hz, 0.45 * rate), rate)
 
 
-def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings, straight: list[int] | None = None
+def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings, apart: list[int] | None = None
                      ) -> tuple[np.ndarray, np.ndarray]:
-    """Gap filling (``straight``: columns bridged by a straight line) then zero-phase smoothing
+    """Gap filling (``apart``: columns filled only from each other, see :mod:`mapping.gaps`) then zero-phase smoothing
     of ``(F, M, 3)``; returns them and which samples were filled ``(F, M)``."""
     pos, filled = positions, np.zeros(positions.shape[:2], dtype=bool)
     if settings.max_gap_seconds > 0 and take.frames > 1:
-        result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times, straight or ())
+        result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times, apart or ())
         pos, filled = result.positions, result.filled
     if settings.cutoff_hz > 0 and take.frames > 1:
         pos = _smoother(settings, take.rate).smooth_offline(pos.reshape(take.frames, -1)).reshape(pos.shape)

@@ -14,6 +14,11 @@ on either side swung by many millimetres across the gap).
 Gaps of at most ``spline_frames`` frames use a cubic spline through the marker's own samples
 (never worse than a spline there, by construction); gaps longer than ``max_gap_seconds`` stay
 NaN (never invented), and the caller lowers the marker's confidence there.
+
+Markers ``apart`` from the face (a marker set's ``independent`` ones: the pupils, whose gaze the
+lips and brows do not foretell) are predicted only from each other, and never predict the rest;
+where none of them is seen across a gap (both irises behind blinking lids) the gap is bridged by
+a straight line, which neither dips with the lids nor overshoots as a spline through them does.
 """
 
 from __future__ import annotations
@@ -76,10 +81,10 @@ class GapFiller:
             raise ValueError("blend_seconds must be (low, high) with 0 <= low < high")
         self.ridge, self.window_seconds, self.blend_seconds = ridge, window_seconds, blend_seconds
 
-    def apply(self, positions: np.ndarray, times: np.ndarray, straight: Sequence[int] = ()) -> Filled:
+    def apply(self, positions: np.ndarray, times: np.ndarray, apart: Sequence[int] = ()) -> Filled:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``;
-        the markers (columns) in ``straight`` are bridged by a straight line between each gap's
-        ends instead (a marker set's ``independent`` markers)."""
+        the markers (columns) ``apart`` are filled from each other or straight across (see the
+        module docstring)."""
         pos = np.array(positions, dtype=np.float64, copy=True)
         frames, markers, dims = pos.shape
         missing = np.asarray(np.isnan(pos).any(axis=2))
@@ -91,18 +96,19 @@ class GapFiller:
             for start, end in gap_runs(missing[:, m]):
                 if start == 0 or end == frames or end - start > max_frames:
                     continue  # nothing on one side, or too long: left unseen
-                if m in straight:
-                    ends = [start - 1, end]
-                    for d in range(dims):
-                        pos[start:end, m, d] = np.interp(times[start:end], times[ends], pos[ends, m, d])
-                    lined[start:end, m] = True
+                if m in apart:
+                    partnered = any(k != m and not missing[start:end, k].any() for k in apart)
+                    (long_ if partnered else lined)[start:end, m] = True
                     continue
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True
         out = pos.copy()
+        for m in map(int, np.flatnonzero(lined.any(axis=0))):
+            for start, end in gap_runs(lined[:, m]):
+                _straight(out, times, start, end, m)
         if short.any():  # first, so that brief dropouts do not disqualify a marker as a predictor
             self._splines(out, times, short)
         if long_.any():
-            self._from_neighbours(out, times, long_, rate)
+            self._from_neighbours(out, times, long_, rate, set(apart))
         return Filled(out, short | long_ | lined)
 
     def _splines(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray) -> None:
@@ -114,7 +120,8 @@ class GapFiller:
             spline = CubicSpline(times[seen], pos[seen, m], axis=0)
             pos[wanted[:, m], m] = spline(times[wanted[:, m]])
 
-    def _from_neighbours(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray, rate: float) -> None:
+    def _from_neighbours(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray, rate: float,
+                         apart: set[int]) -> None:
         """Fill each long gap from the markers seen through it, written into ``pos``.
 
         The predictors are the other markers seen throughout the gap; around it (``window_seconds``,
@@ -125,10 +132,15 @@ class GapFiller:
         frames, markers, dims = pos.shape
         seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
         for m in map(int, np.flatnonzero(wanted.any(axis=0))):
+            candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
             for start, end in gap_runs(wanted[:, m]):
                 pad = max(int(self.window_seconds * rate), end - start)
                 lo, hi = max(0, start - pad), min(frames, end + pad)
-                others, rows, own = _predictors(seen_all, m, start, end, lo, hi)
+                others, rows, own = _predictors(seen_all, m, start, end, lo, hi, candidates)
+                if len(own) < 8 and m in apart:
+                    _straight(pos, times, start, end, m)
+                    seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
+                    continue
                 if len(own) < 8:
                     self._splines(pos, times, _only(wanted, start, end, m))
                     seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
@@ -143,8 +155,11 @@ class GapFiller:
                 low, high = self.blend_seconds
                 share = np.clip((times[end - 1] - times[start] - low) / (high - low), 0.0, 1.0)
                 if share < 1.0:
-                    own_seen = np.flatnonzero(seen_all[:, m])
-                    spline = CubicSpline(times[own_seen], pos[own_seen, m], axis=0)(times[start:end])
+                    if m in apart:
+                        spline = _straight(pos.copy(), times, start, end, m)
+                    else:
+                        own_seen = np.flatnonzero(seen_all[:, m])
+                        spline = CubicSpline(times[own_seen], pos[own_seen, m], axis=0)(times[start:end])
                     regressed = share * regressed + (1.0 - share) * spline
                 pos[start:end, m] = regressed
                 seen_all[start:end, m] = True
@@ -164,15 +179,24 @@ def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: 
     return residual[before] + share * (residual[after] - residual[before])
 
 
-def _predictors(seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int
+def _straight(pos: np.ndarray, times: np.ndarray, start: int, end: int, m: int) -> np.ndarray:
+    """Bridge marker ``m``'s gap ``[start, end)`` by a straight line between its ends, written
+    into ``pos`` and returned ``(end - start, dims)``."""
+    ends = [start - 1, end]
+    share = ((times[start:end] - times[start - 1]) / (times[end] - times[start - 1]))[:, None]
+    pos[start:end, m] = pos[ends[0], m] + share * (pos[ends[1], m] - pos[ends[0], m])
+    return pos[start:end, m]
+
+
+def _predictors(seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int, candidates: list[int]
                 ) -> tuple[list[int], np.ndarray, np.ndarray]:
     """Markers to predict marker ``m``'s gap ``[start, end)`` from, and the rows of ``[lo, hi)``
     where they are all seen (``rows``) and ``m`` too (``own``).
 
-    Candidates are the markers seen throughout the gap; while the rows where all are seen
-    are too few for a regression (under 3 per coordinate, or 60), the one most often unseen
-    around the gap is dropped."""
-    others = [k for k in range(seen.shape[1]) if k != m and seen[start:end, k].all()]
+    Candidates (among ``candidates``) are the markers seen throughout the gap; while the rows
+    where all are seen are too few for a regression (under 3 per coordinate, or 60), the one most
+    often unseen around the gap is dropped."""
+    others = [k for k in candidates if k != m and seen[start:end, k].all()]
     window = seen[lo:hi]
     others.sort(key=lambda k: int(window[:, k].sum()), reverse=True)
     while others:

@@ -134,21 +134,32 @@ def test_short_gaps_are_exactly_the_cubic_spline_and_long_or_open_ones_stay_unse
     assert gap_runs(np.isnan(cut[:, 1, 0])) == [(0, 10), (150, 290)]
 
 
-def test_an_independent_marker_is_bridged_straight_across_whatever_its_neighbours_do():
-    """The second marker's gap would be predicted from the first, which it follows; listed as
-    straight, it is a line between the gap's ends (a pupil held through a blink)."""
-    t = np.arange(120) / 60.0
-    lid = np.stack([np.zeros(120), 10 * np.sin(3 * t), np.zeros(120)], axis=-1)
-    pupil = 0.2 * lid + [1.0, 2.0, 3.0]
-    cut = np.stack([lid, pupil], axis=1)
-    cut[40:70, 1] = np.nan
-    result = GapFiller().apply(cut, t, straight=[1])
-    ends = cut[[39, 70], 1]
-    line = ends[0] + (ends[1] - ends[0]) * ((t[40:70] - t[39]) / (t[70] - t[39]))[:, None]
-    np.testing.assert_allclose(result.positions[40:70, 1], line)
-    assert result.filled[40:70, 1].all() and result.filled.sum() == 30
-    predicted = GapFiller().apply(cut, t).positions[40:70, 1]
-    assert np.abs(predicted - pupil[40:70]).max() < 0.05 < np.abs(line - pupil[40:70]).max()
+def test_markers_apart_are_filled_from_each_other_or_straight_across():
+    """A pupil follows a lid here (as a tracker's iris does as the lid comes down), and its gap
+    would be predicted from the lid; apart from the face, it is a line between the gap's ends
+    while the other pupil is unseen too (a blink), and predicted from the other pupil, which it
+    moves with, where that one is seen."""
+    t = np.arange(240) / 60.0
+    lid = np.stack([np.zeros(240), 10 * np.sin(8 * t), np.zeros(240)], axis=-1)
+    gaze = np.stack([4 * np.sin(6.0 * t + 1), np.zeros(240), np.zeros(240)], axis=-1)
+    right, left = 0.2 * lid + gaze + [1.0, 2.0, 3.0], gaze + [60.0, 2.0, 3.0]
+    cut = np.stack([lid, right, left], axis=1)
+    cut[100:130, 1:] = np.nan  # both pupils: a blink
+    cut[180:210, 1] = np.nan  # one pupil only
+    result = GapFiller().apply(cut, t, apart=[1, 2])
+    ends = cut[[99, 130], 1]
+    line = ends[0] + (ends[1] - ends[0]) * ((t[100:130] - t[99]) / (t[130] - t[99]))[:, None]
+    np.testing.assert_allclose(result.positions[100:130, 1], line)
+    assert result.filled[100:130, 1:].all() and result.filled.sum() == 90
+    partnered = np.abs(result.positions[180:210, 1, 0] - right[180:210, 0]).max()  # the gaze, across
+    assert partnered < 0.3 < 1.0 < np.abs(_line(cut, t, 180, 210, 1)[:, 0] - right[180:210, 0]).max()
+    from_lid = GapFiller().apply(cut, t).positions[100:130, 1]  # not apart: predicted from the lid
+    assert np.abs(from_lid - line).max() > 0.5
+
+
+def _line(cut, t, start, end, m):
+    ends = cut[[start - 1, end], m]
+    return ends[0] + (ends[1] - ends[0]) * ((t[start:end] - t[start - 1]) / (t[end] - t[start - 1]))[:, None]
 
 
 def test_a_long_gap_is_filled_from_markers_that_move_with_it():
