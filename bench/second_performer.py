@@ -102,12 +102,11 @@ def _script(times: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         for code in ("ERU", "ELU"):
             out[:, col[code]] = np.minimum(out[:, col[code]], REST[code] * (1 - shut) + 0.02 * shut)
     talk = free & (np.sin(2 * np.pi * times / 7.0) > 0.2)
-    rate = 3.0 + 2.0 * (0.5 + 0.5 * np.sin(times))  # syllables a second, drifting between 3 and 5
-    phase = 2 * np.pi * np.concatenate([[0.0], np.cumsum(rate[1:] * np.diff(times))])
-    syllables = 0.5 - 0.5 * np.cos(phase)
+    per_second = 3.0 + 2.0 * (0.5 + 0.5 * np.sin(times))  # syllables a second, drifting between 3 and 5
+    syllables = 0.5 - 0.5 * np.cos(2 * np.pi * np.concatenate([[0.0], np.cumsum(per_second[1:] * np.diff(times))]))
     out[talk, col["MB"]] = np.maximum(out[talk, col["MB"]], 0.05 + 0.6 * syllables[talk])
-    for code, period, phase in (("HH", 9.0, 0.0), ("HV", 6.0, 1.0)):
-        swing = 0.5 + 0.45 * np.sin(2 * np.pi * (times - SWEEP_END) / period + phase) * np.sin(
+    for code, period, offset in (("HH", 9.0, 0.0), ("HV", 6.0, 1.0)):
+        swing = 0.5 + 0.45 * np.sin(2 * np.pi * (times - SWEEP_END) / period + offset) * np.sin(
             np.pi * (times - SWEEP_END) / span)
         out[free, col[code]] = swing[free]
     return np.clip(out, 0.0, 1.0)
