@@ -5,10 +5,8 @@ on three moving markers of the synthetic performer with 0.3 mm jitter; the delay
 frames, that best aligns its output with the clean motion (goal 1).
 ``fidelity.still_jitter_reduction_x``: the same filter on a still marker: raw jitter over
 filtered jitter (no goal; reported beside the lag).
-``fidelity.gapfill_<ms>ms_ratio``: gaps of 250, 500 and 1000 ms cut at random from the real
-facial takes (``../shared/realdata/facial/animface/``) and filled; mean error over cubic
-spline's mean error on the same cuts (goal 0.5). ``fidelity.gapfill_4frames_ratio``: the same
-for 4-frame gaps (goal 1: never worse than a spline).
+``fidelity.gapfill_*``: gaps cut from real facial and body takes, ours against a spline and
+against Gløersen & Federolf's R2 (:mod:`bench.gapfill`).
 ``fidelity.motor_*`` and ``fidelity.second_*``: mapping fidelity on the project's own synthetic
 performer and on a second one designed apart, beside a plain peer (:mod:`bench.generators`).
 ``fidelity.clean_map_fps``: clean + map of a 120 Hz toon32 take, frames per second on one core
@@ -20,15 +18,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
-from bench import generators
+from bench import gapfill, generators
 from bench.core import Figure
 from bench.pipeline import pinned_rate
-from capture import load_take, synthesize
+from capture import synthesize
 from capture.performance import default_performance
 from mapping.filters import OneEuro
-from mapping.gaps import GapFiller
 from mapping.stepwise import LIVE_BETA, LIVE_MIN_CUTOFF
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
@@ -37,7 +33,7 @@ LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's m
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``fidelity.*`` figures."""
-    return [*_live_filter(), *_gap_filling(trials=5 if quick else 30), *generators.run(quick), _throughput(quick)]
+    return [*_live_filter(), *gapfill.run(quick), *generators.run(quick), _throughput(quick)]
 
 
 def _live_filter() -> list[Figure]:
@@ -57,36 +53,6 @@ def _live_filter() -> list[Figure]:
     return [Figure("fidelity.step_lag_frames", float(max(lags)), "frames", 1.0, False, detail),
             Figure("fidelity.still_jitter_reduction_x", float(still[60:].std() / calm[60:].std()), "x", None, True,
                    detail)]
-
-
-def _gap_filling(trials: int) -> list[Figure]:
-    folder = REALDATA / "facial" / "animface"
-    takes = [load_take(folder / name, units="cm") for name in ("JawMoCap.csv", "EyebrowsMoCap.csv")
-             if (folder / name).exists()]
-    if not takes:
-        return []
-    rng = np.random.default_rng(0)
-    figures = []
-    for label, seconds in (("4frames", 4 / 60), ("250ms", 0.25), ("500ms", 0.5), ("1000ms", 1.0)):
-        ours, spline = [], []
-        for take in takes:
-            n = int(round(seconds * take.rate))
-            for _ in range(trials):
-                m, start = int(rng.integers(take.markers)), int(rng.integers(10, take.frames - n - 10))
-                cut = take.positions.copy()
-                cut[start:start + n, m] = np.nan
-                seen = np.isfinite(cut[:, m, 0])
-                truth = take.positions[start:start + n, m]
-                filled = GapFiller().apply(cut, take.times).positions[start:start + n, m]
-                bridge = CubicSpline(take.times[seen], cut[seen, m], axis=0)(take.times[start:start + n])
-                ours.append(float(np.linalg.norm(filled - truth, axis=1).mean()))
-                spline.append(float(np.linalg.norm(bridge - truth, axis=1).mean()))
-        goal = 1.0 if label == "4frames" else 0.5
-        detail = {"cuts": len(ours), "mean_error_mm": round(float(np.mean(ours)), 4),
-                  "spline_mean_error_mm": round(float(np.mean(spline)), 4), "takes": "animface Jaw + Eyebrows"}
-        figures.append(Figure(f"fidelity.gapfill_{label}_ratio", float(np.mean(ours) / np.mean(spline)), "ratio",
-                              goal, False, detail))
-    return figures
 
 
 def _throughput(quick: bool) -> Figure:

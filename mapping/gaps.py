@@ -80,6 +80,8 @@ class GapFiller:
         if not 0 <= blend_seconds[0] < blend_seconds[1]:
             raise ValueError("blend_seconds must be (low, high) with 0 <= low < high")
         self.ridge, self.window_seconds, self.blend_seconds = ridge, window_seconds, blend_seconds
+        self.sigma_mm = 200.0
+        self.validate = True
 
     def apply(self, positions: np.ndarray, times: np.ndarray, apart: Sequence[int] = ()) -> Filled:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``;
@@ -145,15 +147,23 @@ class GapFiller:
                     self._splines(pos, times, _only(wanted, start, end, m))
                     seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
                     continue
-                x = pos[rows][:, others].reshape(len(rows), -1)
+                centre = pos[rows][:, others].mean(axis=1)  # (rows, dims): the frame moving with the subject
+                near = pos[own][:, others] - pos[own, m][:, None]
+                weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
+                x = ((pos[rows][:, others] - centre[:, None]) * weight[None, :, None]).reshape(len(rows), -1)
+                if len(others) < 4:  # a centre of so few is mostly the predictors: keep its motion too
+                    x = np.hstack([x, centre])
                 x = x - x.mean(axis=0)
                 fit = np.isin(rows, own)
-                predicted = _ridge_predict(x, fit, pos[own, m], self.ridge)
+                low, high = self.blend_seconds
+                ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
+                if self.validate:
+                    ridge, share = _validate(x[fit], pos[own, m] - centre[fit], times[own], end - start, m in apart,
+                                             (ridge, share))
+                predicted = _ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
                 gap = np.isin(rows, np.arange(start, end))
                 bridge = _bridge(pos[own, m] - predicted[fit], own, start, end, times)
                 regressed = predicted[gap] + bridge
-                low, high = self.blend_seconds
-                share = np.clip((times[end - 1] - times[start] - low) / (high - low), 0.0, 1.0)
                 if share < 1.0:
                     if m in apart:
                         spline = _straight(pos.copy(), times, start, end, m)
@@ -212,6 +222,53 @@ def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
     out = np.zeros_like(mask)
     out[start:end, marker] = True
     return out
+
+
+#: The ridge penalties :func:`_validate` chooses among, and the shares of the regression (against
+#: the marker's own spline) it tries.
+RIDGES = (0.003, 0.01, 0.03, 0.1)
+SHARES = (0.0, 0.25, 0.5, 0.75, 1.0)
+
+
+def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight: bool,
+              fallback: tuple[float, float]) -> tuple[float, float]:
+    """The ridge penalty and the regression's share (against the marker's own spline, or its
+    straight line where ``straight``) that best fill stand-in gaps of ``length`` rows cut
+    from the marker's own seen rows (``x`` ``(n, features)``, ``y`` ``(n, dims)`` at times ``t``),
+    up to eight spread evenly along them, each filled as a real gap is. Motion differs from
+    take to take (a face's few tightly coupled markers, a body's many loosely coupled ones; slow
+    drifts, quick syllables), so both are chosen on the take itself; ``fallback`` where the
+    take is too short to spare the rows."""
+    n = len(y)
+    count = min(8, (n - 60) // max(length, 1) - 1)  # stand-ins, as many as the rows allow, up to 8
+    if count < 2:
+        return fallback
+    blocks = [(middle - length // 2, middle - length // 2 + length)
+              for middle in (n * np.arange(1, count + 1)) // (count + 1)]
+    truth = [y[lo:hi] for lo, hi in blocks]
+    own = []
+    for lo, hi in blocks:
+        keep = np.r_[0:lo, hi:n]
+        if straight:
+            share_t = ((t[lo:hi] - t[lo - 1]) / (t[hi] - t[lo - 1]))[:, None]
+            own.append(y[lo - 1] + share_t * (y[hi] - y[lo - 1]))
+        else:
+            own.append(CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]))
+    best = (np.inf, fallback)
+    for ridge in RIDGES:
+        regressed = []
+        for lo, hi in blocks:
+            train = np.ones(n, dtype=bool)
+            train[lo:hi] = False
+            residual = y - _ridge_predict(x, train, y[train], ridge)
+            share = np.linspace(0.0, 1.0, hi - lo + 2)[1:-1, None]
+            regressed.append(y[lo:hi] - residual[lo:hi] + residual[lo - 1] + share * (residual[hi] - residual[lo - 1]))
+        for weight in SHARES:
+            error = sum(float(np.linalg.norm(weight * r + (1 - weight) * o - truth_block, axis=1).mean())
+                        for r, o, truth_block in zip(regressed, own, truth, strict=True))
+            if error < best[0]:
+                best = (error, (ridge, weight))
+    return best[1]
 
 
 def _ridge_predict(x: np.ndarray, fit: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:

@@ -161,12 +161,60 @@ def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutra
     if not ok.any():
         return Failure("fewer than 3 head reference markers are seen in every frame")
     if not own_shape:
-        return Stabilised(to_head_frame(positions, rot, trans), rot, trans, ok, np.asarray(reference_neutral))
+        return _bridged(positions, reference_rows, np.asarray(reference_neutral), rot, trans, ok)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
         shape = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)
     shape = np.where(np.isnan(shape), reference_neutral, shape)
     shape = shape - (shape.mean(axis=0) - np.asarray(reference_neutral).mean(axis=0))  # keep the origin
     rot, trans, ok = robust_rigid_fit(shape, target)
-    local = to_head_frame(positions, rot, trans)
-    return Stabilised(local, rot, trans, ok, shape)
+    return _bridged(positions, reference_rows, shape, rot, trans, ok)
+
+
+def _bridged(positions: np.ndarray, rows: list[int], shape: np.ndarray, rot: np.ndarray, trans: np.ndarray,
+             ok: np.ndarray) -> Stabilised:
+    """The take in the head frame, the pose kept continuous where a reference drops out
+    (:func:`bridge_references`); the lost reference itself is left to gap filling."""
+    rot, trans = bridge_references(positions[:, rows], shape, rot, trans, ok)
+    return Stabilised(to_head_frame(positions, rot, trans), rot, trans, ok, shape)
+
+
+def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarray, translation: np.ndarray,
+                      ok: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The head pose ``(F, 3, 3)``, ``(F, 3)`` with no jump where references drop out (the pose
+    as given where none does); ``target`` ``(F, K, 3)``: the references, NaN where unseen.
+
+    Real head references are not quite rigid, so a head fitted on fewer of them sits a little
+    off the one fitted on all: every marker expressed in the head frame would jump by that much
+    for as long as one is lost. Over each stretch where the same references are missing, the
+    head is fitted on the others (``rotation``, ``translation``: that fit, ``shape`` ``(K, 3)``
+    the references' place in the head frame); on the frames either side, where all of them are
+    seen, the fit on all of them is compared with the fit on the others, and that difference is
+    bridged straight across the stretch.
+    """
+    missing = np.isnan(target[..., 0]) & ok[:, None]
+    if not missing.any():
+        return rotation, translation
+    rot, trans = rotation.copy(), translation.copy()
+    frames = len(target)
+    pattern = np.packbits(missing, axis=1, bitorder="little")  # one code per set of missing references
+    changes = np.flatnonzero(np.any(np.diff(pattern, axis=0) != 0, axis=1)) + 1
+    for start, end in zip(np.r_[0, changes], np.r_[changes, frames], strict=True):
+        lost = missing[start]
+        if not lost.any():
+            continue
+        keep = ~lost
+        ends = [f for f in (start - 1, end) if 0 <= f < frames and ok[f] and np.isfinite(target[f, :, 0]).all()]
+        if not ends or keep.sum() < 3:
+            continue
+        sub_rot, sub_trans, _ = rigid_fit(shape[keep], target[ends][:, keep])
+        delta_rot = rotation[ends] @ np.transpose(sub_rot, (0, 2, 1))  # (E, 3, 3): all refs' fit over the others'
+        delta_trans = translation[ends] - np.einsum("eij,ej->ei", delta_rot, sub_trans)
+        share = (np.arange(start, end) - (start - 1)) / (end - start + 1) if len(ends) == 2 else np.zeros(end - start)
+        w = share[:, None, None]
+        first, last = 0, len(ends) - 1
+        d_rot = nearest_rotation((1 - w) * delta_rot[first] + w * delta_rot[last])
+        d_trans = (1 - w[:, :, 0]) * delta_trans[first] + w[:, :, 0] * delta_trans[last]
+        rot[start:end] = d_rot @ rotation[start:end]
+        trans[start:end] = np.einsum("fij,fj->fi", d_rot, translation[start:end]) + d_trans
+    return rot, trans
