@@ -88,6 +88,7 @@ def test_a_real_talking_face_is_found_in_every_frame_and_its_lips_stop_when_its_
     assert np.ptp(jaw[:last]) > 0.3 and np.ptp(jaw[last + 8:]) < 0.05
 
 
+@pytest.mark.slow
 def test_a_video_stored_on_its_side_is_tracked_upright(realdata, tmp_path):
     """A phone stores a portrait video on its side with a display matrix: its frames are turned
     as players turn them, so the face is upright in camera space (forehead above chin) and its
@@ -116,6 +117,7 @@ def test_a_video_stored_on_its_side_is_tracked_upright(realdata, tmp_path):
     assert np.nanmedian(np.linalg.norm(turned.positions - upright.positions, axis=2)) < 2.0  # mm (irises hidden: NaN)
 
 
+@pytest.mark.slow
 def test_a_variable_frame_rate_keeps_each_frame_s_own_time(realdata, tmp_path):
     """Every third frame of a GRID clip dropped, the rest stamped with their own times (a phone's
     variable frame rate): the take's times are the container's, not frame / rate."""
@@ -141,6 +143,7 @@ def test_a_variable_frame_rate_keeps_each_frame_s_own_time(realdata, tmp_path):
     np.testing.assert_allclose(take.times, 0.04 * np.array(kept), atol=1e-3)
 
 
+@pytest.mark.slow
 def test_with_two_faces_in_view_the_same_person_is_followed(realdata, tmp_path):
     """Two GRID speakers side by side, each saying their own sentence: the take follows one of
     them in every frame (its lips are that speaker's own, not the other's)."""
@@ -177,6 +180,7 @@ def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
 
 
 @pytest.mark.gl
+@pytest.mark.slow
 def test_a_talking_head_video_becomes_a_cartoon_with_its_own_sound(realdata, tmp_path):
     source = realdata / "video" / "grid" / "bbaf2n.mpg"
     out = tmp_path / "cartoon.mp4"
@@ -198,6 +202,7 @@ def test_a_talking_head_video_becomes_a_cartoon_with_its_own_sound(realdata, tmp
 
 
 @pytest.mark.gl
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["cat", "classic", "lines", "round", "wizard"])
 def test_every_built_in_face_speaks_with_the_clip_s_own_sound(realdata, tmp_path, ctx, name):
     """Each face's MP4 has the clip's sound for as long as its picture, and its mouth (the
@@ -232,6 +237,7 @@ def test_every_built_in_face_speaks_with_the_clip_s_own_sound(realdata, tmp_path
     assert change(37, 70) > 3 * change(5, 70) and change(37, 70) > 20, (change(37, 70), change(5, 70))
 
 
+@pytest.mark.slow
 def test_a_video_played_as_a_camera_drives_send_to_receive_live(realdata, tmp_path):
     """No camera exists here: `send camera:FILE` reads the file as a camera would deliver it (in
     real time, nothing waiting for it), learns the performer's ranges as it runs, and the
@@ -287,6 +293,7 @@ def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_name
         camera_source("9")
 
 
+@pytest.mark.slow
 def test_a_real_blink_closes_the_characters_eyes_fully_and_the_pupils_hold(realdata, monkeypatch):
     """bbaf2n blinks twice near 2 s: the lid gap falls to a tenth of its open width, and the
     mapped upper lids reach closed (0) on both sides, each staying open elsewhere. The irises
@@ -397,6 +404,7 @@ def test_each_bad_video_says_what_it_is_in_one_line(tmp_path, capfd, name, make,
 
 
 @pytest.mark.gl
+@pytest.mark.slow
 def test_side_by_side_puts_the_performers_own_frame_left_of_the_cartoon(realdata, tmp_path, capsys):
     import cv2
 
@@ -421,6 +429,7 @@ def test_side_by_side_puts_the_performers_own_frame_left_of_the_cartoon(realdata
 
 
 @pytest.mark.gl
+@pytest.mark.slow
 def test_play_follows_a_camera_live(realdata, tmp_path, capsys):
     """`play --camera FILE` (the same as --source camera:FILE): the performer's face, tracked and
     mapped in a thread, drives the local player; the frames move with the speech and the player

@@ -122,6 +122,7 @@ def test_a_lost_head_reference_does_not_make_the_head_jump():
     np.testing.assert_array_equal(bridged_rot[:300], rot[:300])
 
 
+@pytest.mark.slow
 def test_clean_keeps_the_markers_cut_with_a_head_reference_close_to_a_spline(realdata):
     """The AnimFace jaw take, three markers cut for 250 ms, one of them a head reference: the
     cleaned markers there stay within 2x a spline's error (3.5x before the pose was bridged)."""
