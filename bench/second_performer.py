@@ -99,8 +99,10 @@ def _script(times: np.ndarray, rng: np.random.Generator) -> np.ndarray:
                 out[free, c] += (shape[free] * (target - out[free, c]))
     for at in np.arange(SWEEP_END + 1.3, times[-1], 3.1):  # blinks: 0.16 s down and up
         shut = np.clip(1 - np.abs(times - at) / 0.08, 0, 1)
+        blinking = shut > 0
         for code in ("ERU", "ELU"):
-            out[:, col[code]] = np.minimum(out[:, col[code]], REST[code] * (1 - shut) + 0.02 * shut)
+            lid = out[blinking, col[code]]
+            out[blinking, col[code]] = lid * (1 - shut[blinking]) + 0.02 * shut[blinking]
     talk = free & (np.sin(2 * np.pi * times / 7.0) > 0.2)
     per_second = 3.0 + 2.0 * (0.5 + 0.5 * np.sin(times))  # syllables a second, drifting between 3 and 5
     syllables = 0.5 - 0.5 * np.cos(2 * np.pi * np.concatenate([[0.0], np.cumsum(per_second[1:] * np.diff(times))]))
