@@ -19,6 +19,7 @@ One ``[motor.CODE]`` table per mapped motor::
     max_speed = 6.0          # motor units per second
     delay = 0.0              # seconds
     loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle
+    decouple = ["MB"]        # motors whose motion this one should not show (mapping.coupling)
 
 Across motors (top level): ``mirror`` (swap sides), ``copy_side = "right"|"left"`` (one side
 drives both), ``symmetric = [["BRL", "BLL"], ...]`` (pairs move as their mean), an ``[eyes]``
@@ -49,7 +50,7 @@ POLICIES = ("hold", "ease", "idle")
 FILTERS = {"one-euro": {"min_cutoff", "beta", "d_cutoff"}, "butterworth": {"cutoff", "order"},
            "savitzky-golay": {"window", "order"}}
 _MOTOR_KEYS = {"sources", "combine", "normalise", "scale", "invert", "gain", "offset", "curve", "clamp", "limits",
-               "filter", "max_speed", "delay", "loss"}
+               "filter", "max_speed", "delay", "loss", "decouple"}
 _TOP_KEYS = {"format", "name", "description", "markerset", "mirror", "copy_side", "symmetric", "eyes", "motor",
              "style"}
 
@@ -74,6 +75,7 @@ class MotorRule:
     delay: float = 0.0
     loss: str = "hold"
     loss_seconds: float = 0.5
+    decouple: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -149,6 +151,11 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
     for i, pair in enumerate(pairs):
         for code in pair:
             check.choice(code, MOTOR_CODES, at("symmetric", i))
+    mapped = {r.code for r in rules}
+    for rule in rules:
+        for i, other in enumerate(rule.decouple):
+            check.require(other in mapped, f"motor {other} has no [motor.{other}] table to measure its motion by",
+                          at(at(f"motor.{rule.code}", "decouple"), i))
     return Mapping(str(doc.get("name", Path(path).stem)), markerset, rules,
                    check.boolean(doc.get("mirror", False), "mirror"), copy_side,
                    tuple(tuple(p) for p in pairs), _style(check, doc.get("style", {})),
@@ -193,6 +200,9 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
                   at(where, "limits"))
     loss = check.fields(spec.get("loss", {}), {"policy", "seconds"}, at(where, "loss"), "a table { policy, seconds }")
     invert = check.boolean(spec.get("invert", False), at(where, "invert"))
+    decouple = tuple(check.strings(spec.get("decouple", []), at(where, "decouple")))
+    for i, other in enumerate(decouple):
+        check.choice(other, tuple(c for c in MOTOR_CODES if c != code), at(at(where, "decouple"), i))
     return MotorRule(code, sources, combine, normalise, scale, invert,
                      check.number(spec.get("gain", 1.0), at(where, "gain")),
                      check.number(spec.get("offset", 0.0), at(where, "offset")),
@@ -202,7 +212,7 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
                      check.number(spec.get("max_speed", 0.0), at(where, "max_speed"), 0.0),
                      check.number(spec.get("delay", 0.0), at(where, "delay"), 0.0),
                      check.choice(loss.get("policy", "hold"), POLICIES, at(where, "loss.policy")),
-                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0))
+                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0), decouple)
 
 
 def _source(check: Validator, spec: object, where: str) -> Source:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mapping.coupling import decoupled, driver_of
 from mapping.mapfile import Mapping, MotorRule
 from mapping.profile import Profile, SourceRange
 from mapping.rules import MotorRules
@@ -84,11 +85,34 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     head = head_angles(stable.rotation, profile.rest_rotation)
     values = np.tile(np.asarray(neutral, dtype=float), (frames, 1))
     confidence = np.ones((frames, len(MOTOR_CODES)))
+    drivers = normalised_drivers(mapping, stable, columns, head, profile) if profile.couplings else {}
     for rule in mapping.rules:
         col = motor_index(rule.code)
         values[:, col], confidence[:, col] = _motor_value(rule, stable, columns, head, quality, profile,
-                                                          float(neutral[col]))
+                                                          float(neutral[col]), drivers)
     return values, confidence
+
+
+def resolved_mode(rule: MotorRule, profile: Profile) -> str:
+    """``profile`` or ``scale``: what ``rule``'s normalisation is with ``profile`` (a ``calibrated``
+    rule uses the profile's ranges where a range-of-motion calibration measured them)."""
+    if rule.normalise != "calibrated":
+        return rule.normalise
+    calibrated = profile.full_range and all(s.key in profile.sources for s in rule.sources)
+    return "profile" if calibrated else "scale"
+
+
+def normalised_drivers(mapping: Mapping, stable: Stabilised, columns: dict[str, int], head: np.ndarray,
+                       profile: Profile, codes: tuple[str, ...] | None = None) -> dict[str, np.ndarray]:
+    """The motion of the motors that rules decouple from (or of ``codes``), each as its first
+    source's normalised values ``(F,)`` keyed by that source's key."""
+    wanted = {c for r in mapping.rules for c in r.decouple} if codes is None else set(codes)
+    out = {}
+    for code in sorted(wanted):
+        rule, source = driver_of(mapping, code)
+        raw = measure(source, stable.local, columns, head, stable.channels)
+        out[source.key] = normalise(raw, source, rule, profile.sources.get(source.key), resolved_mode(rule, profile))
+    return out
 
 
 def check_profile(mapping: Mapping, profile: Profile) -> None:
@@ -120,17 +144,17 @@ def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRa
 
 
 def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], head: np.ndarray,
-                 quality: np.ndarray, profile: Profile, rest: float) -> tuple[np.ndarray, np.ndarray]:
-    """One motor's value before loss handling (NaN where no source is seen) and its confidence."""
+                 quality: np.ndarray, profile: Profile, rest: float, drivers: dict[str, np.ndarray]
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """One motor's value before loss handling (NaN where no source is seen) and its confidence;
+    ``drivers``: the normalised motion of the motors it decouples from."""
     normalised, confidences = [], []
-    mode = rule.normalise
-    if mode == "calibrated":  # the range where a range-of-motion calibration measured it
-        calibrated = profile.full_range and all(s.key in profile.sources for s in rule.sources)
-        mode = "profile" if calibrated else "scale"
+    mode = resolved_mode(rule, profile)
     for source in rule.sources:
         span = profile.sources.get(source.key)
         raw = measure(source, stable.local, columns, head, stable.channels)
-        normalised.append(normalise(raw, source, rule, span, mode))
+        value = normalise(raw, source, rule, span, mode)
+        normalised.append(decoupled(value, source, drivers, profile) if drivers and rule.decouple else value)
         if source.markers:
             confidences.append(np.min(quality[:, [columns[m] for m in source.markers]], axis=1))
         elif source.kind == "blendshape":

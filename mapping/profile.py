@@ -64,6 +64,9 @@ class Profile:
     full_range : bool
         The ranges come from a range-of-motion take (``calibrate --range``): the performer's
         whole range, which ``normalise = "calibrated"`` rules (the head's) then use.
+    couplings : dict
+        ``{source key: {driver source key: (below rest, above rest)}}``: how far a source moves,
+        in shares of its range, per share of another motor's range (:mod:`mapping.coupling`).
     """
 
     markerset: str
@@ -73,6 +76,7 @@ class Profile:
     notes: dict[str, str] = field(default_factory=dict)
     source: str = ""
     full_range: bool = False
+    couplings: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
 
 
 def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = 1.0) -> tuple[float, float]:
@@ -180,7 +184,8 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
     doc = {"format": FORMAT, "markerset": profile.markerset, "performer": profile.performer,
            "notes": dict(profile.notes), "rest_rotation": [[float(v) for v in row] for row in profile.rest_rotation],
            "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()},
-           "full_range": profile.full_range}
+           "full_range": profile.full_range,
+           "couplings": {k: {d: list(v) for d, v in drivers.items()} for k, drivers in profile.couplings.items()}}
     return write_document(doc, path, "profile")
 
 
@@ -209,7 +214,19 @@ def load_profile(path: str | os.PathLike) -> Profile:
     notes = doc.get("notes", {})
     return Profile(str(doc["markerset"]), ranges, rot, str(doc.get("performer", "")),
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path),
-                   check.boolean(doc.get("full_range", False), "full_range"))
+                   check.boolean(doc.get("full_range", False), "full_range"),
+                   _couplings(check, doc.get("couplings", {})))
+
+
+def _couplings(check: Validator, doc: object) -> dict[str, dict[str, tuple[float, float]]]:
+    tables = check.fields(doc, doc if isinstance(doc, dict) else (), "couplings", "a table of sources")
+    out: dict[str, dict[str, tuple[float, float]]] = {}
+    for key, drivers in tables.items():
+        where = f'couplings."{key}"'
+        for driver, pair in check.fields(drivers, drivers if isinstance(drivers, dict) else (), where).items():
+            below, above = check.numbers(pair, 2, f'{where}."{driver}"')
+            out.setdefault(str(key), {})[str(driver)] = (below, above)
+    return out
 
 
 def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, int], head: np.ndarray,

@@ -21,9 +21,11 @@ from capture import MarkerSet, Take, load_markerset
 from capture.markerset import find_markerset
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
+from mapping.coupling import learn_couplings
 from mapping.mapfile import Mapping, load_mapping
-from mapping.mapper import map_stabilised
+from mapping.mapper import map_stabilised, normalise, resolved_mode
 from mapping.profile import Profile, build_profile, load_profile, stillest_window
+from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
 from toon import MotorTrack
 
@@ -136,7 +138,28 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
                             min_side, require_motion)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
-    return replace(profile, full_range=range_from is not None or range_window is not None)
+    full = range_from is not None or range_window is not None
+    profile = replace(profile, full_range=full)
+    if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
+        profile = replace(profile, couplings=_couplings(mapping, source, frames, profile))
+    return profile
+
+
+def _couplings(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile: Profile
+               ) -> dict[str, dict[str, tuple[float, float]]]:
+    """The couplings a range-of-motion take's ``frames`` show (:mod:`mapping.coupling`)."""
+    stable = prepared.stable
+    head = head_angles(stable.rotation, profile.rest_rotation)
+    made_up = stable.filled if stable.filled is not None else np.zeros(stable.local.shape[:2], dtype=bool)
+    values: dict[str, np.ndarray] = {}
+    for rule in mapping.rules:
+        mode = resolved_mode(rule, profile)
+        for source in rule.sources:
+            raw = measure(source, stable.local, prepared.columns, head, stable.channels)
+            if source.markers:  # only what was seen: a filled gap would teach its own guess back
+                raw = np.where(made_up[:, [prepared.columns[m] for m in source.markers]].any(axis=1), np.nan, raw)
+            values[source.key] = normalise(raw, source, rule, profile.sources.get(source.key), mode)[frames]
+    return learn_couplings(mapping, profile, values)
 
 
 @dataclass(frozen=True)
@@ -273,4 +296,4 @@ def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_
                 shift = own.sources[key].neutral - span.neutral
                 sources[key] = type(span)(span.neutral + shift, span.low + shift, span.high + shift)
     return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes), profile.source,
-                   profile.full_range)
+                   profile.full_range, profile.couplings)

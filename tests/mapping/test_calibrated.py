@@ -69,3 +69,59 @@ def test_the_plain_peer_follows_a_straight_line_performer_closely():
     after = syn.take.times >= sweep_end
     result = scores(values[after], truth_track(syn).values[after])
     assert result["fitted_pct"] < 1.5 and min(result["r"].values()) > 0.97, result
+
+
+def test_a_range_of_motion_calibration_learns_what_the_jaw_pulls_and_mapping_takes_it_away(second):
+    """The second performer's open jaw pulls the corners down (motion no motor of its truth
+    has); with decouple = ["MB"] the calibration measures the pull on each side alike, and the
+    corners' error falls to under half of what it is without."""
+    import dataclasses
+
+    take, mapping, _, prepared = second
+    profile = calibrate(mapping, prepared, (0.0, 1.0), range_window=(1.0, SWEEP_END))
+    right, left = profile.couplings["MOUTH_R.y"]["LIP_LOW.y"], profile.couplings["MOUTH_L.y"]["LIP_LOW.y"]
+    assert right[1] == pytest.approx(left[1], abs=0.01) and right[1] < -0.2  # the corner drops as the jaw opens
+    after = take.take.times >= SWEEP_END
+    corners = [MOTOR_CODES.index(c) for c in ("MRV", "MLV")]
+
+    def error(profile):
+        values = map_stabilised(prepared.stable, prepared.columns, take.take.times, take.take.rate, mapping, profile,
+                                take.rest).values
+        return np.sqrt(np.mean((values[after][:, corners] - take.motors[after][:, corners]) ** 2))
+
+    assert error(profile) < 0.5 * error(dataclasses.replace(profile, couplings={}))
+
+
+def test_couplings_are_kept_in_the_profile_file(second, tmp_path):
+    _, mapping, _, prepared = second
+    profile = calibrate(mapping, prepared, (0.0, 1.0), range_window=(1.0, SWEEP_END))
+    again = load_profile(save_profile(profile, tmp_path / "p.toml")).couplings
+    assert profile.couplings and again.keys() == profile.couplings.keys()
+    for key, drivers in profile.couplings.items():
+        for driver, sides in drivers.items():
+            assert again[key][driver] == pytest.approx(sides)
+
+
+def test_a_side_the_sweep_lost_takes_the_mirror_motor_s_coupling(second):
+    take, mapping, markerset, _ = second
+    positions = take.take.positions.copy()
+    during = (take.take.times >= 1.0) & (take.take.times < 3.2)  # the jaw's turn in the sweep
+    positions[during, take.take.index("MOUTH_L")] = np.nan
+    from capture import Take
+
+    cut = Take(positions, take.take.labels, take.take.rate, take.take.times)
+    profile = calibrate(mapping, prepare(cut, markerset), (0.0, 1.0), range_window=(1.0, SWEEP_END))
+    assert profile.couplings["MOUTH_L.y"]["LIP_LOW.y"] == profile.couplings["MOUTH_R.y"]["LIP_LOW.y"]
+
+
+def test_decouple_names_a_mapped_motor():
+    from common import InputError
+    from mapping import parse_mapping
+
+    doc = {"format": "toonface.mapping/1", "markerset": "toon32",
+           "motor": {"MRV": {"sources": [{"marker": "MOUTH_R", "axis": "y"}], "decouple": ["MB"]}}}
+    with pytest.raises(InputError, match=r"m.toml: motor.MRV.decouple\[0\]: motor MB has no \[motor.MB\] table"):
+        parse_mapping(doc, "m.toml")
+    doc["motor"]["MRV"]["decouple"] = ["MRV"]
+    with pytest.raises(InputError, match=r"motor.MRV.decouple\[0\]: expected one of"):
+        parse_mapping(doc, "m.toml")

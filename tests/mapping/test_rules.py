@@ -1,5 +1,7 @@
 """The per-frame rules exist once: offline mapping and the live sender give the same motors."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -51,6 +53,7 @@ curve = [[0, 0], [0.5, 0.3], [1, 1]]
 max_speed = 2.0
 [motor.BLM]
 sources = [{ marker = "BROW_L_MED", axis = "y" }]
+decouple = ["MB"]
 gain = 1.4
 offset = 0.05
 delay = 0.05
@@ -93,6 +96,7 @@ def cleaned():
     mapping = parse_mapping(__import__("tomllib").loads(EVERYTHING))
     prepared = prepare(take, load_markerset("toon32"), CleanSettings(max_gap_seconds=0.0))
     profile = calibrate(mapping, prepared)
+    profile = dataclasses.replace(profile, couplings={"BROW_L_MED.y": {"LIP_LOW.y": (0.1, -0.2)}})
     return mapping, prepared, profile
 
 
@@ -108,6 +112,10 @@ def test_live_and_offline_map_the_same_cleaned_frames_equally_with_every_rule_on
                                                   stable.translation[f:f + 1], stable.ok[f:f + 1], stable.reference),
                                        quality[f:f + 1], float(times[f]))[0] for f in range(len(times))])
     assert offline.meta["lost_frames"] > 200  # the losses are there, so the loss policies ran
+    plain = map_stabilised(stable, prepared.columns, times, RATE, mapping,
+                           dataclasses.replace(profile, couplings={}), neutral, seed=7)
+    mirrored = motor_index("BRM")  # BLM shows on the other side: the mapping mirrors
+    assert np.abs(plain.values[:, mirrored] - offline.values[:, mirrored]).max() > 0.01  # the decoupling acts
     np.testing.assert_allclose(stepped, offline.values, rtol=0, atol=1e-9)
     moving = offline.values.std(axis=0)
     assert (moving[[motor_index(c) for c in ("BRL", "BLC", "BRM", "ERU", "MB", "HH")]] > 0.01).all()
