@@ -63,25 +63,36 @@ class GapFiller:
     ridge : float
         Ridge penalty of the regression on the other markers, relative to their mean variance
         (it shrinks their weakest principal directions, the soft form of keeping a few
-        principal components).
+        principal components), where ``validate`` is off or the take too short to choose one.
     window_seconds : float
         How far either side of a gap the relation between the markers is learnt.
     blend_seconds : tuple of float
-        Gaps up to the first length take the marker's own spline, from the second the
-        regression, and a linear blend of the two between (on real facial motion the spline is
-        still the better guess for a quarter of a second).
+        Without validation: gaps up to the first length take the marker's own spline, from the
+        second the regression, and a linear blend of the two between.
+    sigma_mm : float
+        Predictors are weighted by ``exp(-d^2 / (2 sigma^2))`` of their mean distance ``d`` to
+        the missing marker (R2's weighting and its 200 mm), so that near markers lead.
+    validate : bool
+        Choose each gap's ridge penalty (:data:`RIDGES`) and its blend with the spline
+        (:data:`SHARES`) on stand-in gaps cut from the marker's own seen frames
+        (:func:`_validate`): a face's few tightly coupled markers and a body's many loosely
+        coupled ones want different ones.
+
+    Long gaps are regressed about the centre of the markers that predict them (a body walks
+    across the room; a face's markers move about their own), the centre's own motion kept as a
+    predictor where fewer than four predict.
     """
 
     def __init__(self, spline_frames: int = 5, max_gap_seconds: float = 2.0, ridge: float = 3e-2,
-                 window_seconds: float = 10.0, blend_seconds: tuple[float, float] = (0.1, 0.5)) -> None:
+                 window_seconds: float = 10.0, blend_seconds: tuple[float, float] = (0.1, 0.5),
+                 sigma_mm: float = 200.0, validate: bool = True) -> None:
         if spline_frames < 0 or max_gap_seconds <= 0 or window_seconds <= 0:
             raise ValueError("spline_frames must be >= 0, max_gap_seconds and window_seconds > 0")
         self.spline_frames, self.max_gap_seconds = spline_frames, max_gap_seconds
         if not 0 <= blend_seconds[0] < blend_seconds[1]:
             raise ValueError("blend_seconds must be (low, high) with 0 <= low < high")
         self.ridge, self.window_seconds, self.blend_seconds = ridge, window_seconds, blend_seconds
-        self.sigma_mm = 200.0
-        self.validate = True
+        self.sigma_mm, self.validate = sigma_mm, validate
 
     def apply(self, positions: np.ndarray, times: np.ndarray, apart: Sequence[int] = ()) -> Filled:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``;
