@@ -333,7 +333,7 @@ def _winking(realdata, path):
     from capture.videoio import write_video
 
     with av.open(str(realdata / "video" / "grid" / "bbaf2n.mpg")) as container:
-        images = [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
+        images = [f.to_ndarray(format="bgr24") for f in container.decode(video=0)]  # as write_video takes them
     wink = images[40].copy()
     wink[129:167, 161:203] = images[52][129:167, 161:203]
     return write_video(images[:41] + [wink] * 8 + [images[40]] * 10, path, 25.0)
