@@ -7,6 +7,10 @@ import statistics
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+#: The real files recorded by others (``../shared/realdata`` beside the project's root).
+REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
 
 
 @dataclass(frozen=True)

@@ -20,8 +20,7 @@ import av
 import cv2
 import numpy as np
 
-from bench.core import Figure, median_rate
-from bench.fidelity import REALDATA
+from bench.core import REALDATA, Figure, median_rate
 from capture import load_markerset
 from capture.face_sources import face_source
 from capture.video_tracking import track_video

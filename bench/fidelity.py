@@ -15,8 +15,6 @@ performer and on a second one designed apart, beside a plain peer (:mod:`bench.g
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from bench import gapfill, generators
@@ -27,7 +25,6 @@ from capture.performance import default_performance
 from mapping.filters import OneEuro
 from mapping.stepwise import LIVE_BETA, LIVE_MIN_CUTOFF
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
 LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's marker filter
 
 

@@ -19,17 +19,14 @@ cuts:
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from bench.core import Figure
+from bench.core import REALDATA, Figure
 from bench.r2 import fill_r2
 from capture import Take, load_take
 from mapping.gaps import GapFiller
 
-REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
 FACE = (("facial/animface/JawMoCap.csv", "cm"), ("facial/animface/EyebrowsMoCap.csv", "cm"))
 BODY = (("c3d/c3d.org-sample01/Eb015pi.c3d", None), ("c3d/vicon/Vicon.c3d", None),
         ("c3d/c3d.org-sample13/Dance.c3d", None), ("c3d/others/ADemo1_rewrite_c3d_pc_float.c3d", None))

@@ -12,8 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bench.core import Figure
-from bench.fidelity import REALDATA
+from bench.core import REALDATA, Figure
 from capture import load_take, synthesize
 from capture.performance import default_performance
 from mapping import map_take

@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from capture.blendshapes import BLENDSHAPES
 from common import InputError
 
 MODEL_ENV = "TOONFACE_FACE_MODEL"
@@ -52,18 +53,6 @@ LANDMARKS: dict[str, int] = {
     "LIP_UP_R": 39, "LIP_UP_L": 269, "LIP_LOW_R": 181, "LIP_LOW_L": 405,
     "CHIN": 152, "CHEEK_R": 50, "CHEEK_L": 280, "JAW_R": 172, "JAW_L": 397,
 }
-#: The blendshape scores a frame carries, in MediaPipe's order: ARKit's names (its ``_neutral``
-#: score, which means nothing to a mapping, is left out).
-BLENDSHAPES: tuple[str, ...] = (
-    "browDownLeft", "browDownRight", "browInnerUp", "browOuterUpLeft", "browOuterUpRight", "cheekPuff",
-    "cheekSquintLeft", "cheekSquintRight", "eyeBlinkLeft", "eyeBlinkRight", "eyeLookDownLeft", "eyeLookDownRight",
-    "eyeLookInLeft", "eyeLookInRight", "eyeLookOutLeft", "eyeLookOutRight", "eyeLookUpLeft", "eyeLookUpRight",
-    "eyeSquintLeft", "eyeSquintRight", "eyeWideLeft", "eyeWideRight", "jawForward", "jawLeft", "jawOpen", "jawRight",
-    "mouthClose", "mouthDimpleLeft", "mouthDimpleRight", "mouthFrownLeft", "mouthFrownRight", "mouthFunnel",
-    "mouthLeft", "mouthLowerDownLeft", "mouthLowerDownRight", "mouthPressLeft", "mouthPressRight", "mouthPucker",
-    "mouthRight", "mouthRollLower", "mouthRollUpper", "mouthShrugLower", "mouthShrugUpper", "mouthSmileLeft",
-    "mouthSmileRight", "mouthStretchLeft", "mouthStretchRight", "mouthUpperUpLeft", "mouthUpperUpRight",
-    "noseSneerLeft", "noseSneerRight")
 #: An eye whose lid gap is below this share of its width is closed: its iris, which the model
 #: places even through a lid, is not reported (the pupils hold while the lid is down).
 IRIS_HIDDEN_RATIO = 0.15

@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from capture.face_landmarks import BLENDSHAPES, LANDMARKS, FaceTracker
+from capture.blendshapes import BLENDSHAPES
+from capture.face_landmarks import LANDMARKS, FaceTracker
 from capture.sources import Frame, Source
 from common import InputError
 from common.video import upright

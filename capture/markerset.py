@@ -6,7 +6,7 @@ Format ``toonface.markerset/1``::
     name = "toon32"
     description = "..."
     head_reference = ["FOREHEAD", "TEMPLE_R", "TEMPLE_L"]   # at least 3, rigid with the skull
-    independent = ["PUPIL_R", "PUPIL_L"]   # optional: gaps filled from their own ends only
+    independent = ["PUPIL_R", "PUPIL_L"]   # optional: gaps filled from each other only
 
     [markers]
     BROW_R_MED = { neutral = [-17.0, 20.0, 12.0], aliases = ["RBRO_IN"], mpeg4 = "4.2" }
@@ -15,9 +15,9 @@ Format ``toonface.markerset/1``::
 face, origin between the eyes). ``aliases`` are other names the marker goes by (another
 vendor's label); ``mpeg4`` is its MPEG-4 facial feature point ("group.index"). Markers listed
 as ``independent`` move on their own (a gaze is not foretold by the lids or the lips): their
-gaps are bridged straight from one end to the other, never predicted from the other markers.
-A take whose
-labels carry a subject prefix (Vicon's ``Subject:LABEL``) still matches.
+gaps are filled from each other, or straight across where none of them is seen, and never
+from the other markers (:mod:`mapping.gaps`). A take whose labels carry a subject prefix
+(Vicon's ``Subject:LABEL``) still matches.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ class MarkerSet:
         The units of this set's tables (``[tables]`` ``units``: a unit name or millimetres per
         unit), used when no ``--units`` is given.
     independent : tuple of str
-        Markers whose gaps are bridged from their own ends only (see the module docstring).
+        Markers filled only from each other (see the module docstring).
     """
 
     name: str

@@ -26,7 +26,7 @@ from capture import MarkerSet, Take
 from capture.markerset import find_markerset
 from common import Failure
 from mapping.filters import Butterworth
-from mapping.gaps import GapFiller, gap_runs
+from mapping.gaps import GapFiller, gap_runs, straight_line
 from mapping.outliers import SpikeFilter
 from mapping.settings import CleanSettings
 from mapping.stabilise import Stabilised, nearest_rotation, stabilise, yaw_pitch_degrees
@@ -143,8 +143,7 @@ def clean_channels(take: Take, settings: CleanSettings) -> dict[str, np.ndarray]
             column = values[:, c]
             for start, end in gap_runs(np.isnan(column)):
                 if start > 0 and end < take.frames and end - start <= longest:
-                    column[start:end] = np.interp(take.times[start:end], take.times[[start - 1, end]],
-                                                  column[[start - 1, end]])
+                    column[start:end] = straight_line(column, take.times, start, end)
     if settings.cutoff_hz > 0 and take.frames > 1 and values.size:
         values = _smoother(settings, take.rate).smooth_offline(values)
     return {name: values[:, c] for c, name in enumerate(take.channel_names)}

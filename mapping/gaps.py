@@ -117,7 +117,7 @@ class GapFiller:
         out = pos.copy()
         for m in map(int, np.flatnonzero(lined.any(axis=0))):
             for start, end in gap_runs(lined[:, m]):
-                _straight(out, times, start, end, m)
+                out[start:end, m] = straight_line(out[:, m], times, start, end)
         if short.any():  # first, so that brief dropouts do not disqualify a marker as a predictor
             self._splines(out, times, short)
         if long_.any():
@@ -151,7 +151,7 @@ class GapFiller:
                 lo, hi = max(0, start - pad), min(frames, end + pad)
                 others, rows, own = _predictors(seen_all, m, start, end, lo, hi, candidates)
                 if len(own) < 8 and m in apart:
-                    _straight(pos, times, start, end, m)
+                    pos[start:end, m] = straight_line(pos[:, m], times, start, end)
                     seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
                     continue
                 if len(own) < 8:
@@ -177,7 +177,7 @@ class GapFiller:
                 regressed = predicted[gap] + bridge
                 if share < 1.0:
                     if m in apart:
-                        spline = _straight(pos.copy(), times, start, end, m)
+                        spline = straight_line(pos[:, m], times, start, end)
                     else:
                         own_seen = np.flatnonzero(seen_all[:, m])
                         spline = CubicSpline(times[own_seen], pos[own_seen, m], axis=0)(times[start:end])
@@ -200,13 +200,16 @@ def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: 
     return residual[before] + share * (residual[after] - residual[before])
 
 
-def _straight(pos: np.ndarray, times: np.ndarray, start: int, end: int, m: int) -> np.ndarray:
-    """Bridge marker ``m``'s gap ``[start, end)`` by a straight line between its ends, written
-    into ``pos`` and returned ``(end - start, dims)``."""
-    ends = [start - 1, end]
-    share = ((times[start:end] - times[start - 1]) / (times[end] - times[start - 1]))[:, None]
-    pos[start:end, m] = pos[ends[0], m] + share * (pos[ends[1], m] - pos[ends[0], m])
-    return pos[start:end, m]
+def straight_line(values: np.ndarray, times: np.ndarray, start: int, end: int) -> np.ndarray:
+    """The straight line across the gap ``[start, end)`` of ``values`` ``(F, ...)`` (frames first)
+    from the sample before it to the one after, at ``times`` ``(F,)``; ``(end - start, ...)``.
+
+    >>> straight_line(np.array([0.0, np.nan, np.nan, 3.0]), np.arange(4.0), 1, 3).tolist()
+    [1.0, 2.0]
+    """
+    share = (times[start:end] - times[start - 1]) / (times[end] - times[start - 1])
+    share = share.reshape(-1, *([1] * (values.ndim - 1)))
+    return values[start - 1] + share * (values[end] - values[start - 1])
 
 
 def _predictors(seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int, candidates: list[int]
@@ -255,14 +258,13 @@ def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight
     if count < 2:
         return fallback
     blocks = [(middle - length // 2, middle - length // 2 + length)
-              for middle in (n * np.arange(1, count + 1)) // (count + 1)]
+              for middle in (n * k // (count + 1) for k in range(1, count + 1))]
     truth = [y[lo:hi] for lo, hi in blocks]
     own = []
     for lo, hi in blocks:
         keep = np.r_[0:lo, hi:n]
         if straight:
-            share_t = ((t[lo:hi] - t[lo - 1]) / (t[hi] - t[lo - 1]))[:, None]
-            own.append(y[lo - 1] + share_t * (y[hi] - y[lo - 1]))
+            own.append(straight_line(y, t, lo, hi))
         else:
             own.append(CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]))
     best = (np.inf, fallback)

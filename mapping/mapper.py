@@ -103,12 +103,11 @@ def resolved_mode(rule: MotorRule, profile: Profile) -> str:
 
 
 def normalised_drivers(mapping: Mapping, stable: Stabilised, columns: dict[str, int], head: np.ndarray,
-                       profile: Profile, codes: tuple[str, ...] | None = None) -> dict[str, np.ndarray]:
-    """The motion of the motors that rules decouple from (or of ``codes``), each as its first
-    source's normalised values ``(F,)`` keyed by that source's key."""
-    wanted = {c for r in mapping.rules for c in r.decouple} if codes is None else set(codes)
+                       profile: Profile) -> dict[str, np.ndarray]:
+    """The motion of the motors that rules decouple from, each as its first source's normalised
+    values ``(F,)`` keyed by that source's key."""
     out = {}
-    for code in sorted(wanted):
+    for code in sorted({c for r in mapping.rules for c in r.decouple}):
         rule, source = driver_of(mapping, code)
         raw = measure(source, stable.local, columns, head, stable.channels)
         out[source.key] = normalise(raw, source, rule, profile.sources.get(source.key), resolved_mode(rule, profile))

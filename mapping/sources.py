@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from capture.blendshapes import BLENDSHAPES
 from mapping.stabilise import yaw_pitch_degrees
 
 AXES = "xyz"
@@ -39,16 +40,7 @@ KINDS = ("marker", "distance", "difference", "angle", "head", "blendshape")
 #: motion of a lip or a brow, is 0.2 of a score.
 SCORE_PER_MM = 0.05
 #: The names a blendshape source may read: ARKit's 52 (MediaPipe reports all but ``tongueOut``).
-BLENDSHAPE_NAMES = frozenset({
-    "browDownLeft", "browDownRight", "browInnerUp", "browOuterUpLeft", "browOuterUpRight", "cheekPuff",
-    "cheekSquintLeft", "cheekSquintRight", "eyeBlinkLeft", "eyeBlinkRight", "eyeLookDownLeft", "eyeLookDownRight",
-    "eyeLookInLeft", "eyeLookInRight", "eyeLookOutLeft", "eyeLookOutRight", "eyeLookUpLeft", "eyeLookUpRight",
-    "eyeSquintLeft", "eyeSquintRight", "eyeWideLeft", "eyeWideRight", "jawForward", "jawLeft", "jawOpen", "jawRight",
-    "mouthClose", "mouthDimpleLeft", "mouthDimpleRight", "mouthFrownLeft", "mouthFrownRight", "mouthFunnel",
-    "mouthLeft", "mouthLowerDownLeft", "mouthLowerDownRight", "mouthPressLeft", "mouthPressRight", "mouthPucker",
-    "mouthRight", "mouthRollLower", "mouthRollUpper", "mouthShrugLower", "mouthShrugUpper", "mouthSmileLeft",
-    "mouthSmileRight", "mouthStretchLeft", "mouthStretchRight", "mouthUpperUpLeft", "mouthUpperUpRight",
-    "noseSneerLeft", "noseSneerRight", "tongueOut"})
+BLENDSHAPE_NAMES = frozenset(BLENDSHAPES) | {"tongueOut"}
 
 
 @dataclass(frozen=True)

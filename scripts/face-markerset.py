@@ -24,7 +24,7 @@ lines = [
     "# canonical face model (Apache-2.0), millimetres, x to the face's left, y up, z out of the face; an",
     "# iris centre sits at its eye's contour mean. Head references: forehead, glabella, nose bridge and",
     "# temples, which expressions barely move. The irises are independent: a gaze is not foretold by",
-    "# the lids or the lips, so a gap (a blink) is bridged straight across, not predicted from them.",
+    "# the lids or the lips, so a gap is filled from the other iris, or straight across (a blink).",
     'format = "toonface.markerset/1"',
     'name = "face"',
     'description = "markerless face: MediaPipe Face Landmarker points, brows, lids, eye corners, irises, lips, '
