@@ -262,7 +262,7 @@ def test_a_worker_killed_mid_job_has_its_tasks_run_elsewhere(tmp_path, client):
 
     report = run(path, client, progress=kill_a_busy_worker)
     assert killed and killed[0][1], "no worker was busy when the first task finished"
-    assert report.ok and report.count("done") == 6
+    assert report.ok and report.count("done") == 6, [(r.pair.name, r.status, r.reason) for r in report.results]
     for pair in report.results:
         assert len(decode(pair.pair.output("video").path)) == 60
     client.wait_for_workers(2, timeout=60)  # its nanny starts a new one
