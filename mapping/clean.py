@@ -2,9 +2,11 @@
 
 The order matters. Head motion goes first, so that the spike test sees the face's own slow
 motion (a fast head turn would otherwise look like a spike): a robust rigid fit of the head
-references expresses every marker in the head frame. Spikes are then rejected there (on the
-head references too) and the head is fitted again without them, with the performer's reference
-shape the first fit measured. Gaps are filled in the head
+references expresses every marker in the head frame (the references' own spikes are found
+before it, in the world, by :func:`~mapping.outliers.centred_spikes`: with few references seen,
+one spike turns the whole head). Spikes are then rejected there, by the live test and by the
+offline one that looks both ways (on the head references too), and the head is fitted again
+without them, with the performer's reference shape the first fit measured. Gaps are filled in the head
 frame (from both sides, and from the other markers for long ones; a marker set's independent
 markers, the pupils, only from each other or straight across), then everything is smoothed
 with a zero-phase low-pass, which has no lag because it may look ahead. The head pose is smoothed
@@ -27,7 +29,7 @@ from capture.markerset import find_markerset
 from common import Failure
 from mapping.filters import Butterworth
 from mapping.gaps import GapFiller, gap_runs, straight_line
-from mapping.outliers import SpikeFilter
+from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings
 from mapping.stabilise import Stabilised, nearest_rotation, stabilise, yaw_pitch_degrees
 
@@ -73,12 +75,17 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     if not references:
         return references
     rows, neutral = references
-    first = stabilise(take.positions, rows, neutral)
+    positions, world_spikes = take.positions, np.zeros(take.positions.shape[:2], bool)
+    if settings.spikes:  # the head references' own spikes first: with few seen, one turns the whole head
+        world_spikes[:, rows] = centred_spikes(take.positions[:, rows], take.times)
+        positions = np.where(world_spikes[..., None], np.nan, positions)
+    first = stabilise(positions, rows, neutral)
     if isinstance(first, Failure):
         return first
-    positions, rejected = take.positions, 0
+    rejected = 0
     if settings.spikes:
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
+        spikes |= centred_spikes(np.where(spikes[..., None], np.nan, first.local), take.times) | world_spikes
         rejected = int(spikes.sum())
         positions = np.where(spikes[..., None], np.nan, take.positions)
         first = stabilise(positions, rows, first.reference, own_shape=False)  # the shape is the performer's

@@ -149,7 +149,7 @@ class GapFiller:
             for start, end in gap_runs(wanted[:, m]):
                 pad = max(int(self.window_seconds * rate), end - start)
                 lo, hi = max(0, start - pad), min(frames, end + pad)
-                others, rows, own = _predictors(seen_all, m, start, end, lo, hi, candidates)
+                others, rows, own = _predictors(pos, seen_all, m, start, end, lo, hi, candidates)
                 if len(own) < 8 and m in apart:
                     pos[start:end, m] = straight_line(pos[:, m], times, start, end)
                     seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
@@ -168,12 +168,13 @@ class GapFiller:
                 fit = np.isin(rows, own)
                 low, high = self.blend_seconds
                 ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
+                edge = 1
                 if self.validate:
-                    ridge, share = _validate(x[fit], pos[own, m] - centre[fit], times[own], end - start, m in apart,
-                                             (ridge, share))
+                    ridge, share, edge = _validate(x[fit], pos[own, m] - centre[fit], times[own], end - start,
+                                                   m in apart, (ridge, share, edge))
                 predicted = _ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
                 gap = np.isin(rows, np.arange(start, end))
-                bridge = _bridge(pos[own, m] - predicted[fit], own, start, end, times)
+                bridge = _bridge(pos[own, m] - predicted[fit], own, start, end, times, edge)
                 regressed = predicted[gap] + bridge
                 if share < 1.0:
                     if m in apart:
@@ -186,18 +187,27 @@ class GapFiller:
                 seen_all[start:end, m] = True
 
 
-def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: np.ndarray) -> np.ndarray:
+def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: np.ndarray, edge: int = 1
+            ) -> np.ndarray:
     """The regression's residual (at the frames ``own``) across the gap ``[start, end)``,
-    ``(end - start, dims)``: a straight line from its value at the last sample before the gap to
-    the first after it."""
+    ``(end - start, dims)``: a straight line from its level at the last sample before the gap to
+    the first after it, each level the median of up to ``edge`` samples on its side (:func:`_line`)."""
     before = max(int(np.searchsorted(own, start)) - 1, 0)
     after = min(int(np.searchsorted(own, end)), len(own) - 1)
-    t0, t1 = times[own[before]], times[own[after]]
-    if t1 > t0:
-        share = np.clip((times[start:end] - t0) / (t1 - t0), 0.0, 1.0)[:, None]
-    else:
-        share = np.full((end - start, 1), 0.5)
-    return residual[before] + share * (residual[after] - residual[before])
+    return _line(residual, times[own], before, after, times[start:end], edge)
+
+
+def _line(values: np.ndarray, times: np.ndarray, before: int, after: int, at: np.ndarray, edge: int
+          ) -> np.ndarray:
+    """The straight line from ``values`` ``(n, dims)`` at row ``before`` to row ``after``, at
+    the times ``at``; with ``edge`` > 1 each end is the median of up to ``edge`` rows reaching
+    away from the gap (at their mean time), which carries less of one sample's noise across it,
+    and none of a spike's that the spike tests could not judge (one beside a gap)."""
+    left, right = slice(max(before - edge + 1, 0), before + 1), slice(after, after + edge)
+    a, b = np.median(values[left], axis=0), np.median(values[right], axis=0)
+    t0, t1 = times[left].mean(), times[right].mean()
+    share = np.clip((at - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((len(at), 1), 0.5)
+    return a + share * (b - a)
 
 
 def straight_line(values: np.ndarray, times: np.ndarray, start: int, end: int) -> np.ndarray:
@@ -212,17 +222,19 @@ def straight_line(values: np.ndarray, times: np.ndarray, start: int, end: int) -
     return values[start - 1] + share * (values[end] - values[start - 1])
 
 
-def _predictors(seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int, candidates: list[int]
-                ) -> tuple[list[int], np.ndarray, np.ndarray]:
+def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
+                candidates: list[int]) -> tuple[list[int], np.ndarray, np.ndarray]:
     """Markers to predict marker ``m``'s gap ``[start, end)`` from, and the rows of ``[lo, hi)``
     where they are all seen (``rows``) and ``m`` too (``own``).
 
     Candidates (among ``candidates``) are the markers seen throughout the gap; while the rows
-    where all are seen are too few for a regression (under 3 per coordinate, or 60), the one most
-    often unseen around the gap is dropped."""
+    where all are seen are too few for a regression (under 9 per predictor, or 60), the one
+    that tells least about ``m`` (:func:`_relevance`) is dropped: the other brow, which moves
+    with a missing one, stays; a marker that hardly moves with it goes first."""
     others = [k for k in candidates if k != m and seen[start:end, k].all()]
     window = seen[lo:hi]
-    others.sort(key=lambda k: int(window[:, k].sum()), reverse=True)
+    score = {k: _relevance(pos[lo:hi, m], pos[lo:hi, k], window[:, m] & window[:, k]) for k in others}
+    others.sort(key=lambda k: score[k], reverse=True)
     while others:
         rows = np.flatnonzero(window[:, others].all(axis=1)) + lo
         own = rows[seen[rows, m]]
@@ -232,27 +244,47 @@ def _predictors(seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int
     return [], np.zeros(0, int), np.zeros(0, int)
 
 
+def _relevance(target: np.ndarray, other: np.ndarray, both: np.ndarray) -> float:
+    """The share of ``target``'s variance that ``other``'s position explains linearly (the R² of
+    a least-squares fit, 0 with fewer than 10 frames) over the frames ``both`` sees them;
+    positions ``(F, dims)``, ``both`` ``(F,)``."""
+    if both.sum() < 10:
+        return 0.0
+    y = target[both] - target[both].mean(axis=0)
+    x = other[both] - other[both].mean(axis=0)
+    total = float((y * y).sum())
+    if total <= 0:
+        return 0.0
+    coef, *_ = np.linalg.lstsq(x, y, rcond=None)
+    residual = y - x @ coef
+    return 1.0 - float((residual * residual).sum()) / total
+
+
 def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
     out = np.zeros_like(mask)
     out[start:end, marker] = True
     return out
 
 
-#: The ridge penalties :func:`_validate` chooses among, and the shares of the regression (against
-#: the marker's own spline) it tries.
+#: The ridge penalties :func:`_validate` chooses among, the shares of the regression (against the
+#: marker's own spline) and the samples either side whose median a bridge starts and ends at
+#: (:func:`_bridge`: one follows a smooth residual best, five carry less of a noisy one's jitter
+#: and none of a spike beside the gap) it tries.
 RIDGES = (0.003, 0.01, 0.03, 0.1)
 SHARES = (0.0, 0.25, 0.5, 0.75, 1.0)
+EDGES = (1, 5)
 
 
 def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight: bool,
-              fallback: tuple[float, float]) -> tuple[float, float]:
-    """The ridge penalty and the regression's share (against the marker's own spline, or its
-    straight line where ``straight``) that best fill stand-in gaps of ``length`` rows cut
-    from the marker's own seen rows (``x`` ``(n, features)``, ``y`` ``(n, dims)`` at times ``t``),
-    up to eight spread evenly along them, each filled as a real gap is. Motion differs from
-    take to take (a face's few tightly coupled markers, a body's many loosely coupled ones; slow
-    drifts, quick syllables), so both are chosen on the take itself; ``fallback`` where the
-    take is too short to spare the rows."""
+              fallback: tuple[float, float, int]) -> tuple[float, float, int]:
+    """The ridge penalty, the regression's share (against the marker's own spline, or its
+    straight line where ``straight``) and the bridge's edge samples (:data:`EDGES`) that best
+    fill stand-in gaps of ``length`` rows cut from the marker's own seen rows (``x``
+    ``(n, features)``, ``y`` ``(n, dims)`` at times ``t``), up to eight spread evenly along
+    them, each filled as a real gap is. Motion differs from take to take (a face's few tightly
+    coupled markers, a body's many loosely coupled ones; slow drifts, quick syllables; clean and
+    noisy sensors), so all are chosen on the take itself; ``fallback`` where the take is too
+    short to spare the rows."""
     n = len(y)
     count = min(8, (n - 60) // max(length, 1) - 1)  # stand-ins, as many as the rows allow, up to 8
     if count < 2:
@@ -269,18 +301,20 @@ def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight
             own.append(CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]))
     best = (np.inf, fallback)
     for ridge in RIDGES:
-        regressed = []
+        residuals = []
         for lo, hi in blocks:
             train = np.ones(n, dtype=bool)
             train[lo:hi] = False
-            residual = y - _ridge_predict(x, train, y[train], ridge)
-            share = np.linspace(0.0, 1.0, hi - lo + 2)[1:-1, None]
-            regressed.append(y[lo:hi] - residual[lo:hi] + residual[lo - 1] + share * (residual[hi] - residual[lo - 1]))
-        for weight in SHARES:
-            error = sum(float(np.linalg.norm(weight * r + (1 - weight) * o - truth_block, axis=1).mean())
-                        for r, o, truth_block in zip(regressed, own, truth, strict=True))
-            if error < best[0]:
-                best = (error, (ridge, weight))
+            residuals.append(y - _ridge_predict(x, train, y[train], ridge))
+        rows = np.arange(n, dtype=float)  # stand-ins are bridged row by row
+        for edge in EDGES:
+            regressed = [y[lo:hi] - r[lo:hi] + _line(r, rows, lo - 1, hi, rows[lo:hi], edge)
+                         for (lo, hi), r in zip(blocks, residuals, strict=True)]
+            for weight in SHARES:
+                error = sum(float(np.linalg.norm(weight * r + (1 - weight) * o - truth_block, axis=1).mean())
+                            for r, o, truth_block in zip(regressed, own, truth, strict=True))
+                if error < best[0]:
+                    best = (error, (ridge, weight, edge))
     return best[1]
 
 

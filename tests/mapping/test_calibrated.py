@@ -125,3 +125,26 @@ def test_decouple_names_a_mapped_motor():
     doc["motor"]["MRV"]["decouple"] = ["MRV"]
     with pytest.raises(InputError, match=r"motor.MRV.decouple\[0\]: expected one of"):
         parse_mapping(doc, "m.toml")
+
+
+def test_a_side_the_sweep_lost_takes_the_mirror_s_reach():
+    """The right upper lid's marker drops out for the whole of its held top in the sweep (8.8-9.7
+    s; its group runs 7.6-9.8 s) and gap filling guesses it short; the calibration takes that
+    side from the left lid, which held it in view, and says so. With both lids lost there is
+    nothing to take it from, and the range stays what was seen."""
+    whole = perform(seconds=2, faults=False).take
+    mapping, markerset = choose_mapping(whole)
+    key, times = "LID_R_UP.y", whole.times
+
+    def calibrated(lost: list[str]):
+        pos = whole.positions.copy()
+        for label in lost:
+            pos[(times >= 8.8) & (times < 9.7), whole.index(label)] = np.nan
+        take = type(whole)(pos, whole.labels, whole.rate, times=times)
+        return calibrate(mapping, prepare(take, markerset), (0.0, 1.0), range_window=(1.0, SWEEP_END))
+
+    truth, one, both = calibrated([]), calibrated(["LID_R_UP"]), calibrated(["LID_R_UP", "LID_L_UP"])
+    reach = truth.sources[key].high - truth.sources[key].neutral
+    assert one.sources[key].high - one.sources[key].neutral == pytest.approx(reach, abs=0.15)
+    assert "LID_R_UP.y high" in one.notes["from_mirror"] and "from_mirror" not in truth.notes
+    assert both.sources[key].high - both.sources[key].neutral < reach - 0.5
