@@ -291,7 +291,7 @@ def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight
         return fallback
     blocks = [(middle - length // 2, middle - length // 2 + length)
               for middle in (n * k // (count + 1) for k in range(1, count + 1))]
-    truth = [y[lo:hi] for lo, hi in blocks]
+    truth = np.stack([y[lo:hi] for lo, hi in blocks])  # (blocks, length, dims)
     own = []
     for lo, hi in blocks:
         keep = np.r_[0:lo, hi:n]
@@ -299,22 +299,28 @@ def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight
             own.append(straight_line(y, t, lo, hi))
         else:
             own.append(CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]))
+    spline = np.stack(own)
+    starts = np.array([lo for lo, _ in blocks])
+    shares = np.asarray(SHARES)[:, None, None, None]
     best = (np.inf, fallback)
+    moments = _Moments(x, y, blocks)
+    reach = max(EDGES)  # rows either side a bridge may read
+    rows = np.clip(starts[:, None] + np.arange(-reach, length + reach), 0, n - 1)  # (blocks, rows)
     for ridge in RIDGES:
-        residuals = []
-        for lo, hi in blocks:
-            train = np.ones(n, dtype=bool)
-            train[lo:hi] = False
-            residuals.append(y - _ridge_predict(x, train, y[train], ridge))
-        rows = np.arange(n, dtype=float)  # stand-ins are bridged row by row
-        for edge in EDGES:
-            regressed = [y[lo:hi] - r[lo:hi] + _line(r, rows, lo - 1, hi, rows[lo:hi], edge)
-                         for (lo, hi), r in zip(blocks, residuals, strict=True)]
-            for weight in SHARES:
-                error = sum(float(np.linalg.norm(weight * r + (1 - weight) * o - truth_block, axis=1).mean())
-                            for r, o, truth_block in zip(regressed, own, truth, strict=True))
-                if error < best[0]:
-                    best = (error, (ridge, weight, edge))
+        residual = y[rows] - moments.predict(ridge, rows)  # (blocks, rows, dims): only where read
+        inside = residual[:, reach:reach + length]
+        for edge in EDGES:  # the stand-ins bridged row by row, as _line bridges a real gap
+            a = np.median(residual[:, reach - edge:reach], axis=1)[:, None]
+            b = np.median(residual[:, reach + length:reach + length + edge], axis=1)[:, None]
+            t0 = rows[:, reach - edge:reach].mean(axis=1)
+            t1 = rows[:, reach + length:reach + length + edge].mean(axis=1)
+            share = ((rows[:, reach:reach + length] - t0[:, None]) / (t1 - t0)[:, None])[..., None]
+            regressed = truth - inside + a + share * (b - a)
+            miss = shares * regressed + (1 - shares) * spline - truth  # (shares, blocks, length, dims)
+            error = np.linalg.norm(miss, axis=-1).mean(axis=-1).sum(axis=-1)
+            pick = int(np.argmin(error))
+            if error[pick] < best[0]:
+                best = (float(error[pick]), (ridge, SHARES[pick], edge))
     return best[1]
 
 
@@ -329,3 +335,29 @@ def _ridge_predict(x: np.ndarray, fit: np.ndarray, y: np.ndarray, ridge: float) 
     penalty = ridge * np.trace(gram) / max(len(gram), 1)
     coef = np.linalg.solve(gram + penalty * np.eye(len(gram)), xc.T @ (y - y.mean(axis=0)))
     return (x - centre) @ coef + y.mean(axis=0)
+
+
+class _Moments:
+    """The sums a ridge regression of ``y`` ``(n, dims)`` on ``x`` ``(n, features)`` needs, over
+    all rows less each block ``[lo, hi)`` of ``blocks``: taken once for the whole and once per
+    block, so that each stand-in's fit costs a small solve instead of a pass over every row. The
+    same fit as :func:`_ridge_predict` on the rows outside the block."""
+
+    def __init__(self, x: np.ndarray, y: np.ndarray, blocks: list[tuple[int, int]]) -> None:
+        self.x, self.y = x, y
+        self.count = np.array([len(y) - (hi - lo) for lo, hi in blocks], dtype=float)
+        parts = [(x[lo:hi], y[lo:hi]) for lo, hi in blocks]
+        self.sx = x.sum(axis=0) - np.stack([bx.sum(axis=0) for bx, _ in parts])  # (B, f)
+        self.sy = y.sum(axis=0) - np.stack([by.sum(axis=0) for _, by in parts])  # (B, d)
+        self.xx = x.T @ x - np.stack([bx.T @ bx for bx, _ in parts])  # (B, f, f)
+        self.xy = x.T @ y - np.stack([bx.T @ by for bx, by in parts])  # (B, f, d)
+
+    def predict(self, ridge: float, rows: np.ndarray) -> np.ndarray:
+        """The predictions of each block's fit at its ``rows`` ``(B, R)``, ``(B, R, dims)``."""
+        mx, my = self.sx / self.count[:, None], self.sy / self.count[:, None]
+        gram = self.xx - self.count[:, None, None] * mx[:, :, None] * mx[:, None, :]
+        cross = self.xy - self.count[:, None, None] * mx[:, :, None] * my[:, None, :]
+        size = gram.shape[-1]
+        penalty = ridge * np.trace(gram, axis1=1, axis2=2) / max(size, 1)
+        coef = np.linalg.solve(gram + penalty[:, None, None] * np.eye(size), cross)
+        return (self.x[rows] - mx[:, None]) @ coef + my[:, None]

@@ -1,16 +1,18 @@
-"""What a range-of-motion sweep did not show: ranges taken from samples actually seen, and a
-side lost to a dropout taken from the mirror motor's.
+"""What a range-of-motion sweep did not show: a side a source lost to a dropout, taken from
+the mirror motor's.
 
 Markers drop out most at a face's extremes (a lid marker hidden by the fold of a raised brow,
 a lip marker swallowed by a wide mouth), which are what a range-of-motion sweep is for. Gap
-filling guesses those samples, and a guess reaches less far than the face did (regressing on
-other markers shrinks toward their mean), so a range taken over filled samples comes out short
-on that side and the motor later overshoots there. A calibration therefore takes its ranges
-from seen samples only (:func:`seen_only`). Where a source was unseen for most of the frames in
-which its mirror source (the same source of the mirror motor's rule, ``toon.MIRROR_PAIRS``)
-held that side's extreme, and so reached less far, that side takes the mirror's reach from rest
-(:func:`mirror_lost_sides`): a sweep moves both sides of the face together, and a face is
-closer to symmetric than a guess is to the truth.
+filling guesses those samples; a guess from well-coupled markers comes near the extreme, one
+from loosely coupled ones falls short (regressing on other markers shrinks toward their mean),
+and the motor then overshoots on that side for the rest of the take. Where a source was unseen
+for most of the frames in which its mirror source (the same source of the mirror motor's rule,
+``toon.MIRROR_PAIRS``) held that side's extreme in view, and its range (its guesses in it)
+reaches less far than the mirror's seen samples do, that side takes the mirror's seen reach
+from rest (:func:`mirror_lost_sides`): a sweep moves both sides of the face together, and a face
+is closer to symmetric than a short guess is to the truth. Otherwise the range stays as
+measured (taking the mirror's reach wherever a side was lost cost more on the project's own
+performer, whose both lids drop out in its sweep, than it gained).
 """
 
 from __future__ import annotations
@@ -27,9 +29,9 @@ from toon.motors import MIRROR_PAIRS
 
 #: A mirror source this far along its way to one end (a share of that side's reach) holds it.
 HELD = 0.9
-#: The least such frames, and the share of them the source must have been unseen in, before
-#: its side is taken from the mirror.
-MIN_FRAMES = 10
+#: The least such frames (a held extreme of a quick sweep lasts a few), and the share of them
+#: the source must have been unseen in, before its side is taken from the mirror.
+MIN_FRAMES = 5
 LOST_SHARE = 0.5
 
 
@@ -40,13 +42,16 @@ def seen_only(stable: Stabilised) -> Stabilised:
     return replace(stable, local=np.where(stable.filled[..., None], np.nan, stable.local))
 
 
-def mirror_lost_sides(mapping: Mapping, profile: Profile, stable: Stabilised, columns: dict[str, int],
-                      frames: np.ndarray) -> tuple[Profile, list[str]]:
+def mirror_lost_sides(mapping: Mapping, profile: Profile, seen: Profile, stable: Stabilised,
+                      columns: dict[str, int], frames: np.ndarray) -> tuple[Profile, list[str]]:
     """``profile`` with each side a source lost while its mirror held it taken from the mirror
     (see the module docstring), and the changed sides (``"KEY low"``/``"KEY high"``) for its notes.
 
     Parameters
     ----------
+    profile, seen : Profile
+        Ranges measured over the range frames with filled samples and without them
+        (:func:`seen_only`); a mirror's reach is its seen one.
     stable : Stabilised
         The range take, cleaned (``filled`` says which samples were made up).
     columns : dict
@@ -63,12 +68,12 @@ def mirror_lost_sides(mapping: Mapping, profile: Profile, stable: Stabilised, co
             continue
         a_rule, b_rule = rules[a_code], rules[b_code]
         for a, b in zip(a_rule.sources, b_rule.sources, strict=False):
-            if a.kind != "marker" or b.kind != "marker" or a.key not in sources or b.key not in sources:
+            if a.kind != "marker" or b.kind != "marker" or a.key not in sources or b.key not in seen.sources:
                 continue
             for up in (False, True):  # the motor's way down, then up
                 a_high = up != (a.invert != a_rule.invert)
                 b_high = up != (b.invert != b_rule.invert)
-                reach = _lost_reach(sources[a.key], sources[b.key], a, b, a_high, b_high, stable, columns,
+                reach = _lost_reach(sources[a.key], seen.sources[b.key], a, b, a_high, b_high, stable, columns,
                                     made_up, frames)
                 if reach is not None:
                     r = sources[a.key]
@@ -82,7 +87,7 @@ def _lost_reach(a_range: SourceRange, b_range: SourceRange, a: Source, b: Source
                 stable: Stabilised, columns: dict[str, int], made_up: np.ndarray, frames: np.ndarray
                 ) -> float | None:
     """The mirror's reach from rest on its side (mm), where source ``a`` lost that side while
-    ``b`` held it and reached less far; None otherwise."""
+    ``b`` held it in view and ``a``'s range (its guesses in it) reaches less far; None otherwise."""
     a_reach = a_range.high - a_range.neutral if a_high else a_range.neutral - a_range.low
     b_reach = b_range.high - b_range.neutral if b_high else b_range.neutral - b_range.low
     if b_reach <= a_reach:

@@ -145,10 +145,10 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
         return profile
 
     profile = measured(source.stable)
-    if full:  # a range-of-motion take: ranges from what was seen (mapping.sweep), lost sides from the mirror
+    if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
         seen = measured(seen_only(source.stable))
-        profile = replace(seen, sources={**profile.sources, **seen.sources}, full_range=True)
-        profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames)
+        profile, lost = mirror_lost_sides(mapping, replace(profile, full_range=True), seen, source.stable,
+                                          source.columns, frames)
         if lost:
             profile = replace(profile, notes={**profile.notes, "from_mirror": ", ".join(lost)})
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show

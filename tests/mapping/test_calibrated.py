@@ -127,24 +127,20 @@ def test_decouple_names_a_mapped_motor():
         parse_mapping(doc, "m.toml")
 
 
+@pytest.mark.slow
 def test_a_side_the_sweep_lost_takes_the_mirror_s_reach():
-    """The right upper lid's marker drops out for the whole of its held top in the sweep (8.8-9.7
-    s; its group runs 7.6-9.8 s) and gap filling guesses it short; the calibration takes that
-    side from the left lid, which held it in view, and says so. With both lids lost there is
-    nothing to take it from, and the range stays what was seen."""
-    whole = perform(seconds=2, faults=False).take
-    mapping, markerset = choose_mapping(whole)
-    key, times = "LID_R_UP.y", whole.times
+    """With its sensor faults (seed 3) the second performer's right upper-lid marker is lost for
+    all of its held top in the sweep (8.57-9.73 s; its group runs 7.6-9.8 s), and gap filling
+    guesses it 1.4 mm short; the calibration takes that side from the left lid, which held it
+    in view, and says so. Without faults nothing is lost and nothing is taken."""
+    key = "LID_R_UP.y"
 
-    def calibrated(lost: list[str]):
-        pos = whole.positions.copy()
-        for label in lost:
-            pos[(times >= 8.8) & (times < 9.7), whole.index(label)] = np.nan
-        take = type(whole)(pos, whole.labels, whole.rate, times=times)
+    def calibrated(faults: bool):
+        take = perform(seconds=20, seed=3, faults=faults).take  # its faults as the bench draws them
+        mapping, markerset = choose_mapping(take)
         return calibrate(mapping, prepare(take, markerset), (0.0, 1.0), range_window=(1.0, SWEEP_END))
 
-    truth, one, both = calibrated([]), calibrated(["LID_R_UP"]), calibrated(["LID_R_UP", "LID_L_UP"])
+    truth, lost = calibrated(False), calibrated(True)
     reach = truth.sources[key].high - truth.sources[key].neutral
-    assert one.sources[key].high - one.sources[key].neutral == pytest.approx(reach, abs=0.15)
-    assert "LID_R_UP.y high" in one.notes["from_mirror"] and "from_mirror" not in truth.notes
-    assert both.sources[key].high - both.sources[key].neutral < reach - 0.5
+    assert lost.sources[key].high - lost.sources[key].neutral == pytest.approx(reach, abs=0.25)
+    assert "LID_R_UP.y high" in lost.notes["from_mirror"] and "from_mirror" not in truth.notes
