@@ -35,7 +35,7 @@ import numpy as np
 from bench.core import Figure
 from capture.sources import synthetic_source
 from mapping.predict import MotionModel, trailing_line
-from stream.packets import StreamReader, StreamWriter
+from stream.packets import StreamReader, StreamWriter, acknowledged_frame
 from stream.playout import Playout
 from stream.receiver import StreamReceiver
 from stream.relay import FaultPlan, NetworkFaults
@@ -78,19 +78,26 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
 
 
 def _payload_kbps(values: np.ndarray) -> float:
-    writer = StreamWriter(RATE, first_sequence=0)
-    for index, row in enumerate(values):
-        writer.push(row, index / RATE)
-    return writer.payload_bytes * 8 / (len(values) / RATE) / 1000
+    return _loss_free(values)[0].payload_bytes * 8 / (len(values) / RATE) / 1000
 
 
-def _rates(values: np.ndarray, noisier: np.ndarray) -> list[Figure]:
+def _loss_free(values: np.ndarray) -> tuple[StreamWriter, list[np.ndarray]]:
+    """A loss-free stream, each acknowledgement back before the next packet (a short round
+    trip: with a long one the sender predicts from further back)."""
     writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
     decoded = []
     for index, row in enumerate(values):
         datagram = writer.push(row, index / RATE)
         if datagram is not None:
             decoded += [f.values for f in reader.read(datagram, index / RATE)]
+            ack = reader.take_ack()
+            if ack is not None:
+                writer.acknowledge(acknowledged_frame(ack, None) or 0)
+    return writer, decoded
+
+
+def _rates(values: np.ndarray, noisier: np.ndarray) -> list[Figure]:
+    writer, decoded = _loss_free(values)
     seconds = len(values) / RATE
     got = np.concatenate(decoded)
     error = float(np.abs(got - values[:len(got)]).max()) * 100
@@ -164,6 +171,7 @@ def _simulate(values: np.ndarray, method: str, forecaster) -> dict:
     playout = Playout(standard_neutral(), method, forecaster)
     arrivals: list[tuple[float, int, bytes]] = []
     requests: list[float] = []
+    acks: list[tuple[float, int]] = []
     states: dict[str, int] = {}
     order, errors, jumps, longest, run = 0, [], [0.0], 0, 0
     shown_before, state_before = None, "waiting"
@@ -173,8 +181,15 @@ def _simulate(values: np.ndarray, method: str, forecaster) -> dict:
             when, _, data = heapq.heappop(arrivals)
             for frames in reader.read(data, when):
                 playout.add(frames)
+            ack = reader.take_ack()
+            if ack is not None:
+                acks += [(back_when, acknowledged_frame(ack, None) or 0) for back_when, _ in backward.decide(ack, when)]
             if reader.want_keyframe and not requests and backward.decide(b"k", when):
                 requests.append(when + LOSSY.delay)
+        for back_when, frame in sorted(acks):
+            if back_when <= now:
+                writer.acknowledge(frame)
+        acks = [a for a in acks if a[0] > now]
         if requests and requests[0] <= now:
             writer.request_keyframe()
             requests.clear()

@@ -2,8 +2,10 @@
 
 A daemon thread reads the UDP socket (packets larger than the format allows are cut short by
 the read and dropped as oversized), checks and decodes them (:class:`~stream.packets.StreamReader`)
-and hands the frames to the jitter buffer (:class:`~stream.playout.Playout`). When the chain of
-predictions breaks it asks the sender for a keyframe, at most once per ``request_interval``.
+and hands the frames to the jitter buffer (:class:`~stream.playout.Playout`). It acknowledges
+what it holds after each packet (the sender then predicts from frames known to be here, so a
+lost packet costs only its own frames); when a packet's reference is missing it asks the sender
+for a keyframe, at most once per ``request_interval``.
 The loop that draws the face calls :meth:`StreamReceiver.values_at`. Memory stays bounded
 whatever arrives: one datagram is read at a time, out-of-order packets wait in a bounded table,
 and the jitter buffer forgets what is behind it.
@@ -41,6 +43,7 @@ class StreamReceiver:
         self.reader = StreamReader(key)
         self.request_interval = request_interval
         self.requests = 0
+        self.acks = 0
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
             self.sock.bind(address)
@@ -88,6 +91,13 @@ class StreamReceiver:
                 self.playout.add(frames)
             self._arrived.notify_all()
             wanted = self.reader.want_keyframe and arrival - self._last_request >= self.request_interval
+            ack = self.reader.take_ack(self.acks) if sender is not None else None
+        if ack is not None and sender is not None:
+            self.acks += 1
+            try:
+                self.sock.sendto(ack, sender)
+            except OSError:
+                pass
         if wanted and sender is not None:
             self._last_request = arrival
             self.requests += 1
@@ -132,6 +142,7 @@ class StreamReceiver:
             stats = self.playout.stats
             return {"packets": self.reader.packets, "bytes": self.reader.bytes, "lost": self.reader.lost,
                     "dropped": dict(self.reader.dropped), "keyframe_requests": self.requests,
+                    "acks": self.acks,
                     "frames": {"live": stats.live, "concealed": stats.concealed, "recovering": stats.recovering,
                                "waiting": stats.waiting},
                     "latency_ms": round(float(np.median(stats.latencies)) * 1000, 1) if stats.latencies else None,

@@ -2,7 +2,7 @@
 
 Each frame written is packed (:class:`~stream.packets.StreamWriter`, stamped with its capture
 time on this machine's clock) and, when a packet is full, sent to the receiver (or a relay).
-Keyframe requests arriving on the same socket are honoured at the next packet. A send that
+Acknowledgements and keyframe requests arriving on the same socket are taken before each frame. A send that
 fails (nobody listening yet, a full buffer) is not an error: the stream goes on.
 """
 
@@ -14,7 +14,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from stream.packets import StreamWriter, is_key_request
+from stream.packets import StreamWriter, acknowledged_frame, is_key_request
 
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
 
@@ -36,6 +36,7 @@ class StreamSender:
                  clock: Callable[[], float] = time.perf_counter) -> None:
         self.target, self.writer, self.clock = target, writer, clock
         self.key_requests = 0
+        self.acks = 0
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.sock.setblocking(False)
 
@@ -66,6 +67,7 @@ class StreamSender:
         w = self.writer
         seconds = max(frames / w.rate, 1e-9)
         return {"frames": frames, "packets": w.packets, "keyframes": w.keyframes, "key_requests": self.key_requests,
+                "acks": self.acks, "acked_packets": w.acked_packets,
                 "payload_kbps": round(w.payload_bytes * 8 / seconds / 1000, 3),
                 "stream_kbps": round(w.packet_bytes * 8 / seconds / 1000, 3),
                 "wire_kbps": round((w.packet_bytes + UDP_IP_HEADER * w.packets) * 8 / seconds / 1000, 3)}
@@ -82,6 +84,10 @@ class StreamSender:
                 data = self.sock.recv(256)
             except (BlockingIOError, OSError):
                 return
-            if is_key_request(data, self.writer.key):
+            acked = acknowledged_frame(data, self.writer.key)
+            if acked is not None:
+                self.writer.acknowledge(acked)
+                self.acks += 1
+            elif is_key_request(data, self.writer.key):
                 self.writer.request_keyframe()
                 self.key_requests += 1

@@ -4,16 +4,20 @@ One UDP datagram is one packet::
 
     offset size field
     0      2    magic b"TF"
-    2      1    version (1)
+    2      1    version (2)
     3      1    flags: 1 = the first frame is a keyframe, 2 = the tag is an HMAC,
-                       4 = a keyframe request (receiver to sender; no frames)
+                       4 = a keyframe request (receiver to sender; no frames),
+                       8 = an acknowledgement (receiver to sender; no frames)
     4      4    sequence number of the packet (u32, wraps)
-    8      4    index of the packet's first frame (u32, wraps)
+    8      4    index of the packet's first frame (u32, wraps); in an acknowledgement, the
+                newest frame the receiver holds with its whole history
     12     4    capture time of the first frame, sender's clock, microseconds (u32, wraps)
     16     1    frames in the packet, 0..32
     17     1    quantisation steps S (motor value v is sent as round(v * S), 0..S)
     18     2    frame rate, 1/100 Hz (u16)
-    20     ...  the coded frames
+    20     1    reference: how many frames before the first frame the frame it is predicted
+                from lies (1: the frame just before; 0 in a keyframe)
+    21     ...  the coded frames
     end-T  T    tag: CRC-32 of all before it (T = 4), or HMAC-SHA256 truncated to 10 bytes
                 with a shared key (T = 10)
 
@@ -24,8 +28,11 @@ Coding: a keyframe's 21 values are coded with a flat model (all S + 1 levels ali
 other value is predicted from the motor's three previous frames, a damped continuation of its
 last two steps ``d1 = q[f-1] - q[f-2]`` and ``d2 = q[f-2] - q[f-3]``:
 ``q[f-1] + floor((5 d1 + 2 d2 + 5) / 10)``, clipped to 0..S (steps before a keyframe count as
-0). The residual is arithmetic coded (:mod:`stream.rangecode`) under a two-sided geometric model
-chosen by the motor's recent activity ``|d1| + |d2|`` (0 to 5 or more steps): a still motor
+0). A packet's first frame follows its reference frame and the two before it (its *history*,
+cut at the keyframe its chain began with); where the reference lies further back than the
+frame just before, the frames between are stood in for by that same prediction run on, at both
+ends alike (:func:`bridge`). The residual is arithmetic coded (:mod:`stream.rangecode`) under
+a two-sided geometric model chosen by the motor's recent activity ``|d1| + |d2|`` (0 to 5 or more steps): a still motor
 costs a fraction of a bit. The damping and the models were fitted on the synthetic performer's
 live-mapped motors; a plain ``2 q[f-1] - q[f-2]`` costs 8 % more there. A packet's frames
 continue the chain of the packet before, so a packet can be decoded only
@@ -47,9 +54,9 @@ from stream.rangecode import Decoder, Encoder, Model
 from toon import N_MOTORS
 
 MAGIC = b"TF"
-VERSION = 1
-KEYFRAME, AUTHENTICATED, KEY_REQUEST = 1, 2, 4
-HEADER = struct.Struct("<2sBBIIIBBH")
+VERSION = 2
+KEYFRAME, AUTHENTICATED, KEY_REQUEST, ACK = 1, 2, 4, 8
+HEADER = struct.Struct("<2sBBIIIBBHB")
 MAX_FRAMES = 32
 CRC_SIZE, HMAC_SIZE = 4, 10
 #: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
@@ -80,6 +87,7 @@ class Header:
     count: int
     steps: int
     rate: float
+    back: int = 1
 
     @property
     def keyframe(self) -> bool:
@@ -88,6 +96,10 @@ class Header:
     @property
     def key_request(self) -> bool:
         return bool(self.flags & KEY_REQUEST)
+
+    @property
+    def ack(self) -> bool:
+        return bool(self.flags & ACK)
 
 
 class Models:
@@ -103,7 +115,8 @@ def seal(header: Header, body: bytes, key: bytes | None) -> bytes:
     """Header, body and tag as one datagram."""
     flags = header.flags | (AUTHENTICATED if key else 0)
     head = HEADER.pack(MAGIC, VERSION, flags, header.sequence & 0xFFFFFFFF, header.first_frame & 0xFFFFFFFF,
-                       header.time_us & 0xFFFFFFFF, header.count, header.steps, int(round(header.rate * 100)))
+                       header.time_us & 0xFFFFFFFF, header.count, header.steps, int(round(header.rate * 100)),
+                       0 if header.flags & KEYFRAME else header.back)
     return head + body + _tag(head + body, key)
 
 
@@ -118,7 +131,7 @@ def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
     """
     if len(data) > MAX_PACKET or len(data) < HEADER.size + CRC_SIZE:
         raise WireError("size", f"a packet of {len(data)} bytes (must be {HEADER.size + CRC_SIZE}..{MAX_PACKET})")
-    magic, version, flags, sequence, first, time_us, count, steps, rate = HEADER.unpack_from(data)
+    magic, version, flags, sequence, first, time_us, count, steps, rate, back = HEADER.unpack_from(data)
     if magic != MAGIC:
         raise WireError("magic", f"not a toonface stream packet (magic {magic!r})")
     if version != VERSION:
@@ -131,9 +144,10 @@ def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
     signed, tag = data[:-size], data[-size:]
     if not hmac.compare_digest(tag, _tag(signed, key)):
         raise WireError("tag", "the packet's tag does not match (corrupted or forged)")
-    if count > MAX_FRAMES or steps < 1 or rate == 0:
-        raise WireError("malformed", f"a header with {count} frames, {steps} steps, rate {rate / 100:g}")
-    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0), signed[HEADER.size:]
+    if count > MAX_FRAMES or steps < 1 or rate == 0 or (count and not flags & KEYFRAME and back == 0):
+        raise WireError("malformed", f"a header with {count} frames, {steps} steps, rate {rate / 100:g}, "
+                                     f"reference {back}")
+    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0, back), signed[HEADER.size:]
 
 
 def _tag(data: bytes, key: bytes | None) -> bytes:
@@ -177,6 +191,16 @@ def decode_frames(body: bytes, count: int, history: np.ndarray, keyframe: bool, 
             raise WireError("malformed", "a coded value outside the quantisation range")
         chain = [*chain[-2:], out[f]]
     return out
+
+
+def bridge(history: np.ndarray, gap: int, steps: int) -> np.ndarray:
+    """``history`` ``(h, 21)`` (h <= 3, the reference frame last) run on by ``gap`` predicted
+    frames, the last 3 rows: what both ends predict a packet's first frame from when its
+    reference lies ``gap`` frames before the frame just before it."""
+    chain = [row for row in np.asarray(history, dtype=np.int64)[-3:]]
+    for _ in range(gap):
+        chain = [*chain[-2:], _predict(chain, steps)[0]]
+    return np.array(chain[-3:], dtype=np.int64).reshape(-1, N_MOTORS)
 
 
 def _predict(chain: list[np.ndarray], steps: int) -> tuple[np.ndarray, np.ndarray]:

@@ -11,13 +11,13 @@ from hypothesis import strategies as st
 from capture import load_take, synthesize
 from capture.performance import default_performance
 from capture.sources import take_source
-from stream.packets import StreamReader, StreamWriter, is_key_request, key_request
+from stream.packets import StreamReader, StreamWriter, acknowledged_frame, is_key_request, key_request
 from stream.playout import Playout
 from stream.rangecode import Decoder, Encoder, Model
 from stream.receiver import StreamReceiver
 from stream.relay import FaultPlan, NetworkFaults, Relay
 from stream.sender import StreamSender
-from stream.wire import HEADER, MAX_PACKET, quantise
+from stream.wire import HEADER, MAX_PACKET, bridge, quantise
 from toon import motor_index, standard_neutral
 from toonface import truth_track
 from toonface.cli import main
@@ -72,8 +72,9 @@ def test_stream_round_trip_is_exact_to_the_quantisation(per_packet, steps, seed)
 
 def test_header_is_little_endian_as_documented():
     _, datagrams = packets(smooth_motion(4), frames_per_packet=2)
-    magic, version, flags, sequence, first, time_us, count, steps, rate = HEADER.unpack_from(datagrams[1])
-    assert (magic, version, flags & 1, sequence, first, count, steps, rate) == (b"TF", 1, 0, 1, 2, 2, 100, 6000)
+    magic, version, flags, sequence, first, time_us, count, steps, rate, back = HEADER.unpack_from(datagrams[1])
+    assert (magic, version, flags & 1, sequence, first, count, steps, rate, back) == (
+        b"TF", 2, 0, 1, 2, 2, 100, 6000, 1)
     assert datagrams[1][4:8] == struct.pack("<I", 1) and time_us == round(2 / RATE * 1e6)
     assert HEADER.unpack_from(datagrams[0])[2] & 1  # the first packet is a keyframe
 
@@ -312,3 +313,63 @@ def test_send_to_receive_over_loopback_records_what_the_sender_mapped(tmp_path):
     error = np.abs(received.values[:sent.frames] - sent.values).max()
     assert error <= 0.5 / StreamWriter(RATE).steps + 1e-9, error
     assert np.abs(np.diff(sent.values, axis=0)).max() > 0.01  # the face moved, so a shift of a frame would show
+
+
+def _acked_stream(values: np.ndarray, lose: set[int], delay_packets: int = 0):
+    """Send ``values`` in 2-frame packets, dropping the packets numbered in ``lose``; each
+    acknowledgement reaches the sender ``delay_packets`` packets later (0: before the next)."""
+    writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
+    decoded, in_flight, keyframes_asked = {}, [], 0
+    for i, row in enumerate(values):
+        datagram = writer.push(row, i / RATE)
+        if datagram is None:
+            continue
+        packet = writer.packets - 1
+        if packet not in lose:
+            for frames in reader.read(datagram, i / RATE):
+                for k, v in enumerate(frames.values):
+                    decoded[frames.first + k] = v
+            ack = reader.take_ack()
+            if ack is not None:
+                in_flight.append((packet + delay_packets, acknowledged_frame(ack, None)))
+        keyframes_asked += reader.want_keyframe
+        for _, frame in [a for a in in_flight if a[0] <= packet]:
+            writer.acknowledge(frame)
+        in_flight = [a for a in in_flight if a[0] > packet]
+    return writer, reader, decoded, keyframes_asked
+
+
+@pytest.mark.parametrize("delay_packets", [0, 3])
+def test_with_acknowledgements_a_lost_packet_costs_only_its_own_frames(delay_packets):
+    """Acknowledged, each packet is predicted from a frame the receiver holds (further back when
+    the acknowledgements take longer): every packet that arrives decodes at once, exactly,
+    and nobody asks for a keyframe; only the first packet is one."""
+    values = smooth_motion(240, seed=4)
+    lose = {5, 6, 20, 41, 42, 43, 80}
+    writer, reader, decoded, asked = _acked_stream(values, lose, delay_packets)
+    missing = sorted(set(range(240)) - set(decoded))
+    assert missing == sorted(2 * p + k for p in lose for k in (0, 1))
+    got = np.array([decoded[f] for f in sorted(decoded)])
+    assert np.array_equal(np.rint(got * 100), quantise(values[sorted(decoded)]))
+    assert asked == 0 and writer.keyframes == 1 and writer.acked_packets >= 100 - len(lose) - delay_packets - 2
+
+
+def test_without_acknowledgements_the_chain_breaks_and_keyframes_mend_it():
+    """A one-way link (no acknowledgements): packets continue from the one before, a keyframe
+    each 0.5 s; after a loss the receiver cannot decode until one comes, and says so."""
+    values = smooth_motion(120, seed=5)
+    _, datagrams = packets(values)
+    reader = StreamReader()
+    firsts = [f.first for i, d in enumerate(datagrams) if i != 3 for f in reader.read(d, 0.0)]
+    assert reader.want_keyframe is False  # the keyframe at packet 15 ended the wait
+    assert firsts == [0, 2, 4] + list(range(30, 120, 2))
+
+
+def test_a_bridged_reference_predicts_the_same_at_both_ends():
+    """The frames between a far reference and a packet are stood in for by the prediction run
+    on; ``bridge`` is that run, and its steps are the predictor's own."""
+    history = np.array([[10] * 21, [12] * 21, [15] * 21])
+    run = bridge(history, 2, 100)
+    assert run.shape == (3, 21) and run[0, 0] == 15
+    step = (5 * 3 + 2 * 2 + 5) // 10
+    assert run[1, 0] == 15 + step and run[2, 0] == run[1, 0] + (5 * step + 2 * 3 + 5) // 10
