@@ -7,17 +7,21 @@ import importlib
 import sys
 
 GROUPS = ("cli", "render", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream", "batch")
+#: Groups run only when named: they take minutes.
+LONG = ("soak",)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the named groups (all by default); returns the exit status."""
     parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__)
-    parser.add_argument("names", nargs="*", metavar="NAME", help=f"groups to run: {', '.join(GROUPS)} (default: all)")
+    parser.add_argument("names", nargs="*", metavar="NAME",
+                        help=f"groups to run: {', '.join(GROUPS)} (default: all of these), or {', '.join(LONG)} "
+                             "(10 minutes; only when named)")
     parser.add_argument("--quick", action="store_true", help="fewer frames and repeats (a smoke test, not a measure)")
     args = parser.parse_args(argv)
-    unknown = [n for n in args.names if n not in GROUPS]
+    unknown = [n for n in args.names if n not in GROUPS + LONG]
     if unknown:
-        parser.error(f"unknown benchmark group(s) {unknown}; known: {', '.join(GROUPS)}")
+        parser.error(f"unknown benchmark group(s) {unknown}; known: {', '.join(GROUPS + LONG)}")
     for name in args.names or GROUPS:
         for figure in importlib.import_module(f"bench.{name}").run(quick=args.quick):
             print(figure.to_json(), flush=True)
