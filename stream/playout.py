@@ -185,6 +185,8 @@ class Playout:
             state = "live" if caught_up else ("recovering" if stream is not None else "concealed")
             if stream is None:
                 self._concealed.setdefault(index, value)
+                if len(self._concealed) > 4 * self.rate:  # a stream that stopped adds no frames to forget on
+                    self._forget()
         self._last_stream = stream
         self._output = value
         if self.shown is not None:

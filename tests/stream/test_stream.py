@@ -373,3 +373,17 @@ def test_a_bridged_reference_predicts_the_same_at_both_ends():
     assert run.shape == (3, 21) and run[0, 0] == 15
     step = (5 * 3 + 2 * 2 + 5) // 10
     assert run[1, 0] == 15 + step and run[2, 0] == run[1, 0] + (5 * step + 2 * 3 + 5) // 10
+
+
+def test_a_stream_that_stops_leaves_the_playout_s_memory_bounded():
+    """After the last packet the face is still drawn, concealed and eased to neutral; what was
+    shown for each missing frame used to be kept until the next packet came, which for a
+    stream that has ended is never (the soak's memory grew 0.7 MB in 30 s after the end)."""
+    from stream.packets import Frames
+
+    playout = Playout(standard_neutral())
+    playout.add(Frames(0, 0.0, RATE, smooth_motion(2), 0.001))
+    for k in range(int(60 * RATE)):  # a minute of drawing with nothing arriving
+        playout.values_at(0.001 + k / RATE)
+    assert playout.stats.concealed > 50 * RATE
+    assert len(playout._concealed) <= 4 * RATE + 1
