@@ -277,9 +277,8 @@ class StreamReader:
 
     def _wait(self, header: Header, body: bytes, arrival: float) -> None:
         self._waiting[header.first_frame] = (header, body, arrival)
-        if len(self._waiting) > self.max_waiting:  # the oldest is the least likely to find its reference
-            newest = max(self._waiting, key=lambda k: (k - header.first_frame) % WRAP)
-            del self._waiting[max(self._waiting, key=lambda k: (newest - k) % WRAP)]
+        if len(self._waiting) > self.max_waiting:  # the one furthest behind this one is the least likely to be shown
+            del self._waiting[max(self._waiting, key=lambda k: (header.first_frame - k) % WRAP)]
             self.dropped["overflow"] += 1
         self.want_keyframe = True
 
