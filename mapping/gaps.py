@@ -199,15 +199,16 @@ def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: 
 
 def _line(values: np.ndarray, times: np.ndarray, before: int, after: int, at: np.ndarray, edge: int
           ) -> np.ndarray:
-    """The straight line from ``values`` ``(n, dims)`` at row ``before`` to row ``after``, at
-    the times ``at``; with ``edge`` > 1 each end is the median of up to ``edge`` rows reaching
-    away from the gap (at their mean time), which carries less of one sample's noise across it,
-    and none of a spike's that the spike tests could not judge (one beside a gap)."""
+    """The straight line from ``values`` ``(n, ...)`` (rows first) at row ``before`` to row
+    ``after``, at the times ``at``; ``(len(at), ...)``. With ``edge`` > 1 each end is the median
+    of up to ``edge`` rows reaching away from the gap (at their mean time), which carries less
+    of one sample's noise across it, and none of a spike's that the spike tests could not judge
+    (one beside a gap)."""
     left, right = slice(max(before - edge + 1, 0), before + 1), slice(after, after + edge)
     a, b = np.median(values[left], axis=0), np.median(values[right], axis=0)
     t0, t1 = times[left].mean(), times[right].mean()
-    share = np.clip((at - t0) / (t1 - t0), 0.0, 1.0)[:, None] if t1 > t0 else np.full((len(at), 1), 0.5)
-    return a + share * (b - a)
+    share = np.clip((at - t0) / (t1 - t0), 0.0, 1.0) if t1 > t0 else np.full(len(at), 0.5)
+    return a + share.reshape(-1, *([1] * (values.ndim - 1))) * (b - a)
 
 
 def straight_line(values: np.ndarray, times: np.ndarray, start: int, end: int) -> np.ndarray:
@@ -217,9 +218,7 @@ def straight_line(values: np.ndarray, times: np.ndarray, start: int, end: int) -
     >>> straight_line(np.array([0.0, np.nan, np.nan, 3.0]), np.arange(4.0), 1, 3).tolist()
     [1.0, 2.0]
     """
-    share = (times[start:end] - times[start - 1]) / (times[end] - times[start - 1])
-    share = share.reshape(-1, *([1] * (values.ndim - 1)))
-    return values[start - 1] + share * (values[end] - values[start - 1])
+    return _line(values, times, start - 1, end, times[start:end], 1)
 
 
 def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
@@ -344,7 +343,7 @@ class _Moments:
     same fit as :func:`_ridge_predict` on the rows outside the block."""
 
     def __init__(self, x: np.ndarray, y: np.ndarray, blocks: list[tuple[int, int]]) -> None:
-        self.x, self.y = x, y
+        self.x = x
         self.count = np.array([len(y) - (hi - lo) for lo, hi in blocks], dtype=float)
         parts = [(x[lo:hi], y[lo:hi]) for lo, hi in blocks]
         self.sx = x.sum(axis=0) - np.stack([bx.sum(axis=0) for bx, _ in parts])  # (B, f)

@@ -11,6 +11,8 @@ only look back.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from mapping.filters import Stepwise
@@ -197,11 +199,11 @@ def centred_spikes(positions: np.ndarray, t: np.ndarray, threshold: float = 4.0,
         span = np.where(ok, times[a] - times[b], 1.0)
         share = np.where(ok, (times[:, None] - times[b]) / span, 0.0)[..., None]
         miss = np.linalg.norm(x - (x[b, columns] * (1 - share) + x[a, columns] * share), axis=2)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a marker never tested: its scale is NaN
+            scale = 1.4826 * np.nanmedian(np.where(ok, miss, np.nan), axis=0)
         miss = np.where(ok, miss, 0.0)
-        tested = ok.any(axis=0)
-        scale = np.zeros(markers)
-        scale[tested] = 1.4826 * np.array([np.median(miss[ok[:, m], m]) for m in np.flatnonzero(tested)])
-        peak = ok & (miss > threshold * scale + floor)
+        peak = ok & (miss > threshold * np.nan_to_num(scale) + floor)
         peak[1:] &= miss[1:] >= miss[:-1]
         peak[:-1] &= miss[:-1] >= miss[1:]
         if not peak.any():

@@ -35,29 +35,23 @@ MIN_FRAMES = 5
 LOST_SHARE = 0.5
 
 
-def seen_only(stable: Stabilised) -> Stabilised:
-    """``stable`` with the samples gap filling made up set unseen (NaN), to measure ranges on."""
-    if stable.filled is None or not stable.filled.any():
-        return stable
-    return replace(stable, local=np.where(stable.filled[..., None], np.nan, stable.local))
-
-
-def mirror_lost_sides(mapping: Mapping, profile: Profile, seen: Profile, stable: Stabilised,
-                      columns: dict[str, int], frames: np.ndarray) -> tuple[Profile, list[str]]:
+def mirror_lost_sides(mapping: Mapping, profile: Profile, stable: Stabilised, columns: dict[str, int],
+                      frames: np.ndarray, percentiles: tuple[float, float]) -> tuple[Profile, list[str]]:
     """``profile`` with each side a source lost while its mirror held it taken from the mirror
     (see the module docstring), and the changed sides (``"KEY low"``/``"KEY high"``) for its notes.
 
     Parameters
     ----------
-    profile, seen : Profile
-        Ranges measured over the range frames with filled samples and without them
-        (:func:`seen_only`); a mirror's reach is its seen one.
+    profile : Profile
+        Ranges measured over the range frames, filled samples included.
     stable : Stabilised
         The range take, cleaned (``filled`` says which samples were made up).
     columns : dict
         Marker-set label -> column of ``stable.local``.
     frames : ndarray of bool, shape (F,)
         The range frames.
+    percentiles : tuple of float
+        The profile's: a mirror's seen reach is the same percentile of its seen samples.
     """
     rules = {rule.code: rule for rule in mapping.rules}
     made_up = stable.filled if stable.filled is not None else np.zeros(stable.local.shape[:2], bool)
@@ -68,13 +62,13 @@ def mirror_lost_sides(mapping: Mapping, profile: Profile, seen: Profile, stable:
             continue
         a_rule, b_rule = rules[a_code], rules[b_code]
         for a, b in zip(a_rule.sources, b_rule.sources, strict=False):
-            if a.kind != "marker" or b.kind != "marker" or a.key not in sources or b.key not in seen.sources:
+            if a.kind != "marker" or b.kind != "marker" or a.key not in sources or b.key not in sources:
                 continue
             for up in (False, True):  # the motor's way down, then up
                 a_high = up != (a.invert != a_rule.invert)
                 b_high = up != (b.invert != b_rule.invert)
-                reach = _lost_reach(sources[a.key], seen.sources[b.key], a, b, a_high, b_high, stable, columns,
-                                    made_up, frames)
+                reach = _lost_reach(sources[a.key], sources[b.key], a, b, a_high, b_high, stable, columns,
+                                    made_up, frames & stable.ok, percentiles)
                 if reach is not None:
                     r = sources[a.key]
                     sources[a.key] = (SourceRange(r.neutral, r.low, r.neutral + reach) if a_high
@@ -84,19 +78,24 @@ def mirror_lost_sides(mapping: Mapping, profile: Profile, seen: Profile, stable:
 
 
 def _lost_reach(a_range: SourceRange, b_range: SourceRange, a: Source, b: Source, a_high: bool, b_high: bool,
-                stable: Stabilised, columns: dict[str, int], made_up: np.ndarray, frames: np.ndarray
-                ) -> float | None:
-    """The mirror's reach from rest on its side (mm), where source ``a`` lost that side while
-    ``b`` held it in view and ``a``'s range (its guesses in it) reaches less far; None otherwise."""
-    a_reach = a_range.high - a_range.neutral if a_high else a_range.neutral - a_range.low
-    b_reach = b_range.high - b_range.neutral if b_high else b_range.neutral - b_range.low
-    if b_reach <= a_reach:
-        return None
+                stable: Stabilised, columns: dict[str, int], made_up: np.ndarray, frames: np.ndarray,
+                percentiles: tuple[float, float]) -> float | None:
+    """The mirror's seen reach from rest on its side (mm), where source ``a`` lost that side
+    while ``b`` held it in view and ``a``'s range (its guesses in it) reaches less far; None
+    otherwise."""
     b_col, a_col = columns[b.markers[0]], columns[a.markers[0]]
     value = stable.local[:, b_col, b.axis]
-    along = (value - b_range.neutral) * (1.0 if b_high else -1.0)
-    held = frames & ~made_up[:, b_col] & np.isfinite(value) & (along >= HELD * b_reach)
+    seen = frames & ~made_up[:, b_col] & np.isfinite(value)
+    if seen.sum() < MIN_FRAMES:
+        return None
+    sign = 1.0 if b_high else -1.0
+    end = float(np.percentile(value[seen], percentiles[1] if b_high else percentiles[0]))
+    b_reach = (end - b_range.neutral) * sign
+    a_reach = a_range.high - a_range.neutral if a_high else a_range.neutral - a_range.low
+    if b_reach <= a_reach:
+        return None
+    held = seen & ((value - b_range.neutral) * sign >= HELD * b_reach)
     if held.sum() < MIN_FRAMES:
         return None
     lost = made_up[held, a_col] | ~np.isfinite(stable.local[held, a_col, a.axis])
-    return float(b_reach) if lost.mean() > LOST_SHARE else None
+    return b_reach if lost.mean() > LOST_SHARE else None

@@ -27,7 +27,7 @@ from mapping.mapper import map_stabilised, normalise, resolved_mode
 from mapping.profile import Profile, build_profile, load_profile, stillest_window
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
-from mapping.sweep import mirror_lost_sides, seen_only
+from mapping.sweep import mirror_lost_sides
 from toon import MotorTrack
 
 #: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
@@ -134,21 +134,15 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + ("" if how == "given" else f" ({how})"),
              "range": f"percentiles {percentiles[0]:g}-{percentiles[1]:g}"
                       + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}
+    profile = build_profile(neutral.stable, neutral.take.times, window, source.stable, frames, neutral.columns,
+                            source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes,
+                            min_side, require_motion)
+    if not profile:
+        raise InputError(f"cannot calibrate: {profile}")
     full = range_from is not None or range_window is not None
-
-    def measured(stable: Stabilised) -> Profile:
-        profile = build_profile(neutral.stable, neutral.take.times, window, stable, frames, neutral.columns,
-                                source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer,
-                                notes, min_side, require_motion)
-        if not profile:
-            raise InputError(f"cannot calibrate: {profile}")
-        return profile
-
-    profile = measured(source.stable)
+    profile = replace(profile, full_range=full)
     if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
-        seen = measured(seen_only(source.stable))
-        profile, lost = mirror_lost_sides(mapping, replace(profile, full_range=True), seen, source.stable,
-                                          source.columns, frames)
+        profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames, percentiles)
         if lost:
             profile = replace(profile, notes={**profile.notes, "from_mirror": ", ".join(lost)})
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
