@@ -148,7 +148,14 @@ class _Run:
                 waiting.append(pair)
                 self.remaining[pair.take] = self.remaining.get(pair.take, 0) + 1
         self._start_more(waiting)
+        requeued: dict[str, int] = {}
         for future in self.queue or ():
+            if (self.queue is not None and future.status not in ("finished", "error", "cancelled")
+                    and requeued.get(future.key, 0) < REQUEUES):
+                # its worker died after it finished, taking the result: the scheduler runs it again
+                requeued[future.key] = requeued.get(future.key, 0) + 1
+                self.queue.add(future)
+                continue
             work, stage = self.owner.pop(future)
             work.pending -= 1
             self._settle(work, stage, future)
@@ -274,10 +281,16 @@ def compute_seconds(records: list[dict]) -> dict[str, float]:
     return seconds
 
 
+#: How often a finished task whose result was lost with its worker is waited for again.
+REQUEUES = 3
+
+
 def _reason(stage: str, future: Future) -> str:
     """One line saying why a task did not finish, for the pair's report."""
     if future.status == "cancelled":
         return f"its {stage} task was cancelled"
+    if future.status not in ("finished", "error"):
+        return f"its {stage} task's result was lost with its worker {REQUEUES} times"
     exc = future.exception()
     if isinstance(exc, KilledWorker):
         return f"the workers running its {stage} task died, each time it was tried ({exc})"
