@@ -1,7 +1,8 @@
 """Type stub: the names the package loads lazily on first use (``lazy_loader``)."""
 
-from .packets import Frames, StreamReader, StreamWriter, is_key_request, key_request
+from .packets import StreamWriter, is_key_request, key_request, read_ack
 from .playout import Playout, PlayoutStats
+from .reader import Frames, StreamReader
 from .receiver import StreamReceiver
 from .relay import FaultPlan, NetworkFaults, Relay
 from .wire import WireError, quantise
@@ -20,4 +21,5 @@ __all__ = [
     "is_key_request",
     "key_request",
     "quantise",
+    "read_ack",
 ]

@@ -1,17 +1,16 @@
-"""Both ends of the motor stream's packet layer: :class:`StreamWriter` (frames in, datagrams
-out) and :class:`StreamReader` (datagrams in, checked, de-duplicated, re-ordered and decoded
-frames out). The format is :mod:`stream.wire`'s; the sockets are the caller's."""
+"""The sending end of the motor stream's packet layer, :class:`StreamWriter` (frames in,
+datagrams out), and what both ends keep and exchange: the frames held (:class:`FrameStore`),
+keyframe requests and acknowledgements. The receiving end is :mod:`stream.reader`; the format
+is :mod:`stream.wire`'s; the sockets are the caller's."""
 
 from __future__ import annotations
 
 import secrets
-from collections import Counter, deque
-from dataclasses import dataclass
+from collections import deque
 
 import numpy as np
 
 from stream.wire import (
-    ACK,
     DEFAULT_STEPS,
     KEY_REQUEST,
     KEYFRAME,
@@ -20,7 +19,6 @@ from stream.wire import (
     Models,
     WireError,
     bridge,
-    decode_frames,
     encode_frames,
     open_packet,
     quantise,
@@ -29,13 +27,16 @@ from stream.wire import (
 from toon import N_MOTORS
 
 WRAP = 1 << 32
-#: Packets this far behind the newest are too old to be anything but a replay.
-REPLAY_WINDOW = 64
 #: Frames each end keeps to predict from: a reference lies at most this far back (the header's
 #: reference is one byte).
 KEEP = 255
 #: Acknowledgements are relied on while one has come within this many seconds of stream.
 ACK_SECONDS = 0.5
+#: Frames are sent one a packet, each repeating the unacknowledged frame before it, for this
+#: many seconds of stream after an acknowledgement last showed a frame missing.
+LOSS_SECONDS = 2.0
+#: Frames before the acknowledged one whose receipt an acknowledgement reports.
+ACK_BITS = 32
 
 
 class FrameStore:
@@ -60,6 +61,9 @@ class FrameStore:
     def depth(self, index: int) -> int:
         return self._rows[index][1]
 
+    def row(self, index: int) -> np.ndarray:
+        return self._rows[index][0]
+
     def history(self, reference: int) -> np.ndarray | None:
         """The reference frame and the (up to 2) frames of its chain before it, ``(h, 21)``
         oldest first; None if any is not held."""
@@ -75,16 +79,20 @@ class StreamWriter:
     """Turn motor frames into packets of ``frames_per_packet`` frames.
 
     While the receiver acknowledges (:meth:`acknowledge`), each packet is predicted from the
-    newest frame it acknowledged, so a lost packet costs only its own frames; without
-    acknowledgements each packet continues from the one before and a keyframe comes at least
-    every ``key_seconds`` (see :mod:`stream.wire`).
+    newest frame it acknowledged, so a lost packet costs only its own frames. Once an
+    acknowledgement shows a frame missing, and for :data:`LOSS_SECONDS` after the last that
+    did, each frame is sent at once in a packet that repeats up to ``repeat`` unacknowledged
+    frames before it: a frame lost alone then arrives a frame period later, in time to be shown
+    by a receiver whose jitter buffer has grown by that much. Without acknowledgements each
+    packet continues from the one before and a keyframe comes at least every ``key_seconds``
+    (see :mod:`stream.wire`).
 
     Parameters
     ----------
     rate : float
         Frames per second.
     frames_per_packet : int
-        1..32; more frames per packet means fewer headers and more delay.
+        1..32, while no loss is seen; more frames per packet means fewer headers and more delay.
     key_seconds : float
         Without acknowledgements, a packet starts with a keyframe at least this often.
     steps : int
@@ -93,17 +101,23 @@ class StreamWriter:
         Shared secret: packets carry an HMAC instead of a CRC.
     first_sequence : int, optional
         The first packet's number (random by default, so a restarted sender is not a replay).
+    repeat : int
+        Unacknowledged frames a packet repeats while loss is seen (0: none, frames still go
+        one a packet).
     """
 
     def __init__(self, rate: float, frames_per_packet: int = 2, key_seconds: float = 0.5, steps: int = DEFAULT_STEPS,
-                 key: bytes | None = None, first_sequence: int | None = None) -> None:
+                 key: bytes | None = None, first_sequence: int | None = None, repeat: int = 1) -> None:
         if not 1 <= frames_per_packet <= MAX_FRAMES:
             raise ValueError(f"frames per packet must be 1..{MAX_FRAMES}, got {frames_per_packet}")
         if not 1 <= steps <= 255:
             raise ValueError(f"quantisation steps must be 1..255, got {steps}")
         if not 0 < rate < 655:
             raise ValueError(f"the frame rate must be between 0 and 655 Hz, got {rate:g}")
+        if not 0 <= repeat < MAX_FRAMES:
+            raise ValueError(f"repeated frames must be 0..{MAX_FRAMES - 1}, got {repeat}")
         self.rate, self.frames_per_packet, self.steps, self.key = rate, frames_per_packet, steps, key
+        self.repeat = repeat
         self.key_every = max(1, int(round(key_seconds * rate)))
         self.models = Models(steps)
         self.sequence = secrets.randbelow(WRAP) if first_sequence is None else first_sequence
@@ -112,6 +126,10 @@ class StreamWriter:
         self._sent = FrameStore()
         self._acked: int | None = None  # the newest frame the receiver holds with its history
         self._since_ack = np.inf  # frames sent since the last acknowledgement came
+        self._since_loss = np.inf  # frames sent since an acknowledgement last showed one missing
+        self._have: set[int] = set()  # the frames the newest acknowledgement says are held
+        self._newest_have: int | None = None  # the frame that acknowledgement named
+        self._last_missing: int | None = None  # the newest frame an acknowledgement showed missing
         self._pending: list[np.ndarray] = []
         self._first_time_us = 0
         self.payload_bytes = 0  # coded frames only (no header, no tag)
@@ -119,17 +137,37 @@ class StreamWriter:
         self.packets = 0
         self.keyframes = 0
         self.acked_packets = 0  # packets predicted from an acknowledged frame
+        self.repeated_frames = 0  # frames sent again (see ``repeat``)
 
     def request_keyframe(self) -> None:
         """Start the next packet with a keyframe (the receiver lost the chain)."""
         self._since_key = None
 
-    def acknowledge(self, frame: int) -> None:
-        """The receiver holds ``frame`` (u32 index) and its history: predict from it from now on
-        (an acknowledgement older than the newest one already had only says the link is up)."""
+    def acknowledge(self, frame: int, held: int = (1 << ACK_BITS) - 1) -> None:
+        """The receiver holds ``frame`` (u32 index, the newest it holds) and of the
+        :data:`ACK_BITS` frames before it those whose bit is set in ``held`` (bit i: the frame
+        i + 1 before). From now on predict from the newest of them whose history it holds too
+        (an acknowledgement that names nothing newer only says the link is up), and if any
+        frame sent before ``frame`` is missing, send frames one a packet, repeating."""
         self._since_ack = 0
-        if frame in self._sent and (self._acked is None or _behind(self._acked, frame)):
-            self._acked = frame
+        window = [frame] + [(frame - 1 - i) % WRAP for i in range(ACK_BITS)]
+        have = {frame} | {window[i + 1] for i in range(ACK_BITS) if held >> i & 1}
+        for candidate in window:
+            if (candidate in have and candidate in self._sent
+                    and all((candidate - k) % WRAP in have for k in range(1, self._sent.depth(candidate) + 1))):
+                if self._acked is None or behind(self._acked, candidate):
+                    self._acked = candidate
+                break
+        missing = [f for f in window if f in self._sent and f not in have]
+        if missing and (self._last_missing is None or not behind(missing[0], self._last_missing)):
+            self._since_loss, self._last_missing = 0, missing[0]  # a loss not seen before
+        if self._newest_have is None or behind(self._newest_have, frame):
+            self._newest_have, self._have = frame, have
+
+    @property
+    def lossy(self) -> bool:
+        """Whether loss was seen lately (frames go one a packet, repeating)."""
+        return self._since_loss < LOSS_SECONDS * self.rate
 
     def push(self, values: np.ndarray, time_s: float) -> bytes | None:
         """Add one frame ``(21,)`` captured at ``time_s`` (sender's clock); returns a datagram
@@ -137,33 +175,43 @@ class StreamWriter:
         if not self._pending:
             self._first_time_us = int(round(time_s * 1e6))
         self._pending.append(quantise(values, self.steps))
-        return self.flush() if len(self._pending) >= self.frames_per_packet else None
+        full = 1 if self.lossy else self.frames_per_packet
+        return self.flush() if len(self._pending) >= full else None
 
     def flush(self) -> bytes | None:
-        """The packet of the frames pushed so far (None if there are none)."""
+        """The packet of the frames pushed so far (None if there are none), after the frames it
+        repeats."""
         if not self._pending:
             return None
-        levels = np.array(self._pending)
-        reference = self._reference(len(levels))
+        again = self._repeated()
+        first = (self.frame - len(again)) % WRAP
+        levels = np.array([*again, *self._pending])
+        reference = self._reference(first, len(levels))
         keyframe = reference is None
-        back = 0 if reference is None else (self.frame - reference) % WRAP
+        back = 0 if reference is None else (first - reference) % WRAP
         history = np.zeros((0, N_MOTORS), np.int64)
         if reference is not None:
             found = self._sent.history(reference)
             assert found is not None  # _reference only picks a frame whose history is kept
             history = bridge(found, back - 1, self.steps)
         body = encode_frames(levels, history, keyframe, self.models)
-        header = Header(KEYFRAME if keyframe else 0, self.sequence, self.frame, self._first_time_us, len(levels),
+        time_us = self._first_time_us - int(round(len(again) * 1e6 / self.rate))
+        header = Header(KEYFRAME if keyframe else 0, self.sequence, first, time_us, len(levels),
                         self.steps, self.rate, back)
         datagram = seal(header, body, self.key)
         depth = 0 if reference is None else self._sent.depth(reference) + back
         for i, row in enumerate(levels):
-            self._sent.put((self.frame + i) % WRAP, row, depth + i)
-        self._since_key = (0 if keyframe or self._since_key is None else self._since_key) + len(levels)
-        self._since_ack += len(levels)
+            index = (first + i) % WRAP
+            if index not in self._sent or i >= len(again):  # a repeated frame keeps its first depth
+                self._sent.put(index, row, depth + i)
+        new = len(self._pending)
+        self._since_key = (0 if keyframe or self._since_key is None else self._since_key) + new
+        self._since_ack += new
+        self._since_loss += new
         self.acked_packets += reference is not None and reference == self._acked
+        self.repeated_frames += len(again)
         self.sequence = (self.sequence + 1) % WRAP
-        self.frame = (self.frame + len(levels)) % WRAP
+        self.frame = (self.frame + new) % WRAP
         self._pending = []
         self.payload_bytes += len(body)
         self.packet_bytes += len(datagram)
@@ -171,168 +219,41 @@ class StreamWriter:
         self.keyframes += keyframe
         return datagram
 
-    def _reference(self, count: int) -> int | None:
-        """The frame the next packet is predicted from, or None for a keyframe."""
+    def _repeated(self) -> list[np.ndarray]:
+        """The frames the next packet repeats before its new ones: while loss is seen and
+        acknowledgements are relied on, those of the last :attr:`repeat` sent after the
+        acknowledged frame from the first not known to be held, as long as each would keep the
+        depth it was first sent with."""
+        if not self.lossy or self.repeat == 0 or self._since_key is None or not self._relying():
+            return []
+        assert self._acked is not None  # _relying
+        ahead = (self.frame - 1 - self._acked) % WRAP  # frames sent after the acknowledged one
+        window = [(self.frame - k) % WRAP for k in range(min(self.repeat, ahead), 0, -1)]
+        missing = [i for i, f in enumerate(window) if f not in self._have]
+        if not missing:
+            return []
+        window = window[missing[0]:]
+        start = self._sent.depth(self._acked) + (window[0] - self._acked) % WRAP
+        if any(self._sent.depth(f) != min(start + i, 2) for i, f in enumerate(window)):
+            return []  # near a keyframe: the receiver would cut a history where this end did not
+        return [self._sent.row(f) for f in window]
+
+    def _relying(self) -> bool:
+        """Whether packets are predicted from the acknowledged frame now."""
+        return (self._acked is not None and self._since_ack <= ACK_SECONDS * self.rate
+                and (self.frame - self._acked) % WRAP <= KEEP and self._sent.history(self._acked) is not None)
+
+    def _reference(self, first: int, count: int) -> int | None:
+        """The frame a packet of ``count`` frames from ``first`` is predicted from, or None for a
+        keyframe."""
         if self._since_key is None:
             return None
-        if (self._acked is not None and self._since_ack <= ACK_SECONDS * self.rate
-                and (self.frame - self._acked) % WRAP <= KEEP and self._sent.history(self._acked) is not None):
+        if self._relying():
             return self._acked
-        previous = (self.frame - 1) % WRAP
+        previous = (first - 1) % WRAP
         if self._since_key + count > self.key_every or self._sent.history(previous) is None:
             return None
         return previous
-
-
-@dataclass(frozen=True)
-class Frames:
-    """Frames decoded from one packet: their first index, capture time (sender's clock, s, of
-    the first), rate, values ``(n, 21)``, and the packet's arrival (receiver's clock, s)."""
-
-    first: int
-    time_s: float
-    rate: float
-    values: np.ndarray
-    arrival: float
-
-
-class StreamReader:
-    """Check and decode datagrams; count what is dropped and why.
-
-    A packet is decoded when its reference frame and that frame's history are held (a keyframe
-    needs none). A packet that arrives before its reference waits (up to ``max_waiting``
-    packets) and is decoded when the reference is; while one waits, :attr:`want_keyframe` asks
-    the caller to request a keyframe. After each decode, :meth:`take_ack` gives the
-    acknowledgement to send back: the newest frame held with its whole history.
-
-    Parameters
-    ----------
-    key : bytes, optional
-        The shared secret; without it, only CRC-tagged packets are read.
-    max_waiting : int
-        Out-of-order packets kept while their reference may still come.
-    idle_reset : float
-        Seconds without a valid packet after which a new sequence numbering is accepted (a
-        restarted sender).
-    """
-
-    def __init__(self, key: bytes | None = None, max_waiting: int = 16, idle_reset: float = 2.0) -> None:
-        self.key, self.max_waiting, self.idle_reset = key, max_waiting, idle_reset
-        self.dropped: Counter[str] = Counter()
-        self.packets = 0
-        self.bytes = 0
-        self.lost = 0  # packets never seen (sequence gaps not filled later)
-        self.want_keyframe = False
-        self._models: dict[int, Models] = {}
-        self._newest: int | None = None  # highest sequence seen
-        self._seen = 0  # bit i: sequence newest - i seen
-        self._last_valid = -np.inf
-        self._held = FrameStore()
-        self._ack: int | None = None  # the newest frame held with its history, not yet acknowledged
-        self._acked: int | None = None
-        self._waiting: dict[int, tuple[Header, bytes, float]] = {}  # by first frame
-        self._frame_mark: tuple[int, int] | None = None  # (last raw frame index, unwrapped)
-        self._time_mark: tuple[int, int] | None = None  # (last raw time, unwrapped), microseconds
-
-    def read(self, datagram: bytes, arrival: float) -> list[Frames]:
-        """Decoded frames that this datagram completes (none, its own, or it and those that
-        waited for it). Bad datagrams are counted in :attr:`dropped` and give none."""
-        try:
-            header, body = open_packet(datagram, self.key)
-        except WireError as error:
-            self.dropped[error.reason] += 1
-            return []
-        if header.key_request or header.ack:
-            self.dropped["request"] += 1  # a receiver does not take requests
-            return []
-        if not self._fresh(header.sequence, arrival):
-            self.dropped["replay"] += 1
-            return []
-        self.packets += 1
-        self.bytes += len(datagram)
-        self._last_valid = arrival
-        if not header.keyframe and self._held.history(_reference(header)) is None:
-            self._wait(header, body, arrival)
-            return []
-        out = self._decode(header, body, arrival)
-        progress = True
-        while progress and self._waiting:  # a decode may hold what others waited for
-            progress = False
-            for first, (h, b, a) in list(self._waiting.items()):
-                if self._held.history(_reference(h)) is not None:
-                    del self._waiting[first]
-                    out += self._decode(h, b, a)
-                    progress = True
-        if not self._waiting:
-            self.want_keyframe = False
-        return out
-
-    def take_ack(self, sequence: int = 0) -> bytes | None:
-        """The acknowledgement to send now (the newest frame held with its history), once per
-        frame; None when there is nothing new to acknowledge."""
-        if self._ack is None or self._ack == self._acked:
-            return None
-        self._acked = self._ack
-        return seal(Header(ACK, sequence, self._ack, 0, 0, DEFAULT_STEPS, 1.0), b"", self.key)
-
-    def _wait(self, header: Header, body: bytes, arrival: float) -> None:
-        self._waiting[header.first_frame] = (header, body, arrival)
-        if len(self._waiting) > self.max_waiting:  # the one furthest behind this one is the least likely to be shown
-            del self._waiting[max(self._waiting, key=lambda k: (header.first_frame - k) % WRAP)]
-            self.dropped["overflow"] += 1
-        self.want_keyframe = True
-
-    def _fresh(self, sequence: int, arrival: float) -> bool:
-        """Record ``sequence``; False if it was seen before or is too old to tell."""
-        if self._newest is None or arrival - self._last_valid > self.idle_reset:
-            self._newest, self._seen = sequence, 1
-            return True
-        ahead = (sequence - self._newest) % WRAP
-        if 0 < ahead < WRAP // 2:
-            self.lost += min(ahead, REPLAY_WINDOW) - 1
-            self._seen = ((self._seen << ahead) | 1) & ((1 << REPLAY_WINDOW) - 1)
-            self._newest = sequence
-            return True
-        behind = (self._newest - sequence) % WRAP
-        if behind >= REPLAY_WINDOW or self._seen >> behind & 1:
-            return False
-        self._seen |= 1 << behind
-        self.lost = max(0, self.lost - 1)  # it came late, not never
-        return True
-
-    def _decode(self, header: Header, body: bytes, arrival: float) -> list[Frames]:
-        models = self._models.get(header.steps)
-        if models is None:
-            if len(self._models) >= 4:
-                self._models.clear()
-            models = self._models[header.steps] = Models(header.steps)
-        history, depth = np.zeros((0, N_MOTORS), np.int64), 0
-        if not header.keyframe:
-            reference = _reference(header)
-            found = self._held.history(reference)
-            assert found is not None  # read() decodes only packets whose reference is held
-            history, depth = bridge(found, header.back - 1, header.steps), self._held.depth(reference) + header.back
-        try:
-            levels = decode_frames(body, header.count, history, header.keyframe, models)
-        except WireError as error:
-            self.dropped[error.reason] += 1
-            return []
-        for i, row in enumerate(levels):
-            index = (header.first_frame + i) % WRAP
-            self._held.put(index, row, depth + i)
-            if self._held.history(index) is not None and (self._ack is None or _behind(self._ack, index)):
-                self._ack = index
-        if header.keyframe:
-            for first in [k for k in self._waiting if _behind(k, header.first_frame)]:
-                del self._waiting[first]  # older than the keyframe: nothing to show them for
-        self._frame_mark = _unwrap(header.first_frame, self._frame_mark)
-        self._time_mark = _unwrap(header.time_us, self._time_mark)
-        return [Frames(self._frame_mark[1], self._time_mark[1] / 1e6, header.rate, levels / header.steps, arrival)]
-
-
-def _reference(header: Header) -> int:
-    """The frame a predicted packet is predicted from."""
-    return (header.first_frame - header.back) % WRAP
 
 
 def key_request(sequence: int, key: bytes | None) -> bytes:
@@ -349,23 +270,16 @@ def is_key_request(datagram: bytes, key: bytes | None) -> bool:
     return header.key_request
 
 
-def acknowledged_frame(datagram: bytes, key: bytes | None) -> int | None:
-    """The frame a valid acknowledgement names (None for anything else)."""
+def read_ack(datagram: bytes, key: bytes | None) -> tuple[int, int] | None:
+    """A valid acknowledgement's frame and its bits of frames held before it (see
+    :meth:`StreamWriter.acknowledge`); None for anything else."""
     try:
         header, _ = open_packet(datagram, key)
     except WireError:
         return None
-    return header.first_frame if header.ack else None
+    return (header.first_frame, header.time_us) if header.ack else None
 
 
-def _unwrap(raw: int, mark: tuple[int, int] | None) -> tuple[int, int]:
-    """``raw`` (a u32 that wraps) and its unwrapped value, the nearest to the last ``mark``."""
-    if mark is None:
-        return raw, raw
-    step = (raw - mark[0]) % WRAP
-    return raw, mark[1] + (step - WRAP if step >= WRAP // 2 else step)
-
-
-def _behind(index: int, reference: int) -> bool:
+def behind(index: int, reference: int) -> bool:
     """Frame ``index`` is at or before ``reference`` (modulo wrap)."""
     return (reference - index) % WRAP < WRAP // 2

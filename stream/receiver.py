@@ -1,7 +1,7 @@
 """The motor stream's receiving socket: datagrams in, a face to show at any moment out.
 
 A daemon thread reads the UDP socket (packets larger than the format allows are cut short by
-the read and dropped as oversized), checks and decodes them (:class:`~stream.packets.StreamReader`)
+the read and dropped as oversized), checks and decodes them (:class:`~stream.reader.StreamReader`)
 and hands the frames to the jitter buffer (:class:`~stream.playout.Playout`). It acknowledges
 what it holds after each packet (the sender then predicts from frames known to be here, so a
 lost packet costs only its own frames); when a packet's reference is missing it asks the sender
@@ -20,8 +20,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from stream.packets import StreamReader, key_request
+from stream.packets import key_request
 from stream.playout import Playout
+from stream.reader import StreamReader
 from stream.wire import MAX_PACKET
 
 

@@ -14,7 +14,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from stream.packets import StreamWriter, acknowledged_frame, is_key_request
+from stream.packets import StreamWriter, is_key_request, read_ack
 
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
 
@@ -67,7 +67,7 @@ class StreamSender:
         w = self.writer
         seconds = max(frames / w.rate, 1e-9)
         return {"frames": frames, "packets": w.packets, "keyframes": w.keyframes, "key_requests": self.key_requests,
-                "acks": self.acks, "acked_packets": w.acked_packets,
+                "acks": self.acks, "acked_packets": w.acked_packets, "repeated_frames": w.repeated_frames,
                 "payload_kbps": round(w.payload_bytes * 8 / seconds / 1000, 3),
                 "stream_kbps": round(w.packet_bytes * 8 / seconds / 1000, 3),
                 "wire_kbps": round((w.packet_bytes + UDP_IP_HEADER * w.packets) * 8 / seconds / 1000, 3)}
@@ -84,9 +84,9 @@ class StreamSender:
                 data = self.sock.recv(256)
             except (BlockingIOError, OSError):
                 return
-            acked = acknowledged_frame(data, self.writer.key)
+            acked = read_ack(data, self.writer.key)
             if acked is not None:
-                self.writer.acknowledge(acked)
+                self.writer.acknowledge(*acked)
                 self.acks += 1
             elif is_key_request(data, self.writer.key):
                 self.writer.request_keyframe()
