@@ -73,6 +73,7 @@ sys.exit(code)
 
 
 @pytest.mark.gl
+@pytest.mark.slow
 @pytest.mark.parametrize("extra", [["--calibrate", "take.npz"], ["--mapping", "toon32", "--face", "round"]])
 def test_a_retarget_reads_no_file_twice(tmp_path, extra):
     """One `retarget --calibrate` opened markersets/toon32.toml four times, mappings/toon32.toml

@@ -81,6 +81,7 @@ def test_lost_markers_lower_confidence_and_ease_to_neutral():
     assert track.meta["lost_frames"] == 90
 
 
+@pytest.mark.slow
 def test_fidelity_on_a_faulty_take_is_close_to_the_truth():
     syn, mapping, _ = _calibrated(seconds=6.0, rate=60.0, noise=0.3, settings=CleanSettings())
     rng = np.random.default_rng(0)

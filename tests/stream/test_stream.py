@@ -231,6 +231,7 @@ def test_fault_plan_is_seeded_and_loses_what_it_says():
     assert burst.decide(b"p", 0.01) == [] and burst.counts["lost"] == 1
 
 
+@pytest.mark.slow
 def test_live_mapping_follows_the_performer_close_to_offline():
     syn = synthesize(seconds=20, rate=RATE, performance=default_performance(20))
     source = take_source(syn.take)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from capture import Take, load_take, save_take, synthesize
 from capture.performance import default_performance
@@ -244,6 +245,7 @@ def test_a_drafted_layout_maps_as_well_as_the_hand_made_preset(realdata, tmp_pat
     assert error.max() < 0.1 and error.mean() < 0.03, dict(zip(MOTOR_CODES, error.round(3), strict=True))
 
 
+@pytest.mark.slow
 def test_the_readme_chapter_runs_as_written(realdata, tmp_path, monkeypatch):
     """The README's "Your own marker layout" commands, verbatim, on a stranger's take."""
     import re
