@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install system-deps demo lint test test-fast bench clean
+.PHONY: all install system-deps demo lint test test-fast bench bench-deps clean
 
 all: test
 
@@ -48,7 +48,13 @@ test: $(STAMP)
 test-fast: $(STAMP)
 	$(PY) -m pytest -m 'not slow' -n 2
 
-bench: $(STAMP)
+# The render bench's peers: skia-python, and pycairo built against Cairo's headers.
+bench-deps: $(STAMP)
+	@dpkg -s libcairo2-dev pkg-config >/dev/null 2>&1 || { SUDO=$$([ "$$(id -u)" -ne 0 ] && echo sudo); \
+		$$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq --no-install-recommends libcairo2-dev pkg-config >/dev/null; }
+	$(PY) -m pip install --quiet --disable-pip-version-check -e '.[bench]'
+
+bench: bench-deps
 	$(PY) -m bench
 
 clean:

@@ -6,7 +6,8 @@ import argparse
 import importlib
 import sys
 
-GROUPS = ("cli", "render", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream", "batch")
+GROUPS = ("cli", "render", "retarget", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream",
+          "batch")
 #: Groups run only when named: they take minutes.
 LONG = ("soak",)
 

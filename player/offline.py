@@ -6,7 +6,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from player.renderer import Renderer
+from player.backends import FrameRenderer
 from player.sinks import FrameWriter
 from toon import FaceRig, MotorTrack
 
@@ -30,7 +30,7 @@ def frame_count(track: MotorTrack, fps: float) -> int:
     return track.frames if abs(fps - track.rate) < 1e-9 else int(round(track.duration * fps))
 
 
-def render_track(track: MotorTrack, rig: FaceRig, renderer: Renderer, sink: FrameWriter, fps: float | None = None,
+def render_track(track: MotorTrack, rig: FaceRig, renderer: FrameRenderer, sink: FrameWriter, fps: float | None = None,
                  progress: Callable[[int], None] | None = None) -> int:
     """Render every frame of ``track`` on ``rig``'s face into ``sink``; returns the frame count.
 

@@ -19,9 +19,8 @@ import av
 import numpy as np
 
 from common import InputError, atomic_path
-from player.gl import create_context
+from player.backends import open_renderer
 from player.offline import frame_count, render_track, resample
-from player.renderer import Renderer
 from player.sinks import H264Encoder
 from toon import FaceRig, MotorTrack
 
@@ -54,16 +53,12 @@ def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: flo
     if not len(values):
         raise ValueError(f"frames {start}:{stop} are outside the video's {frame_count(track, fps)} frames")
     buffer = io.BytesIO()
-    ctx = create_context()
-    try:
-        with Renderer(ctx, size, samples) as renderer:
-            encoder = H264Encoder(buffer, fps, size, crf, bframes="0", threads="1")
-            try:
-                render_track(MotorTrack(values, fps), rig, renderer, encoder)
-            finally:
-                encoder.finish()
-    finally:
-        ctx.release()
+    with open_renderer(size, samples) as renderer:
+        encoder = H264Encoder(buffer, fps, size, crf, bframes="0", threads="1")
+        try:
+            render_track(MotorTrack(values, fps), rig, renderer, encoder)
+        finally:
+            encoder.finish()
     return buffer.getvalue()
 
 

@@ -11,8 +11,7 @@ import cv2
 import numpy as np
 
 from common import InputError, atomic_path
-from player.gl import create_context
-from player.renderer import Renderer
+from player.backends import open_renderer
 from toon import Expression, FaceRig, MotorTrack
 
 _LABEL_HEIGHT = 28
@@ -69,15 +68,11 @@ def labelled_grid(rig: FaceRig, poses: list[tuple[str, np.ndarray]], cell: tuple
     columns = columns or math.ceil(math.sqrt(len(poses)))
     rows = math.ceil(len(poses) / columns)
     sheet = np.full((rows * (height + _LABEL_HEIGHT), columns * width, 3), 255, dtype=np.uint8)
-    ctx = create_context()
-    try:
-        with Renderer(ctx, cell, samples=samples) as renderer:
-            for i, (label, values) in enumerate(poses):
-                top, left = (i // columns) * (height + _LABEL_HEIGHT), (i % columns) * width
-                sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(values))
-                _label(sheet, label, left, top + height, width)
-    finally:
-        ctx.release()
+    with open_renderer(cell, samples) as renderer:
+        for i, (label, values) in enumerate(poses):
+            top, left = (i // columns) * (height + _LABEL_HEIGHT), (i % columns) * width
+            sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(values))
+            _label(sheet, label, left, top + height, width)
     return sheet
 
 

@@ -14,7 +14,8 @@ import numpy as np
 from capture import SyntheticTake, Take, save_take, synthesize
 from common.errors import Interrupted, Terminated
 from mapping import CleanSettings, Mapping, Profile, map_take
-from player import Renderer, create_context, render_track
+from player import render_track
+from player.backends import open_renderer
 from player.beside import SideBySide, beside_width
 from player.offline import frame_count
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
@@ -52,28 +53,24 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
     says how many. On an error nothing is left. ``beside``: a video shown left of the cartoon,
     frame for frame from ``beside_start`` seconds of its clock (:mod:`player.beside`).
     """
-    ctx = create_context()
-    try:
-        with Renderer(ctx, size, samples) as renderer:
-            extra = beside_width(beside, size[1]) if beside is not None else 0
-            sink = Outputs().picture(str(output), rate=fps or track.rate, size=(size[0] + extra, size[1]))
-            writer = SideBySide(sink, beside, extra, size[1], fps or track.rate, beside_start) if beside else sink
-            try:
-                frames = render_track(track, FaceRig(face), renderer, writer, fps, progress)
-            except KeyboardInterrupt as stop:
-                sink.close()
-                raise Interrupted(str(output), sink.frames, frame_count(track, fps or track.rate),
-                                  "SIGTERM" if isinstance(stop, Terminated) else "SIGINT") from None
-            except BaseException:
-                sink.abort()
-                raise
-            finally:
-                if isinstance(writer, SideBySide):
-                    writer.close()
+    with open_renderer(size, samples) as renderer:
+        extra = beside_width(beside, size[1]) if beside is not None else 0
+        sink = Outputs().picture(str(output), rate=fps or track.rate, size=(size[0] + extra, size[1]))
+        writer = SideBySide(sink, beside, extra, size[1], fps or track.rate, beside_start) if beside else sink
+        try:
+            frames = render_track(track, FaceRig(face), renderer, writer, fps, progress)
+        except KeyboardInterrupt as stop:
             sink.close()
-            return frames
-    finally:
-        ctx.release()
+            raise Interrupted(str(output), sink.frames, frame_count(track, fps or track.rate),
+                              "SIGTERM" if isinstance(stop, Terminated) else "SIGINT") from None
+        except BaseException:
+            sink.abort()
+            raise
+        finally:
+            if isinstance(writer, SideBySide):
+                writer.close()
+        sink.close()
+        return frames
 
 
 def render_with_sound(track: MotorTrack, face: Face, output: str | os.PathLike, sound: str | os.PathLike,

@@ -221,7 +221,7 @@ def test_anim_edits_files_and_renders_a_knot_point_animation(tmp_path, capsys):
 
 def test_help_imports_no_heavy_library():
     """--help of every subcommand loads none of the libraries that made start-up take seconds."""
-    heavy = ["scipy", "cv2", "av", "moderngl", "distributed", "dask", "pysindy", "mapbox_earcut", "tqdm"]
+    heavy = ["scipy", "cv2", "av", "moderngl", "distributed", "dask", "pysindy", "mapbox_earcut", "tqdm", "cairocffi"]
     code = ("import sys\nfrom toonface.cli import cli, main\n"
             "for name in [None, *cli.commands]:\n"
             "    assert main(([name] if name else []) + ['--help']) == 0\n"
