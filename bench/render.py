@@ -70,36 +70,36 @@ def run(quick: bool = False) -> list[Figure]:
                                      for g in geometries[::10]]))
                 backend = type(ours).__name__
             peers = [p for p in ("skia", "cairo") if p in rates]
-            if not peers:
-                raise RuntimeError("no peer renderer is installed: run `make bench-deps`")
-            fastest = max(peers, key=lambda p: statistics.median(rates[p]))
-            peer_ratio = [a / b for a, b in zip(rates["ours"], rates[fastest], strict=True)]
             gl_ratio = [a / b for a, b in zip(rates["gl"], rates["floor"], strict=True)]
             detail = {"face": name, "size": list(size), "frames": len(values), "passes": passes, "block_frames": BLOCK,
                       "default_renderer": backend, "gl_renderer": gl_renderer}
             figures += [
                 Figure(f"render.fps.{name}", statistics.median(rates["ours"]), "frames/s", None, True,
-                       {**detail, **_spread(rates["ours"])}),
+                       {**detail, **_spread(rates["ours"]),
+                        **({} if peers else {"peers": "none installed: run `make bench-deps`"})}),
                 Figure(f"render.gl_fps.{name}", statistics.median(rates["gl"]), "frames/s", None, True,
                        {**detail, "samples": 4, **_spread(rates["gl"])}),
                 *[Figure(f"render.{p}_fps.{name}", statistics.median(rates[p]), "frames/s", None, True,
                          {**detail, **_spread(rates[p])}) for p in peers],
-                Figure(f"render.peer_ratio.{name}", statistics.median(peer_ratio), "ratio", 1.0, True,
-                       {**detail, "fastest_peer": fastest, "peers": [p for p, d in peers_here.items() if d],
-                        **_spread(peer_ratio)}),
                 Figure(f"render.picture_mad.{name}", mad, "of 255", GOAL_MAD, False, detail),
                 Figure(f"render.gl_ratio.{name}", statistics.median(gl_ratio), "ratio", GOAL_RATIO, True,
                        {**detail, "triangle_corners_at_rest": corners, **_spread(gl_ratio)}),
             ]
+            if peers:
+                fastest = max(peers, key=lambda p: statistics.median(rates[p]))
+                peer_ratio = [a / b for a, b in zip(rates["ours"], rates[fastest], strict=True)]
+                figures.append(Figure(f"render.peer_ratio.{name}", statistics.median(peer_ratio), "ratio", 1.0, True,
+                                      {**detail, "fastest_peer": fastest, "peers": peers, **_spread(peer_ratio)}))
     finally:
         ctx.release()
     by = {f.name: f for f in figures}
     slowest = min(builtin_faces(), key=lambda n: by[f"render.fps.{n}"].value)
-    worst = min(builtin_faces(), key=lambda n: by[f"render.peer_ratio.{n}"].value)
-    return figures + [Figure("render.fps", by[f"render.fps.{slowest}"].value, "frames/s", None, True,
-                             {"face": slowest}),
-                      Figure("render.peer_ratio", by[f"render.peer_ratio.{worst}"].value, "ratio", 1.0, True,
-                             {"face": worst})]
+    summary = [Figure("render.fps", by[f"render.fps.{slowest}"].value, "frames/s", None, True, {"face": slowest})]
+    ratios = {n: by[f"render.peer_ratio.{n}"].value for n in builtin_faces() if f"render.peer_ratio.{n}" in by}
+    if ratios:
+        worst = min(ratios, key=ratios.__getitem__)
+        summary.append(Figure("render.peer_ratio", ratios[worst], "ratio", 1.0, True, {"face": worst}))
+    return figures + summary
 
 
 def _blocks(drawers: dict[str, Callable[[Geometry], np.ndarray]], geometries: list[Geometry],
