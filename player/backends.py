@@ -4,9 +4,8 @@ Both draw the same geometry into the same picture (:mod:`player.cairo_renderer` 
 A software OpenGL (Mesa's llvmpipe) takes about three times as long as Cairo for a 512x512 face,
 so ``auto`` takes Cairo where the machine shows no GPU device, where the context OpenGL gives is
 a software one, and where no OpenGL context can be made at all; OpenGL where the system has no
-libcairo. The live player keeps
-OpenGL: it shares its context with the preview and the window. ``TOONFACE_RENDERER`` (``gl``,
-``cairo`` or ``auto``) overrides the choice for every command.
+libcairo. The live player keeps OpenGL: it shares its context with the preview and the window.
+``TOONFACE_RENDERER`` (``gl``, ``cairo`` or ``auto``) overrides the choice for every command.
 """
 
 from __future__ import annotations
@@ -46,7 +45,7 @@ def chosen_backend(backend: str | None = None) -> str:
     """``backend``, else ``TOONFACE_RENDERER``, else ``auto``; checked against :data:`BACKENDS`."""
     name = (backend or os.environ.get("TOONFACE_RENDERER") or "auto").strip().lower()
     if name not in BACKENDS:
-        raise RenderError(f"unknown renderer {name!r} (TOONFACE_RENDERER or --renderer): "
+        raise RenderError(f"unknown renderer {name!r} in TOONFACE_RENDERER: "
                           f"expected one of {', '.join(BACKENDS)}")
     return name
 

@@ -134,7 +134,7 @@ class CairoRenderer:
         so they are written once for a face and re-used while those stay the same; each frame
         writes its points into them in one go."""
         items = geometry.items
-        key = tuple((len(item.vertices), item.closed) for item in items)
+        key = tuple((len(item.vertices), item.closed and len(item.vertices) > 0) for item in items)
         if key != self._layout_key:
             bounds, point_rows, start = [], [], 0
             for count, closed in key:
@@ -182,10 +182,12 @@ def path_data(runs: list[tuple[list[int] | None, bool]], points: np.ndarray) -> 
     maybe a close-path. Returns float64 ``(k, 2)``, 16 bytes an element as the C union lays
     them out: a header (type and length as int32) before each point, the close-path a header
     alone."""
-    parts = []
+    parts = [np.zeros((0, 2))]
     for run, closed in runs:
         pts = points if run is None else points[run]
         count = len(pts)
+        if count == 0:
+            continue
         data = np.zeros((2 * count + closed, 2))
         data[1:2 * count:2] = pts
         header = data.view(np.int32).reshape(-1, 4)  # [type, length, padding, padding]
@@ -194,7 +196,7 @@ def path_data(runs: list[tuple[list[int] | None, bool]], points: np.ndarray) -> 
         if closed:
             header[-1, :2] = (CLOSE_PATH, 1)
         parts.append(data)
-    return parts[0] if len(parts) == 1 else np.concatenate(parts)
+    return parts[-1] if len(parts) == 2 else np.concatenate(parts)
 
 
 def visible_runs(count: int, closed: bool, visible: np.ndarray | None) -> list[tuple[list[int] | None, bool]]:

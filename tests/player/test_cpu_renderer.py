@@ -98,6 +98,7 @@ def test_path_data_is_cairo_s_own_layout():
     data = path_data([(None, True), ([0, 1], False)], points)
     header = data.view(np.int32).reshape(-1, 4)[:, :2]
     assert header[[0, 2, 4, 6, 7, 9]].tolist() == [[0, 2], [1, 2], [1, 2], [3, 1], [0, 2], [1, 2]]
+    assert path_data([(None, True)], np.zeros((0, 2))).shape == (0, 2)  # an outline without points: no path
     with CairoRenderer((64, 64)) as renderer:
         renderer._append(data)
         assert renderer._context.copy_path() == [
