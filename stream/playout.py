@@ -23,8 +23,8 @@ Whatever the method, after ``ease_after`` seconds of loss the face eases to its 
 ``ease_seconds`` (hold-then-ease). While concealing, and after it until it has caught up with the
 stream again, a motor moves toward where it should be by at most the larger of ``max_jump`` of
 its range and the fastest step it made itself in the stream lately (a peak that halves in about
-2 s) per stream frame: the face never moves faster than it does on its own. A blink missed while concealing is caught up
-at the eyelid's own speed, not drawn out over twenty frames.
+2 s) per stream frame: the face never moves faster than it does on its own. A blink missed
+while concealing is caught up at the eyelid's own speed, not drawn out over twenty frames.
 """
 
 from __future__ import annotations

@@ -131,8 +131,9 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
-    back a motor catches up no faster than --max-jump per frame or its own recent fastest step. Bad packets (oversized,
-    malformed, replayed, or without the --key-file's HMAC) are dropped and counted.
+    back a motor catches up no faster than --max-jump per frame or its own recent fastest step.
+    Bad packets (oversized, malformed, replayed, or without the --key-file's HMAC) are dropped
+    and counted.
     """
     from player.live import ListenError, LiveSettings, run_live
     from stream.playout import Playout
