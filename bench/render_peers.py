@@ -16,17 +16,14 @@ from collections.abc import Callable
 import cv2
 import numpy as np
 
-from toon import Geometry, fit_viewbox
+from toon import Geometry, fit_viewbox, to_pixels
 from toon.curves import MITER_LIMIT
 
 Drawer = Callable[[Geometry], np.ndarray]
 
 
 def _pixels(geometry: Geometry, size: tuple[int, int]) -> list[np.ndarray]:
-    scale, ox, oy = fit_viewbox(geometry.viewbox, size)
-    x0, y0 = ox - geometry.viewbox[0] * scale, oy + geometry.viewbox[3] * scale
-    return [np.column_stack([x0 + scale * item.vertices[:, 0], y0 - scale * item.vertices[:, 1]])
-            for item in geometry.items]
+    return [to_pixels(item.vertices, geometry.viewbox, size) for item in geometry.items]
 
 
 def _runs(item_closed: bool, count: int, visible: np.ndarray | None) -> list[tuple[list[int], bool]]:

@@ -3,6 +3,7 @@ and which renderer the offline commands take."""
 
 import numpy as np
 import pytest
+from pictures import near_an_edge
 
 from capture import synthesize
 from player import Renderer, RenderError
@@ -12,17 +13,6 @@ from toon import FaceRig, builtin_faces, load_expressions, load_face, render_cpu
 from toonface import map_onto_face
 
 FACES = builtin_faces()
-
-
-def _near_an_edge(image: np.ndarray) -> np.ndarray:
-    """Pixels with a neighbour (8-connected) of another colour in ``image``."""
-    padded = np.pad(image.astype(int), ((1, 1), (1, 1), (0, 0)), mode="edge")
-    h, w = image.shape[:2]
-    out = np.zeros((h, w), dtype=bool)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            out |= np.any(padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] != image, axis=2)
-    return out
 
 
 @pytest.mark.parametrize("name", FACES)
@@ -35,7 +25,7 @@ def test_cairo_without_antialiasing_matches_the_cpu_oracle(name, expression):
         drawn = renderer.render(geom)
     cpu = render_cpu(geom, (96, 96))
     differ = np.any(np.abs(drawn.astype(int) - cpu.astype(int)) > 2, axis=2)
-    inner = ~_near_an_edge(cpu)
+    inner = ~near_an_edge(cpu)
     assert not (differ & inner).any(), f"{(differ & inner).sum()} interior pixels differ"
     assert differ.mean() < 0.03, f"{differ.sum()} of {differ.size} pixels differ"
 

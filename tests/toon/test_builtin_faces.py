@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+from pictures import near_an_edge
 
 from common import InputError
 from player import Renderer
@@ -62,20 +63,9 @@ def test_gl_matches_the_cpu_oracle(ctx, name, expression):
     cpu = render_cpu(geom, (64, 64))
     differ = np.any(np.abs(gpu.astype(int) - cpu.astype(int)) > 2, axis=2)
     # Only pixels whose centres lie on an edge may differ; interiors may not.
-    inner = ~_near_an_edge(cpu)
+    inner = ~near_an_edge(cpu)
     assert not (differ & inner).any(), f"{(differ & inner).sum()} interior pixels differ"
     assert differ.mean() < 0.02, f"{differ.sum()} of 4096 pixels differ"
-
-
-def _near_an_edge(image: np.ndarray) -> np.ndarray:
-    """Pixels with a neighbour (8-connected) of another colour in ``image``."""
-    padded = np.pad(image.astype(int), ((1, 1), (1, 1), (0, 0)), mode="edge")
-    h, w = image.shape[:2]
-    out = np.zeros((h, w), dtype=bool)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            out |= np.any(padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] != image, axis=2)
-    return out
 
 
 @pytest.mark.parametrize("name", FACES)
