@@ -31,7 +31,7 @@ from mapping.filters import Butterworth
 from mapping.gaps import GapFiller, gap_runs, straight_line
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings
-from mapping.stabilise import Stabilised, nearest_rotation, stabilise, yaw_pitch_degrees
+from mapping.stabilise import Stabilised, express, fit_head, nearest_rotation, refit_head, yaw_pitch_degrees
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,18 +79,22 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     if settings.spikes:  # the head references' own spikes first: with few seen, one turns the whole head
         world_spikes[:, rows] = centred_spikes(take.positions[:, rows], take.times)
         positions = np.where(world_spikes[..., None], np.nan, positions)
-    first = stabilise(positions, rows, neutral)
-    if isinstance(first, Failure):
-        return first
+    fit = fit_head(positions, rows, neutral)
+    if isinstance(fit, Failure):
+        return fit
+    first = express(positions, rows, fit)
     rejected = 0
     if settings.spikes:
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
-        spikes |= centred_spikes(np.where(spikes[..., None], np.nan, first.local), take.times) | world_spikes
+        spikes |= centred_spikes(np.where(spikes[..., None], np.nan, first.local), take.times)
+        new_references = spikes[:, rows].any(axis=1)  # frames whose head fit loses a reference
+        spikes |= world_spikes
         rejected = int(spikes.sum())
         positions = np.where(spikes[..., None], np.nan, take.positions)
-        first = stabilise(positions, rows, first.reference, own_shape=False)  # the shape is the performer's
-        if isinstance(first, Failure):
-            return first
+        fit = refit_head(fit, positions, rows, new_references)
+        if isinstance(fit, Failure):
+            return fit
+        first = express(positions, rows, fit)
     found = markerset.match(take.labels)
     apart = [take.index(found[m]) for m in markerset.independent if m in found]
     local, filled_mask = _fill_and_smooth(first.local, take, settings, apart)

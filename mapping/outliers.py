@@ -102,25 +102,25 @@ class SpikeFilter:
         self.reset()
 
     def reset(self) -> None:
-        self._past: np.ndarray | None = None  # (markers, dims, window): raw samples, oldest first
+        self._past: np.ndarray | None = None  # (window, markers, dims): raw samples, oldest first
         self._past_t: np.ndarray | None = None  # (window,)
 
     def step(self, sample: np.ndarray, t: float) -> np.ndarray:
         """One frame ``(markers, dims)``: the sample with spikes set to NaN."""
         x = np.asarray(sample, dtype=np.float64)
         if self._past is None or self._past_t is None:
-            self._past = np.full((*x.shape, self.window), np.nan)
+            self._past = np.full((self.window, *x.shape), np.nan)
             self._past_t = np.full(self.window, np.nan)
-        spike = self._spikes(self._past, self._past_t, x, np.float64(t))
-        self._past[..., :-1] = self._past[..., 1:]  # shifted in place: np.roll allocates a frame, and kept
-        self._past[..., -1] = x  # some of it (28 kB a minute in the stream's soak)
+        spike = self._spikes(np.concatenate([self._past, x[None]]), np.append(self._past_t, t))[0]
+        self._past[:-1] = self._past[1:]  # shifted in place: np.roll allocates a frame, and kept
+        self._past[-1] = x  # some of it (28 kB a minute in the stream's soak)
         self._past_t[:-1] = self._past_t[1:]
         self._past_t[-1] = t
         out = x.copy()
         out[spike] = np.nan
         return out
 
-    def apply(self, positions: np.ndarray, t: np.ndarray, block: int = 4096) -> np.ndarray:
+    def apply(self, positions: np.ndarray, t: np.ndarray, block: int = 512) -> np.ndarray:
         """Whole recording ``(frames, markers, dims)``; equal to stepping it from a fresh state."""
         x = np.asarray(positions, dtype=np.float64)
         times = np.asarray(t, dtype=np.float64)
@@ -128,30 +128,47 @@ class SpikeFilter:
         padded = np.concatenate([np.full((k, *x.shape[1:]), np.nan), x])
         padded_t = np.concatenate([np.full(k, np.nan), times])
         out = x.copy()
-        for start in range(0, len(x), block):
-            stop = min(start + block, len(x))
-            past = np.lib.stride_tricks.sliding_window_view(padded[start:stop + k - 1], k, axis=0)
-            past_t = np.lib.stride_tricks.sliding_window_view(padded_t[start:stop + k - 1], k)
-            spike = self._spikes(past, past_t, x[start:stop], times[start:stop])
-            out[start:stop][spike] = np.nan
+        edges = [0, *range(k, len(x), block), len(x)]  # the first window alone: it holds the padding
+        for start, stop in zip(edges[:-1], edges[1:], strict=True):  # blocks small enough for the cache
+            out[start:stop][self._spikes(padded[start:stop + k], padded_t[start:stop + k])] = np.nan
         return out
 
-    def _spikes(self, past: np.ndarray, past_t: np.ndarray, x: np.ndarray, t: np.ndarray | float) -> np.ndarray:
-        """Which markers of ``x`` (``(..., markers, dims)``) are spikes, given the raw samples
-        before them ``(..., markers, dims, window)`` at times ``(..., window)``; ``(..., markers)``."""
-        pt = past_t[..., None, None, :]  # broadcast over markers and dims
-        r = self.recent
-        velocity = _median_last((past[..., -r:] - past[..., -r - 1:-1]) / (pt[..., -r:] - pt[..., -r - 1:-1]))
-        velocity = np.where(np.isfinite(velocity), velocity, 0.0)
-        ahead = np.asarray(t)[..., None, None, None] - pt  # (..., 1, 1, window)
-        level = _median_last(past[..., -r:] + velocity[..., None] * ahead[..., -r:])  # (..., markers, dims)
-        off = past - (level[..., None] - velocity[..., None] * ahead)
-        spread = _median_last(np.sqrt((off * off).sum(axis=-2)))  # (..., markers)
-        miss = x - level
-        miss = np.sqrt((miss * miss).sum(axis=-1))
-        seen = np.isfinite(x).all(axis=-1)
-        tested = np.isfinite(past).all(axis=-2).sum(axis=-1) >= self.min_seen
-        return seen & tested & (miss > self.threshold * 1.4826 * spread + self.floor)
+    def _spikes(self, run: np.ndarray, run_t: np.ndarray) -> np.ndarray:
+        """Which markers are spikes in each of the last ``len(run) - window`` frames of ``run``
+        ``(window + N, markers, dims)`` (raw samples) at times ``run_t`` ``(window + N,)``, each
+        judged on the ``window`` samples before it; ``(N, markers)``.
+
+        Each frame's past is a shifted view of ``run``, so every step is one pass over
+        ``(N, markers, dims)``; a run with every sample seen skips the bookkeeping of unseen ones."""
+        k, r = self.window, self.recent
+        n = len(run) - k
+        complete = bool(np.isfinite(run).all() and (np.diff(run_t) > 0).all())
+        with np.errstate(invalid="ignore", divide="ignore"):  # unseen samples and padding give NaN
+            steps = np.diff(run, axis=0) / np.diff(run_t)[:, None, None]  # steps[i]: frame i to i + 1
+        velocity = nan_median([steps[j - 1:j - 1 + n] for j in range(k - r, k)], complete)
+        if not complete:
+            velocity = np.where(np.isfinite(velocity), velocity, 0.0)
+        ahead = [(run_t[k:] - run_t[j:j + n])[:, None, None] for j in range(k)]  # (N, 1, 1) each
+        level = nan_median([run[j:j + n] + velocity * ahead[j] for j in range(k - r, k)], complete)
+        with np.errstate(invalid="ignore"):
+            miss = _length(run[k:] - level)  # (N, markers)
+            # A sample within ``floor`` of the line is no spike whatever the spread: the spread (the
+            # costly part) is measured only where a sample misses by more.
+            f, m = np.nonzero(miss > self.floor)
+        spike = np.zeros(miss.shape, bool)
+        if len(f):
+            # the window's samples (oldest first) carried along the line to the frame judged: (S, dims) each
+            carried = [run[f + j, m] + velocity[f, m] * ahead[j][f, 0] for j in range(k)]
+            spread = nan_median([_length(c - level[f, m]) for c in carried], complete)
+            with np.errstate(invalid="ignore"):
+                spike[f, m] = miss[f, m] > self.threshold * 1.4826 * spread + self.floor  # False where NaN
+        if complete:
+            return spike
+        seen = _seen(run)  # (window + N, markers)
+        tested = seen[:n].astype(np.intp)
+        for j in range(1, k):
+            tested += seen[j:j + n]
+        return seen[k:] & (tested >= self.min_seen) & spike
 
 
 def centred_spikes(positions: np.ndarray, t: np.ndarray, threshold: float = 4.0, floor: float = 1.0,
@@ -180,51 +197,99 @@ def centred_spikes(positions: np.ndarray, t: np.ndarray, threshold: float = 4.0,
     t : ndarray, shape (F,)
         Times, s.
     """
-    x = np.array(positions, dtype=np.float64)
+    x = np.asarray(positions, dtype=np.float64)
     times = np.asarray(t, dtype=np.float64)
     frames, markers = x.shape[:2]
     rejected = np.zeros((frames, markers), bool)
     if frames < 3:
         return rejected
-    here = np.arange(frames)[:, None]
-    columns = np.arange(markers)[None, :]
-    for _ in range(rounds):
-        seen = np.isfinite(x).all(axis=2)
-        last_seen = np.maximum.accumulate(np.where(seen, here, -1), axis=0)
-        before = np.vstack([np.full((1, markers), -1), last_seen[:-1]])
-        next_seen = np.minimum.accumulate(np.where(seen, here, frames)[::-1], axis=0)[::-1]
-        after = np.vstack([next_seen[1:], np.full((1, markers), frames)])
-        ok = seen & (before >= 0) & (after < frames) & (here - before <= 2) & (after - here <= 2)
-        b, a = np.clip(before, 0, frames - 1), np.clip(after, 0, frames - 1)
-        span = np.where(ok, times[a] - times[b], 1.0)
-        share = np.where(ok, (times[:, None] - times[b]) / span, 0.0)[..., None]
-        miss = np.linalg.norm(x - (x[b, columns] * (1 - share) + x[a, columns] * share), axis=2)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # a marker never tested: its scale is NaN
-            scale = 1.4826 * np.nanmedian(np.where(ok, miss, np.nan), axis=0)
-        miss = np.where(ok, miss, 0.0)
-        peak = ok & (miss > threshold * np.nan_to_num(scale) + floor)
-        peak[1:] &= miss[1:] >= miss[:-1]
-        peak[:-1] &= miss[:-1] >= miss[1:]
+    active, current = np.arange(markers), x  # a marker is judged on its own samples: only those that lost one
+    for _ in range(rounds):                  # are tested again, without what they lost
+        peak = _centred_peaks(current, times, threshold, floor)
         if not peak.any():
             break
-        rejected |= peak
-        x[peak] = np.nan
+        rejected[:, active] |= peak
+        active = active[peak.any(axis=0)]
+        current = np.where(rejected[:, active, None], np.nan, x[:, active])
     return rejected
 
 
-def _median_last(a: np.ndarray) -> np.ndarray:
-    """Median over the last axis ignoring NaN (NaN where all are NaN); vectorised by sorting
-    (by a min/max network for three values, the common case, which is several times faster)."""
-    if a.shape[-1] == 3:
-        x, y, z = a[..., 0], a[..., 1], a[..., 2]
-        n = np.isfinite(a).sum(axis=-1)
-        all_three = np.maximum(np.minimum(x, y), np.minimum(np.maximum(x, y), z))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fewer = np.where(np.isfinite(a), a, 0.0).sum(axis=-1) / n  # the mean of one or two
-        return np.where(n == 3, all_three, np.where(n > 0, fewer, np.nan))
-    ordered = np.sort(a, axis=-1)  # NaN sort last
-    n = np.isfinite(ordered).sum(axis=-1)
-    low = np.take_along_axis(ordered, np.maximum((n - 1) // 2, 0)[..., None], axis=-1)[..., 0]
-    high = np.take_along_axis(ordered, (n // 2)[..., None], axis=-1)[..., 0]
-    return np.where(n > 0, 0.5 * (low + high), np.nan)
+def _centred_peaks(x: np.ndarray, times: np.ndarray, threshold: float, floor: float) -> np.ndarray:
+    """One round of :func:`centred_spikes` on ``x`` ``(F, M, D)``: the samples to reject, ``(F, M)``.
+
+    Where both neighbours are the next frames (nearly everywhere) the line between them comes
+    from shifted views of the take; the samples beside a gap are gathered one by one."""
+    frames, markers = x.shape[:2]
+    here = np.arange(frames)[:, None]
+    seen = _seen(x)
+    last_seen = np.maximum.accumulate(np.where(seen, here, -1), axis=0)
+    before = np.vstack([np.full((1, markers), -1), last_seen[:-1]])
+    next_seen = np.minimum.accumulate(np.where(seen, here, frames)[::-1], axis=0)[::-1]
+    after = np.vstack([next_seen[1:], np.full((1, markers), frames)])
+    ok = seen & (before >= 0) & (after < frames) & (here - before <= 2) & (after - here <= 2)
+    adjacent = ok & (before == here - 1) & (after == here + 1)
+    miss = np.zeros((frames, markers))
+    share = ((times[1:-1] - times[:-2]) / (times[2:] - times[:-2]))[:, None, None]
+    with np.errstate(invalid="ignore"):  # unseen samples: NaN, not used
+        line = x[:-2] * (1 - share) + x[2:] * share
+    miss[1:-1] = np.where(adjacent[1:-1], _length(x[1:-1] - line), 0.0)
+    f, m = np.nonzero(ok & ~adjacent)
+    if len(f):
+        b, a = before[f, m], after[f, m]
+        w = ((times[f] - times[b]) / (times[a] - times[b]))[:, None]
+        miss[f, m] = _length(x[f, m] - (x[b, m] * (1 - w) + x[a, m] * w))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a marker never tested: its scale is NaN
+        scale = 1.4826 * np.nanmedian(np.where(ok, miss, np.nan), axis=0)
+    peak = ok & (miss > threshold * np.nan_to_num(scale) + floor)
+    peak[1:] &= miss[1:] >= miss[:-1]
+    peak[:-1] &= miss[:-1] >= miss[1:]
+    return peak
+
+
+def _seen(a: np.ndarray) -> np.ndarray:
+    """Whether every coordinate (the last axis) is finite, ``(...)``."""
+    total = a[..., 0].copy()
+    for d in range(1, a.shape[-1]):
+        total += a[..., d]
+    return np.isfinite(total)
+
+
+def _length(a: np.ndarray) -> np.ndarray:
+    """Euclidean length over the last axis (2 or 3 coordinates), ``(...)``."""
+    total = a[..., 0] * a[..., 0]
+    for d in range(1, a.shape[-1]):
+        total += a[..., d] * a[..., d]
+    return np.sqrt(total)
+
+
+def nan_median(parts: list[np.ndarray], complete: bool = False) -> np.ndarray:
+    """Element-wise median of a few same-shaped arrays ignoring NaN (NaN where all are NaN);
+    ``complete``: the caller knows every value is finite.
+
+    An odd-even transposition network sorts them element-wise (missing values, set to +inf,
+    sort last): one pass per comparator over whole arrays, where sorting a stacked axis visits
+    every element alone. The median is read at each element's count of finite values."""
+    k = len(parts)
+    if complete and k == 3:  # the common case, by a median network (4 passes)
+        return np.maximum(np.minimum(parts[0], parts[1]), np.minimum(np.maximum(parts[0], parts[1]), parts[2]))
+    finite = [] if complete else [np.isfinite(p) for p in parts]
+    order = list(parts) if complete else [np.where(f, p, np.inf) for f, p in zip(finite, parts, strict=True)]
+    for r in range(k):
+        for i in range(r % 2, k - 1, 2):
+            order[i], order[i + 1] = np.minimum(order[i], order[i + 1]), np.maximum(order[i], order[i + 1])
+    median = order[k // 2].copy() if k % 2 else 0.5 * (order[k // 2 - 1] + order[k // 2])
+    if complete:
+        return median
+    count = finite[0].astype(np.intp)
+    for f in finite[1:]:
+        count += f
+    short = np.nonzero(count < k)
+    if len(short[0]):
+        have = count[short]
+        ordered = np.stack([o[short] for o in order])  # (k, S)
+        columns = np.arange(len(have))
+        low, high = ordered[np.maximum(have - 1, 0) // 2, columns], ordered[np.minimum(have // 2, k - 1), columns]
+        with np.errstate(invalid="ignore"):
+            median[short] = np.where(have > 0, 0.5 * (low + high), np.nan)
+    return median

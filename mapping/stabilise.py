@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from common import Failure
+from mapping.rotations import best_rotation
 
 
 def rigid_fit(source: np.ndarray, target: np.ndarray, min_points: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -41,29 +42,50 @@ def rigid_fit(source: np.ndarray, target: np.ndarray, min_points: int = 3) -> tu
     tgt_c = tgt.sum(axis=1) / n
     a = (src - src_c[:, None]) * w
     b = (tgt - tgt_c[:, None]) * w
-    cov = np.einsum("fki,fkj->fij", b, a)  # (F, 3, 3): target x source
-    u, _, vt = np.linalg.svd(cov)
-    d = np.sign(np.linalg.det(u @ vt))
-    fix = np.ones((len(target), 3))
-    fix[:, 2] = d
-    rot = (u * fix[:, None, :]) @ vt
-    trans = tgt_c - np.einsum("fij,fj->fi", rot, src_c)
+    rot = best_rotation(np.transpose(b, (0, 2, 1)) @ a)  # the covariance (F, 3, 3): target x source
+    trans = tgt_c - rotate(src_c[:, None, :], rot)[:, 0]
     rot[~ok] = np.nan
     trans[~ok] = np.nan
     return rot, trans, ok
 
 
 def nearest_rotation(matrices: np.ndarray) -> np.ndarray:
-    """The rotation nearest (Frobenius) to each ``(..., 3, 3)`` matrix, by SVD."""
-    u, _, vt = np.linalg.svd(matrices)
-    flip = np.linalg.det(u @ vt) < 0
-    u[..., :, -1] *= np.where(flip, -1.0, 1.0)[..., None]
-    return u @ vt
+    """The rotation nearest (Frobenius) to each ``(..., 3, 3)`` matrix."""
+    return best_rotation(matrices)
 
 
-def to_head_frame(positions: np.ndarray, rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
-    """Express world positions in the head frame: ``R.T @ (p - t)`` per frame; ``(F, M, 3)``."""
-    return np.einsum("fji,fmj->fmi", rotation, positions - translation[:, None, :])
+def rotate(points: np.ndarray, rotation: np.ndarray, inverse: bool = False) -> np.ndarray:
+    """``R @ p`` (``R.T @ p`` with ``inverse``) for every point of each frame.
+
+    Parameters
+    ----------
+    points : ndarray, shape (F, M, 3)
+    rotation : ndarray, shape (F, 3, 3)
+
+    Returns
+    -------
+    ndarray, shape (F, M, 3)
+        Written out coordinate by coordinate: several times faster than ``einsum`` or a batched
+        ``matmul`` of 3 × 3 matrices.
+    """
+    out = np.empty(np.broadcast_shapes(points.shape, (len(rotation), 1, 3)))
+    for i in range(3):
+        row = [rotation[:, j, i] if inverse else rotation[:, i, j] for j in range(3)]
+        out[..., i] = points[..., 0] * row[0][:, None] + points[..., 1] * row[1][:, None] \
+            + points[..., 2] * row[2][:, None]
+    return out
+
+
+def to_head_frame(positions: np.ndarray, rotation: np.ndarray, translation: np.ndarray, block: int = 256
+                  ) -> np.ndarray:
+    """Express world positions in the head frame: ``R.T @ (p - t)`` per frame; ``(F, M, 3)``.
+
+    In blocks of frames: one whole-take temporary costs more in fresh pages than the arithmetic."""
+    out = np.empty(np.broadcast_shapes(positions.shape, (len(rotation), 1, 3)))
+    for start in range(0, len(out), block):
+        part = slice(start, start + block)
+        np.matmul(positions[part] - translation[part, None, :], rotation[part], out=out[part])
+    return out
 
 
 def yaw_pitch_degrees(rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -111,7 +133,7 @@ class Stabilised:
 
     def world(self) -> np.ndarray:
         """``local`` back in world coordinates, ``(F, M, 3)``."""
-        return np.einsum("fij,fmj->fmi", self.rotation, self.local) + self.translation[:, None, :]
+        return rotate(self.local, self.rotation) + self.translation[:, None, :]
 
 
 def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 3.0
@@ -120,7 +142,7 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     more than ``tolerance`` mm (a spike or a swapped label on one head marker) and at least
     3 other points remain. Same shapes and meaning as :func:`rigid_fit`."""
     rot, trans, ok = rigid_fit(source, target)
-    fitted = np.einsum("fij,kj->fki", rot, source) + trans[:, None, :]
+    fitted = rotate(np.asarray(source, dtype=np.float64)[None], rot) + trans[:, None, :]
     miss = np.nan_to_num(np.linalg.norm(target - fitted, axis=2), nan=-1.0)  # (F, K); -1 unseen or no pose
     worst = np.argmax(miss, axis=1)
     seen = (~np.isnan(target[..., 0])).sum(axis=1)
@@ -132,9 +154,28 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     return rot, trans, ok
 
 
-def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray,
-              own_shape: bool = True) -> Stabilised | Failure:
-    """Remove head motion: a robust rigid fit of the head references in every frame.
+@dataclass(frozen=True, eq=False)
+class HeadFit:
+    """The head pose fitted on the references frame by frame, before :func:`bridge_references`.
+
+    Attributes
+    ----------
+    shape : ndarray, shape (K, 3)
+        The references' shape in the head frame that the fit used.
+    rotation : ndarray, shape (F, 3, 3)
+    translation : ndarray, shape (F, 3)
+    ok : ndarray of bool, shape (F,)
+    """
+
+    shape: np.ndarray
+    rotation: np.ndarray
+    translation: np.ndarray
+    ok: np.ndarray
+
+
+def fit_head(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray,
+             own_shape: bool = True) -> HeadFit | Failure:
+    """A robust rigid fit of the head references in every frame.
 
     The first fit uses the marker set's neutral shape of the references; their median shape in
     the head frame over the take then replaces it, so a performer whose head markers sit a little
@@ -154,29 +195,47 @@ def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutra
 
     Returns
     -------
-    Stabilised, or Failure saying why (fewer than 3 references seen in every frame).
+    HeadFit, or Failure saying why (fewer than 3 references seen in every frame).
     """
     target = positions[:, reference_rows]
     rot, trans, ok = robust_rigid_fit(reference_neutral, target)
     if not ok.any():
         return Failure("fewer than 3 head reference markers are seen in every frame")
-    if not own_shape:
-        return _bridged(positions, reference_rows, np.asarray(reference_neutral), rot, trans, ok)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
-        shape = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)
-    shape = np.where(np.isnan(shape), reference_neutral, shape)
-    shape = shape - (shape.mean(axis=0) - np.asarray(reference_neutral).mean(axis=0))  # keep the origin
-    rot, trans, ok = robust_rigid_fit(shape, target)
-    return _bridged(positions, reference_rows, shape, rot, trans, ok)
+    shape = np.asarray(reference_neutral, dtype=np.float64)
+    if own_shape:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
+            own = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)
+        own = np.where(np.isnan(own), shape, own)
+        shape = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
+        rot, trans, ok = robust_rigid_fit(shape, target)
+    return HeadFit(shape, rot, trans, ok)
 
 
-def _bridged(positions: np.ndarray, rows: list[int], shape: np.ndarray, rot: np.ndarray, trans: np.ndarray,
-             ok: np.ndarray) -> Stabilised:
-    """The take in the head frame, the pose kept continuous where a reference drops out
-    (:func:`bridge_references`); the lost reference itself is left to gap filling."""
-    rot, trans = bridge_references(positions[:, rows], shape, rot, trans, ok)
-    return Stabilised(to_head_frame(positions, rot, trans), rot, trans, ok, shape)
+def refit_head(fit: HeadFit, positions: np.ndarray, reference_rows: list[int], frames: np.ndarray
+               ) -> HeadFit | Failure:
+    """``fit`` after some references were taken out of ``frames`` ``(F,)`` of ``positions``: the
+    fit is made again there only (with the same shape; every frame's fit stands alone)."""
+    rot, trans, ok = fit.rotation.copy(), fit.translation.copy(), fit.ok.copy()
+    if frames.any():
+        rot[frames], trans[frames], ok[frames] = robust_rigid_fit(fit.shape, positions[frames][:, reference_rows])
+    if not ok.any():
+        return Failure("fewer than 3 head reference markers are seen in every frame")
+    return HeadFit(fit.shape, rot, trans, ok)
+
+
+def express(positions: np.ndarray, reference_rows: list[int], fit: HeadFit) -> Stabilised:
+    """The take in the head frame of ``fit``, the pose kept continuous where a reference drops
+    out (:func:`bridge_references`); the lost reference itself is left to gap filling."""
+    rot, trans = bridge_references(positions[:, reference_rows], fit.shape, fit.rotation, fit.translation, fit.ok)
+    return Stabilised(to_head_frame(positions, rot, trans), rot, trans, fit.ok, fit.shape)
+
+
+def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray,
+              own_shape: bool = True) -> Stabilised | Failure:
+    """Remove head motion: :func:`express` of :func:`fit_head` (the same parameters)."""
+    fit = fit_head(positions, reference_rows, reference_neutral, own_shape)
+    return fit if isinstance(fit, Failure) else express(positions, reference_rows, fit)
 
 
 def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarray, translation: np.ndarray,

@@ -1,0 +1,179 @@
+"""The whole-take forms of cleaning's rules against plain per-sample loops written from their
+docstrings: the spike tests, the NaN-aware median, the rotation fit and the head refit."""
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from mapping.outliers import SpikeFilter, centred_spikes, nan_median
+from mapping.rotations import best_rotation
+from mapping.stabilise import express, fit_head, refit_head, stabilise
+
+
+def _noisy_take(seed: int, frames: int = 240, markers: int = 5) -> tuple[np.ndarray, np.ndarray]:
+    """Smooth motion with jitter, spikes, unseen samples, a gap and a marker never seen."""
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.7, 1.3, frames)) / 60.0  # uneven frame times
+    phase = rng.uniform(0, 2 * np.pi, (1, markers, 3))
+    x = 10 * np.sin(2 * np.pi * 0.7 * t[:, None, None] + phase) + rng.normal(0, 0.3, (frames, markers, 3))
+    spiked = rng.random((frames, markers)) < 0.03
+    x[spiked, 2] += rng.choice([-15.0, 15.0], spiked.sum())
+    x[rng.random((frames, markers)) < 0.04] = np.nan
+    x[100:107, 1] = np.nan
+    x[:, 4] = np.nan
+    return x, t
+
+
+def _median(values: list[float]) -> float:
+    finite = sorted(v for v in values if np.isfinite(v))
+    if not finite:
+        return np.nan
+    mid = len(finite) // 2
+    return finite[mid] if len(finite) % 2 else 0.5 * (finite[mid - 1] + finite[mid])
+
+
+def _spike_by_loop(x: np.ndarray, t: np.ndarray, window=6, recent=3, threshold=6.0, floor=3.0, min_seen=4):
+    """SpikeFilter's rule, sample by sample, from its docstring."""
+    frames, markers, dims = x.shape
+    out = np.zeros((frames, markers), bool)
+    for f in range(frames):
+        past = list(range(max(0, f - window), f))
+        past = [None] * (window - len(past)) + past  # padding: unseen
+        for m in range(markers):
+            if not np.isfinite(x[f, m]).all():
+                continue
+            seen = [p for p in past if p is not None and np.isfinite(x[p, m]).all()]
+            if len(seen) < min_seen:
+                continue
+            velocity, level = np.zeros(dims), np.zeros(dims)
+            last = past[-recent:]
+            for d in range(dims):
+                steps = [(x[a, m, d] - x[b, m, d]) / (t[a] - t[b]) if a is not None and b is not None else np.nan
+                         for b, a in zip(past[-recent - 1:-1], last, strict=True)]
+                v = _median(steps)
+                velocity[d] = v if np.isfinite(v) else 0.0
+                level[d] = _median([x[p, m, d] + velocity[d] * (t[f] - t[p]) if p is not None else np.nan
+                                    for p in last])
+            spread = _median([np.linalg.norm(x[p, m] - (level - velocity * (t[f] - t[p]))) if p is not None else np.nan
+                              for p in past])
+            out[f, m] = np.linalg.norm(x[f, m] - level) > threshold * 1.4826 * spread + floor
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_spike_filter_equals_its_rule_sample_by_sample(seed):
+    x, t = _noisy_take(seed)
+    expected = _spike_by_loop(x, t)
+    assert expected.sum() >= 5  # the take has spikes to find
+    for block in (7, 64, 512):
+        found = np.isnan(SpikeFilter().apply(x, t, block=block)[..., 0]) & np.isfinite(x[..., 0])
+        np.testing.assert_array_equal(found, expected)
+
+
+def _centred_by_loop(x: np.ndarray, t: np.ndarray, threshold=4.0, floor=1.0, rounds=3) -> np.ndarray:
+    """centred_spikes' rule from its docstring: every marker tested again each round."""
+    x = x.copy()
+    frames, markers = x.shape[:2]
+    rejected = np.zeros((frames, markers), bool)
+    for _ in range(rounds):
+        miss = np.zeros((frames, markers))
+        ok = np.zeros((frames, markers), bool)
+        for m in range(markers):
+            seen = [f for f in range(frames) if np.isfinite(x[f, m]).all()]
+            for i, f in enumerate(seen):
+                if 0 < i < len(seen) - 1 and f - seen[i - 1] <= 2 and seen[i + 1] - f <= 2:
+                    b, a = seen[i - 1], seen[i + 1]
+                    share = (t[f] - t[b]) / (t[a] - t[b])
+                    miss[f, m] = np.linalg.norm(x[f, m] - (x[b, m] * (1 - share) + x[a, m] * share))
+                    ok[f, m] = True
+        peak = np.zeros((frames, markers), bool)
+        for m in range(markers):
+            tested = miss[ok[:, m], m]
+            scale = 1.4826 * np.median(tested) if len(tested) else 0.0
+            for f in range(frames):
+                neighbours = [miss[g, m] for g in (f - 1, f + 1) if 0 <= g < frames]
+                peak[f, m] = ok[f, m] and miss[f, m] > threshold * scale + floor and all(
+                    miss[f, m] >= v for v in neighbours)
+        if not peak.any():
+            break
+        rejected |= peak
+        x[peak] = np.nan
+    return rejected
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_centred_spikes_equal_their_rule_sample_by_sample(seed):
+    x, t = _noisy_take(seed)
+    x[50:53, 0] += [[0, 0, 6.0], [0, 0, 5.0], [0, 0, -5.5]]  # neighbouring spikes: found in later rounds
+    expected = _centred_by_loop(x, t)
+    assert expected.sum() >= 5
+    np.testing.assert_array_equal(centred_spikes(x, t), expected)
+
+
+@pytest.mark.parametrize("count", range(1, 8))
+def test_nan_median_is_numpys_with_and_without_missing_values(count):
+    rng = np.random.default_rng(count)
+    parts = [rng.normal(size=(50, 4)) for _ in range(count)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        np.testing.assert_allclose(nan_median(parts, complete=True), np.median(np.stack(parts), axis=0), rtol=1e-15)
+        for p in parts:
+            p[rng.random(p.shape) < 0.4] = np.nan
+        np.testing.assert_allclose(nan_median(parts), np.nanmedian(np.stack(parts), axis=0), rtol=1e-15)
+
+
+def _kabsch(cross: np.ndarray) -> np.ndarray:
+    u, _, vt = np.linalg.svd(cross)
+    u[..., :, -1] *= np.sign(np.linalg.det(u @ vt))[..., None]
+    return u @ vt
+
+
+@pytest.mark.parametrize("points", [3, 5, 12])
+def test_best_rotation_recovers_known_rotations_as_kabsch_does(points):
+    rng = np.random.default_rng(points)
+    truth = Rotation.random(500, random_state=points).as_matrix()
+    a = rng.normal(0, 50, (500, points, 3))
+    b = np.einsum("fij,fkj->fki", truth, a) + rng.normal(0, 0.3, (500, points, 3))
+    a, b = a - a.mean(axis=1, keepdims=True), b - b.mean(axis=1, keepdims=True)
+    cross = np.einsum("fki,fkj->fij", b, a)
+    fitted = best_rotation(cross)
+    np.testing.assert_allclose(fitted, _kabsch(cross), atol=1e-9)
+    np.testing.assert_allclose(np.linalg.det(fitted), 1.0, atol=1e-12)
+    exact = np.einsum("fij,fkj->fki", truth, a)  # without the jitter, the truth itself
+    np.testing.assert_allclose(best_rotation(np.einsum("fki,fkj->fij", exact, a)), truth, atol=1e-9)
+
+
+def test_best_rotation_of_reflections_degenerate_and_few_matrices():
+    rng = np.random.default_rng(9)
+    matrices = rng.normal(size=(300, 3, 3))  # half of them with det < 0
+    np.testing.assert_allclose(best_rotation(matrices), _kabsch(matrices), atol=1e-9)
+    degenerate = np.zeros((40, 3, 3))
+    degenerate[:20, 0, 0] = 5.0  # points on one line: any turn about it fits
+    fitted = best_rotation(degenerate)
+    np.testing.assert_allclose(fitted @ np.transpose(fitted, (0, 2, 1)), np.broadcast_to(np.eye(3), (40, 3, 3)),
+                               atol=1e-12)
+    np.testing.assert_allclose(fitted[:, :, 0] @ [1, 0, 0], 1.0)  # the line stays where it was
+    one = rng.normal(size=(3, 3))
+    np.testing.assert_allclose(best_rotation(one), _kabsch(one), atol=1e-12)  # the few-frames path
+
+
+def test_refitting_only_the_frames_that_lost_a_reference_equals_fitting_again():
+    rng = np.random.default_rng(4)
+    frames, rows = 400, [0, 1, 2, 3]
+    shape = rng.normal(0, 40, (4, 3))
+    turn = Rotation.from_euler("yx", np.stack([np.linspace(-30, 30, frames), np.linspace(10, -5, frames)], 1),
+                               degrees=True).as_matrix()
+    local = np.concatenate([np.broadcast_to(shape, (frames, 4, 3)), rng.normal(0, 20, (frames, 3, 3))], axis=1)
+    positions = np.einsum("fij,fmj->fmi", turn, local) + rng.normal(0, 0.3, (frames, 7, 3)) + [5.0, -3.0, 20.0]
+    fit = fit_head(positions, rows, shape)
+    lost = np.zeros((frames, 7), bool)
+    lost[rng.choice(frames, 40, replace=False), rng.integers(0, 4, 40)] = True
+    lost[150:160, 2] = True  # a stretch to bridge
+    cut = np.where(lost[..., None], np.nan, positions)
+    again = refit_head(fit, cut, rows, lost[:, rows].any(axis=1))
+    whole = stabilise(cut, rows, fit.shape, own_shape=False)
+    quick = express(cut, rows, again)
+    np.testing.assert_allclose(quick.rotation, whole.rotation, atol=1e-10)
+    np.testing.assert_allclose(quick.local, whole.local, atol=1e-8, equal_nan=True)
