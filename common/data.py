@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import functools
 import json
 import os
@@ -66,9 +65,22 @@ def read_document(path: Path) -> dict:
     """
     stat = path.stat()
     try:
-        return copy.deepcopy(_parsed(path.resolve(), stat.st_mtime_ns, stat.st_size))
+        doc = _copied(_parsed(path.resolve(), stat.st_mtime_ns, stat.st_size))
     except InputError as exc:
         raise InputError(exc.message, path) from None  # named as the caller named it
+    assert isinstance(doc, dict)
+    return doc
+
+
+def _copied(value: object) -> object:
+    """A copy of a parsed document: its tables and arrays copied, its values (strings, numbers,
+    dates: immutable) shared; several times faster than ``copy.deepcopy``, which a marker set's
+    hundreds of small tables made a visible share of mapping a take."""
+    if isinstance(value, dict):
+        return {key: _copied(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_copied(item) for item in value]
+    return value
 
 
 @functools.lru_cache(maxsize=256)

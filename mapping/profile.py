@@ -150,7 +150,7 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
         rest_value = np.nanmedian(rest_values, axis=0)
-        low, high = np.nanpercentile(range_values, percentiles, axis=0)
+        low, high = _nan_percentiles(range_values, percentiles)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
     moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
@@ -247,3 +247,15 @@ def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, in
 def _is_matrix(value: object) -> bool:
     return (isinstance(value, list) and len(value) == 3
             and all(isinstance(r, list) and len(r) == 3 and all(isinstance(v, (int, float)) for v in r) for r in value))
+
+
+def _nan_percentiles(values: np.ndarray, percentiles: tuple[float, float]) -> np.ndarray:
+    """``np.nanpercentile(values, percentiles, axis=0)`` of ``(F, C)``, ``(2, C)``: the columns
+    without NaN all at once (numpy takes a NaN-aware percentile one column at a time)."""
+    whole = ~np.isnan(values).any(axis=0)
+    out = np.empty((len(percentiles), values.shape[1]))
+    if whole.any():
+        out[:, whole] = np.percentile(values[:, whole], percentiles, axis=0)
+    if not whole.all():
+        out[:, ~whole] = np.nanpercentile(values[:, ~whole], percentiles, axis=0)
+    return out

@@ -52,14 +52,15 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
     InputError
         When no preset matches, or the take lacks the mapping's markers.
     """
+    found = None
     if mapping is None:
-        markerset = find_markerset(take.labels)
-        if markerset is None or not data_path("mappings", f"{markerset.name}.toml").is_file():
+        found = find_markerset(take.labels)
+        if found is None or not data_path("mappings", f"{found.name}.toml").is_file():
             raise InputError("no built-in mapping matches the take's markers "
                              f"({', '.join(take.labels[:6])}...); name one (--mapping, or mapping in a batch job)")
-        mapping = markerset.name
+        mapping = found.name
     chosen = load_mapping(mapping) if isinstance(mapping, str) else mapping
-    markerset = load_markerset(chosen.markerset)
+    markerset = found if found is not None and found.name == chosen.markerset else load_markerset(chosen.markerset)
     check_markers(chosen, markerset, take)
     return chosen, markerset
 
@@ -111,10 +112,12 @@ def rest_window(prepared: Prepared, spec: NeutralSpec) -> tuple[tuple[float, flo
 def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec = None,
               range_from: Prepared | None = None, range_window: tuple[float, float] | None = None,
               percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "", min_side: float = 0.0,
-              require_motion: bool = True) -> Profile:
+              require_motion: bool = True, rest_only: bool = False) -> Profile:
     """A performer profile: neutral from ``neutral_window`` of ``neutral`` (see :func:`rest_window`),
     range from ``range_window`` of ``range_from`` (default: the neutral take, all of it), each side
-    at least ``min_side`` from rest (see :func:`~mapping.profile.build_profile`).
+    at least ``min_side`` from rest (see :func:`~mapping.profile.build_profile`). With
+    ``rest_only``, only the rest is wanted: the ranges are measured over the rest window alone,
+    which saves a pass over the take, and mean nothing.
 
     Raises
     ------
@@ -124,7 +127,10 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     window, how = rest_window(neutral, neutral_window)
     source = range_from or neutral
     times = source.take.times
-    if range_window is None:
+    if rest_only:
+        source, times = neutral, neutral.take.times
+        frames = (times >= window[0]) & (times < window[1])
+    elif range_window is None:
         frames = np.ones(len(times), bool)
     else:
         frames = (times >= range_window[0]) & (times < range_window[1])
@@ -139,7 +145,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
                             min_side, require_motion)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
-    full = range_from is not None or range_window is not None
+    full = (range_from is not None or range_window is not None) and not rest_only
     profile = replace(profile, full_range=full)
     if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
         profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames, percentiles)
@@ -200,7 +206,7 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
             own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE,
-                            require_motion=bool(missing))  # only its rest is needed unless ranges are
+                            require_motion=bool(missing), rest_only=not missing)  # its ranges only if missing
             profile = merge_profile(profile, own, missing, rest_from_take)
             if missing:
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
