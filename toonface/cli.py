@@ -17,6 +17,7 @@ import click
 
 from capture.colours import HUES
 from common.errors import Interrupted, Terminated, ToonfaceError
+from common.memory import keep_freed_memory
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_layout import LAYOUT_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
@@ -292,6 +293,7 @@ def main(argv: list[str] | None = None) -> int:
     SIGTERM is raised as :class:`~common.errors.Terminated`, a KeyboardInterrupt: outputs are
     closed and kept as on Ctrl-C (a recording keeps what it has, a render what it drew).
     """
+    keep_freed_memory()  # whole-take arrays reuse pages instead of faulting in fresh ones (common.memory)
     in_main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _terminate) if in_main_thread else None
     try:

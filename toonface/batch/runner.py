@@ -23,8 +23,10 @@ from pathlib import Path
 from uuid import uuid4
 
 from distributed import Client, Future, KilledWorker, LocalCluster, as_completed, get_task_stream
+from distributed.diagnostics.plugin import WorkerPlugin
 
 from common import InputError, ToonfaceError
+from common.memory import keep_freed_memory
 from player.parts import frame_ranges
 from toonface.batch import tasks
 from toonface.batch.job import Job
@@ -48,7 +50,8 @@ def default_workers() -> int:
 def connect(scheduler: str | None = None, workers: int | None = None, wait_seconds: float = 60.0
             ) -> Iterator[Client]:
     """A client of the Dask scheduler at ``scheduler``, or of a local cluster of ``workers`` processes
-    (one thread each; default :func:`default_workers`), closed on exit.
+    (one thread each; default :func:`default_workers`), closed on exit. Its workers keep freed
+    memory for reuse (:class:`KeepFreedMemory`).
 
     With a scheduler, ``workers`` is how many workers to wait for (up to ``wait_seconds``).
     """
@@ -58,6 +61,7 @@ def connect(scheduler: str | None = None, workers: int | None = None, wait_secon
         except (OSError, TimeoutError) as exc:
             raise InputError(f"cannot reach the Dask scheduler ({exc})", scheduler) from None
         with client:
+            client.register_plugin(KeepFreedMemory())
             if workers:
                 try:
                     client.wait_for_workers(workers, timeout=wait_seconds)
@@ -72,7 +76,18 @@ def connect(scheduler: str | None = None, workers: int | None = None, wait_secon
     with LocalCluster(n_workers=count, threads_per_worker=1, processes=True, dashboard_address=None,
                       scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.CRITICAL,
                       env=WORKER_ENV) as cluster, Client(cluster) as client:
+        client.register_plugin(KeepFreedMemory())
         yield client
+
+
+class KeepFreedMemory(WorkerPlugin):
+    """Each worker's allocator keeps freed memory for the next take's arrays, as the ``toonface``
+    command's does (:func:`common.memory.keep_freed_memory`)."""
+
+    name = "toonface-keep-freed-memory"
+
+    def setup(self, worker: object) -> None:
+        keep_freed_memory()
 
 
 def run_batch(job: Job, pairs: list[Pair], client: Client | None,
