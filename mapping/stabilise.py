@@ -154,6 +154,10 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     return rot, trans, ok
 
 
+#: At most about this many frames, spread over the take, measure the performer's reference shape.
+SHAPE_FRAMES = 1000
+
+
 @dataclass(frozen=True, eq=False)
 class HeadFit:
     """The head pose fitted on the references frame by frame, before :func:`bridge_references`.
@@ -177,9 +181,10 @@ def fit_head(positions: np.ndarray, reference_rows: list[int], reference_neutral
              own_shape: bool = True) -> HeadFit | Failure:
     """A robust rigid fit of the head references in every frame.
 
-    The first fit uses the marker set's neutral shape of the references; their median shape in
-    the head frame over the take then replaces it, so a performer whose head markers sit a little
-    differently from the marker set's gets no frame-to-frame wobble when a reference drops out.
+    A first fit uses the marker set's neutral shape of the references; their median shape in
+    the head frame over the take (over :data:`SHAPE_FRAMES` frames spread across it) then
+    replaces it, so a performer whose head markers sit a little differently from the marker
+    set's gets no frame-to-frame wobble when a reference drops out.
 
     Parameters
     ----------
@@ -198,17 +203,19 @@ def fit_head(positions: np.ndarray, reference_rows: list[int], reference_neutral
     HeadFit, or Failure saying why (fewer than 3 references seen in every frame).
     """
     target = positions[:, reference_rows]
-    rot, trans, ok = robust_rigid_fit(reference_neutral, target)
+    shape = np.asarray(reference_neutral, dtype=np.float64)
+    if own_shape:  # measured on frames spread over the take: a median of thousands is no surer
+        sample = target[::max(1, len(target) // SHAPE_FRAMES)]
+        rot, trans, ok = robust_rigid_fit(shape, sample)
+        if ok.any():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
+                own = np.nanmedian(to_head_frame(sample[ok], rot[ok], trans[ok]), axis=0)
+            own = np.where(np.isnan(own), shape, own)
+            shape = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
+    rot, trans, ok = robust_rigid_fit(shape, target)
     if not ok.any():
         return Failure("fewer than 3 head reference markers are seen in every frame")
-    shape = np.asarray(reference_neutral, dtype=np.float64)
-    if own_shape:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
-            own = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)
-        own = np.where(np.isnan(own), shape, own)
-        shape = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
-        rot, trans, ok = robust_rigid_fit(shape, target)
     return HeadFit(shape, rot, trans, ok)
 
 
