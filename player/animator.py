@@ -76,6 +76,19 @@ class Animator:
             heapq.heapify(self._later)
             self._start(moves)
 
+    def jump(self, targets: dict[str, float]) -> None:
+        """Set these motors (code to value, clipped to [0, 1]) now, dropping what is pending for
+        them as a command would; the other motors go on (a slider dragged during a blink)."""
+        with self._lock:
+            codes = set(targets)
+            self._later = [(at, order, rest) for at, order, scheduled in self._later
+                           if (rest := tuple(m for m in scheduled if m.code not in codes))]
+            heapq.heapify(self._later)
+            for code, value in targets.items():
+                i = motor_index(code)
+                self._steps[i] = []
+                self._values[i] = min(max(float(value), 0.0), 1.0)
+
     def schedule(self, at: float, moves: Iterable[Move]) -> None:
         """Start ``moves`` when the loop's clock reaches ``at`` seconds."""
         with self._lock:
@@ -123,7 +136,7 @@ class Animator:
             count = max(1, math.ceil(round(move.seconds / self.loop_time, 9)))
             start = self._values[i]
             target = min(max(move.target, 0.0), 1.0)
-            self._steps[i] = [start + (target - start) * (k + 1) / count for k in range(count)]
+            self._steps[i] = [start + (target - start) * (k + 1) / count for k in range(count - 1)] + [target]
 
 
 class Loop:
