@@ -5,12 +5,16 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install system-deps demo lint test test-fast bench bench-deps clean
+.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps clean
 
 all: test
 
 system-deps:
 	@scripts/ensure-system-deps.sh
+
+# Chromium and chromedriver for the studio's browser tests, only if missing (they skip without).
+browser:
+	@scripts/ensure-browser.sh
 
 # Re-installs only when the package metadata changed; a second run is a no-op.
 $(STAMP): pyproject.toml requirements-faces.txt scripts/ensure-system-deps.sh
@@ -38,7 +42,7 @@ lint: $(STAMP)
 	$(VENV)/bin/mypy
 
 # mypy (20 s from cold) checks beside the tests on the second core; its report shows only when it fails.
-test: $(STAMP)
+test: $(STAMP) browser
 	@$(VENV)/bin/ruff check .
 	@log=$$(mktemp); $(VENV)/bin/mypy >$$log 2>&1 & pid=$$!; \
 	$(PY) -m pytest; status=$$?; \

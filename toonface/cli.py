@@ -24,6 +24,7 @@ from toonface.cli_mapping import MAPPING_COMMANDS
 from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, progress, read_take, take_options
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
+from toonface.cli_studio import STUDIO_COMMANDS
 
 # Commands import the stages they use when they run: `toonface --help` loads none of them.
 
@@ -279,7 +280,8 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
-for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS, *LAYOUT_COMMANDS):
+for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS, *LAYOUT_COMMANDS,
+                 *STUDIO_COMMANDS):
     cli.add_command(_command)
 
 

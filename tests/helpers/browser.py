@@ -1,0 +1,81 @@
+"""A studio server in a thread and headless Chromium driven by Selenium, for the browser tests.
+
+The browser is Debian's ``chromium`` with its ``chromedriver`` (``make test`` installs them with
+apt-get when missing); where either is absent the tests skip, saying so. Nothing is downloaded:
+the driver and the browser are named, so Selenium Manager has nothing to look for.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import shutil
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import pytest
+
+
+@contextmanager
+def studio_server(session) -> Iterator[str]:
+    """Serve ``session`` on a free loopback port in a thread; yields the page's address."""
+    from toonface.studio.server import serve
+
+    loop = asyncio.new_event_loop()
+    ready = threading.Event()
+    address: list[str] = []
+
+    def on_ready(url: str) -> None:
+        address.append(url)
+        ready.set()
+
+    task_box: list[asyncio.Task] = []
+
+    def run() -> None:
+        asyncio.set_event_loop(loop)
+        task = loop.create_task(serve(session, "127.0.0.1", 0, on_ready))
+        task_box.append(task)
+        try:
+            loop.run_until_complete(task)
+        except asyncio.CancelledError:
+            pass
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    assert ready.wait(10), "the studio server did not start"
+    try:
+        yield address[0]
+    finally:
+        loop.call_soon_threadsafe(task_box[0].cancel)
+        thread.join(10)
+        loop.close()
+
+
+@contextmanager
+def chromium(width: int = 1280, height: int = 900) -> Iterator:
+    """Headless Chromium at device scale 1 with its console log kept; skips where it is missing."""
+    browser, driver_path = shutil.which("chromium") or shutil.which("chromium-browser"), shutil.which("chromedriver")
+    if browser is None or driver_path is None:
+        pytest.skip("Chromium or chromedriver is missing (make test installs Debian's chromium and chromium-driver)")
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = browser
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--hide-scrollbars",
+                 "--force-device-scale-factor=1", f"--window-size={width},{height}", "--no-first-run",
+                 "--disable-extensions", "--disable-background-networking"):
+        options.add_argument(flag)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(options=options, service=Service(executable_path=driver_path))
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+def wait_for(driver, script: str, timeout: float = 10.0):
+    """Run ``script`` (a JavaScript expression) in the page until it is truthy; returns its value."""
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    return WebDriverWait(driver, timeout, poll_frequency=0.05).until(lambda d: d.execute_script(f"return {script}"))

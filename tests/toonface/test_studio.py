@@ -1,0 +1,110 @@
+"""The studio without a browser: the session's rules and the server's gate and messages."""
+
+import asyncio
+import json
+
+import numpy as np
+import pytest
+from aiohttp.test_utils import TestClient, TestServer
+
+from toon import motor_index
+from toonface.cli import main
+from toonface.studio.server import HOSTS, make_app
+from toonface.studio.session import StudioSession
+
+
+def test_dragging_a_point_inverts_the_range_and_the_head_turn():
+    session = StudioSession("classic")
+    lo, hi = session.face.ranges["MLV"]
+    x, y = session.frame()["points"]["ML"]
+    session.drag("ML", x, -(lo + 0.75 * (hi - lo)))  # SVG y is down
+    assert session.values[motor_index("MLV")] == pytest.approx(0.75)
+    session.set_motor("HH", 0.9)
+    session.set_motor("HV", 0.2)
+    for value in (0.2, 0.6):
+        session.set_motor("MB", value)
+        shown = session.frame()["points"]["MB"]  # where the page draws the point, head turned
+        session.set_motor("MB", 0.5)
+        session.drag("MB", *shown)
+        assert session.values[motor_index("MB")] == pytest.approx(value, abs=1e-5)  # points sent to 1e-4
+    session.drag("ML", 1e4, -1e4)  # far off: the ends of the ranges
+    assert session.values[motor_index("MLV")] == 1.0 and session.values[motor_index("MLH")] in (0.0, 1.0)
+    with pytest.raises(KeyError):
+        session.drag("NOSE", 0, 0)
+
+
+def test_a_pupil_dragged_to_where_it_is_drawn_keeps_its_gaze():
+    session = StudioSession("classic")
+    session.set_motor("PRH", 0.8)
+    session.set_motor("PRV", 0.3)
+    shown = session.frame()["points"]["PR"]
+    session.reset()
+    session.drag("PR", *shown)
+    assert session.values[motor_index("PRH")] == pytest.approx(0.8, abs=1e-5)
+    assert session.values[motor_index("PRV")] == pytest.approx(0.3, abs=1e-5)
+
+
+def test_the_pointer_steers_only_when_following_and_a_slider_does_not_stop_a_motion():
+    session = StudioSession("classic")
+    session.look(1.0, -1.0)
+    assert np.array_equal(session.values, session.neutral)
+    session.follow = True
+    session.look(1.0, -1.0)  # top right: head and eyes to their ends
+    assert session.values[[motor_index(c) for c in ("HH", "HV", "PRH", "PLV")]].tolist() == [1.0] * 4
+    session.look(0.0, 0.0)
+    assert session.values[motor_index("HH")] == pytest.approx(session.neutral[motor_index("HH")])
+    session.play("blink", now=0.0)
+    session.tick(0.0)
+    session.set_motor("MB", 0.7)  # during the blink
+    lids = []
+    for k in range(1, 12):
+        session.tick(k / 30)
+        lids.append(session.values[motor_index("ERU")])
+    assert min(lids) == 0.0 and lids[-1] == pytest.approx(session.neutral[motor_index("ERU")])
+    assert session.values[motor_index("MB")] == 0.7
+    with pytest.raises(KeyError):
+        session.play("dance", now=0.0)
+
+
+def _talk(messages, origin="http://{host}", host=None):
+    async def run():
+        session = StudioSession("classic")
+        server = TestServer(make_app(session, set()))
+        async with TestClient(server) as client:
+            client.app[HOSTS].add(f"127.0.0.1:{server.port}")
+            page = await client.get("/", headers={"Host": host} if host else None)
+            replies = []
+            if page.status == 200:
+                ws = await client.ws_connect("/ws", headers={"Origin": origin.format(host=f"127.0.0.1:{server.port}")})
+                replies += [await ws.receive_json(), await ws.receive_json()]
+                for message in messages:
+                    await ws.send_str(message if isinstance(message, str) else json.dumps(message))
+                    replies.append(await ws.receive_json())
+                await ws.close()
+            return page.status, replies, session
+    return asyncio.run(run())
+
+
+def test_the_server_serves_its_page_and_applies_messages():
+    status, replies, session = _talk([{"op": "motor", "code": "MB", "value": 0.8}, {"op": "play", "name": "nope"},
+                                      {"op": "jump"}, "not json", {"op": "drag", "point": "MB"}])
+    assert status == 200
+    assert replies[0]["type"] == "hello" and len([m for g in replies[0]["groups"] for m in g["motors"]]) == 21
+    assert replies[1]["type"] == "frame" and replies[1]["svg"].startswith("<svg")
+    assert replies[2]["values"]["MB"] == 0.8 and session.values[motor_index("MB")] == 0.8
+    assert [r["type"] for r in replies[3:]] == ["error"] * 4
+    assert "'nope'" in replies[3]["message"] and "jump" in replies[4]["message"] and "'x'" in replies[6]["message"]
+
+
+def test_the_server_refuses_other_hosts_and_other_origins():
+    status, _, _ = _talk([], host="rebound.example:80")
+    assert status == 403
+    with pytest.raises(Exception, match="403"):
+        _talk([], origin="http://evil.example")
+
+
+def test_studio_command_errors_are_one_line(capsys):
+    assert main(["studio", "--face", "nope"]) != 0
+    assert main(["studio", "--listen", "127.0.0.1:70000"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and 'no built-in face "nope"' in err[0] and "--listen" in err[1]

@@ -1,0 +1,195 @@
+"""The studio's local web server (aiohttp): the page, its files, and one WebSocket per page.
+
+One :class:`~toonface.studio.session.StudioSession` per server: every page connected to it
+shows the same face, so a reload or a second window picks up where the first was. Each page's
+messages are applied to the session, and every page is sent the new frame; while the Animator
+has moves to run, a loop ticks it every loop time and sends each frame.
+
+It binds loopback unless told otherwise, and answers only requests addressed to the address it
+listens on (a page elsewhere cannot reach it through DNS rebinding; listening on every
+interface, as asked, it answers any name) and WebSockets opened from its own page (the
+``Origin`` header names the host the request came to); the page and its scripts are files
+inside the package.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+from collections.abc import Awaitable, Callable
+from importlib import resources
+from pathlib import Path
+
+from aiohttp import WSMsgType, web
+
+from common import InputError
+from toon import builtin_faces
+from toonface.studio.session import StudioSession
+
+log = logging.getLogger("toonface")
+
+SESSION = web.AppKey("session", StudioSession)
+SOCKETS = web.AppKey("sockets", set[web.WebSocketResponse])
+HOSTS = web.AppKey("hosts", set[str])
+TICKER = web.AppKey("ticker", asyncio.Task)
+WAKE = web.AppKey("wake", asyncio.Event)
+
+#: In :data:`HOSTS`: the server listens on every interface and answers whatever name it is reached by.
+ANY_HOST = "*"
+#: The largest message a page may send (a drag or a slider is under 200 bytes).
+MAX_MESSAGE = 64 * 1024
+
+
+def static_folder() -> Path:
+    """The page's files, shipped inside the package."""
+    return Path(str(resources.files("toonface.studio") / "static"))
+
+
+def make_app(session: StudioSession, hosts: set[str]) -> web.Application:
+    """The studio's application for ``session``, answering requests whose ``Host`` is one of
+    ``hosts`` (``"127.0.0.1:8765"``, ``"localhost:8765"``)."""
+    app = web.Application(middlewares=[_only_our_host], client_max_size=MAX_MESSAGE)
+    app[SESSION] = session
+    app[SOCKETS] = set()
+    app[HOSTS] = set(hosts)
+    app.router.add_get("/", _index)
+    app.router.add_get("/ws", _socket)
+    app.router.add_static("/static/", static_folder(), follow_symlinks=False)
+    app.on_startup.append(_start_ticker)
+    app.on_cleanup.append(_stop_ticker)
+    return app
+
+
+@web.middleware
+async def _only_our_host(request: web.Request, handler: Callable[[web.Request], Awaitable[web.StreamResponse]]
+                         ) -> web.StreamResponse:
+    hosts: set[str] = request.app[HOSTS]
+    if request.host not in hosts and ANY_HOST not in hosts:
+        raise web.HTTPForbidden(text=f"this studio answers at {' or '.join(sorted(hosts))}")
+    return await handler(request)
+
+
+async def _index(request: web.Request) -> web.FileResponse:
+    return web.FileResponse(static_folder() / "index.html", headers={"Cache-Control": "no-store"})
+
+
+async def _socket(request: web.Request) -> web.WebSocketResponse:
+    origin = request.headers.get("Origin")
+    if origin is None or origin.split("://", 1)[-1] != request.host:
+        raise web.HTTPForbidden(text="the studio's socket is for its own page")
+    ws = web.WebSocketResponse(heartbeat=30.0, max_msg_size=MAX_MESSAGE)
+    await ws.prepare(request)
+    app = request.app
+    session = app[SESSION]
+    app[SOCKETS].add(ws)
+    try:
+        await ws.send_json({"type": "hello", "faces": builtin_faces(), **session.describe()})
+        await ws.send_json({"type": "frame", **session.frame()})
+        async for message in ws:
+            if message.type != WSMsgType.TEXT:
+                continue
+            try:
+                changed = apply(session, json.loads(message.data), asyncio.get_running_loop().time())
+            except (ValueError, KeyError, TypeError, InputError) as exc:
+                await ws.send_json({"type": "error", "message": _reason(exc)})
+                continue
+            if changed == "described":
+                await _broadcast(app, {"type": "hello", "faces": builtin_faces(), **session.describe()})
+            await _broadcast(app, {"type": "frame", **session.frame()})
+            app[WAKE].set()
+    finally:
+        app[SOCKETS].discard(ws)
+    return ws
+
+
+def apply(session: StudioSession, message: object, now: float) -> str:
+    """Apply one message from a page to ``session``; returns ``"described"`` when the page's fixed
+    parts changed (another face), else ``"frame"``.
+
+    Raises
+    ------
+    ValueError, KeyError, TypeError, InputError
+        For a message the session cannot take (said back to the page in one line).
+    """
+    if not isinstance(message, dict):
+        raise TypeError("a message is a JSON object")
+    op = message.get("op")
+    if op == "motor":
+        session.set_motor(str(message["code"]), float(message["value"]))
+    elif op == "drag":
+        session.drag(str(message["point"]), float(message["x"]), float(message["y"]))
+    elif op == "look":
+        session.look(float(message["x"]), float(message["y"]))
+    elif op == "follow":
+        session.follow = bool(message["on"])
+    elif op == "play":
+        session.play(str(message["name"]), now)
+    elif op == "reset":
+        session.reset()
+    elif op == "face":
+        session.set_face(str(message["name"]))
+        return "described"
+    else:
+        raise ValueError(f"unknown op {op!r}")
+    return "frame"
+
+
+def _reason(exc: Exception) -> str:
+    if isinstance(exc, KeyError):
+        return f"unknown or missing {exc.args[0]!r}"
+    return str(exc)
+
+
+async def _broadcast(app: web.Application, message: dict) -> None:
+    text = json.dumps(message)
+    sockets: set[web.WebSocketResponse] = app[SOCKETS]
+    for ws in list(sockets):
+        if not ws.closed:
+            await ws.send_str(text)
+
+
+async def _start_ticker(app: web.Application) -> None:
+    app[WAKE] = asyncio.Event()
+    app[TICKER] = asyncio.create_task(_tick(app))
+
+
+async def _stop_ticker(app: web.Application) -> None:
+    app[TICKER].cancel()
+    try:
+        await app[TICKER]
+    except asyncio.CancelledError:
+        pass
+
+
+async def _tick(app: web.Application) -> None:
+    """While the Animator has moves, one loop every loop time and a frame to every page; asleep otherwise."""
+    session, loop = app[SESSION], asyncio.get_running_loop()
+    while True:
+        await app[WAKE].wait()
+        app[WAKE].clear()
+        next_at = loop.time()
+        while session.animator.busy():
+            session.tick(loop.time())
+            await _broadcast(app, {"type": "frame", **session.frame()})
+            next_at += session.loop_time
+            await asyncio.sleep(max(0.0, next_at - loop.time()))
+
+
+async def serve(session: StudioSession, host: str, port: int, ready: Callable[[str], None]) -> None:
+    """Serve the studio on ``host:port`` (0: any free port) until cancelled; ``ready`` gets the
+    page's address once the server listens."""
+    runner = web.AppRunner(make_app(session, set()), access_log=None)
+    await runner.setup()
+    site = web.TCPSite(runner, host, port, reuse_address=True)
+    try:
+        await site.start()
+        bound = runner.addresses[0][1] if runner.addresses else port
+        names = {f"{host}:{bound}"} | ({f"localhost:{bound}", f"127.0.0.1:{bound}"} if host == "127.0.0.1" else set())
+        if host in ("0.0.0.0", "::", ""):  # every interface, as asked: any name the machine has
+            names = {ANY_HOST}
+        runner.app[HOSTS].update(names)
+        ready(f"http://{host}:{bound}/")
+        await asyncio.Event().wait()
+    finally:
+        await runner.cleanup()

@@ -1,0 +1,177 @@
+"""What one studio page works on: a face, its motors and the Animator that moves them.
+
+The page is a view (STYLE.md 17): it shows what :meth:`StudioSession.frame` computes with
+:mod:`toon` and sends back what the user did; every rule (a slider, a dragged control point,
+an expression, a standard motion, the pointer steering the head) is applied here, so that the
+same session can be driven from tests without a browser.
+
+Coordinates on the wire are the SVG's (the face's units, y down), as the page's pointer gives
+them; :meth:`frame` sends control points the same way.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from player.animator import Animator
+from player.motions import GESTURES, motion_names, standard_motion
+from toon import MOTOR_CODES, FaceRig, load_face
+from toon.expressions import Expression, load_expressions
+from toon.face import ANGLE_MOTORS
+from toon.formulas import head_turn
+from toon.motors import MOTORS, motor_index
+from toon.svg import geometry_svg
+
+#: The sliders' groups, in the page's order: (title, motor codes).
+GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("Brows", ("BRL", "BRC", "BRM", "BLM", "BLC", "BLL")),
+    ("Eyelids", ("ERU", "ERL", "ELU", "ELL")),
+    ("Gaze", ("PRH", "PRV", "PLH", "PLV")),
+    ("Mouth", ("MRH", "MRV", "MLH", "MLV", "MB")),
+    ("Head", ("HH", "HV")),
+)
+
+
+@dataclass(frozen=True)
+class Handle:
+    """A control point the page lets the user drag: its name and the motors it moves (code, axis)."""
+
+    point: str
+    motors: tuple[tuple[str, str], ...]
+
+
+class StudioSession:
+    """One face in test mode.
+
+    Parameters
+    ----------
+    face : str
+        A built-in face's name or a face file.
+    loop_time : float
+        The Animator's loop, seconds (the page's frame rate while something moves).
+    """
+
+    def __init__(self, face: str = "classic", loop_time: float = 1 / 30) -> None:
+        self.expressions: dict[str, Expression] = load_expressions()
+        self.loop_time = loop_time
+        self.face_name = face
+        self._load(face)
+        self.follow = False  # head and gaze follow the pointer
+
+    def _load(self, face: str) -> None:
+        self.face = load_face(face)
+        self.rig = FaceRig(self.face)
+        self.neutral = self.face.neutral()
+        self.animator = Animator(self.neutral, self.loop_time)
+        self.handles = tuple(Handle(p, tuple((m.code, m.axis) for m in MOTORS if m.point == p))
+                             for p in self.face.points if any(m.point == p for m in MOTORS))
+
+    def set_face(self, face: str) -> None:
+        """Show another face with the same motor values."""
+        values = self.animator.values()
+        self._load(face)
+        self.face_name = face
+        self.animator.set_values(values)
+
+    @property
+    def values(self) -> np.ndarray:
+        """The motors now, ``(21,)``."""
+        return self.animator.values()
+
+    def set_motor(self, code: str, value: float) -> None:
+        """A slider: ``code`` to ``value`` (clipped to [0, 1]) at once; what was moving it lets go."""
+        self.animator.jump({code: value})
+
+    def drag(self, point: str, x: float, y: float) -> None:
+        """A control point dragged to ``(x, y)`` (SVG coordinates): its motors follow within their
+        ranges, as in ToonFace's Editor; a turned head is turned back first."""
+        handle = next((h for h in self.handles if h.point == point), None)
+        if handle is None:
+            raise KeyError(f"no control point {point!r} moves a motor")
+        values = self.animator.values()
+        fx, fy = self._unturned(np.array([x, -y]), values)
+        for code, axis in handle.motors:
+            lo, hi = self.face.ranges[code]
+            if code in ANGLE_MOTORS:  # a pupil: its offset from rest is the eye's radius times sin(angle)
+                rest = self.face.points[point][0 if axis == "x" else 1]
+                offset = (fx if axis == "x" else fy) - rest
+                sine = offset / self.face.eye_radius if self.face.eye_radius > 0 else 0.0
+                coordinate = math.degrees(math.asin(min(1.0, max(-1.0, sine))))
+            else:
+                coordinate = fx if axis == "x" else fy
+            if hi != lo:
+                self.set_motor(code, (coordinate - lo) / (hi - lo))
+
+    def look(self, x: float, y: float) -> None:
+        """The pointer at ``(x, y)`` in [-1, 1] across the face view (x right, y down): with
+        :attr:`follow` on, the head turns and the eyes look toward it."""
+        if not self.follow:
+            return
+        right, up = min(1.0, max(-1.0, x)), min(1.0, max(-1.0, -y))
+        for code, amount in (("HH", right), ("HV", up), ("PRH", right), ("PLH", right), ("PRV", up), ("PLV", up)):
+            rest = float(self.neutral[motor_index(code)])
+            reach = (1.0 - rest) if amount > 0 else rest
+            self.set_motor(code, rest + amount * reach)
+
+    def play(self, name: str, now: float) -> None:
+        """An expression or a standard motion (:mod:`player.motions`), started at ``now``.
+
+        Raises
+        ------
+        KeyError
+            For a name that is neither.
+        """
+        motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
+        for offset, moves in motion.steps:
+            self.animator.schedule(now + offset, moves)
+
+    def reset(self) -> None:
+        """Every motor back to the face's neutral, every pending move dropped."""
+        self.animator.set_values(self.neutral)
+
+    def tick(self, now: float) -> bool:
+        """One Animator loop at ``now``; whether anything is still moving."""
+        self.animator.tick(now)
+        return self.animator.busy()
+
+    def frame(self, size: tuple[int, int] = (512, 512)) -> dict:
+        """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
+        (code to value) and ``points`` (name to SVG coordinates of the draggable control points)."""
+        values = self.animator.values()
+        points = self.rig.control_points(values)
+        names = list(self.face.points)
+        at = np.array([points[names.index(h.point)] for h in self.handles])
+        turned = self._turned(at, values)
+        return {"svg": geometry_svg(self.rig.geometry(values), size),
+                "values": {code: round(float(v), 6) for code, v in zip(MOTOR_CODES, values, strict=True)},
+                "points": {h.point: [round(float(x), 4), round(float(-y), 4)]
+                           for h, (x, y) in zip(self.handles, turned, strict=True)}}
+
+    def describe(self) -> dict:
+        """The page's fixed parts: motors (code, description, group), groups, expressions and motions."""
+        descriptions = {m.code: m.description for m in MOTORS}
+        return {"groups": [{"title": title, "motors": [{"code": c, "description": descriptions[c]} for c in codes]}
+                           for title, codes in GROUPS],
+                "expressions": [n for n in motion_names(self.expressions) if n not in GESTURES],
+                "motions": list(GESTURES),
+                "face": self.face_name, "viewbox": list(self.face.viewbox)}
+
+    def _angles(self, values: np.ndarray) -> tuple[float, float]:
+        (ylo, yhi), (plo, phi) = self.face.ranges["HH"], self.face.ranges["HV"]
+        return ylo + values[motor_index("HH")] * (yhi - ylo), plo + values[motor_index("HV")] * (phi - plo)
+
+    def _turned(self, points: np.ndarray, values: np.ndarray) -> np.ndarray:
+        yaw, pitch = self._angles(values)
+        return head_turn(points, self.face.feature_depth, np.array(self.face.head_pivot), yaw, pitch)
+
+    def _unturned(self, point: np.ndarray, values: np.ndarray) -> tuple[float, float]:
+        """The face point that :meth:`_turned` shows at ``point`` (depth: the features')."""
+        yaw, pitch = (math.radians(a) for a in self._angles(values))
+        px, py = self.face.head_pivot
+        depth = self.face.feature_depth
+        y = (point[1] - py - depth * math.sin(pitch)) / math.cos(pitch)
+        x = (point[0] - px - (-y * math.sin(pitch) + depth * math.cos(pitch)) * math.sin(yaw)) / math.cos(yaw)
+        return x + px, y + py
