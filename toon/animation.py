@@ -5,7 +5,8 @@ Each motor's motion is a list of knots ``(time, value)`` with linear interpolati
 knots rests at the neutral). An animation is sampled into a motor track at any rate. Editing
 works on a time slice ``[start, end)`` of chosen motors: cut, copy, paste (also onto other
 motors, such as one brow's motion onto the other), time scaling, value scaling and flipping;
-whole animations concatenate, with or without a cross-fade.
+single knots are inserted, moved and deleted; whole animations concatenate, with or without a
+cross-fade.
 
 Files: TOML, ``format = "toonface.animation/1"``, ``duration`` in seconds and a ``[knots]`` table
 of ``CODE = [[time, value], ...]``.
@@ -99,6 +100,43 @@ def _slice(knots: list, start: float, end: float, value_at) -> list:
     return [(start, value_at(start)), *inside, (end, value_at(end))]
 
 
+def insert_knot(anim: Animation, code: str, time: float, value: float) -> Animation:
+    """A knot for ``code`` at ``time`` (clipped to [0, duration]) with ``value`` (clipped to
+    [0, 1]); one already at that time takes the new value. The duration is kept."""
+    t, v = _knot(anim, time, value)
+    knots = [k for k in anim.knots.get(code, ()) if k[0] != t]
+    return _edit(anim, (code,), lambda _: sorted([*knots, (t, v)]))
+
+
+def move_knot(anim: Animation, code: str, index: int, time: float, value: float) -> Animation:
+    """Knot ``index`` of ``code`` moved to ``time`` and ``value``: the time is kept between its
+    neighbours' (knots keep their order, as in CharToon's editor), the value within [0, 1]."""
+    knots = list(anim.knots.get(code, ()))
+    if not 0 <= index < len(knots):
+        raise IndexError(f"{code} has no knot {index} (it has {len(knots)})")
+    t, v = _knot(anim, time, value)
+    low = knots[index - 1][0] if index > 0 else 0.0
+    high = knots[index + 1][0] if index + 1 < len(knots) else anim.duration
+    knots[index] = (min(max(t, low), high), v)
+    if any(a[0] == b[0] == c[0] for a, b, c in zip(knots, knots[1:], knots[2:], strict=False)):
+        raise ValueError(f"{code} would have three knots at {knots[index][0]:g} s (two make a step; three cannot)")
+    return _edit(anim, (code,), lambda _: knots)
+
+
+def delete_knot(anim: Animation, code: str, index: int) -> Animation:
+    """Knot ``index`` of ``code`` removed (a motor left without knots rests at the neutral)."""
+    knots = list(anim.knots.get(code, ()))
+    if not 0 <= index < len(knots):
+        raise IndexError(f"{code} has no knot {index} (it has {len(knots)})")
+    return _edit(anim, (code,), lambda _: knots[:index] + knots[index + 1:])
+
+
+def _knot(anim: Animation, time: float, value: float) -> tuple[float, float]:
+    if not (np.isfinite(time) and np.isfinite(value)):
+        raise ValueError(f"a knot needs a finite time and value, got ({time}, {value})")
+    return float(min(max(time, 0.0), anim.duration)), float(min(max(value, 0.0), 1.0))
+
+
 def copy(anim: Animation, codes: tuple[str, ...], start: float, end: float) -> Animation:
     """The slice ``[start, end]`` of ``codes`` as a clip starting at time 0."""
     clip = {c: tuple((t - start, v) for t, v in _slice(list(anim.knots.get(c, ())), start, end,
@@ -148,7 +186,7 @@ def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, en
 
     def change_for(code: str):
         pivot = rest[MOTOR_INDEX[code]]
-        return lambda knots: _in_slice(knots, start, end, lambda inside: [
+        return lambda knots: _in_slice(knots, start, end, anim.duration, lambda inside: [
             (t, float(np.clip(pivot + (v - pivot) * factor, 0, 1))) for t, v in inside])
     out = anim
     for code in codes or tuple(anim.knots):
@@ -158,18 +196,25 @@ def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, en
 
 def flip(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float) -> Animation:
     """Reverse the slice in time (the motion played backwards within it)."""
-    return _edit(anim, codes, lambda knots: _in_slice(knots, start, end, lambda inside: [
+    return _edit(anim, codes, lambda knots: _in_slice(knots, start, end, anim.duration, lambda inside: [
         (start + end - t, v) for t, v in reversed(inside)]), edges=(start, end))
 
 
-def _in_slice(knots: list, start: float, end: float, change) -> list:
+def _in_slice(knots: list, start: float, end: float, duration: float, change) -> list:
     """``knots`` (with knots at ``start`` and ``end``) with ``change`` applied to those in the
     slice; the values at its ends outside it are kept, making a step where they differ."""
     before = [k for k in knots if k[0] < start]
     inside = [k for k in knots if start <= k[0] <= end]
     after = [k for k in knots if k[0] > end]
-    edge_in, edge_out = inside[0], inside[-1]
-    return [*before, *([edge_in] if before else []), *change(inside), *([edge_out] if after else []), *after]
+    if len(inside) > 1 and inside[0][0] == inside[1][0] == start:  # a step at an end: its outer knot is
+        before.append(inside.pop(0))  # the motion outside the slice, left as it is
+    if len(inside) > 1 and inside[-1][0] == inside[-2][0] == end:
+        after.insert(0, inside.pop())
+    # The values at the slice's ends stay outside it, where there is motion outside (knots, or a
+    # motor held before its first knot or after its last); a step already there keeps them.
+    edge_in = [inside[0]] if (before or start > 0) and not (before and before[-1][0] == start) else []
+    edge_out = [inside[-1]] if (after or end < duration) and not (after and after[0][0] == end) else []
+    return [*before, *edge_in, *change(inside), *edge_out, *after]
 
 
 def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Animation:

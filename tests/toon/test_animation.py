@@ -111,3 +111,21 @@ def test_files_write_each_motor_s_knots_as_inline_pairs(tmp_path):
     assert load_animation(path) == long
     step = flip(Animation({"MB": ((0.0, 0.1), (4.0, 0.9))}, 4.0), ("MB",), 1.0, 2.0)
     assert load_animation(save_animation(step, tmp_path / "s.toml")) == step  # steps survive the file
+
+
+@pytest.mark.parametrize("edit", ["flip", "scale_value"])
+def test_a_slice_ending_or_starting_at_a_step_keeps_two_knots_there(edit, tmp_path):
+    """A step (two knots at one time) at a slice's end: its outer knot is the motion after the
+    slice; the edit must not add a third knot there (the file would not load)."""
+    stepped = Animation({"MB": ((0.0, 0.2), (1.0, 0.6), (2.0, 0.8), (2.0, 0.4), (3.0, 0.1)),
+                         "BRL": ((0.5, 0.3), (1.0, 0.3), (1.0, 0.9), (2.5, 0.5))}, 4.0)
+    run = {"flip": lambda a, s, e: flip(a, None, s, e),
+           "scale_value": lambda a, s, e: scale_value(a, None, s, e, 0.5)}[edit]
+    for start, end in ((1.0, 2.0), (0.5, 2.0), (1.0, 3.0)):
+        out = run(stepped, start, end)
+        path = save_animation(out, tmp_path / "a.toml")
+        assert load_animation(path) == out  # no three knots at one time
+        for code in ("MB", "BRL"):
+            for t in (0.25, 3.5):  # outside the slice: as it was
+                if not start <= t <= end:
+                    assert out.value(code, t) == pytest.approx(stepped.value(code, t))
