@@ -248,6 +248,50 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
     click.echo(f"wrote {output}")
 
 
+@anim.command("knot")
+@click.argument("animation", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
+@click.option("--motor", required=True, metavar="CODE", help="The motor whose knots change, e.g. MB.")
+@click.option("--add", default=None, metavar="TIME,VALUE", help="Insert a knot (one at that time takes the value).")
+@click.option("--move", default=None, metavar="INDEX:TIME,VALUE",
+              help="Move knot INDEX (0 is the first); it stays between its neighbours.")
+@click.option("--delete", default=None, type=click.IntRange(min=0), metavar="INDEX", help="Delete knot INDEX.")
+def anim_knot(animation: str, output: str, motor: str, add: str | None, move: str | None, delete: int | None) -> None:
+    """Insert, move or delete one knot of one motor (one of --add, --move, --delete)."""
+    from toon import animation as an
+
+    if sum(x is not None for x in (add, move, delete)) != 1:
+        raise click.UsageError("give one of --add, --move and --delete")
+    codes = parse_codes(motor, "--motor")
+    if not codes or len(codes) != 1:
+        raise click.BadParameter(f"expected one motor code, got {motor!r}", param_hint="--motor")
+    code = codes[0]
+    source = an.load_animation(animation)
+    try:
+        if add is not None:
+            out = an.insert_knot(source, code, *_pair(add, "--add"))
+        elif move is not None:
+            index, _, rest = move.partition(":")
+            if not index.isdigit():
+                raise click.BadParameter(f"expected INDEX:TIME,VALUE, got {move!r}", param_hint="--move")
+            out = an.move_knot(source, code, int(index), *_pair(rest, "--move"))
+        else:
+            assert delete is not None
+            out = an.delete_knot(source, code, delete)
+    except (IndexError, ValueError) as exc:
+        raise click.BadParameter(str(exc), param_hint="--add/--move/--delete") from None
+    an.save_animation(out, output)
+    click.echo(f"wrote {output} ({len(out.knots.get(code, ()))} knots on {code})")
+
+
+def _pair(text: str, option: str) -> tuple[float, float]:
+    try:
+        time, value = (float(x) for x in text.split(","))
+    except ValueError:
+        raise click.BadParameter(f"expected TIME,VALUE, got {text!r}", param_hint=option) from None
+    return time, value
+
+
 @anim.command("concat")
 @click.argument("animations", nargs=-1, required=True, type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
