@@ -25,6 +25,8 @@ from aiohttp import WSMsgType, web
 
 from common import InputError
 from toon import builtin_faces
+from toon.animation import Animation
+from toonface.studio.editor import NEW_SECONDS, AnimationEditor
 from toonface.studio.session import StudioSession
 
 log = logging.getLogger("toonface")
@@ -85,17 +87,20 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     app[SOCKETS].add(ws)
     try:
         await ws.send_json({"type": "hello", "faces": builtin_faces(), **session.describe()})
+        await ws.send_json({"type": "animation", **session.editor.describe()})
         await ws.send_json({"type": "frame", **session.frame()})
         async for message in ws:
             if message.type != WSMsgType.TEXT:
                 continue
             try:
                 changed = apply(session, json.loads(message.data), asyncio.get_running_loop().time())
-            except (ValueError, KeyError, TypeError, InputError) as exc:
+            except (ValueError, KeyError, TypeError, IndexError, InputError) as exc:
                 await ws.send_json({"type": "error", "message": _reason(exc)})
                 continue
             if changed == "described":
                 await _broadcast(app, {"type": "hello", "faces": builtin_faces(), **session.describe()})
+            if changed in ("described", "animation"):
+                await _broadcast(app, {"type": "animation", **session.editor.describe()})
             await _broadcast(app, {"type": "frame", **session.frame()})
             app[WAKE].set()
     finally:
@@ -104,17 +109,20 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
 
 
 def apply(session: StudioSession, message: object, now: float) -> str:
-    """Apply one message from a page to ``session``; returns ``"described"`` when the page's fixed
-    parts changed (another face), else ``"frame"``.
+    """Apply one message from a page to ``session``; returns what the pages must be sent again:
+    ``"described"`` (another face: everything), ``"animation"`` (the staves) or ``"frame"``.
 
     Raises
     ------
-    ValueError, KeyError, TypeError, InputError
+    ValueError, KeyError, TypeError, IndexError, InputError
         For a message the session cannot take (said back to the page in one line).
     """
     if not isinstance(message, dict):
         raise TypeError("a message is a JSON object")
     op = message.get("op")
+    if op in EDITOR_OPS:
+        _edit(session, op, message, now)
+        return "animation"
     if op == "motor":
         session.set_motor(str(message["code"]), float(message["value"]))
     elif op == "drag":
@@ -133,6 +141,63 @@ def apply(session: StudioSession, message: object, now: float) -> str:
     else:
         raise ValueError(f"unknown op {op!r}")
     return "frame"
+
+
+#: Messages for the Animation Editor (:func:`_edit`).
+EDITOR_OPS = ("knot", "slice", "paste", "undo", "redo", "cursor", "playback", "duration", "new", "open", "save",
+              "sample")
+
+
+def _edit(session: StudioSession, op: str, message: dict, now: float) -> None:
+    """One Animation Editor message; the face then shows the animation at the cursor."""
+    editor = session.editor
+    if op == "knot":
+        action, code = message["action"], str(message["code"])
+        if action == "add":
+            editor.add_knot(code, float(message["t"]), float(message["v"]))
+        elif action == "move":
+            editor.move_knot(code, int(message["index"]), float(message["t"]), float(message["v"]))
+        elif action == "delete":
+            editor.delete_knot(code, int(message["index"]))
+        else:
+            raise ValueError(f"unknown knot action {action!r}")
+    elif op == "slice":
+        action, codes = message["action"], list(message.get("codes") or [])
+        span = (float(message["start"]), float(message["end"]))
+        if action in ("cut", "copy", "flip"):
+            getattr(editor, action)(codes, *span)
+        elif action in ("scale_time", "scale_value"):
+            getattr(editor, action)(codes, *span, float(message["factor"]))
+        else:
+            raise ValueError(f"unknown slice action {action!r}")
+    elif op == "paste":
+        editor.paste(float(message["at"]), message.get("onto") or None)
+    elif op in ("undo", "redo"):
+        getattr(editor, op)()
+    elif op == "cursor":
+        editor.pause()
+        editor.set_cursor(float(message["t"]))
+    elif op == "playback":
+        if message["action"] == "play":
+            start, end = message.get("start"), message.get("end")
+            editor.play(now, None if start is None else float(start), None if end is None else float(end),
+                        bool(message.get("loop")))
+        else:
+            editor.pause()
+    elif op == "duration":
+        editor.set_duration(float(message["seconds"]))
+    elif op == "new":
+        seconds = float(message.get("seconds", NEW_SECONDS))
+        if not 0 < seconds <= 86400:
+            raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
+        session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
+    elif op == "open":
+        editor.open(str(message["path"]))
+    elif op == "save":
+        editor.save(message.get("path") or None)
+    elif op == "sample":
+        editor.sample(str(message["path"]), float(message.get("rate", 30.0)))
+    session.show_animation()
 
 
 def _reason(exc: Exception) -> str:
@@ -169,7 +234,7 @@ async def _tick(app: web.Application) -> None:
         await app[WAKE].wait()
         app[WAKE].clear()
         next_at = loop.time()
-        while session.animator.busy():
+        while session.busy():
             session.tick(loop.time())
             await _broadcast(app, {"type": "frame", **session.frame()})
             next_at += session.loop_time

@@ -1,4 +1,5 @@
-"""What one studio page works on: a face, its motors and the Animator that moves them.
+"""What one studio page works on: a face, its motors, the Animator that moves them (test mode)
+and the animation being edited (:mod:`toonface.studio.editor`).
 
 The page is a view (STYLE.md 17): it shows what :meth:`StudioSession.frame` computes with
 :mod:`toon` and sends back what the user did; every rule (a slider, a dragged control point,
@@ -24,6 +25,7 @@ from toon.face import ANGLE_MOTORS
 from toon.formulas import head_turn
 from toon.motors import MOTORS, motor_index
 from toon.svg import geometry_svg
+from toonface.studio.editor import AnimationEditor
 
 #: The sliders' groups, in the page's order: (title, motor codes).
 GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -54,12 +56,16 @@ class StudioSession:
         The Animator's loop, seconds (the page's frame rate while something moves).
     """
 
-    def __init__(self, face: str = "classic", loop_time: float = 1 / 30) -> None:
+    def __init__(self, face: str = "classic", loop_time: float = 1 / 30, animation: str | None = None) -> None:
         self.expressions: dict[str, Expression] = load_expressions()
         self.loop_time = loop_time
         self.face_name = face
         self._load(face)
         self.follow = False  # head and gaze follow the pointer
+        self.editor = AnimationEditor(self.neutral)
+        if animation is not None:
+            self.editor.open(animation)
+        self.showing = "test"  # what the face shows: "test" (the Animator) or "animation" (at the cursor)
 
     def _load(self, face: str) -> None:
         self.face = load_face(face)
@@ -75,14 +81,27 @@ class StudioSession:
         self._load(face)
         self.face_name = face
         self.animator.set_values(values)
+        self.editor.neutral = self.neutral
 
     @property
     def values(self) -> np.ndarray:
-        """The motors now, ``(21,)``."""
-        return self.animator.values()
+        """The motors the face shows now, ``(21,)``: the Animator's, or the animation's at the cursor."""
+        return self.editor.values() if self.showing == "animation" else self.animator.values()
+
+    def show_animation(self) -> None:
+        """The face shows the animation at the cursor (after an edit, a move of the cursor, play)."""
+        self.showing = "animation"
+
+    def _test_mode(self) -> None:
+        """The face back in test mode, from where the animation left it."""
+        if self.showing == "animation":
+            self.editor.pause()
+            self.animator.set_values(self.editor.values())
+            self.showing = "test"
 
     def set_motor(self, code: str, value: float) -> None:
         """A slider: ``code`` to ``value`` (clipped to [0, 1]) at once; what was moving it lets go."""
+        self._test_mode()
         self.animator.jump({code: value})
 
     def drag(self, point: str, x: float, y: float) -> None:
@@ -91,6 +110,7 @@ class StudioSession:
         handle = next((h for h in self.handles if h.point == point), None)
         if handle is None:
             raise KeyError(f"no control point {point!r} moves a motor")
+        self._test_mode()
         values = self.animator.values()
         fx, fy = self._unturned(np.array([x, -y]), values)
         for code, axis in handle.motors:
@@ -110,6 +130,7 @@ class StudioSession:
         :attr:`follow` on, the head turns and the eyes look toward it."""
         if not self.follow:
             return
+        self._test_mode()
         right, up = min(1.0, max(-1.0, x)), min(1.0, max(-1.0, -y))
         for code, amount in (("HH", right), ("HV", up), ("PRH", right), ("PLH", right), ("PRV", up), ("PLV", up)):
             rest = float(self.neutral[motor_index(code)])
@@ -124,28 +145,36 @@ class StudioSession:
         KeyError
             For a name that is neither.
         """
+        self._test_mode()
         motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
         for offset, moves in motion.steps:
             self.animator.schedule(now + offset, moves)
 
     def reset(self) -> None:
         """Every motor back to the face's neutral, every pending move dropped."""
+        self._test_mode()
         self.animator.set_values(self.neutral)
 
     def tick(self, now: float) -> bool:
-        """One Animator loop at ``now``; whether anything is still moving."""
+        """One Animator loop and the animation's playback at ``now``; whether anything still moves."""
         self.animator.tick(now)
-        return self.animator.busy()
+        self.editor.advance(now)
+        return self.busy()
+
+    def busy(self) -> bool:
+        """Whether the Animator has moves left or the animation is playing."""
+        return self.animator.busy() or self.editor.playing
 
     def frame(self, size: tuple[int, int] = (512, 512)) -> dict:
         """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
         (code to value) and ``points`` (name to SVG coordinates of the draggable control points)."""
-        values = self.animator.values()
+        values = self.values
         points = self.rig.control_points(values)
         names = list(self.face.points)
         at = np.array([points[names.index(h.point)] for h in self.handles])
         turned = self._turned(at, values)
-        return {"svg": geometry_svg(self.rig.geometry(values), size),
+        return {"svg": geometry_svg(self.rig.geometry(values), size), "showing": self.showing,
+                "cursor": self.editor.cursor, "playing": self.editor.playing,
                 "values": {code: round(float(v), 6) for code, v in zip(MOTOR_CODES, values, strict=True)},
                 "points": {h.point: [round(float(x), 4), round(float(-y), 4)]
                            for h, (x, y) in zip(self.handles, turned, strict=True)}}

@@ -1,160 +1,167 @@
 // The studio page: a view of the server's session (toonface/studio/session.py). It draws the
 // frames the server sends and sends back what the user does; it computes no geometry itself.
+(() => {
 "use strict";
-
-const studio = {
-  socket: null,
-  frames: 0,          // frames drawn since the page opened (tests read it)
-  rate: 0,            // frames drawn in the last second
-  last: null,         // the last frame
-  dragging: null,     // the control point being dragged
-};
-window.studio = studio;
-
-const $ = (id) => document.getElementById(id);
-const SVG = "http://www.w3.org/2000/svg";
-
-function send(message) {
-  if (studio.socket && studio.socket.readyState === WebSocket.OPEN) {
-    studio.socket.send(JSON.stringify(message));
-  }
-}
-
-function connect() {
-  const socket = new WebSocket(`ws://${location.host}/ws`);
-  studio.socket = socket;
-  socket.onmessage = (event) => {
-    const message = JSON.parse(event.data);
-    if (message.type === "hello") describe(message);
-    else if (message.type === "frame") draw(message);
-    else if (message.type === "error") $("status").textContent = `error: ${message.message}`;
+  const studio = {
+    socket: null,
+    frames: 0,          // frames drawn since the page opened (tests read it)
+    rate: 0,            // frames drawn in the last second
+    last: null,         // the last frame
+    dragging: null,     // the control point being dragged
   };
-  socket.onclose = () => {
-    $("status").textContent = "disconnected: reconnecting…";
-    setTimeout(connect, 1000);
-  };
-}
+  window.studio = studio;
+  studio.send = send;  // editor.js sends through the same socket
 
-function describe(hello) {
-  const faces = $("face");
-  faces.replaceChildren(...hello.faces.map((name) => new Option(name, name, false, name === hello.face)));
-  $("expressions").replaceChildren(...hello.expressions.map((name) => button(name, "play")));
-  $("motions").replaceChildren(...hello.motions.map((name) => button(name, "play")));
-  const groups = hello.groups.map((group) => {
-    const set = document.createElement("fieldset");
-    const legend = document.createElement("legend");
-    legend.textContent = group.title;
-    set.append(legend, ...group.motors.map(slider));
-    return set;
-  });
-  $("sliders").replaceChildren(...groups);
-}
+  const $ = (id) => document.getElementById(id);
+  const SVG = "http://www.w3.org/2000/svg";
 
-function button(name, op) {
-  const b = document.createElement("button");
-  b.type = "button";
-  b.textContent = name;
-  b.dataset.name = name;
-  b.addEventListener("click", () => send({op, name}));
-  return b;
-}
-
-function slider(motor) {
-  const row = document.createElement("label");
-  row.className = "motor";
-  row.title = motor.description;
-  const code = document.createElement("span");
-  code.textContent = motor.code;
-  const input = document.createElement("input");
-  Object.assign(input, {type: "range", min: 0, max: 1, step: 0.001, id: `motor-${motor.code}`});
-  input.setAttribute("aria-label", motor.description);
-  const value = document.createElement("output");
-  value.id = `value-${motor.code}`;
-  input.addEventListener("input", () => send({op: "motor", code: motor.code, value: Number(input.value)}));
-  row.append(code, input, value);
-  return row;
-}
-
-function draw(frame) {
-  $("view").innerHTML = frame.svg;
-  const face = $("view").firstElementChild;
-  const handles = $("handles");
-  handles.setAttribute("viewBox", face.getAttribute("viewBox"));
-  handles.setAttribute("preserveAspectRatio", face.getAttribute("preserveAspectRatio"));
-  const box = face.viewBox.baseVal;
-  const radius = Math.max(box.width, box.height) / 90;
-  for (const [name, [x, y]] of Object.entries(frame.points)) {
-    let dot = handles.querySelector(`circle[data-point="${name}"]`);
-    if (!dot) {
-      dot = document.createElementNS(SVG, "circle");
-      dot.dataset.point = name;
-      dot.addEventListener("pointerdown", startDrag);
-      handles.append(dot);
+  function send(message) {
+    if (studio.socket && studio.socket.readyState === WebSocket.OPEN) {
+      studio.socket.send(JSON.stringify(message));
     }
-    dot.setAttribute("cx", x);
-    dot.setAttribute("cy", y);
-    dot.setAttribute("r", radius);
-    dot.setAttribute("stroke-width", radius / 4);
   }
-  for (const [code, value] of Object.entries(frame.values)) {
-    const input = $(`motor-${code}`);
-    if (input && document.activeElement !== input) input.value = value;
-    const shown = $(`value-${code}`);
-    if (shown) shown.textContent = value.toFixed(2);
+
+  function connect() {
+    const socket = new WebSocket(`ws://${location.host}/ws`);
+    studio.socket = socket;
+    socket.onmessage = (event) => {
+      const message = JSON.parse(event.data);
+      if (message.type === "hello") {
+        describe(message);
+        if (studio.onHello) studio.onHello(message);
+      }
+      else if (message.type === "frame") draw(message);
+      else if (message.type === "animation" && studio.onAnimation) studio.onAnimation(message);
+      else if (message.type === "error") $("status").textContent = `error: ${message.message}`;
+    };
+    socket.onclose = () => {
+      $("status").textContent = "disconnected: reconnecting…";
+      setTimeout(connect, 1000);
+    };
   }
-  studio.last = frame;
-  studio.frames += 1;
-  countFrame();
-}
 
-const drawnAt = [];
-function countFrame() {
-  const now = performance.now();
-  drawnAt.push(now);
-  while (drawnAt.length && drawnAt[0] < now - 1000) drawnAt.shift();
-  studio.rate = drawnAt.length;
-  $("status").textContent = `${studio.rate} frames/s`;
-}
+  function describe(hello) {
+    const faces = $("face");
+    faces.replaceChildren(...hello.faces.map((name) => new Option(name, name, false, name === hello.face)));
+    $("expressions").replaceChildren(...hello.expressions.map((name) => button(name, "play")));
+    $("motions").replaceChildren(...hello.motions.map((name) => button(name, "play")));
+    const groups = hello.groups.map((group) => {
+      const set = document.createElement("fieldset");
+      const legend = document.createElement("legend");
+      legend.textContent = group.title;
+      set.append(legend, ...group.motors.map(slider));
+      return set;
+    });
+    $("sliders").replaceChildren(...groups);
+  }
 
-function toFace(event) {
-  const matrix = $("handles").getScreenCTM().inverse();
-  const point = new DOMPoint(event.clientX, event.clientY).matrixTransform(matrix);
-  return [point.x, point.y];
-}
+  function button(name, op) {
+    const b = document.createElement("button");
+    b.type = "button";
+    b.textContent = name;
+    b.dataset.name = name;
+    b.addEventListener("click", () => send({op, name}));
+    return b;
+  }
 
-function startDrag(event) {
-  const dot = event.currentTarget;
-  studio.dragging = dot.dataset.point;
-  dot.classList.add("dragging");
-  dot.setPointerCapture(event.pointerId);
-  dot.addEventListener("pointermove", moveDrag);
-  dot.addEventListener("pointerup", endDrag, {once: true});
-  event.preventDefault();
-}
+  function slider(motor) {
+    const row = document.createElement("label");
+    row.className = "motor";
+    row.title = motor.description;
+    const code = document.createElement("span");
+    code.textContent = motor.code;
+    const input = document.createElement("input");
+    Object.assign(input, {type: "range", min: 0, max: 1, step: 0.001, id: `motor-${motor.code}`});
+    input.setAttribute("aria-label", motor.description);
+    const value = document.createElement("output");
+    value.id = `value-${motor.code}`;
+    input.addEventListener("input", () => send({op: "motor", code: motor.code, value: Number(input.value)}));
+    row.append(code, input, value);
+    return row;
+  }
 
-function moveDrag(event) {
-  const [x, y] = toFace(event);
-  send({op: "drag", point: studio.dragging, x, y});
-}
+  function draw(frame) {
+    $("view").innerHTML = frame.svg;
+    const face = $("view").firstElementChild;
+    const handles = $("handles");
+    handles.setAttribute("viewBox", face.getAttribute("viewBox"));
+    handles.setAttribute("preserveAspectRatio", face.getAttribute("preserveAspectRatio"));
+    const box = face.viewBox.baseVal;
+    const radius = Math.max(box.width, box.height) / 90;
+    for (const [name, [x, y]] of Object.entries(frame.points)) {
+      let dot = handles.querySelector(`circle[data-point="${name}"]`);
+      if (!dot) {
+        dot = document.createElementNS(SVG, "circle");
+        dot.dataset.point = name;
+        dot.addEventListener("pointerdown", startDrag);
+        handles.append(dot);
+      }
+      dot.setAttribute("cx", x);
+      dot.setAttribute("cy", y);
+      dot.setAttribute("r", radius);
+      dot.setAttribute("stroke-width", radius / 4);
+    }
+    for (const [code, value] of Object.entries(frame.values)) {
+      const input = $(`motor-${code}`);
+      if (input && document.activeElement !== input) input.value = value;
+      const shown = $(`value-${code}`);
+      if (shown) shown.textContent = value.toFixed(2);
+    }
+    studio.last = frame;
+    studio.frames += 1;
+    countFrame();
+    if (studio.onFrame) studio.onFrame(frame);
+  }
 
-function endDrag(event) {
-  const dot = event.currentTarget;
-  dot.classList.remove("dragging");
-  dot.removeEventListener("pointermove", moveDrag);
-  studio.dragging = null;
-}
+  const drawnAt = [];
+  function countFrame() {
+    const now = performance.now();
+    drawnAt.push(now);
+    while (drawnAt.length && drawnAt[0] < now - 1000) drawnAt.shift();
+    studio.rate = drawnAt.length;
+    $("status").textContent = `${studio.rate} frames/s`;
+  }
 
-function follow(event) {
-  if (!$("follow").checked || studio.dragging) return;
-  const box = $("stage").getBoundingClientRect();
-  const x = ((event.clientX - box.left) / box.width) * 2 - 1;
-  const y = ((event.clientY - box.top) / box.height) * 2 - 1;
-  send({op: "look", x, y});
-}
+  function toFace(event) {
+    const matrix = $("handles").getScreenCTM().inverse();
+    const point = new DOMPoint(event.clientX, event.clientY).matrixTransform(matrix);
+    return [point.x, point.y];
+  }
 
-$("face").addEventListener("change", (event) => send({op: "face", name: event.target.value}));
-$("reset").addEventListener("click", () => send({op: "reset"}));
-$("follow").addEventListener("change", (event) => send({op: "follow", on: event.target.checked}));
-$("show-points").addEventListener("change", (event) => $("handles").classList.toggle("hidden", !event.target.checked));
-$("stage").addEventListener("pointermove", follow);
-connect();
+  function startDrag(event) {
+    const dot = event.currentTarget;
+    studio.dragging = dot.dataset.point;
+    dot.classList.add("dragging");
+    dot.setPointerCapture(event.pointerId);
+    dot.addEventListener("pointermove", moveDrag);
+    dot.addEventListener("pointerup", endDrag, {once: true});
+    event.preventDefault();
+  }
+
+  function moveDrag(event) {
+    const [x, y] = toFace(event);
+    send({op: "drag", point: studio.dragging, x, y});
+  }
+
+  function endDrag(event) {
+    const dot = event.currentTarget;
+    dot.classList.remove("dragging");
+    dot.removeEventListener("pointermove", moveDrag);
+    studio.dragging = null;
+  }
+
+  function follow(event) {
+    if (!$("follow").checked || studio.dragging) return;
+    const box = $("stage").getBoundingClientRect();
+    const x = ((event.clientX - box.left) / box.width) * 2 - 1;
+    const y = ((event.clientY - box.top) / box.height) * 2 - 1;
+    send({op: "look", x, y});
+  }
+
+  $("face").addEventListener("change", (event) => send({op: "face", name: event.target.value}));
+  $("reset").addEventListener("click", () => send({op: "reset"}));
+  $("follow").addEventListener("change", (event) => send({op: "follow", on: event.target.checked}));
+  $("show-points").addEventListener("change", (event) => $("handles").classList.toggle("hidden", !event.target.checked));
+  $("stage").addEventListener("pointermove", follow);
+  connect();
+})();

@@ -1,0 +1,151 @@
+"""The Animation Editor's staves in headless Chromium: knots added, moved and deleted with the
+mouse and every slice operation give the knots `toonface anim` gives on files; undo restores;
+playing moves the cursor and the face."""
+
+import pytest
+from browser import chromium, studio_server, wait_for
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.keys import Keys
+
+from toon import animation as an
+from toon import motor_index
+from toonface.cli import main
+from toonface.studio.session import StudioSession
+
+pytestmark = pytest.mark.slow
+READY = "window.editor && window.editor.state && document.querySelectorAll('#staves svg').length === 21"
+
+
+@pytest.fixture(scope="module")
+def page():
+    session = StudioSession("classic")
+    with studio_server(session) as url, chromium(1400, 1000) as driver:
+        driver.get(url)
+        wait_for(driver, READY)
+        yield driver, session
+
+
+@pytest.fixture
+def blank(page):
+    driver, session = page
+    driver.find_element("id", "new").click()
+    wait_for(driver, "Object.keys(window.editor.state.knots).length === 0 && window.editor.state.undo === 0")
+    driver.execute_script("document.querySelectorAll('#staves input.choose:checked').forEach(b => b.click());"
+                          "window.editor.selection = null")
+    return driver, session
+
+
+def _staff(driver, code):
+    return driver.find_element("css selector", f'#staves svg[data-code="{code}"]')
+
+
+def _knots(session, code):
+    return list(session.editor.animation.knots.get(code, ()))
+
+
+def _anim(tmp_path, *args) -> None:
+    assert main(["anim", *args]) == 0
+
+
+def test_knots_by_mouse_are_the_commands_knots(blank, tmp_path):
+    driver, session = blank
+    path = str(tmp_path / "a.toml")
+    an.save_animation(session.editor.animation, path)
+    staff = _staff(driver, "MB")
+    for count, (x, y) in enumerate(((-200, 10), (0, -12), (150, 5)), start=1):
+        before = _knots(session, "MB")
+        ActionChains(driver).move_to_element_with_offset(staff, x, y).double_click().perform()
+        wait_for(driver, f"(window.editor.state.knots.MB || []).length === {count}")
+        (added,) = set(_knots(session, "MB")) - set(before)
+        _anim(tmp_path, "knot", path, "-o", path, "--motor", "MB", "--add", f"{added[0]!r},{added[1]!r}")
+        assert an.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
+    middle = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="1"]')
+    ActionChains(driver).click_and_hold(middle).move_by_offset(20, 8).move_by_offset(20, 8).release().perform()
+    wait_for(driver, "window.editor.state.knots.MB[1][1] < 0.6")
+    t, v = _knots(session, "MB")[1]
+    _anim(tmp_path, "knot", path, "-o", path, "--motor", "MB", "--move", f"1:{t!r},{v!r}")
+    assert an.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
+    before_delete = _knots(session, "MB")
+    first = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="0"]')
+    ActionChains(driver).context_click(first).perform()
+    wait_for(driver, "window.editor.state.knots.MB.length === 2")
+    _anim(tmp_path, "knot", path, "-o", path, "--motor", "MB", "--delete", "0")
+    assert an.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
+    driver.find_element("id", "undo").click()  # the deleted knot is back
+    wait_for(driver, "window.editor.state.knots.MB.length === 3")
+    assert _knots(session, "MB") == before_delete
+    driver.find_element("id", "redo").click()
+    wait_for(driver, "window.editor.state.knots.MB.length === 2")
+    assert [entry for entry in driver.get_log("browser") if entry["level"] == "SEVERE"] == []
+
+
+def _choose(driver, *codes):
+    for code in codes:
+        driver.find_element("css selector", f'#staves input.choose[data-code="{code}"]').click()
+
+
+def _select(driver, start, end):
+    """Shift-drag on the ruler from ``start`` to ``end`` seconds."""
+    ruler = driver.find_element("id", "ruler")
+    zoom = driver.execute_script("return window.editor.zoom")
+    left = -ruler.size["width"] / 2
+    ActionChains(driver).key_down(Keys.SHIFT).move_to_element_with_offset(ruler, left + start * zoom, 0) \
+        .click_and_hold().move_by_offset((end - start) * zoom / 2, 0).move_by_offset((end - start) * zoom / 2, 0) \
+        .release().key_up(Keys.SHIFT).perform()
+    return driver.execute_script("return window.editor.selection")
+
+
+def test_slice_operations_are_the_commands(blank, tmp_path):
+    driver, session = blank
+    for code, knots in {"BRL": [(0.5, 0.8), (1.5, 0.2), (3.0, 0.6)], "BRC": [(1.0, 0.9), (2.0, 0.3)]}.items():
+        for t, v in knots:
+            driver.execute_script("window.studio.send(arguments[0])",
+                                  {"op": "knot", "action": "add", "code": code, "t": t, "v": v})
+    wait_for(driver, "window.editor.state.undo === 5")
+    path, clip = str(tmp_path / "a.toml"), str(tmp_path / "clip.toml")
+    an.save_animation(session.editor.animation, path)
+    _choose(driver, "BRL", "BRC")
+    start, end = _select(driver, 0.5, 2.0)
+    driver.find_element("id", "copy").click()
+    wait_for(driver, "window.editor.state.clipboard !== null")
+    _anim(tmp_path, "copy", path, "-o", clip, "--motors", "BRL,BRC", "--from", repr(start), "--to", repr(end))
+    assert an.load_animation(clip) == session.editor.clipboard
+    _choose(driver, "BRL", "BRC")  # unchosen
+    _choose(driver, "BLL", "BLC")
+    driver.execute_script("window.studio.send({op: 'cursor', t: 2.5})")
+    wait_for(driver, "window.editor.state.cursor === 2.5")
+    driver.find_element("id", "paste").click()
+    wait_for(driver, "window.editor.state.undo === 6")
+    _anim(tmp_path, "paste", path, clip, "-o", path, "--at", "2.5", "--onto", "BRL=BLL,BRC=BLC")
+    assert an.load_animation(path) == session.editor.animation
+    for button, command in (("flip", ["flip"]), ("scale-value", ["scale", "--value", "0.5"]),
+                            ("scale-time", ["scale", "--time", "0.5"]), ("cut", ["cut"])):
+        undo = driver.execute_script("return window.editor.state.undo")
+        if button == "scale-time":
+            driver.find_element("id", "factor").clear()
+            driver.find_element("id", "factor").send_keys("0.5")
+        start, end = _select(driver, 1.0, 3.0)
+        driver.find_element("id", button).click()
+        wait_for(driver, f"window.editor.state.undo === {undo + 1}")
+        _anim(tmp_path, *command, path, "-o", path, "--motors", "BLL,BLC", "--from", repr(start), "--to", repr(end))
+        assert an.load_animation(path) == session.editor.animation, button
+        driver.find_element("id", "factor").clear()
+        driver.find_element("id", "factor").send_keys("0.5")
+
+
+def test_play_moves_the_cursor_and_the_face(blank):
+    driver, session = blank
+    for t, v in ((0.0, 0.1), (1.0, 0.9), (2.0, 0.1)):
+        driver.execute_script("window.studio.send(arguments[0])", {"op": "knot", "action": "add", "code": "MB",
+                                                                   "t": t, "v": v})
+    wait_for(driver, "window.editor.state.undo === 3")
+    driver.execute_script("window.studio.send({op: 'cursor', t: 0})")
+    wait_for(driver, "window.editor.state.cursor === 0")
+    frames = driver.execute_script("return window.studio.frames")
+    driver.find_element("id", "play").click()
+    wait_for(driver, "window.studio.last.values.MB > 0.8")  # the mouth opens as the cursor nears 1 s
+    wait_for(driver, "window.editor.state.cursor > 1.5 && window.studio.last.values.MB < 0.5")
+    assert driver.execute_script("return window.studio.frames") > frames + 30
+    driver.find_element("id", "pause").click()
+    wait_for(driver, "!window.studio.last.playing")
+    assert session.values[motor_index("MB")] == pytest.approx(session.editor.values()[motor_index("MB")])

@@ -1,0 +1,213 @@
+"""The studio's Animation Editor (CharToon 3.3): an animation being edited, with undo and redo.
+
+Every edit is one of :mod:`toon.animation`'s operations, the ones ``toonface anim`` runs on
+files, so the page's staves and the command line give the same knots. The editor adds what an
+interactive editor needs around them: a cursor whose time the face shows, a clipboard, playback
+of the whole or of a selection (looped or not), and up to :data:`UNDO_LEVELS` levels of undo and
+redo.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from common import InputError
+from toon import MOTOR_CODES, save_track
+from toon import animation as an
+from toon.animation import Animation
+
+#: How many edits can be undone.
+UNDO_LEVELS = 200
+#: A new animation's length, seconds.
+NEW_SECONDS = 5.0
+
+
+class AnimationEditor:
+    """Knots per motor, a cursor, a clipboard, playback and undo.
+
+    Parameters
+    ----------
+    neutral : ndarray, shape (21,)
+        The face's rest pose: a motor without knots rests there, and values scale about it.
+    animation : Animation, optional
+        What to start from (an empty :data:`NEW_SECONDS` animation by default).
+    path : Path, optional
+        The file it came from, where :meth:`save` writes unless told otherwise.
+    """
+
+    def __init__(self, neutral: np.ndarray, animation: Animation | None = None, path: Path | None = None) -> None:
+        self.neutral = np.asarray(neutral, dtype=np.float64)
+        self.animation = animation if animation is not None else Animation({}, NEW_SECONDS)
+        self.path = path
+        self.cursor = 0.0
+        self.clipboard: Animation | None = None
+        self._undo: list[Animation] = []
+        self._redo: list[Animation] = []
+        self._playing: tuple[float, float, float, bool] | None = None  # (started at, from, to, loop)
+
+    # -- edits (each undoable) -------------------------------------------------------------------
+    def _change(self, new: Animation) -> None:
+        if new == self.animation:
+            return
+        self._undo = [*self._undo[-(UNDO_LEVELS - 1):], self.animation]
+        self._redo.clear()
+        self.animation = new
+        self.cursor = min(self.cursor, new.duration)
+
+    def add_knot(self, code: str, time: float, value: float) -> None:
+        self._change(an.insert_knot(self.animation, _code(code), time, value))
+
+    def move_knot(self, code: str, index: int, time: float, value: float) -> None:
+        self._change(an.move_knot(self.animation, _code(code), index, time, value))
+
+    def delete_knot(self, code: str, index: int) -> None:
+        self._change(an.delete_knot(self.animation, _code(code), index))
+
+    def cut(self, codes: list[str], start: float, end: float) -> None:
+        """Cut the slice of ``codes`` into the clipboard (what follows moves earlier)."""
+        edited, clip = an.cut(self.animation, _codes(codes) or tuple(self.animation.knots), *self._span(start, end))
+        self.clipboard = clip
+        self._change(edited)
+
+    def copy(self, codes: list[str], start: float, end: float) -> None:
+        """Copy the slice of ``codes`` into the clipboard (not an edit: nothing to undo)."""
+        self.clipboard = an.copy(self.animation, _codes(codes) or tuple(self.animation.knots), *self._span(start, end))
+
+    def paste(self, at: float, onto: list[str] | None = None) -> None:
+        """The clipboard at ``at``; ``onto``: the motors receiving the clip's, paired in the motors'
+        order (the right brow's lateral, central, medial onto the left's), else the clip's own."""
+        if self.clipboard is None:
+            raise ValueError("nothing to paste: cut or copy a slice first")
+        clip_codes = sorted(self.clipboard.knots, key=MOTOR_CODES.index)
+        pairs = None
+        if onto:
+            targets = sorted(_codes(onto), key=MOTOR_CODES.index)
+            if len(targets) != len(clip_codes):
+                raise ValueError(f"the clip holds {len(clip_codes)} motors ({', '.join(clip_codes)}); "
+                                 f"choose as many to paste onto, not {len(targets)}")
+            pairs = dict(zip(clip_codes, targets, strict=True))
+        self._change(an.paste(self.animation, self.clipboard, max(0.0, float(at)), pairs))
+
+    def scale_time(self, codes: list[str], start: float, end: float, factor: float) -> None:
+        self._change(an.scale_time(self.animation, _codes(codes) or None, *self._span(start, end), float(factor)))
+
+    def scale_value(self, codes: list[str], start: float, end: float, factor: float) -> None:
+        self._change(an.scale_value(self.animation, _codes(codes) or None, *self._span(start, end), float(factor),
+                                    self.neutral))
+
+    def flip(self, codes: list[str], start: float, end: float) -> None:
+        self._change(an.flip(self.animation, _codes(codes) or None, *self._span(start, end)))
+
+    def set_duration(self, seconds: float) -> None:
+        """A new length; knots beyond it are dropped (undoable)."""
+        seconds = float(seconds)
+        if not 0 < seconds <= 86400:
+            raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
+        knots = {c: tuple(k for k in ks if k[0] <= seconds) for c, ks in self.animation.knots.items()}
+        self._change(Animation({c: ks for c, ks in knots.items() if ks}, seconds))
+
+    def undo(self) -> bool:
+        """Back one edit; False when there is none."""
+        if not self._undo:
+            return False
+        self._redo.append(self.animation)
+        self.animation = self._undo.pop()
+        return True
+
+    def redo(self) -> bool:
+        """Forward one undone edit; False when there is none."""
+        if not self._redo:
+            return False
+        self._undo.append(self.animation)
+        self.animation = self._redo.pop()
+        return True
+
+    # -- files -------------------------------------------------------------------------------------
+    def open(self, path: str) -> None:
+        """Edit the animation in ``path`` (undo starts afresh)."""
+        self.animation = an.load_animation(path)
+        self.path = Path(path)
+        self._undo.clear()
+        self._redo.clear()
+        self.cursor = 0.0
+
+    def save(self, path: str | None = None) -> Path:
+        """Write the animation (to ``path``, else where it came from); returns where."""
+        target = Path(path) if path else self.path
+        if target is None:
+            raise InputError("say where to save: a new animation has no file yet")
+        if target.suffix.lower() != ".toml":
+            raise InputError("an animation is saved as .toml", target)
+        self.path = an.save_animation(self.animation, target)
+        return self.path
+
+    def sample(self, path: str, rate: float) -> int:
+        """The movie script: the animation sampled at ``rate`` into a motor track file; frames."""
+        track = self.animation.sample(float(rate), self.neutral)
+        save_track(track, path)
+        return track.frames
+
+    # -- time ------------------------------------------------------------------------------------------
+    def set_cursor(self, time: float) -> None:
+        self.cursor = float(min(max(time, 0.0), self.animation.duration))
+
+    def play(self, now: float, start: float | None = None, end: float | None = None, loop: bool = False) -> None:
+        """Play from the cursor (or ``start``) to ``end`` (the end by default), again and again with ``loop``."""
+        first, last = self._span(self.cursor if start is None else start, end)
+        if self.cursor < first or self.cursor >= last:
+            self.cursor = first
+        self._playing = (now - (self.cursor - first), first, last, loop)
+
+    def pause(self) -> None:
+        self._playing = None
+
+    @property
+    def playing(self) -> bool:
+        return self._playing is not None
+
+    def advance(self, now: float) -> None:
+        """Move the cursor to where playback is at ``now`` (seconds on the server's clock)."""
+        if self._playing is None:
+            return
+        started, first, last, loop = self._playing
+        elapsed = now - started
+        span = last - first
+        if loop and span > 0:
+            self.cursor = first + elapsed % span
+        elif elapsed >= span:
+            self.cursor, self._playing = last, None
+        else:
+            self.cursor = first + elapsed
+
+    def values(self) -> np.ndarray:
+        """The motors at the cursor, ``(21,)``."""
+        return np.array([float(self.animation.value(code, self.cursor, self.neutral)) for code in MOTOR_CODES])
+
+    def describe(self) -> dict:
+        """What the page's staves show."""
+        clip = self.clipboard
+        return {"duration": self.animation.duration, "cursor": self.cursor, "playing": self.playing,
+                "knots": {code: [list(k) for k in knots] for code, knots in self.animation.knots.items()},
+                "neutral": {code: float(v) for code, v in zip(MOTOR_CODES, self.neutral, strict=True)},
+                "undo": len(self._undo), "redo": len(self._redo), "path": str(self.path) if self.path else None,
+                "clipboard": None if clip is None else {"duration": clip.duration,
+                                                        "motors": sorted(clip.knots, key=MOTOR_CODES.index)}}
+
+    def _span(self, start: float | None, end: float | None) -> tuple[float, float]:
+        first = 0.0 if start is None else float(start)
+        last = self.animation.duration if end is None else float(end)
+        if not 0 <= first < last <= self.animation.duration + 1e-9:
+            raise ValueError(f"a slice is 0 <= start < end <= {self.animation.duration:g} s, got {first:g}-{last:g}")
+        return first, min(last, self.animation.duration)
+
+
+def _code(code: str) -> str:
+    if code not in MOTOR_CODES:
+        raise ValueError(f"unknown motor {code!r}")
+    return code
+
+
+def _codes(codes: list[str] | None) -> tuple[str, ...]:
+    return tuple(_code(str(c)) for c in codes or ())

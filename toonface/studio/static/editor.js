@@ -1,0 +1,269 @@
+// The Animation Editor's staves (CharToon 3.3): one staff per motor, drawn from the knots the
+// server sends; every edit goes to the server (toonface/studio/editor.py), which runs the same
+// operations as `toonface anim` and sends the knots back.
+(() => {
+"use strict";
+  const editor = {
+    state: null,          // the server's last description of the animation
+    zoom: 120,            // pixels per second
+    selection: null,      // [start, end] seconds, chosen on the ruler
+    picked: null,         // [code, index] of the knot last clicked
+    dragging: null,       // [code, index] while a knot is dragged
+    staves: new Map(),    // motor code -> its staff's <svg>
+    hidden: new Set(),    // motor codes whose staves are hidden
+  };
+  window.editor = editor;
+
+  const STAFF_HEIGHT = 40;
+  const PAD = 4;  // pixels above 1 and below 0
+  const el = (id) => document.getElementById(id);
+  const NS = "http://www.w3.org/2000/svg";
+
+  function svgNode(name, attrs) {
+    const node = document.createElementNS(NS, name);
+    for (const [key, value] of Object.entries(attrs)) node.setAttribute(key, value);
+    return node;
+  }
+
+  const xOf = (t) => t * editor.zoom;
+  const yOf = (v) => PAD + (1 - v) * (STAFF_HEIGHT - 2 * PAD);
+  const tOf = (x) => Math.max(0, Math.min(editor.state.duration, x / editor.zoom));
+  const vOf = (y) => Math.max(0, Math.min(1, 1 - (y - PAD) / (STAFF_HEIGHT - 2 * PAD)));
+
+  function local(event, svg) {
+    const box = svg.getBoundingClientRect();
+    return [event.clientX - box.left, event.clientY - box.top];
+  }
+
+  function chosen() {
+    return [...document.querySelectorAll("#staves input.choose:checked")].map((box) => box.dataset.code);
+  }
+
+  function span() {
+    return editor.selection || [0, editor.state.duration];
+  }
+
+  function buildStaves(groups) {
+    const holder = el("staves");
+    holder.replaceChildren();
+    editor.staves.clear();
+    for (const group of groups) {
+      const details = document.createElement("details");
+      details.className = "staves";
+      details.open = true;
+      const summary = document.createElement("summary");
+      summary.textContent = group.title;
+      details.append(summary);
+      for (const motor of group.motors) details.append(staff(motor));
+      holder.append(details);
+    }
+    if (editor.state) render();
+  }
+
+  function staff(motor) {
+    const row = document.createElement("div");
+    row.className = "staff";
+    row.dataset.code = motor.code;
+    row.title = motor.description;
+    const label = document.createElement("label");
+    label.className = "label";
+    const box = Object.assign(document.createElement("input"), {type: "checkbox", className: "choose"});
+    box.dataset.code = motor.code;
+    box.title = "Choose this staff for cut, copy, paste, scale and flip";
+    const hide = Object.assign(document.createElement("button"), {type: "button", textContent: "×", title: "Hide"});
+    hide.addEventListener("click", () => { editor.hidden.add(motor.code); row.classList.add("hidden"); });
+    label.append(box, motor.code, hide);
+    const svg = svgNode("svg", {"data-code": motor.code});
+    svg.addEventListener("dblclick", (event) => addKnot(event, motor.code, svg));
+    svg.addEventListener("pointerdown", (event) => startDrag(event, motor.code, svg));
+    svg.addEventListener("pointermove", (event) => moveDrag(event, svg));
+    svg.addEventListener("pointerup", () => { editor.dragging = null; });
+    svg.addEventListener("contextmenu", (event) => deleteKnot(event));
+    row.append(label, svg);
+    editor.staves.set(motor.code, svg);
+    return row;
+  }
+
+  function render() {
+    const state = editor.state;
+    const width = Math.max(200, xOf(state.duration) + 1);
+    const [start, end] = editor.selection || [null, null];
+    drawRuler(width);
+    for (const [code, svg] of editor.staves) {
+      svg.setAttribute("width", width);
+      svg.setAttribute("height", STAFF_HEIGHT);
+      const parts = [];
+      if (start !== null && (chosen().length === 0 || chosen().includes(code))) {
+        parts.push(svgNode("rect", {class: "chosen-span", x: xOf(start), y: 0, width: xOf(end - start), height: STAFF_HEIGHT}));
+      }
+      const knots = state.knots[code] || [];
+      if (knots.length === 0) {
+        const y = yOf(state.neutral[code]);
+        parts.push(svgNode("line", {class: "rest", x1: 0, x2: width, y1: y, y2: y}));
+      } else {
+        const points = [[0, knots[0][1]], ...knots, [state.duration, knots[knots.length - 1][1]]];
+        parts.push(svgNode("polyline", {class: "curve", points: points.map(([t, v]) => `${xOf(t)},${yOf(v)}`).join(" ")}));
+        knots.forEach(([t, v], index) => {
+          const picked = editor.picked && editor.picked[0] === code && editor.picked[1] === index;
+          parts.push(svgNode("circle", {class: picked ? "knot picked" : "knot", cx: xOf(t), cy: yOf(v), r: 4.5,
+                                        "data-index": index}));
+        });
+      }
+      parts.push(svgNode("line", {class: "cursor", x1: xOf(state.cursor), x2: xOf(state.cursor), y1: 0, y2: STAFF_HEIGHT}));
+      svg.replaceChildren(...parts);
+    }
+    el("duration").value = state.duration;
+    el("undo").disabled = state.undo === 0;
+    el("redo").disabled = state.redo === 0;
+    el("paste").disabled = state.clipboard === null;
+    if (state.path && !el("path").value) el("path").value = state.path;
+    el("selection").textContent = editor.selection
+      ? `selection ${start.toFixed(2)}–${end.toFixed(2)} s` : `cursor ${state.cursor.toFixed(2)} s`;
+  }
+
+  function drawRuler(width) {
+    const ruler = el("ruler");
+    ruler.setAttribute("width", width);
+    const parts = [];
+    const step = editor.zoom >= 200 ? 0.1 : editor.zoom >= 40 ? 0.5 : 1;
+    for (let t = 0; t <= editor.state.duration + 1e-9; t += step) {
+      const whole = Math.abs(t - Math.round(t)) < 1e-9;
+      parts.push(svgNode("line", {class: "tick", x1: xOf(t), x2: xOf(t), y1: whole ? 8 : 15, y2: 22}));
+      if (whole) {
+        const label = svgNode("text", {class: "tick-label", x: xOf(t) + 2, y: 10});
+        label.textContent = `${Math.round(t)} s`;
+        parts.push(label);
+      }
+    }
+    if (editor.selection) {
+      const [start, end] = editor.selection;
+      parts.push(svgNode("rect", {class: "chosen-span", x: xOf(start), y: 0, width: xOf(end - start), height: 22}));
+    }
+    parts.push(svgNode("line", {class: "cursor", x1: xOf(editor.state.cursor), x2: xOf(editor.state.cursor), y1: 0, y2: 22}));
+    ruler.replaceChildren(...parts);
+  }
+
+  function knotAt(event) {
+    const index = event.target.dataset ? event.target.dataset.index : undefined;
+    return index === undefined ? null : Number(index);
+  }
+
+  function addKnot(event, code, svg) {
+    if (knotAt(event) !== null) return;
+    const [x, y] = local(event, svg);
+    studio.send({op: "knot", action: "add", code, t: tOf(x), v: vOf(y)});
+  }
+
+  function startDrag(event, code, svg) {
+    const index = knotAt(event);
+    if (index === null || event.button !== 0) return;
+    editor.picked = [code, index];
+    editor.dragging = [code, index];
+    svg.setPointerCapture(event.pointerId);  // the staff keeps the pointer while its knots are redrawn
+    event.preventDefault();
+    render();
+  }
+
+  function moveDrag(event, svg) {
+    if (!editor.dragging) return;
+    const [code, index] = editor.dragging;
+    const [x, y] = local(event, svg);
+    studio.send({op: "knot", action: "move", code, index, t: tOf(x), v: vOf(y)});
+  }
+
+  function deleteKnot(event) {
+    const index = knotAt(event);
+    if (index === null) return;
+    event.preventDefault();
+    const code = event.currentTarget.dataset.code;
+    editor.picked = null;
+    studio.send({op: "knot", action: "delete", code, index});
+  }
+
+  function sliceOp(action, extra = {}) {
+    const [start, end] = span();
+    studio.send({op: "slice", action, codes: chosen(), start, end, ...extra});
+  }
+
+  function rulerDown(event) {
+    const [x] = local(event, el("ruler"));
+    const t = tOf(x);
+    editor.rulerFrom = t;
+    el("ruler").setPointerCapture(event.pointerId);
+    if (!event.shiftKey) {
+      editor.selection = null;
+      studio.send({op: "cursor", t});
+    }
+  }
+
+  function rulerMove(event) {
+    if (editor.rulerFrom === undefined || editor.rulerFrom === null) return;
+    const [x] = local(event, el("ruler"));
+    const t = tOf(x);
+    if (Math.abs(t - editor.rulerFrom) * editor.zoom > 3) {
+      editor.selection = [Math.min(t, editor.rulerFrom), Math.max(t, editor.rulerFrom)];
+      render();
+    }
+  }
+
+  editor.show = (state) => {
+    editor.state = state;
+    if (editor.selection && editor.selection[1] > state.duration) editor.selection = null;
+    render();
+  };
+
+  studio.onAnimation = editor.show;
+  studio.onFrame = (frame) => {
+    if (!editor.state) return;
+    editor.state.playing = frame.playing;
+    if (frame.cursor === editor.state.cursor) return;
+    editor.state.cursor = frame.cursor;  // playback moves the cursor
+    render();
+  };
+  const previousDescribe = studio.onHello;
+  studio.onHello = (hello) => {
+    if (previousDescribe) previousDescribe(hello);
+    buildStaves(hello.groups);
+  };
+
+  el("ruler").addEventListener("pointerdown", rulerDown);
+  el("ruler").addEventListener("pointermove", rulerMove);
+  el("ruler").addEventListener("pointerup", () => { editor.rulerFrom = null; });
+  el("play").addEventListener("click", () => {
+    const [start, end] = editor.selection || [null, null];
+    studio.send({op: "playback", action: "play", loop: el("loop").checked, start, end});
+  });
+  el("pause").addEventListener("click", () => studio.send({op: "playback", action: "pause"}));
+  el("zoom-in").addEventListener("click", () => { editor.zoom = Math.min(2000, editor.zoom * 1.5); render(); });
+  el("zoom-out").addEventListener("click", () => { editor.zoom = Math.max(10, editor.zoom / 1.5); render(); });
+  el("cut").addEventListener("click", () => { sliceOp("cut"); editor.selection = null; });
+  el("copy").addEventListener("click", () => sliceOp("copy"));
+  el("flip").addEventListener("click", () => sliceOp("flip"));
+  el("scale-time").addEventListener("click", () => sliceOp("scale_time", {factor: Number(el("factor").value)}));
+  el("scale-value").addEventListener("click", () => sliceOp("scale_value", {factor: Number(el("factor").value)}));
+  el("paste").addEventListener("click", () => {
+    const onto = chosen();
+    const clip = editor.state.clipboard;
+    const elsewhere = clip && onto.length === clip.motors.length && onto.join() !== clip.motors.join();
+    studio.send({op: "paste", at: editor.state.cursor, onto: elsewhere ? onto : null});
+  });
+  el("undo").addEventListener("click", () => studio.send({op: "undo"}));
+  el("redo").addEventListener("click", () => studio.send({op: "redo"}));
+  el("duration").addEventListener("change", (event) => studio.send({op: "duration", seconds: Number(event.target.value)}));
+  el("new").addEventListener("click", () => studio.send({op: "new", seconds: Number(el("duration").value) || 5}));
+  el("open").addEventListener("click", () => studio.send({op: "open", path: el("path").value}));
+  el("save").addEventListener("click", () => studio.send({op: "save", path: el("path").value || null}));
+  document.addEventListener("keydown", (event) => {
+    if (event.target.tagName === "INPUT") return;
+    if ((event.key === "Delete" || event.key === "Backspace") && editor.picked) {
+      const [code, index] = editor.picked;
+      editor.picked = null;
+      studio.send({op: "knot", action: "delete", code, index});
+    } else if (event.key === "z" && (event.ctrlKey || event.metaKey)) {
+      studio.send({op: event.shiftKey ? "redo" : "undo"});
+    } else if (event.key === " ") {
+      event.preventDefault();
+      el(editor.state && editor.state.playing ? "pause" : "play").click();
+    }
+  });
+})();
