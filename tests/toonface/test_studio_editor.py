@@ -106,7 +106,7 @@ def test_the_server_drives_the_editor_and_the_face_shows_the_cursor():
     for message in ({"op": "knot", "action": "add", "code": "MB", "t": 1.0, "v": 0.9},
                     {"op": "knot", "action": "add", "code": "MB", "t": 3.0, "v": 0.1},
                     {"op": "cursor", "t": 1.0}):
-        assert apply(session, message, 0.0) == "animation"
+        assert apply(session, message, 0.0) == ("animation", None)
     assert session.showing == "animation" and session.values[motor_index("MB")] == pytest.approx(0.9)
     apply(session, {"op": "slice", "action": "copy", "codes": ["MB"], "start": 0.0, "end": 3.0}, 0.0)
     apply(session, {"op": "paste", "at": 0.0, "onto": ["ERU"]}, 0.0)

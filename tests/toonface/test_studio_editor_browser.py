@@ -149,3 +149,37 @@ def test_play_moves_the_cursor_and_the_face(blank):
     driver.find_element("id", "pause").click()
     wait_for(driver, "!window.studio.last.playing")
     assert session.values[motor_index("MB")] == pytest.approx(session.editor.values()[motor_index("MB")])
+
+
+def test_the_movie_script_and_the_mp4_come_from_the_page(blank, tmp_path):
+    import av
+
+    from toon import load_track
+
+    driver, session = blank
+    driver.execute_script("window.studio.send({op: 'new', seconds: 1.5})")
+    wait_for(driver, "window.editor.state.duration === 1.5")
+    for t, v in ((0.0, 0.1), (0.75, 0.9), (1.5, 0.1)):
+        driver.execute_script("window.studio.send(arguments[0])", {"op": "knot", "action": "add", "code": "MB",
+                                                                   "t": t, "v": v})
+    wait_for(driver, "window.editor.state.undo === 3")
+    script, movie = tmp_path / "take.csv", tmp_path / "take.mp4"
+    for path, button in ((script, "sample"), (movie, "render")):
+        box = driver.find_element("id", "export")
+        box.clear()
+        box.send_keys(str(path))
+        rate = driver.find_element("id", "rate")
+        rate.clear()
+        rate.send_keys("10")
+        driver.find_element("id", button).click()
+        wait_for(driver, f"document.getElementById('message').textContent.startsWith('wrote {path}')", timeout=60)
+    track = load_track(script)
+    expected = session.editor.animation.sample(10.0, session.neutral)
+    assert track.frames == 15 and abs(track.values - expected.values).max() < 1e-6
+    with av.open(str(movie)) as container:
+        assert sum(1 for _ in container.decode(video=0)) == 15
+    box = driver.find_element("id", "export")
+    box.clear()
+    box.send_keys(str(tmp_path / "take.avi"))
+    driver.find_element("id", "render").click()
+    wait_for(driver, "document.getElementById('message').textContent.includes('.mp4 file')")

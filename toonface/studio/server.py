@@ -93,10 +93,16 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
             if message.type != WSMsgType.TEXT:
                 continue
             try:
-                changed = apply(session, json.loads(message.data), asyncio.get_running_loop().time())
+                parsed = json.loads(message.data)
+                if isinstance(parsed, dict) and parsed.get("op") == "render":
+                    await _render(app, ws, parsed)
+                    continue
+                changed, said = apply(session, parsed, asyncio.get_running_loop().time())
             except (ValueError, KeyError, TypeError, IndexError, InputError) as exc:
                 await ws.send_json({"type": "error", "message": _reason(exc)})
                 continue
+            if said:
+                await ws.send_json({"type": "said", "message": said})
             if changed == "described":
                 await _broadcast(app, {"type": "hello", "faces": builtin_faces(), **session.describe()})
             if changed in ("described", "animation"):
@@ -108,9 +114,10 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     return ws
 
 
-def apply(session: StudioSession, message: object, now: float) -> str:
-    """Apply one message from a page to ``session``; returns what the pages must be sent again:
-    ``"described"`` (another face: everything), ``"animation"`` (the staves) or ``"frame"``.
+def apply(session: StudioSession, message: object, now: float) -> tuple[str, str | None]:
+    """Apply one message from a page to ``session``; returns what the pages must be sent again
+    (``"described"``: another face, everything; ``"animation"``: the staves; ``"frame"``) and a
+    line for the page that sent it (what was written), if any.
 
     Raises
     ------
@@ -121,8 +128,7 @@ def apply(session: StudioSession, message: object, now: float) -> str:
         raise TypeError("a message is a JSON object")
     op = message.get("op")
     if op in EDITOR_OPS:
-        _edit(session, op, message, now)
-        return "animation"
+        return "animation", _edit(session, op, message, now)
     if op == "motor":
         session.set_motor(str(message["code"]), float(message["value"]))
     elif op == "drag":
@@ -137,10 +143,10 @@ def apply(session: StudioSession, message: object, now: float) -> str:
         session.reset()
     elif op == "face":
         session.set_face(str(message["name"]))
-        return "described"
+        return "described", None
     else:
         raise ValueError(f"unknown op {op!r}")
-    return "frame"
+    return "frame", None
 
 
 #: Messages for the Animation Editor (:func:`_edit`).
@@ -148,9 +154,11 @@ EDITOR_OPS = ("knot", "slice", "paste", "undo", "redo", "cursor", "playback", "d
               "sample")
 
 
-def _edit(session: StudioSession, op: str, message: dict, now: float) -> None:
-    """One Animation Editor message; the face then shows the animation at the cursor."""
+def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | None:
+    """One Animation Editor message; the face then shows the animation at the cursor. Returns
+    what was written, for a save or a movie script."""
     editor = session.editor
+    said = None
     if op == "knot":
         action, code = message["action"], str(message["code"])
         if action == "add":
@@ -194,10 +202,46 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> None:
     elif op == "open":
         editor.open(str(message["path"]))
     elif op == "save":
-        editor.save(message.get("path") or None)
+        said = f"wrote {editor.save(message.get('path') or None)}"
     elif op == "sample":
-        editor.sample(str(message["path"]), float(message.get("rate", 30.0)))
+        rate = float(message.get("rate", 30.0))
+        if not 1 <= rate <= 1000:
+            raise ValueError(f"a movie script's rate is 1..1000 frames/s, got {rate:g}")
+        said = f"wrote {message['path']} ({editor.sample(str(message['path']), rate)} frames at {rate:g} Hz)"
     session.show_animation()
+    return said
+
+
+async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict) -> None:
+    """Render the animation to an MP4 (``path``, ``fps``) in a worker thread, telling the page how far
+    it has got about ten times a second; the server goes on serving meanwhile."""
+    from toonface.pipeline import render
+
+    session = app[SESSION]
+    path = Path(str(message["path"]))
+    if path.suffix.lower() != ".mp4":
+        raise InputError("the studio renders to an .mp4 file", path)
+    fps = float(message.get("fps", 30.0))
+    if not 1 <= fps <= 240:
+        raise ValueError(f"fps must be 1..240, got {fps:g}")
+    track = session.editor.animation.sample(fps, session.neutral)
+    face, loop = session.face, asyncio.get_running_loop()
+    done = [0]
+    last = [loop.time()]
+
+    def progress(frames: int) -> None:  # in the worker thread
+        done[0] += frames
+        if loop.time() - last[0] >= 0.1 or done[0] == track.frames:
+            last[0] = loop.time()
+            loop.call_soon_threadsafe(asyncio.ensure_future,
+                                      ws.send_json({"type": "rendering", "frames": done[0], "of": track.frames}))
+
+    await ws.send_json({"type": "rendering", "frames": 0, "of": track.frames})
+    try:
+        written = await loop.run_in_executor(None, lambda: render(track, face, path, fps=fps, progress=progress))
+    except InputError as exc:
+        raise InputError(exc.message, path) from None
+    await ws.send_json({"type": "rendered", "path": str(path), "frames": written})
 
 
 def _reason(exc: Exception) -> str:

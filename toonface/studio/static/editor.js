@@ -253,6 +253,20 @@
   el("new").addEventListener("click", () => studio.send({op: "new", seconds: Number(el("duration").value) || 5}));
   el("open").addEventListener("click", () => studio.send({op: "open", path: el("path").value}));
   el("save").addEventListener("click", () => studio.send({op: "save", path: el("path").value || null}));
+  el("sample").addEventListener("click", () => studio.send({op: "sample", path: el("export").value,
+                                                            rate: Number(el("rate").value)}));
+  el("render").addEventListener("click", () => studio.send({op: "render", path: el("export").value,
+                                                            fps: Number(el("rate").value)}));
+  studio.handlers.rendering = (message) => {
+    const bar = el("render-progress");
+    bar.hidden = false;
+    bar.max = message.of;
+    bar.value = message.frames;
+  };
+  studio.handlers.rendered = (message) => {
+    el("render-progress").hidden = true;
+    studio.say(`wrote ${message.path} (${message.frames} frames)`, false);
+  };
   document.addEventListener("keydown", (event) => {
     if (event.target.tagName === "INPUT") return;
     if ((event.key === "Delete" || event.key === "Backspace") && editor.picked) {

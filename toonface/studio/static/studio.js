@@ -11,6 +11,7 @@
   };
   window.studio = studio;
   studio.send = send;  // editor.js sends through the same socket
+  studio.handlers = {};  // more message types, by the other scripts
 
   const $ = (id) => document.getElementById(id);
   const SVG = "http://www.w3.org/2000/svg";
@@ -32,7 +33,9 @@
       }
       else if (message.type === "frame") draw(message);
       else if (message.type === "animation" && studio.onAnimation) studio.onAnimation(message);
-      else if (message.type === "error") $("status").textContent = `error: ${message.message}`;
+    else if (studio.handlers[message.type]) studio.handlers[message.type](message);
+      else if (message.type === "error") say(`error: ${message.message}`, true);
+    else if (message.type === "said") say(message.message, false);
     };
     socket.onclose = () => {
       $("status").textContent = "disconnected: reconnecting…";
@@ -54,6 +57,13 @@
     });
     $("sliders").replaceChildren(...groups);
   }
+
+  function say(text, bad) {
+    const line = $("message");
+    line.textContent = text;
+    line.classList.toggle("bad", bad);
+  }
+  studio.say = say;
 
   function button(name, op) {
     const b = document.createElement("button");
