@@ -6,7 +6,7 @@ knots rests at the neutral). An animation is sampled into a motor track at any r
 works on a time slice ``[start, end)`` of chosen motors: cut, copy, paste (also onto other
 motors, such as one brow's motion onto the other), time scaling, value scaling and flipping;
 single knots are inserted, moved and deleted; whole animations concatenate, with or without a
-cross-fade.
+cross-fade; a motor track becomes knots within a tolerance (:func:`from_track`).
 
 Files: TOML, ``format = "toonface.animation/1"``, ``duration`` in seconds and a ``[knots]`` table
 of ``CODE = [[time, value], ...]``.
@@ -59,6 +59,48 @@ class Animation:
         t = np.arange(frames) / rate
         values = np.column_stack([self.value(code, t, neutral) for code in MOTOR_CODES])
         return MotorTrack(values, rate, meta={"source": "animation"})
+
+
+def from_track(track: MotorTrack, tolerance: float = 0.01) -> Animation:
+    """A motor track as knots: for each motor, as few of its samples as keep every sample within
+    ``tolerance`` (of the 0..1 range) of the straight lines between them (Douglas and Peucker's
+    simplification on the values); a motor that never leaves the standard neutral gets none.
+
+    The animation starts at the track's first frame and lasts as long as the track.
+    """
+    if not tolerance > 0:
+        raise ValueError(f"the tolerance must be > 0, got {tolerance}")
+    times = np.arange(track.frames) / track.rate
+    rest = standard_neutral()
+    knots = {}
+    for i, code in enumerate(MOTOR_CODES):
+        values = np.clip(np.asarray(track.values[:, i], dtype=np.float64), 0.0, 1.0)
+        if not np.isfinite(values).all():
+            raise ValueError(f"motor {code} has unset values: fill or map the track first")
+        if np.all(np.abs(values - rest[i]) <= 1e-12):
+            continue
+        kept = _simplified(times, values, tolerance)
+        knots[code] = tuple((float(times[k]), float(values[k])) for k in kept)
+    return Animation(knots, float(track.frames / track.rate))
+
+
+def _simplified(times: np.ndarray, values: np.ndarray, tolerance: float) -> list[int]:
+    """Indices of the samples Douglas-Peucker keeps (vertical distance to each chord)."""
+    keep = {0, len(values) - 1}
+    spans = [(0, len(values) - 1)]
+    while spans:
+        first, last = spans.pop()
+        if last - first < 2:
+            continue
+        inner = np.arange(first + 1, last)
+        share = (times[inner] - times[first]) / (times[last] - times[first])
+        miss = np.abs(values[inner] - (values[first] + share * (values[last] - values[first])))
+        worst = int(np.argmax(miss))
+        if miss[worst] > tolerance:
+            split = int(inner[worst])
+            keep.add(split)
+            spans += [(first, split), (split, last)]
+    return sorted(keep)
 
 
 def _edit(anim: Animation, codes: tuple[str, ...] | None, change, duration: float | None = None,

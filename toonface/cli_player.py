@@ -248,6 +248,25 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
     click.echo(f"wrote {output}")
 
 
+@anim.command("from-track")
+@click.argument("track", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Animation (.toml).")
+@click.option("--tolerance", default=0.01, show_default=True, type=click.FloatRange(min=0, min_open=True),
+              help="How far (of the 0..1 range) the lines between knots may stray from the track's values.")
+def anim_from_track(track: str, output: str, tolerance: float) -> None:
+    """Turn a motor track (.csv, .npz) into knots to edit: as few as keep every value within the tolerance."""
+    from toon import animation as an
+    from toon import load_track
+
+    motors = load_track(track)
+    try:
+        out = an.from_track(motors, tolerance)
+    except ValueError as exc:
+        raise click.BadParameter(f"{track}: {exc}", param_hint="TRACK") from None
+    an.save_animation(out, output)
+    click.echo(f"wrote {output} ({sum(len(k) for k in out.knots.values())} knots for {motors.frames} frames)")
+
+
 @anim.command("knot")
 @click.argument("animation", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))

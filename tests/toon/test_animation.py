@@ -129,3 +129,23 @@ def test_a_slice_ending_or_starting_at_a_step_keeps_two_knots_there(edit, tmp_pa
             for t in (0.25, 3.5):  # outside the slice: as it was
                 if not start <= t <= end:
                     assert out.value(code, t) == pytest.approx(stepped.value(code, t))
+
+
+def test_a_track_becomes_the_fewest_knots_within_the_tolerance():
+    from toon import MOTOR_CODES, MotorTrack, standard_neutral
+    from toon.animation import from_track
+
+    rate = 50.0
+    t = np.arange(201) / rate  # 4 s
+    values = np.tile(standard_neutral(), (len(t), 1))
+    values[:, motor_index("MB")] = np.interp(t, [0.0, 1.0, 1.5, 4.0], [0.1, 0.9, 0.3, 0.3])  # three straight pieces
+    wave = 0.5 + 0.3 * np.sin(2 * np.pi * 0.5 * t)
+    values[:, motor_index("ERU")] = wave
+    anim = from_track(MotorTrack(values, rate), tolerance=0.01)
+    assert anim.knots["MB"] == ((0.0, 0.1), (1.0, 0.9), (1.5, 0.3), (4.0, 0.3)) and anim.duration == len(t) / rate
+    assert set(anim.knots) == {"MB", "ERU"}  # the others never leave the neutral
+    error = np.abs(anim.value("ERU", t) - wave)
+    assert error.max() <= 0.01 and 8 <= len(anim.knots["ERU"]) <= 40  # a sine needs some, not one per sample
+    assert len(MOTOR_CODES) == 21
+    with pytest.raises(ValueError, match="tolerance"):
+        from_track(MotorTrack(values, rate), tolerance=0.0)

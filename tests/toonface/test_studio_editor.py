@@ -138,3 +138,24 @@ def test_anim_knot_on_files_makes_the_editors_knots(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 3 and "has no knot 9" in err[0] and "one of --add" in err[1] and "TIME,VALUE" in err[2]
     assert sorted(editor.animation.knots, key=MOTOR_CODES.index) == ["BRL", "BRC", "MB"]
+
+
+def test_a_track_or_a_take_opens_as_knots_and_the_command_agrees(tmp_path):
+    from capture import save_take, synthesize
+    from toon import save_track
+    from toonface import map_onto_face
+
+    take = synthesize(seconds=3.0, rate=60.0).take
+    save_take(take, tmp_path / "take.npz")
+    track = map_onto_face(take)
+    save_track(track, tmp_path / "motors.csv")
+    editor = AnimationEditor(standard_neutral())
+    said = editor.open(str(tmp_path / "motors.csv"))
+    expected = an.from_track(load_track(tmp_path / "motors.csv"), 0.01)
+    assert editor.animation == expected and "a motor track" in said and editor.path is None
+    assert main(["anim", "from-track", str(tmp_path / "motors.csv"), "-o", str(tmp_path / "a.toml")]) == 0
+    assert an.load_animation(tmp_path / "a.toml") == expected
+    assert "a take, mapped" in editor.open(str(tmp_path / "take.npz"))
+    np.testing.assert_allclose(editor.animation.sample(60.0, standard_neutral()).values, track.values, atol=0.0101)
+    with pytest.raises(Exception, match="no such file"):
+        editor.open(str(tmp_path / "missing.csv"))

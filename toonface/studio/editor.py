@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from common import InputError
-from toon import MOTOR_CODES, save_track
+from toon import MOTOR_CODES, MotorTrack, load_track, save_track
 from toon import animation as an
 from toon.animation import Animation
 
@@ -22,6 +22,8 @@ from toon.animation import Animation
 UNDO_LEVELS = 200
 #: A new animation's length, seconds.
 NEW_SECONDS = 5.0
+#: How far (of the 0..1 range) knots made from a motor track may stray from its values.
+TRACK_TOLERANCE = 0.01
 
 
 class AnimationEditor:
@@ -125,13 +127,25 @@ class AnimationEditor:
         return True
 
     # -- files -------------------------------------------------------------------------------------
-    def open(self, path: str) -> None:
-        """Edit the animation in ``path`` (undo starts afresh)."""
-        self.animation = an.load_animation(path)
-        self.path = Path(path)
+    def open(self, path: str, tolerance: float = TRACK_TOLERANCE) -> str:
+        """Edit what ``path`` holds (undo starts afresh): an animation (``.toml``), a motor track
+        (``.csv``, ``.npz``) as knots within ``tolerance`` (:func:`toon.animation.from_track`), or
+        a take (``.c3d``, ``.trc``, a marker ``.csv`` or ``.npz``) cleaned and mapped first with the
+        built-in mapping that matches it. Returns what was opened, in a line."""
+        source = Path(path)
+        if source.suffix.lower() == ".toml":
+            self.animation, self.path, said = an.load_animation(source), source, f"opened {source}"
+        else:
+            track, what = _track(source)
+            self.animation = an.from_track(track, tolerance)
+            self.path = None  # saved as a new .toml, not over the track
+            knots = sum(len(k) for k in self.animation.knots.values())
+            said = (f"opened {source} ({what}): {knots} knots for {track.frames} frames x 21 motors, "
+                    f"within {tolerance:g} of every value")
         self._undo.clear()
         self._redo.clear()
         self.cursor = 0.0
+        return said
 
     def save(self, path: str | None = None) -> Path:
         """Write the animation (to ``path``, else where it came from); returns where."""
@@ -201,6 +215,23 @@ class AnimationEditor:
         if not 0 <= first < last <= self.animation.duration + 1e-9:
             raise ValueError(f"a slice is 0 <= start < end <= {self.animation.duration:g} s, got {first:g}-{last:g}")
         return first, min(last, self.animation.duration)
+
+
+def _track(path: Path) -> tuple[MotorTrack, str]:
+    """A motor track file, or a take mapped on the fly; and which it was."""
+    from capture import load_take
+    from toonface.pipeline import map_onto_face
+
+    if path.suffix.lower() in (".csv", ".npz"):
+        try:
+            return load_track(path), "a motor track"
+        except InputError as not_a_track:
+            try:
+                take = load_take(path)
+            except InputError:
+                raise not_a_track from None
+            return map_onto_face(take), "a take, mapped"
+    return map_onto_face(load_take(path)), "a take, mapped"
 
 
 def _code(code: str) -> str:

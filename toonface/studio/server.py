@@ -200,7 +200,7 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
             raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
         session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
     elif op == "open":
-        editor.open(str(message["path"]))
+        said = editor.open(str(message["path"]))
     elif op == "save":
         said = f"wrote {editor.save(message.get('path') or None)}"
     elif op == "sample":
