@@ -183,3 +183,41 @@ def test_the_movie_script_and_the_mp4_come_from_the_page(blank, tmp_path):
     box.send_keys(str(tmp_path / "take.avi"))
     driver.find_element("id", "render").click()
     wait_for(driver, "document.getElementById('message').textContent.includes('.mp4 file')")
+
+
+def test_a_sound_and_its_labels_play_under_the_staves_and_go_into_the_mp4(blank, tmp_path):
+    import av
+    from sounds import write_tone
+
+    from player.mux import has_audio
+
+    driver, session = blank
+    tone = write_tone(tmp_path / "tone.wav")
+    labels = tmp_path / "labels.txt"
+    labels.write_text("0.0\t1.0\ttone\n1.0\t2.0\tsilence\n", encoding="utf-8")
+    for box, path, button in (("sound-path", tone, "open-sound"), ("labels-path", labels, "open-labels")):
+        driver.find_element("id", box).clear()
+        driver.find_element("id", box).send_keys(str(path))
+        driver.find_element("id", button).click()
+    wait_for(driver, "window.editor.sound && window.editor.sound.labels.length === 2")
+    assert driver.execute_script("return document.querySelectorAll('#wave polygon').length") == 1
+    assert driver.execute_script("return [...document.querySelectorAll('#label-track text')].map(t => t.textContent)"
+                                 ) == ["tone", "silence"]
+    wait_for(driver, "document.getElementById('audio').readyState >= 2")  # the WAV loaded
+    assert driver.execute_script("return document.getElementById('audio').duration") == pytest.approx(2.0, abs=0.01)
+    driver.execute_script("window.studio.send({op: 'new', seconds: 2})")
+    wait_for(driver, "window.editor.state.duration === 2 && window.editor.state.cursor === 0")
+    driver.find_element("id", "play").click()
+    wait_for(driver, "!document.getElementById('audio').paused && document.getElementById('audio').currentTime > 0.3")
+    driver.find_element("id", "pause").click()
+    wait_for(driver, "document.getElementById('audio').paused")
+    movie = tmp_path / "voiced.mp4"
+    box = driver.find_element("id", "export")
+    box.clear()
+    box.send_keys(str(movie))
+    driver.find_element("id", "render").click()
+    wait_for(driver, f"document.getElementById('message').textContent.startsWith('wrote {movie}')", timeout=60)
+    assert has_audio(movie)
+    with av.open(str(movie)) as container:
+        audio = container.streams.audio[0]
+        assert float(audio.duration * audio.time_base) == pytest.approx(2.0, abs=0.1)

@@ -18,6 +18,7 @@ import asyncio
 import json
 import logging
 from collections.abc import Awaitable, Callable
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from toon import builtin_faces
 from toon.animation import Animation
 from toonface.studio.editor import NEW_SECONDS, AnimationEditor
 from toonface.studio.session import StudioSession
+from toonface.studio.sound import load_labels, load_sound
 
 log = logging.getLogger("toonface")
 
@@ -57,6 +59,7 @@ def make_app(session: StudioSession, hosts: set[str]) -> web.Application:
     app[HOSTS] = set(hosts)
     app.router.add_get("/", _index)
     app.router.add_get("/ws", _socket)
+    app.router.add_get("/sound.wav", _sound)
     app.router.add_static("/static/", static_folder(), follow_symlinks=False)
     app.on_startup.append(_start_ticker)
     app.on_cleanup.append(_stop_ticker)
@@ -76,6 +79,13 @@ async def _index(request: web.Request) -> web.FileResponse:
     return web.FileResponse(static_folder() / "index.html", headers={"Cache-Control": "no-store"})
 
 
+async def _sound(request: web.Request) -> web.Response:
+    sound = request.app[SESSION].sound
+    if sound is None:
+        raise web.HTTPNotFound(text="no sound is open")
+    return web.Response(body=sound.wav(), content_type="audio/wav", headers={"Cache-Control": "no-store"})
+
+
 async def _socket(request: web.Request) -> web.WebSocketResponse:
     origin = request.headers.get("Origin")
     if origin is None or origin.split("://", 1)[-1] != request.host:
@@ -88,6 +98,8 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     try:
         await ws.send_json({"type": "hello", "faces": builtin_faces(), **session.describe()})
         await ws.send_json({"type": "animation", **session.editor.describe()})
+        if session.sound is not None:
+            await ws.send_json({"type": "sound", **session.sound.describe()})
         await ws.send_json({"type": "frame", **session.frame()})
         async for message in ws:
             if message.type != WSMsgType.TEXT:
@@ -107,6 +119,8 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                 await _broadcast(app, {"type": "hello", "faces": builtin_faces(), **session.describe()})
             if changed in ("described", "animation"):
                 await _broadcast(app, {"type": "animation", **session.editor.describe()})
+            if changed == "sound" and session.sound is not None:
+                await _broadcast(app, {"type": "sound", **session.sound.describe()})
             await _broadcast(app, {"type": "frame", **session.frame()})
             app[WAKE].set()
     finally:
@@ -129,6 +143,15 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     op = message.get("op")
     if op in EDITOR_OPS:
         return "animation", _edit(session, op, message, now)
+    if op == "sound":
+        session.sound = load_sound(str(message["path"]))
+        return "sound", f"opened {session.sound.path} ({session.sound.duration:.1f} s of sound)"
+    if op == "labels":
+        if session.sound is None:
+            raise ValueError("open a sound before its labels")
+        labels = load_labels(str(message["path"]))
+        session.sound = replace(session.sound, labels=labels)
+        return "sound", f"opened {message['path']} ({len(labels)} labels)"
     if op == "motor":
         session.set_motor(str(message["code"]), float(message["value"]))
     elif op == "drag":
@@ -215,7 +238,7 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
 async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict) -> None:
     """Render the animation to an MP4 (``path``, ``fps``) in a worker thread, telling the page how far
     it has got about ten times a second; the server goes on serving meanwhile."""
-    from toonface.pipeline import render
+    from toonface.pipeline import render, render_with_sound
 
     session = app[SESSION]
     path = Path(str(message["path"]))
@@ -225,7 +248,7 @@ async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict
     if not 1 <= fps <= 240:
         raise ValueError(f"fps must be 1..240, got {fps:g}")
     track = session.editor.animation.sample(fps, session.neutral)
-    face, loop = session.face, asyncio.get_running_loop()
+    face, loop, sound = session.face, asyncio.get_running_loop(), session.sound
     done = [0]
     last = [loop.time()]
 
@@ -238,7 +261,9 @@ async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict
 
     await ws.send_json({"type": "rendering", "frames": 0, "of": track.frames})
     try:
-        written = await loop.run_in_executor(None, lambda: render(track, face, path, fps=fps, progress=progress))
+        written = await loop.run_in_executor(None, lambda: render_with_sound(
+            track, face, path, sound.path, fps=fps, progress=progress) if sound is not None else render(
+            track, face, path, fps=fps, progress=progress))
     except InputError as exc:
         raise InputError(exc.message, path) from None
     await ws.send_json({"type": "rendered", "path": str(path), "frames": written})

@@ -26,6 +26,7 @@ from toon.formulas import head_turn
 from toon.motors import MOTORS, motor_index
 from toon.svg import geometry_svg
 from toonface.studio.editor import AnimationEditor
+from toonface.studio.sound import Sound
 
 #: The sliders' groups, in the page's order: (title, motor codes).
 GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -66,6 +67,7 @@ class StudioSession:
         if animation is not None:
             self.editor.open(animation)
         self.showing = "test"  # what the face shows: "test" (the Animator) or "animation" (at the cursor)
+        self.sound: Sound | None = None  # under the staves, played with the animation, muxed into renders
 
     def _load(self, face: str) -> None:
         self.face = load_face(face)

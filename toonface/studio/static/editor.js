@@ -86,9 +86,11 @@
 
   function render() {
     const state = editor.state;
-    const width = Math.max(200, xOf(state.duration) + 1);
+    const seconds = Math.max(state.duration, editor.sound ? editor.sound.duration : 0);
+    const width = Math.max(200, xOf(seconds) + 1);
     const [start, end] = editor.selection || [null, null];
     drawRuler(width);
+    drawSound(width);
     for (const [code, svg] of editor.staves) {
       svg.setAttribute("width", width);
       svg.setAttribute("height", STAFF_HEIGHT);
@@ -119,6 +121,45 @@
     if (state.path && !el("path").value) el("path").value = state.path;
     el("selection").textContent = editor.selection
       ? `selection ${start.toFixed(2)}–${end.toFixed(2)} s` : `cursor ${state.cursor.toFixed(2)} s`;
+  }
+
+  function drawSound(width) {
+    const sound = editor.sound;
+    if (!sound) return;
+    const wave = el("wave");
+    const labels = el("label-track");
+    for (const svg of [wave, labels]) svg.setAttribute("width", width);
+    const height = 36;
+    const step = 1 / sound.per_second;
+    const top = sound.high.map((v, i) => `${xOf(i * step)},${(1 - v) * height / 2}`);
+    const bottom = sound.low.map((v, i) => `${xOf(i * step)},${(1 - v) * height / 2}`).reverse();
+    const parts = [svgNode("polygon", {class: "wave", points: [...top, ...bottom].join(" ")})];
+    parts.push(svgNode("line", {class: "cursor", x1: xOf(editor.state.cursor), x2: xOf(editor.state.cursor),
+                                y1: 0, y2: height}));
+    wave.replaceChildren(...parts);
+    labels.replaceChildren(...sound.labels.flatMap((label) => {
+      const box = svgNode("rect", {x: xOf(label.start), y: 4, width: Math.max(2, xOf(label.end - label.start)),
+                                   height: 28, rx: 3});
+      const text = svgNode("text", {x: xOf(label.start) + 3, y: 22});
+      text.textContent = label.text;
+      const title = svgNode("title", {});
+      title.textContent = `${label.start.toFixed(2)}–${label.end.toFixed(2)} s: ${label.text}`;
+      box.append(title);
+      return [box, text];
+    }));
+  }
+
+  function syncAudio(playing) {
+    const audio = el("audio");
+    if (!editor.sound) return;
+    if (!playing) {
+      if (!audio.paused) audio.pause();
+      return;
+    }
+    if (audio.paused || Math.abs(audio.currentTime - editor.state.cursor) > 0.15) {
+      audio.currentTime = editor.state.cursor;
+    }
+    if (audio.paused) audio.play().catch(() => {});
   }
 
   function drawRuler(width) {
@@ -215,10 +256,11 @@
   studio.onAnimation = editor.show;
   studio.onFrame = (frame) => {
     if (!editor.state) return;
+    const moved = frame.cursor !== editor.state.cursor;
     editor.state.playing = frame.playing;
-    if (frame.cursor === editor.state.cursor) return;
     editor.state.cursor = frame.cursor;  // playback moves the cursor
-    render();
+    syncAudio(frame.playing);
+    if (moved) render();
   };
   const previousDescribe = studio.onHello;
   studio.onHello = (hello) => {
@@ -257,6 +299,16 @@
                                                             rate: Number(el("rate").value)}));
   el("render").addEventListener("click", () => studio.send({op: "render", path: el("export").value,
                                                             fps: Number(el("rate").value)}));
+  studio.handlers.sound = (message) => {
+    editor.sound = message;
+    editor.soundVersion = (editor.soundVersion || 0) + 1;
+    el("audio").src = `/sound.wav?v=${editor.soundVersion}`;
+    el("sound-row").hidden = false;
+    el("labels-row").hidden = message.labels.length === 0;
+    if (editor.state) render();
+  };
+  el("open-sound").addEventListener("click", () => studio.send({op: "sound", path: el("sound-path").value}));
+  el("open-labels").addEventListener("click", () => studio.send({op: "labels", path: el("labels-path").value}));
   studio.handlers.rendering = (message) => {
     const bar = el("render-progress");
     bar.hidden = false;
