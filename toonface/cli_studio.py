@@ -15,27 +15,47 @@ from toonface.cli_player import _required_address
 @FACE
 @click.option("--listen", default="127.0.0.1:8765", show_default=True, metavar="HOST:PORT",
               help="Where the page is served. Loopback unless told otherwise; port 0 picks a free one.")
-def studio(animation: str | None, face: str, listen: str) -> None:
+@click.option("--receive", default=None, metavar="HOST:PORT",
+              help="Also receive a motor stream from `toonface send` (UDP) and show it, with its quality.")
+@click.option("--conceal", default="linear", show_default=True, type=click.Choice(["hold", "linear"]),
+              help="With --receive: how lost frames are guessed (as `toonface receive`).")
+def studio(animation: str | None, face: str, listen: str, receive: str | None, conceal: str) -> None:
     """The studio: a local web page showing FACE, with a slider per motor, control points to
     drag, expressions and standard motions to play, and head and eyes that can follow the
     pointer (CharToon's test mode); below it, ANIMATION (a .toml knot file; a new one
     without) on staves to edit, play, save, sample into a motor track or render to MP4
     (CharToon's Animation Editor).
 
-    Open the printed address in a browser on this machine. The page answers only at that
-    address; Ctrl-C stops the server.
+    With --receive, the page is also the browser viewer of a stream, with its latency, loss
+    and concealed frames. Open the printed address in a browser on this machine. The page
+    answers only at that address; Ctrl-C stops the server.
     """
+    import contextlib
+
+    from toonface.cli_stream import _key
+    from toonface.studio.live import ReceivedStream
     from toonface.studio.server import serve
     from toonface.studio.session import StudioSession
 
     host, port = _required_address(listen, "--listen", 8765)
     session = StudioSession(face, animation=animation)
-    try:
-        asyncio.run(serve(session, host, port, lambda url: click.echo(f"studio at {url} (Ctrl-C stops)")))
-    except OSError as exc:
-        raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
-    except KeyboardInterrupt:
-        click.echo("studio stopped")
+    with contextlib.ExitStack() as stack:
+        if receive is not None:
+            where = _required_address(receive, "--receive", 7710)
+            try:
+                session.live = stack.enter_context(ReceivedStream(where, session.neutral, conceal, key=_key(None)))
+            except OSError as exc:
+                raise click.BadParameter(f"cannot receive on {receive}: {exc.strerror or exc}",
+                                         param_hint="--receive") from None
+            session.show_live(True)
+            click.echo(f"receiving a motor stream on {session.live.name}")
+        try:
+            asyncio.run(serve(session, host, port, lambda url: click.echo(f"studio at {url} (Ctrl-C stops)")))
+        except OSError as exc:
+            raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}",
+                                     param_hint="--listen") from None
+        except KeyboardInterrupt:
+            click.echo("studio stopped")
 
 
 STUDIO_COMMANDS = (studio,)

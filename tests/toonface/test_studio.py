@@ -107,5 +107,8 @@ def test_the_server_refuses_other_hosts_and_other_origins():
 def test_studio_command_errors_are_one_line(capsys):
     assert main(["studio", "--face", "nope"]) != 0
     assert main(["studio", "--listen", "127.0.0.1:70000"]) == 2
+    assert main(["studio", "--receive", "8.8.8.8:7710"]) == 2
+    assert main(["studio", "missing.toml"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 2 and 'no built-in face "nope"' in err[0] and "--listen" in err[1]
+    assert len(err) == 4 and 'no built-in face "nope"' in err[0] and "--listen" in err[1]
+    assert "cannot receive on 8.8.8.8:7710" in err[2] and "missing.toml" in err[3]

@@ -167,6 +167,8 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     elif op == "face":
         session.set_face(str(message["name"]))
         return "described", None
+    elif op == "live":
+        session.show_live(bool(message["on"]))
     else:
         raise ValueError(f"unknown op {op!r}")
     return "frame", None
@@ -286,6 +288,8 @@ async def _broadcast(app: web.Application, message: dict) -> None:
 async def _start_ticker(app: web.Application) -> None:
     app[WAKE] = asyncio.Event()
     app[TICKER] = asyncio.create_task(_tick(app))
+    if app[SESSION].busy():  # a stream shown from the start
+        app[WAKE].set()
 
 
 async def _stop_ticker(app: web.Application) -> None:
@@ -302,11 +306,14 @@ async def _tick(app: web.Application) -> None:
     while True:
         await app[WAKE].wait()
         app[WAKE].clear()
-        next_at = loop.time()
+        next_at = said_at = loop.time()
         while session.busy():
             session.tick(loop.time())
             await _broadcast(app, {"type": "frame", **session.frame()})
-            next_at += session.loop_time
+            if session.live is not None and loop.time() - said_at >= 1.0:  # the stream's readout, once a second
+                said_at = loop.time()
+                await _broadcast(app, {"type": "quality", **session.live.quality()})
+            next_at = max(next_at + session.loop_time, loop.time() - session.loop_time)  # no burst to catch up
             await asyncio.sleep(max(0.0, next_at - loop.time()))
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -36,6 +37,18 @@ GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("Mouth", ("MRH", "MRV", "MLH", "MLV", "MB")),
     ("Head", ("HH", "HV")),
 )
+
+
+class LiveSource(Protocol):
+    """A stream of motor values the studio can show (:class:`stream.receiver.StreamReceiver`'s)."""
+
+    name: str
+
+    def values(self) -> np.ndarray:
+        """The motors to show now, ``(21,)``."""
+
+    def quality(self) -> dict:
+        """The stream's counters for the page's readout."""
 
 
 @dataclass(frozen=True)
@@ -68,6 +81,7 @@ class StudioSession:
             self.editor.open(animation)
         self.showing = "test"  # what the face shows: "test" (the Animator) or "animation" (at the cursor)
         self.sound: Sound | None = None  # under the staves, played with the animation, muxed into renders
+        self.live: LiveSource | None = None  # a stream shown as it comes (toonface studio --receive)
 
     def _load(self, face: str) -> None:
         self.face = load_face(face)
@@ -87,18 +101,32 @@ class StudioSession:
 
     @property
     def values(self) -> np.ndarray:
-        """The motors the face shows now, ``(21,)``: the Animator's, or the animation's at the cursor."""
+        """The motors the face shows now, ``(21,)``: the Animator's, the animation's at the cursor,
+        or the live stream's."""
+        if self.showing == "live" and self.live is not None:
+            return self.live.values()
         return self.editor.values() if self.showing == "animation" else self.animator.values()
+
+    def show_live(self, on: bool) -> None:
+        """The face shows the live stream (with ``on``), or goes back to test mode from where it was."""
+        if on:
+            if self.live is None:
+                raise ValueError("no stream to show: start the studio with --receive HOST:PORT")
+            self.editor.pause()
+            self.showing = "live"
+        elif self.showing == "live":
+            self.animator.set_values(self.values)
+            self.showing = "test"
 
     def show_animation(self) -> None:
         """The face shows the animation at the cursor (after an edit, a move of the cursor, play)."""
         self.showing = "animation"
 
     def _test_mode(self) -> None:
-        """The face back in test mode, from where the animation left it."""
-        if self.showing == "animation":
+        """The face back in test mode, from where the animation or the stream left it."""
+        if self.showing != "test":
             self.editor.pause()
-            self.animator.set_values(self.editor.values())
+            self.animator.set_values(self.values)
             self.showing = "test"
 
     def set_motor(self, code: str, value: float) -> None:
@@ -164,8 +192,8 @@ class StudioSession:
         return self.busy()
 
     def busy(self) -> bool:
-        """Whether the Animator has moves left or the animation is playing."""
-        return self.animator.busy() or self.editor.playing
+        """Whether the Animator has moves left, the animation is playing or a stream is shown."""
+        return self.animator.busy() or self.editor.playing or self.showing == "live"
 
     def frame(self, size: tuple[int, int] = (512, 512)) -> dict:
         """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
@@ -188,7 +216,8 @@ class StudioSession:
                            for title, codes in GROUPS],
                 "expressions": [n for n in motion_names(self.expressions) if n not in GESTURES],
                 "motions": list(GESTURES),
-                "face": self.face_name, "viewbox": list(self.face.viewbox)}
+                "face": self.face_name, "viewbox": list(self.face.viewbox),
+                "live": None if self.live is None else self.live.name}
 
     def _angles(self, values: np.ndarray) -> tuple[float, float]:
         (ylo, yhi), (plo, phi) = self.face.ranges["HH"], self.face.ranges["HV"]

@@ -36,6 +36,7 @@
     else if (studio.handlers[message.type]) studio.handlers[message.type](message);
       else if (message.type === "error") say(`error: ${message.message}`, true);
     else if (message.type === "said") say(message.message, false);
+    else if (message.type === "quality") quality(message);
     };
     socket.onclose = () => {
       $("status").textContent = "disconnected: reconnecting…";
@@ -43,7 +44,16 @@
     };
   }
 
+  function quality(q) {
+    const latency = q.latency_ms === null ? "–" : `${q.latency_ms} ms`;
+    $("quality").textContent = `latency ${latency} · loss ${q.loss_pct} % · concealed ${q.concealed_pct} % · `
+      + `${q.packets} packets` + (q.diagnosis ? ` · ${q.diagnosis}` : "");
+    studio.quality = q;
+  }
+
   function describe(hello) {
+    $("live").hidden = !hello.live;
+    $("live-name").textContent = hello.live || "";
     const faces = $("face");
     faces.replaceChildren(...hello.faces.map((name) => new Option(name, name, false, name === hello.face)));
     $("expressions").replaceChildren(...hello.expressions.map((name) => button(name, "play")));
@@ -117,6 +127,7 @@
       const shown = $(`value-${code}`);
       if (shown) shown.textContent = value.toFixed(2);
     }
+    if (document.activeElement !== $("show-live")) $("show-live").checked = frame.showing === "live";
     studio.last = frame;
     studio.frames += 1;
     countFrame();
@@ -168,6 +179,7 @@
     send({op: "look", x, y});
   }
 
+  $("show-live").addEventListener("change", (event) => send({op: "live", on: event.target.checked}));
   $("face").addEventListener("change", (event) => send({op: "face", name: event.target.value}));
   $("reset").addEventListener("click", () => send({op: "reset"}));
   $("follow").addEventListener("change", (event) => send({op: "follow", on: event.target.checked}));
