@@ -44,6 +44,7 @@ class LiveSettings:
     seconds: float | None = None
     sinks: list[FrameSink] = field(default_factory=list)
     source: Callable[[float], np.ndarray] | None = None  # values at a loop time; replaces commands and track
+    shown: list[Callable[[float, np.ndarray], None]] = field(default_factory=list)  # told (t, values) each loop
 
 
 @dataclass
@@ -106,6 +107,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 if track_values is not None:
                     values = track_values(t)
                     animator.set_values(values)
+                for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
+                    tell(t, values)
                 picture = renderer.render(rig.geometry(values))
                 for sink in sinks:
                     sink.write(picture)

@@ -52,9 +52,11 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--camera", default=None, metavar="N|VIDEO",
               help="The same as --source camera:N: a camera (or a video played as one) drives the face.")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@click.option("--stream-to", default=None, metavar="HOST:PORT",
+              help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
-         seconds: float | None) -> None:
+         seconds: float | None, stream_to: str | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -81,6 +83,9 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     outputs = Outputs()
     if output is not None:
         settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims))
+    if stream_to is not None:
+        host, port = _required_address(stream_to, "--stream-to", 7710)
+        settings.shown.append(outputs.motor(f"udp://{host}:{port}", rate=1 / loop_time).write)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     follower = None
     if camera is not None:

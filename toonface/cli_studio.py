@@ -22,9 +22,10 @@ from toonface.cli_player import _required_address
 def studio(animation: str | None, face: str, listen: str, receive: str | None, conceal: str) -> None:
     """The studio: a local web page showing FACE, with a slider per motor, control points to
     drag, expressions and standard motions to play, and head and eyes that can follow the
-    pointer (CharToon's test mode); below it, ANIMATION (a .toml knot file; a new one
-    without) on staves to edit, play, save, sample into a motor track or render to MP4
-    (CharToon's Animation Editor).
+    pointer (CharToon's test mode); beside it, ANIMATION on staves to edit, play with a sound
+    and its labels, save, sample into a motor track or render to MP4 (CharToon's Animation
+    Editor). ANIMATION is a .toml knot file, a motor track (.csv, .npz) or a take to map, both
+    turned into knots; without it, a new 5 s animation.
 
     With --receive, the page is also the browser viewer of a stream, with its latency, loss
     and concealed frames. Open the printed address in a browser on this machine. The page

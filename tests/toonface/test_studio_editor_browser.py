@@ -28,8 +28,11 @@ def page():
 @pytest.fixture
 def blank(page):
     driver, session = page
-    driver.find_element("id", "new").click()
-    wait_for(driver, "Object.keys(window.editor.state.knots).length === 0 && window.editor.state.undo === 0")
+    driver.find_element("id", "duration").clear()
+    driver.find_element("id", "duration").send_keys("5")
+    driver.find_element("id", "new").click()  # a new animation as long as the field says
+    wait_for(driver, "Object.keys(window.editor.state.knots).length === 0 && window.editor.state.undo === 0"
+                     " && window.editor.state.duration === 5")
     driver.execute_script("document.querySelectorAll('#staves input.choose:checked').forEach(b => b.click());"
                           "window.editor.selection = null")
     return driver, session
@@ -221,3 +224,23 @@ def test_a_sound_and_its_labels_play_under_the_staves_and_go_into_the_mp4(blank,
     with av.open(str(movie)) as container:
         audio = container.streams.audio[0]
         assert float(audio.duration * audio.time_base) == pytest.approx(2.0, abs=0.1)
+
+
+def test_scrubbing_the_ruler_moves_the_face_and_hidden_staves_come_back(blank):
+    driver, session = blank
+    for t, v in ((0.0, 0.1), (4.0, 0.9)):
+        driver.execute_script("window.studio.send(arguments[0])", {"op": "knot", "action": "add", "code": "MB",
+                                                                   "t": t, "v": v})
+    wait_for(driver, "window.editor.state.undo === 2")
+    ruler = driver.find_element("id", "ruler")
+    zoom = driver.execute_script("return window.editor.zoom")
+    left = -ruler.size["width"] / 2
+    ActionChains(driver).move_to_element_with_offset(ruler, left + 0.5 * zoom, 0).click_and_hold() \
+        .move_by_offset(zoom, 0).move_by_offset(zoom, 0).release().perform()  # from 0.5 s to 2.5 s
+    wait_for(driver, "Math.abs(window.editor.state.cursor - 2.5) < 0.02")
+    assert session.showing == "animation"
+    assert session.values[motor_index("MB")] == pytest.approx(0.1 + 0.8 * session.editor.cursor / 4.0)
+    driver.find_element("css selector", '.staff[data-code="BRL"] button').click()
+    assert not driver.find_element("css selector", '.staff[data-code="BRL"]').is_displayed()
+    driver.find_element("id", "show-all").click()
+    assert driver.find_element("css selector", '.staff[data-code="BRL"]').is_displayed()

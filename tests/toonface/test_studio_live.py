@@ -47,3 +47,20 @@ def test_a_stream_drives_the_face_and_its_quality_shows():
         wait_for(driver, "window.studio.last.showing === 'test'")
         shown = driver.execute_script("return window.studio.last.values")
         assert session.values[motor_index("MB")] == pytest.approx(shown["MB"], abs=1e-6)
+
+
+def test_play_streams_what_it_shows_to_a_studio(tmp_path):
+    """`play --stream-to`: a live session the studio (or `receive`) can view."""
+    from toon import MotorTrack, save_track, standard_neutral
+    from toonface.cli import main
+
+    values = np.tile(standard_neutral(), (25, 1))
+    values[:, motor_index("MB")] = np.linspace(0.1, 0.9, 25)
+    track = save_track(MotorTrack(values, 25.0), tmp_path / "open.csv")
+    with ReceivedStream(("127.0.0.1", 0), standard_neutral()) as stream:
+        host, port = stream.receiver.address
+        assert main(["play", "--listen", "off", "--size", "64", "--loop-ms", "40", "--motors", str(track), "--once",
+                     "--stream-to", f"{host}:{port}"]) == 0
+        assert stream.receiver.wait_for_packets(12, timeout=10)  # 25 loops, two frames a packet
+        assert stream.receiver.reader.lost == 0 and stream.receiver.diagnosis() is None
+    assert main(["play", "--listen", "off", "--motors", str(track), "--stream-to", "nowhere"]) == 2

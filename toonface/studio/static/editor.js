@@ -230,6 +230,7 @@
     const [x] = local(event, el("ruler"));
     const t = tOf(x);
     editor.rulerFrom = t;
+    editor.selecting = event.shiftKey;  // shift: choose a time slice; else the cursor follows (scrubbing)
     el("ruler").setPointerCapture(event.pointerId);
     if (!event.shiftKey) {
       editor.selection = null;
@@ -241,7 +242,9 @@
     if (editor.rulerFrom === undefined || editor.rulerFrom === null) return;
     const [x] = local(event, el("ruler"));
     const t = tOf(x);
-    if (Math.abs(t - editor.rulerFrom) * editor.zoom > 3) {
+    if (!editor.selecting) {
+      studio.send({op: "cursor", t});
+    } else if (Math.abs(t - editor.rulerFrom) * editor.zoom > 3) {
       editor.selection = [Math.min(t, editor.rulerFrom), Math.max(t, editor.rulerFrom)];
       render();
     }
@@ -277,6 +280,10 @@
   });
   el("pause").addEventListener("click", () => studio.send({op: "playback", action: "pause"}));
   el("zoom-in").addEventListener("click", () => { editor.zoom = Math.min(2000, editor.zoom * 1.5); render(); });
+  el("show-all").addEventListener("click", () => {
+    editor.hidden.clear();
+    document.querySelectorAll("#staves .staff.hidden").forEach((row) => row.classList.remove("hidden"));
+  });
   el("zoom-out").addEventListener("click", () => { editor.zoom = Math.max(10, editor.zoom / 1.5); render(); });
   el("cut").addEventListener("click", () => { sliceOp("cut"); editor.selection = null; });
   el("copy").addEventListener("click", () => sliceOp("copy"));
