@@ -3,7 +3,9 @@
 One :class:`~toonface.studio.session.StudioSession` per server: every page connected to it
 shows the same face, so a reload or a second window picks up where the first was. Each page's
 messages are applied to the session, and every page is sent the new frame; while the Animator
-has moves to run, a loop ticks it every loop time and sends each frame.
+has moves to run, the animation plays or a stream is shown, a loop ticks the session every loop
+time and sends each frame (and a stream's quality once a second). Rendering an MP4 runs in a
+worker thread, so the pages go on being served meanwhile.
 
 It binds loopback unless told otherwise, and answers only requests addressed to the address it
 listens on (a page elsewhere cannot reach it through DNS rebinding; listening on every
@@ -16,7 +18,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import logging
 from collections.abc import Awaitable, Callable
 from dataclasses import replace
 from importlib import resources
@@ -30,8 +31,6 @@ from toon.animation import Animation
 from toonface.studio.editor import NEW_SECONDS, AnimationEditor
 from toonface.studio.session import StudioSession
 from toonface.studio.sound import load_labels, load_sound
-
-log = logging.getLogger("toonface")
 
 SESSION = web.AppKey("session", StudioSession)
 SOCKETS = web.AppKey("sockets", set[web.WebSocketResponse])

@@ -60,7 +60,8 @@ class Handle:
 
 
 class StudioSession:
-    """One face in test mode.
+    """One face, shown in test mode, at the animation's cursor or as a stream brings it
+    (:attr:`showing`: ``"test"``, ``"animation"`` or ``"live"``).
 
     Parameters
     ----------
@@ -68,6 +69,8 @@ class StudioSession:
         A built-in face's name or a face file.
     loop_time : float
         The Animator's loop, seconds (the page's frame rate while something moves).
+    animation : str, optional
+        A file for the Animation Editor to open (see :meth:`AnimationEditor.open`).
     """
 
     def __init__(self, face: str = "classic", loop_time: float = 1 / 30, animation: str | None = None) -> None:
