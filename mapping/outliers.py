@@ -11,8 +11,6 @@ only look back.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from mapping.filters import Stepwise
@@ -238,9 +236,7 @@ def _centred_peaks(x: np.ndarray, times: np.ndarray, threshold: float, floor: fl
         b, a = before[f, m], after[f, m]
         w = ((times[f] - times[b]) / (times[a] - times[b]))[:, None]
         miss[f, m] = _length(x[f, m] - (x[b, m] * (1 - w) + x[a, m] * w))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a marker never tested: its scale is NaN
-        scale = 1.4826 * np.nanmedian(np.where(ok, miss, np.nan), axis=0)
+    scale = 1.4826 * column_nan_median(np.where(ok, miss, np.nan))  # NaN for a marker never tested
     peak = ok & (miss > threshold * np.nan_to_num(scale) + floor)
     peak[1:] &= miss[1:] >= miss[:-1]
     peak[:-1] &= miss[:-1] >= miss[1:]
@@ -261,6 +257,18 @@ def _length(a: np.ndarray) -> np.ndarray:
     for d in range(1, a.shape[-1]):
         total += a[..., d] * a[..., d]
     return np.sqrt(total)
+
+
+def column_nan_median(values: np.ndarray) -> np.ndarray:
+    """``np.nanmedian(values, axis=0)`` of ``(F, M)``, ``(M,)``, without a warning for a column
+    that is all NaN (its median is NaN): one sort of the columns, where numpy takes them one by one."""
+    ordered = np.sort(np.ascontiguousarray(values.T), axis=1)  # NaN sort last
+    count = np.isfinite(ordered).sum(axis=1)
+    rows = np.arange(len(ordered))
+    low = ordered[rows, np.maximum(count - 1, 0) // 2]
+    high = ordered[rows, np.maximum(count, 1) // 2 - (count == 0)]
+    with np.errstate(invalid="ignore"):
+        return np.where(count > 0, (low + high) / 2, np.nan)
 
 
 def nan_median(parts: list[np.ndarray], complete: bool = False) -> np.ndarray:

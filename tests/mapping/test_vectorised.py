@@ -177,3 +177,17 @@ def test_refitting_only_the_frames_that_lost_a_reference_equals_fitting_again():
     quick = express(cut, rows, again)
     np.testing.assert_allclose(quick.rotation, whole.rotation, atol=1e-10)
     np.testing.assert_allclose(quick.local, whole.local, atol=1e-8, equal_nan=True)
+
+
+@pytest.mark.parametrize("frames", [1, 2, 3, 10, 500])
+def test_column_nan_median_is_numpys(frames):
+    from mapping.outliers import column_nan_median
+
+    rng = np.random.default_rng(frames)
+    values = rng.normal(size=(frames, 8))
+    values[rng.random(values.shape) < 0.3] = np.nan
+    values[:, 5] = np.nan
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        expected = np.nanmedian(values, axis=0)
+    np.testing.assert_array_equal(column_nan_median(values), expected)

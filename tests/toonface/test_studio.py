@@ -76,7 +76,7 @@ def _talk(messages, origin="http://{host}", host=None):
             replies = []
             if page.status == 200:
                 ws = await client.ws_connect("/ws", headers={"Origin": origin.format(host=f"127.0.0.1:{server.port}")})
-                replies += [await ws.receive_json() for _ in range(3)]  # hello, the animation, a frame
+                replies += [await ws.receive_json() for _ in range(4)]  # hello, the animation, the face, a frame
                 for message in messages:
                     await ws.send_str(message if isinstance(message, str) else json.dumps(message))
                     replies.append(await ws.receive_json())
@@ -91,10 +91,11 @@ def test_the_server_serves_its_page_and_applies_messages():
     assert status == 200
     assert replies[0]["type"] == "hello" and len([m for g in replies[0]["groups"] for m in g["motors"]]) == 21
     assert replies[1]["type"] == "animation" and replies[1]["knots"] == {} and replies[1]["duration"] == 5.0
-    assert replies[2]["type"] == "frame" and replies[2]["svg"].startswith("<svg")
-    assert replies[3]["values"]["MB"] == 0.8 and session.values[motor_index("MB")] == 0.8
-    assert [r["type"] for r in replies[4:]] == ["error"] * 4
-    assert "'nope'" in replies[4]["message"] and "jump" in replies[5]["message"] and "'x'" in replies[7]["message"]
+    assert replies[2]["type"] == "face" and replies[2]["doc"]["format"] == "toonface.face/1"
+    assert replies[3]["type"] == "frame" and replies[3]["svg"].startswith("<svg")
+    assert replies[4]["values"]["MB"] == 0.8 and session.values[motor_index("MB")] == 0.8
+    assert [r["type"] for r in replies[5:]] == ["error"] * 4
+    assert "'nope'" in replies[5]["message"] and "jump" in replies[6]["message"] and "'x'" in replies[8]["message"]
 
 
 def test_the_server_refuses_other_hosts_and_other_origins():

@@ -8,7 +8,7 @@ from toon import MOTOR_CODES, load_track, motor_index, standard_neutral
 from toon import animation as an
 from toonface.cli import main
 from toonface.studio.editor import UNDO_LEVELS, AnimationEditor
-from toonface.studio.server import apply
+from toonface.studio.messages import apply
 from toonface.studio.session import StudioSession
 
 

@@ -19,7 +19,6 @@ from __future__ import annotations
 import asyncio
 import json
 from collections.abc import Awaitable, Callable
-from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
@@ -27,10 +26,8 @@ from aiohttp import WSMsgType, web
 
 from common import InputError
 from toon import builtin_faces
-from toon.animation import Animation
-from toonface.studio.editor import NEW_SECONDS, AnimationEditor
+from toonface.studio.messages import apply, reason
 from toonface.studio.session import StudioSession
-from toonface.studio.sound import load_labels, load_sound
 
 SESSION = web.AppKey("session", StudioSession)
 SOCKETS = web.AppKey("sockets", set[web.WebSocketResponse])
@@ -97,6 +94,7 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     try:
         await ws.send_json({"type": "hello", "faces": builtin_faces(), **session.describe()})
         await ws.send_json({"type": "animation", **session.editor.describe()})
+        await ws.send_json({"type": "face", **session.faces.describe()})
         if session.sound is not None:
             await ws.send_json({"type": "sound", **session.sound.describe()})
         await ws.send_json({"type": "frame", **session.frame()})
@@ -110,7 +108,7 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                     continue
                 changed, said = apply(session, parsed, asyncio.get_running_loop().time())
             except (ValueError, KeyError, TypeError, IndexError, InputError) as exc:
-                await ws.send_json({"type": "error", "message": _reason(exc)})
+                await ws.send_json({"type": "error", "message": reason(exc)})
                 continue
             if said:
                 await ws.send_json({"type": "said", "message": said})
@@ -118,6 +116,8 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                 await _broadcast(app, {"type": "hello", "faces": builtin_faces(), **session.describe()})
             if changed in ("described", "animation"):
                 await _broadcast(app, {"type": "animation", **session.editor.describe()})
+            if changed in ("described", "face"):
+                await _broadcast(app, {"type": "face", **session.faces.describe()})
             if changed == "sound" and session.sound is not None:
                 await _broadcast(app, {"type": "sound", **session.sound.describe()})
             await _broadcast(app, {"type": "frame", **session.frame()})
@@ -125,115 +125,6 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     finally:
         app[SOCKETS].discard(ws)
     return ws
-
-
-def apply(session: StudioSession, message: object, now: float) -> tuple[str, str | None]:
-    """Apply one message from a page to ``session``; returns what the pages must be sent again
-    (``"described"``: another face, everything; ``"animation"``: the staves; ``"frame"``) and a
-    line for the page that sent it (what was written), if any.
-
-    Raises
-    ------
-    ValueError, KeyError, TypeError, IndexError, InputError
-        For a message the session cannot take (said back to the page in one line).
-    """
-    if not isinstance(message, dict):
-        raise TypeError("a message is a JSON object")
-    op = message.get("op")
-    if op in EDITOR_OPS:
-        return "animation", _edit(session, op, message, now)
-    if op == "sound":
-        session.sound = load_sound(str(message["path"]))
-        return "sound", f"opened {session.sound.path} ({session.sound.duration:.1f} s of sound)"
-    if op == "labels":
-        if session.sound is None:
-            raise ValueError("open a sound before its labels")
-        labels = load_labels(str(message["path"]))
-        session.sound = replace(session.sound, labels=labels)
-        return "sound", f"opened {message['path']} ({len(labels)} labels)"
-    if op == "motor":
-        session.set_motor(str(message["code"]), float(message["value"]))
-    elif op == "drag":
-        session.drag(str(message["point"]), float(message["x"]), float(message["y"]))
-    elif op == "look":
-        session.look(float(message["x"]), float(message["y"]))
-    elif op == "follow":
-        session.follow = bool(message["on"])
-    elif op == "play":
-        session.play(str(message["name"]), now)
-    elif op == "reset":
-        session.reset()
-    elif op == "face":
-        session.set_face(str(message["name"]))
-        return "described", None
-    elif op == "live":
-        session.show_live(bool(message["on"]))
-    else:
-        raise ValueError(f"unknown op {op!r}")
-    return "frame", None
-
-
-#: Messages for the Animation Editor (:func:`_edit`).
-EDITOR_OPS = ("knot", "slice", "paste", "undo", "redo", "cursor", "playback", "duration", "new", "open", "save",
-              "sample")
-
-
-def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | None:
-    """One Animation Editor message; the face then shows the animation at the cursor. Returns
-    what was written, for a save or a movie script."""
-    editor = session.editor
-    said = None
-    if op == "knot":
-        action, code = message["action"], str(message["code"])
-        if action == "add":
-            editor.add_knot(code, float(message["t"]), float(message["v"]))
-        elif action == "move":
-            editor.move_knot(code, int(message["index"]), float(message["t"]), float(message["v"]))
-        elif action == "delete":
-            editor.delete_knot(code, int(message["index"]))
-        else:
-            raise ValueError(f"unknown knot action {action!r}")
-    elif op == "slice":
-        action, codes = message["action"], list(message.get("codes") or [])
-        span = (float(message["start"]), float(message["end"]))
-        if action in ("cut", "copy", "flip"):
-            getattr(editor, action)(codes, *span)
-        elif action in ("scale_time", "scale_value"):
-            getattr(editor, action)(codes, *span, float(message["factor"]))
-        else:
-            raise ValueError(f"unknown slice action {action!r}")
-    elif op == "paste":
-        editor.paste(float(message["at"]), message.get("onto") or None)
-    elif op in ("undo", "redo"):
-        getattr(editor, op)()
-    elif op == "cursor":
-        editor.pause()
-        editor.set_cursor(float(message["t"]))
-    elif op == "playback":
-        if message["action"] == "play":
-            start, end = message.get("start"), message.get("end")
-            editor.play(now, None if start is None else float(start), None if end is None else float(end),
-                        bool(message.get("loop")))
-        else:
-            editor.pause()
-    elif op == "duration":
-        editor.set_duration(float(message["seconds"]))
-    elif op == "new":
-        seconds = float(message.get("seconds", NEW_SECONDS))
-        if not 0 < seconds <= 86400:
-            raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
-        session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
-    elif op == "open":
-        said = editor.open(str(message["path"]))
-    elif op == "save":
-        said = f"wrote {editor.save(message.get('path') or None)}"
-    elif op == "sample":
-        rate = float(message.get("rate", 30.0))
-        if not 1 <= rate <= 1000:
-            raise ValueError(f"a movie script's rate is 1..1000 frames/s, got {rate:g}")
-        said = f"wrote {message['path']} ({editor.sample(str(message['path']), rate)} frames at {rate:g} Hz)"
-    session.show_animation()
-    return said
 
 
 async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict) -> None:
@@ -268,12 +159,6 @@ async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict
     except InputError as exc:
         raise InputError(exc.message, path) from None
     await ws.send_json({"type": "rendered", "path": str(path), "frames": written})
-
-
-def _reason(exc: Exception) -> str:
-    if isinstance(exc, KeyError):
-        return f"unknown or missing {exc.args[0]!r}"
-    return str(exc)
 
 
 async def _broadcast(app: web.Application, message: dict) -> None:

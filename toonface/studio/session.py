@@ -20,13 +20,14 @@ import numpy as np
 
 from player.animator import Animator
 from player.motions import GESTURES, motion_names, standard_motion
-from toon import MOTOR_CODES, FaceRig, load_face
+from toon import MOTOR_CODES, Face, FaceRig, load_face
 from toon.expressions import Expression, load_expressions
 from toon.face import ANGLE_MOTORS
 from toon.formulas import head_turn
 from toon.motors import MOTORS, motor_index
 from toon.svg import geometry_svg
 from toonface.studio.editor import AnimationEditor
+from toonface.studio.faces import FaceEditor
 from toonface.studio.sound import Sound
 
 #: The sliders' groups, in the page's order: (title, motor codes).
@@ -78,6 +79,7 @@ class StudioSession:
         self.loop_time = loop_time
         self.face_name = face
         self._load(face)
+        self.faces = FaceEditor(self.face)  # the face being designed (ToonFace's Editor)
         self.follow = False  # head and gaze follow the pointer
         self.editor = AnimationEditor(self.neutral)
         if animation is not None:
@@ -86,19 +88,22 @@ class StudioSession:
         self.sound: Sound | None = None  # under the staves, played with the animation, muxed into renders
         self.live: LiveSource | None = None  # a stream shown as it comes (toonface studio --receive)
 
-    def _load(self, face: str) -> None:
-        self.face = load_face(face)
+    def _load(self, face: str | Face) -> None:
+        self.face = load_face(face) if isinstance(face, str) else face
         self.rig = FaceRig(self.face)
         self.neutral = self.face.neutral()
         self.animator = Animator(self.neutral, self.loop_time)
         self.handles = tuple(Handle(p, tuple((m.code, m.axis) for m in MOTORS if m.point == p))
                              for p in self.face.points if any(m.point == p for m in MOTORS))
 
-    def set_face(self, face: str) -> None:
-        """Show another face with the same motor values."""
+    def set_face(self, face: str | Face) -> None:
+        """Show another face (a name or file, which the face editor starts from, or the face
+        editor's latest) with the same motor values."""
         values = self.animator.values()
         self._load(face)
-        self.face_name = face
+        if isinstance(face, str):
+            self.face_name = face
+            self.faces = FaceEditor(self.face)
         self.animator.set_values(values)
         self.editor.neutral = self.neutral
 

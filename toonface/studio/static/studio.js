@@ -34,7 +34,10 @@
       else if (message.type === "frame") draw(message);
       else if (message.type === "animation" && studio.onAnimation) studio.onAnimation(message);
     else if (studio.handlers[message.type]) studio.handlers[message.type](message);
-      else if (message.type === "error") say(`error: ${message.message}`, true);
+      else if (message.type === "error") {
+      say(`error: ${message.message}`, true);
+      if (studio.onError) studio.onError(message.message);
+    }
     else if (message.type === "said") say(message.message, false);
     else if (message.type === "quality") quality(message);
     };

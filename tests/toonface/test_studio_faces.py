@@ -1,0 +1,85 @@
+"""The studio's face editor without a browser: validated edits at the rest pose, undo, save."""
+
+import numpy as np
+import pytest
+
+from common import InputError
+from toon import FaceRig, load_face, motor_index
+from toonface.studio.faces import FaceEditor
+from toonface.studio.messages import apply
+from toonface.studio.session import StudioSession
+
+
+def _index(face, name):
+    return next(i for i, p in enumerate(face.polygons) if p.name == name)
+
+
+def test_edits_change_the_face_and_save_loads_back_equal(tmp_path):
+    editor = FaceEditor(load_face("classic"))
+    nose = _index(editor.face, "nose")
+    before = np.array(editor.face.polygons[nose].vertices)
+    editor.move_vertex(nose, 0, before[0, 0] - 5.0, before[0, 1] + 3.0)
+    editor.move_polygon(nose, 2.0, 0.0)
+    editor.scale_polygon(nose, 1.5)
+    after = np.array(editor.face.polygons[nose].vertices)
+    moved = before.copy()
+    moved[0] += [-5.0, 3.0]
+    moved += [2.0, 0.0]
+    centre = moved.mean(axis=0)
+    np.testing.assert_allclose(after, centre + (moved - centre) * 1.5)  # the three edits, by hand
+    editor.flip_polygon(nose, "x")
+    np.testing.assert_allclose(np.array(editor.face.polygons[nose].vertices)[:, 0],
+                               2 * centre[0] - after[:, 0])
+    count = len(editor.face.polygons)
+    editor.duplicate_polygon(nose, 30.0, 0.0)
+    assert len(editor.face.polygons) == count + 1 and editor.face.polygons[nose + 1].name == "nose 2"
+    editor.set_style(nose + 1, color="#2050d0", stroke="#000000", width=2.0)
+    assert editor.face.polygons[nose + 1].color[:3] == pytest.approx((0x20 / 255, 0x50 / 255, 0xd0 / 255))
+    editor.set_range("MB", "max", editor.face.ranges["MB"][1] - 10.0)
+    editor.rename("my face")
+    path = editor.save(tmp_path / "mine.json")
+    assert load_face(path) == editor.face  # save -> load: an equal face
+
+
+def test_an_invalid_edit_is_refused_with_the_validators_message_and_nothing_is_lost():
+    editor = FaceEditor(load_face("classic"))
+    face = editor.face
+    lo, hi = face.ranges["MLV"]
+    with pytest.raises(InputError, match=r"motors\.MLV.*runs the wrong way"):
+        editor.set_range("MLV", "max", lo - 1.0)
+    with pytest.raises(InputError, match=r"motors\.MB.*outside its range"):
+        editor.move_point("MB", face.points["MB"][0], max(face.ranges["MB"]) + 50)
+    with pytest.raises(InputError, match="at most one polygon"):
+        editor.set_style(_index(face, "nose"), kind="face")
+    with pytest.raises(IndexError):
+        editor.delete_vertex(999, 0)
+    assert editor.face == face and editor.describe()["undo"] == 0
+
+
+def test_undo_and_redo_walk_the_edits():
+    editor = FaceEditor(load_face("wizard"))
+    faces = [editor.face]
+    for _ in range(5):
+        editor.move_polygon(0, 1.0, -1.0)
+        faces.append(editor.face)
+    for face in reversed(faces[:-1]):
+        assert editor.undo() and editor.face == face
+    assert not editor.undo()
+    assert editor.redo() and editor.face == faces[1]
+
+
+def test_the_studio_shows_the_edited_face_moving_and_extremes_follow_the_range():
+    session = StudioSession("classic")
+    session.set_motor("MB", 1.0)  # the mouth wide open while the face is edited
+    lo, hi = session.face.ranges["MB"]
+    said = apply(session, {"op": "faceedit", "action": "set_range", "code": "MB", "end": "max", "value": hi + 12.0},
+                 0.0)
+    assert said == ("face", None)
+    assert session.face.ranges["MB"] == (lo, hi + 12.0) and session.values[motor_index("MB")] == 1.0
+    point = session.rig.control_points(session.values)[list(session.face.points).index("MB")]
+    assert point[1] == pytest.approx(hi + 12.0)  # at value 1 the mouth's bottom is at the new end
+    np.testing.assert_allclose(FaceRig(session.face).control_points(session.values), session.rig.control_points(
+        session.values))
+    with pytest.raises(InputError):
+        apply(session, {"op": "faceedit", "action": "set_range", "code": "MB", "end": "max", "value": lo}, 0.0)
+    assert session.face.ranges["MB"] == (lo, hi + 12.0)

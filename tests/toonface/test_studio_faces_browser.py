@@ -1,0 +1,107 @@
+"""The face editor in headless Chromium: drags change the saved face as expected, a motor's range
+changes the face at its extreme, an invalid edit is refused and loses nothing, and the edited face
+renders offscreen as the page draws it."""
+
+import io
+
+import numpy as np
+import pytest
+from browser import chromium, studio_server, wait_for
+from PIL import Image
+from selenium.webdriver.common.action_chains import ActionChains
+
+from toon import FaceRig, load_face, motor_index
+from toonface.studio.session import StudioSession
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture
+def page():
+    session = StudioSession("classic")
+    with studio_server(session) as url, chromium(1400, 1000) as driver:
+        driver.get(url)
+        wait_for(driver, "window.faces && window.faces.doc && window.studio.frames > 0")
+        driver.execute_script("document.getElementById('face-panel').open = true;"
+                              "document.getElementById('slider-panel').open = false;"
+                              "document.getElementById('design').click()")
+        wait_for(driver, "!document.getElementById('shape').classList.contains('off')")
+        yield driver, session
+
+
+def _units_per_pixel(driver) -> float:
+    return driver.execute_script("const m = document.getElementById('shape').getScreenCTM(); return 1 / m.a")
+
+
+def test_dragging_a_vertex_and_a_control_point_changes_the_saved_face(page, tmp_path):
+    from selenium.webdriver.support.ui import Select
+
+    driver, session = page
+    nose = next(i for i, p in enumerate(session.face.polygons) if p.name == "nose")
+    Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+    before = np.array(session.face.polygons[nose].vertices)
+    vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
+    ActionChains(driver).click_and_hold(vertex).move_by_offset(10, 0).move_by_offset(10, -10).release().perform()
+    scale = _units_per_pixel(driver)
+    wait_for(driver, f"Math.abs(window.faces.doc.polygons[{nose}].vertices[0][0] - {before[0, 0] + 20 * scale}) < 1")
+    after = np.array(session.face.polygons[nose].vertices)
+    np.testing.assert_allclose(after[0], before[0] + [20 * scale, 10 * scale], atol=1.0)  # y up in face units
+    np.testing.assert_array_equal(after[1:], before[1:])
+    path = tmp_path / "mine.json"
+    driver.find_element("id", "face-path").send_keys(str(path))
+    driver.find_element("id", "face-save").click()
+    wait_for(driver, f"document.getElementById('message').textContent.startsWith('wrote {path}')")
+    assert load_face(path) == session.face
+
+
+def test_a_range_end_changes_the_face_at_that_motors_extreme(page):
+    from player.backends import open_renderer
+
+    driver, session = page
+    lo, hi = session.face.ranges["MB"]
+    end = driver.find_element("css selector", '#shape rect.range-end[data-code="MB"][data-end="max"]')
+    ActionChains(driver).click_and_hold(end).move_by_offset(0, 8).move_by_offset(0, 8).release().perform()
+    scale = _units_per_pixel(driver)
+    wait_for(driver, f"window.faces.doc.motors.MB[1] < {hi - 10 * scale}")
+    assert session.face.ranges["MB"][0] == lo and session.face.ranges["MB"][1] == pytest.approx(hi - 16 * scale, abs=1)
+    wide = session.neutral.copy()
+    wide[motor_index("MB")] = 1.0
+    with open_renderer((256, 256)) as renderer:
+        old = renderer.render(FaceRig(load_face("classic")).geometry(wide)).astype(int)
+        new = renderer.render(FaceRig(session.face).geometry(wide)).astype(int)
+        rest = renderer.render(FaceRig(session.face).geometry(session.face.neutral())).astype(int)
+        classic = load_face("classic")
+        rest_old = renderer.render(FaceRig(classic).geometry(classic.neutral())).astype(int)
+    at_extreme = np.abs(new - old).max(axis=2) > 40
+    at_rest = np.abs(rest - rest_old).max(axis=2) > 40  # each at its own rest (point-attached parts follow the value)
+    assert at_extreme.sum() > 200 and at_rest.sum() < at_extreme.sum() / 4  # the mouth opens further
+
+
+def test_an_invalid_edit_is_refused_and_nothing_is_lost(page):
+    driver, session = page
+    face, undo = session.face, driver.execute_script("return window.faces.last.undo")
+    end = driver.find_element("css selector", '#shape rect.range-end[data-code="MLV"][data-end="max"]')
+    ActionChains(driver).click_and_hold(end).move_by_offset(0, 150).release().perform()  # below its minimum
+    wait_for(driver, "document.getElementById('face-error').textContent.includes('motors.MLV')")
+    assert session.face == face and driver.execute_script("return window.faces.last.undo") == undo
+    corner = driver.find_element("css selector", '#shape circle.rest-point[data-name="ML"]')
+    ActionChains(driver).click_and_hold(corner).move_by_offset(3, 0).release().perform()  # a good edit still goes
+    wait_for(driver, f"window.faces.last.undo === {undo + 1}")
+
+
+def test_the_edited_face_renders_offscreen_as_the_page_draws_it(page):
+    from player.backends import open_renderer
+
+    driver, session = page
+    frames = driver.execute_script("return window.studio.frames")
+    driver.find_element("id", "grow").click()  # the selected polygon, larger
+    wait_for(driver, f"window.faces.last.undo === 1 && window.studio.frames > {frames}")
+    driver.execute_script("document.getElementById('design').click();"
+                          "document.getElementById('show-points').click()")
+    wait_for(driver, "document.getElementById('shape').classList.contains('off')")
+    png = driver.find_element("id", "view").screenshot_as_png
+    shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+    with open_renderer((512, 512)) as renderer:
+        drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
+    difference = np.abs(shown - drawn)
+    assert difference.mean() < 1.5 and np.mean(difference.max(axis=2) > 64) < 0.01

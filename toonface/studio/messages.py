@@ -1,0 +1,176 @@
+"""What the studio's pages say: each message applied to the session (:func:`apply`).
+
+A message is a JSON object with an ``op``: test mode (``motor``, ``drag``, ``look``, ``follow``,
+``play``, ``reset``, ``face``, ``live``), the Animation Editor (:data:`EDITOR_OPS`), the sound
+(``sound``, ``labels``) and the face editor (``faceedit`` with an ``action``). A message the
+session cannot take raises, and the page is told why in one line (:func:`reason`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from toon.animation import Animation
+from toonface.studio.editor import NEW_SECONDS, AnimationEditor
+from toonface.studio.session import StudioSession
+from toonface.studio.sound import load_labels, load_sound
+
+
+def apply(session: StudioSession, message: object, now: float) -> tuple[str, str | None]:
+    """Apply one message from a page to ``session``; returns what the pages must be sent again
+    (``"described"``: another face, everything; ``"animation"``: the staves; ``"frame"``) and a
+    line for the page that sent it (what was written), if any.
+
+    Raises
+    ------
+    ValueError, KeyError, TypeError, IndexError, InputError
+        For a message the session cannot take (said back to the page in one line).
+    """
+    if not isinstance(message, dict):
+        raise TypeError("a message is a JSON object")
+    op = message.get("op")
+    if op in EDITOR_OPS:
+        return "animation", _edit(session, op, message, now)
+    if op == "faceedit":
+        return "face", _edit_face(session, message)
+    if op == "sound":
+        session.sound = load_sound(str(message["path"]))
+        return "sound", f"opened {session.sound.path} ({session.sound.duration:.1f} s of sound)"
+    if op == "labels":
+        if session.sound is None:
+            raise ValueError("open a sound before its labels")
+        labels = load_labels(str(message["path"]))
+        session.sound = replace(session.sound, labels=labels)
+        return "sound", f"opened {message['path']} ({len(labels)} labels)"
+    if op == "motor":
+        session.set_motor(str(message["code"]), float(message["value"]))
+    elif op == "drag":
+        session.drag(str(message["point"]), float(message["x"]), float(message["y"]))
+    elif op == "look":
+        session.look(float(message["x"]), float(message["y"]))
+    elif op == "follow":
+        session.follow = bool(message["on"])
+    elif op == "play":
+        session.play(str(message["name"]), now)
+    elif op == "reset":
+        session.reset()
+    elif op == "face":
+        session.set_face(str(message["name"]))
+        return "described", None
+    elif op == "live":
+        session.show_live(bool(message["on"]))
+    else:
+        raise ValueError(f"unknown op {op!r}")
+    return "frame", None
+
+
+#: Messages for the Animation Editor (:func:`_edit`).
+EDITOR_OPS = ("knot", "slice", "paste", "undo", "redo", "cursor", "playback", "duration", "new", "open", "save",
+              "sample")
+
+
+def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | None:
+    """One Animation Editor message; the face then shows the animation at the cursor. Returns
+    what was written, for a save or a movie script."""
+    editor = session.editor
+    said = None
+    if op == "knot":
+        action, code = message["action"], str(message["code"])
+        if action == "add":
+            editor.add_knot(code, float(message["t"]), float(message["v"]))
+        elif action == "move":
+            editor.move_knot(code, int(message["index"]), float(message["t"]), float(message["v"]))
+        elif action == "delete":
+            editor.delete_knot(code, int(message["index"]))
+        else:
+            raise ValueError(f"unknown knot action {action!r}")
+    elif op == "slice":
+        action, codes = message["action"], list(message.get("codes") or [])
+        span = (float(message["start"]), float(message["end"]))
+        if action in ("cut", "copy", "flip"):
+            getattr(editor, action)(codes, *span)
+        elif action in ("scale_time", "scale_value"):
+            getattr(editor, action)(codes, *span, float(message["factor"]))
+        else:
+            raise ValueError(f"unknown slice action {action!r}")
+    elif op == "paste":
+        editor.paste(float(message["at"]), message.get("onto") or None)
+    elif op in ("undo", "redo"):
+        getattr(editor, op)()
+    elif op == "cursor":
+        editor.pause()
+        editor.set_cursor(float(message["t"]))
+    elif op == "playback":
+        if message["action"] == "play":
+            start, end = message.get("start"), message.get("end")
+            editor.play(now, None if start is None else float(start), None if end is None else float(end),
+                        bool(message.get("loop")))
+        else:
+            editor.pause()
+    elif op == "duration":
+        editor.set_duration(float(message["seconds"]))
+    elif op == "new":
+        seconds = float(message.get("seconds", NEW_SECONDS))
+        if not 0 < seconds <= 86400:
+            raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
+        session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
+    elif op == "open":
+        said = editor.open(str(message["path"]))
+    elif op == "save":
+        said = f"wrote {editor.save(message.get('path') or None)}"
+    elif op == "sample":
+        rate = float(message.get("rate", 30.0))
+        if not 1 <= rate <= 1000:
+            raise ValueError(f"a movie script's rate is 1..1000 frames/s, got {rate:g}")
+        said = f"wrote {message['path']} ({editor.sample(str(message['path']), rate)} frames at {rate:g} Hz)"
+    session.show_animation()
+    return said
+
+
+#: The face editor's actions (:class:`~toonface.studio.faces.FaceEditor`'s methods) and their arguments.
+FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "value"),
+                "move_vertex": ("polygon", "index", "x", "y"), "add_vertex": ("polygon", "after", "x", "y"),
+                "delete_vertex": ("polygon", "index"), "delete_polygon": ("polygon",),
+                "duplicate_polygon": ("polygon", "dx", "dy"), "move_polygon": ("polygon", "dx", "dy"),
+                "scale_polygon": ("polygon", "factor"), "flip_polygon": ("polygon", "axis"),
+                "set_background": ("color",), "rename": ("name",)}
+
+
+def _edit_face(session: StudioSession, message: dict) -> str | None:
+    """One face editor message; the face shown becomes the edited one (its motors kept)."""
+    faces, action = session.faces, message.get("action")
+    said = None
+    if action in FACE_ACTIONS:
+        getattr(faces, action)(*[_argument(key, message[key]) for key in FACE_ACTIONS[action]])
+    elif action == "set_style":
+        faces.set_style(int(message["polygon"]), **dict(message.get("fields") or {}))
+    elif action in ("undo", "redo"):
+        getattr(faces, action)()
+    elif action == "open":
+        faces.open(str(message["name"]))
+        session.face_name = str(message["name"])
+        said = f"editing a copy of {message['name']}"
+    elif action == "save":
+        said = f"wrote {faces.save(str(message['path']))}"
+    else:
+        raise ValueError(f"unknown face action {action!r}")
+    session.set_face(faces.face)
+    return said
+
+
+def _argument(key: str, value: object) -> int | float | str:
+    """A face action's argument as its method takes it: an index, a name or a number."""
+    if key in ("polygon", "index", "after"):
+        return int(value)  # type: ignore[call-overload]
+    if key in ("name", "code", "end", "axis", "color"):
+        return str(value)
+    return float(value)  # type: ignore[arg-type]
+
+
+def reason(exc: Exception) -> str:
+    """A refused message's one line for the page."""
+    if isinstance(exc, KeyError):
+        return f"unknown or missing {exc.args[0]!r}"
+    return str(exc)
+
+
