@@ -198,11 +198,13 @@ def test_a_sound_and_its_labels_play_under_the_staves_and_go_into_the_mp4(blank,
     tone = write_tone(tmp_path / "tone.wav")
     labels = tmp_path / "labels.txt"
     labels.write_text("0.0\t1.0\ttone\n1.0\t2.0\tsilence\n", encoding="utf-8")
+    assert not driver.find_element("id", "sound-row").is_displayed()  # no sound yet: no rows for it
     for box, path, button in (("sound-path", tone, "open-sound"), ("labels-path", labels, "open-labels")):
         driver.find_element("id", box).clear()
         driver.find_element("id", box).send_keys(str(path))
         driver.find_element("id", button).click()
     wait_for(driver, "window.editor.sound && window.editor.sound.labels.length === 2")
+    assert all(driver.find_element("id", row).is_displayed() for row in ("sound-row", "labels-row"))
     assert driver.execute_script("return document.querySelectorAll('#wave polygon').length") == 1
     assert driver.execute_script("return [...document.querySelectorAll('#label-track text')].map(t => t.textContent)"
                                  ) == ["tone", "silence"]
@@ -244,3 +246,4 @@ def test_scrubbing_the_ruler_moves_the_face_and_hidden_staves_come_back(blank):
     assert not driver.find_element("css selector", '.staff[data-code="BRL"]').is_displayed()
     driver.find_element("id", "show-all").click()
     assert driver.find_element("css selector", '.staff[data-code="BRL"]').is_displayed()
+
