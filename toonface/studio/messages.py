@@ -14,6 +14,7 @@ from toon.animation import Animation
 from toonface.studio.editor import NEW_SECONDS, AnimationEditor
 from toonface.studio.session import StudioSession
 from toonface.studio.sound import load_labels, load_sound
+from toonface.studio.tuner import MappingTuner
 
 
 def apply(session: StudioSession, message: object, now: float) -> tuple[str, str | None]:
@@ -33,6 +34,8 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
         return "animation", _edit(session, op, message, now)
     if op == "faceedit":
         return "face", _edit_face(session, message)
+    if op == "tune":
+        return "tune", _tune(session, message, now)
     if op == "sound":
         session.sound = load_sound(str(message["path"]))
         return "sound", f"opened {session.sound.path} ({session.sound.duration:.1f} s of sound)"
@@ -156,6 +159,34 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         raise ValueError(f"unknown face action {action!r}")
     session.set_face(faces.face)
     return said
+
+
+def _tune(session: StudioSession, message: dict, now: float) -> str | None:
+    """One mapping tuner message: open a take, change a rule or a range, pause, save."""
+    action = message.get("action")
+    if action == "open":
+        opened = MappingTuner(str(message["take"]), session.neutral, message.get("mapping") or None)
+        session.tune(opened, now)
+        session.tune_motor = opened.describe()["motors"][0]
+        return f"tuning {opened.ready.mapping.name} on {opened.path} ({opened.duration:.1f} s)"
+    tuner = session.tuner
+    if tuner is None:
+        raise ValueError("open a take to tune first")
+    if action == "motor":
+        session.tune_motor = str(message["code"])
+    elif action == "rule":
+        tuner.set_rule(str(message["code"]), str(message["field"]), message.get("value"))
+    elif action == "range":
+        tuner.set_range(str(message["key"]), float(message["neutral"]), float(message["low"]), float(message["high"]))
+    elif action in ("pause", "play"):
+        session.tune_pause(now, action == "pause")
+    elif action == "save_mapping":
+        return f"wrote {tuner.save_mapping(str(message['path']))}"
+    elif action == "save_profile":
+        return f"wrote {tuner.save_profile(str(message['path']))}"
+    else:
+        raise ValueError(f"unknown tuner action {action!r}")
+    return None
 
 
 def _argument(key: str, value: object) -> int | float | str:

@@ -118,6 +118,9 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                 await _broadcast(app, {"type": "animation", **session.editor.describe()})
             if changed in ("described", "face"):
                 await _broadcast(app, {"type": "face", **session.faces.describe()})
+            if changed == "tune" and session.tuner is not None:
+                await _broadcast(app, {"type": "tune", "showing": session.tune_motor,
+                                       **session.tuner.describe(session.tune_motor)})
             if changed == "sound" and session.sound is not None:
                 await _broadcast(app, {"type": "sound", **session.sound.describe()})
             await _broadcast(app, {"type": "frame", **session.frame()})
@@ -162,11 +165,17 @@ async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict
 
 
 async def _broadcast(app: web.Application, message: dict) -> None:
+    """``message`` to every open page; a page closing meanwhile is dropped, not an error (the
+    ticker that sends frames must outlive any page)."""
     text = json.dumps(message)
     sockets: set[web.WebSocketResponse] = app[SOCKETS]
     for ws in list(sockets):
-        if not ws.closed:
+        if ws.closed:
+            continue
+        try:
             await ws.send_str(text)
+        except ConnectionResetError:  # aiohttp's "cannot write to closing transport" is one
+            sockets.discard(ws)
 
 
 async def _start_ticker(app: web.Application) -> None:

@@ -29,6 +29,7 @@ from toon.svg import geometry_svg
 from toonface.studio.editor import AnimationEditor
 from toonface.studio.faces import FaceEditor
 from toonface.studio.sound import Sound
+from toonface.studio.tuner import MappingTuner
 
 #: The sliders' groups, in the page's order: (title, motor codes).
 GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -87,6 +88,10 @@ class StudioSession:
         self.showing = "test"  # what the face shows: "test" (the Animator) or "animation" (at the cursor)
         self.sound: Sound | None = None  # under the staves, played with the animation, muxed into renders
         self.live: LiveSource | None = None  # a stream shown as it comes (toonface studio --receive)
+        self.tuner: MappingTuner | None = None  # a take mapped again at each tuning of its mapping
+        self.tune_clock: tuple[float, float] | None = None  # (server time at take time 0, take time when paused)
+        self._now = 0.0  # the server's clock at the last tick
+        self.tune_motor = ""  # the motor whose curve the tuner shows
 
     def _load(self, face: str | Face) -> None:
         self.face = load_face(face) if isinstance(face, str) else face
@@ -106,6 +111,8 @@ class StudioSession:
             self.faces = FaceEditor(self.face)
         self.animator.set_values(values)
         self.editor.neutral = self.neutral
+        if self.tuner is not None:
+            self.tuner.retarget(self.neutral)
 
     @property
     def values(self) -> np.ndarray:
@@ -113,6 +120,8 @@ class StudioSession:
         or the live stream's."""
         if self.showing == "live" and self.live is not None:
             return self.live.values()
+        if self.showing == "tune" and self.tuner is not None:
+            return self.tuner.values_at(self.tune_time)
         return self.editor.values() if self.showing == "animation" else self.animator.values()
 
     def show_live(self, on: bool) -> None:
@@ -197,11 +206,40 @@ class StudioSession:
         """One Animator loop and the animation's playback at ``now``; whether anything still moves."""
         self.animator.tick(now)
         self.editor.advance(now)
+        self._now = now
         return self.busy()
 
     def busy(self) -> bool:
-        """Whether the Animator has moves left, the animation is playing or a stream is shown."""
-        return self.animator.busy() or self.editor.playing or self.showing == "live"
+        """Whether the Animator has moves left, the animation is playing, a stream is shown or a
+        tuned take plays."""
+        tuning = self.showing == "tune" and self.tune_clock is not None and self.tune_clock[1] < 0
+        return self.animator.busy() or self.editor.playing or self.showing == "live" or tuning
+
+    def tune(self, tuner: MappingTuner, now: float) -> None:
+        """Show ``tuner``'s take, mapped, playing in a loop from ``now``."""
+        self.tuner = tuner
+        self.editor.pause()
+        self.showing = "tune"
+        self.tune_clock = (now, -1.0)
+        self._now = now
+
+    def tune_pause(self, now: float, paused: bool) -> None:
+        """Pause the tuned take where it is, or play it on from there."""
+        if self.tune_clock is None:
+            return
+        self._now = now
+        if paused and self.tune_clock[1] < 0:
+            self.tune_clock = (self.tune_clock[0], self.tune_time)
+        elif not paused and self.tune_clock[1] >= 0:
+            self.tune_clock = (now - self.tune_clock[1], -1.0)
+
+    @property
+    def tune_time(self) -> float:
+        """Where in the tuned take the face is, seconds."""
+        if self.tuner is None or self.tune_clock is None:
+            return 0.0
+        start, paused_at = self.tune_clock
+        return paused_at if paused_at >= 0 else (self._now - start) % self.tuner.duration
 
     def frame(self, size: tuple[int, int] = (512, 512)) -> dict:
         """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
@@ -212,7 +250,7 @@ class StudioSession:
         at = np.array([points[names.index(h.point)] for h in self.handles])
         turned = self._turned(at, values)
         return {"svg": geometry_svg(self.rig.geometry(values), size), "showing": self.showing,
-                "cursor": self.editor.cursor, "playing": self.editor.playing,
+                "cursor": self.editor.cursor, "playing": self.editor.playing, "tune_time": self.tune_time,
                 "values": {code: round(float(v), 6) for code, v in zip(MOTOR_CODES, values, strict=True)},
                 "points": {h.point: [round(float(x), 4), round(float(-y), 4)]
                            for h, (x, y) in zip(self.handles, turned, strict=True)}}

@@ -1,0 +1,58 @@
+"""The studio's mapping tuner without a browser: edits re-map the take, and what it saves maps
+the take exactly as `toonface map` does with those files."""
+
+import numpy as np
+import pytest
+
+from capture import save_take, synthesize
+from common import InputError
+from toon import load_track, motor_index
+from toonface.cli import main
+from toonface.studio.messages import apply
+from toonface.studio.session import StudioSession
+
+
+@pytest.fixture
+def take(tmp_path):
+    return save_take(synthesize(seconds=4.0, rate=60.0).take, tmp_path / "take.npz")
+
+
+def test_tuning_remaps_and_the_saved_files_map_as_the_command_does(take, tmp_path):
+    session = StudioSession("classic")
+    said = apply(session, {"op": "tune", "action": "open", "take": str(take)}, 0.0)[1]
+    assert said.startswith("tuning toon32") and session.showing == "tune"
+    tuner = session.tuner
+    before = tuner.track.values[:, motor_index("MB")].copy()
+    apply(session, {"op": "tune", "action": "rule", "code": "MB", "field": "gain", "value": 1.6}, 0.0)
+    after = tuner.track.values[:, motor_index("MB")]
+    rest = session.neutral[motor_index("MB")]
+    assert np.abs(after - rest).max() > np.abs(before - rest).max()  # exaggerated
+    key = tuner.describe()["sources"]["BRC"][0]
+    neutral, low, high = tuner.ready.profile.sources[key].neutral, tuner.ready.profile.sources[key].low, \
+        tuner.ready.profile.sources[key].high
+    apply(session, {"op": "tune", "action": "range", "key": key, "neutral": neutral, "low": low,
+                    "high": neutral + (high - neutral) / 2}, 0.0)  # half the range: the brow moves twice as far
+    mapping, profile = tmp_path / "tuned.toml", tmp_path / "me.toml"
+    for action, path in (("save_mapping", mapping), ("save_profile", profile)):
+        assert apply(session, {"op": "tune", "action": action, "path": str(path)}, 0.0)[1] == f"wrote {path}"
+    out = tmp_path / "motors.csv"
+    assert main(["map", str(take), "-o", str(out), "--mapping", str(mapping), "--profile", str(profile),
+                 "--face", "classic"]) == 0
+    np.testing.assert_allclose(load_track(out).values, tuner.track.values, atol=1e-6)  # the CSV keeps 6 decimals
+
+
+def test_a_bad_tuning_is_refused_and_the_take_keeps_playing(take):
+    session = StudioSession("classic")
+    apply(session, {"op": "tune", "action": "open", "take": str(take)}, 10.0)
+    tuner = session.tuner
+    track = tuner.track
+    with pytest.raises(InputError, match=r"motor\.MB\.clamp"):
+        apply(session, {"op": "tune", "action": "rule", "code": "MB", "field": "clamp", "value": "wobbly"}, 10.0)
+    with pytest.raises(ValueError, match="low <= neutral <= high"):
+        apply(session, {"op": "tune", "action": "range", "key": "CHIN.y", "neutral": 0, "low": 1, "high": 2}, 10.0)
+    assert tuner.track is track
+    session.tick(11.5)
+    assert session.values == pytest.approx(tuner.values_at(1.5))
+    apply(session, {"op": "tune", "action": "pause"}, 11.5)
+    session.tick(13.0)
+    assert session.values == pytest.approx(tuner.values_at(1.5)) and not session.busy()

@@ -1,0 +1,49 @@
+"""The mapping tuner in headless Chromium: a take plays on the face, a gain set in the panel
+changes the motor's curve, and the files it saves map the take as `toonface map` does."""
+
+import numpy as np
+import pytest
+from browser import chromium, studio_server, wait_for
+from selenium.webdriver.support.ui import Select
+
+from capture import save_take, synthesize
+from toon import load_track, motor_index
+from toonface.cli import main
+from toonface.studio.session import StudioSession
+
+pytestmark = pytest.mark.slow
+
+
+def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
+    take = save_take(synthesize(seconds=4.0, rate=60.0).take, tmp_path / "take.npz")
+    session = StudioSession("classic")
+    with studio_server(session) as url, chromium(1400, 1000) as driver:
+        driver.get(url)
+        wait_for(driver, "window.tuner && window.studio.frames > 0")
+        driver.execute_script("document.getElementById('tuner-panel').open = true;"
+                              "document.getElementById('slider-panel').open = false")
+        driver.find_element("id", "tune-take").send_keys(str(take))
+        driver.find_element("id", "tune-open").click()
+        wait_for(driver, "window.tuner.state && window.studio.last.showing === 'tune'")
+        Select(driver.find_element("id", "tune-motor")).select_by_value("MB")
+        wait_for(driver, "window.tuner.state.showing === 'MB' && window.tuner.state.curve.code === 'MB'")
+        before = driver.execute_script("return window.tuner.state.curve.values")
+        gain = driver.find_element("id", "tune-gain")
+        gain.clear()
+        gain.send_keys("1.6")
+        driver.find_element("id", "tune-apply").click()
+        wait_for(driver, "window.tuner.state.rules.MB.gain === 1.6")
+        after = driver.execute_script("return window.tuner.state.curve.values")
+        rest = session.neutral[motor_index("MB")]
+        assert np.abs(np.array(after) - rest).max() > np.abs(np.array(before) - rest).max()
+        assert driver.execute_script("return document.querySelectorAll('#tune-curve polyline').length") == 1
+        mapping, profile = tmp_path / "mine.toml", tmp_path / "me.toml"
+        for box, button, path in (("tune-mapping-path", "tune-save-mapping", mapping),
+                                  ("tune-profile-path", "tune-save-profile", profile)):
+            driver.find_element("id", box).send_keys(str(path))
+            driver.find_element("id", button).click()
+            wait_for(driver, f"document.getElementById('message').textContent === 'wrote {path}'")
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []
+    out = tmp_path / "motors.csv"
+    assert main(["map", str(take), "-o", str(out), "--mapping", str(mapping), "--profile", str(profile)]) == 0
+    np.testing.assert_allclose(load_track(out).values, session.tuner.track.values, atol=1e-6)

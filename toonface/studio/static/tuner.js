@@ -1,0 +1,87 @@
+// The mapping tuner's panel: a take mapped on the face, a motor's rule and its sources' ranges to
+// edit, its output over the take as a curve. The server (toonface/studio/tuner.py) maps again.
+"use strict";
+(() => {
+  const NS = "http://www.w3.org/2000/svg";
+  const el = (id) => document.getElementById(id);
+  const tuner = {state: null};
+  window.tuner = tuner;
+  const send = (message) => studio.send({op: "tune", ...message});
+
+  function show(state) {
+    tuner.state = state;
+    const code = state.showing;
+    el("tune-motor").replaceChildren(...state.motors.map((c) => new Option(c, c, false, c === code)));
+    const rule = state.rules[code] || {};
+    el("tune-gain").value = rule.gain ?? 1;
+    el("tune-offset").value = rule.offset ?? 0;
+    el("tune-scale").value = rule.scale ?? 1;
+    el("tune-invert").checked = Boolean(rule.invert);
+    el("tune-clamp").value = rule.clamp ?? "hard";
+    el("tune-max_speed").value = rule.max_speed ?? 0;
+    el("tune-ranges").replaceChildren(...(state.sources[code] || []).filter((key) => state.ranges[key]).map(range));
+    curve();
+  }
+
+  function range(key) {
+    const [neutral, low, high] = tuner.state.ranges[key];
+    const row = document.createElement("div");
+    row.className = "tune-range";
+    const input = (value) => Object.assign(document.createElement("input"), {type: "number", step: "any", value});
+    const fields = [input(low), input(neutral), input(high)];
+    const apply = Object.assign(document.createElement("button"), {type: "button", textContent: "Apply range"});
+    apply.addEventListener("click", () => send({action: "range", key, low: Number(fields[0].value),
+                                                neutral: Number(fields[1].value), high: Number(fields[2].value)}));
+    row.append(`${key}: low `, fields[0], " rest ", fields[1], " high ", fields[2], " ", apply);
+    return row;
+  }
+
+  function curve(now) {
+    const state = tuner.state;
+    const svg = el("tune-curve");
+    if (!state || !state.curve) return;
+    const width = Number(svg.getAttribute("width"));
+    const height = Number(svg.getAttribute("height"));
+    const x = (t) => (t / state.duration) * width;
+    const y = (v) => 4 + (1 - v) * (height - 8);
+    const line = document.createElementNS(NS, "polyline");
+    line.setAttribute("class", "curve");
+    line.setAttribute("points", state.curve.times.map((t, i) => `${x(t)},${y(state.curve.values[i])}`).join(" "));
+    const parts = [line];
+    if (now !== undefined) {
+      const cursor = document.createElementNS(NS, "line");
+      for (const [k, v] of Object.entries({class: "cursor", x1: x(now), x2: x(now), y1: 0, y2: height})) {
+        cursor.setAttribute(k, v);
+      }
+      parts.push(cursor);
+    }
+    svg.replaceChildren(...parts);
+  }
+
+  studio.handlers.tune = show;
+  const drawn = studio.onFrame;
+  studio.onFrame = (frame) => {
+    if (drawn) drawn(frame);
+    if (frame.showing === "tune") curve(frame.tune_time);
+  };
+  el("tune-open").addEventListener("click", () => send({action: "open", take: el("tune-take").value,
+                                                        mapping: el("tune-mapping").value || null}));
+  el("tune-pause").addEventListener("click", () => send({action: "pause"}));
+  el("tune-play").addEventListener("click", () => send({action: "play"}));
+  el("tune-motor").addEventListener("change", (event) => send({action: "motor", code: event.target.value}));
+  el("tune-apply").addEventListener("click", () => {
+    const code = el("tune-motor").value;
+    const fields = {gain: Number(el("tune-gain").value), offset: Number(el("tune-offset").value),
+                    scale: Number(el("tune-scale").value), invert: el("tune-invert").checked,
+                    clamp: el("tune-clamp").value, max_speed: Number(el("tune-max_speed").value)};
+    for (const [field, value] of Object.entries(fields)) {
+      const old = (tuner.state.rules[code] || {})[field];
+      const defaults = {gain: 1, offset: 0, scale: 1, invert: false, clamp: "hard", max_speed: 0};
+      if ((old ?? defaults[field]) !== value) send({action: "rule", code, field, value});
+    }
+  });
+  el("tune-save-mapping").addEventListener("click", () => send({action: "save_mapping",
+                                                                path: el("tune-mapping-path").value}));
+  el("tune-save-profile").addEventListener("click", () => send({action: "save_profile",
+                                                                path: el("tune-profile-path").value}));
+})();
