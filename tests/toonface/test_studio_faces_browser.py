@@ -105,3 +105,36 @@ def test_the_edited_face_renders_offscreen_as_the_page_draws_it(page):
         drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
     difference = np.abs(shown - drawn)
     assert difference.mean() < 1.5 and np.mean(difference.max(axis=2) > 64) < 0.01
+
+
+def test_vertices_are_added_deleted_and_a_polygon_moved_whole_with_the_mouse(page):
+    from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support.ui import Select
+
+    driver, session = page
+    nose = next(i for i, p in enumerate(session.face.polygons) if p.name == "nose")  # a long first side
+    Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+    before = np.array(session.face.polygons[nose].vertices)
+    first = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
+    second = driver.find_element("css selector", '#shape rect.vertex[data-index="1"]')
+    middle = ((first.location["x"] + second.location["x"]) / 2 + first.size["width"] / 2,
+              (first.location["y"] + second.location["y"]) / 2 + first.size["height"] / 2)
+    outline = driver.find_element("css selector", "#shape polygon.outline-hit")
+    box = outline.rect
+    ActionChains(driver).move_to_element_with_offset(outline, middle[0] - box["x"] - box["width"] / 2,
+                                                     middle[1] - box["y"] - box["height"] / 2).double_click().perform()
+    wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices.length === {len(before) + 1}")
+    added = np.array(session.face.polygons[nose].vertices)
+    np.testing.assert_allclose(added[2:], before[1:])  # the new vertex went between the first two
+    assert np.linalg.norm(added[1] - (before[0] + before[1]) / 2) < 0.25 * np.linalg.norm(before[1] - before[0]) + 1
+    ActionChains(driver).context_click(driver.find_element("css selector", '#shape rect.vertex[data-index="1"]')) \
+        .perform()
+    wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices.length === {len(before)}")
+    np.testing.assert_allclose(np.array(session.face.polygons[nose].vertices), before)
+    scale = _units_per_pixel(driver)
+    ActionChains(driver).key_down(Keys.SHIFT).click_and_hold(
+        driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')).move_by_offset(15, 0) \
+        .move_by_offset(15, 0).release().key_up(Keys.SHIFT).perform()
+    wait_for(driver, f"Math.abs(window.faces.doc.polygons[{nose}].vertices[2][0] - {before[2, 0] + 30 * scale}) < 1")
+    np.testing.assert_allclose(np.array(session.face.polygons[nose].vertices) - before,
+                               np.broadcast_to([30 * scale, 0.0], before.shape), atol=1.0)  # every vertex, alike

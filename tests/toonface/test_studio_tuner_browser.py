@@ -36,7 +36,14 @@ def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
         after = driver.execute_script("return window.tuner.state.curve.values")
         rest = session.neutral[motor_index("MB")]
         assert np.abs(np.array(after) - rest).max() > np.abs(np.array(before) - rest).max()
-        assert driver.execute_script("return document.querySelectorAll('#tune-curve polyline').length") == 1
+        assert driver.execute_script("return document.querySelectorAll('#tune-curve polyline.source').length") == 2
+        for box, text in (("tune-curve-points", "0,0 0.5,0.2 1,1"), ("tune-smoothing", "4")):
+            driver.find_element("id", box).clear()
+            driver.find_element("id", box).send_keys(text)
+        driver.find_element("id", "tune-apply").click()
+        wait_for(driver, "window.tuner.state.rules.MB.curve && window.tuner.state.rules.MB.filter")
+        assert session.tuner.doc["motor"]["MB"]["curve"] == [[0, 0], [0.5, 0.2], [1, 1]]
+        assert session.tuner.doc["motor"]["MB"]["filter"] == {"kind": "butterworth", "cutoff": 4}
         mapping, profile = tmp_path / "mine.toml", tmp_path / "me.toml"
         for box, button, path in (("tune-mapping-path", "tune-save-mapping", mapping),
                                   ("tune-profile-path", "tune-save-profile", profile)):

@@ -19,7 +19,9 @@ import numpy as np
 from capture import load_take
 from common import InputError, read_document, write_toml
 from mapping import parse_mapping, save_profile
+from mapping.mapper import normalise, resolved_mode
 from mapping.profile import SourceRange
+from mapping.sources import head_angles, measure
 from mapping.workflow import ReadyTake, map_ready, ready_take
 from toon import MOTOR_CODES, MotorTrack
 
@@ -112,8 +114,23 @@ class MappingTuner:
             column = self.track.values[:, MOTOR_CODES.index(code)]
             at = np.linspace(0, self.track.frames - 1, min(CURVE_POINTS, self.track.frames)).round().astype(int)
             out["curve"] = {"code": code, "times": (at / self.track.rate).round(4).tolist(),
-                            "values": column[at].round(4).tolist()}
+                            "values": column[at].round(4).tolist(),
+                            "sources": {key: np.nan_to_num(values[at], nan=0.0).round(4).tolist()
+                                        for key, values in self.source_values(code).items()}}
         return out
+
+    def source_values(self, code: str) -> dict[str, np.ndarray]:
+        """Each source of ``code``'s rule over the take, ``(F,)``, normalised as the mapping reads it
+        (with a profile: -1 at the performer's low, 0 at rest, 1 at high; NaN where unseen)."""
+        rule = next((r for r in self.ready.mapping.rules if r.code == code), None)
+        if rule is None:
+            return {}
+        stable, profile = self.ready.prepared.stable, self.ready.profile
+        head = head_angles(stable.rotation, profile.rest_rotation)
+        mode = resolved_mode(rule, profile)
+        return {source.key: normalise(measure(source, stable.local, self.ready.prepared.columns, head, stable.channels),
+                                      source, rule, profile.sources.get(source.key), mode)
+                for source in rule.sources}
 
     def save_mapping(self, path: str | os.PathLike) -> Path:
         target = Path(path)

@@ -74,15 +74,7 @@
     shape.setAttribute("preserveAspectRatio", face.getAttribute("preserveAspectRatio"));
     const box = face.viewBox.baseVal;
     const r = Math.max(box.width, box.height) / 110;
-    const parts = [];
-    const spec = faces.doc.polygons[faces.selected];
-    if (spec) {
-      parts.push(node("polygon", {class: "outline", points: spec.vertices.map(([x, y]) => `${x},${-y}`).join(" "),
-                                  "stroke-width": r / 3}));
-      spec.vertices.forEach(([x, y], index) => parts.push(node("rect", {
-        class: "vertex", x: x - r, y: -y - r, width: 2 * r, height: 2 * r, "stroke-width": r / 3,
-        "data-drag": "vertex", "data-index": index})));
-    }
+    const parts = [];  // the chosen polygon last, on top of the control points
     for (const [code, [point, axis]] of Object.entries(AXIS)) {
       const [px, py] = faces.doc.points[point];
       const [lo, hi] = faces.doc.motors[code];
@@ -100,6 +92,15 @@
       parts.push(node("circle", {class: "rest-point", cx: x, cy: -y, r, "stroke-width": r / 4,
                                  "data-drag": "point", "data-name": name}));
     }
+    const spec = faces.doc.polygons[faces.selected];
+    if (spec) {
+      const points = spec.vertices.map(([x, y]) => `${x},${-y}`).join(" ");
+      parts.push(node("polygon", {class: "outline", points, "stroke-width": r / 3}));
+      parts.push(node("polygon", {class: "outline-hit", points, "stroke-width": 3 * r}));  // an easy target
+      spec.vertices.forEach(([x, y], index) => parts.push(node("rect", {
+        class: "vertex", x: x - r, y: -y - r, width: 2 * r, height: 2 * r, "stroke-width": r / 3,
+        "data-drag": "vertex", "data-index": index})));
+    }
     shape.replaceChildren(...parts);
   }
 
@@ -110,8 +111,11 @@
 
   function down(event) {
     const target = event.target;
-    if (!target.dataset || !target.dataset.drag) return;
+    if (!target.dataset || !target.dataset.drag || event.button !== 0) return;
     faces.dragging = {...target.dataset};
+    if (target.dataset.drag === "vertex" && event.shiftKey) {  // shift: the whole polygon, as a unit
+      faces.dragging = {drag: "polygon", from: facePoint(event)};
+    }
     el("shape").setPointerCapture(event.pointerId);
     event.preventDefault();
   }
@@ -120,13 +124,41 @@
     const drag = faces.dragging;
     if (!drag) return;
     const [x, y] = facePoint(event);
-    if (drag.drag === "vertex") {
+    if (drag.drag === "polygon") {
+      const [dx, dy] = [x - drag.from[0], y - drag.from[1]];
+      drag.from = [x, y];
+      edit({action: "move_polygon", polygon: faces.selected, dx, dy});
+    } else if (drag.drag === "vertex") {
       edit({action: "move_vertex", polygon: faces.selected, index: Number(drag.index), x, y});
     } else if (drag.drag === "point") {
       edit({action: "move_point", name: drag.name, x, y});
     } else if (drag.drag === "range") {
       edit({action: "set_range", code: drag.code, end: drag.end, value: drag.axis === "x" ? x : y});
     }
+  }
+
+  function addVertex(event) {
+    // a double-click on the chosen polygon's outline: a vertex there, after the nearer end of that side
+    const spec = faces.doc && faces.doc.polygons[faces.selected];
+    if (!spec || event.target.getAttribute("class") !== "outline-hit") return;
+    const [x, y] = facePoint(event);
+    const v = spec.vertices;
+    let best = 0;
+    let bestDistance = Infinity;
+    v.forEach(([ax, ay], i) => {
+      const [bx, by] = v[(i + 1) % v.length];
+      const [dx, dy] = [bx - ax, by - ay];
+      const t = Math.max(0, Math.min(1, ((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy || 1)));
+      const distance = Math.hypot(ax + t * dx - x, ay + t * dy - y);
+      if (distance < bestDistance) [best, bestDistance] = [i, distance];
+    });
+    edit({action: "add_vertex", polygon: faces.selected, after: best, x, y});
+  }
+
+  function deleteVertex(event) {
+    if (!event.target.dataset || event.target.dataset.drag !== "vertex") return;
+    event.preventDefault();
+    edit({action: "delete_vertex", polygon: faces.selected, index: Number(event.target.dataset.index)});
   }
 
   function setDesign(on) {
@@ -143,6 +175,8 @@
     draw();
   });
   el("shape").addEventListener("pointerdown", down);
+  el("shape").addEventListener("dblclick", addVertex);
+  el("shape").addEventListener("contextmenu", deleteVertex);
   el("shape").addEventListener("pointermove", move);
   el("shape").addEventListener("pointerup", () => { faces.dragging = null; });
   el("apply-style").addEventListener("click", () => edit({action: "set_style", polygon: faces.selected, fields: {

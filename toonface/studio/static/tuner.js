@@ -19,6 +19,8 @@
     el("tune-invert").checked = Boolean(rule.invert);
     el("tune-clamp").value = rule.clamp ?? "hard";
     el("tune-max_speed").value = rule.max_speed ?? 0;
+    el("tune-smoothing").value = rule.filter && rule.filter.kind === "butterworth" ? rule.filter.cutoff : 0;
+    el("tune-curve-points").value = (rule.curve || []).map(([a, b]) => `${a},${b}`).join(" ");
     el("tune-ranges").replaceChildren(...(state.sources[code] || []).filter((key) => state.ranges[key]).map(range));
     curve();
   }
@@ -44,10 +46,16 @@
     const height = Number(svg.getAttribute("height"));
     const x = (t) => (t / state.duration) * width;
     const y = (v) => 4 + (1 - v) * (height - 8);
-    const line = document.createElementNS(NS, "polyline");
-    line.setAttribute("class", "curve");
-    line.setAttribute("points", state.curve.times.map((t, i) => `${x(t)},${y(state.curve.values[i])}`).join(" "));
-    const parts = [line];
+    const polyline = (values, kind) => {
+      const line = document.createElementNS(NS, "polyline");
+      line.setAttribute("class", kind);
+      line.setAttribute("points", state.curve.times.map((t, i) => `${x(t)},${y(values[i])}`).join(" "));
+      return line;
+    };
+    // the sources as the mapping reads them (-1 at the performer's low, 1 at high) under the output (0..1)
+    const parts = Object.values(state.curve.sources).map((values) => polyline(values.map((v) => (v + 1) / 2),
+                                                                               "source"));
+    parts.push(polyline(state.curve.values, "curve"));
     if (now !== undefined) {
       const cursor = document.createElementNS(NS, "line");
       for (const [k, v] of Object.entries({class: "cursor", x1: x(now), x2: x(now), y1: 0, y2: height})) {
@@ -74,11 +82,19 @@
     const fields = {gain: Number(el("tune-gain").value), offset: Number(el("tune-offset").value),
                     scale: Number(el("tune-scale").value), invert: el("tune-invert").checked,
                     clamp: el("tune-clamp").value, max_speed: Number(el("tune-max_speed").value)};
+    const rule = tuner.state.rules[code] || {};
     for (const [field, value] of Object.entries(fields)) {
-      const old = (tuner.state.rules[code] || {})[field];
       const defaults = {gain: 1, offset: 0, scale: 1, invert: false, clamp: "hard", max_speed: 0};
-      if ((old ?? defaults[field]) !== value) send({action: "rule", code, field, value});
+      if ((rule[field] ?? defaults[field]) !== value) send({action: "rule", code, field, value});
     }
+    const cutoff = Number(el("tune-smoothing").value);
+    const filter = cutoff > 0 ? {kind: "butterworth", cutoff} : null;
+    if (JSON.stringify(rule.filter ?? null) !== JSON.stringify(filter)) send({action: "rule", code, field: "filter",
+                                                                             value: filter});
+    const text = el("tune-curve-points").value.trim();
+    const curve = text ? text.split(/\s+/).map((pair) => pair.split(",").map(Number)) : null;
+    if (JSON.stringify(rule.curve ?? null) !== JSON.stringify(curve)) send({action: "rule", code, field: "curve",
+                                                                           value: curve});
   });
   el("tune-save-mapping").addEventListener("click", () => send({action: "save_mapping",
                                                                 path: el("tune-mapping-path").value}));
