@@ -138,3 +138,16 @@ def test_vertices_are_added_deleted_and_a_polygon_moved_whole_with_the_mouse(pag
     wait_for(driver, f"Math.abs(window.faces.doc.polygons[{nose}].vertices[2][0] - {before[2, 0] + 30 * scale}) < 1")
     np.testing.assert_allclose(np.array(session.face.polygons[nose].vertices) - before,
                                np.broadcast_to([30 * scale, 0.0], before.shape), atol=1.0)  # every vertex, alike
+
+
+def test_a_face_file_is_named_in_the_face_list(tmp_path):
+    from selenium.webdriver.support.ui import Select
+
+    from toon import save_face
+
+    path = save_face(load_face("wizard"), tmp_path / "mine.json")
+    session = StudioSession(str(path))
+    with studio_server(session) as url, chromium() as driver:
+        driver.get(url)
+        wait_for(driver, "window.studio && window.studio.frames > 0")
+        assert Select(driver.find_element("id", "face")).first_selected_option.text == str(path)

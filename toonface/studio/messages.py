@@ -165,7 +165,8 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     """One mapping tuner message: open a take, change a rule or a range, pause, save."""
     action = message.get("action")
     if action == "open":
-        opened = MappingTuner(str(message["take"]), session.neutral, message.get("mapping") or None)
+        opened = MappingTuner(str(message["take"]), session.neutral, message.get("mapping") or None,
+                              message.get("units") or None)
         session.tune(opened, now)
         session.tune_motor = opened.describe()["motors"][0]
         return f"tuning {opened.ready.mapping.name} on {opened.path} ({opened.duration:.1f} s)"

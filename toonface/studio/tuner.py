@@ -42,12 +42,14 @@ class MappingTuner:
         The face's rest pose.
     mapping : str, optional
         A mapping's name or file; the preset matching the take's markers by default.
+    units : str, optional
+        The take's units where its file does not say (``cm``, ``m``...), as ``toonface map --units``.
     """
 
-    def __init__(self, take: str, neutral: np.ndarray, mapping: str | None = None) -> None:
+    def __init__(self, take: str, neutral: np.ndarray, mapping: str | None = None, units: str | None = None) -> None:
         self.path = Path(take)
         self.neutral = np.asarray(neutral, dtype=np.float64)
-        self.ready: ReadyTake = ready_take(load_take(self.path), mapping)
+        self.ready: ReadyTake = ready_take(load_take(self.path, units=units), mapping)
         source = self.ready.mapping.source
         if not source or not Path(source).is_file():
             raise InputError(f"the mapping {self.ready.mapping.name} has no file to tune")

@@ -58,7 +58,8 @@
     $("live").hidden = !hello.live;
     $("live-name").textContent = hello.live || "";
     const faces = $("face");
-    faces.replaceChildren(...hello.faces.map((name) => new Option(name, name, false, name === hello.face)));
+    const names = hello.faces.includes(hello.face) ? hello.faces : [...hello.faces, hello.face];  // a face file too
+    faces.replaceChildren(...names.map((name) => new Option(name, name, false, name === hello.face)));
     $("expressions").replaceChildren(...hello.expressions.map((name) => button(name, "play")));
     $("motions").replaceChildren(...hello.motions.map((name) => button(name, "play")));
     const groups = hello.groups.map((group) => {

@@ -73,7 +73,8 @@
     if (frame.showing === "tune") curve(frame.tune_time);
   };
   el("tune-open").addEventListener("click", () => send({action: "open", take: el("tune-take").value,
-                                                        mapping: el("tune-mapping").value || null}));
+                                                        mapping: el("tune-mapping").value || null,
+                                                        units: el("tune-units").value || null}));
   el("tune-pause").addEventListener("click", () => send({action: "pause"}));
   el("tune-play").addEventListener("click", () => send({action: "play"}));
   el("tune-motor").addEventListener("change", (event) => send({action: "motor", code: event.target.value}));
