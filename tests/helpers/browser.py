@@ -74,7 +74,7 @@ def chromium(width: int = 1280, height: int = 900) -> Iterator:
         driver.quit()
 
 
-def wait_for(driver, script: str, timeout: float = 10.0):
+def wait_for(driver, script: str, timeout: float = 20.0):
     """Run ``script`` (a JavaScript expression) in the page until it is truthy; returns its value."""
     from selenium.webdriver.support.ui import WebDriverWait
 

@@ -83,3 +83,55 @@ def test_the_studio_shows_the_edited_face_moving_and_extremes_follow_the_range()
     with pytest.raises(InputError):
         apply(session, {"op": "faceedit", "action": "set_range", "code": "MB", "end": "max", "value": lo}, 0.0)
     assert session.face.ranges["MB"] == (lo, hi + 12.0)
+
+
+def test_components_move_scale_flip_and_restyle_as_units(tmp_path):
+    editor = FaceEditor(load_face("round"))  # a face of components only
+    doc = editor.doc
+    index = next(i for i, c in enumerate(doc["components"]) if c["kind"] == "ellipse" and c.get("name") == "hair_back")
+    before = np.array(doc["components"][index]["points"], dtype=float)
+    editor.move_component(index, 5.0, -2.0)
+    editor.scale_component(index, 2.0)
+    moved = before + [5.0, -2.0]
+    centre = moved.mean(axis=0)
+    np.testing.assert_allclose(np.array(editor.doc["components"][index]["points"]), centre + (moved - centre) * 2.0)
+    editor.flip_component(index, "y")
+    editor.move_component_point(index, 0, -210.0, 40.0)
+    assert editor.doc["components"][index]["points"][0] == [-210.0, 40.0]
+    editor.set_component(index, layer=-5, fill="#224488")
+    assert editor.face.components[index].layer == -5
+    with pytest.raises(InputError, match="layer"):
+        editor.set_component(index, layer=0)
+    count = len(editor.doc["components"])
+    editor.duplicate_component(index, 10.0, 0.0)
+    assert len(editor.doc["components"]) == count + 1
+    assert load_face(editor.save(tmp_path / "round2.json")) == editor.face
+
+
+def test_a_slave_point_keeps_its_master_and_a_master_point_is_moved_by_its_control_point():
+    editor = FaceEditor(load_face("cat"))
+    tongue = next(i for i, c in enumerate(editor.doc["components"]) if c.get("name") == "tongue")
+    editor.move_component_point(tongue, 1, 0.0, -133.0)
+    assert editor.doc["components"][tongue]["points"][1] == {"slave": "MB", "at": [0.0, -133.0]}
+    lines = FaceEditor(load_face("lines"))
+    lid = next(i for i, c in enumerate(lines.doc["components"]) if c.get("name") == "lid_right")
+    assert lines.doc["components"][lid]["points"][0] == "ERI"  # a master: where the control point is
+    with pytest.raises(ValueError, match="master point"):
+        lines.move_component_point(lid, 0, 0.0, 0.0)
+    brow = next(i for i, c in enumerate(lines.doc["components"]) if c.get("name") == "brow_right")
+    lines.move_component(brow, 3.0, 0.0)  # a skeleton: its placed points move, its masters stay
+    assert lines.doc["components"][brow]["skeleton"][0] == "BRM"
+
+
+def test_a_polygon_changes_kind_and_attachment():
+    editor = FaceEditor(load_face("classic"))
+    nose = _index(editor.face, "nose")
+    editor.set_style(nose, kind="point", attach="MB")  # now it follows the mouth's motor between two states
+    spec = editor.face.polygons[nose]
+    assert spec.kind == "point" and spec.attach == "MB" and spec.vertices_max == spec.vertices
+    editor.move_vertex(nose, 0, 0.0, -30.0, state="vertices_max")
+    assert editor.face.polygons[nose].vertices_max[0] == (0.0, -30.0)
+    with pytest.raises(InputError, match=r"polygons\[15\]\.attach"):
+        editor.set_style(nose, attach="XX")
+    editor.set_style(nose, kind="free")  # back: no attachment, one state
+    assert editor.face.polygons[nose].attach == "" and editor.face.polygons[nose].vertices_max == ()

@@ -151,3 +151,52 @@ def test_a_face_file_is_named_in_the_face_list(tmp_path):
         driver.get(url)
         wait_for(driver, "window.studio && window.studio.frames > 0")
         assert Select(driver.find_element("id", "face")).first_selected_option.text == str(path)
+
+
+def test_a_component_is_dragged_restyled_and_moved_whole(tmp_path):
+    from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support.ui import Select
+
+    session = StudioSession("round")  # components only
+    with studio_server(session) as url, chromium(1400, 1000) as driver:
+        driver.get(url)
+        wait_for(driver, "window.faces && window.faces.doc && window.studio.frames > 0")
+        driver.execute_script("document.getElementById('face-panel').open = true;"
+                              "document.getElementById('slider-panel').open = false;"
+                              "document.getElementById('design').click();"
+                              "document.getElementById('target-component').click()")
+        hair = next(i for i, c in enumerate(session.faces.doc["components"]) if c.get("name") == "hair_back")
+        Select(driver.find_element("id", "polygon")).select_by_value(str(hair))
+        before = np.array(session.faces.doc["components"][hair]["points"], dtype=float)
+        scale = _units_per_pixel(driver)
+        point = driver.find_element("css selector", '#shape rect.vertex[data-drag="cpoint"][data-index="0"]')
+        ActionChains(driver).click_and_hold(point).move_by_offset(-10, 0).move_by_offset(-10, 0).release().perform()
+        wait_for(driver, f"window.faces.doc.components[{hair}].points[0][0] < {before[0, 0] - 10 * scale}")
+        after = np.array(session.faces.doc["components"][hair]["points"], dtype=float)
+        np.testing.assert_allclose(after[0], before[0] + [-20 * scale, 0.0], atol=1.0)
+        layer = driver.find_element("id", "layer")
+        layer.clear()
+        layer.send_keys("-7")
+        driver.find_element("id", "apply-style").click()
+        wait_for(driver, f"window.faces.doc.components[{hair}].layer === -7")
+        point = driver.find_element("css selector", '#shape rect.vertex[data-drag="cpoint"][data-index="0"]')  # redrawn
+        ActionChains(driver).key_down(Keys.SHIFT).click_and_hold(point).move_by_offset(0, 15).move_by_offset(0, 15) \
+            .release().key_up(Keys.SHIFT).perform()
+        wait_for(driver, f"window.faces.doc.components[{hair}].points[2][1] < {after[2, 1] - 20 * scale}")
+        moved = np.array(session.faces.doc["components"][hair]["points"], dtype=float)
+        np.testing.assert_allclose(moved - after, np.broadcast_to([0.0, -30 * scale], after.shape), atol=1.0)
+        assert session.face.components[hair].layer == -7
+
+
+def test_the_heads_range_is_edited_in_degrees(page):
+    driver, session = page
+    box = driver.find_element("id", "angle-HH-max")
+    box.clear()
+    box.send_keys("45\n")
+    wait_for(driver, "window.faces.doc.motors.HH[1] === 45")
+    assert session.face.ranges["HH"][1] == 45.0
+    box = driver.find_element("id", "angle-HH-min")
+    box.clear()
+    box.send_keys("10\n")  # a range that does not run from negative to positive degrees: refused
+    wait_for(driver, "document.getElementById('face-error').textContent.includes('motors.HH')")
+    assert session.face.ranges["HH"][0] < 0

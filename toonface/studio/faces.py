@@ -174,6 +174,71 @@ class FaceEditor:
                 spec.pop("attach", None)
         return self._edit(change)
 
+    # -- CharToon components (top level: a composite moves as a unit by its transform) ---------------
+    def move_component_point(self, component: int, index: int, x: float, y: float, part: str = "points") -> Face:
+        """Point ``index`` of a component's ``part`` (``points``; a skeleton's ``skeleton`` or
+        ``body``) to ``(x, y)``; a master point moves with its control point, not here."""
+        def change(doc: dict) -> None:
+            refs = _component_part(doc, component, part)
+            if not 0 <= index < len(refs):
+                raise IndexError(f"no point {index} (the component has {len(refs)})")
+            refs[index] = _placed(refs[index], np.array([_finite(x), _finite(y)]))
+        return self._edit(change)
+
+    def move_component(self, component: int, dx: float, dy: float) -> Face:
+        def change(doc: dict) -> None:
+            spec = _component(doc, component)
+            if spec["kind"] == "composite":
+                transform = spec.setdefault("transform", {"scale": [1.0, 1.0], "translate": [0.0, 0.0]})
+                tx, ty = transform["translate"]
+                transform["translate"] = [tx + _finite(dx), ty + _finite(dy)]
+            else:
+                _transform_component(spec, lambda xy: xy + [dx, dy])
+        return self._edit(change)
+
+    def scale_component(self, component: int, factor: float) -> Face:
+        """Scale a component about the centre of its own points."""
+        if not factor > 0:
+            raise ValueError(f"a scale factor must be > 0, got {factor}")
+        return self._edit(lambda doc: _about_centre(doc, component, np.array([factor, factor])))
+
+    def flip_component(self, component: int, axis: str = "x") -> Face:
+        if axis not in ("x", "y"):
+            raise ValueError(f"flip about x or y, got {axis!r}")
+        mirror = np.array([-1.0, 1.0]) if axis == "x" else np.array([1.0, -1.0])
+        return self._edit(lambda doc: _about_centre(doc, component, mirror))
+
+    def set_component(self, component: int, **fields: object) -> Face:
+        """A component's ``layer`` (-10..-1 behind, 1..10 in front), ``fill``, ``stroke``,
+        ``width`` or ``name`` (None removes an optional one)."""
+        unknown = set(fields) - {"layer", "fill", "stroke", "width", "name"}
+        if unknown:
+            raise ValueError(f"unknown component field(s) {', '.join(sorted(unknown))}")
+
+        def change(doc: dict) -> None:
+            spec = _component(doc, component)
+            for key, value in fields.items():
+                if value is None:
+                    spec.pop(key, None)
+                else:
+                    spec[key] = value
+        return self._edit(change)
+
+    def duplicate_component(self, component: int, dx: float = 0.0, dy: float = 0.0) -> Face:
+        def change(doc: dict) -> None:
+            twin = copy.deepcopy(_component(doc, component))
+            if twin.get("name"):
+                twin["name"] = f"{twin['name']} copy"
+            doc["components"].insert(component + 1, twin)
+        face = self._edit(change)
+        return self.move_component(component + 1, dx, dy) if dx or dy else face
+
+    def delete_component(self, component: int) -> Face:
+        def change(doc: dict) -> None:
+            _component(doc, component)
+            del doc["components"][component]
+        return self._edit(change)
+
     def set_background(self, color: str) -> Face:
         return self._edit(lambda doc: doc.__setitem__("background", color))
 
@@ -240,6 +305,60 @@ def _index(vertices: list, index: int) -> list:
     if not 0 <= index < len(vertices):
         raise IndexError(f"no vertex {index} (the polygon has {len(vertices)})")
     return vertices[index]
+
+
+def _component(doc: dict, component: int) -> dict:
+    components = doc.get("components", [])
+    if not 0 <= component < len(components):
+        raise IndexError(f"the face has no component {component} (it has {len(components)})")
+    return components[component]
+
+
+def _component_part(doc: dict, component: int, part: str) -> list:
+    spec = _component(doc, component)
+    if spec["kind"] == "composite":
+        raise ValueError("a composite's points are its parts': move it as a unit")
+    if part not in ("points", "skeleton", "body") or part not in spec:
+        raise ValueError(f"a {spec['kind']} has no {part}")
+    return spec[part]
+
+
+def _xy(ref: object) -> np.ndarray | None:
+    """Where a written point is (None for a master: its control point's)."""
+    if isinstance(ref, str):
+        return None
+    if isinstance(ref, dict):
+        return np.asarray(ref.get("at", ref.get("fixed")), dtype=float)
+    return np.asarray(ref, dtype=float)
+
+
+def _placed(ref: object, xy: np.ndarray) -> object:
+    """The written point ``ref`` at ``xy``, its kind kept."""
+    at = [float(xy[0]), float(xy[1])]
+    if isinstance(ref, str):
+        raise ValueError(f"a master point moves with its control point {ref}: drag that instead")
+    if isinstance(ref, dict):
+        return {**ref, "at": at} if "slave" in ref else {"fixed": at}
+    return at
+
+
+def _transform_component(spec: dict, how: Callable[[np.ndarray], np.ndarray]) -> None:
+    """Every non-master point of a basic component through ``how`` ((2,) -> (2,))."""
+    for part in ("points", "skeleton", "body"):
+        if part in spec:
+            spec[part] = [ref if (xy := _xy(ref)) is None else _placed(ref, how(xy)) for ref in spec[part]]
+
+
+def _about_centre(doc: dict, component: int, factors: np.ndarray) -> None:
+    """Scale or mirror a basic component about the mean of its non-master points."""
+    spec = _component(doc, component)
+    if spec["kind"] == "composite":
+        raise ValueError("a composite is scaled by its transform in the file, not here")
+    placed = [xy for part in ("points", "skeleton", "body") for xy in map(_xy, spec.get(part, [])) if xy is not None]
+    if not placed:
+        raise ValueError("the component's points all follow control points: nothing to scale")
+    centre = np.mean(placed, axis=0)
+    _transform_component(spec, lambda xy: centre + (xy - centre) * factors)
 
 
 def _transform(doc: dict, polygon: int, how: Callable[[np.ndarray], np.ndarray]) -> None:

@@ -136,7 +136,11 @@ FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "
                 "delete_vertex": ("polygon", "index"), "delete_polygon": ("polygon",),
                 "duplicate_polygon": ("polygon", "dx", "dy"), "move_polygon": ("polygon", "dx", "dy"),
                 "scale_polygon": ("polygon", "factor"), "flip_polygon": ("polygon", "axis"),
-                "set_background": ("color",), "rename": ("name",)}
+                "set_background": ("color",), "rename": ("name",),
+                "move_component_point": ("component", "index", "x", "y", "part"),
+                "move_component": ("component", "dx", "dy"),
+                "scale_component": ("component", "factor"), "flip_component": ("component", "axis"),
+                "duplicate_component": ("component", "dx", "dy"), "delete_component": ("component",)}
 
 
 def _edit_face(session: StudioSession, message: dict) -> str | None:
@@ -147,6 +151,8 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         getattr(faces, action)(*[_argument(key, message[key]) for key in FACE_ACTIONS[action]])
     elif action == "set_style":
         faces.set_style(int(message["polygon"]), **dict(message.get("fields") or {}))
+    elif action == "set_component":
+        faces.set_component(int(message["component"]), **dict(message.get("fields") or {}))
     elif action in ("undo", "redo"):
         getattr(faces, action)()
     elif action == "open":
@@ -192,9 +198,9 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
 
 def _argument(key: str, value: object) -> int | float | str:
     """A face action's argument as its method takes it: an index, a name or a number."""
-    if key in ("polygon", "index", "after"):
+    if key in ("polygon", "component", "index", "after"):
         return int(value)  # type: ignore[call-overload]
-    if key in ("name", "code", "end", "axis", "color"):
+    if key in ("name", "code", "end", "axis", "color", "part"):
         return str(value)
     return float(value)  # type: ignore[arg-type]
 

@@ -11,7 +11,7 @@
     ERU: ["ERU", "y"], ERL: ["ERL", "y"], ELU: ["ELU", "y"], ELL: ["ELL", "y"],
     MLH: ["ML", "x"], MLV: ["ML", "y"], MRH: ["MR", "x"], MRV: ["MR", "y"], MB: ["MB", "y"],
   };
-  const faces = {doc: null, selected: 0, dragging: null, waiting: false, pending: null};
+  const faces = {doc: null, selected: 0, dragging: null, waiting: false, pending: null, target: "polygon"};
   window.faces = faces;
 
   function node(name, attrs) {
@@ -48,22 +48,53 @@
     draw();
   }
 
+  const items = () => (faces.target === "polygon" ? faces.doc.polygons : faces.doc.components || []);
+
   function panel() {
     const message = faces.last;
-    const polygons = faces.doc.polygons;
-    faces.selected = Math.min(faces.selected, Math.max(0, polygons.length - 1));
-    el("polygon").replaceChildren(...polygons.map((p, i) =>
-      new Option(`${i}: ${p.name || "(unnamed)"} (${p.kind})`, i, false, i === faces.selected)));
-    const spec = polygons[faces.selected];
+    const list = items();
+    const component = faces.target === "component";
+    faces.selected = Math.min(faces.selected, Math.max(0, list.length - 1));
+    el("polygon").replaceChildren(...list.map((p, i) =>
+      new Option(`${i}: ${p.name || "(unnamed)"} (${p.kind}${component ? `, layer ${p.layer ?? 1}` : ""})`, i, false,
+                 i === faces.selected)));
+    el("target-name").textContent = component ? "Component" : "Polygon";
+    el("kind-label").hidden = component;
+    el("attach-label").hidden = component;
+    el("layer-label").hidden = !component;
+    const spec = list[faces.selected];
     if (spec) {
-      el("fill").value = spec.color.slice(0, 7);
+      el("fill").value = (spec.color || spec.fill || "#000000").slice(0, 7);
       el("stroke").value = (spec.stroke || "#000000").slice(0, 7);
       el("width").value = spec.width || 0;
-      el("kind").value = spec.kind;
+      if (component) {
+        el("layer").value = spec.layer ?? 1;
+      } else {
+        el("kind").value = spec.kind;
+        el("attach").value = spec.attach || "";
+      }
     }
     if (document.activeElement !== el("face-name")) el("face-name").value = faces.doc.name;
+    angles();
     el("face-undo").disabled = message.undo === 0;
     el("face-redo").disabled = message.redo === 0;
+  }
+
+  function angles() {
+    // the angle motors' ranges in degrees (ToonFace: "for the eyes and head"), edited as numbers
+    const rows = [...ANGLES].map((code) => {
+      const [lo, hi] = faces.doc.motors[code];
+      const row = document.createElement("label");
+      const input = (end, value) => {
+        const box = Object.assign(document.createElement("input"), {type: "number", step: "1", value});
+        box.id = `angle-${code}-${end}`;
+        box.addEventListener("change", () => edit({action: "set_range", code, end, value: Number(box.value)}));
+        return box;
+      };
+      row.append(`${code} `, input("min", lo), " to ", input("max", hi), "°");
+      return row;
+    });
+    el("angles").replaceChildren(...rows);
   }
 
   function draw() {
@@ -92,7 +123,19 @@
       parts.push(node("circle", {class: "rest-point", cx: x, cy: -y, r, "stroke-width": r / 4,
                                  "data-drag": "point", "data-name": name}));
     }
-    const spec = faces.doc.polygons[faces.selected];
+    const chosen = items()[faces.selected];
+    if (chosen && faces.target === "component") {
+      for (const part of ["points", "skeleton", "body"]) {
+        (chosen[part] || []).forEach((ref, index) => {
+          if (typeof ref === "string") return;  // a master: its control point, drawn above
+          const [x, y] = Array.isArray(ref) ? ref : (ref.at || ref.fixed);
+          parts.push(node("rect", {class: "vertex", x: x - r, y: -y - r, width: 2 * r, height: 2 * r,
+                                   transform: `rotate(45 ${x} ${-y})`, "stroke-width": r / 3,
+                                   "data-drag": "cpoint", "data-part": part, "data-index": index}));
+        });
+      }
+    }
+    const spec = faces.target === "polygon" ? chosen : null;
     if (spec) {
       const points = spec.vertices.map(([x, y]) => `${x},${-y}`).join(" ");
       parts.push(node("polygon", {class: "outline", points, "stroke-width": r / 3}));
@@ -113,8 +156,8 @@
     const target = event.target;
     if (!target.dataset || !target.dataset.drag || event.button !== 0) return;
     faces.dragging = {...target.dataset};
-    if (target.dataset.drag === "vertex" && event.shiftKey) {  // shift: the whole polygon, as a unit
-      faces.dragging = {drag: "polygon", from: facePoint(event)};
+    if ((target.dataset.drag === "vertex" || target.dataset.drag === "cpoint") && event.shiftKey) {
+      faces.dragging = {drag: faces.target, from: facePoint(event)};  // shift: the whole polygon or component
     }
     el("shape").setPointerCapture(event.pointerId);
     event.preventDefault();
@@ -124,10 +167,13 @@
     const drag = faces.dragging;
     if (!drag) return;
     const [x, y] = facePoint(event);
-    if (drag.drag === "polygon") {
+    if (drag.drag === "polygon" || drag.drag === "component") {
       const [dx, dy] = [x - drag.from[0], y - drag.from[1]];
       drag.from = [x, y];
-      edit({action: "move_polygon", polygon: faces.selected, dx, dy});
+      edit({action: `move_${drag.drag}`, [drag.drag]: faces.selected, dx, dy});
+    } else if (drag.drag === "cpoint") {
+      edit({action: "move_component_point", component: faces.selected, index: Number(drag.index), x, y,
+            part: drag.part});
     } else if (drag.drag === "vertex") {
       edit({action: "move_vertex", polygon: faces.selected, index: Number(drag.index), x, y});
     } else if (drag.drag === "point") {
@@ -179,15 +225,34 @@
   el("shape").addEventListener("contextmenu", deleteVertex);
   el("shape").addEventListener("pointermove", move);
   el("shape").addEventListener("pointerup", () => { faces.dragging = null; });
-  el("apply-style").addEventListener("click", () => edit({action: "set_style", polygon: faces.selected, fields: {
-    color: el("fill").value, stroke: el("stroke").value, width: Number(el("width").value), kind: el("kind").value}}));
-  const whole = (action, extra = {}) => () => edit({action, polygon: faces.selected, ...extra});
-  el("duplicate").addEventListener("click", whole("duplicate_polygon", {dx: 10, dy: 0}));
-  el("delete-polygon").addEventListener("click", whole("delete_polygon"));
-  el("flip-x").addEventListener("click", whole("flip_polygon", {axis: "x"}));
-  el("flip-y").addEventListener("click", whole("flip_polygon", {axis: "y"}));
-  el("grow").addEventListener("click", whole("scale_polygon", {factor: 1.1}));
-  el("shrink").addEventListener("click", whole("scale_polygon", {factor: 0.9}));
+  el("apply-style").addEventListener("click", () => {
+    const style = {stroke: el("stroke").value, width: Number(el("width").value)};
+    if (faces.target === "component") {
+      edit({action: "set_component", component: faces.selected,
+            fields: {...style, fill: el("fill").value, layer: Number(el("layer").value)}});
+    } else {
+      edit({action: "set_style", polygon: faces.selected, fields: {...style, color: el("fill").value,
+                                                                   kind: el("kind").value,
+                                                                   attach: el("attach").value || null}});
+    }
+  });
+  // the buttons act on the chosen polygon or component, as a unit
+  const whole = (verb, extra = {}) => () => edit({action: `${verb}_${faces.target}`, [faces.target]: faces.selected,
+                                                  ...extra});
+  el("duplicate").addEventListener("click", whole("duplicate", {dx: 10, dy: 0}));
+  el("delete-polygon").addEventListener("click", whole("delete"));
+  el("flip-x").addEventListener("click", whole("flip", {axis: "x"}));
+  el("flip-y").addEventListener("click", whole("flip", {axis: "y"}));
+  el("grow").addEventListener("click", whole("scale", {factor: 1.1}));
+  el("shrink").addEventListener("click", whole("scale", {factor: 0.9}));
+  for (const target of ["polygon", "component"]) {
+    el(`target-${target}`).addEventListener("change", () => {
+      faces.target = target;
+      faces.selected = 0;
+      panel();
+      draw();
+    });
+  }
   el("face-undo").addEventListener("click", () => edit({action: "undo"}));
   el("face-redo").addEventListener("click", () => edit({action: "redo"}));
   el("face-name").addEventListener("change", (event) => edit({action: "rename", name: event.target.value}));
