@@ -135,3 +135,29 @@ def test_a_polygon_changes_kind_and_attachment():
         editor.set_style(nose, attach="XX")
     editor.set_style(nose, kind="free")  # back: no attachment, one state
     assert editor.face.polygons[nose].attach == "" and editor.face.polygons[nose].vertices_max == ()
+
+
+def test_a_new_polygon_and_an_expression_looping_while_the_face_is_edited(tmp_path):
+    editor = FaceEditor(load_face("classic"))
+    count = len(editor.face.polygons)
+    editor.add_polygon(10.0, -20.0, size=8.0, color="#ff0000")
+    new = editor.face.polygons[count]
+    assert new.kind == "free" and new.name == "shape 1"
+    assert np.array(new.vertices).tolist() == [[6.0, -24.0], [14.0, -24.0], [14.0, -16.0], [6.0, -16.0]]
+    assert load_face(editor.save(tmp_path / "f.json")) == editor.face
+
+    session = StudioSession("classic")
+    apply(session, {"op": "play", "name": "happiness", "loop": True}, 0.0)
+    pose = session.expressions["happiness"].pose(session.neutral)[motor_index("MLV")]
+    rest = session.neutral[motor_index("MLV")]
+    seen = []
+    for k in range(200):  # 200 loops of 1/30 s: several times there and back
+        session.tick(k / 30)
+        seen.append(session.values[motor_index("MLV")])
+    at_pose = np.isclose(seen, pose)
+    at_rest = np.isclose(seen, rest)
+    assert np.count_nonzero(np.diff(at_pose.astype(int)) == 1) >= 2 and at_rest[20:].any() and session.busy()
+    apply(session, {"op": "motor", "code": "MB", "value": 0.3}, 200 / 30)  # a slider stops the loop
+    for k in range(200, 260):
+        session.tick(k / 30)
+    assert not session.busy()

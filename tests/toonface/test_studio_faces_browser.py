@@ -200,3 +200,13 @@ def test_the_heads_range_is_edited_in_degrees(page):
     box.send_keys("10\n")  # a range that does not run from negative to positive degrees: refused
     wait_for(driver, "document.getElementById('face-error').textContent.includes('motors.HH')")
     assert session.face.ranges["HH"][0] < 0
+
+
+def test_a_new_polygon_from_the_panel_is_chosen_for_editing(page):
+    driver, session = page
+    count = len(session.face.polygons)
+    driver.find_element("id", "add-polygon").click()
+    wait_for(driver, f"window.faces.doc.polygons.length === {count + 1}")
+    assert driver.find_element("id", "polygon").get_attribute("value") == str(count)
+    assert driver.execute_script("return document.querySelectorAll('#shape rect.vertex').length") == 4
+    assert session.face.polygons[count].kind == "free"

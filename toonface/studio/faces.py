@@ -109,6 +109,19 @@ class FaceEditor:
                 del vertices[index]
         return self._edit(change)
 
+    def add_polygon(self, x: float, y: float, size: float = 20.0, color: str = "#808080") -> Face:
+        """A new free polygon (a square of ``size`` centred on ``(x, y)``), drawn last; reshape it
+        by its vertices, then give it a kind and an attachment."""
+        half = _finite(size) / 2
+
+        def change(doc: dict) -> None:
+            names = {p.get("name") for p in doc["polygons"]}
+            name = next(f"shape {k}" for k in range(1, 10_000) if f"shape {k}" not in names)
+            square = [[x - half, y - half], [x + half, y - half], [x + half, y + half], [x - half, y + half]]
+            doc["polygons"].append({"kind": "free", "name": name, "color": color,
+                                    "vertices": [[_finite(a), _finite(b)] for a, b in square]})
+        return self._edit(change)
+
     def delete_polygon(self, polygon: int) -> Face:
         def change(doc: dict) -> None:
             _polygon(doc, polygon)

@@ -54,7 +54,7 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     elif op == "follow":
         session.follow = bool(message["on"])
     elif op == "play":
-        session.play(str(message["name"]), now)
+        session.play(str(message["name"]), now, bool(message.get("loop")))
     elif op == "reset":
         session.reset()
     elif op == "face":
@@ -136,7 +136,7 @@ FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "
                 "delete_vertex": ("polygon", "index"), "delete_polygon": ("polygon",),
                 "duplicate_polygon": ("polygon", "dx", "dy"), "move_polygon": ("polygon", "dx", "dy"),
                 "scale_polygon": ("polygon", "factor"), "flip_polygon": ("polygon", "axis"),
-                "set_background": ("color",), "rename": ("name",),
+                "set_background": ("color",), "rename": ("name",), "add_polygon": ("x", "y"),
                 "move_component_point": ("component", "index", "x", "y", "part"),
                 "move_component": ("component", "dx", "dy"),
                 "scale_component": ("component", "factor"), "flip_component": ("component", "axis"),

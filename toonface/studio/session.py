@@ -53,6 +53,10 @@ class LiveSource(Protocol):
         """The stream's counters for the page's readout."""
 
 
+#: Seconds a looping expression rests at each end.
+LOOP_PAUSE = 0.4
+
+
 @dataclass(frozen=True)
 class Handle:
     """A control point the page lets the user drag: its name and the motors it moves (code, axis)."""
@@ -92,6 +96,8 @@ class StudioSession:
         self.tune_clock: tuple[float, float] | None = None  # (server time at take time 0, take time when paused)
         self._now = 0.0  # the server's clock at the last tick
         self.tune_motor = ""  # the motor whose curve the tuner shows
+        self.looping: str | None = None  # an expression played to and from neutral until a slider moves
+        self._back = False  # the looping expression's next move: back to neutral
 
     def _load(self, face: str | Face) -> None:
         self.face = load_face(face) if isinstance(face, str) else face
@@ -149,6 +155,7 @@ class StudioSession:
     def set_motor(self, code: str, value: float) -> None:
         """A slider: ``code`` to ``value`` (clipped to [0, 1]) at once; what was moving it lets go."""
         self._test_mode()
+        self.looping = None
         self.animator.jump({code: value})
 
     def drag(self, point: str, x: float, y: float) -> None:
@@ -184,8 +191,10 @@ class StudioSession:
             reach = (1.0 - rest) if amount > 0 else rest
             self.set_motor(code, rest + amount * reach)
 
-    def play(self, name: str, now: float) -> None:
-        """An expression or a standard motion (:mod:`player.motions`), started at ``now``.
+    def play(self, name: str, now: float, loop: bool = False) -> None:
+        """An expression or a standard motion (:mod:`player.motions`), started at ``now``; with
+        ``loop``, played to and from neutral again and again (a face kept moving while it is edited)
+        until a slider, a drag or *Neutral* stops it.
 
         Raises
         ------
@@ -193,6 +202,7 @@ class StudioSession:
             For a name that is neither.
         """
         self._test_mode()
+        self.looping, self._back = (name, True) if loop else (None, False)
         motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
         for offset, moves in motion.steps:
             self.animator.schedule(now + offset, moves)
@@ -200,10 +210,17 @@ class StudioSession:
     def reset(self) -> None:
         """Every motor back to the face's neutral, every pending move dropped."""
         self._test_mode()
+        self.looping = None
         self.animator.set_values(self.neutral)
 
     def tick(self, now: float) -> bool:
         """One Animator loop and the animation's playback at ``now``; whether anything still moves."""
+        if self.looping is not None and self.showing == "test" and not self.animator.busy():
+            name = "neutral" if self._back else self.looping
+            motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
+            for offset, moves in motion.steps:  # a breath's pause at each end
+                self.animator.schedule(now + LOOP_PAUSE + offset, moves)
+            self._back = not self._back
         self.animator.tick(now)
         self.editor.advance(now)
         self._now = now
@@ -213,7 +230,8 @@ class StudioSession:
         """Whether the Animator has moves left, the animation is playing, a stream is shown or a
         tuned take plays."""
         tuning = self.showing == "tune" and self.tune_clock is not None and self.tune_clock[1] < 0
-        return self.animator.busy() or self.editor.playing or self.showing == "live" or tuning
+        looping = self.looping is not None and self.showing == "test"
+        return self.animator.busy() or self.editor.playing or self.showing == "live" or tuning or looping
 
     def tune(self, tuner: MappingTuner, now: float) -> None:
         """Show ``tuner``'s take, mapped, playing in a loop from ``now``."""

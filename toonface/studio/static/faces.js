@@ -239,6 +239,13 @@
   // the buttons act on the chosen polygon or component, as a unit
   const whole = (verb, extra = {}) => () => edit({action: `${verb}_${faces.target}`, [faces.target]: faces.selected,
                                                   ...extra});
+  el("add-polygon").addEventListener("click", () => {
+    const [x0, y0, x1, y1] = faces.doc.viewbox;
+    faces.target = "polygon";
+    el("target-polygon").checked = true;
+    faces.selected = faces.doc.polygons.length;  // the new one, drawn last
+    edit({action: "add_polygon", x: (x0 + x1) / 2, y: (y0 + y1) / 2});
+  });
   el("duplicate").addEventListener("click", whole("duplicate", {dx: 10, dy: 0}));
   el("delete-polygon").addEventListener("click", whole("delete"));
   el("flip-x").addEventListener("click", whole("flip", {axis: "x"}));

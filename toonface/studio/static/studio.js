@@ -84,7 +84,7 @@
     b.type = "button";
     b.textContent = name;
     b.dataset.name = name;
-    b.addEventListener("click", () => send({op, name}));
+    b.addEventListener("click", () => send({op, name, loop: op === "play" && $("loop-expression").checked}));
     return b;
   }
 
