@@ -214,7 +214,8 @@ class StudioSession:
         self.animator.set_values(self.neutral)
 
     def tick(self, now: float) -> bool:
-        """One Animator loop and the animation's playback at ``now``; whether anything still moves."""
+        """One Animator loop (the looping expression's next move started when the last is done) and
+        the animation's playback at ``now``; whether anything still moves."""
         if self.looping is not None and self.showing == "test" and not self.animator.busy():
             name = "neutral" if self._back else self.looping
             motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
@@ -227,8 +228,8 @@ class StudioSession:
         return self.busy()
 
     def busy(self) -> bool:
-        """Whether the Animator has moves left, the animation is playing, a stream is shown or a
-        tuned take plays."""
+        """Whether the Animator has moves left or an expression loops, the animation is playing, a
+        stream is shown or a tuned take plays."""
         tuning = self.showing == "tune" and self.tune_clock is not None and self.tune_clock[1] < 0
         looping = self.looping is not None and self.showing == "test"
         return self.animator.busy() or self.editor.playing or self.showing == "live" or tuning or looping
