@@ -161,3 +161,19 @@ def test_a_new_polygon_and_an_expression_looping_while_the_face_is_edited(tmp_pa
     for k in range(200, 260):
         session.tick(k / 30)
     assert not session.busy()
+
+
+def test_a_component_copied_from_one_face_is_pasted_into_another(tmp_path):
+    session = StudioSession("cat")
+    tongue = next(i for i, c in enumerate(session.faces.doc["components"]) if c.get("name") == "tongue")
+    said = apply(session, {"op": "faceedit", "action": "copy", "kind": "component", "index": tongue}, 0.0)[1]
+    assert said == f"copied component {tongue}"
+    apply(session, {"op": "faceedit", "action": "open", "name": "classic"}, 0.0)
+    before = len(session.face.components)
+    apply(session, {"op": "faceedit", "action": "paste"}, 0.0)
+    assert len(session.face.components) == before + 1 and session.face.components[-1].name == "tongue"
+    apply(session, {"op": "faceedit", "action": "paste"}, 0.0)  # twice: the name made unique
+    assert session.face.components[-1].name == "tongue 2"
+    assert load_face(session.faces.save(tmp_path / "classic_tongue.json")) == session.face
+    with pytest.raises(ValueError, match="nothing to paste"):
+        FaceEditor(load_face("round")).paste_item()

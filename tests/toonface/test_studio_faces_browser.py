@@ -210,3 +210,19 @@ def test_a_new_polygon_from_the_panel_is_chosen_for_editing(page):
     assert driver.find_element("id", "polygon").get_attribute("value") == str(count)
     assert driver.execute_script("return document.querySelectorAll('#shape rect.vertex').length") == 4
     assert session.face.polygons[count].kind == "free"
+
+
+def test_copy_and_paste_from_the_panel(page):
+    from selenium.webdriver.support.ui import Select
+
+    driver, session = page
+    nose = next(i for i, p in enumerate(session.face.polygons) if p.name == "nose")
+    Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+    count = len(session.face.polygons)
+    driver.find_element("id", "copy-item").click()
+    wait_for(driver, f"document.getElementById('message').textContent === 'copied polygon {nose}'")
+    driver.find_element("id", "paste-item").click()
+    wait_for(driver, f"window.faces.doc.polygons.length === {count + 1}")
+    assert session.face.polygons[-1].name == "nose 2" and session.face.polygons[-1].vertices == \
+        session.face.polygons[nose].vertices
+    assert driver.find_element("id", "polygon").get_attribute("value") == str(count)

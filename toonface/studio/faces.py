@@ -38,6 +38,7 @@ class FaceEditor:
         self.doc = face.to_dict()
         self._undo: list[dict] = []
         self._redo: list[dict] = []
+        self.clipboard: tuple[str, dict] | None = None  # ("polygons" or "components", a copy); kept across faces
 
     # -- the rule every edit goes through ----------------------------------------------------------
     def _edit(self, change: Callable[[dict], None]) -> Face:
@@ -250,6 +251,28 @@ class FaceEditor:
         def change(doc: dict) -> None:
             _component(doc, component)
             del doc["components"][component]
+        return self._edit(change)
+
+    def copy_item(self, kind: str, index: int) -> None:
+        """Copy a polygon or a component (``kind``: ``polygon`` or ``component``) to paste into this
+        face or another one opened later (not an edit)."""
+        spec = _polygon(self.doc, index) if kind == "polygon" else _component(self.doc, index)
+        self.clipboard = (f"{kind}s", copy.deepcopy(spec))
+
+    def paste_item(self) -> Face:
+        """The copied polygon or component, added to this face (drawn last; a name it already has
+        made unique). A component that names a control point works on any face: every face has them."""
+        if self.clipboard is None:
+            raise ValueError("nothing to paste: copy a polygon or a component first")
+        key, spec = self.clipboard
+
+        def change(doc: dict) -> None:
+            twin = copy.deepcopy(spec)
+            names = {item.get("name") for item in doc.get(key, [])}
+            if twin.get("name") in names:
+                base = twin["name"]
+                twin["name"] = next(f"{base} {k}" for k in range(2, 10_000) if f"{base} {k}" not in names)
+            doc.setdefault(key, []).append(twin)
         return self._edit(change)
 
     def set_background(self, color: str) -> Face:

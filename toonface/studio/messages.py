@@ -155,6 +155,11 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         faces.set_component(int(message["component"]), **dict(message.get("fields") or {}))
     elif action in ("undo", "redo"):
         getattr(faces, action)()
+    elif action == "copy":
+        faces.copy_item(str(message["kind"]), int(message["index"]))
+        said = f"copied {message['kind']} {message['index']}"
+    elif action == "paste":
+        faces.paste_item()
     elif action == "open":
         faces.open(str(message["name"]))
         session.face_name = str(message["name"])

@@ -247,6 +247,11 @@
     edit({action: "add_polygon", x: (x0 + x1) / 2, y: (y0 + y1) / 2});
   });
   el("duplicate").addEventListener("click", whole("duplicate", {dx: 10, dy: 0}));
+  el("copy-item").addEventListener("click", () => edit({action: "copy", kind: faces.target, index: faces.selected}));
+  el("paste-item").addEventListener("click", () => {
+    faces.selected = items().length;  // the pasted one, drawn last
+    edit({action: "paste"});
+  });
   el("delete-polygon").addEventListener("click", whole("delete"));
   el("flip-x").addEventListener("click", whole("flip", {axis: "x"}));
   el("flip-y").addEventListener("click", whole("flip", {axis: "y"}));
