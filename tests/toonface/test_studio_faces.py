@@ -19,21 +19,21 @@ def test_edits_change_the_face_and_save_loads_back_equal(tmp_path):
     nose = _index(editor.face, "nose")
     before = np.array(editor.face.polygons[nose].vertices)
     editor.move_vertex(nose, 0, before[0, 0] - 5.0, before[0, 1] + 3.0)
-    editor.move_polygon(nose, 2.0, 0.0)
-    editor.scale_polygon(nose, 1.5)
+    editor.move("polygon", nose, 2.0, 0.0)
+    editor.scale("polygon", nose, 1.5)
     after = np.array(editor.face.polygons[nose].vertices)
     moved = before.copy()
     moved[0] += [-5.0, 3.0]
     moved += [2.0, 0.0]
     centre = moved.mean(axis=0)
     np.testing.assert_allclose(after, centre + (moved - centre) * 1.5)  # the three edits, by hand
-    editor.flip_polygon(nose, "x")
+    editor.flip("polygon", nose, "x")
     np.testing.assert_allclose(np.array(editor.face.polygons[nose].vertices)[:, 0],
                                2 * centre[0] - after[:, 0])
     count = len(editor.face.polygons)
-    editor.duplicate_polygon(nose, 30.0, 0.0)
+    editor.duplicate("polygon", nose, 30.0, 0.0)
     assert len(editor.face.polygons) == count + 1 and editor.face.polygons[nose + 1].name == "nose 2"
-    editor.set_style(nose + 1, color="#2050d0", stroke="#000000", width=2.0)
+    editor.restyle("polygon", nose + 1, color="#2050d0", stroke="#000000", width=2.0)
     assert editor.face.polygons[nose + 1].color[:3] == pytest.approx((0x20 / 255, 0x50 / 255, 0xd0 / 255))
     editor.set_range("MB", "max", editor.face.ranges["MB"][1] - 10.0)
     editor.rename("my face")
@@ -50,7 +50,7 @@ def test_an_invalid_edit_is_refused_with_the_validators_message_and_nothing_is_l
     with pytest.raises(InputError, match=r"motors\.MB.*outside its range"):
         editor.move_point("MB", face.points["MB"][0], max(face.ranges["MB"]) + 50)
     with pytest.raises(InputError, match="at most one polygon"):
-        editor.set_style(_index(face, "nose"), kind="face")
+        editor.restyle("polygon", _index(face, "nose"), kind="face")
     with pytest.raises(IndexError):
         editor.delete_vertex(999, 0)
     assert editor.face == face and editor.describe()["undo"] == 0
@@ -60,7 +60,7 @@ def test_undo_and_redo_walk_the_edits():
     editor = FaceEditor(load_face("wizard"))
     faces = [editor.face]
     for _ in range(5):
-        editor.move_polygon(0, 1.0, -1.0)
+        editor.move("polygon", 0, 1.0, -1.0)
         faces.append(editor.face)
     for face in reversed(faces[:-1]):
         assert editor.undo() and editor.face == face
@@ -90,20 +90,20 @@ def test_components_move_scale_flip_and_restyle_as_units(tmp_path):
     doc = editor.doc
     index = next(i for i, c in enumerate(doc["components"]) if c["kind"] == "ellipse" and c.get("name") == "hair_back")
     before = np.array(doc["components"][index]["points"], dtype=float)
-    editor.move_component(index, 5.0, -2.0)
-    editor.scale_component(index, 2.0)
+    editor.move("component", index, 5.0, -2.0)
+    editor.scale("component", index, 2.0)
     moved = before + [5.0, -2.0]
     centre = moved.mean(axis=0)
     np.testing.assert_allclose(np.array(editor.doc["components"][index]["points"]), centre + (moved - centre) * 2.0)
-    editor.flip_component(index, "y")
+    editor.flip("component", index, "y")
     editor.move_component_point(index, 0, -210.0, 40.0)
     assert editor.doc["components"][index]["points"][0] == [-210.0, 40.0]
-    editor.set_component(index, layer=-5, fill="#224488")
+    editor.restyle("component", index, layer=-5, fill="#224488")
     assert editor.face.components[index].layer == -5
     with pytest.raises(InputError, match="layer"):
-        editor.set_component(index, layer=0)
+        editor.restyle("component", index, layer=0)
     count = len(editor.doc["components"])
-    editor.duplicate_component(index, 10.0, 0.0)
+    editor.duplicate("component", index, 10.0, 0.0)
     assert len(editor.doc["components"]) == count + 1
     assert load_face(editor.save(tmp_path / "round2.json")) == editor.face
 
@@ -119,21 +119,21 @@ def test_a_slave_point_keeps_its_master_and_a_master_point_is_moved_by_its_contr
     with pytest.raises(ValueError, match="master point"):
         lines.move_component_point(lid, 0, 0.0, 0.0)
     brow = next(i for i, c in enumerate(lines.doc["components"]) if c.get("name") == "brow_right")
-    lines.move_component(brow, 3.0, 0.0)  # a skeleton: its placed points move, its masters stay
+    lines.move("component", brow, 3.0, 0.0)  # a skeleton: its placed points move, its masters stay
     assert lines.doc["components"][brow]["skeleton"][0] == "BRM"
 
 
 def test_a_polygon_changes_kind_and_attachment():
     editor = FaceEditor(load_face("classic"))
     nose = _index(editor.face, "nose")
-    editor.set_style(nose, kind="point", attach="MB")  # now it follows the mouth's motor between two states
+    editor.restyle("polygon", nose, kind="point", attach="MB")  # now it follows the mouth's motor between two states
     spec = editor.face.polygons[nose]
     assert spec.kind == "point" and spec.attach == "MB" and spec.vertices_max == spec.vertices
     editor.move_vertex(nose, 0, 0.0, -30.0, state="vertices_max")
     assert editor.face.polygons[nose].vertices_max[0] == (0.0, -30.0)
     with pytest.raises(InputError, match=r"polygons\[15\]\.attach"):
-        editor.set_style(nose, attach="XX")
-    editor.set_style(nose, kind="free")  # back: no attachment, one state
+        editor.restyle("polygon", nose, attach="XX")
+    editor.restyle("polygon", nose, kind="free")  # back: no attachment, one state
     assert editor.face.polygons[nose].attach == "" and editor.face.polygons[nose].vertices_max == ()
 
 

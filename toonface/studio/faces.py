@@ -19,9 +19,25 @@ import numpy as np
 from common import InputError
 from toon import Face, load_face, save_face
 from toon.face import KINDS, face_from_dict
+from toonface.studio.face_items import (
+    LISTS,
+    component_part,
+    finite,
+    item,
+    placed,
+    points,
+    states,
+    transform,
+    unique_name,
+    vertex,
+    vertices,
+)
 
 #: How many face edits can be undone.
 UNDO_LEVELS = 100
+#: The fields :meth:`FaceEditor.restyle` changes, by kind of item.
+STYLE_FIELDS = {"polygon": {"color", "stroke", "width", "kind", "attach", "depth", "name"},
+                "component": {"layer", "fill", "stroke", "width", "name"}}
 
 
 class FaceEditor:
@@ -38,7 +54,7 @@ class FaceEditor:
         self.doc = face.to_dict()
         self._undo: list[dict] = []
         self._redo: list[dict] = []
-        self.clipboard: tuple[str, dict] | None = None  # ("polygons" or "components", a copy); kept across faces
+        self.clipboard: tuple[str, dict] | None = None  # (kind of item, a copy); kept across faces
 
     # -- the rule every edit goes through ----------------------------------------------------------
     def _edit(self, change: Callable[[dict], None]) -> Face:
@@ -71,7 +87,7 @@ class FaceEditor:
     def move_point(self, name: str, x: float, y: float) -> Face:
         """A control point's rest position; it must stay within its motors' ranges."""
         return self._edit(lambda doc: doc["points"].__setitem__(_known(doc["points"], name, "control point"),
-                                                                [_finite(x), _finite(y)]))
+                                                                [finite(x), finite(y)]))
 
     def set_range(self, code: str, end: str, value: float) -> Face:
         """One end (``min`` or ``max``) of a motor's range: a coordinate, or degrees for the
@@ -81,198 +97,132 @@ class FaceEditor:
 
         def change(doc: dict) -> None:
             limits = doc["motors"][_known(doc["motors"], code, "motor")]
-            limits[0 if end == "min" else 1] = _finite(value)
+            limits[0 if end == "min" else 1] = finite(value)
         return self._edit(change)
 
-    # -- polygons -----------------------------------------------------------------------------------
+    # -- polygons' vertices -------------------------------------------------------------------------
     def move_vertex(self, polygon: int, index: int, x: float, y: float, state: str = "vertices") -> Face:
         """Vertex ``index`` of polygon ``polygon`` to ``(x, y)`` (``state``: ``vertices`` or, for a
         point-attached polygon, ``vertices_max``)."""
         def change(doc: dict) -> None:
-            vertices = _vertices(doc, polygon, state)
-            _index(vertices, index)[:] = [_finite(x), _finite(y)]
+            vertex(vertices(item(doc, "polygon", polygon), state), index)[:] = [finite(x), finite(y)]
         return self._edit(change)
 
     def add_vertex(self, polygon: int, after: int, x: float, y: float) -> Face:
         """A vertex after ``after`` (in both states of a point-attached polygon)."""
         def change(doc: dict) -> None:
-            for state in _states(doc, polygon):
-                vertices = _vertices(doc, polygon, state)
-                _index(vertices, after)
-                vertices.insert(after + 1, [_finite(x), _finite(y)])
+            spec = item(doc, "polygon", polygon)
+            for state in states(spec):
+                vertex(spec[state], after)
+                spec[state].insert(after + 1, [finite(x), finite(y)])
         return self._edit(change)
 
     def delete_vertex(self, polygon: int, index: int) -> Face:
         def change(doc: dict) -> None:
-            for state in _states(doc, polygon):
-                vertices = _vertices(doc, polygon, state)
-                _index(vertices, index)
-                del vertices[index]
+            spec = item(doc, "polygon", polygon)
+            for state in states(spec):
+                vertex(spec[state], index)
+                del spec[state][index]
         return self._edit(change)
 
     def add_polygon(self, x: float, y: float, size: float = 20.0, color: str = "#808080") -> Face:
         """A new free polygon (a square of ``size`` centred on ``(x, y)``), drawn last; reshape it
         by its vertices, then give it a kind and an attachment."""
-        half = _finite(size) / 2
-
+        half = finite(size) / 2
+        square = [[finite(x) + dx * half, finite(y) + dy * half] for dx, dy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
         def change(doc: dict) -> None:
             names = {p.get("name") for p in doc["polygons"]}
             name = next(f"shape {k}" for k in range(1, 10_000) if f"shape {k}" not in names)
-            square = [[x - half, y - half], [x + half, y - half], [x + half, y + half], [x - half, y + half]]
-            doc["polygons"].append({"kind": "free", "name": name, "color": color,
-                                    "vertices": [[_finite(a), _finite(b)] for a, b in square]})
+            doc["polygons"].append({"kind": "free", "name": name, "color": color, "vertices": square})
         return self._edit(change)
 
-    def delete_polygon(self, polygon: int) -> Face:
-        def change(doc: dict) -> None:
-            _polygon(doc, polygon)
-            del doc["polygons"][polygon]
-        return self._edit(change)
-
-    def duplicate_polygon(self, polygon: int, dx: float = 0.0, dy: float = 0.0) -> Face:
-        """A copy of the polygon, moved by ``(dx, dy)``, after it (its name, if any, made unique)."""
-        def change(doc: dict) -> None:
-            twin = copy.deepcopy(_polygon(doc, polygon))
-            if twin.get("name"):
-                names = {p.get("name") for p in doc["polygons"]}
-                twin["name"] = next(f"{twin['name']} {k}" for k in range(2, 1000) if f"{twin['name']} {k}" not in names)
-            doc["polygons"].insert(polygon + 1, twin)
-            _transform(doc, polygon + 1, lambda xy: xy + [dx, dy])
-        return self._edit(change)
-
-    def move_polygon(self, polygon: int, dx: float, dy: float) -> Face:
-        return self._edit(lambda doc: _transform(doc, polygon, lambda xy: xy + [_finite(dx), _finite(dy)]))
-
-    def scale_polygon(self, polygon: int, factor: float) -> Face:
-        """Scale about the polygon's centre (the mean of its vertices)."""
-        if not factor > 0:
-            raise ValueError(f"a scale factor must be > 0, got {factor}")
-
-        def change(doc: dict) -> None:
-            centre = np.mean(np.asarray(_vertices(doc, polygon, "vertices"), dtype=float), axis=0)
-            _transform(doc, polygon, lambda xy: centre + (xy - centre) * factor)
-        return self._edit(change)
-
-    def flip_polygon(self, polygon: int, axis: str = "x") -> Face:
-        """Mirror the polygon about its centre: ``x`` left to right, ``y`` top to bottom."""
-        if axis not in ("x", "y"):
-            raise ValueError(f"flip about x or y, got {axis!r}")
-
-        def change(doc: dict) -> None:
-            centre = np.mean(np.asarray(_vertices(doc, polygon, "vertices"), dtype=float), axis=0)
-            mirror = np.array([-1.0, 1.0]) if axis == "x" else np.array([1.0, -1.0])
-            _transform(doc, polygon, lambda xy: centre + (xy - centre) * mirror)
-        return self._edit(change)
-
-    def set_style(self, polygon: int, **fields: object) -> Face:
-        """Change a polygon's ``color``, ``stroke``, ``width``, ``kind``, ``attach``, ``depth`` or
-        ``name`` (None removes an optional one); the validator says what a kind needs."""
-        unknown = set(fields) - {"color", "stroke", "width", "kind", "attach", "depth", "name"}
-        if unknown:
-            raise ValueError(f"unknown polygon field(s) {', '.join(sorted(unknown))}")
-        if "kind" in fields and fields["kind"] not in KINDS:
-            raise ValueError(f"a kind is one of {', '.join(KINDS)}, got {fields['kind']!r}")
-
-        def change(doc: dict) -> None:
-            spec = _polygon(doc, polygon)
-            for key, value in fields.items():
-                if value is None:
-                    spec.pop(key, None)
-                else:
-                    spec[key] = value
-            if spec["kind"] == "point" and "vertices_max" not in spec:  # a new point polygon: both states alike
-                spec["vertices_max"] = copy.deepcopy(spec["vertices"])
-            if spec["kind"] != "point":
-                spec.pop("vertices_max", None)
-            if spec["kind"] not in ("hole", "feature", "pupil", "point"):
-                spec.pop("attach", None)
-        return self._edit(change)
-
-    # -- CharToon components (top level: a composite moves as a unit by its transform) ---------------
     def move_component_point(self, component: int, index: int, x: float, y: float, part: str = "points") -> Face:
         """Point ``index`` of a component's ``part`` (``points``; a skeleton's ``skeleton`` or
         ``body``) to ``(x, y)``; a master point moves with its control point, not here."""
         def change(doc: dict) -> None:
-            refs = _component_part(doc, component, part)
-            if not 0 <= index < len(refs):
-                raise IndexError(f"no point {index} (the component has {len(refs)})")
-            refs[index] = _placed(refs[index], np.array([_finite(x), _finite(y)]))
+            refs = component_part(item(doc, "component", component), part)
+            refs[index] = placed(vertex(refs, index), np.array([finite(x), finite(y)]))
         return self._edit(change)
 
-    def move_component(self, component: int, dx: float, dy: float) -> Face:
-        def change(doc: dict) -> None:
-            spec = _component(doc, component)
-            if spec["kind"] == "composite":
-                transform = spec.setdefault("transform", {"scale": [1.0, 1.0], "translate": [0.0, 0.0]})
-                tx, ty = transform["translate"]
-                transform["translate"] = [tx + _finite(dx), ty + _finite(dy)]
-            else:
-                _transform_component(spec, lambda xy: xy + [dx, dy])
-        return self._edit(change)
+    # -- polygons and components as units (``kind``: ``polygon`` or ``component``) ------------------
+    def move(self, kind: str, index: int, dx: float, dy: float) -> Face:
+        shift = np.array([finite(dx), finite(dy)])
+        return self._edit(lambda doc: transform(item(doc, kind, index), kind, lambda xy: xy + shift))
 
-    def scale_component(self, component: int, factor: float) -> Face:
-        """Scale a component about the centre of its own points."""
+    def scale(self, kind: str, index: int, factor: float) -> Face:
+        """Scale about the item's centre (the mean of its placed points)."""
         if not factor > 0:
             raise ValueError(f"a scale factor must be > 0, got {factor}")
-        return self._edit(lambda doc: _about_centre(doc, component, np.array([factor, factor])))
+        return self._edit(lambda doc: _about_centre(item(doc, kind, index), kind, np.array([factor, factor])))
 
-    def flip_component(self, component: int, axis: str = "x") -> Face:
+    def flip(self, kind: str, index: int, axis: str = "x") -> Face:
+        """Mirror about the item's centre: ``x`` left to right, ``y`` top to bottom."""
         if axis not in ("x", "y"):
             raise ValueError(f"flip about x or y, got {axis!r}")
         mirror = np.array([-1.0, 1.0]) if axis == "x" else np.array([1.0, -1.0])
-        return self._edit(lambda doc: _about_centre(doc, component, mirror))
+        return self._edit(lambda doc: _about_centre(item(doc, kind, index), kind, mirror))
 
-    def set_component(self, component: int, **fields: object) -> Face:
-        """A component's ``layer`` (-10..-1 behind, 1..10 in front), ``fill``, ``stroke``,
-        ``width`` or ``name`` (None removes an optional one)."""
-        unknown = set(fields) - {"layer", "fill", "stroke", "width", "name"}
-        if unknown:
-            raise ValueError(f"unknown component field(s) {', '.join(sorted(unknown))}")
+    def duplicate(self, kind: str, index: int, dx: float = 0.0, dy: float = 0.0) -> Face:
+        """A copy of the item, moved by ``(dx, dy)``, just after it (its name made unique)."""
+        shift = np.array([finite(dx), finite(dy)])
 
         def change(doc: dict) -> None:
-            spec = _component(doc, component)
+            twin = copy.deepcopy(item(doc, kind, index))
+            if twin.get("name"):
+                twin["name"] = unique_name(doc, kind, twin["name"])
+            transform(twin, kind, lambda xy: xy + shift)
+            doc[LISTS[kind]].insert(index + 1, twin)
+        return self._edit(change)
+
+    def delete(self, kind: str, index: int) -> Face:
+        def change(doc: dict) -> None:
+            item(doc, kind, index)
+            del doc[LISTS[kind]][index]
+        return self._edit(change)
+
+    def restyle(self, kind: str, index: int, /, **fields: object) -> Face:
+        """Change an item's fields (None removes an optional one): a polygon's ``color``, ``stroke``,
+        ``width``, ``kind``, ``attach``, ``depth`` or ``name``; a component's ``layer`` (-10..-1
+        behind, 1..10 in front), ``fill``, ``stroke``, ``width`` or ``name``. The validator says
+        what a polygon's kind needs."""
+        unknown = set(fields) - STYLE_FIELDS[kind]
+        if unknown:
+            raise ValueError(f"unknown {kind} field(s) {', '.join(sorted(unknown))}")
+        if kind == "polygon" and "kind" in fields and fields["kind"] not in KINDS:
+            raise ValueError(f"a kind is one of {', '.join(KINDS)}, got {fields['kind']!r}")
+
+        def change(doc: dict) -> None:
+            spec = item(doc, kind, index)
             for key, value in fields.items():
                 if value is None:
                     spec.pop(key, None)
                 else:
                     spec[key] = value
-        return self._edit(change)
-
-    def duplicate_component(self, component: int, dx: float = 0.0, dy: float = 0.0) -> Face:
-        def change(doc: dict) -> None:
-            twin = copy.deepcopy(_component(doc, component))
-            if twin.get("name"):
-                twin["name"] = f"{twin['name']} copy"
-            doc["components"].insert(component + 1, twin)
-        face = self._edit(change)
-        return self.move_component(component + 1, dx, dy) if dx or dy else face
-
-    def delete_component(self, component: int) -> Face:
-        def change(doc: dict) -> None:
-            _component(doc, component)
-            del doc["components"][component]
+            if kind == "polygon":
+                if spec["kind"] == "point" and "vertices_max" not in spec:  # a new point polygon: both states alike
+                    spec["vertices_max"] = copy.deepcopy(spec["vertices"])
+                if spec["kind"] != "point":
+                    spec.pop("vertices_max", None)
+                if spec["kind"] not in ("hole", "feature", "pupil", "point"):
+                    spec.pop("attach", None)
         return self._edit(change)
 
     def copy_item(self, kind: str, index: int) -> None:
-        """Copy a polygon or a component (``kind``: ``polygon`` or ``component``) to paste into this
-        face or another one opened later (not an edit)."""
-        spec = _polygon(self.doc, index) if kind == "polygon" else _component(self.doc, index)
-        self.clipboard = (f"{kind}s", copy.deepcopy(spec))
+        """Copy a polygon or a component to paste into this face or another one opened later (not an edit)."""
+        self.clipboard = (kind, copy.deepcopy(item(self.doc, kind, index)))
 
     def paste_item(self) -> Face:
         """The copied polygon or component, added to this face (drawn last; a name it already has
         made unique). A component that names a control point works on any face: every face has them."""
         if self.clipboard is None:
             raise ValueError("nothing to paste: copy a polygon or a component first")
-        key, spec = self.clipboard
+        kind, spec = self.clipboard
 
         def change(doc: dict) -> None:
             twin = copy.deepcopy(spec)
-            names = {item.get("name") for item in doc.get(key, [])}
-            if twin.get("name") in names:
-                base = twin["name"]
-                twin["name"] = next(f"{base} {k}" for k in range(2, 10_000) if f"{base} {k}" not in names)
-            doc.setdefault(key, []).append(twin)
+            if twin.get("name"):
+                twin["name"] = unique_name(doc, kind, twin["name"])
+            doc.setdefault(LISTS[kind], []).append(twin)
         return self._edit(change)
 
     def set_background(self, color: str) -> Face:
@@ -312,93 +262,7 @@ def _known(table: dict, key: str, what: str) -> str:
     return key
 
 
-def _finite(x: float) -> float:
-    value = float(x)
-    if not np.isfinite(value):
-        raise ValueError(f"expected a finite number, got {x}")
-    return value
-
-
-def _polygon(doc: dict, polygon: int) -> dict:
-    polygons = doc["polygons"]
-    if not 0 <= polygon < len(polygons):
-        raise IndexError(f"the face has no polygon {polygon} (it has {len(polygons)})")
-    return polygons[polygon]
-
-
-def _states(doc: dict, polygon: int) -> list[str]:
-    return ["vertices", "vertices_max"] if "vertices_max" in _polygon(doc, polygon) else ["vertices"]
-
-
-def _vertices(doc: dict, polygon: int, state: str) -> list:
-    spec = _polygon(doc, polygon)
-    if state not in _states(doc, polygon):
-        raise ValueError(f"polygon {polygon} has no {state}")
-    return spec[state]
-
-
-def _index(vertices: list, index: int) -> list:
-    if not 0 <= index < len(vertices):
-        raise IndexError(f"no vertex {index} (the polygon has {len(vertices)})")
-    return vertices[index]
-
-
-def _component(doc: dict, component: int) -> dict:
-    components = doc.get("components", [])
-    if not 0 <= component < len(components):
-        raise IndexError(f"the face has no component {component} (it has {len(components)})")
-    return components[component]
-
-
-def _component_part(doc: dict, component: int, part: str) -> list:
-    spec = _component(doc, component)
-    if spec["kind"] == "composite":
-        raise ValueError("a composite's points are its parts': move it as a unit")
-    if part not in ("points", "skeleton", "body") or part not in spec:
-        raise ValueError(f"a {spec['kind']} has no {part}")
-    return spec[part]
-
-
-def _xy(ref: object) -> np.ndarray | None:
-    """Where a written point is (None for a master: its control point's)."""
-    if isinstance(ref, str):
-        return None
-    if isinstance(ref, dict):
-        return np.asarray(ref.get("at", ref.get("fixed")), dtype=float)
-    return np.asarray(ref, dtype=float)
-
-
-def _placed(ref: object, xy: np.ndarray) -> object:
-    """The written point ``ref`` at ``xy``, its kind kept."""
-    at = [float(xy[0]), float(xy[1])]
-    if isinstance(ref, str):
-        raise ValueError(f"a master point moves with its control point {ref}: drag that instead")
-    if isinstance(ref, dict):
-        return {**ref, "at": at} if "slave" in ref else {"fixed": at}
-    return at
-
-
-def _transform_component(spec: dict, how: Callable[[np.ndarray], np.ndarray]) -> None:
-    """Every non-master point of a basic component through ``how`` ((2,) -> (2,))."""
-    for part in ("points", "skeleton", "body"):
-        if part in spec:
-            spec[part] = [ref if (xy := _xy(ref)) is None else _placed(ref, how(xy)) for ref in spec[part]]
-
-
-def _about_centre(doc: dict, component: int, factors: np.ndarray) -> None:
-    """Scale or mirror a basic component about the mean of its non-master points."""
-    spec = _component(doc, component)
-    if spec["kind"] == "composite":
-        raise ValueError("a composite is scaled by its transform in the file, not here")
-    placed = [xy for part in ("points", "skeleton", "body") for xy in map(_xy, spec.get(part, [])) if xy is not None]
-    if not placed:
-        raise ValueError("the component's points all follow control points: nothing to scale")
-    centre = np.mean(placed, axis=0)
-    _transform_component(spec, lambda xy: centre + (xy - centre) * factors)
-
-
-def _transform(doc: dict, polygon: int, how: Callable[[np.ndarray], np.ndarray]) -> None:
-    """Every vertex of a polygon, in each of its states, through ``how`` ((N, 2) -> (N, 2))."""
-    for state in _states(doc, polygon):
-        spec = _polygon(doc, polygon)
-        spec[state] = [[float(x), float(y)] for x, y in how(np.asarray(spec[state], dtype=float))]
+def _about_centre(spec: dict, kind: str, factors: np.ndarray) -> None:
+    """Scale or mirror an item about the mean of its placed points."""
+    centre = points(spec, kind).mean(axis=0)
+    transform(spec, kind, lambda xy: centre + (xy - centre) * factors)

@@ -133,26 +133,26 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
 #: The face editor's actions (:class:`~toonface.studio.faces.FaceEditor`'s methods) and their arguments.
 FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "value"),
                 "move_vertex": ("polygon", "index", "x", "y"), "add_vertex": ("polygon", "after", "x", "y"),
-                "delete_vertex": ("polygon", "index"), "delete_polygon": ("polygon",),
-                "duplicate_polygon": ("polygon", "dx", "dy"), "move_polygon": ("polygon", "dx", "dy"),
-                "scale_polygon": ("polygon", "factor"), "flip_polygon": ("polygon", "axis"),
-                "set_background": ("color",), "rename": ("name",), "add_polygon": ("x", "y"),
+                "delete_vertex": ("polygon", "index"), "add_polygon": ("x", "y"),
                 "move_component_point": ("component", "index", "x", "y", "part"),
-                "move_component": ("component", "dx", "dy"),
-                "scale_component": ("component", "factor"), "flip_component": ("component", "axis"),
-                "duplicate_component": ("component", "dx", "dy"), "delete_component": ("component",)}
+                "set_background": ("color",), "rename": ("name",)}
+#: What the face editor does to a polygon or a component as a unit: ``VERB_polygon`` or ``VERB_component``.
+UNIT_ACTIONS = {"move": ("dx", "dy"), "scale": ("factor",), "flip": ("axis",), "duplicate": ("dx", "dy"),
+                "delete": ()}
 
 
 def _edit_face(session: StudioSession, message: dict) -> str | None:
     """One face editor message; the face shown becomes the edited one (its motors kept)."""
-    faces, action = session.faces, message.get("action")
+    faces, action = session.faces, str(message.get("action"))
+    verb, _, kind = action.rpartition("_")
     said = None
     if action in FACE_ACTIONS:
         getattr(faces, action)(*[_argument(key, message[key]) for key in FACE_ACTIONS[action]])
-    elif action == "set_style":
-        faces.set_style(int(message["polygon"]), **dict(message.get("fields") or {}))
-    elif action == "set_component":
-        faces.set_component(int(message["component"]), **dict(message.get("fields") or {}))
+    elif verb in UNIT_ACTIONS and kind in ("polygon", "component"):
+        getattr(faces, verb)(kind, int(message[kind]), *[_argument(key, message[key]) for key in UNIT_ACTIONS[verb]])
+    elif action in ("set_style", "set_component"):  # a polygon's or a component's fields
+        kind = "polygon" if action == "set_style" else "component"
+        faces.restyle(kind, int(message[kind]), **dict(message.get("fields") or {}))
     elif action in ("undo", "redo"):
         getattr(faces, action)()
     elif action == "copy":
