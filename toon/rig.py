@@ -108,6 +108,12 @@ class FaceRig:
         pts[self._pupil_rows] += self.face.eye_radius * np.sin(gaze)
         return pts
 
+    def head_degrees(self, values: np.ndarray) -> tuple[float, float]:
+        """The head's yaw and pitch in degrees for motor values ``(21,)`` (HH and HV within the
+        face's ranges)."""
+        return (self._lerp(self._head[0], values[self._columns["HH"]]),
+                self._lerp(self._head[1], values[self._columns["HV"]]))
+
     def gaze_degrees(self, values: np.ndarray, point: str) -> np.ndarray:
         """Horizontal and vertical gaze angles of pupil ``point`` (PR or PL) in degrees, shape ``(2,)``."""
         return np.degrees(self._gaze(values)[list(PUPIL_EYES).index(point)])
@@ -149,8 +155,7 @@ class FaceRig:
             if spec.translate is not None:
                 out[where] += np.add(spec.translate.at0, values[self._columns[spec.translate.motor]] * np.subtract(
                     spec.translate.at1, spec.translate.at0))
-        yaw = self._lerp(self._head[0], values[self._columns["HH"]])
-        pitch = self._lerp(self._head[1], values[self._columns["HV"]])
+        yaw, pitch = self.head_degrees(values)
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
         hidden = {key for key, shown in self._switched

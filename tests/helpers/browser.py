@@ -79,3 +79,17 @@ def wait_for(driver, script: str, timeout: float = 20.0):
     from selenium.webdriver.support.ui import WebDriverWait
 
     return WebDriverWait(driver, timeout, poll_frequency=0.05).until(lambda d: d.execute_script(f"return {script}"))
+
+
+#: The page has drawn a frame.
+DRAWN = "window.studio && window.studio.frames > 0"
+
+
+@contextmanager
+def studio_page(session, ready: str = DRAWN, width: int = 1280, height: int = 900) -> Iterator:
+    """``session`` served and open in headless Chromium, once ``ready`` (a JavaScript expression)
+    holds; yields the driver."""
+    with studio_server(session) as url, chromium(width, height) as driver:
+        driver.get(url)
+        wait_for(driver, ready)
+        yield driver

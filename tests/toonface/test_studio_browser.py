@@ -6,7 +6,7 @@ import io
 
 import numpy as np
 import pytest
-from browser import chromium, studio_server, wait_for
+from browser import studio_page, wait_for
 from PIL import Image
 
 from toon import FaceRig, motor_index
@@ -27,9 +27,7 @@ def _set(driver, code: str, value: float) -> None:
 def page():
     """One server and one browser for the module; each test starts from the neutral face."""
     session = StudioSession("classic")
-    with studio_server(session) as url, chromium() as driver:
-        driver.get(url)
-        wait_for(driver, READY)
+    with studio_page(session, READY) as driver:
         yield driver, session
 
 

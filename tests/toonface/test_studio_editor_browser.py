@@ -3,7 +3,7 @@ mouse and every slice operation give the knots `toonface anim` gives on files; u
 playing moves the cursor and the face."""
 
 import pytest
-from browser import chromium, studio_server, wait_for
+from browser import studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.keys import Keys
 
@@ -19,9 +19,7 @@ READY = "window.editor && window.editor.state && document.querySelectorAll('#sta
 @pytest.fixture(scope="module")
 def page():
     session = StudioSession("classic")
-    with studio_server(session) as url, chromium(1400, 1000) as driver:
-        driver.get(url)
-        wait_for(driver, READY)
+    with studio_page(session, READY, 1400, 1000) as driver:
         yield driver, session
 
 

@@ -6,7 +6,7 @@ import io
 
 import numpy as np
 import pytest
-from browser import chromium, studio_server, wait_for
+from browser import studio_page, wait_for
 from PIL import Image
 from selenium.webdriver.common.action_chains import ActionChains
 
@@ -14,14 +14,13 @@ from toon import FaceRig, load_face, motor_index
 from toonface.studio.session import StudioSession
 
 pytestmark = pytest.mark.slow
+READY = "window.faces && window.faces.doc && window.studio.frames > 0"
 
 
 @pytest.fixture
 def page():
     session = StudioSession("classic")
-    with studio_server(session) as url, chromium(1400, 1000) as driver:
-        driver.get(url)
-        wait_for(driver, "window.faces && window.faces.doc && window.studio.frames > 0")
+    with studio_page(session, READY, 1400, 1000) as driver:
         driver.execute_script("document.getElementById('face-panel').open = true;"
                               "document.getElementById('slider-panel').open = false;"
                               "document.getElementById('design').click()")
@@ -147,9 +146,7 @@ def test_a_face_file_is_named_in_the_face_list(tmp_path):
 
     path = save_face(load_face("wizard"), tmp_path / "mine.json")
     session = StudioSession(str(path))
-    with studio_server(session) as url, chromium() as driver:
-        driver.get(url)
-        wait_for(driver, "window.studio && window.studio.frames > 0")
+    with studio_page(session) as driver:
         assert Select(driver.find_element("id", "face")).first_selected_option.text == str(path)
 
 
@@ -158,9 +155,7 @@ def test_a_component_is_dragged_restyled_and_moved_whole(tmp_path):
     from selenium.webdriver.support.ui import Select
 
     session = StudioSession("round")  # components only
-    with studio_server(session) as url, chromium(1400, 1000) as driver:
-        driver.get(url)
-        wait_for(driver, "window.faces && window.faces.doc && window.studio.frames > 0")
+    with studio_page(session, READY, 1400, 1000) as driver:
         driver.execute_script("document.getElementById('face-panel').open = true;"
                               "document.getElementById('slider-panel').open = false;"
                               "document.getElementById('design').click();"

@@ -5,7 +5,7 @@ import socket
 
 import numpy as np
 import pytest
-from browser import chromium, studio_server, wait_for
+from browser import studio_page, wait_for
 from motor_streams import RATE, smooth_motion
 
 from stream.packets import StreamWriter
@@ -23,30 +23,28 @@ def test_a_stream_drives_the_face_and_its_quality_shows():
     values = smooth_motion(240)
     values[:, motor_index("MB")] = np.linspace(0.1, 0.9, 240)  # the mouth opens over the stream
     writer = StreamWriter(RATE, first_sequence=0)
-    with ReceivedStream(("127.0.0.1", 0), session.neutral) as stream, studio_server(session) as url, \
-            chromium() as driver:
-        session.live = stream
-        driver.get(url)
-        wait_for(driver, "window.studio && window.studio.frames > 0")
-        assert driver.execute_script("return document.getElementById('live').hidden") is False
-        driver.find_element("id", "show-live").click()  # shown from now on (it was not at the start here)
-        wait_for(driver, "window.studio.last.showing === 'live'")
-        out = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        for row in values:  # at once, stamped with this machine's clock: the jitter buffer plays them out
-            datagram = writer.push(row, time.perf_counter())
-            if datagram is not None and writer.packets != 40:  # one packet lost on the way
-                out.sendto(datagram, stream.receiver.address)
-        out.close()
-        wait_for(driver, "window.studio.last.values.MB > 0.8")
-        wait_for(driver, "window.studio.quality && window.studio.quality.packets >= 100", timeout=5)
-        readout = driver.find_element("id", "quality").text
-        quality = driver.execute_script("return window.studio.quality")
-        assert quality["loss_pct"] > 0 and quality["latency_ms"] is not None
-        assert f"loss {quality['loss_pct']} %" in readout and "latency" in readout and "concealed" in readout
-        driver.find_element("id", "show-live").click()  # back to test mode, from where the stream left the face
-        wait_for(driver, "window.studio.last.showing === 'test'")
-        shown = driver.execute_script("return window.studio.last.values")
-        assert session.values[motor_index("MB")] == pytest.approx(shown["MB"], abs=1e-6)
+    with ReceivedStream(("127.0.0.1", 0), session.neutral) as stream:
+        session.live = stream  # received, but not shown until asked
+        with studio_page(session) as driver:
+            assert driver.execute_script("return document.getElementById('live').hidden") is False
+            driver.find_element("id", "show-live").click()  # shown from now on (it was not at the start here)
+            wait_for(driver, "window.studio.last.showing === 'live'")
+            out = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            for row in values:  # at once, stamped with this machine's clock: the jitter buffer plays them out
+                datagram = writer.push(row, time.perf_counter())
+                if datagram is not None and writer.packets != 40:  # one packet lost on the way
+                    out.sendto(datagram, stream.receiver.address)
+            out.close()
+            wait_for(driver, "window.studio.last.values.MB > 0.8")
+            wait_for(driver, "window.studio.quality && window.studio.quality.packets >= 100", timeout=5)
+            readout = driver.find_element("id", "quality").text
+            quality = driver.execute_script("return window.studio.quality")
+            assert quality["loss_pct"] > 0 and quality["latency_ms"] is not None
+            assert f"loss {quality['loss_pct']} %" in readout and "latency" in readout and "concealed" in readout
+            driver.find_element("id", "show-live").click()  # back to test mode, from where the stream left the face
+            wait_for(driver, "window.studio.last.showing === 'test'")
+            shown = driver.execute_script("return window.studio.last.values")
+            assert session.values[motor_index("MB")] == pytest.approx(shown["MB"], abs=1e-6)
 
 
 def test_play_streams_what_it_shows_to_a_studio(tmp_path):

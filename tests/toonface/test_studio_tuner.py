@@ -48,6 +48,8 @@ def test_a_bad_tuning_is_refused_and_the_take_keeps_playing(take):
     track = tuner.track
     with pytest.raises(InputError, match=r"motor\.MB\.clamp"):
         apply(session, {"op": "tune", "action": "rule", "code": "MB", "field": "clamp", "value": "wobbly"}, 10.0)
+    with pytest.raises(ValueError, match="does not drive 'XX'"):
+        apply(session, {"op": "tune", "action": "motor", "code": "XX"}, 10.0)
     with pytest.raises(ValueError, match="low <= neutral <= high"):
         apply(session, {"op": "tune", "action": "range", "key": "CHIN.y", "neutral": 0, "low": 1, "high": 2}, 10.0)
     assert tuner.track is track

@@ -3,7 +3,7 @@ changes the motor's curve, and the files it saves map the take as `toonface map`
 
 import numpy as np
 import pytest
-from browser import chromium, studio_server, wait_for
+from browser import studio_page, wait_for
 from selenium.webdriver.support.ui import Select
 
 from capture import save_take, synthesize
@@ -17,16 +17,14 @@ pytestmark = pytest.mark.slow
 def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
     take = save_take(synthesize(seconds=4.0, rate=60.0).take, tmp_path / "take.npz")
     session = StudioSession("classic")
-    with studio_server(session) as url, chromium(1400, 1000) as driver:
-        driver.get(url)
-        wait_for(driver, "window.tuner && window.studio.frames > 0")
+    with studio_page(session, "window.tuner && window.studio.frames > 0", 1400, 1000) as driver:
         driver.execute_script("document.getElementById('tuner-panel').open = true;"
                               "document.getElementById('slider-panel').open = false")
         driver.find_element("id", "tune-take").send_keys(str(take))
         driver.find_element("id", "tune-open").click()
         wait_for(driver, "window.tuner.state && window.studio.last.showing === 'tune'")
         Select(driver.find_element("id", "tune-motor")).select_by_value("MB")
-        wait_for(driver, "window.tuner.state.showing === 'MB' && window.tuner.state.curve.code === 'MB'")
+        wait_for(driver, "window.tuner.state.motor === 'MB' && window.tuner.state.curve.code === 'MB'")
         before = driver.execute_script("return window.tuner.state.curve.values")
         gain = driver.find_element("id", "tune-gain")
         gain.clear()

@@ -185,7 +185,10 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     if tuner is None:
         raise ValueError("open a take to tune first")
     if action == "motor":
-        session.tune_motor = str(message["code"])
+        code = str(message["code"])
+        if code not in tuner.describe()["motors"]:
+            raise ValueError(f"the mapping does not drive {code!r}")
+        session.tune_motor = code
     elif action == "rule":
         tuner.set_rule(str(message["code"]), str(message["field"]), message.get("value"))
     elif action == "range":

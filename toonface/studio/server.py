@@ -92,12 +92,8 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     session = app[SESSION]
     app[SOCKETS].add(ws)
     try:
-        await ws.send_json({"type": "hello", "faces": builtin_faces(), **session.describe()})
-        await ws.send_json({"type": "animation", **session.editor.describe()})
-        await ws.send_json({"type": "face", **session.faces.describe()})
-        if session.sound is not None:
-            await ws.send_json({"type": "sound", **session.sound.describe()})
-        await ws.send_json({"type": "frame", **session.frame()})
+        for state in _state(session, "all"):
+            await ws.send_json(state)
         async for message in ws:
             if message.type != WSMsgType.TEXT:
                 continue
@@ -112,22 +108,30 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                 continue
             if said:
                 await ws.send_json({"type": "said", "message": said})
-            if changed == "described":
-                await _broadcast(app, {"type": "hello", "faces": builtin_faces(), **session.describe()})
-            if changed in ("described", "animation"):
-                await _broadcast(app, {"type": "animation", **session.editor.describe()})
-            if changed in ("described", "face"):
-                await _broadcast(app, {"type": "face", **session.faces.describe()})
-            if changed == "tune" and session.tuner is not None:
-                await _broadcast(app, {"type": "tune", "showing": session.tune_motor,
-                                       **session.tuner.describe(session.tune_motor)})
-            if changed == "sound" and session.sound is not None:
-                await _broadcast(app, {"type": "sound", **session.sound.describe()})
-            await _broadcast(app, {"type": "frame", **session.frame()})
+            for state in _state(session, changed):
+                await _broadcast(app, state)
             app[WAKE].set()
     finally:
         app[SOCKETS].discard(ws)
     return ws
+
+
+def _state(session: StudioSession, changed: str) -> list[dict]:
+    """The messages that bring a page up to date after ``changed`` (what :func:`apply` returned,
+    or ``all`` for a page just connected), the frame last."""
+    every = changed in ("all", "described")
+    out = []
+    if every:
+        out.append({"type": "hello", "faces": builtin_faces(), **session.describe()})
+    if every or changed == "animation":
+        out.append({"type": "animation", **session.editor.describe()})
+    if every or changed == "face":
+        out.append({"type": "face", **session.faces.describe()})
+    if (every or changed == "tune") and session.tuner is not None:
+        out.append({"type": "tune", "motor": session.tune_motor, **session.tuner.describe(session.tune_motor)})
+    if (every or changed == "sound") and session.sound is not None:
+        out.append({"type": "sound", **session.sound.describe()})
+    return [*out, {"type": "frame", **session.frame()}]
 
 
 async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict) -> None:

@@ -66,8 +66,8 @@ class Handle:
 
 
 class StudioSession:
-    """One face, shown in test mode, at the animation's cursor or as a stream brings it
-    (:attr:`showing`: ``"test"``, ``"animation"`` or ``"live"``).
+    """One face, shown in test mode, at the animation's cursor, as a stream brings it or as a
+    tuned take maps it (:attr:`showing`: ``"test"``, ``"animation"``, ``"live"`` or ``"tune"``).
 
     Parameters
     ----------
@@ -89,11 +89,12 @@ class StudioSession:
         self.editor = AnimationEditor(self.neutral)
         if animation is not None:
             self.editor.open(animation)
-        self.showing = "test"  # what the face shows: "test" (the Animator) or "animation" (at the cursor)
+        self.showing = "test"  # what the face shows (see the class docstring)
         self.sound: Sound | None = None  # under the staves, played with the animation, muxed into renders
         self.live: LiveSource | None = None  # a stream shown as it comes (toonface studio --receive)
         self.tuner: MappingTuner | None = None  # a take mapped again at each tuning of its mapping
-        self.tune_clock: tuple[float, float] | None = None  # (server time at take time 0, take time when paused)
+        self._tune_start = 0.0  # the server's time at the tuned take's time 0 while it plays
+        self._tune_paused: float | None = None  # the take's time where it was paused
         self._now = 0.0  # the server's clock at the last tick
         self.tune_motor = ""  # the motor whose curve the tuner shows
         self.looping: str | None = None  # an expression played to and from neutral until a slider moves
@@ -138,8 +139,7 @@ class StudioSession:
             self.editor.pause()
             self.showing = "live"
         elif self.showing == "live":
-            self.animator.set_values(self.values)
-            self.showing = "test"
+            self._test_mode()
 
     def show_animation(self) -> None:
         """The face shows the animation at the cursor (after an edit, a move of the cursor, play)."""
@@ -230,7 +230,7 @@ class StudioSession:
     def busy(self) -> bool:
         """Whether the Animator has moves left or an expression loops, the animation is playing, a
         stream is shown or a tuned take plays."""
-        tuning = self.showing == "tune" and self.tune_clock is not None and self.tune_clock[1] < 0
+        tuning = self.showing == "tune" and self._tune_paused is None
         looping = self.looping is not None and self.showing == "test"
         return self.animator.busy() or self.editor.playing or self.showing == "live" or tuning or looping
 
@@ -239,26 +239,24 @@ class StudioSession:
         self.tuner = tuner
         self.editor.pause()
         self.showing = "tune"
-        self.tune_clock = (now, -1.0)
-        self._now = now
+        self._tune_start, self._tune_paused, self._now = now, None, now
 
     def tune_pause(self, now: float, paused: bool) -> None:
         """Pause the tuned take where it is, or play it on from there."""
-        if self.tune_clock is None:
-            return
         self._now = now
-        if paused and self.tune_clock[1] < 0:
-            self.tune_clock = (self.tune_clock[0], self.tune_time)
-        elif not paused and self.tune_clock[1] >= 0:
-            self.tune_clock = (now - self.tune_clock[1], -1.0)
+        if paused and self._tune_paused is None:
+            self._tune_paused = self.tune_time
+        elif not paused and self._tune_paused is not None:
+            self._tune_start, self._tune_paused = now - self._tune_paused, None
 
     @property
     def tune_time(self) -> float:
         """Where in the tuned take the face is, seconds."""
-        if self.tuner is None or self.tune_clock is None:
+        if self.tuner is None:
             return 0.0
-        start, paused_at = self.tune_clock
-        return paused_at if paused_at >= 0 else (self._now - start) % self.tuner.duration
+        if self._tune_paused is not None:
+            return self._tune_paused
+        return (self._now - self._tune_start) % self.tuner.duration
 
     def frame(self, size: tuple[int, int] = (512, 512)) -> dict:
         """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
@@ -284,17 +282,13 @@ class StudioSession:
                 "face": self.face_name, "viewbox": list(self.face.viewbox),
                 "live": None if self.live is None else self.live.name}
 
-    def _angles(self, values: np.ndarray) -> tuple[float, float]:
-        (ylo, yhi), (plo, phi) = self.face.ranges["HH"], self.face.ranges["HV"]
-        return ylo + values[motor_index("HH")] * (yhi - ylo), plo + values[motor_index("HV")] * (phi - plo)
-
     def _turned(self, points: np.ndarray, values: np.ndarray) -> np.ndarray:
-        yaw, pitch = self._angles(values)
+        yaw, pitch = self.rig.head_degrees(values)
         return head_turn(points, self.face.feature_depth, np.array(self.face.head_pivot), yaw, pitch)
 
     def _unturned(self, point: np.ndarray, values: np.ndarray) -> tuple[float, float]:
         """The face point that :meth:`_turned` shows at ``point`` (depth: the features')."""
-        yaw, pitch = (math.radians(a) for a in self._angles(values))
+        yaw, pitch = (math.radians(a) for a in self.rig.head_degrees(values))
         px, py = self.face.head_pivot
         depth = self.face.feature_depth
         y = (point[1] - py - depth * math.sin(pitch)) / math.cos(pitch)

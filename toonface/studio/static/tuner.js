@@ -10,7 +10,7 @@
 
   function show(state) {
     tuner.state = state;
-    const code = state.showing;
+    const code = state.motor;
     el("tune-motor").replaceChildren(...state.motors.map((c) => new Option(c, c, false, c === code)));
     const rule = state.rules[code] || {};
     el("tune-gain").value = rule.gain ?? 1;
