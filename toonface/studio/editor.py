@@ -17,6 +17,7 @@ from common import InputError
 from toon import MOTOR_CODES, MotorTrack, load_track, save_track
 from toon import animation as an
 from toon.animation import Animation
+from toonface.studio.history import History
 
 #: How many edits can be undone.
 UNDO_LEVELS = 200
@@ -45,16 +46,14 @@ class AnimationEditor:
         self.path = path
         self.cursor = 0.0
         self.clipboard: Animation | None = None
-        self._undo: list[Animation] = []
-        self._redo: list[Animation] = []
+        self.history: History[Animation] = History(UNDO_LEVELS)
         self._playing: tuple[float, float, float, bool] | None = None  # (started at, from, to, loop)
 
     # -- edits (each undoable) -------------------------------------------------------------------
     def _change(self, new: Animation) -> None:
         if new == self.animation:
             return
-        self._undo = [*self._undo[-(UNDO_LEVELS - 1):], self.animation]
-        self._redo.clear()
+        self.history.push(self.animation)
         self.animation = new
         self.cursor = min(self.cursor, new.duration)
 
@@ -112,18 +111,17 @@ class AnimationEditor:
 
     def undo(self) -> bool:
         """Back one edit; False when there is none."""
-        if not self._undo:
-            return False
-        self._redo.append(self.animation)
-        self.animation = self._undo.pop()
-        return True
+        return self._restore(self.history.undo(self.animation))
 
     def redo(self) -> bool:
         """Forward one undone edit; False when there is none."""
-        if not self._redo:
+        return self._restore(self.history.redo(self.animation))
+
+    def _restore(self, state: Animation | None) -> bool:
+        if state is None:
             return False
-        self._undo.append(self.animation)
-        self.animation = self._redo.pop()
+        self.animation = state
+        self.cursor = min(self.cursor, state.duration)
         return True
 
     # -- files -------------------------------------------------------------------------------------
@@ -142,8 +140,7 @@ class AnimationEditor:
             knots = sum(len(k) for k in self.animation.knots.values())
             said = (f"opened {source} ({what}): {knots} knots for {track.frames} frames x 21 motors, "
                     f"within {tolerance:g} of every value")
-        self._undo.clear()
-        self._redo.clear()
+        self.history.clear()
         self.cursor = 0.0
         return said
 
@@ -205,7 +202,7 @@ class AnimationEditor:
         return {"duration": self.animation.duration, "cursor": self.cursor, "playing": self.playing,
                 "knots": {code: [list(k) for k in knots] for code, knots in self.animation.knots.items()},
                 "neutral": {code: float(v) for code, v in zip(MOTOR_CODES, self.neutral, strict=True)},
-                "undo": len(self._undo), "redo": len(self._redo), "path": str(self.path) if self.path else None,
+                **self.history.counts(), "path": str(self.path) if self.path else None,
                 "clipboard": None if clip is None else {"duration": clip.duration,
                                                         "motors": sorted(clip.knots, key=MOTOR_CODES.index)}}
 

@@ -32,6 +32,7 @@ from toonface.studio.face_items import (
     vertex,
     vertices,
 )
+from toonface.studio.history import History
 
 #: How many face edits can be undone.
 UNDO_LEVELS = 100
@@ -52,8 +53,7 @@ class FaceEditor:
     def __init__(self, face: Face) -> None:
         self.face = face
         self.doc = face.to_dict()
-        self._undo: list[dict] = []
-        self._redo: list[dict] = []
+        self.history: History[dict] = History(UNDO_LEVELS)
         self.clipboard: tuple[str, dict] | None = None  # (kind of item, a copy); kept across faces
 
     # -- the rule every edit goes through ----------------------------------------------------------
@@ -61,27 +61,21 @@ class FaceEditor:
         doc = copy.deepcopy(self.doc)
         change(doc)
         face = face_from_dict(doc, source="the edited face")  # InputError: refused, nothing changed
-        self._undo = [*self._undo[-(UNDO_LEVELS - 1):], self.doc]
-        self._redo.clear()
+        self.history.push(self.doc)
         self.doc, self.face = doc, face
         return face
 
     def undo(self) -> bool:
-        if not self._undo:
-            return False
-        self._redo.append(self.doc)
-        self._adopt(self._undo.pop())
-        return True
+        return self._restore(self.history.undo(self.doc))
 
     def redo(self) -> bool:
-        if not self._redo:
-            return False
-        self._undo.append(self.doc)
-        self._adopt(self._redo.pop())
-        return True
+        return self._restore(self.history.redo(self.doc))
 
-    def _adopt(self, doc: dict) -> None:
+    def _restore(self, doc: dict | None) -> bool:
+        if doc is None:
+            return False
         self.doc, self.face = doc, face_from_dict(doc, source="the edited face")
+        return True
 
     # -- control points and motor ranges -----------------------------------------------------------
     def move_point(self, name: str, x: float, y: float) -> Face:
@@ -240,8 +234,7 @@ class FaceEditor:
         """Start from a built-in face (a template) or a face file; undo starts afresh."""
         face = load_face(name_or_path)
         self.face, self.doc = face, face.to_dict()
-        self._undo.clear()
-        self._redo.clear()
+        self.history.clear()
         return face
 
     def save(self, path: str | os.PathLike) -> Path:
@@ -253,7 +246,7 @@ class FaceEditor:
 
     def describe(self) -> dict:
         """What the page's face panel shows: the document, and how many edits undo and redo hold."""
-        return {"doc": self.doc, "undo": len(self._undo), "redo": len(self._redo)}
+        return {"doc": self.doc, **self.history.counts()}
 
 
 def _known(table: dict, key: str, what: str) -> str:
