@@ -13,7 +13,6 @@ amount of freed memory at the top of its heap for the next arrays instead.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 
 _M_TOP_PAD = -2  # mallopt's parameter numbers (glibc's malloc.h)
 
@@ -27,11 +26,8 @@ def keep_freed_memory(megabytes: int = 64) -> bool:
     decides for itself. Returns whether the setting was made (False where the C library is not
     glibc).
     """
-    name = ctypes.util.find_library("c")
-    if name is None:
-        return False
-    try:
-        mallopt = ctypes.CDLL(name).mallopt
+    try:  # the process's own symbols: no search for the C library (find_library runs ldconfig)
+        mallopt = ctypes.CDLL(None).mallopt
     except (OSError, AttributeError):  # not glibc (musl has no mallopt; macOS and Windows neither)
         return False
     mallopt.argtypes, mallopt.restype = [ctypes.c_int, ctypes.c_int], ctypes.c_int
