@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
-
 import click
 
 from toonface.cli_options import FACE
@@ -31,6 +29,7 @@ def studio(animation: str | None, face: str, listen: str, receive: str | None, c
     and concealed frames. Open the printed address in a browser on this machine. The page
     answers only at that address; Ctrl-C stops the server.
     """
+    import asyncio
     import contextlib
 
     from toonface.cli_stream import _key
