@@ -160,6 +160,8 @@ def test_a_component_is_dragged_restyled_and_moved_whole(tmp_path):
                               "document.getElementById('slider-panel').open = false;"
                               "document.getElementById('design').click();"
                               "document.getElementById('target-component').click()")
+        assert not driver.find_element("id", "kind-label").is_displayed()  # a polygon's field, not a component's
+        assert driver.find_element("id", "layer-label").is_displayed()
         hair = next(i for i, c in enumerate(session.faces.doc["components"]) if c.get("name") == "hair_back")
         Select(driver.find_element("id", "polygon")).select_by_value(str(hair))
         before = np.array(session.faces.doc["components"][hair]["points"], dtype=float)
