@@ -16,9 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from common import InputError
+from common import InputError, builtin_names
 from toon import Face, load_face, save_face
 from toon.face import KINDS, face_from_dict
+from toonface.studio import component_edits as parts
 from toonface.studio.face_items import (
     LISTS,
     component_part,
@@ -38,7 +39,9 @@ from toonface.studio.history import History
 UNDO_LEVELS = 100
 #: The fields :meth:`FaceEditor.restyle` changes, by kind of item.
 STYLE_FIELDS = {"polygon": {"color", "stroke", "width", "kind", "attach", "depth", "name"},
-                "component": {"layer", "fill", "stroke", "width", "name"}}
+                "component": {"layer", "fill", "stroke", "width", "name", "closed", "coupling", "skeleton_closed",
+                              "smooth", "hidden", "clip", "hole", "depth", "visible", "translate", "scale",
+                              "controls", "transform"}}
 
 
 class FaceEditor:
@@ -55,9 +58,10 @@ class FaceEditor:
         self.doc = face.to_dict()
         self.history: History[dict] = History(UNDO_LEVELS)
         self.clipboard: tuple[str, dict] | None = None  # (kind of item, a copy); kept across faces
+        self.listed: dict = {}  # the library last listed: its name and its composites' names
 
     # -- the rule every edit goes through ----------------------------------------------------------
-    def _edit(self, change: Callable[[dict], None]) -> Face:
+    def _edit(self, change: Callable[[dict], object]) -> Face:
         doc = copy.deepcopy(self.doc)
         change(doc)
         face = face_from_dict(doc, source="the edited face")  # InputError: refused, nothing changed
@@ -137,6 +141,51 @@ class FaceEditor:
             refs = component_part(item(doc, "component", component), part)
             refs[index] = placed(vertex(refs, index), np.array([finite(x), finite(y)]))
         return self._edit(change)
+
+    # -- CharToon's components, made from nothing, point by point (:mod:`.component_edits`) ----------
+    def new_component(self, kind: str, x: float, y: float, size: float = 40.0) -> Face:
+        """A polyline, polygon, ellipse or skeleton centred on ``(x, y)``, drawn last."""
+        return self._edit(lambda doc: parts.new_component(doc, kind, x, y, size))
+
+    def add_component_point(self, component: int, part: str, after: int, x: float, y: float) -> Face:
+        return self._edit(lambda doc: parts.add_point(doc, component, part, after, x, y))
+
+    def delete_component_point(self, component: int, part: str, index: int) -> Face:
+        return self._edit(lambda doc: parts.delete_point(doc, component, part, index))
+
+    def set_point_kind(self, component: int, part: str, index: int, kind: str, master: str | None = None) -> Face:
+        """A component's point made master, slave, fixed or frozen (of ``master``, or the nearest control point)."""
+        return self._edit(lambda doc: parts.set_point_kind(doc, component, part, index, kind, master))
+
+    def group(self, indices: list[int], name: str = "") -> Face:
+        """Components made one composite, to move, flip, copy and save to a library as one."""
+        return self._edit(lambda doc: parts.group(doc, indices, name))
+
+    def ungroup(self, index: int) -> Face:
+        """A composite replaced by its components, placed (a library's entry copied into the face)."""
+        children = parts.placed_children(self.face.components[_component(self.doc, index)])
+
+        def change(doc: dict) -> None:
+            doc["components"][index:index + 1] = children
+        return self._edit(change)
+
+    def save_to_library(self, index: int, library: str | os.PathLike, name: str, description: str = "") -> Path:
+        """Component ``index`` (a composite's components, placed) written to a component library
+        as composite ``name``; not an edit of the face."""
+        component = self.face.components[_component(self.doc, index)]
+        children = (parts.placed_children(component) if component.kind == "composite"
+                    else [component.to_dict()])
+        return parts.save_to_library(library, name, children, description)
+
+    def insert_from_library(self, library: str, use: str, controls: dict[str, str] | None = None,
+                            dx: float = 0.0, dy: float = 0.0) -> Face:
+        """A library's composite re-used in this face, drawn last (a file's path kept absolute)."""
+        named = library if parts.is_builtin(library) else str(Path(library).resolve())
+        return self._edit(lambda doc: parts.insert_from_library(doc, named, use, controls, dx, dy))
+
+    def list_library(self, library: str) -> None:
+        """Read which composites a library offers (shown with the face; not an edit)."""
+        self.listed = {"library": library, "names": parts.library_names(library)}
 
     # -- polygons and components as units (``kind``: ``polygon`` or ``component``) ------------------
     def move(self, kind: str, index: int, dx: float, dy: float) -> Face:
@@ -246,7 +295,13 @@ class FaceEditor:
 
     def describe(self) -> dict:
         """What the page's face panel shows: the document, and how many edits undo and redo hold."""
-        return {"doc": self.doc, **self.history.counts()}
+        return {"doc": self.doc, "outlines": parts.outlines(self.face),
+                "libraries": builtin_names("components", ".json"), "listed": self.listed, **self.history.counts()}
+
+
+def _component(doc: dict, index: int) -> int:
+    item(doc, "component", index)
+    return index
 
 
 def _known(table: dict, key: str, what: str) -> str:

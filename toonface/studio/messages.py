@@ -130,11 +130,19 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
     return said
 
 
-#: The face editor's actions (:class:`~toonface.studio.faces.FaceEditor`'s methods) and their arguments.
+#: The face editor's actions (:class:`~toonface.studio.faces.FaceEditor`'s methods) and their
+#: arguments (``?``: may be left out).
 FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "value"),
                 "move_vertex": ("polygon", "index", "x", "y"), "add_vertex": ("polygon", "after", "x", "y"),
                 "delete_vertex": ("polygon", "index"), "add_polygon": ("x", "y"),
                 "move_component_point": ("component", "index", "x", "y", "part"),
+                "new_component": ("kind", "x", "y", "size?"),
+                "add_component_point": ("component", "part", "after", "x", "y"),
+                "delete_component_point": ("component", "part", "index"),
+                "set_point_kind": ("component", "part", "index", "kind", "master?"),
+                "group": ("indices", "name?"), "ungroup": ("index",),
+                "insert_from_library": ("library", "use", "controls?", "dx?", "dy?"),
+                "list_library": ("library",),
                 "set_background": ("color",), "rename": ("name",)}
 #: What the face editor does to a polygon or a component as a unit: ``VERB_polygon`` or ``VERB_component``.
 UNIT_ACTIONS = {"move": ("dx", "dy"), "scale": ("factor",), "flip": ("axis",), "duplicate": ("dx", "dy"),
@@ -147,7 +155,9 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
     verb, _, kind = action.rpartition("_")
     said = None
     if action in FACE_ACTIONS:
-        getattr(faces, action)(*[_argument(key, message[key]) for key in FACE_ACTIONS[action]])
+        arguments = {key.rstrip("?"): _argument(key.rstrip("?"), message[key.rstrip("?")])
+                     for key in FACE_ACTIONS[action] if not key.endswith("?") or key.rstrip("?") in message}
+        getattr(faces, action)(**arguments)
     elif verb in UNIT_ACTIONS and kind in ("polygon", "component"):
         getattr(faces, verb)(kind, int(message[kind]), *[_argument(key, message[key]) for key in UNIT_ACTIONS[verb]])
     elif action in ("set_style", "set_component"):  # a polygon's or a component's fields
@@ -166,6 +176,10 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         said = f"editing a copy of {message['name']}"
     elif action == "save":
         said = f"wrote {faces.save(str(message['path']))}"
+    elif action == "save_to_library":
+        written = faces.save_to_library(int(message["index"]), str(message["library"]), str(message["name"]),
+                                        str(message.get("description", "")))
+        said = f"wrote {message['name']} to {written}"
     else:
         raise ValueError(f"unknown face action {action!r}")
     session.set_face(faces.face)
@@ -204,11 +218,20 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     return None
 
 
-def _argument(key: str, value: object) -> int | float | str:
-    """A face action's argument as its method takes it: an index, a name or a number."""
+def _argument(key: str, value: object) -> object:
+    """A face action's argument as its method takes it: an index, a name, a number, a list of
+    indices (``indices``) or a renaming of control points (``controls``)."""
     if key in ("polygon", "component", "index", "after"):
         return int(value)  # type: ignore[call-overload]
-    if key in ("name", "code", "end", "axis", "color", "part"):
+    if key == "indices":
+        if not isinstance(value, list):
+            raise TypeError("indices: expected a list of component indices")
+        return [int(i) for i in value]
+    if key == "controls":
+        if not isinstance(value, dict):
+            raise TypeError('controls: expected an object like {"M": "BLM"}')
+        return {str(k): str(v) for k, v in value.items()}
+    if key in ("name", "code", "end", "axis", "color", "part", "kind", "master", "library", "use"):
         return str(value)
     return float(value)  # type: ignore[arg-type]
 
