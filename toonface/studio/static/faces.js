@@ -11,8 +11,9 @@
     ERU: ["ERU", "y"], ERL: ["ERL", "y"], ELU: ["ELU", "y"], ELL: ["ELL", "y"],
     MLH: ["ML", "x"], MLV: ["ML", "y"], MRH: ["MR", "x"], MRV: ["MR", "y"], MB: ["MB", "y"],
   };
-  const faces = {doc: null, selected: 0, dragging: null, waiting: false, pending: null, target: "polygon"};
-  window.faces = faces;
+  const faces = {doc: null, selected: 0, chosen: [0], dragging: null, waiting: false, pending: null,
+                 target: "polygon"};
+  window.faces = faces;  // components.js adds the component tools to it
 
   function node(name, attrs) {
     const n = document.createElementNS(NS, name);
@@ -39,6 +40,10 @@
     }
   }
 
+  faces.edit = edit;
+  faces.facePoint = facePoint;
+  faces.node = node;
+
   function show(message) {
     faces.last = message;
     faces.doc = message.doc;
@@ -47,6 +52,7 @@
     settled();
     draw();
   }
+  faces.draw = () => draw();
 
   const items = () => (faces.target === "polygon" ? faces.doc.polygons : faces.doc.components || []);
 
@@ -55,13 +61,17 @@
     const list = items();
     const component = faces.target === "component";
     faces.selected = Math.min(faces.selected, Math.max(0, list.length - 1));
+    if (!faces.chosen.includes(faces.selected)) faces.chosen = [faces.selected];
+    el("polygon").multiple = component;  // ctrl-click chooses several components, to group
     el("polygon").replaceChildren(...list.map((p, i) =>
       new Option(`${i}: ${p.name || "(unnamed)"} (${p.kind}${component ? `, layer ${p.layer ?? 1}` : ""})`, i, false,
-                 i === faces.selected)));
+                 component ? faces.chosen.includes(i) : i === faces.selected)));
     el("target-name").textContent = component ? "Component" : "Polygon";
     el("kind-label").hidden = component;
     el("attach-label").hidden = component;
     el("layer-label").hidden = !component;
+    el("component-tools").hidden = !component;
+    if (faces.componentPanel) faces.componentPanel(message);
     const spec = list[faces.selected];
     if (spec) {
       el("fill").value = (spec.color || spec.fill || "#000000").slice(0, 7);
@@ -124,17 +134,7 @@
                                  "data-drag": "point", "data-name": name}));
     }
     const chosen = items()[faces.selected];
-    if (chosen && faces.target === "component") {
-      for (const part of ["points", "skeleton", "body"]) {
-        (chosen[part] || []).forEach((ref, index) => {
-          if (typeof ref === "string") return;  // a master: its control point, drawn above
-          const [x, y] = Array.isArray(ref) ? ref : (ref.at || ref.fixed);
-          parts.push(node("rect", {class: "vertex", x: x - r, y: -y - r, width: 2 * r, height: 2 * r,
-                                   transform: `rotate(45 ${x} ${-y})`, "stroke-width": r / 3,
-                                   "data-drag": "cpoint", "data-part": part, "data-index": index}));
-        });
-      }
-    }
+    if (chosen && faces.target === "component" && faces.componentParts) parts.push(...faces.componentParts(r));
     const spec = faces.target === "polygon" ? chosen : null;
     if (spec) {
       const points = spec.vertices.map(([x, y]) => `${x},${-y}`).join(" ");
@@ -156,7 +156,9 @@
     const target = event.target;
     if (!target.dataset || !target.dataset.drag || event.button !== 0) return;
     faces.dragging = {...target.dataset};
-    if ((target.dataset.drag === "vertex" || target.dataset.drag === "cpoint") && event.shiftKey) {
+    if (target.dataset.drag === "cpoint" && faces.choosePoint) faces.choosePoint(target.dataset);
+    if ((target.dataset.drag === "vertex" || target.dataset.drag === "cpoint") && event.shiftKey
+        || target.dataset.drag === "unit") {
       faces.dragging = {drag: faces.target, from: facePoint(event)};  // shift: the whole polygon or component
     }
     el("shape").setPointerCapture(event.pointerId);
@@ -172,6 +174,7 @@
       drag.from = [x, y];
       edit({action: `move_${drag.drag}`, [drag.drag]: faces.selected, dx, dy});
     } else if (drag.drag === "cpoint") {
+      if (drag.master) return;  // a master point sits on its control point: drag that instead
       edit({action: "move_component_point", component: faces.selected, index: Number(drag.index), x, y,
             part: drag.part});
     } else if (drag.drag === "vertex") {
@@ -183,26 +186,43 @@
     }
   }
 
-  function addVertex(event) {
-    // a double-click on the chosen polygon's outline: a vertex there, after the nearer end of that side
-    const spec = faces.doc && faces.doc.polygons[faces.selected];
-    if (!spec || event.target.getAttribute("class") !== "outline-hit") return;
-    const [x, y] = facePoint(event);
-    const v = spec.vertices;
+  function nearestSide(v, x, y, closed = true) {
+    // the side of outline v ([[x, y], ...]) nearest (x, y): the index of its first point
     let best = 0;
     let bestDistance = Infinity;
     v.forEach(([ax, ay], i) => {
+      if (!closed && i === v.length - 1) return;
       const [bx, by] = v[(i + 1) % v.length];
       const [dx, dy] = [bx - ax, by - ay];
       const t = Math.max(0, Math.min(1, ((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy || 1)));
       const distance = Math.hypot(ax + t * dx - x, ay + t * dy - y);
       if (distance < bestDistance) [best, bestDistance] = [i, distance];
     });
-    edit({action: "add_vertex", polygon: faces.selected, after: best, x, y});
+    return best;
+  }
+  faces.nearestSide = nearestSide;
+
+  function addVertex(event) {
+    // a double-click on the chosen item's outline: a point there, after the nearer end of that side
+    if (event.target.getAttribute("class") !== "outline-hit") return;
+    const [x, y] = facePoint(event);
+    if (faces.target === "component") {
+      if (faces.addPoint) faces.addPoint(x, y);
+      return;
+    }
+    const spec = faces.doc && faces.doc.polygons[faces.selected];
+    if (spec) edit({action: "add_vertex", polygon: faces.selected, after: nearestSide(spec.vertices, x, y), x, y});
   }
 
   function deleteVertex(event) {
-    if (!event.target.dataset || event.target.dataset.drag !== "vertex") return;
+    const drag = event.target.dataset && event.target.dataset.drag;
+    if (drag === "cpoint") {
+      event.preventDefault();
+      edit({action: "delete_component_point", component: faces.selected, part: event.target.dataset.part,
+            index: Number(event.target.dataset.index)});
+      return;
+    }
+    if (drag !== "vertex") return;
     event.preventDefault();
     edit({action: "delete_vertex", polygon: faces.selected, index: Number(event.target.dataset.index)});
   }
@@ -217,6 +237,7 @@
   el("design").addEventListener("change", (event) => setDesign(event.target.checked));
   el("polygon").addEventListener("change", (event) => {
     faces.selected = Number(event.target.value);
+    faces.chosen = [...event.target.selectedOptions].map((option) => Number(option.value));
     panel();
     draw();
   });
@@ -257,14 +278,16 @@
   el("flip-y").addEventListener("click", whole("flip", {axis: "y"}));
   el("grow").addEventListener("click", whole("scale", {factor: 1.1}));
   el("shrink").addEventListener("click", whole("scale", {factor: 0.9}));
-  for (const target of ["polygon", "component"]) {
-    el(`target-${target}`).addEventListener("change", () => {
-      faces.target = target;
-      faces.selected = 0;
-      panel();
-      draw();
-    });
+  function choose(target, index) {
+    faces.target = target;
+    el(`target-${target}`).checked = true;
+    faces.selected = index;
+    faces.chosen = [index];
+    panel();
+    draw();
   }
+  faces.choose = choose;
+  for (const target of ["polygon", "component"]) el(`target-${target}`).addEventListener("change", () => choose(target, 0));
   el("face-undo").addEventListener("click", () => edit({action: "undo"}));
   el("face-redo").addEventListener("click", () => edit({action: "redo"}));
   el("face-name").addEventListener("change", (event) => edit({action: "rename", name: event.target.value}));
@@ -273,6 +296,8 @@
   studio.onError = (message) => {  // a refused edit: said next to the face panel too, and the next one may go
     if (faces.waiting) {
       el("face-error").textContent = message;
+      const named = /(polygons|components)\[(\d+)\]/.exec(message);  // the validator names the offending item
+      if (named) choose(named[1] === "polygons" ? "polygon" : "component", Number(named[2]));
       settled();
     }
   };
