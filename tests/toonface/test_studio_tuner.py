@@ -58,3 +58,30 @@ def test_a_bad_tuning_is_refused_and_the_take_keeps_playing(take):
     apply(session, {"op": "tune", "action": "pause"}, 11.5)
     session.tick(13.0)
     assert session.values == pytest.approx(tuner.values_at(1.5)) and not session.busy()
+
+
+def test_the_sources_are_shown_as_measured_in_millimetres_and_degrees(tmp_path):
+    from capture import load_take
+    from common import read_document, resolve_builtin, write_toml
+
+    take = save_take(synthesize(seconds=4.0, rate=60.0, noise_mm=0.0).take, tmp_path / "still.npz")
+    doc = read_document(resolve_builtin("toon32", "mappings", ".toml", "mapping"))
+    doc["motor"]["MB"]["sources"] = [{"distance": ["LIP_UP", "LIP_LOW"]}]
+    doc["motor"]["MB"].pop("combine", None)
+    mapping = write_toml(doc, tmp_path / "distance.toml")
+    session = StudioSession("classic")
+    apply(session, {"op": "tune", "action": "open", "take": str(take), "mapping": str(mapping)}, 0.0)
+    apply(session, {"op": "tune", "action": "motor", "code": "MB"}, 0.0)
+    curve = session.tuner.describe("MB")["curve"]
+    key = "distance(LIP_UP,LIP_LOW)"
+    assert curve["units"] == {key: "mm"}
+    # a distance does not depend on how the head is held: measured here straight from the file's markers
+    recorded = load_take(take)
+    up, low = recorded.labels.index("LIP_UP"), recorded.labels.index("LIP_LOW")
+    direct = np.linalg.norm(recorded.positions[:, up] - recorded.positions[:, low], axis=1)
+    at = np.round(np.array(curve["times"]) * recorded.rate).astype(int)
+    # within what cleaning's zero-phase low-pass (mapping/clean.py) takes off the fastest jaw motion
+    np.testing.assert_allclose(curve["raw"][key], direct[at], atol=0.3)
+    assert 5 < np.ptp(direct) < 60  # millimetres of jaw travel, not centimetres or metres
+    apply(session, {"op": "tune", "action": "motor", "code": "HH"}, 0.0)
+    assert session.tuner.describe("HH")["curve"]["units"] == {"head.yaw": "°"}

@@ -1,9 +1,11 @@
 """The mapping tuner in headless Chromium: a take plays on the face, a gain set in the panel
-changes the motor's curve, and the files it saves map the take as `toonface map` does."""
+changes the motor's curve, a source's range line dragged on its measured values changes the
+profile, and the files it saves map the take as `toonface map` does."""
 
 import numpy as np
 import pytest
 from browser import studio_page, wait_for
+from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.support.ui import Select
 
 from capture import save_take, synthesize
@@ -42,6 +44,18 @@ def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
         wait_for(driver, "window.tuner.state.rules.MB.curve && window.tuner.state.rules.MB.filter")
         assert session.tuner.doc["motor"]["MB"]["curve"] == [[0, 0], [0.5, 0.2], [1, 1]]
         assert session.tuner.doc["motor"]["MB"]["filter"] == {"kind": "butterworth", "cutoff": 4}
+        # MB's sources as measured, in mm, under the performer's range: dragging a source's high line
+        # up by 12 pixels moves that end of its range by 12 pixels' worth of millimetres
+        units = driver.execute_script("return window.tuner.state.curve.units")
+        assert set(units.values()) == {"mm"}
+        key = next(iter(units))
+        high = session.tuner.ready.profile.sources[key].high
+        line = driver.find_element("css selector", f'#tune-raw line.raw-range.high[data-key="{key}"]')
+        per_pixel = driver.execute_script(f"const r = window.tuner.rows['{key}']; return r.span / r.height")
+        ActionChains(driver).click_and_hold(line).move_by_offset(0, -6).move_by_offset(0, -6).release().perform()
+        wait_for(driver, f"window.tuner.state.ranges['{key}'][2] !== {high}")
+        moved = session.tuner.ready.profile.sources[key].high
+        assert moved == pytest.approx(high + 12 * per_pixel, abs=1.5 * per_pixel)
         mapping, profile = tmp_path / "mine.toml", tmp_path / "me.toml"
         for box, button, path in (("tune-mapping-path", "tune-save-mapping", mapping),
                                   ("tune-profile-path", "tune-save-profile", profile)):

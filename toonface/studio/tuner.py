@@ -19,9 +19,10 @@ import numpy as np
 from capture import load_take
 from common import InputError, read_document, write_toml
 from mapping import parse_mapping, save_profile
+from mapping.mapfile import MotorRule
 from mapping.mapper import normalise, resolved_mode
 from mapping.profile import SourceRange
-from mapping.sources import head_angles, measure
+from mapping.sources import Source, head_angles, measure
 from mapping.workflow import ReadyTake, map_ready, ready_take
 from toon import MOTOR_CODES, MotorTrack
 
@@ -112,27 +113,46 @@ class MappingTuner:
                      "sources": {c: [s.key for s in r.sources] for c, r in
                                  ((r.code, r) for r in self.ready.mapping.rules)},
                      "ranges": {k: [r.neutral, r.low, r.high] for k, r in self.ready.profile.sources.items()}}
-        if code is not None:
+        rule = None if code is None else self._rule(code)
+        if code is not None and rule is not None:
             column = self.track.values[:, MOTOR_CODES.index(code)]
             at = np.linspace(0, self.track.frames - 1, min(CURVE_POINTS, self.track.frames)).round().astype(int)
             out["curve"] = {"code": code, "times": (at / self.track.rate).round(4).tolist(),
                             "values": column[at].round(4).tolist(),
                             "sources": {key: np.nan_to_num(values[at], nan=0.0).round(4).tolist()
-                                        for key, values in self.source_values(code).items()}}
+                                        for key, values in self.source_values(code).items()},
+                            "raw": {key: [None if np.isnan(v) else round(float(v), 3) for v in values[at]]
+                                    for key, values in self.raw_values(code).items()},
+                            "units": {source.key: source_unit(source) for source in rule.sources}}
         return out
 
     def source_values(self, code: str) -> dict[str, np.ndarray]:
         """Each source of ``code``'s rule over the take, ``(F,)``, normalised as the mapping reads it
         (with a profile: -1 at the performer's low, 0 at rest, 1 at high; NaN where unseen)."""
-        rule = next((r for r in self.ready.mapping.rules if r.code == code), None)
+        rule = self._rule(code)
         if rule is None:
             return {}
-        stable, profile = self.ready.prepared.stable, self.ready.profile
-        head = head_angles(stable.rotation, profile.rest_rotation)
+        profile = self.ready.profile
         mode = resolved_mode(rule, profile)
-        return {source.key: normalise(measure(source, stable.local, self.ready.prepared.columns, head, stable.channels),
-                                      source, rule, profile.sources.get(source.key), mode)
-                for source in rule.sources}
+        return {source.key: normalise(values, source, rule, profile.sources.get(source.key), mode)
+                for source, values in self._measured(code)}
+
+    def raw_values(self, code: str) -> dict[str, np.ndarray]:
+        """Each source of ``code``'s rule over the take as measured, ``(F,)``, in its own units
+        (:func:`source_unit`): what the profile's ranges are written in."""
+        return {source.key: values for source, values in self._measured(code)}
+
+    def _rule(self, code: str) -> MotorRule | None:
+        return next((r for r in self.ready.mapping.rules if r.code == code), None)
+
+    def _measured(self, code: str) -> list[tuple[Source, np.ndarray]]:
+        rule = self._rule(code)
+        if rule is None:
+            return []
+        stable = self.ready.prepared.stable
+        head = head_angles(stable.rotation, self.ready.profile.rest_rotation)
+        return [(source, measure(source, stable.local, self.ready.prepared.columns, head, stable.channels))
+                for source in rule.sources]
 
     def save_mapping(self, path: str | os.PathLike) -> Path:
         target = Path(path)
@@ -142,3 +162,9 @@ class MappingTuner:
 
     def save_profile(self, path: str | os.PathLike) -> Path:
         return save_profile(self.ready.profile, path)
+
+
+def source_unit(source: Source) -> str:
+    """The unit a source is measured in: ``mm`` for positions and distances, ``°`` for angles and
+    the head, ``score`` for blendshapes."""
+    return {"angle": "°", "head": "°", "blendshape": "score"}.get(source.kind, "mm")

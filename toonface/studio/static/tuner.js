@@ -38,7 +38,7 @@
     return row;
   }
 
-  function curve(now) {
+  function curve() {
     const state = tuner.state;
     const svg = el("tune-curve");
     if (!state || !state.curve) return;
@@ -56,21 +56,101 @@
     const parts = Object.values(state.curve.sources).map((values) => polyline(values.map((v) => (v + 1) / 2),
                                                                                "source"));
     parts.push(polyline(state.curve.values, "curve"));
-    if (now !== undefined) {
-      const cursor = document.createElementNS(NS, "line");
-      for (const [k, v] of Object.entries({class: "cursor", x1: x(now), x2: x(now), y1: 0, y2: height})) {
-        cursor.setAttribute(k, v);
-      }
-      parts.push(cursor);
+    parts.push(node("line", {class: "cursor", x1: 0, x2: 0, y1: 0, y2: height}));
+    svg.replaceChildren(...parts);
+    raw();
+  }
+
+  function moveCursor(now) {
+    // the take's time on both plots; the plots themselves are drawn when the tuning changes
+    if (!tuner.state || !tuner.state.curve) return;
+    const x = (now / tuner.state.duration) * Number(el("tune-curve").getAttribute("width"));
+    for (const line of document.querySelectorAll("#tune-curve .cursor, #tune-raw .cursor")) {
+      line.setAttribute("x1", x);
+      line.setAttribute("x2", x);
     }
+  }
+
+  const node = (name, attrs) => {
+    const n = document.createElementNS(NS, name);
+    for (const [k, v] of Object.entries(attrs)) n.setAttribute(k, v);
+    return n;
+  };
+
+  function raw() {
+    // each source as measured, in its units (mm, °, score), under the performer's low, rest and high:
+    // drag a line to move that end of the range
+    const state = tuner.state;
+    const svg = el("tune-raw");
+    const keys = Object.keys(state.curve.raw).filter((key) => state.ranges[key]);
+    const width = Number(svg.getAttribute("width"));
+    const row = 76;
+    svg.setAttribute("height", row * keys.length);
+    if (!tuner.dragged) tuner.rows = {};
+    const parts = [];
+    keys.forEach((key, k) => {
+      const values = state.curve.raw[key];
+      const [neutral, low, high] = tuner.dragged && tuner.dragged.key === key ? tuner.dragged.range : state.ranges[key];
+      const top = k * row + 16;
+      if (!tuner.dragged) {  // a row keeps its scale while one of its lines is dragged
+        const seen = values.filter((v) => v !== null);
+        const lo = Math.min(low, ...seen);
+        const hi = Math.max(high, ...seen);
+        const pad = (hi - lo) * 0.08 || 1;
+        tuner.rows[key] = {top, height: row - 24, lo: lo - pad, span: hi - lo + 2 * pad};
+      }
+      const scale = tuner.rows[key];
+      const y = (v) => top + (1 - (v - scale.lo) / scale.span) * scale.height;
+      const x = (i) => (state.curve.times[i] / state.duration) * width;
+      const unit = state.curve.units[key];
+      const label = node("text", {class: "raw-label", x: 2, y: top - 3});
+      label.textContent = `${key}: ${low.toFixed(2)} to ${high.toFixed(2)} ${unit}, rest ${neutral.toFixed(2)}`;
+      parts.push(label);
+      const points = values.map((v, i) => (v === null ? null : `${x(i)},${y(v)}`)).filter(Boolean).join(" ");
+      parts.push(node("polyline", {class: "raw", points}));
+      [["low", low], ["rest", neutral], ["high", high]].forEach(([which, v]) => {
+        parts.push(node("line", {class: `raw-range ${which}`, x1: 0, x2: width, y1: y(v), y2: y(v),
+                                 "data-key": key, "data-which": which}));
+      });
+      parts.push(node("line", {class: "cursor", x1: 0, x2: 0, y1: top, y2: top + row - 24}));
+    });
     svg.replaceChildren(...parts);
   }
+
+  function rawValue(event, key) {
+    // the source's value at the pointer's height in its row
+    const {top, height, lo, span} = tuner.rows[key];
+    const box = el("tune-raw").getBoundingClientRect();
+    const y = event.clientY - box.top;
+    return lo + (1 - (y - top) / height) * span;
+  }
+
+  el("tune-raw").addEventListener("pointerdown", (event) => {
+    const {key, which} = event.target.dataset || {};
+    if (!key) return;
+    tuner.dragged = {key, which, range: [...tuner.state.ranges[key]]};
+    el("tune-raw").setPointerCapture(event.pointerId);
+    event.preventDefault();
+  });
+  el("tune-raw").addEventListener("pointermove", (event) => {
+    const drag = tuner.dragged;
+    if (!drag) return;
+    drag.range[{rest: 0, low: 1, high: 2}[drag.which]] = rawValue(event, drag.key);
+    raw();
+  });
+  el("tune-raw").addEventListener("pointerup", () => {
+    const drag = tuner.dragged;
+    if (!drag) return;
+    tuner.dragged = null;
+    const [neutral, low, high] = drag.range;
+    send({action: "range", key: drag.key, neutral, low, high});
+  });
 
   studio.handlers.tune = show;
   const drawn = studio.onFrame;
   studio.onFrame = (frame) => {
     if (drawn) drawn(frame);
-    if (frame.showing === "tune") curve(frame.tune_time);
+    if (frame.showing === "tune") moveCursor(frame.tune_time);
   };
   el("tune-open").addEventListener("click", () => send({action: "open", take: el("tune-take").value,
                                                         mapping: el("tune-mapping").value || null,
