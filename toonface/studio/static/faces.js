@@ -70,6 +70,7 @@
     el("kind-label").hidden = component;
     el("attach-label").hidden = component;
     el("layer-label").hidden = !component;
+    el("filled-label").hidden = !component;
     el("component-tools").hidden = !component;
     if (faces.componentPanel) faces.componentPanel(message);
     const spec = list[faces.selected];
@@ -79,6 +80,9 @@
       el("width").value = spec.width || 0;
       if (component) {
         el("layer").value = spec.layer ?? 1;
+        const open = spec.kind === "polyline" && !spec.closed;
+        el("filled").checked = Boolean(spec.fill) && !open;
+        el("filled").disabled = open;
       } else {
         el("kind").value = spec.kind;
         el("attach").value = spec.attach || "";
@@ -250,7 +254,8 @@
     const style = {stroke: el("stroke").value, width: Number(el("width").value)};
     if (faces.target === "component") {
       edit({action: "set_component", component: faces.selected,
-            fields: {...style, fill: el("fill").value, layer: Number(el("layer").value)}});
+            fields: {...style, fill: el("filled").checked ? el("fill").value : null,
+                     layer: Number(el("layer").value)}});
     } else {
       edit({action: "set_style", polygon: faces.selected, fields: {...style, color: el("fill").value,
                                                                    kind: el("kind").value,
