@@ -175,7 +175,8 @@ def test_components_grouped_moved_saved_to_a_library_and_inserted_into_another_f
     assert inserted["library"] == str(library.resolve()) and inserted["use"] == "horn"
     np.testing.assert_allclose(_drawn(other.face, "polygon").vertices, flipped - [0, 5])
     saved = other.save(tmp_path / "horned.json")
-    assert load_face(saved) == other.face
+    assert json.loads(saved.read_text())["components"][-1]["library"] == "mine.json"  # beside it: they move together
+    assert load_face(saved).basic_components() == other.face.basic_components()
     with pytest.raises(InputError, match='no composite "nose"'):
         other.insert_from_library(str(library), "nose")
     with pytest.raises(InputError, match="saved as .json"):
@@ -208,3 +209,24 @@ def test_component_messages_from_the_page_edit_the_shown_face():
     assert "features" in described["libraries"]
     with pytest.raises(TypeError, match="indices"):
         apply(session, {"op": "faceedit", "action": "group", "indices": 3}, 0.0)
+
+
+def test_a_face_file_beside_its_own_library_is_edited_and_saved_elsewhere(tmp_path, monkeypatch):
+    editor = FaceEditor(load_face("classic"))
+    editor.new_component("polygon", 0.0, 230.0, 20.0)
+    folder = tmp_path / "kit"
+    folder.mkdir()
+    editor.save_to_library(len(editor.doc["components"]) - 1, folder / "parts.json", "tag")
+    doc = load_face("classic").to_dict()
+    doc["components"] = [{"kind": "composite", "name": "tag", "use": "tag", "library": "parts.json"}]
+    (folder / "face.json").write_text(json.dumps(doc))
+    monkeypatch.chdir(tmp_path)  # not the face's folder: its library is still found beside it
+    opened = FaceEditor(load_face(folder / "face.json"))
+    opened.rename("tagged")  # an edit validates the face again
+    drawn = _drawn(opened.face, "polygon").vertices
+    np.testing.assert_allclose(drawn, [[-10, 220], [10, 220], [10, 240], [-10, 240]])
+    elsewhere = tmp_path / "out" / "deep"
+    elsewhere.mkdir(parents=True)
+    saved = opened.save(elsewhere / "tagged.json")
+    assert json.loads(saved.read_text())["components"][0]["library"] == "../../kit/parts.json"
+    np.testing.assert_allclose(_drawn(load_face(saved), "polygon").vertices, drawn)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import copy
 import json
 import os
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -198,6 +199,27 @@ def is_builtin(library: str) -> bool:
     """Whether ``library`` names a built-in library rather than a file (as :func:`common.resolve_builtin` reads it)."""
     path = Path(library)
     return not (path.suffix or os.sep in library or path.exists())
+
+
+def file_libraries(components: list[dict]) -> Iterator[dict]:
+    """The composites, at any depth, that re-use a library file (not a built-in library)."""
+    for spec in components:
+        if spec.get("kind") != "composite":
+            continue
+        if spec.get("library") and not is_builtin(str(spec["library"])):
+            yield spec
+        yield from file_libraries(spec.get("components", []))
+
+
+def rebase_libraries(doc: dict, base_dir: Path | None, target_dir: Path | None = None) -> None:
+    """Library files named relative to ``base_dir`` (the face file's folder; None: the working
+    folder) named absolutely, or with ``target_dir`` relative to it (where the face is saved)."""
+    for spec in file_libraries(doc.get("components", [])):
+        path = Path(spec["library"])
+        if not path.is_absolute():
+            path = (base_dir or Path.cwd()) / path
+        path = path.resolve()
+        spec["library"] = str(path) if target_dir is None else os.path.relpath(path, target_dir.resolve())
 
 
 def outlines(face: Face) -> list[list[list[list[float]]]]:

@@ -54,11 +54,20 @@ class FaceEditor:
     """
 
     def __init__(self, face: Face) -> None:
-        self.face = face
-        self.doc = face.to_dict()
+        self.face: Face = face
+        self.doc: dict = {}
+        self._start(face)
         self.history: History[dict] = History(UNDO_LEVELS)
         self.clipboard: tuple[str, dict] | None = None  # (kind of item, a copy); kept across faces
         self.listed: dict = {}  # the library last listed: its name and its composites' names
+
+    def _start(self, face: Face) -> None:
+        """Edit ``face``: its library files named absolutely while it is edited (written relative
+        to the face file again when it is saved)."""
+        self.doc = face.to_dict()
+        source = face.meta.get("source")
+        parts.rebase_libraries(self.doc, Path(source).parent if source else None)
+        self.face = face if self.doc == face.to_dict() else face_from_dict(self.doc, source="the edited face")
 
     # -- the rule every edit goes through ----------------------------------------------------------
     def _edit(self, change: Callable[[dict], object]) -> Face:
@@ -281,17 +290,21 @@ class FaceEditor:
     # -- files ---------------------------------------------------------------------------------------
     def open(self, name_or_path: str) -> Face:
         """Start from a built-in face (a template) or a face file; undo starts afresh."""
-        face = load_face(name_or_path)
-        self.face, self.doc = face, face.to_dict()
+        self._start(load_face(name_or_path))
         self.history.clear()
-        return face
+        return self.face
 
     def save(self, path: str | os.PathLike) -> Path:
-        """Write the face as a new face file (``.json``); what is saved loads back equal."""
+        """Write the face as a new face file (``.json``); what is saved loads back equal, but for
+        the library files its composites re-use, which it names relative to itself."""
         target = Path(path)
         if target.suffix.lower() != ".json":
             raise InputError("a face is saved as .json", target)
-        return save_face(self.face, target)
+        if not any(parts.file_libraries(self.doc.get("components", []))):
+            return save_face(self.face, target)
+        doc = copy.deepcopy(self.doc)
+        parts.rebase_libraries(doc, None, target.parent)
+        return save_face(face_from_dict(doc, source=target), target)
 
     def describe(self) -> dict:
         """What the page's face panel shows: the document, and how many edits undo and redo hold."""
