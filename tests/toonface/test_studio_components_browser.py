@@ -97,6 +97,11 @@ def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(
         wait_for(driver, "document.getElementById('face-error').textContent.includes("
                          f"'components[{index}].hidden')")
         assert session.faces.doc == before and _edits(driver) == count
+        # a refused edit chooses the item the validator names, here from the polygons' list
+        driver.find_element("id", "target-polygon").click()
+        driver.execute_script("window.faces.edit({action: 'set_component', component: arguments[0], "
+                              "fields: {hidden: [7]}})", index)
+        wait_for(driver, f"document.getElementById('target-component').checked && window.faces.selected === {index}")
         path = tmp_path / "made.json"
         driver.find_element("id", "face-path").send_keys(str(path))
         driver.find_element("id", "face-save").click()
