@@ -85,3 +85,28 @@ def test_the_sources_are_shown_as_measured_in_millimetres_and_degrees(tmp_path):
     assert 5 < np.ptp(direct) < 60  # millimetres of jaw travel, not centimetres or metres
     apply(session, {"op": "tune", "action": "motor", "code": "HH"}, 0.0)
     assert session.tuner.describe("HH")["curve"]["units"] == {"head.yaw": "°"}
+
+
+@pytest.mark.slow
+def test_a_talking_head_video_is_tracked_and_tuned_and_maps_as_its_tracked_take(realdata, tmp_path):
+    video = realdata / "video" / "grid" / "bbaf2n.mpg"
+    if not video.is_file():
+        pytest.skip(f"{video} is absent")
+    session = StudioSession("classic")
+    said = apply(session, {"op": "tune", "action": "open", "take": str(video)}, 0.0)[1]
+    assert said.startswith("tuning face on") and session.tuner.duration == pytest.approx(3.0)
+    tuner = session.tuner
+    assert "MB" in tuner.describe()["motors"]
+    mb = tuner.track.values[:, motor_index("MB")]
+    assert np.ptp(mb) > 0.2  # the speaker's jaw moves
+    apply(session, {"op": "tune", "action": "rule", "code": "MB", "field": "gain", "value": 1.5}, 0.0)
+    mapping, profile = tmp_path / "video.toml", tmp_path / "speaker.toml"
+    for action, path in (("save_mapping", mapping), ("save_profile", profile)):
+        apply(session, {"op": "tune", "action": action, "path": str(path)}, 0.0)
+    take, out = tmp_path / "speaker.npz", tmp_path / "motors.npz"
+    assert main(["track", str(video), "--markers", "face", "-o", str(take)]) == 0
+    assert main(["map", str(take), "-o", str(out), "--mapping", str(mapping), "--profile", str(profile),
+                 "--face", "classic"]) == 0
+    np.testing.assert_allclose(load_track(out).values, tuner.track.values, atol=1e-9)
+    with pytest.raises(InputError, match="own units"):
+        apply(session, {"op": "tune", "action": "open", "take": str(video), "units": "cm"}, 0.0)

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
+
 from toon.animation import Animation
 from toonface.studio.editor import NEW_SECONDS, AnimationEditor
 from toonface.studio.session import StudioSession
@@ -190,11 +192,7 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     """One mapping tuner message: open a take, change a rule or a range, pause, save."""
     action = message.get("action")
     if action == "open":
-        opened = MappingTuner(str(message["take"]), session.neutral, message.get("mapping") or None,
-                              message.get("units") or None)
-        session.tune(opened, now)
-        session.tune_motor = opened.describe()["motors"][0]
-        return f"tuning {opened.ready.mapping.name} on {opened.path} ({opened.duration:.1f} s)"
+        return show_tuner(session, open_tuner(message, session.neutral), now)
     tuner = session.tuner
     if tuner is None:
         raise ValueError("open a take to tune first")
@@ -216,6 +214,19 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     else:
         raise ValueError(f"unknown tuner action {action!r}")
     return None
+
+
+def open_tuner(message: dict, neutral: np.ndarray) -> MappingTuner:
+    """The take a tuner ``open`` message names, mapped onto a face whose rest is ``neutral``: the
+    slow part (a video is tracked first), which the server runs off its event loop."""
+    return MappingTuner(str(message["take"]), neutral, message.get("mapping") or None, message.get("units") or None)
+
+
+def show_tuner(session: StudioSession, tuner: MappingTuner, now: float) -> str:
+    """Play an opened tuner's take on the face; returns what the page is told."""
+    session.tune(tuner, now)
+    session.tune_motor = tuner.describe()["motors"][0]
+    return f"tuning {tuner.ready.mapping.name} on {tuner.path} ({tuner.duration:.1f} s)"
 
 
 def _argument(key: str, value: object) -> object:

@@ -26,7 +26,7 @@ from aiohttp import WSMsgType, web
 
 from common import InputError
 from toon import builtin_faces
-from toonface.studio.messages import apply, reason
+from toonface.studio.messages import apply, open_tuner, reason, show_tuner
 from toonface.studio.session import StudioSession
 
 SESSION = web.AppKey("session", StudioSession)
@@ -102,7 +102,15 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                 if isinstance(parsed, dict) and parsed.get("op") == "render":
                     await _render(app, ws, parsed)
                     continue
-                changed, said = apply(session, parsed, asyncio.get_running_loop().time())
+                if isinstance(parsed, dict) and parsed.get("op") == "tune" and parsed.get("action") == "open":
+                    # a take is cleaned and mapped, a video tracked first, while the server goes on serving
+                    await ws.send_json({"type": "said", "message": f"opening {parsed.get('take')}…"})
+                    loop = asyncio.get_running_loop()
+                    tuner = await loop.run_in_executor(None, open_tuner, parsed, session.neutral)
+                    said: str | None = show_tuner(session, tuner, loop.time())
+                    changed = "tune"
+                else:
+                    changed, said = apply(session, parsed, asyncio.get_running_loop().time())
             except (ValueError, KeyError, TypeError, IndexError, InputError) as exc:
                 await ws.send_json({"type": "error", "message": reason(exc)})
                 continue

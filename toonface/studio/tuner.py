@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from capture import load_take
+from capture import Take, load_take
 from common import InputError, read_document, write_toml
 from mapping import parse_mapping, save_profile
 from mapping.mapfile import MotorRule
@@ -38,7 +38,8 @@ class MappingTuner:
     Parameters
     ----------
     take : str
-        A take file (``toonface map`` reads the same ones).
+        A take file (``toonface map`` reads the same ones), or a talking-head video, tracked
+        without markers first (as ``toonface retarget`` tracks one).
     neutral : ndarray, shape (21,)
         The face's rest pose.
     mapping : str, optional
@@ -50,7 +51,7 @@ class MappingTuner:
     def __init__(self, take: str, neutral: np.ndarray, mapping: str | None = None, units: str | None = None) -> None:
         self.path = Path(take)
         self.neutral = np.asarray(neutral, dtype=np.float64)
-        self.ready: ReadyTake = ready_take(load_take(self.path, units=units), mapping)
+        self.ready: ReadyTake = ready_take(_load(self.path, units), mapping)
         source = self.ready.mapping.source
         if not source or not Path(source).is_file():
             raise InputError(f"the mapping {self.ready.mapping.name} has no file to tune")
@@ -168,3 +169,16 @@ def source_unit(source: Source) -> str:
     """The unit a source is measured in: ``mm`` for positions and distances, ``°`` for angles and
     the head, ``score`` for blendshapes."""
     return {"angle": "°", "head": "°", "blendshape": "score"}.get(source.kind, "mm")
+
+
+def _load(path: Path, units: str | None) -> Take:
+    """A take file, or a video tracked without markers."""
+    from capture.sources import VIDEO_SUFFIXES
+
+    if path.suffix.lower() not in VIDEO_SUFFIXES:
+        return load_take(path, units=units)
+    if units:
+        raise InputError("a video is tracked in its own units: leave units out", path)
+    from capture.video_tracking import track_video  # mediapipe: imported only for a video
+
+    return track_video(path, "face")
