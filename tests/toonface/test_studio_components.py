@@ -89,6 +89,9 @@ def test_points_added_and_deleted_keep_smooth_ranges_and_invisible_segments():
     assert spec["smooth"] == [[1, 2]] and spec["hidden"] == [2]
     editor.delete_component_point(index, "points", 1)  # the range collapses to one point: gone
     assert "smooth" not in editor.doc["components"][index]
+    editor.restyle("component", index, smooth=True)
+    editor.add_component_point(index, "points", 2, 25.0, 200.0)  # after the last point: still smooth all along
+    assert editor.doc["components"][index]["smooth"] is True
 
 
 def test_a_closed_outline_hides_a_segment_and_the_renderer_leaves_it_out():

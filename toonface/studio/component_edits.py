@@ -93,7 +93,8 @@ def add_point(doc: dict, component: int, part: str, after: int, x: float, y: flo
     refs.insert(after + 1, new)
     if _is_outline(spec, part):
         spec["hidden"] = _hidden(spec, len(refs) - 1, ids)
-        spec["smooth"] = [[a + (a > after), b + (b > after)] for a, b in _ranges(spec, len(refs) - 1)]
+        if spec.get("smooth") is not True:  # smooth all round stays so
+            spec["smooth"] = [[a + (a > after), b + (b > after)] for a, b in _ranges(spec)]
         _tidy(spec)
 
 
@@ -108,8 +109,9 @@ def delete_point(doc: dict, component: int, part: str, index: int) -> None:
     del refs[index]
     if _is_outline(spec, part):
         spec["hidden"] = _hidden(spec, old, ids)
-        ranges = ([a - (a > index), b - (b >= index)] for a, b in _ranges(spec, old))
-        spec["smooth"] = [[a, b] for a, b in ranges if a < b]
+        if spec.get("smooth") is not True:
+            ranges = ([a - (a > index), b - (b >= index)] for a, b in _ranges(spec))
+            spec["smooth"] = [[a, b] for a, b in ranges if a < b]
         _tidy(spec)
 
 
@@ -246,11 +248,8 @@ def _closed(spec: dict) -> bool:
     return spec["kind"] in ("polygon", "ellipse") or bool(spec.get("closed", spec["kind"] == "skeleton"))
 
 
-def _ranges(spec: dict, n: int) -> list[tuple[int, int]]:
-    smooth = spec.get("smooth", False)
-    if smooth is True:
-        return [(0, n - 1)]
-    return [(int(a), int(b)) for a, b in (smooth or [])]
+def _ranges(spec: dict) -> list[tuple[int, int]]:
+    return [(int(a), int(b)) for a, b in (spec.get("smooth") or [])]
 
 
 def _hidden(spec: dict, n: int, ids: list[int | None]) -> list[int]:
