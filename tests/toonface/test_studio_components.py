@@ -233,3 +233,18 @@ def test_a_face_file_beside_its_own_library_is_edited_and_saved_elsewhere(tmp_pa
     saved = opened.save(elsewhere / "tagged.json")
     assert json.loads(saved.read_text())["components"][0]["library"] == "../../kit/parts.json"
     np.testing.assert_allclose(_drawn(load_face(saved), "polygon").vertices, drawn)
+
+
+def test_a_composite_is_scaled_and_flipped_about_its_centre_by_its_transform():
+    editor = FaceEditor(load_face("classic"))
+    editor.new_component("polygon", 100.0, 200.0, 20.0)
+    editor.new_component("polygon", 140.0, 200.0, 20.0)
+    n = len(editor.doc["components"])
+    editor.group([n - 2, n - 1])
+    before = np.concatenate([_drawn(editor.face, "polygon").vertices, _drawn(editor.face, "polygon 2").vertices])
+    centre = before.mean(axis=0)  # (120, 200)
+    editor.flip("component", n - 2, "x")
+    editor.scale("component", n - 2, 2.0)
+    after = np.concatenate([_drawn(editor.face, "polygon").vertices, _drawn(editor.face, "polygon 2").vertices])
+    np.testing.assert_allclose(after, centre + (before - centre) * [-2.0, 2.0])  # by hand: mirrored, doubled
+    assert editor.doc["components"][n - 2]["transform"]["scale"] == [-2.0, 2.0]

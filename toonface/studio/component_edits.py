@@ -157,6 +157,15 @@ def placed_children(component: Component) -> list[dict]:
     return [c.to_dict() for c in flatten((component,))]
 
 
+def placed_points(component: Component) -> np.ndarray:
+    """Where a component's points other than masters rest, placed by any composites' transforms,
+    ``(N, 2)``."""
+    found = [p.at for basic in flatten((component,)) for p in (*basic.points, *basic.body) if p.kind != "master"]
+    if not found:
+        raise ValueError("the component's points all follow control points: nothing to move")
+    return np.array(found, dtype=float)
+
+
 def save_to_library(library: str | os.PathLike, name: str, components: list[dict], description: str = "") -> Path:
     """Write ``components`` as composite ``name`` of a ``toonface.components/1`` library file,
     made if absent; an entry of that name is replaced. The file is checked before it is written."""

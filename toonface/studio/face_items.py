@@ -91,7 +91,7 @@ def points(spec: dict, kind: str) -> np.ndarray:
     if kind == "polygon":
         return np.asarray(spec["vertices"], dtype=float)
     if spec["kind"] == "composite":
-        raise ValueError("a composite is scaled and flipped by its transform in the file, not here")
+        raise ValueError("a composite has no points of its own: it is placed by its transform")
     found = [xy for part in PARTS for xy in map(_xy, spec.get(part, [])) if xy is not None]
     if not found:
         raise ValueError("the component's points all follow control points: nothing to move")

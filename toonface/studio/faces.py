@@ -205,14 +205,35 @@ class FaceEditor:
         """Scale about the item's centre (the mean of its placed points)."""
         if not factor > 0:
             raise ValueError(f"a scale factor must be > 0, got {factor}")
-        return self._edit(lambda doc: _about_centre(item(doc, kind, index), kind, np.array([factor, factor])))
+        return self._about_centre(kind, index, np.array([factor, factor]))
 
     def flip(self, kind: str, index: int, axis: str = "x") -> Face:
         """Mirror about the item's centre: ``x`` left to right, ``y`` top to bottom."""
         if axis not in ("x", "y"):
             raise ValueError(f"flip about x or y, got {axis!r}")
         mirror = np.array([-1.0, 1.0]) if axis == "x" else np.array([1.0, -1.0])
-        return self._edit(lambda doc: _about_centre(item(doc, kind, index), kind, mirror))
+        return self._about_centre(kind, index, mirror)
+
+    def _about_centre(self, kind: str, index: int, factors: np.ndarray) -> Face:
+        """Scale or mirror an item about the mean of its placed points; a composite by its
+        ``transform``, about the mean of its components' placed points."""
+        if kind == "component" and item(self.doc, kind, index)["kind"] == "composite":
+            centre = parts.placed_points(self.face.components[index]).mean(axis=0)
+
+            def change(doc: dict) -> None:
+                placing = item(doc, kind, index).setdefault("transform", {})
+                scale = np.asarray(placing.get("scale", [1.0, 1.0]), dtype=float)
+                shift = np.asarray(placing.get("translate", [0.0, 0.0]), dtype=float)
+                # about the centre after the transform: c + (s p + t - c) f = (f s) p + c + (t - c) f
+                placing["scale"] = (scale * factors).tolist()
+                placing["translate"] = (centre + (shift - centre) * factors).tolist()
+            return self._edit(change)
+
+        def about(doc: dict) -> None:
+            spec = item(doc, kind, index)
+            centre = points(spec, kind).mean(axis=0)
+            transform(spec, kind, lambda xy: centre + (xy - centre) * factors)
+        return self._edit(about)
 
     def duplicate(self, kind: str, index: int, dx: float = 0.0, dy: float = 0.0) -> Face:
         """A copy of the item, moved by ``(dx, dy)``, just after it (its name made unique)."""
@@ -323,7 +344,4 @@ def _known(table: dict, key: str, what: str) -> str:
     return key
 
 
-def _about_centre(spec: dict, kind: str, factors: np.ndarray) -> None:
-    """Scale or mirror an item about the mean of its placed points."""
-    centre = points(spec, kind).mean(axis=0)
-    transform(spec, kind, lambda xy: centre + (xy - centre) * factors)
+
