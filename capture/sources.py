@@ -112,6 +112,7 @@ KINDS: dict[str, SourceKind] = {
     "synthetic": SourceKind("capture.sources:synthetic_source", lambda spec: spec == "synthetic"),
     "face": SourceKind("capture.face_sources:face_source"),  # face:VIDEO, a video without markers
     "camera": SourceKind("capture.face_sources:camera_source"),  # camera:N, or camera:VIDEO played as one
+    "vmc": SourceKind("capture.vmc:vmc_source"),  # vmc:HOST:PORT, a face-tracking app over the VMC protocol
     "video": SourceKind("capture.sources:video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
     "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
 }

@@ -153,18 +153,6 @@ def start(server: socketserver.BaseServer) -> threading.Thread:
     return thread
 
 
-def parse_address(text: str, default_port: int) -> tuple[str, int]:
-    """``HOST:PORT``, ``:PORT`` or ``PORT`` (host 127.0.0.1)."""
-    host, _, port = text.rpartition(":") if ":" in text else ("", "", text)
-    try:
-        number = int(port) if port else default_port
-    except ValueError:
-        raise ValueError(f"expected HOST:PORT, got {text!r}") from None
-    if not 0 <= number <= 65535:
-        raise ValueError(f"port must be 0..65535, got {number}")
-    return (host or "127.0.0.1", number)
-
-
 def local_port(server: socketserver.TCPServer | socketserver.UDPServer) -> int:
     """The port the server is bound to (useful after binding port 0)."""
     return server.socket.getsockname()[1]

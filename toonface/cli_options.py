@@ -157,3 +157,17 @@ FACE = click.option("--face", default="classic", show_default=True, metavar="NAM
                     help="A built-in face (see `toonface faces`) or a face JSON file.")
 SIZE = click.option("--size", default="512", show_default=True, metavar="N|WxH", help="Frame size in pixels.")
 MIRROR = click.option("--mirror", is_flag=True, help="Mirror image: the performer's right drives the character's left.")
+VMC = click.option("--vmc", default=None, metavar="HOST:PORT|PORT",
+                   help="Listen for a face-tracking app over the VMC protocol (blendshapes and the head bone; "
+                        "loopback, port 39539 by default: --vmc 39539), mapped with the arkit preset.")
+
+
+def bridge_spec(source: str | None, vmc: str | None, required: bool = True) -> str | None:
+    """The source spec a positional SOURCE or a bridge option (``--vmc``) names: exactly one of
+    them (or none, where ``required`` is false)."""
+    given = [spec for spec in (source, None if vmc is None else f"vmc:{vmc}") if spec is not None]
+    if len(given) > 1:
+        raise click.BadParameter("give a SOURCE or --vmc, not both", param_hint="--vmc")
+    if not given and required:
+        raise click.UsageError("give a SOURCE (a take, a video, camera:N, synthetic) or --vmc HOST:PORT")
+    return given[0] if given else None

@@ -11,7 +11,17 @@ from typing import TYPE_CHECKING
 
 import click
 
-from toonface.cli_options import FACE, SIZE, TakeReading, check_output, parse_size, read_take, take_options
+from toonface.cli_options import (
+    FACE,
+    SIZE,
+    VMC,
+    TakeReading,
+    bridge_spec,
+    check_output,
+    parse_size,
+    read_take,
+    take_options,
+)
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
@@ -35,7 +45,8 @@ def _key(path: str | None) -> bytes | None:
 
 
 @click.command()
-@click.argument("source")
+@click.argument("source", required=False)
+@VMC
 @click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where the receiver (or a relay) listens.")
 @click.option("--mapping", default=None, metavar="NAME|FILE",
               help="Mapping [default: the preset matching the markers].")
@@ -55,11 +66,13 @@ def _key(path: str | None) -> bytes | None:
                    "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
 @take_options
-def send(source: str, target: str, mapping: str | None, profile_path: str | None, seconds: float | None, repeat: bool,
-         frames_per_packet: int, keyframe_seconds: float, colour: str, key_file: str | None, record: str | None,
-         save_profile: str | None, stats: bool, reading: TakeReading) -> None:
+def send(source: str | None, vmc: str | None, target: str, mapping: str | None, profile_path: str | None,
+         seconds: float | None, repeat: bool, frames_per_packet: int, keyframe_seconds: float, colour: str,
+         key_file: str | None, record: str | None, save_profile: str | None, stats: bool,
+         reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
-    a video with dot markers (tracked as it plays), or `synthetic` (the synthetic performer).
+    a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
+    performer), or --vmc HOST:PORT instead: a face-tracking app over the VMC protocol.
 
     Cleaning and mapping run live at this end; only the 21 motor values cross the network,
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
@@ -73,7 +86,9 @@ def send(source: str, target: str, mapping: str | None, profile_path: str | None
     host, port = _required_address(target, "--to", 7710)
     check_output(record, "--record")
     check_output(save_profile, "--save-profile")
-    src = open_source(source, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
+    spec = bridge_spec(source, vmc)
+    assert spec is not None
+    src = open_source(spec, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
                       seconds=seconds)
     notes: list[str] = []
     mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes)

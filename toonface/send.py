@@ -34,16 +34,21 @@ LEARN_SECONDS = 60.0
 def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: Profile | None = None,
                  target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
                  notes: list[str] | None = None) -> LiveMapper:
-    """The live mapper for a source: the named mapping or the preset its labels match, and the
-    given profile or the marker set's typical one, with the rest taken from the first
-    ``rest_seconds``. Where the marker set has no typical profile, a take's own first
+    """The live mapper for a source: the named mapping (or the one the source names, or the preset
+    its labels match), and the given profile or the marker set's typical one, with the rest taken
+    from the first ``rest_seconds``. Where the marker set has no typical profile, a take's own first
     :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
+    mapping = mapping or source.meta.get("mapping")  # a bridge names the mapping its data needs
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate,
                       channels=np.zeros((1, len(source.channel_names))), channel_names=source.channel_names)
     chosen, markerset = choose_mapping(probe_take, mapping)
     profile = profile or typical_profile(markerset.name)
     learn = 0.0
-    if profile is None and source.recording is None:  # a camera: rest from its first second, ranges as it runs
+    if profile is None and not any(rule.normalise == "profile" for rule in chosen.rules):
+        profile = Profile(markerset.name, {}, np.eye(3))  # scores, degrees: no performer's range to measure
+        if notes is not None:
+            notes.append(f"mapping {chosen.name} reads no performer's ranges: rest from the first {rest_seconds:g} s")
+    elif profile is None and source.recording is None:  # a camera: rest from its first second, ranges as it runs
         profile, learn = Profile(markerset.name, {}, np.eye(3)), LEARN_SECONDS
         if notes is not None:
             notes.append(f"no profile for marker set {markerset.name}: rest from the first {rest_seconds:g} s, "

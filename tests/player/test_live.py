@@ -11,12 +11,13 @@ import cv2
 import numpy as np
 import pytest
 
+from common.address import parse_address
 from common.errors import Terminated
 from player.animator import Animator, FakeClock
 from player.commands import Commands
 from player.live import LiveSettings, run_live
 from player.preview import FrameBoard, PreviewServer
-from player.server import CommandServer, CommandUDPServer, RateLimit, local_port, parse_address, start
+from player.server import CommandServer, CommandUDPServer, RateLimit, local_port, start
 from player.sinks import open_sink
 from toon import load_expressions, load_face, motor_index, standard_neutral
 

@@ -60,6 +60,10 @@ def test_each_subcommand_has_help(capsys, name):
     (["render", "m.csv", "-o", "v.mp4", "--size", "big"], "expected N or WxH"),
     (["retarget", "t.npz", "-o", "v.mp4", "--neutral", "2:1"], "START < END"),
     (["demo", "--face", "nobody"], 'no built-in face "nobody"'),
+    (["send", "--to", "127.0.0.1:7710"], "give a SOURCE"),
+    (["send", "synthetic", "--vmc", "39539", "--to", "127.0.0.1:7710"], "give a SOURCE or --vmc, not both"),
+    (["send", "--vmc", "127.0.0.1:99999", "--to", "127.0.0.1:7710"], "port must be 0..65535"),
+    (["play", "--vmc", "1:2:x", "--seconds", "1"], "expected HOST:PORT"),
 ])
 def test_bad_input_is_one_line_and_nonzero(tmp_path, monkeypatch, capsys, argv, fragment):
     monkeypatch.chdir(tmp_path)
