@@ -8,6 +8,7 @@ One ``[motor.CODE]`` table per mapped motor::
     combine = "max"          # max | mean | min | weighted (each source's weight)
     normalise = "profile"    # profile: the performer's range -> the motor's 0..1 | scale: units per motor unit
                              # | calibrated: a range-of-motion calibration's range where the profile has one, else scale
+                             # | score: the source is a 0..1 score (a blendshape's), its own fraction of the way
     scale = 60.0             # with normalise = "scale" (or "calibrated" without such a range)
     invert = false           # the motor follows the combined value's decrease
     gain = 1.0               # range exaggeration around neutral
@@ -45,7 +46,7 @@ from toon import MOTOR_CODES
 FORMAT = "toonface.mapping/1"
 COMBINES = ("max", "mean", "min", "weighted")
 CLAMPS = ("hard", "soft", "none")
-NORMALISES = ("profile", "scale", "calibrated")
+NORMALISES = ("profile", "scale", "calibrated", "score")
 POLICIES = ("hold", "ease", "idle")
 FILTERS = {"one-euro": {"min_cutoff", "beta", "d_cutoff"}, "butterworth": {"cutoff", "order"},
            "savitzky-golay": {"window", "order"}}

@@ -126,12 +126,15 @@ def check_profile(mapping: Mapping, profile: Profile) -> None:
 def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRange | None,
               mode: str = "") -> np.ndarray:
     """A source's value as a signed fraction of the performer's range (``profile``: -1 at
-    ``low``, 0 at rest, 1 at ``high``) or in motor units (``scale``); inverted if the source says.
+    ``low``, 0 at rest, 1 at ``high``; ``score``: a score less its rest, the score being its own
+    fraction) or in motor units (``scale``); inverted if the source says.
     ``mode``: ``profile`` or ``scale``, what a ``calibrated`` rule resolved to (the rule's own
     by default)."""
     if (mode or rule.normalise) == "scale":
         rest = span.neutral if span is not None else 0.0
         out = (value - rest) / rule.scale
+    elif (mode or rule.normalise) == "score":  # already a fraction of its whole way (a blendshape score)
+        out = value - (span.neutral if span is not None else 0.0)
     else:
         if span is None:
             raise ValueError(f"motor {rule.code}: a profile-normalised rule needs the range of {source.key}")
@@ -164,7 +167,7 @@ def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], h
     combined = _combine(stack, rule)
     if rule.invert:
         combined = -combined
-    if mode == "profile":  # the performer's range onto the motor's way to 0 or to 1
+    if mode in ("profile", "score"):  # the performer's range (or a score) onto the motor's way to 0 or to 1
         delta = np.where(combined >= 0, combined * (1.0 - rest), combined * rest)
     else:
         delta = combined

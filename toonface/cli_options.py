@@ -162,6 +162,11 @@ VMC = click.option("--vmc", default=None, metavar="HOST:PORT|PORT",
                         "loopback, port 39539 by default: --vmc 39539), mapped with the arkit preset.")
 
 
+VMC_OUT = click.option("--vmc-out", default=None, metavar="HOST:PORT",
+                       help="Also send the motors shown to a VMC receiver (OSC over UDP): the 21 motors by code, "
+                            "ARKit blendshapes where one motor gives one, the head bone; 39539 if no port.")
+
+
 def bridge_spec(source: str | None, vmc: str | None, required: bool = True) -> str | None:
     """The source spec a positional SOURCE or a bridge option (``--vmc``) names: exactly one of
     them (or none, where ``required`` is false)."""

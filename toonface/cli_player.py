@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from player.animator import DEFAULT_LOOP_TIME
-from toonface.cli_options import FACE, SIZE, VMC, bridge_spec, parse_codes, parse_size
+from toonface.cli_options import FACE, SIZE, VMC, VMC_OUT, bridge_spec, parse_codes, parse_size
 
 if TYPE_CHECKING:
     from toon.animation import Animation
@@ -52,12 +52,13 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--camera", default=None, metavar="N|VIDEO",
               help="The same as --source camera:N: a camera (or a video played as one) drives the face.")
 @VMC
+@VMC_OUT
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
-         vmc: str | None, seconds: float | None, stream_to: str | None) -> None:
+         vmc: str | None, vmc_out: str | None, seconds: float | None, stream_to: str | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -87,6 +88,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     if stream_to is not None:
         host, port = _required_address(stream_to, "--stream-to", 7710)
         settings.shown.append(outputs.motor(f"udp://{host}:{port}", rate=1 / loop_time).write)
+    if vmc_out is not None:
+        settings.shown.append(outputs.motor(f"vmc://{vmc_out}", neutral=face_obj.neutral()).write)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     follower = None
     if camera is not None:

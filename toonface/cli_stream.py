@@ -15,6 +15,7 @@ from toonface.cli_options import (
     FACE,
     SIZE,
     VMC,
+    VMC_OUT,
     TakeReading,
     bridge_spec,
     check_output,
@@ -140,9 +141,10 @@ def send(source: str | None, vmc: str | None, target: str, mapping: str | None, 
 @click.option("--record", default=None, type=click.Path(dir_okay=False),
               help="Also write the motors shown (.csv/.npz).")
 @click.option("--stats", is_flag=True, help="Print packets, loss, drops, concealment and latency each second.")
+@VMC_OUT
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
-            stats: bool) -> None:
+            stats: bool, vmc_out: str | None) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -176,6 +178,8 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
                 recording.rate = playout.rate
                 recording.write(t, values)
             playout.shown = keep
+        if vmc_out is not None:
+            settings.shown.append(outputs.motor(f"vmc://{vmc_out}", neutral=face_obj.neutral()).write)
         settings.source = lambda t: receiver.values_at()[0]
         done = threading.Event()
         if stats:

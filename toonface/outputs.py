@@ -22,9 +22,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from common import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 @dataclass(frozen=True)
@@ -46,6 +49,7 @@ PICTURE_SINKS: dict[str, SinkKind] = {
 #: Motor sinks, tried in order.
 MOTOR_SINKS: dict[str, SinkKind] = {
     "stream": SinkKind("toonface.outputs:open_stream", lambda spec: spec.startswith("udp://")),
+    "vmc": SinkKind("toonface.outputs:open_vmc", lambda spec: spec.startswith("vmc://")),
     "recording": SinkKind("toonface.outputs:open_recording",
                           lambda spec: Path(spec).suffix.lower() in (".csv", ".npz")),
 }
@@ -100,6 +104,20 @@ def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_
     return StreamSender((host, int(port)), StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key))
 
 
+def open_vmc(spec: str, neutral: np.ndarray | None = None, **_: Any) -> Any:
+    """VMC messages to ``vmc://HOST:PORT`` (a VMC receiver: VTuber software, an avatar app),
+    scores measured from the face's ``neutral``."""
+    from common.address import parse_address
+    from player.vmc_out import VmcOut
+    from toon import standard_neutral
+
+    try:
+        address = parse_address(spec.removeprefix("vmc://"), 39539)
+    except ValueError as exc:
+        raise InputError(str(exc), spec) from None
+    return VmcOut(address, standard_neutral() if neutral is None else neutral)
+
+
 @dataclass
 class Outputs:
     """A command's sinks, kept together: closed (their output kept) when the ``with`` block ends
@@ -117,7 +135,8 @@ class Outputs:
 
     def motor(self, spec: str, **options: Any) -> Any:
         """Open a motor sink for ``spec`` and keep it."""
-        sink = open_sink(spec, MOTOR_SINKS, "a .csv or .npz motor track, or udp://HOST:PORT for a motor stream",
+        sink = open_sink(spec, MOTOR_SINKS, "a .csv or .npz motor track, udp://HOST:PORT for a motor stream, or "
+                         "vmc://HOST:PORT for a VMC receiver",
                          **options)
         self.motors.append(sink)
         return sink

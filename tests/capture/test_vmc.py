@@ -91,7 +91,8 @@ def test_a_vmc_sender_moves_the_expected_motors(linked):
     neutral = face.neutral()
     at = {name: np.array(values)[[int(s * 60) for s in (1.1, 1.5, 1.9, 2.4)], motor_index(name)]
           for name in ("MB", "ELU", "ERU", "HH")}
-    np.testing.assert_allclose(at["MB"], [neutral[motor_index("MB")]] + [neutral[motor_index("MB")] + 0.6] * 3)
+    mb = neutral[motor_index("MB")]
+    np.testing.assert_allclose(at["MB"], [mb] + [mb + 0.6 * (1 - mb)] * 3)  # a score: 0.6 of the way open
     np.testing.assert_allclose(at["ELU"][:2], neutral[motor_index("ELU")])
     np.testing.assert_allclose(at["ELU"][2:], 0.0)  # shut: a blink of 1 takes the lid all the way down
     np.testing.assert_allclose(at["ERU"], neutral[motor_index("ERU")])  # the other eye stays open
