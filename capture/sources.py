@@ -35,13 +35,14 @@ VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".m
 
 
 class Frame(NamedTuple):
-    """One frame of a source: ``t`` seconds from its start, ``positions`` ``(M, 3)`` mm, and
+    """One frame of a source: ``t`` seconds from its start, ``positions`` ``(M, 3)`` mm,
     ``channels`` ``(C,)`` (the source's :attr:`Source.channel_names`, NaN not measured) where
-    it has any."""
+    it has any, and ``confidence`` (0..1) where the tracker that made it says how sure it is."""
 
     t: float
     positions: np.ndarray
     channels: np.ndarray | None = None
+    confidence: float | None = None
 
 
 @dataclass
@@ -113,6 +114,7 @@ KINDS: dict[str, SourceKind] = {
     "face": SourceKind("capture.face_sources:face_source"),  # face:VIDEO, a video without markers
     "camera": SourceKind("capture.face_sources:camera_source"),  # camera:N, or camera:VIDEO played as one
     "vmc": SourceKind("capture.vmc:vmc_source"),  # vmc:HOST:PORT, a face-tracking app over the VMC protocol
+    "openseeface": SourceKind("capture.openseeface:openseeface_source"),  # openseeface:HOST:PORT, its tracker
     "video": SourceKind("capture.sources:video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
     "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
 }

@@ -102,11 +102,12 @@ class LiveMapper:
         """Whether the rest has been taken (and :attr:`profile` holds it)."""
         return self._ready
 
-    def step(self, positions: np.ndarray, t: float, channels: np.ndarray | None = None
+    def step(self, positions: np.ndarray, t: float, channels: np.ndarray | None = None, trust: float = 1.0
              ) -> tuple[np.ndarray, np.ndarray]:
         """One frame of world marker positions ``(M, 3)`` (NaN unseen) and channels ``(C,)``
         (NaN or None: not measured) at ``t`` seconds; returns the motors ``(21,)`` in [0, 1] and
-        their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost)."""
+        their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost), times ``trust``: how sure the
+        tracker that made the frame was (0..1)."""
         local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t)
         local, held = self._hold(local, t)
         quality = marker_quality(local)
@@ -120,7 +121,8 @@ class LiveMapper:
         if not self._ready:
             self._collect_rest(stable, t)
             return self.neutral.copy(), np.zeros(N_MOTORS)
-        return self.map_frame(stable, quality[None], t)
+        values, confidence = self.map_frame(stable, quality[None], t)
+        return values, confidence * min(max(trust, 0.0), 1.0)
 
     def _head_frame(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
         """Head-frame markers ``(M, 3)``, the pose and whether there is one; spikes removed."""

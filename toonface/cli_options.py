@@ -167,12 +167,20 @@ VMC_OUT = click.option("--vmc-out", default=None, metavar="HOST:PORT",
                             "ARKit blendshapes where one motor gives one, the head bone; 39539 if no port.")
 
 
-def bridge_spec(source: str | None, vmc: str | None, required: bool = True) -> str | None:
-    """The source spec a positional SOURCE or a bridge option (``--vmc``) names: exactly one of
-    them (or none, where ``required`` is false)."""
-    given = [spec for spec in (source, None if vmc is None else f"vmc:{vmc}") if spec is not None]
+OPENSEEFACE = click.option("--openseeface", default=None, metavar="HOST:PORT|PORT",
+                           help="Listen for OpenSeeFace's tracker (its UDP packets: features, eyes, head; loopback, "
+                                "port 11573 by default), mapped with the arkit preset.")
+
+
+def bridge_spec(source: str | None, vmc: str | None, openseeface: str | None = None,
+                required: bool = True) -> str | None:
+    """The source spec a positional SOURCE or a bridge option (``--vmc``, ``--openseeface``)
+    names: exactly one of them (or none, where ``required`` is false)."""
+    given = [spec for spec in (source, None if vmc is None else f"vmc:{vmc}",
+                               None if openseeface is None else f"openseeface:{openseeface}") if spec is not None]
     if len(given) > 1:
-        raise click.BadParameter("give a SOURCE or --vmc, not both", param_hint="--vmc")
+        raise click.BadParameter("give one of a SOURCE, --vmc and --openseeface", param_hint="--vmc")
     if not given and required:
-        raise click.UsageError("give a SOURCE (a take, a video, camera:N, synthetic) or --vmc HOST:PORT")
+        raise click.UsageError("give a SOURCE (a take, a video, camera:N, synthetic), --vmc HOST:PORT or "
+                               "--openseeface HOST:PORT")
     return given[0] if given else None

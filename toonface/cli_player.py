@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from player.animator import DEFAULT_LOOP_TIME
-from toonface.cli_options import FACE, SIZE, VMC, VMC_OUT, bridge_spec, parse_codes, parse_size
+from toonface.cli_options import FACE, OPENSEEFACE, SIZE, VMC, VMC_OUT, bridge_spec, parse_codes, parse_size
 
 if TYPE_CHECKING:
     from toon.animation import Animation
@@ -52,13 +52,15 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--camera", default=None, metavar="N|VIDEO",
               help="The same as --source camera:N: a camera (or a video played as one) drives the face.")
 @VMC
+@OPENSEEFACE
 @VMC_OUT
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
-         vmc: str | None, vmc_out: str | None, seconds: float | None, stream_to: str | None) -> None:
+         vmc: str | None, openseeface: str | None, vmc_out: str | None, seconds: float | None,
+         stream_to: str | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -96,7 +98,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
         if source_spec is not None:
             raise click.BadParameter("give --camera or --source, not both", param_hint="--camera")
         source_spec = f"camera:{camera}"
-    source_spec = bridge_spec(source_spec, vmc, required=False)
+    source_spec = bridge_spec(source_spec, vmc, openseeface, required=False)
     if source_spec is not None:
         if track_path:
             raise click.BadParameter("give --motors or --source, not both", param_hint="--source")

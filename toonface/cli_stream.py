@@ -13,6 +13,7 @@ import click
 
 from toonface.cli_options import (
     FACE,
+    OPENSEEFACE,
     SIZE,
     VMC,
     VMC_OUT,
@@ -48,6 +49,7 @@ def _key(path: str | None) -> bytes | None:
 @click.command()
 @click.argument("source", required=False)
 @VMC
+@OPENSEEFACE
 @click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where the receiver (or a relay) listens.")
 @click.option("--mapping", default=None, metavar="NAME|FILE",
               help="Mapping [default: the preset matching the markers].")
@@ -67,13 +69,14 @@ def _key(path: str | None) -> bytes | None:
                    "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
 @take_options
-def send(source: str | None, vmc: str | None, target: str, mapping: str | None, profile_path: str | None,
-         seconds: float | None, repeat: bool, frames_per_packet: int, keyframe_seconds: float, colour: str,
-         key_file: str | None, record: str | None, save_profile: str | None, stats: bool,
-         reading: TakeReading) -> None:
+def send(source: str | None, vmc: str | None, openseeface: str | None, target: str, mapping: str | None,
+         profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
+         keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
+         stats: bool, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
-    performer), or --vmc HOST:PORT instead: a face-tracking app over the VMC protocol.
+    performer), or instead --vmc HOST:PORT (a face-tracking app over the VMC protocol) or
+    --openseeface HOST:PORT (OpenSeeFace's tracker).
 
     Cleaning and mapping run live at this end; only the 21 motor values cross the network,
     about 2.5 kbit/s of coded payload at 60 Hz. The receiver chooses the face.
@@ -87,7 +90,7 @@ def send(source: str | None, vmc: str | None, target: str, mapping: str | None, 
     host, port = _required_address(target, "--to", 7710)
     check_output(record, "--record")
     check_output(save_profile, "--save-profile")
-    spec = bridge_spec(source, vmc)
+    spec = bridge_spec(source, vmc, openseeface)
     assert spec is not None
     src = open_source(spec, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
                       seconds=seconds)

@@ -61,7 +61,8 @@ def test_each_subcommand_has_help(capsys, name):
     (["retarget", "t.npz", "-o", "v.mp4", "--neutral", "2:1"], "START < END"),
     (["demo", "--face", "nobody"], 'no built-in face "nobody"'),
     (["send", "--to", "127.0.0.1:7710"], "give a SOURCE"),
-    (["send", "synthetic", "--vmc", "39539", "--to", "127.0.0.1:7710"], "give a SOURCE or --vmc, not both"),
+    (["send", "synthetic", "--vmc", "39539", "--to", "127.0.0.1:7710"], "give one of a SOURCE, --vmc and"),
+    (["send", "--openseeface", "x:y", "--to", "127.0.0.1:7710"], "expected HOST:PORT"),
     (["send", "--vmc", "127.0.0.1:99999", "--to", "127.0.0.1:7710"], "port must be 0..65535"),
     (["play", "--vmc", "1:2:x", "--seconds", "1"], "expected HOST:PORT"),
 ])
