@@ -130,6 +130,15 @@ class Animator:
         with self._lock:
             return bool(self._later) or any(self._steps)
 
+    def active(self) -> np.ndarray:
+        """Per motor ``(21,)``: whether it has slices to run or a scheduled move."""
+        with self._lock:
+            out = np.array([bool(steps) for steps in self._steps])
+            for _at, _order, moves in self._later:
+                for move in moves:
+                    out[motor_index(move.code)] = True
+            return out
+
     def _start(self, moves: tuple[Move, ...]) -> None:
         for move in moves:
             i = motor_index(move.code)

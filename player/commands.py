@@ -5,7 +5,10 @@
     ELU 0 500 ERU 0 500      move motors: code, target 0..1, milliseconds (repeat for several)
     frame V1 ... V21 [MS]    set all 21 motors, in ToonFace order (over MS milliseconds)
     play NAME [MS]           a standard motion or expression (smile, blink, nod, happiness, ...)
-    state                    the 21 current values
+    hold CODE VALUE [...]    override motors over everything else until released
+    release [CODE ...]       let them go (all, without codes)
+    state                    the 21 current values, and which provider moves each
+                             (idle, tracking, motions or manual)
     motions                  the names play accepts
     help                     this list
 
@@ -21,10 +24,12 @@ import numpy as np
 
 from player.animator import Animator, Move, moves_to
 from player.motions import motion_names, standard_motion
+from player.providers import Mixer
 from toon import MOTOR_CODES, Expression
 
 MAX_MS = 600_000  # ten minutes
-HELP = "commands: CODE TARGET MS [...] | frame V1..V21 [MS] | play NAME [MS] | state | motions | help"
+HELP = ("commands: CODE TARGET MS [...] | frame V1..V21 [MS] | play NAME [MS] | hold CODE VALUE [...] | "
+        "release [CODE ...] | state | motions | help")
 
 
 class CommandError(ValueError):
@@ -43,11 +48,15 @@ class Commands:
         The repertoire ``play`` can use.
     clock : callable
         The loop's time (seconds since it started), so motions are scheduled on its timeline.
+    mixer : Mixer, optional
+        The providers the face's values come from: ``state`` reports what it shows and who
+        moves each motor, ``hold`` and ``release`` set its overrides.
     """
 
     def __init__(self, animator: Animator, neutral: np.ndarray, expressions: dict[str, Expression],
-                 clock) -> None:
+                 clock, mixer: Mixer | None = None) -> None:
         self.animator, self.neutral, self.expressions, self.clock = animator, neutral, expressions, clock
+        self.mixer = mixer
 
     def handle(self, line: str) -> str:
         """Carry out one line; returns its reply (never raises for bad input)."""
@@ -64,7 +73,9 @@ class Commands:
         if head == "help":
             return HELP
         if head == "state":
-            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values(), strict=True))
+            return self._state()
+        if head in ("hold", "release"):
+            return self._override(head, words[1:])
         if head == "motions":
             return " ".join(motion_names(self.expressions))
         if head == "frame":
@@ -72,6 +83,33 @@ class Commands:
         if head == "play":
             return self._play(words[1:])
         return self._moves(words)
+
+    def _state(self) -> str:
+        if self.mixer is None:
+            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values(), strict=True))
+        values = " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.mixer.shown, strict=True))
+        who = self.mixer.who()
+        groups = {name: [c for c, w in zip(MOTOR_CODES, who, strict=True) if w == name] for name in dict.fromkeys(who)}
+        return f"{values} by " + " ".join(f"{name}={','.join(codes)}" for name, codes in groups.items())
+
+    def _override(self, head: str, words: list[str]) -> str:
+        if self.mixer is None:
+            raise CommandError(f"{head}: this player has no overrides")
+        if head == "release":
+            codes = [self._code(w) for w in words] or None
+            self.mixer.release(codes)
+            return f"released {len(codes) if codes else 'all'}"
+        if not words or len(words) % 2:
+            raise CommandError("hold needs CODE VALUE pairs")
+        targets = {self._code(words[k]): _number(words[k + 1], "value", 0.0, 1.0) for k in range(0, len(words), 2)}
+        self.mixer.hold(targets)
+        return f"holding {len(targets)}"
+
+    @staticmethod
+    def _code(word: str) -> str:
+        if word.upper() not in MOTOR_CODES:
+            raise CommandError(f"unknown motor {word!r} (motors: {' '.join(MOTOR_CODES)})")
+        return word.upper()
 
     def _moves(self, words: list[str]) -> str:
         if words[0].upper() not in MOTOR_CODES and not (len(words) % 3 == 0 and _is_number(words[1])):

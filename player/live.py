@@ -1,8 +1,9 @@
 """The live Animator: the loop, the command sockets, the preview and the sinks together.
 
-Each loop (constant loop time, :class:`~player.animator.Loop`): the motors take one slice each
-(or, playing a track, the track's values at that time), the face is drawn, and the frame goes to
-every picture sink (the preview is one). Commands arrive on the sockets at any time and are sliced at once
+Each loop (constant loop time, :class:`~player.animator.Loop`): the motors take one slice each,
+the face's values are mixed from the idle face, a performer or a track, the motions and the
+overrides (:mod:`player.providers`), the face is drawn, and the frame goes to every picture sink
+(the preview is one). Commands arrive on the sockets at any time and are sliced at once
 under the Animator's lock; the next loop executes their first slices.
 """
 
@@ -21,6 +22,7 @@ from player.animator import DEFAULT_LOOP_TIME, Animator, Loop
 from player.commands import Commands
 from player.gl import create_context
 from player.preview import PreviewSink
+from player.providers import Mixer, Providers, Tracked
 from player.renderer import Renderer
 from player.server import CommandServer, CommandUDPServer, local_port, start
 from player.sinks import FrameSink
@@ -43,7 +45,9 @@ class LiveSettings:
     repeat: bool = True
     seconds: float | None = None
     sinks: list[FrameSink] = field(default_factory=list)
-    source: Callable[[float], np.ndarray] | None = None  # values at a loop time; replaces commands and track
+    source: Callable[[float], np.ndarray] | None = None  # values at a loop time, fully sure (a stream); not track
+    tracking: Tracked | None = None  # a live performer: newest values, their confidence, their age
+    providers: Providers = field(default_factory=Providers)  # who moves a motor (player/providers.py)
     shown: list[Callable[[float, np.ndarray], None]] = field(default_factory=list)  # told (t, values) each loop
 
 
@@ -82,7 +86,12 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     neutral = face.neutral()
     animator = Animator(neutral, settings.loop_time)
     loop = Loop(animator, clock, sleep)
-    commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started)
+    track_values = settings.source or _track_player(settings.track, settings.repeat)
+    latest = [neutral]  # a track's or a stream's values at the loop's time, fully sure
+    sure = np.ones(len(neutral))
+    tracking = settings.tracking or (None if track_values is None else (lambda: (latest[0], sure, 0.0)))
+    mixer = Mixer(neutral, settings.providers, tracking, lambda: (animator.values(), animator.active()))
+    commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started, mixer)
     servers: list[socketserver.TCPServer | socketserver.UDPServer] = []
     sinks = list(settings.sinks)  # the preview joins them here, not in the caller's settings
     ready: dict[str, str] = {}
@@ -101,12 +110,10 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
         for server in servers:
             start(server)
         with Renderer(ctx, settings.size, settings.samples) as renderer:
-            track_values = settings.source or _track_player(settings.track, settings.repeat)
-
-            def frame(values: np.ndarray, t: float) -> None:
+            def frame(_animated: np.ndarray, t: float) -> None:
                 if track_values is not None:
-                    values = track_values(t)
-                    animator.set_values(values)
+                    latest[0] = track_values(t)
+                values = mixer.step(t)  # idle, tracking, motions and overrides (player/providers.py)
                 for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
                     tell(t, values)
                 picture = renderer.render(rig.geometry(values))

@@ -116,7 +116,8 @@ class VmcOut:
         out.append(bundle.build().dgram)
         return out
 
-    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
+    def write(self, t: float, values: np.ndarray, captured: float | None = None,
+              confidence: np.ndarray | None = None) -> None:
         """Send one frame (a receiver that is not there costs nothing: UDP)."""
         for datagram in self.datagrams(np.clip(np.asarray(values, dtype=float), 0.0, 1.0)):
             try:

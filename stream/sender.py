@@ -40,7 +40,8 @@ class StreamSender:
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.sock.setblocking(False)
 
-    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
+    def write(self, t: float, values: np.ndarray, captured: float | None = None,
+              confidence: np.ndarray | None = None) -> None:
         """Pack one frame ``(21,)``; send the packet it completes."""
         self._take_requests()
         datagram = self.writer.push(values, self.clock() if captured is None else captured)

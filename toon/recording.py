@@ -9,8 +9,11 @@ either from a command-line spec.
 
 from __future__ import annotations
 
+import math
 import os
 import threading
+import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
@@ -24,12 +27,14 @@ from toon.track_io import save_track
 class MotorSink(Protocol):
     """A consumer of motor frames.
 
-    ``write(t, values, captured)``: ``t`` the frame's time in seconds on the producer's clock
-    (the take's, the source's or the stream's), ``values`` ``(21,)``, ``captured`` when its
-    performer data was captured on this machine's ``time.perf_counter`` clock, where known.
+    ``write(t, values, captured, confidence)``: ``t`` the frame's time in seconds on the
+    producer's clock (the take's, the source's or the stream's), ``values`` ``(21,)``,
+    ``captured`` when its performer data was captured on this machine's ``time.perf_counter``
+    clock, where known, and each motor's ``confidence`` ``(21,)`` (1 seen, 0 lost), where known.
     """
 
-    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None: ...
+    def write(self, t: float, values: np.ndarray, captured: float | None = None,
+              confidence: np.ndarray | None = None) -> None: ...
     def close(self) -> None: ...
     def abort(self) -> None: ...
 
@@ -66,7 +71,8 @@ class MotorRecorder:
         """Frames written so far."""
         return len(self._times)
 
-    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
+    def write(self, t: float, values: np.ndarray, captured: float | None = None,
+              confidence: np.ndarray | None = None) -> None:
         """Keep one frame ``(21,)`` at ``t`` seconds."""
         self._times.append(float(t))
         self._values.append(np.array(values, dtype=float))
@@ -92,24 +98,37 @@ class MotorRecorder:
 
 
 class LatestMotors:
-    """A motor sink that keeps only the newest frame, for a loop that draws at its own pace
-    (``play --source``); safe to write from one thread and read from another."""
+    """A motor sink that keeps only the newest frame, its motors' confidence and when it came
+    (on ``clock``), for a loop that draws at its own pace (``play --source``); safe to write
+    from one thread and read from another."""
 
-    def __init__(self, neutral: np.ndarray) -> None:
+    def __init__(self, neutral: np.ndarray, clock: Callable[[], float] = time.perf_counter) -> None:
         self._lock = threading.Lock()
         self._values = np.array(neutral, dtype=float)
+        self._confidence = np.zeros(len(self._values))
+        self._at = -math.inf
+        self.clock = clock
         self.frames = 0
 
-    def write(self, t: float, values: np.ndarray, captured: float | None = None) -> None:
-        """Keep ``values`` ``(21,)`` as the newest."""
+    def write(self, t: float, values: np.ndarray, captured: float | None = None,
+              confidence: np.ndarray | None = None) -> None:
+        """Keep ``values`` ``(21,)`` as the newest (with full confidence where none is given)."""
         with self._lock:
             self._values = np.array(values, dtype=float)
+            self._confidence = np.ones(len(self._values)) if confidence is None else np.array(confidence, dtype=float)
+            self._at = self.clock()
             self.frames += 1
 
     def values(self) -> np.ndarray:
         """The newest frame ``(21,)`` (the neutral before any)."""
         with self._lock:
             return self._values.copy()
+
+    def newest(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """The newest frame ``(21,)``, its confidence ``(21,)`` (0 before any) and the seconds
+        since it came."""
+        with self._lock:
+            return self._values.copy(), self._confidence.copy(), self.clock() - self._at
 
     def close(self) -> None:
         """Nothing to keep."""

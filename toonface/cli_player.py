@@ -54,13 +54,16 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @VMC
 @OPENSEEFACE
 @VMC_OUT
+@click.option("--providers", "providers_path", default=None, type=click.Path(dir_okay=False),
+              help="Who moves a motor (toonface.providers/1 TOML): the idle face's blinks, breathing and "
+                   "saccades, and each layer's weight and fade [default: blink 15 a minute, breathe, look about].")
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
-         vmc: str | None, openseeface: str | None, vmc_out: str | None, seconds: float | None,
-         stream_to: str | None) -> None:
+         vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
+         seconds: float | None, stream_to: str | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -69,12 +72,15 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
       ELU 0 500 ERU 0 500     motors to targets (0..1) over milliseconds
       frame V1 .. V21 [MS]    all 21 motors, in ToonFace order
       play smile [MS]         a standard motion or expression (try: motions)
-      state                   the 21 current values
+      hold MB 0.8             override a motor until `release MB` (or `release`)
+      state                   the 21 values shown, and who moves each
+                              (idle, tracking, motions or manual)
 
     Try `nc 127.0.0.1 7707` in another terminal, and --preview 127.0.0.1:8080 in a browser.
     Stop with Ctrl-C; recorded output is kept.
     """
     from player.live import ListenError, LiveSettings, run_live
+    from player.providers import load_providers
     from toon import load_face, load_track
     from toonface.outputs import Outputs
 
@@ -82,7 +88,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     dims = parse_size(size)
     settings = LiveSettings(loop_time=loop_time, size=dims, tcp=_address(listen, "--listen", 7707),
                             udp=_address(udp, "--udp", 7708), preview=_address(preview, "--preview", 8080),
-                            track=load_track(track_path) if track_path else None, repeat=not once, seconds=seconds)
+                            track=load_track(track_path) if track_path else None, repeat=not once, seconds=seconds,
+                            providers=load_providers(providers_path))
     face_obj = load_face(face)
     outputs = Outputs()
     if output is not None:
@@ -105,7 +112,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
         from toonface.send import Follower
 
         follower = Follower.open(source_spec, face_obj.neutral(), say)
-        settings.source = lambda t: follower.latest.values()
+        settings.tracking = follower.latest.newest
 
     def ready(addresses: dict[str, str]) -> None:
         for kind, where in addresses.items():

@@ -74,7 +74,7 @@ class Printer:
     def __init__(self, spec: str, rate: float = 60.0, **_) -> None:
         self.where, self.rate, self.written = spec, rate, []
 
-    def write(self, t, values, captured=None):
+    def write(self, t, values, captured=None, confidence=None):
         self.written.append((t, float(values[0])))
 
     def close(self):
