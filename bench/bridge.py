@@ -1,0 +1,134 @@
+"""``bridge``: what the bridges from other face-tracking apps add to a live face's latency.
+
+``bridge.vmc_latency_ms``: from a VMC sender's datagram (51 ARKit blendshapes, the head bone and
+the Apply, one bundle, 60 a second over loopback) leaving the sender to the motors mapped from it
+by the ``arkit`` preset (the source's parse, the live mapper's step): the median (goal 2 ms
+added). The detail has the 95th percentile and the same path through a plain peer: python-osc's
+own threaded server dispatching the same bundles to a handler that only notes the time, so the
+difference is what reading them into motors costs. ``bridge.openseeface_latency_ms``: the same for
+OpenSeeFace's 1,785-byte packets (goal 2 ms).
+"""
+
+from __future__ import annotations
+
+import math
+import socket
+import threading
+import time
+from collections.abc import Callable
+from itertools import islice
+
+import numpy as np
+
+from bench.core import Figure
+from capture.blendshapes import BLENDSHAPES
+from capture.sources import open_source
+from toon import load_face
+from toonface.send import build_mapper
+
+RATE = 60.0
+
+
+def run(quick: bool = False) -> list[Figure]:
+    """Measure and return the ``bridge.*`` figures."""
+    frames = 240 if quick else 1200  # 4 or 20 s at 60 Hz
+    vmc, vmc_p95 = _through_source("vmc", _vmc_bundle, frames)
+    peer, peer_p95 = _through_python_osc(frames)
+    osf, osf_p95 = _through_source("openseeface", _osf_packet, frames)
+    detail = {"frames": frames, "rate_hz": RATE, "via": "UDP on loopback", "mapping": "arkit"}
+    return [Figure("bridge.vmc_latency_ms", vmc, "ms", 2.0, False,
+                   {**detail, "p95_ms": vmc_p95, "peer_python_osc_dispatch_ms": peer, "peer_p95_ms": peer_p95,
+                    "added_over_peer_ms": round(vmc - peer, 3)}),
+            Figure("bridge.openseeface_latency_ms", osf, "ms", 2.0, False, {**detail, "p95_ms": osf_p95})]
+
+
+def _vmc_bundle(k: int) -> bytes:
+    from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
+    from pythonosc.osc_message_builder import OscMessageBuilder
+
+    bundle = OscBundleBuilder(IMMEDIATELY)
+    phase = k / RATE
+    for i, name in enumerate(BLENDSHAPES):
+        message = OscMessageBuilder("/VMC/Ext/Blend/Val")
+        message.add_arg(name)
+        message.add_arg(0.5 + 0.5 * math.sin(phase * 3 + i))
+        bundle.add_content(message.build())
+    half = math.radians(10 * math.sin(phase)) / 2
+    head = OscMessageBuilder("/VMC/Ext/Bone/Pos")
+    for arg in ("Head", 0.0, 0.0, 0.0, 0.0, math.sin(half), 0.0, math.cos(half)):
+        head.add_arg(arg)
+    bundle.add_content(head.build())
+    bundle.add_content(OscMessageBuilder("/VMC/Ext/Blend/Apply").build())
+    return bundle.build().dgram
+
+
+def _osf_packet(k: int) -> bytes:
+    import struct
+
+    half = math.radians(5 * math.sin(k / RATE)) / 2
+    head = struct.pack("=diffffBf4f3f3f", 0.0, 0, 640.0, 480.0, 1.0, 1.0, 1, 0.01,
+                       0.0, math.sin(half), 0.0, math.cos(half), 0.0, 0.0, 0.0, 0.0, 0.0, 600.0)
+    points = np.zeros((70, 3))
+    points[66:68, 2] = -10.0
+    features = 0.5 * np.sin(k / RATE * 3 + np.arange(14))
+    rest = np.concatenate([np.full(68, 0.9), np.zeros(136), points.reshape(-1), features])
+    return head + rest.astype("=f4").tobytes()
+
+
+def _through_source(kind: str, make: Callable[[int], bytes], frames: int) -> tuple[float, float]:
+    """Median and 95th percentile ms from a datagram sent to the motors mapped from it."""
+    source = open_source(f"{kind}:127.0.0.1:0")
+    host, port = source.meta["address"].rsplit(":", 1)
+    mapper = build_mapper(source, target_neutral=load_face("classic").neutral())
+    datagrams = [make(k) for k in range(frames)]
+    sent: list[float] = []
+    done: list[float] = []
+
+    def send() -> None:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            start = time.perf_counter()
+            for k, datagram in enumerate(datagrams):
+                time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
+                sent.append(time.perf_counter())
+                sock.sendto(datagram, (host, int(port)))
+
+    sender = threading.Thread(target=send, daemon=True)
+    sender.start()
+    for frame in islice(source.frames, frames):
+        mapper.step(frame.positions, frame.t, frame.channels, 1.0 if frame.confidence is None else frame.confidence)
+        done.append(time.perf_counter())
+    sender.join()
+    source.frames.close()
+    return _spread(sent, done)
+
+
+def _through_python_osc(frames: int) -> tuple[float, float]:
+    """The peer: python-osc's threaded UDP server dispatching the same VMC bundles."""
+    from pythonosc.dispatcher import Dispatcher
+    from pythonosc.osc_server import ThreadingOSCUDPServer
+
+    done: list[float] = []
+    dispatcher = Dispatcher()
+    dispatcher.map("/VMC/Ext/Blend/Apply", lambda *_: done.append(time.perf_counter()))
+    server = ThreadingOSCUDPServer(("127.0.0.1", 0), dispatcher)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    datagrams = [_vmc_bundle(k) for k in range(frames)]
+    sent: list[float] = []
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        start = time.perf_counter()
+        for k, datagram in enumerate(datagrams):
+            time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
+            sent.append(time.perf_counter())
+            sock.sendto(datagram, server.server_address)
+    deadline = time.perf_counter() + 5
+    while len(done) < frames and time.perf_counter() < deadline:
+        time.sleep(0.01)
+    server.shutdown()
+    server.server_close()
+    return _spread(sent[:len(done)], done)
+
+
+def _spread(sent: list[float], done: list[float]) -> tuple[float, float]:
+    delays = (np.array(done[:len(sent)]) - np.array(sent[:len(done)])) * 1000
+    return round(float(np.median(delays)), 3), round(float(np.percentile(delays, 95)), 3)
