@@ -98,7 +98,7 @@ def _through_source(kind: str, make: Callable[[int], bytes], frames: int) -> tup
         mapper.step(frame.positions, frame.t, frame.channels, 1.0 if frame.confidence is None else frame.confidence)
         done.append(time.perf_counter())
     sender.join()
-    source.frames.close()
+    source.close()
     return _spread(sent, done)
 
 

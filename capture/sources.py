@@ -80,6 +80,12 @@ class Source:
     meta: dict[str, Any] = field(default_factory=dict)
     channel_names: tuple[str, ...] = ()
 
+    def close(self) -> None:
+        """Stop the frames (a live source's socket or camera is released with them)."""
+        stop = getattr(self.frames, "close", None)
+        if stop is not None:
+            stop()
+
     def to_take(self, progress: Callable[[int], None] | None = None) -> Take:
         """Every frame (as fast as they come) as a take; ``progress(1)`` after each."""
         times, rows, channels = [], [], []

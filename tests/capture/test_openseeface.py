@@ -79,7 +79,7 @@ def linked():
     sender = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     yield source, lambda data: sender.sendto(data, (host, int(port)))
     sender.close()
-    source.frames.close()
+    source.close()
 
 
 def test_a_record_is_read_field_by_field():

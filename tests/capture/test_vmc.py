@@ -27,7 +27,7 @@ def linked():
     client = SimpleUDPClient(host, int(port))
     yield source, client
     client._sock.close()
-    source.frames.close()  # the source's socket closes with its frames
+    source.close()  # the source's socket closes with its frames
 
 
 def _yaw(degrees: float) -> list[float]:

@@ -100,7 +100,7 @@ def test_toonfaces_vmc_out_read_by_its_vmc_in_gives_the_motors_back(receiver):
         received = next(source.frames)
         back = mapper.step(received.positions, received.t, received.channels)[0]
     out.close()
-    source.frames.close()
+    source.close()
     for code in ("MB", "ERU", "ELU", "MRV", "MLV", "PRV", "PLV"):
         assert back[motor_index(code)] == pytest.approx(shown[motor_index(code)], abs=0.01), code
     assert back[motor_index("HH")] == pytest.approx(shown[motor_index("HH")], abs=0.01)  # after the head filter
