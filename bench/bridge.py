@@ -6,7 +6,10 @@ by the ``arkit`` preset (the source's parse, the live mapper's step): the median
 added). The detail has the 95th percentile and the same path through a plain peer: python-osc's
 own threaded server dispatching the same bundles to a handler that only notes the time, so the
 difference is what reading them into motors costs. ``bridge.openseeface_latency_ms``: the same for
-OpenSeeFace's 1,785-byte packets (goal 2 ms).
+OpenSeeFace's 1,785-byte packets (goal 2 ms). ``bridge.per_performer_ms``: what each performer
+beyond the first adds to a receiver's loop (mixing, geometry, one 512x512 picture of them all),
+the slope of the median loop time over 1 to 4 performers (no goal; each count's median in the
+detail).
 """
 
 from __future__ import annotations
@@ -35,11 +38,41 @@ def run(quick: bool = False) -> list[Figure]:
     vmc, vmc_p95 = _through_source("vmc", _vmc_bundle, frames)
     peer, peer_p95 = _through_python_osc(frames)
     osf, osf_p95 = _through_source("openseeface", _osf_packet, frames)
+    per_performer, loops = _per_performer(20 if quick else 100)
     detail = {"frames": frames, "rate_hz": RATE, "via": "UDP on loopback", "mapping": "arkit"}
     return [Figure("bridge.vmc_latency_ms", vmc, "ms", 2.0, False,
                    {**detail, "p95_ms": vmc_p95, "peer_python_osc_dispatch_ms": peer, "peer_p95_ms": peer_p95,
                     "added_over_peer_ms": round(vmc - peer, 3)}),
-            Figure("bridge.openseeface_latency_ms", osf, "ms", 2.0, False, {**detail, "p95_ms": osf_p95})]
+            Figure("bridge.openseeface_latency_ms", osf, "ms", 2.0, False, {**detail, "p95_ms": osf_p95}),
+            Figure("bridge.per_performer_ms", per_performer, "ms", None, False,
+                   {"loop_ms_by_performers": loops, "size": [512, 512], "face": "classic",
+                    "renderer": "GL, as the live loop (Mesa llvmpipe where there is no GPU)"})]
+
+
+def _per_performer(loops: int) -> tuple[float, dict[int, float]]:
+    """The slope (ms a performer) of a receiver loop's median time over 1..4 performers."""
+    from player.backends import open_renderer
+    from player.ensemble import Ensemble
+    from player.providers import Providers
+
+    face = load_face("classic")
+    rng = np.random.default_rng(0)
+    medians = {}
+    with open_renderer((512, 512), backend="gl") as renderer:  # as a receiver's live loop draws
+        for count in range(1, 5):
+            ensemble = Ensemble(face, (512, 512), Providers())
+            times = []
+            for k in range(loops):
+                performers = [(stream, np.clip(face.neutral() + rng.normal(0, 0.1, 21), 0, 1), 0.0)
+                              for stream in range(count)]
+                start = time.perf_counter()
+                drawn = ensemble.frame(performers, k / 25)
+                assert drawn is not None
+                renderer.render(drawn)
+                times.append(time.perf_counter() - start)
+            medians[count] = round(float(np.median(times)) * 1000, 3)
+    slope = float(np.polyfit(list(medians), list(medians.values()), 1)[0])
+    return round(slope, 3), medians
 
 
 def _vmc_bundle(k: int) -> bytes:

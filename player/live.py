@@ -26,7 +26,7 @@ from player.providers import Mixer, Providers, Tracked
 from player.renderer import Renderer
 from player.server import CommandServer, CommandUDPServer, local_port, start
 from player.sinks import FrameSink
-from toon import Face, FaceRig, MotorTrack, load_expressions
+from toon import Face, FaceRig, Geometry, MotorTrack, load_expressions
 
 _Server = TypeVar("_Server", bound="socketserver.TCPServer | socketserver.UDPServer | PreviewSink")
 
@@ -49,6 +49,7 @@ class LiveSettings:
     tracking: Tracked | None = None  # a live performer: newest values, their confidence, their age
     providers: Providers = field(default_factory=Providers)  # who moves a motor (player/providers.py)
     shown: list[Callable[[float, np.ndarray], None]] = field(default_factory=list)  # told (t, values) each loop
+    scene: Callable[[float], Geometry | None] | None = None  # what is drawn instead of the face (several faces)
 
 
 @dataclass
@@ -116,7 +117,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 values = mixer.step(t)  # idle, tracking, motions and overrides (player/providers.py)
                 for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
                     tell(t, values)
-                picture = renderer.render(rig.geometry(values))
+                drawn = settings.scene(t) if settings.scene is not None else None
+                picture = renderer.render(drawn if drawn is not None else rig.geometry(values))
                 for sink in sinks:
                     sink.write(picture)
 

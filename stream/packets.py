@@ -104,10 +104,13 @@ class StreamWriter:
     repeat : int
         Unacknowledged frames a packet repeats while loss is seen (0: none, frames still go
         one a packet).
+    stream : int
+        This performer's stream id, 0..65535 (a receiver tells several apart by it).
     """
 
     def __init__(self, rate: float, frames_per_packet: int = 2, key_seconds: float = 0.5, steps: int = DEFAULT_STEPS,
-                 key: bytes | None = None, first_sequence: int | None = None, repeat: int = 1) -> None:
+                 key: bytes | None = None, first_sequence: int | None = None, repeat: int = 1,
+                 stream: int = 0) -> None:
         if not 1 <= frames_per_packet <= MAX_FRAMES:
             raise ValueError(f"frames per packet must be 1..{MAX_FRAMES}, got {frames_per_packet}")
         if not 1 <= steps <= 255:
@@ -117,6 +120,9 @@ class StreamWriter:
         if not 0 <= repeat < MAX_FRAMES:
             raise ValueError(f"repeated frames must be 0..{MAX_FRAMES - 1}, got {repeat}")
         self.rate, self.frames_per_packet, self.steps, self.key = rate, frames_per_packet, steps, key
+        if not 0 <= stream <= 0xFFFF:
+            raise ValueError(f"a stream id is 0..65535, got {stream}")
+        self.stream = stream
         self.repeat = repeat
         self.key_every = max(1, int(round(key_seconds * rate)))
         self.models = Models(steps)
@@ -197,7 +203,7 @@ class StreamWriter:
         body = encode_frames(levels, history, keyframe, self.models)
         time_us = self._first_time_us - int(round(len(again) * 1e6 / self.rate))
         header = Header(KEYFRAME if keyframe else 0, self.sequence, first, time_us, len(levels),
-                        self.steps, self.rate, back)
+                        self.steps, self.rate, back, self.stream)
         datagram = seal(header, body, self.key)
         depth = 0 if reference is None else self._sent.depth(reference) + back
         for i, row in enumerate(levels):
@@ -256,9 +262,9 @@ class StreamWriter:
         return previous
 
 
-def key_request(sequence: int, key: bytes | None) -> bytes:
-    """The datagram a receiver sends back to ask for a keyframe."""
-    return seal(Header(KEY_REQUEST, sequence, 0, 0, 0, DEFAULT_STEPS, 1.0), b"", key)
+def key_request(sequence: int, key: bytes | None, stream: int = 0) -> bytes:
+    """The datagram a receiver sends back to stream ``stream``'s sender to ask for a keyframe."""
+    return seal(Header(KEY_REQUEST, sequence, 0, 0, 0, DEFAULT_STEPS, 1.0, stream=stream), b"", key)
 
 
 def is_key_request(datagram: bytes, key: bytes | None) -> bool:

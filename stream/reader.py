@@ -56,6 +56,7 @@ class StreamReader:
         self.bytes = 0
         self.lost = 0  # packets never seen (sequence gaps not filled later)
         self.want_keyframe = False
+        self.stream = 0  # the id of the stream read (its packets'), which replies carry back
         self._models: dict[int, Models] = {}
         self._newest: int | None = None  # highest sequence seen
         self._seen = 0  # bit i: sequence newest - i seen
@@ -83,6 +84,7 @@ class StreamReader:
             return []
         self.packets += 1
         self.bytes += len(datagram)
+        self.stream = header.stream
         self._last_valid = arrival
         if not header.keyframe and self._held.history(_reference(header)) is None:
             self._wait(header, body, arrival)
@@ -107,7 +109,7 @@ class StreamReader:
             return None
         self._ack_due = False
         held = sum(1 << i for i in range(ACK_BITS) if (self._ack - 1 - i) % WRAP in self._held)
-        return seal(Header(ACK, sequence, self._ack, held, 0, DEFAULT_STEPS, 1.0), b"", self.key)
+        return seal(Header(ACK, sequence, self._ack, held, 0, DEFAULT_STEPS, 1.0, stream=self.stream), b"", self.key)
 
     def _wait(self, header: Header, body: bytes, arrival: float) -> None:
         self._waiting[header.first_frame] = (header, body, arrival)

@@ -13,21 +13,40 @@ and the jitter buffer forgets what is behind it.
 
 from __future__ import annotations
 
+import math
 import socket
 import threading
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
 from stream.packets import key_request
 from stream.playout import Playout
 from stream.reader import StreamReader
-from stream.wire import MAX_PACKET
+from stream.wire import MAX_PACKET, peek_stream
+
+
+@dataclass
+class Lane:
+    """One performer's stream at a receiver: its reader, its jitter buffer, where its packets
+    come from, when the last one came and when a keyframe was last asked of it."""
+
+    reader: StreamReader
+    playout: Playout
+    sender: tuple[str, int] | None = None
+    arrived: float = -math.inf
+    last_request: float = -math.inf
 
 
 class StreamReceiver:
-    """Listen on ``address`` (``(host, port)``; port 0 picks one) for a motor stream.
+    """Listen on ``address`` (``(host, port)``; port 0 picks one) for motor streams.
+
+    Each stream id (:mod:`stream.wire`) is a performer with its own reader and jitter buffer
+    (:class:`Lane`): the first to arrive plays through ``playout``, and, where ``more`` makes
+    jitter buffers, up to ``max_streams`` more are kept; packets of others are counted and
+    dropped (:attr:`other_streams`).
 
     Parameters
     ----------
@@ -36,12 +55,20 @@ class StreamReceiver:
         Shared secret: only packets with its HMAC are read.
     clock : callable
         Seconds; ``time.perf_counter`` (the same clock a sender on this machine stamps with).
+    more : callable, optional
+        Makes the jitter buffer of each further performer (None: one performer only).
+    max_streams : int
+        Performers at most.
     """
 
     def __init__(self, address: tuple[str, int], playout: Playout, key: bytes | None = None,
-                 clock: Callable[[], float] = time.perf_counter, request_interval: float = 0.05) -> None:
+                 clock: Callable[[], float] = time.perf_counter, request_interval: float = 0.05,
+                 more: Callable[[], Playout] | None = None, max_streams: int = 16) -> None:
         self.playout, self.clock, self.key = playout, clock, key
         self.reader = StreamReader(key)
+        self.lanes: dict[int, Lane] = {}
+        self.more, self.max_streams = more, max_streams
+        self.other_streams = 0
         self.request_interval = request_interval
         self.requests = 0
         self.acks = 0
@@ -55,7 +82,6 @@ class StreamReceiver:
         self._lock = threading.Lock()
         self._arrived = threading.Condition(self._lock)
         self._stop = threading.Event()
-        self._last_request = -np.inf
         self._thread = threading.Thread(target=self._serve, daemon=True)
 
     @property
@@ -84,15 +110,47 @@ class StreamReceiver:
         with self._lock:
             return self.playout.values_at(self.clock() if now is None else now)
 
+    def performers(self, now: float | None = None) -> list[tuple[int, np.ndarray, float]]:
+        """Each performer's stream id, the face to show now ``(21,)`` and the seconds since its
+        last packet, in the order they first came."""
+        with self._lock:
+            now = self.clock() if now is None else now
+            return [(stream, lane.playout.values_at(now)[0], now - lane.arrived) for stream, lane in self.lanes.items()]
+
+    def _lane(self, stream: int | None) -> Lane | None:
+        """The lane of ``stream`` (made for a new one while there is room); the first performer's
+        reader also counts what has no stream id at all."""
+        if stream is None:
+            return next(iter(self.lanes.values()), None) or Lane(self.reader, self.playout)
+        lane = self.lanes.get(stream)
+        if lane is None:
+            if not self.lanes:
+                lane = Lane(self.reader, self.playout)
+            elif self.more is not None and len(self.lanes) < self.max_streams:
+                lane = Lane(StreamReader(self.key), self.more())
+            else:
+                self.other_streams += 1
+                return None
+            self.lanes[stream] = lane
+        return lane
+
     def feed(self, datagram: bytes, sender: tuple[str, int] | None = None) -> None:
         """Handle one datagram as if it had arrived now (the thread calls this for each)."""
         arrival = self.clock()
         with self._arrived:
-            for frames in self.reader.read(datagram, arrival):  # an oversized datagram is dropped here
-                self.playout.add(frames)
+            lane = self._lane(peek_stream(datagram))
+            if lane is None:
+                return
+            before = lane.reader.packets
+            for frames in lane.reader.read(datagram, arrival):  # an oversized datagram is dropped here
+                lane.playout.add(frames)
+            if lane.reader.packets > before:
+                lane.arrived, lane.sender = arrival, sender
             self._arrived.notify_all()
-            wanted = self.reader.want_keyframe and arrival - self._last_request >= self.request_interval
-            ack = self.reader.take_ack(self.acks) if sender is not None else None
+            wanted = lane.reader.want_keyframe and arrival - lane.last_request >= self.request_interval
+            ack = lane.reader.take_ack(self.acks) if sender is not None else None
+            if wanted and sender is not None:
+                lane.last_request = arrival
         if ack is not None and sender is not None:
             self.acks += 1
             try:
@@ -100,10 +158,9 @@ class StreamReceiver:
             except OSError:
                 pass
         if wanted and sender is not None:
-            self._last_request = arrival
             self.requests += 1
             try:
-                self.sock.sendto(key_request(self.requests, self.key), sender)
+                self.sock.sendto(key_request(self.requests, self.key, lane.reader.stream), sender)
             except OSError:
                 pass  # the sender's side is gone; the keyframes it sends anyway will do
 
@@ -111,6 +168,12 @@ class StreamReceiver:
         """Wait until ``count`` valid packets have been read (True) or ``timeout`` seconds pass."""
         with self._arrived:
             return self._arrived.wait_for(lambda: self.reader.packets >= count, timeout)
+
+    def wait_for_streams(self, count: int, timeout: float) -> bool:
+        """Wait until ``count`` performers have each had a packet read (True) or ``timeout`` seconds pass."""
+        with self._arrived:
+            return self._arrived.wait_for(lambda: sum(lane.reader.packets > 0 for lane in self.lanes.values()) >= count,
+                                          timeout)
 
     def _serve(self) -> None:
         while not self._stop.is_set():

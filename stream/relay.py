@@ -1,11 +1,12 @@
 """A fault-injecting UDP relay for testing a stream on one machine.
 
 It listens on one address and forwards what it gets to a target, and forwards the target's
-replies back to the last sender. Each datagram (both ways) meets the faults in :class:`Faults`:
-random loss, loss in bursts, duplication, corruption (one bit flipped), delay with jitter
-(which reorders), and explicit reordering (a datagram held back behind the next).
-The decisions come from a seeded generator (:class:`FaultPlan`), so a test can check them
-without sockets.
+replies back to the sender of the stream they answer (by the stream id in the packets; the last
+sender for a datagram without one), so several performers can share one relay. Each datagram
+(both ways) meets the faults in :class:`Faults`: random loss, loss in bursts, duplication,
+corruption (one bit flipped), delay with jitter (which reorders), and explicit reordering (a
+datagram held back behind the next). The decisions come from a seeded generator
+(:class:`FaultPlan`), so a test can check them without sockets.
 """
 
 from __future__ import annotations
@@ -19,6 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from stream.wire import peek_stream
+
+#: Senders a relay remembers by stream id.
+MAX_CLIENTS = 256
 
 @dataclass(frozen=True)
 class NetworkFaults:
@@ -108,7 +113,8 @@ class Relay:
             s.settimeout(0.1)  # only to notice close()
         self._queue: list[tuple[float, int, bytes, bool]] = []  # (when, order, data, forward)
         self._order = 0
-        self._client: tuple[str, int] | None = None
+        self._client: tuple[str, int] | None = None  # the last sender
+        self._clients: dict[int, tuple[str, int]] = {}  # each stream's sender, by stream id
         self._due = threading.Condition()  # guards the queue and the client; signalled on each arrival
         self._stop = threading.Event()
         self._threads = [threading.Thread(target=self._receive, args=(s, fwd), daemon=True)
@@ -151,6 +157,9 @@ class Relay:
             with self._due:
                 if forward:
                     self._client = sender
+                    stream = peek_stream(data)
+                    if stream is not None and (stream in self._clients or len(self._clients) < MAX_CLIENTS):
+                        self._clients[stream] = sender
                 for when, out in plan.decide(data, now):
                     if len(self._queue) < self.max_queue:
                         heapq.heappush(self._queue, (when, self._order, out, forward))
@@ -165,7 +174,7 @@ class Relay:
                 due = []
                 while self._queue and self._queue[0][0] <= now:
                     due.append(heapq.heappop(self._queue))
-                client = self._client
+                client, clients = self._client, dict(self._clients)
                 if not due:
                     self._due.wait(self._queue[0][0] - now if self._queue else None)
                     continue
@@ -173,7 +182,7 @@ class Relay:
                 try:
                     if forward:
                         self.back.sendto(data, self.target)
-                    elif client is not None:
-                        self.front.sendto(data, client)
+                    elif (to := clients.get(peek_stream(data) or 0, client)) is not None:
+                        self.front.sendto(data, to)
                 except OSError:
                     pass

@@ -4,22 +4,24 @@ One UDP datagram is one packet::
 
     offset size field
     0      2    magic b"TF"
-    2      1    version (3)
+    2      1    version (4)
     3      1    flags: 1 = the first frame is a keyframe, 2 = the tag is an HMAC,
                        4 = a keyframe request (receiver to sender; no frames),
                        8 = an acknowledgement (receiver to sender; no frames)
-    4      4    sequence number of the packet (u32, wraps)
-    8      4    index of the packet's first frame (u32, wraps); in an acknowledgement, the
+    4      2    stream id (u16): the sender's, so that one receiver tells several performers
+                apart (through a relay too); a receiver's replies carry the id they answer
+    6      4    sequence number of the packet (u32, wraps)
+    10     4    index of the packet's first frame (u32, wraps); in an acknowledgement, the
                 newest frame the receiver holds with its whole history
-    12     4    capture time of the first frame, sender's clock, microseconds (u32, wraps); in
+    14     4    capture time of the first frame, sender's clock, microseconds (u32, wraps); in
                 an acknowledgement, which of the 32 frames before that frame the receiver
                 holds (bit i: the frame i + 1 before it)
-    16     1    frames in the packet, 0..32
-    17     1    quantisation steps S (motor value v is sent as round(v * S), 0..S)
-    18     2    frame rate, 1/100 Hz (u16)
-    20     1    reference: how many frames before the first frame the frame it is predicted
+    18     1    frames in the packet, 0..32
+    19     1    quantisation steps S (motor value v is sent as round(v * S), 0..S)
+    20     2    frame rate, 1/100 Hz (u16)
+    22     1    reference: how many frames before the first frame the frame it is predicted
                 from lies (1: the frame just before; 0 in a keyframe)
-    21     ...  the coded frames
+    23     ...  the coded frames
     end-T  T    tag: CRC-32 of all before it (T = 4), or HMAC-SHA256 truncated to 10 bytes
                 with a shared key (T = 10)
 
@@ -65,9 +67,12 @@ from stream.rangecode import Decoder, Encoder, Model
 from toon import N_MOTORS
 
 MAGIC = b"TF"
-VERSION = 3
+VERSION = 4
 KEYFRAME, AUTHENTICATED, KEY_REQUEST, ACK = 1, 2, 4, 8
-HEADER = struct.Struct("<2sBBIIIBBHB")
+HEADER = struct.Struct("<2sBBHIIIBBHB")
+#: Where the stream id lies, for a relay or a receiver that sorts packets by it before reading them.
+STREAM_ID = struct.Struct("<H")
+STREAM_ID_OFFSET = 4
 MAX_FRAMES = 32
 CRC_SIZE, HMAC_SIZE = 4, 10
 #: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
@@ -101,6 +106,7 @@ class Header:
     steps: int
     rate: float
     back: int = 1
+    stream: int = 0
 
     @property
     def keyframe(self) -> bool:
@@ -127,7 +133,8 @@ class Models:
 def seal(header: Header, body: bytes, key: bytes | None) -> bytes:
     """Header, body and tag as one datagram."""
     flags = header.flags | (AUTHENTICATED if key else 0)
-    head = HEADER.pack(MAGIC, VERSION, flags, header.sequence & 0xFFFFFFFF, header.first_frame & 0xFFFFFFFF,
+    head = HEADER.pack(MAGIC, VERSION, flags, header.stream & 0xFFFF, header.sequence & 0xFFFFFFFF,
+                       header.first_frame & 0xFFFFFFFF,
                        header.time_us & 0xFFFFFFFF, header.count, header.steps, int(round(header.rate * 100)),
                        0 if header.flags & KEYFRAME else header.back)
     return head + body + _tag(head + body, key)
@@ -144,7 +151,7 @@ def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
     """
     if len(data) > MAX_PACKET or len(data) < HEADER.size + CRC_SIZE:
         raise WireError("size", f"a packet of {len(data)} bytes (must be {HEADER.size + CRC_SIZE}..{MAX_PACKET})")
-    magic, version, flags, sequence, first, time_us, count, steps, rate, back = HEADER.unpack_from(data)
+    magic, version, flags, stream, sequence, first, time_us, count, steps, rate, back = HEADER.unpack_from(data)
     if magic != MAGIC:
         raise WireError("magic", f"not a toonface stream packet (magic {magic!r})")
     if version != VERSION:
@@ -160,7 +167,15 @@ def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
     if count > MAX_FRAMES or steps < 1 or rate == 0 or (count and not flags & KEYFRAME and back == 0):
         raise WireError("malformed", f"a header with {count} frames, {steps} steps, rate {rate / 100:g}, "
                                      f"reference {back}")
-    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0, back), signed[HEADER.size:]
+    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0, back, stream), signed[HEADER.size:]
+
+
+def peek_stream(data: bytes) -> int | None:
+    """The stream id of what looks like a packet of this version (None otherwise), unchecked:
+    for sorting packets by performer before each stream's reader checks them."""
+    if len(data) < HEADER.size or data[:2] != MAGIC or data[2] != VERSION:
+        return None
+    return int(STREAM_ID.unpack_from(data, STREAM_ID_OFFSET)[0])
 
 
 def _tag(data: bytes, key: bytes | None) -> bytes:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
 import threading
 import time
 from pathlib import Path
@@ -68,11 +69,13 @@ def _key(path: str | None) -> bytes | None:
               help="At the end, write the profile used (with ranges learned live, for a camera) to reuse with "
                    "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
+@click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
+              help="This performer's stream id, for a receiver showing several [default: a random one].")
 @take_options
 def send(source: str | None, vmc: str | None, openseeface: str | None, target: str, mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
-         stats: bool, reading: TakeReading) -> None:
+         stats: bool, stream_id: int | None, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
     performer), or instead --vmc HOST:PORT (a face-tracking app over the VMC protocol) or
@@ -99,10 +102,13 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
     for note in notes:
         click.echo(f"note: {note}", err=True)
     with Outputs() as outputs:
+        if stream_id is None:
+            stream_id = secrets.randbelow(0x10000)
         stream = outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=_key(key_file),
-                               frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds)
+                               frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds,
+                               stream=stream_id)
         recording = outputs.motor(record, rate=src.rate) if record else None
-        click.echo(f"sending {src.name} at {src.rate:g} Hz to {host}:{port} (Ctrl-C stops)")
+        click.echo(f"sending {src.name} at {src.rate:g} Hz to {host}:{port} as stream {stream_id} (Ctrl-C stops)")
         try:
             report = run_sender(src, mapper, outputs.motors, seconds)
         except KeyboardInterrupt:
@@ -145,16 +151,23 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
               help="Also write the motors shown (.csv/.npz).")
 @click.option("--stats", is_flag=True, help="Print packets, loss, drops, concealment and latency each second.")
 @VMC_OUT
+@click.option("--performers", "performers_path", default=None, type=click.Path(dir_okay=False),
+              help="Where several performers sit and on which faces (toonface.performers/1 TOML) [default: each "
+                   "sender that comes takes the next cell of a grid, on --face].")
+@click.option("--max-performers", default=8, show_default=True, type=click.IntRange(1, 64),
+              help="Senders shown at once (each with its own stream id); 1: the first only.")
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
-            stats: bool, vmc_out: str | None) -> None:
+            stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
     back a motor catches up no faster than --max-jump per frame or its own recent fastest step.
     Bad packets (oversized, malformed, replayed, or without the --key-file's HMAC) are dropped
-    and counted.
+    and counted. Several senders (each `send --id`) are shown together, each on its own face;
+    one that goes quiet passes to an idle face, then fades out, and the others go on.
     """
+    from player.ensemble import Ensemble, load_seats
     from player.live import ListenError, LiveSettings, run_live
     from stream.playout import Playout
     from stream.receiver import StreamReceiver
@@ -165,9 +178,15 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     face_obj = load_face(face)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
-    playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+    seats = load_seats(performers_path) if performers_path else []
+
+    def playout_for() -> Playout:
+        return Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+
+    playout = playout_for()
     try:
-        receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file))
+        receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file),
+                                  more=playout_for if max_performers > 1 else None, max_streams=max_performers)
     except OSError as exc:
         raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
     with receiver, Outputs() as outputs:
@@ -184,6 +203,9 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         if vmc_out is not None:
             settings.shown.append(outputs.motor(f"vmc://{vmc_out}", neutral=face_obj.neutral()).write)
         settings.source = lambda t: receiver.values_at()[0]
+        if max_performers > 1:
+            ensemble = Ensemble(face_obj, dims, settings.providers, seats)
+            settings.scene = lambda t: ensemble.frame(receiver.performers(), t)
         done = threading.Event()
         if stats:
             threading.Thread(target=_print_stats, args=(receiver, done, say), daemon=True).start()

@@ -93,7 +93,7 @@ def open_recording(spec: str, rate: float = 60.0, **_: Any) -> Any:
 
 
 def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_per_packet: int = 2,
-                keyframe_seconds: float = 0.5, **_: Any) -> Any:
+                keyframe_seconds: float = 0.5, stream: int = 0, **_: Any) -> Any:
     """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay)."""
     from stream.packets import StreamWriter
     from stream.sender import StreamSender
@@ -101,7 +101,8 @@ def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_
     host, _sep, port = spec.removeprefix("udp://").rpartition(":")
     if not host or not port.isdigit() or not 0 < int(port) < 65536:
         raise InputError("expected udp://HOST:PORT for a motor stream", spec)
-    return StreamSender((host, int(port)), StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key))
+    return StreamSender((host, int(port)), StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key,
+                                                        stream=stream))
 
 
 def open_vmc(spec: str, neutral: np.ndarray | None = None, **_: Any) -> Any:

@@ -12,7 +12,7 @@ from motor_streams import RATE, packets, smooth_motion
 from stream.packets import LOSS_SECONDS, StreamWriter, is_key_request, key_request, read_ack
 from stream.rangecode import Decoder, Encoder, Model
 from stream.reader import StreamReader
-from stream.wire import HEADER, MAX_PACKET, bridge, quantise
+from stream.wire import HEADER, MAX_PACKET, bridge, peek_stream, quantise
 from toon import standard_neutral
 
 
@@ -46,11 +46,24 @@ def test_stream_round_trip_is_exact_to_the_quantisation(per_packet, steps, seed)
 
 def test_header_is_little_endian_as_documented():
     _, datagrams = packets(smooth_motion(4), frames_per_packet=2)
-    magic, version, flags, sequence, first, time_us, count, steps, rate, back = HEADER.unpack_from(datagrams[1])
-    assert (magic, version, flags & 1, sequence, first, count, steps, rate, back) == (
-        b"TF", 3, 0, 1, 2, 2, 100, 6000, 1)
-    assert datagrams[1][4:8] == struct.pack("<I", 1) and time_us == round(2 / RATE * 1e6)
+    magic, version, flags, stream, sequence, first, time_us, count, steps, rate, back = \
+        HEADER.unpack_from(datagrams[1])
+    assert (magic, version, flags & 1, stream, sequence, first, count, steps, rate, back) == (
+        b"TF", 4, 0, 0, 1, 2, 2, 100, 6000, 1)
+    assert datagrams[1][6:10] == struct.pack("<I", 1) and time_us == round(2 / RATE * 1e6)
     assert HEADER.unpack_from(datagrams[0])[2] & 1  # the first packet is a keyframe
+
+
+def test_the_stream_id_goes_out_with_every_packet_and_comes_back_in_the_replies():
+    writer, reader = StreamWriter(RATE, first_sequence=0, stream=513), StreamReader()
+    datagrams = [d for i in range(6) if (d := writer.push(standard_neutral(), i / RATE)) is not None]
+    assert [peek_stream(d) for d in datagrams] == [513] * 3 and datagrams[0][4:6] == struct.pack("<H", 513)
+    for datagram in datagrams:
+        reader.read(datagram, 0.0)
+    assert peek_stream(reader.take_ack()) == 513 and peek_stream(key_request(1, None, 513)) == 513
+    assert peek_stream(b"TF\x03" + bytes(30)) is None and peek_stream(b"xx") is None  # another version, or none
+    with pytest.raises(ValueError, match="0..65535"):
+        StreamWriter(RATE, stream=70000)
 
 
 def test_a_still_face_costs_little_more_than_its_keyframes():
@@ -123,7 +136,7 @@ def _acked_stream(values: np.ndarray, lose: set[int], delay_packets: int = 0):
         if datagram is None:
             continue
         packet = writer.packets - 1
-        carried.append(HEADER.unpack_from(datagram)[4:7:2])  # (first frame, count)
+        carried.append(HEADER.unpack_from(datagram)[5:8:2])  # (first frame, count)
         if packet not in lose:
             for frames in reader.read(datagram, i / RATE):
                 for k, v in enumerate(frames.values):

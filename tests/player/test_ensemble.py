@@ -1,0 +1,123 @@
+"""Several performers on one screen: two senders through the relay drawn as two faces in one
+recorded frame; a quiet one passes to idle, fades out and leaves, the other goes on; seats."""
+
+import cv2
+import numpy as np
+import pytest
+
+from common import InputError
+from player.animator import FakeClock
+from player.ensemble import Ensemble, load_seats
+from player.live import LiveSettings, run_live
+from player.providers import IdleSettings, Providers
+from player.sinks import open_sink
+from stream.packets import StreamWriter
+from stream.playout import Playout
+from stream.receiver import StreamReceiver
+from stream.relay import NetworkFaults, Relay
+from stream.sender import StreamSender
+from toon import FaceRig, load_face, motor_index
+from toon.stage import KEYS_PER_CELL, grid
+
+STILL = Providers(idle=IdleSettings(blink_per_minute=0, breathing_amount=0, saccade_amount=0))
+
+
+def _pose(face, **motors):
+    values = face.neutral()
+    for code, value in motors.items():
+        values[motor_index(code)] = value
+    return values
+
+
+def _same(a, b) -> bool:
+    """Two frames alike: the same items, in order, at the same points."""
+    return (a.viewbox == b.viewbox and len(a.items) == len(b.items)
+            and all(x.name == y.name and np.allclose(x.vertices, y.vertices)
+                    for x, y in zip(a.items, b.items, strict=True)))
+
+
+def test_the_grid_is_near_square_and_fills_the_stage():
+    assert grid(1, 512, 256) == [(0, 0, 512, 256)]
+    assert grid(2, 512, 256) == [(0, 0, 256, 256), (256, 0, 512, 256)]  # side by side on a wide stage
+    four = grid(4, 400, 400)
+    assert sorted(four) == sorted([(0, 200, 200, 400), (200, 200, 400, 400), (0, 0, 200, 200), (200, 0, 400, 200)])
+    assert four[0] == (0, 200, 200, 400)  # the first at the top left
+
+
+def test_two_performers_are_placed_each_in_its_cell_and_a_quiet_one_fades_out(tmp_path):
+    face = load_face("classic")
+    open_mouth, shut = _pose(face, MB=1.0), _pose(face, MB=0.0)
+    ensemble = Ensemble(face, (512, 256), STILL, gone_after=5.0, fade_out=1.0)
+    one = ensemble.frame([(7, open_mouth, 0.0)], 0.0)
+    assert _same(one, FaceRig(face).geometry(open_mouth))  # alone: exactly the single face
+    both = ensemble.frame([(7, open_mouth, 0.02), (9, shut, 0.0)], 0.02)
+    assert both.viewbox == (0.0, 0.0, 512.0, 256.0)
+    single = FaceRig(face).geometry(open_mouth)
+    x0, y0, x1, y1 = face.viewbox
+    scale = 256 / (x1 - x0)  # a square face into a 256 x 256 cell
+    mouth = next(i for i in single.items if i.name == "lower_lip")
+    placed = [i for i in both.items if i.name == "lower_lip"]
+    np.testing.assert_allclose(placed[0].vertices, (mouth.vertices - [(x0 + x1) / 2, (y0 + y1) / 2]) * scale + 128)
+    assert placed[1].vertices[:, 0].min() >= 256  # the second performer in the right cell
+    assert len({i.key for i in both.items}) == len(both.items) and max(i.key for i in both.items) < 2 * KEYS_PER_CELL
+    # performer 9 goes quiet: idle after 0.3 s, half faded at 5.5 s, gone after 6 s; 7 goes on
+    ensemble.frame([(7, open_mouth, 0.0), (9, shut, 5.5)], 5.5)
+    faded = next(i for i in reversed(ensemble.frame([(7, open_mouth, 0.0), (9, shut, 5.5)], 5.52).items)
+                 if i.fill is not None)
+    assert faded.fill[3] == pytest.approx(0.5 * next(i for i in reversed(single.items) if i.fill is not None).fill[3],
+                                          abs=0.03)
+    assert ensemble.members[9].mixer.who()[motor_index("MB")] == "idle"
+    alone = ensemble.frame([(7, open_mouth, 0.0), (9, shut, 6.1)], 6.1)
+    assert list(ensemble.members) == [7] and _same(alone, FaceRig(face).geometry(open_mouth))
+
+
+def test_seats_set_each_performers_face_and_place(tmp_path):
+    seats = tmp_path / "seats.toml"
+    seats.write_text('format = "toonface.performers/1"\n'
+                     '[[performer]]\nid = 3\nface = "wizard"\ncell = [0.5, 0.0, 1.0, 1.0]\n'
+                     '[[performer]]\nid = 4\nface = "cat"\ncell = [0.0, 0.0, 0.5, 1.0]\n')
+    loaded = load_seats(seats)
+    assert [s.stream for s in loaded] == [3, 4] and loaded[0].face == "wizard"
+    face = load_face("classic")
+    ensemble = Ensemble(face, (512, 256), STILL, loaded)
+    drawn = ensemble.frame([(3, face.neutral(), 0.0), (4, face.neutral(), 0.0), (5, face.neutral(), 0.0)], 0.0)
+    hat = [i for i in drawn.items if i.name == "hat"]  # the wizard's, on the right
+    assert hat and hat[0].vertices[:, 0].min() >= 256 and 5 not in ensemble.members  # 5 has no seat
+    seats.write_text('format = "toonface.performers/1"\n[[performer]]\nid = 3\ncell = [0.5, 0.0, 0.2, 1.0]\n')
+    with pytest.raises(InputError, match=r"performer\[0\]\.cell"):
+        load_seats(seats)
+
+
+def test_two_senders_through_the_relay_appear_as_two_faces_in_one_recorded_frame(tmp_path):
+    from player.backends import open_renderer
+
+    face = load_face("round")
+    open_mouth, shut = _pose(face, MB=1.0, BRC=1.0, BLC=1.0), _pose(face, MB=0.0, ERU=0.0, ELU=0.0)
+
+    def playout():
+        return Playout(face.neutral())
+
+    with StreamReceiver(("127.0.0.1", 0), playout(), more=playout) as receiver, \
+            Relay(("127.0.0.1", 0), receiver.address, NetworkFaults(), seed=1) as relay:
+        senders = [StreamSender(relay.address, StreamWriter(60.0, stream=stream)) for stream in (11, 22)]
+        for k in range(30):  # half a second of each performer, frame by frame
+            for sender, values in zip(senders, (open_mouth, shut), strict=True):
+                sender.write(k / 60, values)
+        for sender in senders:
+            sender.close()
+        assert receiver.wait_for_streams(2, timeout=10)
+        receiver.wait_for_packets(15, timeout=10)
+        settled = receiver.clock() + 0.1  # within the half second the frames span, past the jitter buffer
+        ensemble = Ensemble(face, (256, 128), STILL)
+        clock = FakeClock()
+        settings = LiveSettings(loop_time=0.05, size=(256, 128), samples=4, tcp=None, seconds=0.1,
+                                providers=STILL, sinks=[open_sink(tmp_path / "frames", 20, (256, 128))],
+                                scene=lambda t: ensemble.frame(receiver.performers(settled), t))
+        run_live(face, settings, clock=clock, sleep=clock.sleep)
+    assert sorted(ensemble.members) == [11, 22] and receiver.other_streams == 0
+    recorded = cv2.imread(str(sorted((tmp_path / "frames").glob("*.png"))[-1]))[:, :, ::-1].astype(int)
+    with open_renderer((128, 128)) as renderer:  # each performer drawn alone at its cell's size
+        alone = [renderer.render(FaceRig(face).geometry(v)).astype(int) for v in (open_mouth, shut)]
+    for half, picture in zip((recorded[:, :128], recorded[:, 128:]), alone, strict=True):
+        assert np.abs(half - picture).mean() < 1.5  # the same face, pose and place, to the edges' rounding
+    assert np.abs(alone[0] - alone[1]).mean() > 5  # and the two performers are told apart
