@@ -80,6 +80,8 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
         path = data_path("mappings", f"{preset}.toml")
         doc = read_document(path)  # the rules are copied from the document, named after the parsed ones
         parsed = parse_mapping(doc, path)
+        if any(source.kind == "blendshape" for source in parsed.sources()):
+            continue  # scores a marker set cannot give (the face and arkit presets)
         known = load_markerset(parsed.markerset)
         markers = _rule_markers(parsed)
         scale, offset = _fit(known.neutral, markerset.neutral)
