@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import socket
 import struct
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -173,10 +174,12 @@ def openseeface_source(target: str, clock: Callable[[], float] = time.perf_count
     meta: dict = {"mapping": "arkit", "address": f"{host}:{sock.getsockname()[1]}", "counts": counts,
                   "rest": rest}
 
+    halt = threading.Event()
+
     def frames() -> Iterator[Frame]:
         start = clock()
         try:
-            while True:
+            while not halt.is_set():
                 try:
                     datagram = sock.recv(65536)
                 except TimeoutError:
@@ -197,4 +200,4 @@ def openseeface_source(target: str, clock: Callable[[], float] = time.perf_count
             sock.close()
 
     return Source(labels, 30.0, frames(), f"OpenSeeFace on {host}:{port}", live=True, meta=meta,
-                  channel_names=BLENDSHAPES)
+                  channel_names=BLENDSHAPES, halt=halt)

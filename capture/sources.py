@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -68,6 +69,9 @@ class Source:
         What the source learned (a video's ``mm_per_pixel`` once tracking has started).
     channel_names : tuple of str
         Names of each frame's ``channels`` (a markerless tracker's blendshapes); empty for none.
+    halt : threading.Event
+        Set from another thread to end a live source's frames (a network bridge checks it while
+        it waits for data, at least twice a second).
     """
 
     labels: tuple[str, ...]
@@ -79,6 +83,7 @@ class Source:
     recording: Take | None = None
     meta: dict[str, Any] = field(default_factory=dict)
     channel_names: tuple[str, ...] = ()
+    halt: threading.Event = field(default_factory=threading.Event)
 
     def close(self) -> None:
         """Stop the frames (a live source's socket or camera is released with them)."""

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import re
 import socket
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -203,10 +204,12 @@ def vmc_source(target: str, clock: Callable[[], float] = time.perf_counter, time
     meta: dict = {"mapping": "arkit", "address": f"{host}:{sock.getsockname()[1]}", "counts": state.counts,
                   "rest": rest}
 
+    halt = threading.Event()
+
     def frames() -> Iterator[Frame]:
         start = clock()
         try:
-            while True:
+            while not halt.is_set():
                 try:
                     datagram = sock.recv(65536)
                 except TimeoutError:
@@ -231,4 +234,4 @@ def vmc_source(target: str, clock: Callable[[], float] = time.perf_counter, time
             sock.close()
 
     return Source(labels, 60.0, frames(), f"VMC on {host}:{port}", live=True, meta=meta,
-                  channel_names=BLENDSHAPES)
+                  channel_names=BLENDSHAPES, halt=halt)

@@ -142,8 +142,9 @@ class Follower:
         self._thread.start()
 
     def stop(self) -> None:
-        """Stop following and wait for the thread."""
+        """Stop following and wait for the thread (a bridge waiting for data is told to end)."""
         self._stop.set()
+        self.source.halt.set()
         if self._thread.is_alive():
             self._thread.join(timeout=5.0)
 

@@ -135,3 +135,9 @@ def test_bad_packets_are_counted_and_dropped_and_a_failed_fit_is_a_lost_frame(li
     two = next(source.frames)  # the lowest id is the performer: face 0, mouth shut
     assert two.channels[BLENDSHAPES.index("jawOpen")] == 0.0
     assert source.meta["counts"] == {"frames": 2, "bad_packets": 2, "lost": 1}
+
+
+def test_a_silent_tracker_does_not_keep_the_source_waiting_once_halted():
+    source = open_source("openseeface:127.0.0.1:0", timeout=0.01)
+    source.halt.set()
+    assert list(source.frames) == []

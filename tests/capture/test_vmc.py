@@ -146,3 +146,9 @@ def test_the_arkit_mapping_serves_a_markerless_take_too(realdata, tmp_path):
         i = motor_index(code)
         assert np.corrcoef(scores[:, i], markers[:, i])[0, 1] > least, code
     assert np.ptp(scores[:, motor_index("MB")]) > 0.2  # the speaker's jaw, in scores
+
+
+def test_a_source_waiting_for_a_silent_sender_ends_when_halted():
+    source = open_source("vmc:127.0.0.1:0", timeout=0.01)
+    source.halt.set()  # what a player's follower does when it stops
+    assert list(source.frames) == []  # ended without a frame, not blocked on the socket
