@@ -118,27 +118,26 @@ class StreamReceiver:
             return [(stream, lane.playout.values_at(now)[0], now - lane.arrived) for stream, lane in self.lanes.items()]
 
     def _lane(self, stream: int | None) -> Lane | None:
-        """The lane of ``stream`` (made for a new one while there is room); the first performer's
-        reader also counts what has no stream id at all."""
+        """The lane of ``stream``, or a new one while there is room (kept by :meth:`feed` only once
+        a packet of it reads well, so that junk cannot take a performer's place); the first
+        performer's reader also counts what has no stream id at all."""
         if stream is None:
             return next(iter(self.lanes.values()), None) or Lane(self.reader, self.playout)
-        lane = self.lanes.get(stream)
-        if lane is None:
-            if not self.lanes:
-                lane = Lane(self.reader, self.playout)
-            elif self.more is not None and len(self.lanes) < self.max_streams:
-                lane = Lane(StreamReader(self.key), self.more())
-            else:
-                self.other_streams += 1
-                return None
-            self.lanes[stream] = lane
-        return lane
+        if stream in self.lanes:
+            return self.lanes[stream]
+        if not self.lanes:
+            return Lane(self.reader, self.playout)
+        if self.more is not None and len(self.lanes) < self.max_streams:
+            return Lane(StreamReader(self.key), self.more())
+        self.other_streams += 1
+        return None
 
     def feed(self, datagram: bytes, sender: tuple[str, int] | None = None) -> None:
         """Handle one datagram as if it had arrived now (the thread calls this for each)."""
         arrival = self.clock()
         with self._arrived:
-            lane = self._lane(peek_stream(datagram))
+            stream = peek_stream(datagram)
+            lane = self._lane(stream)
             if lane is None:
                 return
             before = lane.reader.packets
@@ -146,6 +145,8 @@ class StreamReceiver:
                 lane.playout.add(frames)
             if lane.reader.packets > before:
                 lane.arrived, lane.sender = arrival, sender
+                if stream is not None and stream not in self.lanes:
+                    self.lanes[stream] = lane  # a newcomer, now that a packet of it read well
             self._arrived.notify_all()
             wanted = lane.reader.want_keyframe and arrival - lane.last_request >= self.request_interval
             ack = lane.reader.take_ack(self.acks) if sender is not None else None

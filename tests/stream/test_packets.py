@@ -251,3 +251,20 @@ def test_a_bridged_reference_predicts_the_same_at_both_ends():
     assert run.shape == (3, 21) and run[0, 0] == 15
     step = (5 * 3 + 2 * 2 + 5) // 10
     assert run[1, 0] == 15 + step and run[2, 0] == run[1, 0] + (5 * step + 2 * 3 + 5) // 10
+
+
+def test_a_receiver_keeps_a_performer_only_once_a_packet_of_it_reads_well():
+    from stream.playout import Playout
+    from stream.receiver import StreamReceiver
+
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), more=lambda: Playout(standard_neutral()),
+                        max_streams=2) as receiver:
+        junk = bytearray(StreamWriter(RATE, first_sequence=0, stream=5, frames_per_packet=1).push(
+            standard_neutral(), 0.0))
+        junk[-1] ^= 0xFF  # a bad tag
+        receiver.feed(bytes(junk))
+        assert receiver.lanes == {} and receiver.reader.dropped["tag"] == 1
+        for stream in (7, 8, 9):
+            writer = StreamWriter(RATE, first_sequence=0, stream=stream, frames_per_packet=1)
+            receiver.feed(writer.push(standard_neutral(), 0.0))
+        assert sorted(receiver.lanes) == [7, 8] and receiver.other_streams == 1  # the third has no room
