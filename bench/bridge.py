@@ -1,11 +1,12 @@
 """``bridge``: what the bridges from other face-tracking apps add to a live face's latency.
 
-``bridge.vmc_latency_ms``: from a VMC sender's datagram (51 ARKit blendshapes, the head bone and
-the Apply, one bundle, 60 a second over loopback) leaving the sender to the motors mapped from it
-by the ``arkit`` preset (the source's parse, the live mapper's step): the median (goal 2 ms
-added). The detail has the 95th percentile and the same path through a plain peer: python-osc's
-own threaded server dispatching the same bundles to a handler that only notes the time, so the
-difference is what reading them into motors costs. ``bridge.openseeface_latency_ms``: the same for
+``bridge.vmc_added_ms``: what toonface adds between a VMC sender's datagram (51 ARKit blendshapes,
+the head bone and the Apply, one bundle, 60 a second over loopback) and the motors mapped from it
+by the ``arkit`` preset (the source's parse, the live mapper's step): the median time from the
+datagram leaving the sender to the motors, less the median of the floor, the same datagrams
+received by a plain blocking socket in a thread (goal 2 ms). The detail has both medians, the
+95th percentile, and a plain peer: python-osc's own threaded server dispatching the same bundles
+to a handler that only notes the time. ``bridge.openseeface_added_ms``: the same for
 OpenSeeFace's 1,785-byte packets (goal 2 ms). ``bridge.per_performer_ms``: what each performer
 beyond the first adds to a receiver's loop (mixing, geometry, one 512x512 picture of them all),
 the slope of the median loop time over 1 to 4 performers (no goal; each count's median in the
@@ -36,14 +37,17 @@ def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``bridge.*`` figures."""
     frames = 240 if quick else 1200  # 4 or 20 s at 60 Hz
     vmc, vmc_p95 = _through_source("vmc", _vmc_bundle, frames)
+    vmc_floor, _ = _through_socket(_vmc_bundle, frames)
     peer, peer_p95 = _through_python_osc(frames)
     osf, osf_p95 = _through_source("openseeface", _osf_packet, frames)
+    osf_floor, _ = _through_socket(_osf_packet, frames)
     per_performer, loops = _per_performer(20 if quick else 100)
     detail = {"frames": frames, "rate_hz": RATE, "via": "UDP on loopback", "mapping": "arkit"}
-    return [Figure("bridge.vmc_latency_ms", vmc, "ms", 2.0, False,
-                   {**detail, "p95_ms": vmc_p95, "peer_python_osc_dispatch_ms": peer, "peer_p95_ms": peer_p95,
-                    "added_over_peer_ms": round(vmc - peer, 3)}),
-            Figure("bridge.openseeface_latency_ms", osf, "ms", 2.0, False, {**detail, "p95_ms": osf_p95}),
+    return [Figure("bridge.vmc_added_ms", round(vmc - vmc_floor, 3), "ms", 2.0, False,
+                   {**detail, "to_motors_ms": vmc, "p95_ms": vmc_p95, "plain_socket_ms": vmc_floor,
+                    "peer_python_osc_dispatch_ms": peer, "peer_p95_ms": peer_p95}),
+            Figure("bridge.openseeface_added_ms", round(osf - osf_floor, 3), "ms", 2.0, False,
+                   {**detail, "to_motors_ms": osf, "p95_ms": osf_p95, "plain_socket_ms": osf_floor}),
             Figure("bridge.per_performer_ms", per_performer, "ms", None, False,
                    {"loop_ms_by_performers": loops, "size": [512, 512], "face": "classic",
                     "renderer": "GL, as the live loop (Mesa llvmpipe where there is no GPU)"})]
@@ -133,6 +137,36 @@ def _through_source(kind: str, make: Callable[[int], bytes], frames: int) -> tup
     sender.join()
     source.close()
     return _spread(sent, done)
+
+
+def _through_socket(make: Callable[[int], bytes], frames: int) -> tuple[float, float]:
+    """The floor: the same datagrams received by a plain blocking socket in a thread."""
+    receiver = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    receiver.bind(("127.0.0.1", 0))
+    receiver.settimeout(5.0)
+    done: list[float] = []
+
+    def receive() -> None:
+        for _ in range(frames):
+            try:
+                receiver.recv(65536)
+            except TimeoutError:
+                return
+            done.append(time.perf_counter())
+
+    thread = threading.Thread(target=receive, daemon=True)
+    thread.start()
+    datagrams = [make(k) for k in range(frames)]
+    sent: list[float] = []
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        start = time.perf_counter()
+        for k, datagram in enumerate(datagrams):
+            time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
+            sent.append(time.perf_counter())
+            sock.sendto(datagram, receiver.getsockname())
+    thread.join()
+    receiver.close()
+    return _spread(sent[:len(done)], done)
 
 
 def _through_python_osc(frames: int) -> tuple[float, float]:

@@ -17,6 +17,8 @@ Confidence per motor and frame is the mean over its sources of their markers' qu
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from mapping.coupling import decoupled, driver_of
@@ -80,17 +82,147 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
                  profile: Profile, neutral: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each motor's value before the per-frame rules (:class:`mapping.rules.MotorRules`) and its
     confidence, both ``(F, 21)``: NaN where a mapped motor sees none of its sources, the face's
-    ``neutral`` for motors the mapping leaves alone."""
+    ``neutral`` for motors the mapping leaves alone.
+
+    Every rule at once: each distinct source is measured once, every (rule, source) pair is
+    normalised in one pass, and the rules' sources are combined side by side (padded to the
+    most sources a rule has), so that a single frame (the live sender's) costs a few dozen
+    array operations, not a few per rule."""
     frames = len(stable.local)
-    head = head_angles(stable.rotation, profile.rest_rotation)
     values = np.tile(np.asarray(neutral, dtype=float), (frames, 1))
     confidence = np.ones((frames, len(MOTOR_CODES)))
+    rules = mapping.rules
+    if not rules:
+        return values, confidence
+    head = head_angles(stable.rotation, profile.rest_rotation)
     drivers = normalised_drivers(mapping, stable, columns, head, profile) if profile.couplings else {}
-    for rule in mapping.rules:
-        col = motor_index(rule.code)
-        values[:, col], confidence[:, col] = _motor_value(rule, stable, columns, head, quality, profile,
-                                                          float(neutral[col]), drivers)
+    plan = _Plan.of(rules, profile)
+    raw = np.column_stack([measure(s, stable.local, columns, head, stable.channels) for s in plan.distinct])
+    sure = np.column_stack([_source_confidence(s, raw[:, k], quality, columns, stable)
+                            for k, s in enumerate(plan.distinct)])
+    normalised = _normalise_many(raw[:, plan.key], plan.mode, plan.rest, plan.up, plan.down, plan.scale, plan.sign)
+    if drivers:
+        for j in np.flatnonzero(plan.decouples):
+            normalised[:, j] = decoupled(normalised[:, j], plan.sources[j], drivers, profile)
+    shape = (frames, len(rules), plan.width)
+    stack = np.full(shape, np.nan)
+    stack[:, plan.rule, plan.slot] = normalised
+    seen = np.isfinite(stack)
+    weights = np.zeros((len(rules), plan.width))
+    weights[plan.rule, plan.slot] = plan.weight
+    kind = np.array([COMBINES.index(r.combine) for r in rules])
+    total = (seen * weights).sum(axis=2)
+    average = (np.where(seen, stack, 0.0) * weights).sum(axis=2) / np.where(total != 0, total, 1.0)
+    combined = np.select([kind == 0, kind == 1, kind == 2],
+                         [np.where(seen, stack, -np.inf).max(axis=2), np.where(seen, stack, np.inf).min(axis=2),
+                          average], average * weights.sum(axis=1))  # weighted: a sum, the unseen's share spread
+    combined = np.where(seen.any(axis=2), combined, np.nan) * np.where([r.invert for r in rules], -1.0, 1.0)
+    cols = [motor_index(r.code) for r in rules]
+    rest = np.asarray(neutral, dtype=float)[cols]
+    ways = np.array([resolved_mode(r, profile) in ("profile", "score") for r in rules])
+    # the performer's range (or a score) onto the motor's way to 0 or to 1
+    delta = np.where(ways, np.where(combined >= 0, combined * (1.0 - rest), combined * rest), combined)
+    value = rest + np.array([r.gain for r in rules]) * delta + np.array([r.offset for r in rules])
+    for r, rule in enumerate(rules):
+        if rule.curve:
+            xs, ys = zip(*rule.curve, strict=True)
+            value[:, r] = np.where(np.isnan(value[:, r]), np.nan, np.interp(value[:, r], xs, ys))
+    values[:, cols] = _clamp_many(value, rules)
+    counts = np.bincount(plan.rule, minlength=len(rules))
+    confidence[:, cols] = np.add.reduceat(sure[:, plan.key][:, plan.order], plan.starts, axis=1) / counts
     return values, confidence
+
+
+COMBINES = ("max", "min", "mean", "weighted")
+SCALE, SCORE, PROFILE = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """Every (rule, source) pair of a mapping under a profile, as arrays (``J`` pairs)."""
+
+    distinct: list[Source]  # each source once, by key
+    sources: list[Source]  # (J,)
+    key: np.ndarray  # (J,) the pair's column among the distinct sources
+    rule: np.ndarray  # (J,) its rule
+    slot: np.ndarray  # (J,) its place among its rule's sources
+    mode: np.ndarray  # (J,) SCALE, SCORE or PROFILE
+    rest: np.ndarray  # (J,)
+    up: np.ndarray  # (J,)
+    down: np.ndarray  # (J,)
+    scale: np.ndarray  # (J,)
+    sign: np.ndarray  # (J,) -1 for an inverted source
+    weight: np.ndarray  # (J,)
+    decouples: np.ndarray  # (J,) bool
+    width: int  # the most sources a rule has
+    order: np.ndarray  # (J,) pairs grouped by rule (they are already)
+    starts: np.ndarray  # (R,) each rule's first pair
+
+    @classmethod
+    def of(cls, rules: tuple[MotorRule, ...], profile: Profile) -> _Plan:
+        keys: dict[str, int] = {}
+        distinct: list[Source] = []
+        rows: list[tuple] = []
+        for r, rule in enumerate(rules):
+            mode = resolved_mode(rule, profile)
+            for slot, source in enumerate(rule.sources):
+                if source.key not in keys:
+                    keys[source.key] = len(distinct)
+                    distinct.append(source)
+                span = profile.sources.get(source.key)
+                if mode == "profile" and span is None:
+                    raise ValueError(f"motor {rule.code}: a profile-normalised rule needs the range of {source.key}")
+                rest, up, down = _span(span)
+                rows.append((source, keys[source.key], r, slot, ("scale", "score", "profile").index(mode), rest, up,
+                             down, rule.scale, -1.0 if source.invert else 1.0,
+                             source.weight if rule.combine == "weighted" else 1.0, bool(rule.decouple)))
+        c = list(zip(*rows, strict=True))
+        rule_of = np.array(c[2])
+        number = [np.array(column, dtype=float) for column in c[5:11]]
+        return cls(distinct=distinct, sources=list(c[0]), key=np.array(c[1]), rule=rule_of, slot=np.array(c[3]),
+                   mode=np.array(c[4]), rest=number[0], up=number[1], down=number[2], scale=number[3],
+                   sign=number[4], weight=number[5], decouples=np.array(c[11]),
+                   width=max(len(r.sources) for r in rules), order=np.arange(len(rows)),
+                   starts=np.searchsorted(rule_of, np.arange(len(rules))))
+
+
+def _span(span: SourceRange | None) -> tuple[float, float, float]:
+    """A source's rest and its ranges above and below it (1 where there is no range)."""
+    if span is None:
+        return 0.0, 1.0, 1.0
+    return span.neutral, max(span.high - span.neutral, 1e-9), max(span.neutral - span.low, 1e-9)
+
+
+def _normalise_many(raw: np.ndarray, mode: np.ndarray, rest: np.ndarray, up: np.ndarray, down: np.ndarray,
+                    scale: np.ndarray, sign: np.ndarray) -> np.ndarray:
+    """Sources' values ``(F, J)`` normalised each by its own mode (see :func:`normalise`)."""
+    offset = raw - rest
+    ranged = np.where(offset >= 0, offset / up, offset / down)
+    return np.where(mode == SCALE, offset / scale, np.where(mode == SCORE, offset, ranged)) * sign
+
+
+def _source_confidence(source: Source, raw: np.ndarray, quality: np.ndarray, columns: dict[str, int],
+                       stable: Stabilised) -> np.ndarray:
+    """How seen a source is per frame ``(F,)``: its markers' least quality, a score's presence,
+    or the head's fit."""
+    if source.markers:
+        return np.min(quality[:, [columns[m] for m in source.markers]], axis=1)
+    if source.kind == "blendshape":
+        return np.isfinite(raw).astype(float)
+    return stable.ok.astype(float)
+
+
+def _clamp_many(value: np.ndarray, rules: tuple[MotorRule, ...]) -> np.ndarray:
+    """Each rule's clamp on its column of ``value`` ``(F, R)``: hard, soft (unchanged in the middle,
+    easing into the limits over the outer tenth) or none."""
+    low, high = (np.array([r.limits[i] for r in rules]) for i in (0, 1))
+    hard = np.array([r.clamp == "hard" for r in rules])
+    soft = np.array([r.clamp == "soft" for r in rules])
+    knee = np.maximum(0.1 * (high - low), 1e-12)
+    upper, lower = high - knee, low + knee
+    eased = np.where(value > upper, upper + knee * np.tanh((value - upper) / knee), value)
+    eased = np.where(value < lower, lower - knee * np.tanh((lower - value) / knee), eased)
+    return np.where(hard, np.clip(value, low, high), np.where(soft, eased, value))
 
 
 def resolved_mode(rule: MotorRule, profile: Profile) -> str:
@@ -127,84 +259,16 @@ def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRa
               mode: str = "") -> np.ndarray:
     """A source's value as a signed fraction of the performer's range (``profile``: -1 at
     ``low``, 0 at rest, 1 at ``high``; ``score``: a score less its rest, the score being its own
-    fraction) or in motor units (``scale``); inverted if the source says.
-    ``mode``: ``profile`` or ``scale``, what a ``calibrated`` rule resolved to (the rule's own
-    by default)."""
-    if (mode or rule.normalise) == "scale":
-        rest = span.neutral if span is not None else 0.0
-        out = (value - rest) / rule.scale
-    elif (mode or rule.normalise) == "score":  # already a fraction of its whole way (a blendshape score)
-        out = value - (span.neutral if span is not None else 0.0)
-    else:
-        if span is None:
-            raise ValueError(f"motor {rule.code}: a profile-normalised rule needs the range of {source.key}")
-        up = max(span.high - span.neutral, 1e-9)
-        down = max(span.neutral - span.low, 1e-9)
-        offset = value - span.neutral
-        out = np.where(offset >= 0, offset / up, offset / down)
-    return -out if source.invert else out
-
-
-def _motor_value(rule: MotorRule, stable: Stabilised, columns: dict[str, int], head: np.ndarray,
-                 quality: np.ndarray, profile: Profile, rest: float, drivers: dict[str, np.ndarray]
-                 ) -> tuple[np.ndarray, np.ndarray]:
-    """One motor's value before loss handling (NaN where no source is seen) and its confidence;
-    ``drivers``: the normalised motion of the motors it decouples from."""
-    normalised, confidences = [], []
-    mode = resolved_mode(rule, profile)
-    for source in rule.sources:
-        span = profile.sources.get(source.key)
-        raw = measure(source, stable.local, columns, head, stable.channels)
-        value = normalise(raw, source, rule, span, mode)
-        normalised.append(decoupled(value, source, drivers, profile) if drivers and rule.decouple else value)
-        if source.markers:
-            confidences.append(np.min(quality[:, [columns[m] for m in source.markers]], axis=1))
-        elif source.kind == "blendshape":
-            confidences.append(np.isfinite(raw).astype(float))
-        else:
-            confidences.append(stable.ok.astype(float))
-    stack = np.column_stack(normalised)
-    combined = _combine(stack, rule)
-    if rule.invert:
-        combined = -combined
-    if mode in ("profile", "score"):  # the performer's range (or a score) onto the motor's way to 0 or to 1
-        delta = np.where(combined >= 0, combined * (1.0 - rest), combined * rest)
-    else:
-        delta = combined
-    value = rest + rule.gain * delta + rule.offset
-    if rule.curve:
-        xs, ys = zip(*rule.curve, strict=True)
-        value = np.where(np.isnan(value), np.nan, np.interp(value, xs, ys))
-    return _clamp(value, rule), np.mean(confidences, axis=0)
-
-
-def _combine(stack: np.ndarray, rule: MotorRule) -> np.ndarray:
-    """Combine ``(F, S)`` normalised sources over those seen in each frame."""
-    seen = np.isfinite(stack)
-    any_seen = seen.any(axis=1)
-    if rule.combine in ("max", "min"):
-        fill = -np.inf if rule.combine == "max" else np.inf
-        pick = np.max if rule.combine == "max" else np.min
-        out = pick(np.where(seen, stack, fill), axis=1)
-    else:
-        weights = np.array([s.weight if rule.combine == "weighted" else 1.0 for s in rule.sources])
-        total = np.where(seen, weights, 0.0).sum(axis=1)
-        out = np.where(seen, stack, 0.0) @ weights / np.where(total != 0, total, 1.0)
-        if rule.combine == "weighted":  # a weighted sum, the unseen sources' share spread over the seen
-            out = out * weights.sum()
-    return np.where(any_seen, out, np.nan)
-
-
-def _clamp(value: np.ndarray, rule: MotorRule) -> np.ndarray:
-    low, high = rule.limits
-    if rule.clamp == "hard":
-        return np.clip(value, low, high)
-    if rule.clamp == "soft":  # unchanged in the middle, easing into the limits over the outer tenth
-        knee = 0.1 * (high - low)
-        upper, lower = high - knee, low + knee
-        out = np.where(value > upper, upper + knee * np.tanh((value - upper) / knee), value)
-        return np.where(value < lower, lower - knee * np.tanh((lower - value) / knee), out)
-    return value
+    fraction) or in motor units (``scale``); inverted if the source says. ``mode``: ``profile``,
+    ``score`` or ``scale``, what a ``calibrated`` rule resolved to (the rule's own by default)."""
+    mode = mode or rule.normalise
+    if mode == "profile" and span is None:
+        raise ValueError(f"motor {rule.code}: a profile-normalised rule needs the range of {source.key}")
+    rest, up, down = _span(span)
+    code = np.array([("scale", "score", "profile").index(mode)])
+    out = _normalise_many(np.asarray(value, dtype=float)[:, None], code, np.array([rest]), np.array([up]),
+                          np.array([down]), np.array([rule.scale]), np.array([-1.0 if source.invert else 1.0]))
+    return out[:, 0]
 
 
 def _resample(values: np.ndarray, times: np.ndarray, new_times: np.ndarray) -> np.ndarray:
