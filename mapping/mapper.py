@@ -104,19 +104,7 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     if drivers:
         for j in np.flatnonzero(plan.decouples):
             normalised[:, j] = decoupled(normalised[:, j], plan.sources[j], drivers, profile)
-    shape = (frames, len(rules), plan.width)
-    stack = np.full(shape, np.nan)
-    stack[:, plan.rule, plan.slot] = normalised
-    seen = np.isfinite(stack)
-    weights = np.zeros((len(rules), plan.width))
-    weights[plan.rule, plan.slot] = plan.weight
-    kind = np.array([COMBINES.index(r.combine) for r in rules])
-    total = (seen * weights).sum(axis=2)
-    average = (np.where(seen, stack, 0.0) * weights).sum(axis=2) / np.where(total != 0, total, 1.0)
-    combined = np.select([kind == 0, kind == 1, kind == 2],
-                         [np.where(seen, stack, -np.inf).max(axis=2), np.where(seen, stack, np.inf).min(axis=2),
-                          average], average * weights.sum(axis=1))  # weighted: a sum, the unseen's share spread
-    combined = np.where(seen.any(axis=2), combined, np.nan) * np.where([r.invert for r in rules], -1.0, 1.0)
+    combined = _combine_many(normalised, plan, rules, frames) * np.where([r.invert for r in rules], -1.0, 1.0)
     cols = [motor_index(r.code) for r in rules]
     rest = np.asarray(neutral, dtype=float)[cols]
     ways = np.array([resolved_mode(r, profile) in ("profile", "score") for r in rules])
@@ -186,6 +174,43 @@ class _Plan:
                    starts=np.searchsorted(rule_of, np.arange(len(rules))))
 
 
+def _combine_many(normalised: np.ndarray, plan: _Plan, rules: tuple[MotorRule, ...], frames: int) -> np.ndarray:
+    """Each rule's sources ``normalised`` ``(F, J)`` combined over those seen ``(F, R)``: a rule of
+    one source is that source (times its weight, if weighted); the others side by side, a slab
+    per source place, each way of combining on the rules that use it. NaN where none is seen."""
+    combined = np.empty((frames, len(rules)))
+    counts = np.bincount(plan.rule, minlength=len(rules))
+    alone = np.flatnonzero(counts == 1)
+    combined[:, alone] = normalised[:, plan.starts[alone]] * plan.weight[plan.starts[alone]]
+    several = np.flatnonzero(counts > 1)
+    if not several.size:
+        return combined
+    pairs = np.isin(plan.rule, several)
+    place = np.searchsorted(several, plan.rule[pairs])
+    width = int(counts[several].max())
+    stack = np.full((width, frames, len(several)), np.nan)
+    stack[plan.slot[pairs], :, place] = normalised[:, pairs].T
+    seen = np.isfinite(stack)
+    weights = np.zeros((width, 1, len(several)))
+    weights[plan.slot[pairs], 0, place] = plan.weight[pairs]
+    kind = np.array([COMBINES.index(rules[r].combine) for r in several])
+    out = np.empty((frames, len(several)))
+    for k in np.unique(kind):  # each way of combining, on the rules that use it
+        cols = np.flatnonzero(kind == k)
+        part, ok, w = stack[:, :, cols], seen[:, :, cols], weights[:, :, cols]
+        if COMBINES[k] == "max":
+            out[:, cols] = np.where(ok, part, -np.inf).max(axis=0)
+        elif COMBINES[k] == "min":
+            out[:, cols] = np.where(ok, part, np.inf).min(axis=0)
+        else:
+            total = (ok * w).sum(axis=0)
+            mean = (np.where(ok, part, 0.0) * w).sum(axis=0) / np.where(total != 0, total, 1.0)
+            # weighted: a sum, the unseen sources' share spread over the seen
+            out[:, cols] = mean * w.sum(axis=0) if COMBINES[k] == "weighted" else mean
+    combined[:, several] = np.where(seen.any(axis=0), out, np.nan)
+    return combined
+
+
 def _span(span: SourceRange | None) -> tuple[float, float, float]:
     """A source's rest and its ranges above and below it (1 where there is no range)."""
     if span is None:
@@ -196,9 +221,15 @@ def _span(span: SourceRange | None) -> tuple[float, float, float]:
 def _normalise_many(raw: np.ndarray, mode: np.ndarray, rest: np.ndarray, up: np.ndarray, down: np.ndarray,
                     scale: np.ndarray, sign: np.ndarray) -> np.ndarray:
     """Sources' values ``(F, J)`` normalised each by its own mode (see :func:`normalise`)."""
-    offset = raw - rest
-    ranged = np.where(offset >= 0, offset / up, offset / down)
-    return np.where(mode == SCALE, offset / scale, np.where(mode == SCORE, offset, ranged)) * sign
+    out = raw - rest
+    ranged = np.flatnonzero(mode == PROFILE)
+    if ranged.size:
+        part = out[:, ranged]
+        out[:, ranged] = np.where(part >= 0, part / up[ranged], part / down[ranged])
+    scaled = np.flatnonzero(mode == SCALE)
+    if scaled.size:
+        out[:, scaled] /= scale[scaled]
+    return out * sign
 
 
 def _source_confidence(source: Source, raw: np.ndarray, quality: np.ndarray, columns: dict[str, int],
@@ -217,12 +248,13 @@ def _clamp_many(value: np.ndarray, rules: tuple[MotorRule, ...]) -> np.ndarray:
     easing into the limits over the outer tenth) or none."""
     low, high = (np.array([r.limits[i] for r in rules]) for i in (0, 1))
     hard = np.array([r.clamp == "hard" for r in rules])
-    soft = np.array([r.clamp == "soft" for r in rules])
-    knee = np.maximum(0.1 * (high - low), 1e-12)
-    upper, lower = high - knee, low + knee
-    eased = np.where(value > upper, upper + knee * np.tanh((value - upper) / knee), value)
-    eased = np.where(value < lower, lower - knee * np.tanh((lower - value) / knee), eased)
-    return np.where(hard, np.clip(value, low, high), np.where(soft, eased, value))
+    out = np.where(hard, np.clip(value, low, high), value)
+    for r in np.flatnonzero([rule.clamp == "soft" for rule in rules]):  # few rules ease
+        v, knee = value[:, r], 0.1 * (high[r] - low[r])
+        upper, lower = high[r] - knee, low[r] + knee
+        eased = np.where(v > upper, upper + knee * np.tanh((v - upper) / knee), v)
+        out[:, r] = np.where(v < lower, lower - knee * np.tanh((lower - v) / knee), eased)
+    return out
 
 
 def resolved_mode(rule: MotorRule, profile: Profile) -> str:
