@@ -121,15 +121,7 @@ def _through_source(kind: str, make: Callable[[int], bytes], frames: int) -> tup
     sent: list[float] = []
     done: list[float] = []
 
-    def send() -> None:
-        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
-            start = time.perf_counter()
-            for k, datagram in enumerate(datagrams):
-                time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
-                sent.append(time.perf_counter())
-                sock.sendto(datagram, (host, int(port)))
-
-    sender = threading.Thread(target=send, daemon=True)
+    sender = threading.Thread(target=_send_paced, args=(datagrams, (host, int(port)), sent), daemon=True)
     sender.start()
     for frame in islice(source.frames, frames):
         mapper.step(frame.positions, frame.t, frame.channels, 1.0 if frame.confidence is None else frame.confidence)
@@ -156,14 +148,8 @@ def _through_socket(make: Callable[[int], bytes], frames: int) -> tuple[float, f
 
     thread = threading.Thread(target=receive, daemon=True)
     thread.start()
-    datagrams = [make(k) for k in range(frames)]
     sent: list[float] = []
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
-        start = time.perf_counter()
-        for k, datagram in enumerate(datagrams):
-            time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
-            sent.append(time.perf_counter())
-            sock.sendto(datagram, receiver.getsockname())
+    _send_paced([make(k) for k in range(frames)], receiver.getsockname(), sent)
     thread.join()
     receiver.close()
     return _spread(sent[:len(done)], done)
@@ -180,20 +166,25 @@ def _through_python_osc(frames: int) -> tuple[float, float]:
     server = ThreadingOSCUDPServer(("127.0.0.1", 0), dispatcher)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
-    datagrams = [_vmc_bundle(k) for k in range(frames)]
     sent: list[float] = []
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
-        start = time.perf_counter()
-        for k, datagram in enumerate(datagrams):
-            time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
-            sent.append(time.perf_counter())
-            sock.sendto(datagram, server.server_address)
+    host, port = server.server_address[:2]
+    _send_paced([_vmc_bundle(k) for k in range(frames)], (str(host), int(port)), sent)
     deadline = time.perf_counter() + 5
     while len(done) < frames and time.perf_counter() < deadline:
         time.sleep(0.01)
     server.shutdown()
     server.server_close()
     return _spread(sent[:len(done)], done)
+
+
+def _send_paced(datagrams: list[bytes], address: tuple[str, int], sent: list[float]) -> None:
+    """Send ``datagrams`` to ``address`` at :data:`RATE`, noting in ``sent`` when each left."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        start = time.perf_counter()
+        for k, datagram in enumerate(datagrams):
+            time.sleep(max(0.0, start + k / RATE - time.perf_counter()))
+            sent.append(time.perf_counter())
+            sock.sendto(datagram, address)
 
 
 def _spread(sent: list[float], done: list[float]) -> tuple[float, float]:

@@ -36,7 +36,6 @@ frame carries the landmarks' mean confidence; a record whose fit failed is a los
 
 from __future__ import annotations
 
-import socket
 import struct
 import threading
 import time
@@ -46,11 +45,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from capture.blendshapes import BLENDSHAPES
-from capture.markerset import load_markerset
+from capture.listening import address_of, datagrams, head_references, listen, lost, posed
 from capture.sources import Frame, Source
-from capture.vmc import RECEIVE_BUFFER, quaternion_matrix
-from common import InputError
-from common.address import parse_address
+from capture.vmc import quaternion_matrix
 
 #: OpenSeeFace's usual port.
 OSF_PORT = 11573
@@ -155,49 +152,25 @@ def openseeface_source(target: str, clock: Callable[[], float] = time.perf_count
                        **_: object) -> Source:
     """A live source of OpenSeeFace's packets, listening on ``target`` (``HOST:PORT``; loopback
     and 11573 by default); the lowest face id in each packet is the performer."""
-    try:
-        host, port = parse_address(target, OSF_PORT)
-    except ValueError as exc:
-        raise InputError(f"OpenSeeFace: {exc}") from None
-    sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_DGRAM)
-    try:
-        sock.bind((host, port))
-    except OSError as exc:
-        sock.close()
-        raise InputError(f"cannot listen for OpenSeeFace on {host}:{port}: {exc.strerror or exc}") from None
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
-    sock.settimeout(timeout)
-    markerset = load_markerset("face")
-    labels = markerset.head_reference
-    rest = np.array([markerset.neutral_of(label) for label in labels])
+    sock = listen(target, OSF_PORT, "OpenSeeFace", timeout)
+    labels, rest = head_references()
     counts = {"frames": 0, "bad_packets": 0, "lost": 0}
-    meta: dict = {"mapping": "arkit", "address": f"{host}:{sock.getsockname()[1]}", "counts": counts,
-                  "rest": rest}
-
     halt = threading.Event()
+    meta: dict = {"mapping": "arkit", "address": address_of(sock), "counts": counts, "rest": rest}
 
     def frames() -> Iterator[Frame]:
         start = clock()
-        try:
-            while not halt.is_set():
-                try:
-                    datagram = sock.recv(65536)
-                except TimeoutError:
-                    continue
-                try:
-                    face = min(parse_packet(datagram), key=lambda f: f.id)
-                    turn = head_rotation(face.quaternion) if face.success else None
-                except ValueError:
-                    counts["bad_packets"] += 1
-                    continue
-                counts["frames"] += 1
-                if turn is None:
-                    counts["lost"] += 1
-                    yield Frame(clock() - start, np.full(rest.shape, np.nan), np.full(len(BLENDSHAPES), np.nan), 0.0)
-                    continue
-                yield Frame(clock() - start, rest @ turn.T, arkit_scores(face), float(face.confidence.mean()))
-        finally:
-            sock.close()
+        for datagram in datagrams(sock, halt):
+            try:
+                face = min(parse_packet(datagram), key=lambda f: f.id)
+                turn = head_rotation(face.quaternion) if face.success else None
+            except ValueError:
+                counts["bad_packets"] += 1
+                continue
+            counts["frames"] += 1
+            counts["lost"] += turn is None
+            yield (lost(clock() - start, rest) if turn is None
+                   else posed(clock() - start, rest, turn, arkit_scores(face), float(face.confidence.mean())))
 
-    return Source(labels, 30.0, frames(), f"OpenSeeFace on {host}:{port}", live=True, meta=meta,
+    return Source(labels, 30.0, frames(), f"OpenSeeFace on {meta['address']}", live=True, meta=meta,
                   channel_names=BLENDSHAPES, halt=halt)

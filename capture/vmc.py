@@ -27,7 +27,6 @@ these channels and serves a markerless take's as well.
 from __future__ import annotations
 
 import re
-import socket
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -36,15 +35,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from capture.blendshapes import BLENDSHAPES
-from capture.markerset import load_markerset
+from capture.listening import address_of, datagrams, head_references, listen, lost, posed
 from capture.sources import Frame, Source
-from common import InputError
-from common.address import parse_address
 
 #: VMC's usual port.
 VMC_PORT = 39539
-#: Bytes the socket may hold unread: a second of a sender's messages at 60 Hz with room to spare.
-RECEIVE_BUFFER = 1 << 20
 #: VRM's expression presets (0.x and 1.0 names) as ARKit blendshapes: each preset's value times
 #: these weights; a channel fed by several takes the largest.
 VRM_AS_ARKIT: dict[str, dict[str, float]] = {
@@ -182,56 +177,31 @@ _INDEX = {name: i for i, name in enumerate(BLENDSHAPES)}
 def vmc_source(target: str, clock: Callable[[], float] = time.perf_counter, timeout: float = 0.5,
                **_: object) -> Source:
     """A live source of a VMC sender's frames, listening on ``target`` (``HOST:PORT``; loopback
-    and 39539 by default). The socket is bound now, so a bad address fails at once."""
+    and 39539 by default); see :mod:`capture.listening`."""
     from pythonosc.osc_packet import OscPacket, ParseError
 
-    try:
-        host, port = parse_address(target, VMC_PORT)
-    except ValueError as exc:
-        raise InputError(f"VMC: {exc}") from None
-    sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_DGRAM)
-    try:
-        sock.bind((host, port))
-    except OSError as exc:
-        sock.close()
-        raise InputError(f"cannot listen for VMC on {host}:{port}: {exc.strerror or exc}") from None
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)  # a burst of messages is not lost
-    sock.settimeout(timeout)
-    markerset = load_markerset("face")
-    labels = markerset.head_reference
-    rest = np.array([markerset.neutral_of(label) for label in labels])
+    sock = listen(target, VMC_PORT, "VMC", timeout)
+    labels, rest = head_references()
     state = VmcState()
-    meta: dict = {"mapping": "arkit", "address": f"{host}:{sock.getsockname()[1]}", "counts": state.counts,
-                  "rest": rest}
-
     halt = threading.Event()
+    meta: dict = {"mapping": "arkit", "address": address_of(sock), "counts": state.counts, "rest": rest}
 
     def frames() -> Iterator[Frame]:
         start = clock()
-        try:
-            while not halt.is_set():
-                try:
-                    datagram = sock.recv(65536)
-                except TimeoutError:
-                    continue
-                try:
-                    messages = [m.message for m in OscPacket(datagram).messages]
-                except ParseError:
-                    state.counts["bad_messages"] += 1
-                    continue
-                due = False
-                for message in messages:
-                    due = state.take(message.address, list(message.params)) or due
-                if not due:
-                    continue
-                turn = state.head()  # a sender of blendshapes only: a head held still
-                lost = not state.tracking
-                positions = np.full(rest.shape, np.nan) if lost else rest if turn is None else rest @ turn.T
-                channels = np.full(len(BLENDSHAPES), np.nan) if lost else state.current.copy()
+        for datagram in datagrams(sock, halt):
+            try:
+                messages = [m.message for m in OscPacket(datagram).messages]
+            except ParseError:
+                state.counts["bad_messages"] += 1
+                continue
+            due = False
+            for message in messages:
+                due = state.take(message.address, list(message.params)) or due
+            if due:
                 state.counts["frames"] += 1
-                yield Frame(clock() - start, positions, channels)
-        finally:
-            sock.close()
+                # a sender of blendshapes only: a head held still
+                yield (posed(clock() - start, rest, state.head(), state.current.copy()) if state.tracking
+                       else lost(clock() - start, rest))
 
-    return Source(labels, 60.0, frames(), f"VMC on {host}:{port}", live=True, meta=meta,
+    return Source(labels, 60.0, frames(), f"VMC on {meta['address']}", live=True, meta=meta,
                   channel_names=BLENDSHAPES, halt=halt)

@@ -93,3 +93,22 @@ def studio_page(session, ready: str = DRAWN, width: int = 1280, height: int = 90
         driver.get(url)
         wait_for(driver, ready)
         yield driver
+
+
+def page_against_offscreen(driver, session):
+    """How far the face the page shows (a screenshot of ``#view``) is from the offscreen renderer's
+    picture of the session's face at its values: absolute differences ``(512, 512, 3)``."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from player.backends import open_renderer
+    from toon import FaceRig
+
+    png = driver.find_element("id", "view").screenshot_as_png
+    shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+    with open_renderer((512, 512)) as renderer:
+        drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
+    assert shown.shape == drawn.shape == (512, 512, 3)
+    return np.abs(shown - drawn)

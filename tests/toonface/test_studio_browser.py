@@ -6,10 +6,10 @@ import io
 
 import numpy as np
 import pytest
-from browser import studio_page, wait_for
+from browser import page_against_offscreen, studio_page, wait_for
 from PIL import Image
 
-from toon import FaceRig, motor_index
+from toon import motor_index
 from toonface.studio.session import StudioSession
 
 pytestmark = pytest.mark.slow
@@ -106,18 +106,12 @@ def test_the_head_and_eyes_follow_the_pointer_when_asked(fresh):
 
 
 def test_the_drawn_face_matches_the_offscreen_renderer(fresh):
-    from player.backends import open_renderer
-
     driver, session = fresh
     driver.execute_script("document.getElementById('show-points').click()")  # the control points hidden
     for code, value in (("MB", 0.6), ("HH", 0.7), ("BRC", 0.8), ("ELU", 0.3), ("PRH", 0.8)):
         _set(driver, code, value)
-    shown = _stage(driver)
-    with open_renderer((512, 512)) as renderer:
-        drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
+    difference = page_against_offscreen(driver, session)
     driver.execute_script("document.getElementById('show-points').click()")
-    assert shown.shape == drawn.shape == (512, 512, 3)
-    difference = np.abs(shown - drawn)
     assert difference.mean() < 1.5  # antialiasing differs along edges only
     assert np.mean(difference.max(axis=2) > 64) < 0.01
 

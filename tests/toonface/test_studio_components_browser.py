@@ -3,17 +3,15 @@ by point with the mouse, its points re-kinded, its outline smoothed and partly h
 animated, an invalid value refused with the validator's message; components grouped, saved to a library and
 inserted into another face; the face renders offscreen as the page draws it."""
 
-import io
 import json
 
 import numpy as np
 import pytest
-from browser import studio_page, wait_for
-from PIL import Image
+from browser import page_against_offscreen, studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.support.ui import Select
 
-from toon import FaceRig, load_face
+from toon import load_face
 from toonface.studio.session import StudioSession
 
 pytestmark = pytest.mark.slow
@@ -45,8 +43,6 @@ def _diamond(driver, index: int):
 
 
 def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(tmp_path):
-    from player.backends import open_renderer
-
     session = StudioSession("classic")
     with studio_page(session, READY, 1400, 1100) as driver:
         _open(driver)
@@ -116,11 +112,7 @@ def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(
         driver.execute_script("document.getElementById('design').click();"
                               "document.getElementById('show-points').click()")
         wait_for(driver, "document.getElementById('shape').classList.contains('off')")
-        png = driver.find_element("id", "view").screenshot_as_png
-        shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
-        with open_renderer((512, 512)) as renderer:
-            drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
-        difference = np.abs(shown - drawn)
+        difference = page_against_offscreen(driver, session)
         assert difference.mean() < 1.5 and np.mean(difference.max(axis=2) > 64) < 0.01
 
 

@@ -2,12 +2,10 @@
 changes the face at its extreme, an invalid edit is refused and loses nothing, and the edited face
 renders offscreen as the page draws it."""
 
-import io
 
 import numpy as np
 import pytest
-from browser import studio_page, wait_for
-from PIL import Image
+from browser import page_against_offscreen, studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 
 from toon import FaceRig, load_face, motor_index
@@ -89,8 +87,6 @@ def test_an_invalid_edit_is_refused_and_nothing_is_lost(page):
 
 
 def test_the_edited_face_renders_offscreen_as_the_page_draws_it(page):
-    from player.backends import open_renderer
-
     driver, session = page
     frames = driver.execute_script("return window.studio.frames")
     driver.find_element("id", "grow").click()  # the selected polygon, larger
@@ -98,11 +94,7 @@ def test_the_edited_face_renders_offscreen_as_the_page_draws_it(page):
     driver.execute_script("document.getElementById('design').click();"
                           "document.getElementById('show-points').click()")
     wait_for(driver, "document.getElementById('shape').classList.contains('off')")
-    png = driver.find_element("id", "view").screenshot_as_png
-    shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
-    with open_renderer((512, 512)) as renderer:
-        drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
-    difference = np.abs(shown - drawn)
+    difference = page_against_offscreen(driver, session)
     assert difference.mean() < 1.5 and np.mean(difference.max(axis=2) > 64) < 0.01
 
 
