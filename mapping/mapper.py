@@ -79,7 +79,8 @@ def marker_quality(local: np.ndarray, filled: np.ndarray | None = None) -> np.nd
 
 
 def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], quality: np.ndarray,
-                 profile: Profile, neutral: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                 profile: Profile, neutral: np.ndarray, plan: MotorPlan | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
     """Each motor's value before the per-frame rules (:class:`mapping.rules.MotorRules`) and its
     confidence, both ``(F, 21)``: NaN where a mapped motor sees none of its sources, the face's
     ``neutral`` for motors the mapping leaves alone.
@@ -87,7 +88,8 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     Every rule at once: each distinct source is measured once, every (rule, source) pair is
     normalised in one pass, and the rules' sources are combined side by side (padded to the
     most sources a rule has), so that a single frame (the live sender's) costs a few dozen
-    array operations, not a few per rule."""
+    array operations, not a few per rule. ``plan``: :meth:`MotorPlan.of` the mapping's rules and
+    ``profile``, where the caller keeps one (made here otherwise)."""
     frames = len(stable.local)
     values = np.tile(np.asarray(neutral, dtype=float), (frames, 1))
     confidence = np.ones((frames, len(MOTOR_CODES)))
@@ -96,7 +98,7 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
         return values, confidence
     head = head_angles(stable.rotation, profile.rest_rotation)
     drivers = normalised_drivers(mapping, stable, columns, head, profile) if profile.couplings else {}
-    plan = _Plan.of(rules, profile)
+    plan = plan or MotorPlan.of(rules, profile)
     raw = np.column_stack([measure(s, stable.local, columns, head, stable.channels) for s in plan.distinct])
     sure = np.column_stack([_source_confidence(s, raw[:, k], quality, columns, stable)
                             for k, s in enumerate(plan.distinct)])
@@ -126,8 +128,9 @@ SCALE, SCORE, PROFILE = 0, 1, 2
 
 
 @dataclass(frozen=True)
-class _Plan:
-    """Every (rule, source) pair of a mapping under a profile, as arrays (``J`` pairs)."""
+class MotorPlan:
+    """Every (rule, source) pair of a mapping under a profile, as arrays (``J`` pairs): what
+    :func:`motor_values` needs of the rules and the ranges, made again whenever they change."""
 
     distinct: list[Source]  # each source once, by key
     sources: list[Source]  # (J,)
@@ -147,7 +150,7 @@ class _Plan:
     starts: np.ndarray  # (R,) each rule's first pair
 
     @classmethod
-    def of(cls, rules: tuple[MotorRule, ...], profile: Profile) -> _Plan:
+    def of(cls, rules: tuple[MotorRule, ...], profile: Profile) -> MotorPlan:
         keys: dict[str, int] = {}
         distinct: list[Source] = []
         rows: list[tuple] = []
@@ -174,7 +177,7 @@ class _Plan:
                    starts=np.searchsorted(rule_of, np.arange(len(rules))))
 
 
-def _combine_many(normalised: np.ndarray, plan: _Plan, rules: tuple[MotorRule, ...], frames: int) -> np.ndarray:
+def _combine_many(normalised: np.ndarray, plan: MotorPlan, rules: tuple[MotorRule, ...], frames: int) -> np.ndarray:
     """Each rule's sources ``normalised`` ``(F, J)`` combined over those seen ``(F, R)``: a rule of
     one source is that source (times its weight, if weighted); the others side by side, a slab
     per source place, each way of combining on the rules that use it. NaN where none is seen."""

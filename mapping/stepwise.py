@@ -24,7 +24,7 @@ from mapping.clean import head_references
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.mapfile import Mapping
-from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
+from mapping.mapper import FILLED_QUALITY, MotorPlan, check_profile, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
 from mapping.profile import Profile, SourceRange
 from mapping.rules import MotorRules
@@ -76,6 +76,8 @@ class LiveMapper:
             check_profile(mapping, profile)
         self.learn_seconds = learn_seconds
         self.learner: RangeLearner | None = None
+        self._plan: MotorPlan | None = None  # motor_values' arrays, for the profile it was made for
+        self._plan_for: Profile | None = None
         references = head_references(labels, markerset)
         if not references:
             raise ValueError(str(references))
@@ -190,10 +192,16 @@ class LiveMapper:
     def map_frame(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The mapping of one cleaned frame (``stable`` holds one frame; ``quality`` ``(1, M)``):
         motors ``(21,)`` and confidence ``(21,)``; what offline mapping gives that frame."""
-        if self.learner is not None and not self.learner.frozen:
+        learner = self.learner if self.learner is not None and not self.learner.frozen else None
+        learning = learner is not None
+        if learner is not None:
             head = head_angles(stable.rotation, self.profile.rest_rotation)
-            self.learner.update({source.key: float(measure(source, stable.local, self.columns, head,
+            learner.update({source.key: float(measure(source, stable.local, self.columns, head,
                                                            stable.channels)[0])
                                  for source in self.mapping.sources()}, t)
-        raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral)
+        if learning or self._plan is None or self._plan_for is not self.profile:
+            # kept while the profile stands; a learner widens its ranges in place, frame by frame
+            self._plan, self._plan_for = MotorPlan.of(self.mapping.rules, self.profile), self.profile
+        raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral,
+                                       self._plan)
         return self.rules.step(raw[0], t), np.clip(confidence[0], 0.0, 1.0)

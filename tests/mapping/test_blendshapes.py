@@ -171,3 +171,26 @@ def test_info_lists_each_channel_with_its_range(performer, tmp_path, capsys):
     assert main(["info", str(tmp_path / "t.npz")]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert [x.split() for x in lines if x.split()[:1] == ["jawOpen"]] == [["jawOpen", "360", "0.100", "0.600"]]
+
+
+def test_ranges_learned_live_reach_the_very_next_frame(performer):
+    """The live mapper keeps motor_values' plan while its profile stands; a learner widens ranges
+    in place, and the next frame maps with them (a kept plan would clamp it at the old edge)."""
+    mapping = parse_mapping(tomllib.loads(JAW.replace('normalise = "scale"\nscale = 0.5\n', "")))
+    live = LiveMapper(mapping, load_markerset("toon32"), Profile("toon32", {}, np.eye(3)), performer.labels, RATE,
+                      rest_seconds=0.5, learn_seconds=60.0, channel_names=performer.channel_names)
+    frames = list(take_source(performer).frames)
+    jaw, mb = performer.channel_names.index("jawOpen"), motor_index("MB")
+
+    def step(frame, score=None):
+        channels = frame.channels.copy()
+        if score is not None:
+            channels[jaw] = score
+        return live.step(frame.positions, frame.t, channels)[0][mb]
+
+    for frame in frames[:40]:  # the rest, then a few frames of learning
+        step(frame)
+    rest = live.profile.sources["blendshape.jawOpen"].neutral
+    step(frames[40], rest + 0.8)  # the range widens to here
+    neutral = standard_neutral()[mb]
+    assert step(frames[41], rest + 0.4) == pytest.approx(neutral + 0.5 * (1 - neutral), abs=1e-3)  # half its way
