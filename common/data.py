@@ -34,6 +34,13 @@ def builtin_names(folder: str, suffix: str) -> list[str]:
     return sorted(p.stem for p in data_path(folder).glob(f"*{suffix}"))
 
 
+def names_builtin(name_or_path: str | os.PathLike) -> bool:
+    """Whether a user's ``name_or_path`` means a built-in file: a bare name, with no suffix and no
+    directory part, that does not exist as given."""
+    text = os.fspath(name_or_path)
+    return not Path(text).suffix and os.sep not in text and not Path(text).exists()
+
+
 def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, what: str) -> Path:
     """The file a user named: a bare name means the built-in ``data/<folder>/<name><suffix>``.
 
@@ -46,7 +53,7 @@ def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, w
     """
     text = os.fspath(name_or_path)
     path = Path(text)
-    if not path.suffix and os.sep not in text and not path.exists():
+    if names_builtin(text):
         path = data_path(folder, f"{text}{suffix}")
         if not path.is_file():
             known = ", ".join(builtin_names(folder, suffix)) or "none"

@@ -14,7 +14,6 @@ receiver's face. One performer alone, with no seats given, is drawn exactly as a
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -96,7 +95,6 @@ class Ensemble:
     gone_after: float = 5.0
     fade_out: float = 1.0
     members: dict[int, Member] = field(default_factory=dict)
-    load: Callable[[str], Face] = load_face
 
     def __post_init__(self) -> None:
         self._seats = {seat.stream: seat for seat in self.seats}
@@ -104,7 +102,11 @@ class Ensemble:
 
     def _member(self, stream: int) -> Member:
         seat = self._seats.get(stream)
-        face = self.face if seat is None else self._faces.setdefault(seat.face, self.load(seat.face))
+        face = self.face
+        if seat is not None:
+            if seat.face not in self._faces:  # each seated face read once, however often its performer comes back
+                self._faces[seat.face] = load_face(seat.face)
+            face = self._faces[seat.face]
         member = Member(stream, FaceRig(face), Mixer(face.neutral(), self.providers), face.neutral())
         sure = np.ones(len(member.values))
         member.mixer.tracking = lambda: (member.values, sure, member.age)

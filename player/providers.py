@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
@@ -41,6 +42,8 @@ from toon import MOTOR_CODES, motor_index
 
 FORMAT = "toonface.providers/1"
 LAYERS = ("idle", "tracking", "motions", "manual")
+#: Blink times an idle face keeps (a player may run for days).
+BLINKS_KEPT = 1000
 #: The newest tracked frame: values ``(21,)``, confidence ``(21,)``, seconds since it came.
 Tracked = Callable[[], tuple[np.ndarray, np.ndarray, float]]
 
@@ -123,7 +126,7 @@ class Idle:
         self.neutral = np.asarray(neutral, dtype=float)
         self.s = settings
         self.rng = np.random.default_rng(settings.seed)
-        self.blinks: list[float] = []  # when each blink began (for tests and reports)
+        self.blinks: deque[float] = deque(maxlen=BLINKS_KEPT)  # when the latest blinks began
         self._next_blink = self._next_saccade = math.nan
         self._gaze = np.zeros(2)
 

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from common import InputError, atomic_path, read_document, resolve_builtin
+from common.data import names_builtin
 from toon import Face
 from toon.component_parser import LIBRARY_FORMAT
 from toon.components import Component, flatten
@@ -206,18 +207,12 @@ def insert_from_library(doc: dict, library: str, use: str, controls: dict[str, s
     return len(doc["components"]) - 1
 
 
-def is_builtin(library: str) -> bool:
-    """Whether ``library`` names a built-in library rather than a file (as :func:`common.resolve_builtin` reads it)."""
-    path = Path(library)
-    return not (path.suffix or os.sep in library or path.exists())
-
-
 def file_libraries(components: list[dict]) -> Iterator[dict]:
     """The composites, at any depth, that re-use a library file (not a built-in library)."""
     for spec in components:
         if spec.get("kind") != "composite":
             continue
-        if spec.get("library") and not is_builtin(str(spec["library"])):
+        if spec.get("library") and not names_builtin(str(spec["library"])):
             yield spec
         yield from file_libraries(spec.get("components", []))
 

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from common import InputError, builtin_names
+from common.data import names_builtin
 from toon import Face, load_face, save_face
 from toon.face import KINDS, face_from_dict
 from toonface.studio import component_edits as parts
@@ -189,7 +190,7 @@ class FaceEditor:
     def insert_from_library(self, library: str, use: str, controls: dict[str, str] | None = None,
                             dx: float = 0.0, dy: float = 0.0) -> Face:
         """A library's composite re-used in this face, drawn last (a file's path kept absolute)."""
-        named = library if parts.is_builtin(library) else str(Path(library).resolve())
+        named = library if names_builtin(library) else str(Path(library).resolve())
         return self._edit(lambda doc: parts.insert_from_library(doc, named, use, controls, dx, dy))
 
     def list_library(self, library: str) -> None:
