@@ -118,42 +118,42 @@ class MappingTuner:
         if code is not None and rule is not None:
             column = self.track.values[:, MOTOR_CODES.index(code)]
             at = np.linspace(0, self.track.frames - 1, min(CURVE_POINTS, self.track.frames)).round().astype(int)
+            raw = self.raw_values(code)  # measured once, then normalised as the mapping reads them
             out["curve"] = {"code": code, "times": (at / self.track.rate).round(4).tolist(),
                             "values": column[at].round(4).tolist(),
                             "sources": {key: np.nan_to_num(values[at], nan=0.0).round(4).tolist()
-                                        for key, values in self.source_values(code).items()},
+                                        for key, values in self.source_values(code, raw).items()},
                             "raw": {key: [None if np.isnan(v) else round(float(v), 3) for v in values[at]]
-                                    for key, values in self.raw_values(code).items()},
+                                    for key, values in raw.items()},
                             "units": {source.key: source_unit(source) for source in rule.sources}}
         return out
 
-    def source_values(self, code: str) -> dict[str, np.ndarray]:
+    def source_values(self, code: str, raw: dict[str, np.ndarray] | None = None) -> dict[str, np.ndarray]:
         """Each source of ``code``'s rule over the take, ``(F,)``, normalised as the mapping reads it
-        (with a profile: -1 at the performer's low, 0 at rest, 1 at high; NaN where unseen)."""
+        (with a profile: -1 at the performer's low, 0 at rest, 1 at high; NaN where unseen), from
+        ``raw`` (:meth:`raw_values`) where the caller has measured them already."""
         rule = self._rule(code)
         if rule is None:
             return {}
+        raw = self.raw_values(code) if raw is None else raw
         profile = self.ready.profile
         mode = resolved_mode(rule, profile)
-        return {source.key: normalise(values, source, rule, profile.sources.get(source.key), mode)
-                for source, values in self._measured(code)}
+        return {source.key: normalise(raw[source.key], source, rule, profile.sources.get(source.key), mode)
+                for source in rule.sources}
 
     def raw_values(self, code: str) -> dict[str, np.ndarray]:
         """Each source of ``code``'s rule over the take as measured, ``(F,)``, in its own units
         (:func:`source_unit`): what the profile's ranges are written in."""
-        return {source.key: values for source, values in self._measured(code)}
+        rule = self._rule(code)
+        if rule is None:
+            return {}
+        stable = self.ready.prepared.stable
+        head = head_angles(stable.rotation, self.ready.profile.rest_rotation)
+        return {source.key: measure(source, stable.local, self.ready.prepared.columns, head, stable.channels)
+                for source in rule.sources}
 
     def _rule(self, code: str) -> MotorRule | None:
         return next((r for r in self.ready.mapping.rules if r.code == code), None)
-
-    def _measured(self, code: str) -> list[tuple[Source, np.ndarray]]:
-        rule = self._rule(code)
-        if rule is None:
-            return []
-        stable = self.ready.prepared.stable
-        head = head_angles(stable.rotation, self.ready.profile.rest_rotation)
-        return [(source, measure(source, stable.local, self.ready.prepared.columns, head, stable.channels))
-                for source in rule.sources]
 
     def save_mapping(self, path: str | os.PathLike) -> Path:
         target = Path(path)
