@@ -25,7 +25,7 @@ from common.data import names_builtin
 from toon import Face
 from toon.component_parser import LIBRARY_FORMAT
 from toon.components import Component, flatten
-from toonface.studio.face_items import component_part, finite, item, unique_name, vertex
+from toonface.studio.face_items import component_part, finite, item, rest_of, unique_name, vertex
 
 #: What "new component" makes.
 NEW_KINDS = ("polyline", "polygon", "ellipse", "skeleton")
@@ -64,15 +64,6 @@ def nearest_point(doc: dict, x: float, y: float) -> str:
     """The control point resting nearest ``(x, y)``."""
     return min(doc["points"], key=lambda name: float(np.hypot(doc["points"][name][0] - x,
                                                                doc["points"][name][1] - y)))
-
-
-def where(doc: dict, ref: object) -> np.ndarray:
-    """Where a written point rests ``(2,)``: a master at its control point."""
-    if isinstance(ref, str):
-        return np.asarray(doc["points"][ref], dtype=float)
-    if isinstance(ref, dict):
-        return np.asarray(ref.get("at", ref.get("fixed")), dtype=float)
-    return np.asarray(ref, dtype=float)
 
 
 def add_point(doc: dict, component: int, part: str, after: int, x: float, y: float) -> None:
@@ -124,7 +115,7 @@ def set_point_kind(doc: dict, component: int, part: str, index: int, kind: str, 
         raise ValueError(f"a point is one of {', '.join(POINT_KINDS)}, got {kind!r}")
     refs = component_part(item(doc, "component", component), part)
     ref = vertex(refs, index)
-    xy = where(doc, ref)
+    xy = rest_of(doc, ref)
     if master is None:
         follows = ref if isinstance(ref, str) else ref.get("slave") if isinstance(ref, dict) else None
         master = follows or nearest_point(doc, float(xy[0]), float(xy[1]))

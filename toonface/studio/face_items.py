@@ -85,6 +85,12 @@ def _xy(ref: object) -> np.ndarray | None:
     return np.asarray(ref, dtype=float)
 
 
+def rest_of(doc: dict, ref: object) -> np.ndarray:
+    """Where a component's written point rests ``(2,)``: a master at its control point."""
+    xy = _xy(ref)
+    return np.asarray(doc["points"][ref], dtype=float) if xy is None else xy
+
+
 def points(spec: dict, kind: str) -> np.ndarray:
     """The item's placed points ``(N, 2)``: a polygon's vertices at rest, a component's points
     that are not masters (a composite has none of its own)."""

@@ -6,7 +6,6 @@
   const el = (id) => document.getElementById(id);
   const faces = window.faces;
   const tools = {point: null};  // the chosen point: {part, index}
-  faces.tools = tools;
   const chosen = () => (faces.doc.components || [])[faces.selected];
   const outlinePart = (spec) => (spec.kind === "skeleton" ? "body" : "points");
   const closed = (spec) => spec.kind === "polygon" || spec.kind === "ellipse" || spec.closed
