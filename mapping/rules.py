@@ -220,16 +220,14 @@ def eyes_pair(lids: np.ndarray, neutral: np.ndarray, sync: float, closed: float)
     over :data:`WINK_BLEND`, the two blend.
     """
     rest = np.maximum(np.asarray(neutral, dtype=float), 1e-6)
-    open_ = lids / rest
-    together = np.repeat(open_.mean(axis=1, keepdims=True), 2, axis=1)
-    wide = np.argmax(open_, axis=1)
-    wink = open_.copy()
-    rows = np.arange(len(open_))
-    wink[rows, wide] = np.maximum(open_[rows, wide], 1.0)
-    shut = 1 - wide
-    wink[rows, shut] = np.clip((open_[rows, shut] - closed) / (1.0 - closed), 0.0, None)
-    share = np.clip((np.abs(open_[:, 0] - open_[:, 1]) - sync) / WINK_BLEND, 0.0, 1.0)[:, None]
-    out = ((1 - share) * together + share * wink) * rest
+    right, left = lids[:, 0] / rest[0], lids[:, 1] / rest[1]  # openness
+    together = 0.5 * (right + left)
+    right_wide = right >= left  # the wider eye (the right where they are level)
+    wide = np.maximum(np.where(right_wide, right, left), 1.0)
+    shut = np.clip((np.where(right_wide, left, right) - closed) / (1.0 - closed), 0.0, None)
+    share = np.clip((np.abs(right - left) - sync) / WINK_BLEND, 0.0, 1.0)
+    wink = np.where(right_wide[:, None], np.column_stack([wide, shut]), np.column_stack([shut, wide]))
+    out = ((1 - share)[:, None] * together[:, None] + share[:, None] * wink) * rest
     return np.where(np.isnan(lids).any(axis=1, keepdims=True), lids, out)
 
 

@@ -132,7 +132,7 @@ def head_angles(rotation: np.ndarray, rest: np.ndarray) -> np.ndarray:
     """Yaw and pitch (degrees) of head rotations ``(F, 3, 3)`` from the rest rotation ``(3, 3)``;
     ``(F, 2)``, NaN for frames without a pose."""
     ok = np.isfinite(rotation).all(axis=(1, 2))
-    relative = np.einsum("ji,fjk->fik", rest, np.where(ok[:, None, None], rotation, np.eye(3)))
+    relative = np.asarray(rest).T @ np.where(ok[:, None, None], rotation, np.eye(3))
     yaw, pitch = yaw_pitch_degrees(relative)
     angles = np.column_stack([yaw, pitch])
     angles[~ok] = np.nan
