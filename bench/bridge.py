@@ -124,7 +124,7 @@ def _through_source(kind: str, make: Callable[[int], bytes], frames: int) -> tup
     sender = threading.Thread(target=_send_paced, args=(datagrams, (host, int(port)), sent), daemon=True)
     sender.start()
     for frame in islice(source.frames, frames):
-        mapper.step(frame.positions, frame.t, frame.channels, 1.0 if frame.confidence is None else frame.confidence)
+        mapper.step_frame(frame)
         done.append(time.perf_counter())
     sender.join()
     source.close()

@@ -72,8 +72,9 @@ def head_references() -> tuple[tuple[str, ...], np.ndarray]:
 def posed(t: float, rest: np.ndarray, turn: np.ndarray | None, scores: np.ndarray,
           confidence: float | None = None) -> Frame:
     """A bridge's frame at ``t``: the head references ``rest`` turned by ``turn`` ``(3, 3)`` (held
-    still where None) and the ARKit ``scores`` ``(51,)``."""
-    return Frame(t, rest if turn is None else rest @ turn.T, scores, confidence)
+    still where None), which is the frame's head, and the ARKit ``scores`` ``(51,)``."""
+    turn = np.eye(3) if turn is None else turn
+    return Frame(t, rest @ turn.T, scores, confidence, turn)
 
 
 def lost(t: float, rest: np.ndarray) -> Frame:

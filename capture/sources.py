@@ -38,12 +38,15 @@ VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".m
 class Frame(NamedTuple):
     """One frame of a source: ``t`` seconds from its start, ``positions`` ``(M, 3)`` mm,
     ``channels`` ``(C,)`` (the source's :attr:`Source.channel_names`, NaN not measured) where
-    it has any, and ``confidence`` (0..1) where the tracker that made it says how sure it is."""
+    it has any, ``confidence`` (0..1) where the tracker that made it says how sure it is, and
+    ``head``, the head's rotation ``(3, 3)`` where the tracker reports one (a bridge, whose
+    positions are the head references it turned)."""
 
     t: float
     positions: np.ndarray
     channels: np.ndarray | None = None
     confidence: float | None = None
+    head: np.ndarray | None = None
 
 
 @dataclass
@@ -72,6 +75,9 @@ class Source:
     halt : threading.Event
         Set from another thread to end a live source's frames (a network bridge checks it while
         it waits for data, at least twice a second).
+    release : callable, optional
+        What else :meth:`close` lets go of: a bridge's socket, bound before a first frame is
+        asked for (an unstarted iterator of frames has nothing to close).
     """
 
     labels: tuple[str, ...]
@@ -84,12 +90,15 @@ class Source:
     meta: dict[str, Any] = field(default_factory=dict)
     channel_names: tuple[str, ...] = ()
     halt: threading.Event = field(default_factory=threading.Event)
+    release: Callable[[], None] | None = None
 
     def close(self) -> None:
         """Stop the frames (a live source's socket or camera is released with them)."""
         stop = getattr(self.frames, "close", None)
         if stop is not None:
             stop()
+        if self.release is not None:
+            self.release()
 
     def to_take(self, progress: Callable[[int], None] | None = None) -> Take:
         """Every frame (as fast as they come) as a take; ``progress(1)`` after each."""

@@ -10,6 +10,11 @@ motor values (:func:`mapping.mapper.motor_values`) on that one frame and the per
 offline it looks ahead (zero-phase smoothing, gap filling from both sides); live it cannot, so
 live motors lag the offline ones by a frame or two and fill gaps by holding.
 
+Two ways round work that would change nothing: a tracker that reports the head's rotation (a
+bridge, whose frames are the head references it turned) gives the pose the fit would find, so
+it is taken as it is; and where no rule reads a marker (scores and the head alone, as the
+``arkit`` mapping), the markers are not cleaned.
+
 The rest pose: with ``rest_seconds`` > 0 the first such seconds (with a head pose) are taken as
 rest, as ``toonface map`` does by default; the profile's ranges are kept around that rest and
 the motors show the face's neutral meanwhile.
@@ -20,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from capture import MarkerSet
+from capture.sources import Frame
 from mapping.clean import head_references
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
@@ -92,7 +98,10 @@ class LiveMapper:
         self.rules = MotorRules(mapping, rate, self.neutral, seed)
         self._last_local = np.full((len(labels), 3), np.nan)
         self._last_seen = np.full(len(labels), -np.inf)
+        self.reads_markers = any(source.markers for source in mapping.sources())
         self.channel_names = tuple(channel_names)
+        read = {source.channel for source in mapping.sources() if source.kind == "blendshape"}
+        self._read = [(i, name) for i, name in enumerate(self.channel_names) if name in read]  # the rest: unused
         self._last_channels = np.full(len(self.channel_names), np.nan)
         self._channel_seen = np.full(len(self.channel_names), -np.inf)
         self._rest: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]] = []
@@ -104,17 +113,22 @@ class LiveMapper:
         """Whether the rest has been taken (and :attr:`profile` holds it)."""
         return self._ready
 
-    def step(self, positions: np.ndarray, t: float, channels: np.ndarray | None = None, trust: float = 1.0
-             ) -> tuple[np.ndarray, np.ndarray]:
+    def step(self, positions: np.ndarray, t: float, channels: np.ndarray | None = None, trust: float = 1.0,
+             head: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """One frame of world marker positions ``(M, 3)`` (NaN unseen) and channels ``(C,)``
         (NaN or None: not measured) at ``t`` seconds; returns the motors ``(21,)`` in [0, 1] and
         their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost), times ``trust``: how sure the
-        tracker that made the frame was (0..1)."""
-        local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t)
-        local, held = self._hold(local, t)
-        quality = marker_quality(local)
-        quality[held] = FILLED_QUALITY
-        local = self.markers.step(local.reshape(-1), t).reshape(local.shape)
+        tracker that made the frame was (0..1). ``head``: the head's rotation ``(3, 3)`` where
+        the tracker reports it (a bridge's, whose head references it turned), taken as the pose
+        instead of one fitted to the references."""
+        local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t, head)
+        if self.reads_markers:
+            local, held = self._hold(local, t)
+            quality = marker_quality(local)
+            quality[held] = FILLED_QUALITY
+            local = self.markers.step(local.reshape(-1), t).reshape(local.shape)
+        else:  # scores and the head alone: nothing reads the markers, so nothing cleans them
+            quality = marker_quality(local)
         if ok:
             pose = self.pose.step(np.concatenate([rotation.reshape(-1), translation]), t)
             rotation, translation = nearest_rotation(pose[:9].reshape(3, 3)), pose[9:]
@@ -126,19 +140,31 @@ class LiveMapper:
         values, confidence = self.map_frame(stable, quality[None], t)
         return values, confidence * min(max(trust, 0.0), 1.0)
 
-    def _head_frame(self, positions: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-        """Head-frame markers ``(M, 3)``, the pose and whether there is one; spikes removed."""
-        rotation, translation, ok = robust_rigid_fit(self.shape, positions[None, self.rows])
-        if not ok[0]:
-            return np.full(positions.shape, np.nan), np.full((3, 3), np.nan), np.full(3, np.nan), False
+    def step_frame(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`step` on a source's frame: its positions, channels, confidence and head."""
+        return self.step(frame.positions, frame.t, frame.channels,
+                         1.0 if frame.confidence is None else frame.confidence, frame.head)
+
+    def _head_frame(self, positions: np.ndarray, t: float, head: np.ndarray | None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        """Head-frame markers ``(M, 3)``, the pose and whether there is one; spikes removed
+        (but from a tracker's own head where the mapping reads no markers: nothing to remove)."""
+        given = head is not None and np.isfinite(head).all() and np.isfinite(positions[self.rows]).all()
+        if given:  # the tracker's turn; the references' shift where it leaves them
+            rotation = np.asarray(head, dtype=float)[None]
+            translation = (positions[self.rows] - self.shape @ rotation[0].T).mean(axis=0)[None]
+        else:
+            rotation, translation, fitted = robust_rigid_fit(self.shape, positions[None, self.rows])
+            if not fitted[0]:
+                return np.full(positions.shape, np.nan), np.full((3, 3), np.nan), np.full(3, np.nan), False
         local = to_head_frame(positions[None], rotation, translation)[0]
-        if self.spikes is not None:
+        if self.spikes is not None and (self.reads_markers or not given):
             kept = self.spikes.step(local, t)
             spiked = np.isnan(kept[:, 0]) & ~np.isnan(local[:, 0])
-            if spiked[self.rows].any():  # fit again without the spiked references
+            if spiked[self.rows].any() and not given:  # fit again without the spiked references
                 cleaned = np.where(spiked[:, None], np.nan, positions)
-                rotation, translation, ok = robust_rigid_fit(self.shape, cleaned[None, self.rows])
-                if not ok[0]:
+                rotation, translation, fitted = robust_rigid_fit(self.shape, cleaned[None, self.rows])
+                if not fitted[0]:
                     return np.full(positions.shape, np.nan), np.full((3, 3), np.nan), np.full(3, np.nan), False
                 kept = np.where(spiked[:, None], np.nan, to_head_frame(positions[None], rotation, translation)[0])
             local = kept
@@ -152,14 +178,15 @@ class LiveMapper:
         return np.where(held[:, None], self._last_local, local), held
 
     def _hold_channels(self, channels: np.ndarray | None, t: float) -> dict[str, np.ndarray]:
-        """This frame's channels by name, ``(1,)`` each, a missing value held for ``max_gap``."""
-        if not self.channel_names:
+        """This frame's channels that the mapping reads, by name, ``(1,)`` each, a missing value
+        held for ``max_gap``."""
+        if not self._read:
             return {}
         values = np.full(len(self.channel_names), np.nan) if channels is None else np.asarray(channels, dtype=float)
         seen = np.isfinite(values)
         self._last_channels[seen], self._channel_seen[seen] = values[seen], t
         held = np.where(~seen & (t - self._channel_seen <= self.max_gap), self._last_channels, values)
-        return {name: held[i:i + 1] for i, name in enumerate(self.channel_names)}
+        return {name: held[i:i + 1] for i, name in self._read}
 
     def _collect_rest(self, stable: Stabilised, t: float) -> None:
         if not stable.ok[0]:
@@ -174,7 +201,7 @@ class LiveMapper:
         """The profile with its ranges kept around the rest measured at the start."""
         local = np.array([f[0] for f in self._rest])
         rotations = np.array([f[1] for f in self._rest])
-        channels = {name: np.concatenate([f[2][name] for f in self._rest]) for name in self.channel_names}
+        channels = {name: np.concatenate([f[2][name] for f in self._rest]) for _, name in self._read}
         rest_rotation = nearest_rotation(rotations.mean(axis=0))
         head = head_angles(rotations, rest_rotation)
         rests = {}
@@ -199,9 +226,12 @@ class LiveMapper:
             learner.update({source.key: float(measure(source, stable.local, self.columns, head,
                                                            stable.channels)[0])
                                  for source in self.mapping.sources()}, t)
-        if learning or self._plan is None or self._plan_for is not self.profile:
+        if self._plan is None:
+            self._plan = MotorPlan.of(self.mapping.rules, self.profile, self.columns)
+        elif learning or self._plan_for is not self.profile:
             # kept while the profile stands; a learner widens its ranges in place, frame by frame
-            self._plan, self._plan_for = MotorPlan.of(self.mapping.rules, self.profile), self.profile
+            self._plan = self._plan.under(self.mapping.rules, self.profile)
+        self._plan_for = self.profile
         raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral,
                                        self._plan)
         return self.rules.step(raw[0], t), np.clip(confidence[0], 0.0, 1.0)

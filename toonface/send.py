@@ -103,8 +103,7 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
         if (seconds is not None and frame.t >= seconds - 0.5 / source.rate) or stop():
             break
         captured = clock()
-        values, confidence = mapper.step(frame.positions, frame.t, frame.channels,
-                                         1.0 if frame.confidence is None else frame.confidence)
+        values, confidence = mapper.step_frame(frame)
         report.step_seconds.append(clock() - captured)
         for sink in sinks:  # stream time: frame n at n / rate, as the wire carries it (a camera's stamps jitter)
             sink.write(report.frames / source.rate, values, captured, confidence)
