@@ -26,10 +26,11 @@ these channels and serves a markerless take's as well.
 
 from __future__ import annotations
 
+import math
 import re
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -118,15 +119,16 @@ class VmcState:
     bones: dict[str, np.ndarray] = field(default_factory=dict)
     tracking: bool = True
     applied_once: bool = False
+    _meaning: dict[str, int | tuple[tuple[int, float], ...]] = field(default_factory=dict, init=False, repr=False)
     counts: dict[str, int] = field(default_factory=lambda: {"frames": 0, "unknown_names": 0, "bad_messages": 0})
 
-    def take(self, address: str, params: list) -> bool:
+    def take(self, address: str, params: Sequence) -> bool:
         """Read one message; True when it completes a frame (an Apply, or a head from a sender
         that never applies blendshapes). A malformed message is counted and ignored."""
         try:
             if address == "/VMC/Ext/Blend/Val":
                 name, value = params[0], float(params[1])
-                if not isinstance(name, str) or not np.isfinite(value):
+                if not isinstance(name, str) or not math.isfinite(value):
                     raise ValueError
                 self.pending[name] = min(max(value, 0.0), 1.0)
             elif address == "/VMC/Ext/Blend/Apply":
@@ -147,19 +149,23 @@ class VmcState:
         if not self.applied_once:
             self.current[:] = 0.0
             self.applied_once = True
-        fed: dict[str, float] = {}
+        fed: dict[int, float] = {}
+        direct: set[int] = set()
         for name, value in self.pending.items():
-            arkit = arkit_name(name)
-            if arkit is not None:
-                self.current[_INDEX[arkit]] = value
-            elif name.lower() in VRM_AS_ARKIT:
-                for target, weight in VRM_AS_ARKIT[name.lower()].items():
+            meant = self._meaning.get(name)
+            if meant is None:  # a sender sends the same names each frame: each is read once
+                meant = self._meaning[name] = _meaning_of(name)
+            if isinstance(meant, int):
+                self.current[meant] = value
+                direct.add(meant)
+            elif meant:
+                for target, weight in meant:
                     fed[target] = max(fed.get(target, 0.0), weight * value)
             else:
                 self.counts["unknown_names"] += 1
         for target, value in fed.items():  # a preset drives its shapes unless the ARKit name came too
-            if not any(arkit_name(n) == target for n in self.pending):
-                self.current[_INDEX[target]] = value
+            if target not in direct:
+                self.current[target] = value
         self.pending.clear()
 
     def head(self) -> np.ndarray | None:
@@ -174,11 +180,46 @@ class VmcState:
 _INDEX = {name: i for i, name in enumerate(BLENDSHAPES)}
 
 
+def _meaning_of(name: str) -> int | tuple[tuple[int, float], ...]:
+    """What a sent blendshape name sets: an ARKit score's index, a VRM preset's (index, weight)
+    pairs, or nothing (an empty tuple) for a name neither knows."""
+    arkit = arkit_name(name)
+    if arkit is not None:
+        return _INDEX[arkit]
+    return tuple((_INDEX[target], weight) for target, weight in VRM_AS_ARKIT.get(name.lower(), {}).items())
+
+
+def osc_messages(datagram: bytes) -> list[tuple[str, list]]:
+    """Each OSC message of a datagram (a message, or a bundle of them, nested or not, read by
+    python-osc) as its address and arguments, in the order sent; a ValueError where it cannot be
+    read. Bundles' time tags are not waited for: a live face wants every message now."""
+    from pythonosc.osc_bundle import OscBundle
+    from pythonosc.osc_bundle import ParseError as BundleError
+    from pythonosc.osc_message import OscMessage
+    from pythonosc.osc_message import ParseError as MessageError
+
+    out: list[tuple[str, list]] = []
+    try:
+        if OscBundle.dgram_is_bundle(datagram):
+            pending: list = [OscBundle(datagram)]
+            while pending:  # depth first, in the order sent
+                content = pending.pop()
+                if isinstance(content, OscBundle):
+                    pending.extend(reversed(list(content)))
+                else:
+                    out.append((content.address, content.params))
+        else:
+            message = OscMessage(datagram)
+            out.append((message.address, message.params))
+    except (BundleError, MessageError) as exc:
+        raise ValueError(f"not an OSC packet: {exc}") from None
+    return out
+
+
 def vmc_source(target: str, clock: Callable[[], float] = time.perf_counter, timeout: float = 0.5,
                **_: object) -> Source:
     """A live source of a VMC sender's frames, listening on ``target`` (``HOST:PORT``; loopback
     and 39539 by default); see :mod:`capture.listening`."""
-    from pythonosc.osc_packet import OscPacket, ParseError
 
     sock = listen(target, VMC_PORT, "VMC", timeout)
     labels, rest = head_references()
@@ -190,13 +231,13 @@ def vmc_source(target: str, clock: Callable[[], float] = time.perf_counter, time
         start = clock()
         for datagram in datagrams(sock, halt):
             try:
-                messages = [m.message for m in OscPacket(datagram).messages]
-            except ParseError:
+                messages = osc_messages(datagram)
+            except ValueError:
                 state.counts["bad_messages"] += 1
                 continue
             due = False
-            for message in messages:
-                due = state.take(message.address, list(message.params)) or due
+            for address, params in messages:
+                due = state.take(address, params) or due
             if due:
                 state.counts["frames"] += 1
                 # a sender of blendshapes only: a head held still
@@ -204,4 +245,4 @@ def vmc_source(target: str, clock: Callable[[], float] = time.perf_counter, time
                        else lost(clock() - start, rest))
 
     return Source(labels, 60.0, frames(), f"VMC on {meta['address']}", live=True, meta=meta,
-                  channel_names=BLENDSHAPES, halt=halt)
+                  channel_names=BLENDSHAPES, halt=halt, release=sock.close)

@@ -12,7 +12,7 @@ from pythonosc.udp_client import SimpleUDPClient
 
 from capture.blendshapes import BLENDSHAPES
 from capture.sources import open_source
-from capture.vmc import VmcState, arkit_name, quaternion_matrix
+from capture.vmc import VmcState, arkit_name, osc_messages, quaternion_matrix
 from common import InputError
 from toon import load_face, motor_index
 from toonface.send import build_mapper
@@ -87,7 +87,7 @@ def test_a_vmc_sender_moves_the_expected_motors(linked):
         client.send_message("/VMC/Ext/Bone/Pos", ["Head", 0.0, 1.5, 0.1, *_yaw(15.0 if t >= 2.0 else 0.0)])
         client.send_message("/VMC/Ext/Blend/Apply", [])
         received = next(source.frames)  # loopback: what was sent is there to read
-        values.append(mapper.step(received.positions, received.t, received.channels)[0])
+        values.append(mapper.step_frame(received)[0])  # the head as the tracker sent it
     neutral = face.neutral()
     at = {name: np.array(values)[[int(s * 60) for s in (1.1, 1.5, 1.9, 2.4)], motor_index(name)]
           for name in ("MB", "ELU", "ERU", "HH")}
@@ -119,6 +119,31 @@ def test_bundles_are_read_and_bad_datagrams_are_counted_and_dropped(linked):
     np.testing.assert_allclose(first.positions, source.meta["rest"])  # no head sent: held still
     assert np.isnan(lost.channels).all() and np.isnan(lost.positions).all()
     assert source.meta["counts"]["bad_messages"] == 1
+
+
+def _message(address: str, *args: object) -> bytes:
+    built = OscMessageBuilder(address)
+    for arg in args:
+        built.add_arg(arg)
+    return built.build().dgram
+
+
+def test_packets_nested_or_not_give_their_messages_in_the_order_sent():
+    inner = OscBundleBuilder(IMMEDIATELY)
+    inner.add_content(OscMessageBuilder("/b").build())
+    inner.add_content(OscMessageBuilder("/c").build())
+    outer = OscBundleBuilder(IMMEDIATELY)
+    first = OscMessageBuilder("/a")
+    first.add_arg("jawOpen")
+    first.add_arg(0.5)
+    outer.add_content(first.build())
+    outer.add_content(inner.build())
+    outer.add_content(OscMessageBuilder("/d").build())
+    assert osc_messages(outer.build().dgram) == [("/a", ["jawOpen", 0.5]), ("/b", []), ("/c", []), ("/d", [])]
+    assert osc_messages(_message("/VMC/Ext/OK", 1, 3, 0, 1)) == [("/VMC/Ext/OK", [1, 3, 0, 1])]
+    for junk in (b"", b"not OSC", b"#bundle\x00", _message("/a", "x")[:-4]):
+        with pytest.raises(ValueError, match="not an OSC packet"):
+            osc_messages(junk)
 
 
 def test_a_bad_address_is_one_clear_error():
