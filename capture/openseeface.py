@@ -173,4 +173,4 @@ def openseeface_source(target: str, clock: Callable[[], float] = time.perf_count
                    else posed(clock() - start, rest, turn, arkit_scores(face), float(face.confidence.mean())))
 
     return Source(labels, 30.0, frames(), f"OpenSeeFace on {meta['address']}", live=True, meta=meta,
-                  channel_names=BLENDSHAPES, halt=halt)
+                  channel_names=BLENDSHAPES, halt=halt, release=sock.close)
