@@ -41,6 +41,8 @@ from capture.sources import Frame, Source
 
 #: VMC's usual port.
 VMC_PORT = 39539
+#: At most this many sent names are remembered with what they mean.
+KNOWN_NAMES = 1024
 #: VRM's expression presets (0.x and 1.0 names) as ARKit blendshapes: each preset's value times
 #: these weights; a channel fed by several takes the largest.
 VRM_AS_ARKIT: dict[str, dict[str, float]] = {
@@ -154,7 +156,9 @@ class VmcState:
         for name, value in self.pending.items():
             meant = self._meaning.get(name)
             if meant is None:  # a sender sends the same names each frame: each is read once
-                meant = self._meaning[name] = _meaning_of(name)
+                meant = _meaning_of(name)
+                if len(self._meaning) < KNOWN_NAMES:  # not without end, from a sender of ever new names
+                    self._meaning[name] = meant
             if isinstance(meant, int):
                 self.current[meant] = value
                 direct.add(meant)

@@ -12,7 +12,7 @@ from pythonosc.udp_client import SimpleUDPClient
 
 from capture.blendshapes import BLENDSHAPES
 from capture.sources import open_source
-from capture.vmc import VmcState, arkit_name, osc_messages, quaternion_matrix
+from capture.vmc import KNOWN_NAMES, VmcState, arkit_name, osc_messages, quaternion_matrix
 from common import InputError
 from toon import load_face, motor_index
 from toonface.send import build_mapper
@@ -55,6 +55,10 @@ def test_names_in_every_spelling_and_vrm_presets_become_arkit_scores():
     assert state.take("/VMC/Ext/Blend/Val", ["jawOpen", "wide"]) is False  # a bad value: counted
     assert state.take("/VMC/Ext/Bone/Pos", ["Head", 0.0]) is False
     assert state.counts["bad_messages"] == 2
+    for k in range(3000):  # a sender of ever new names: each counted, not all remembered
+        state.take("/VMC/Ext/Blend/Val", [f"shape{k}", 1.0])
+    state.take("/VMC/Ext/Blend/Apply", [])
+    assert state.counts["unknown_names"] == 3001 and len(state._meaning) == KNOWN_NAMES
 
 
 def test_the_head_bone_turns_the_head_frame_with_the_right_handedness():
