@@ -121,10 +121,8 @@ def _measure_all(plan: MotorPlan, stable: Stabilised, columns: dict[str, int], h
     quality, a score's presence, or the head's fit."""
     frames = len(stable.local)
     raw = np.empty((frames, len(plan.distinct)))
-    if plan.scores.size:
-        missing = np.full(frames, np.nan)
-        raw[:, plan.scores] = np.column_stack([np.asarray(stable.channels.get(name, missing), dtype=float)
-                                               for name in plan.channels])
+    for k, name in zip(plan.scores, plan.channels, strict=True):
+        raw[:, k] = stable.channels.get(name, np.nan)  # a channel the take has not: NaN
     for k in plan.measured:
         raw[:, k] = measure(plan.distinct[k], stable.local, columns, head, stable.channels)
     sure = np.empty_like(raw)

@@ -226,8 +226,9 @@ def eyes_pair(lids: np.ndarray, neutral: np.ndarray, sync: float, closed: float)
     wide = np.maximum(np.where(right_wide, right, left), 1.0)
     shut = np.clip((np.where(right_wide, left, right) - closed) / (1.0 - closed), 0.0, None)
     share = np.clip((np.abs(right - left) - sync) / WINK_BLEND, 0.0, 1.0)
-    wink = np.where(right_wide[:, None], np.column_stack([wide, shut]), np.column_stack([shut, wide]))
-    out = ((1 - share)[:, None] * together[:, None] + share[:, None] * wink) * rest
+    out = np.empty_like(lids, dtype=float)
+    out[:, 0] = ((1 - share) * together + share * np.where(right_wide, wide, shut)) * rest[0]
+    out[:, 1] = ((1 - share) * together + share * np.where(right_wide, shut, wide)) * rest[1]
     return np.where(np.isnan(lids).any(axis=1, keepdims=True), lids, out)
 
 
