@@ -170,11 +170,12 @@ class StreamReceiver:
         with self._arrived:
             return self._arrived.wait_for(lambda: self.reader.packets >= count, timeout)
 
-    def wait_for_streams(self, count: int, timeout: float) -> bool:
-        """Wait until ``count`` performers have each had a packet read (True) or ``timeout`` seconds pass."""
+    def wait_for_streams(self, count: int, timeout: float, packets: int = 1) -> bool:
+        """Wait until ``count`` performers have each had ``packets`` packets read (True) or
+        ``timeout`` seconds pass."""
         with self._arrived:
-            return self._arrived.wait_for(lambda: sum(lane.reader.packets > 0 for lane in self.lanes.values()) >= count,
-                                          timeout)
+            return self._arrived.wait_for(
+                lambda: sum(lane.reader.packets >= packets for lane in self.lanes.values()) >= count, timeout)
 
     def _serve(self) -> None:
         while not self._stop.is_set():

@@ -28,8 +28,6 @@ from toonface.cli_options import (
 from toonface.cli_player import _address, _required_address
 
 if TYPE_CHECKING:
-    import numpy as np
-
     from stream.receiver import StreamReceiver
 
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
@@ -148,7 +146,8 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
 @click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
 @KEY
 @click.option("--record", default=None, type=click.Path(dir_okay=False),
-              help="Also write the motors shown (.csv/.npz).")
+              help="Also write the motors shown (.csv/.npz); each later performer's beside it, as "
+                   "STEM-2.EXT, STEM-3.EXT... in the order they came.")
 @click.option("--stats", is_flag=True, help="Print packets, loss, drops, concealment and latency each second.")
 @VMC_OUT
 @click.option("--performers", "performers_path", default=None, type=click.Path(dir_okay=False),
@@ -165,14 +164,15 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     back a motor catches up no faster than --max-jump per frame or its own recent fastest step.
     Bad packets (oversized, malformed, replayed, or without the --key-file's HMAC) are dropped
     and counted. Several senders (each `send --id`) are shown together, each on its own face;
-    one that goes quiet passes to an idle face, then fades out, and the others go on.
+    one that goes quiet passes to an idle face, then fades out, and the others go on. --vmc-out
+    carries the first performer's motors (a VMC receiver drives one avatar).
     """
     from player.ensemble import Ensemble, load_seats
     from player.live import ListenError, LiveSettings, run_live
     from stream.playout import Playout
     from stream.receiver import StreamReceiver
     from toon import load_face
-    from toonface.outputs import Outputs
+    from toonface.outputs import Outputs, PerformerRecordings
 
     check_output(record, "--record")
     face_obj = load_face(face)
@@ -180,10 +180,15 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     seats = load_seats(performers_path) if performers_path else []
 
-    def playout_for() -> Playout:
-        return Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+    recordings: PerformerRecordings | None = None
 
-    playout = playout_for()
+    def playout_for() -> Playout:  # each newcomer's, recorded where asked
+        made = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+        if recordings is not None:
+            recordings.attach(made)
+        return made
+
+    playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file),
                                   more=playout_for if max_performers > 1 else None, max_streams=max_performers)
@@ -194,12 +199,9 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
                                 seconds=seconds)
         if output is not None:
             settings.sinks.append(outputs.picture(output, rate=fps, size=dims))
-        recording = outputs.motor(record, rate=playout.rate) if record else None
-        if recording is not None:
-            def keep(t: float, values: np.ndarray) -> None:  # the stream's frames at stream time, as shown
-                recording.rate = playout.rate
-                recording.write(t, values)
-            playout.shown = keep
+        if record:  # each performer's stream frames at stream time, as shown
+            recordings = PerformerRecordings(outputs, record)
+            recordings.attach(playout, first=True)
         if vmc_out is not None:
             settings.shown.append(outputs.motor(f"vmc://{vmc_out}", neutral=face_obj.neutral()).write)
         settings.source = lambda t: receiver.values_at()[0]
@@ -221,8 +223,8 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
             raise click.BadParameter(str(exc), param_hint="--preview") from None
         finally:
             done.set()
-    if recording is not None and recording.written is not None:  # kept however the run ends
-        say(f"wrote {recording.written}")
+    for written in recordings.written() if recordings is not None else []:  # kept however the run ends
+        say(f"wrote {written}")
     if (dropped := report.summary(1 / fps)) is not None:
         say(dropped)
     if (why := receiver.diagnosis()) is not None:

@@ -161,3 +161,51 @@ class Outputs:
             self.close()
         else:
             self.abort()
+
+
+class PerformerRecordings:
+    """``receive --record`` with several performers: each one's motors as shown, the first
+    performer's at ``path`` and each later one's, in the order their first frames are shown, at
+    ``STEM-2.EXT``, ``STEM-3.EXT``... A file is opened with its performer's first frame shown, so
+    a sender that never played leaves none.
+
+    Parameters
+    ----------
+    outputs : Outputs
+        Keeps (or drops) the recordings with the command's other outputs.
+    path : str
+        ``--record``'s file (.csv or .npz).
+    """
+
+    def __init__(self, outputs: Outputs, path: str) -> None:
+        self.outputs, self.path = outputs, Path(path)
+        self.sinks: list[Any] = []  # in the order opened: the first performer's is ``path``
+        self._later = 1
+
+    def attach(self, playout: Any, first: bool = False) -> None:
+        """Record what ``playout`` (a :class:`stream.playout.Playout`) shows, at stream time,
+        frame for frame; ``first``: the first performer's, at ``path``."""
+        sink: Any = None
+
+        def keep(t: float, values: np.ndarray) -> None:
+            nonlocal sink
+            if sink is None:
+                sink = self._open(first)
+            sink.rate = playout.rate  # known once the stream's first packet has come
+            sink.write(t, values)
+
+        playout.shown = keep
+
+    def written(self) -> list[str]:
+        """The files written, the first performer's first."""
+        return [str(s.written) for s in self.sinks if s.written is not None]
+
+    def _open(self, first: bool) -> Any:
+        if first:
+            path = self.path
+        else:
+            self._later += 1
+            path = self.path.with_name(f"{self.path.stem}-{self._later}{self.path.suffix}")
+        sink = self.outputs.motor(str(path), rate=60.0)
+        self.sinks.insert(0, sink) if first else self.sinks.append(sink)
+        return sink

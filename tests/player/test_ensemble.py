@@ -121,3 +121,46 @@ def test_two_senders_through_the_relay_appear_as_two_faces_in_one_recorded_frame
     for half, picture in zip((recorded[:, :128], recorded[:, 128:]), alone, strict=True):
         assert np.abs(half - picture).mean() < 1.5  # the same face, pose and place, to the edges' rounding
     assert np.abs(alone[0] - alone[1]).mean() > 5  # and the two performers are told apart
+
+
+def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_path):
+    """`receive --record take.csv` with two senders: the first performer's motors as shown in
+    take.csv, the second's in take-2.csv; a lane that never played leaves no file."""
+    from toon import load_track
+    from toonface.outputs import Outputs, PerformerRecordings
+
+    face = load_face("round")
+    poses = {11: _pose(face, MB=0.9, BRC=1.0), 22: _pose(face, MB=0.0, ERU=0.1)}
+    with Outputs() as outputs:
+        recordings = PerformerRecordings(outputs, str(tmp_path / "take.csv"))
+        recordings.attach(Playout(face.neutral()))  # made for a sender whose packets never read well
+
+        def playout():
+            made = Playout(face.neutral())
+            recordings.attach(made)
+            return made
+
+        first = Playout(face.neutral())
+        recordings.attach(first, first=True)
+        with StreamReceiver(("127.0.0.1", 0), first, more=playout) as receiver:
+            senders = [StreamSender(receiver.address, StreamWriter(60.0, stream=s)) for s in poses]
+            for k in range(30):
+                for sender, values in zip(senders, poses.values(), strict=True):
+                    sender.write(k / 60, values)
+            for sender in senders:
+                sender.close()
+            assert receiver.wait_for_streams(2, timeout=10, packets=15)  # two frames a packet
+            starts = []
+            for lane in receiver.lanes.values():  # when each stream's first frame is due
+                (index, arrived), shown = lane.playout._anchor, lane.playout
+                starts.append(arrived - (index - shown._first) / 60 + shown.delay)
+            for k in range(60):  # the half second the frames span, at half-frame steps
+                receiver.performers(min(starts) + k / 120 + 1e-6)
+            order = list(receiver.lanes)
+    assert recordings.written() == [str(tmp_path / "take.csv"), str(tmp_path / "take-2.csv")]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["take-2.csv", "take.csv"]
+    for path, stream in zip(recordings.written(), order, strict=True):
+        track = load_track(path)
+        assert track.frames >= 25  # every frame shown, at stream time
+        tail = track.values[5:25]
+        np.testing.assert_allclose(tail, np.tile(poses[stream], (len(tail), 1)), atol=0.006)  # within a wire step
