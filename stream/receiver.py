@@ -203,14 +203,23 @@ class StreamReceiver:
 
     def summary(self) -> dict:
         """Counters for ``--stats``: packets, bytes, lost, dropped by reason, frames by state,
-        delay and the error of concealment where the truth came too late."""
+        delay and the error of concealment where the truth came too late (the first performer's);
+        with several performers, each one's under ``performers`` by stream id too, and the
+        streams turned away for want of room (``other_streams``)."""
         with self._lock:
-            stats = self.playout.stats
-            return {"packets": self.reader.packets, "bytes": self.reader.bytes, "lost": self.reader.lost,
-                    "dropped": dict(self.reader.dropped), "keyframe_requests": self.requests,
-                    "acks": self.acks,
-                    "frames": {"live": stats.live, "concealed": stats.concealed, "recovering": stats.recovering,
-                               "waiting": stats.waiting},
-                    "latency_ms": round(float(np.median(stats.latencies)) * 1000, 1) if stats.latencies else None,
-                    "concealment_rms": (round(stats.late_error_sum / stats.late_frames, 4) if stats.late_frames
-                                        else None)}
+            out = {**_counters(self.reader, self.playout), "keyframe_requests": self.requests, "acks": self.acks}
+            if len(self.lanes) > 1 or self.other_streams:
+                out["performers"] = {stream: _counters(lane.reader, lane.playout)
+                                     for stream, lane in self.lanes.items()}
+                out["other_streams"] = self.other_streams
+            return out
+
+
+def _counters(reader: StreamReader, playout: Playout) -> dict:
+    """One stream's counters (see :meth:`StreamReceiver.summary`)."""
+    stats = playout.stats
+    return {"packets": reader.packets, "bytes": reader.bytes, "lost": reader.lost, "dropped": dict(reader.dropped),
+            "frames": {"live": stats.live, "concealed": stats.concealed, "recovering": stats.recovering,
+                       "waiting": stats.waiting},
+            "latency_ms": round(float(np.median(stats.latencies)) * 1000, 1) if stats.latencies else None,
+            "concealment_rms": (round(stats.late_error_sum / stats.late_frames, 4) if stats.late_frames else None)}

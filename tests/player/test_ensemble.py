@@ -125,7 +125,8 @@ def test_two_senders_through_the_relay_appear_as_two_faces_in_one_recorded_frame
 
 def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_path):
     """`receive --record take.csv` with two senders: the first performer's motors as shown in
-    take.csv, the second's in take-2.csv; a lane that never played leaves no file."""
+    take.csv, the second's in take-2.csv; a lane that never played leaves no file. The summary
+    counts each performer's packets."""
     from toon import load_track
     from toonface.outputs import Outputs, PerformerRecordings
 
@@ -156,7 +157,11 @@ def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_p
                 starts.append(arrived - (index - shown._first) / 60 + shown.delay)
             for k in range(60):  # the half second the frames span, at half-frame steps
                 receiver.performers(min(starts) + k / 120 + 1e-6)
-            order = list(receiver.lanes)
+            order, summary = list(receiver.lanes), receiver.summary()
+    assert sorted(summary["performers"]) == [11, 22] and summary["other_streams"] == 0
+    for stream, counters in summary["performers"].items():  # each performer's own counters
+        assert counters["packets"] == 15 and counters["lost"] == 0 and counters["frames"]["live"] > 0, stream
+    assert summary["packets"] == summary["performers"][order[0]]["packets"]  # the first performer's, as before
     assert recordings.written() == [str(tmp_path / "take.csv"), str(tmp_path / "take-2.csv")]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["take-2.csv", "take.csv"]
     for path, stream in zip(recordings.written(), order, strict=True):
