@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from types import ModuleType
 
 import numpy as np
-from scipy import signal
 
 
 class Stepwise:
@@ -152,8 +152,8 @@ class Butterworth:
         if not 0 < cutoff < rate / 2:
             raise ValueError(f"the cutoff must be between 0 and half the rate ({rate / 2:g} Hz), got {cutoff:g}")
         self.cutoff, self.rate, self.order = cutoff, rate, order
-        self.sos = signal.butter(order, cutoff, fs=rate, output="sos")
-        self._zi_unit = signal.sosfilt_zi(self.sos)  # (sections, 2): steady state for a unit input
+        self.sos = _signal().butter(order, cutoff, fs=rate, output="sos")
+        self._zi_unit = _signal().sosfilt_zi(self.sos)  # (sections, 2): steady state for a unit input
         self.reset()
 
     def reset(self) -> None:
@@ -169,7 +169,7 @@ class Butterworth:
         self._z[:, :, fresh] = self._zi_unit[:, :, None] * x[fresh]
         out = np.full(x.shape, np.nan)
         if seen.any():
-            y, z = signal.sosfilt(self.sos, x[seen][None, :], axis=0, zi=self._z[:, :, seen])
+            y, z = _signal().sosfilt(self.sos, x[seen][None, :], axis=0, zi=self._z[:, :, seen])
             out[seen] = y[0]
             self._z[:, :, seen] = z
         return out
@@ -177,7 +177,7 @@ class Butterworth:
     def apply(self, x: np.ndarray, t: np.ndarray | None = None) -> np.ndarray:
         """The causal filter over a recording; equal to stepping it (runs of NaN restart nothing:
         a channel's state waits through them, as in :meth:`step`)."""
-        return _each_channel(x, lambda v: signal.sosfilt(self.sos, v, zi=self._zi_unit * v[0])[0])
+        return _each_channel(x, lambda v: _signal().sosfilt(self.sos, v, zi=self._zi_unit * v[0])[0])
 
     def smooth_offline(self, x: np.ndarray) -> np.ndarray:
         """Zero-phase (forward-backward) smoothing of each channel's seen samples; NaN stay NaN.
@@ -185,8 +185,8 @@ class Butterworth:
         A channel with too few samples for the filter's padding is left as it is.
         """
         pad = 3 * (2 * len(self.sos) + 1)
-        return _each_channel(x, lambda v: signal.sosfiltfilt(self.sos, v) if len(v) > pad else v,
-                             lambda v: signal.sosfiltfilt(self.sos, v, axis=0) if len(v) > pad else v)
+        return _each_channel(x, lambda v: _signal().sosfiltfilt(self.sos, v) if len(v) > pad else v,
+                             lambda v: _signal().sosfiltfilt(self.sos, v, axis=0) if len(v) > pad else v)
 
 
 class SavitzkyGolay:
@@ -202,7 +202,7 @@ class SavitzkyGolay:
         if window < 3 or order >= window:
             raise ValueError(f"need window >= 3 and order < window, got window {window}, order {order}")
         self.window, self.order = window, order
-        self._coef = signal.savgol_coeffs(window, order, pos=window - 1, use="dot")  # (window,)
+        self._coef = _signal().savgol_coeffs(window, order, pos=window - 1, use="dot")  # (window,)
         self.reset()
 
     def reset(self) -> None:
@@ -238,7 +238,7 @@ class SavitzkyGolay:
 
         A channel shorter than the window is left as it is.
         """
-        return _each_channel(x, lambda v: signal.savgol_filter(v, self.window, self.order, mode="interp")
+        return _each_channel(x, lambda v: _signal().savgol_filter(v, self.window, self.order, mode="interp")
                              if len(v) >= self.window else v)
 
 
@@ -304,3 +304,10 @@ class Delay(Stepwise):
         frames = np.broadcast_to(self.frames, arr.shape[1:])
         rows = np.maximum(np.arange(len(arr))[:, None] - frames[None, :], 0)
         return arr[rows, np.arange(arr.shape[1])[None, :]]
+
+
+def _signal() -> ModuleType:
+    """scipy.signal, imported when a filter first needs it: it is a second of start-up."""
+    from scipy import signal
+
+    return signal

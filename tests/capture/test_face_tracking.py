@@ -67,6 +67,7 @@ def _speech_envelope(path, times: np.ndarray, start: float) -> np.ndarray:
     return np.array([np.sqrt(np.mean(samples[a:b] ** 2)) if b > a else 0.0 for a, b in pairwise(edges)])
 
 
+@pytest.mark.slow  # 2-4 s a clip: MediaPipe on every frame of a real video
 @pytest.mark.parametrize("clip", ["bbaf2n.mpg", "lbax4n.mpg"])
 def test_a_real_talking_face_is_found_in_every_frame_and_its_lips_stop_when_its_voice_does(realdata, clip):
     """GRID clips speak six words and end in silence: the lips travel while the clip's own sound

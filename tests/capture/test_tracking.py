@@ -36,6 +36,7 @@ def test_aruco_test_image_corners_match_the_library_reference(realdata):
 
 
 @pytest.mark.realdata
+@pytest.mark.slow  # 6 s: a real video tracked whole
 def test_aruco_video_keeps_identities_and_leaves_unseen_markers_nan(realdata, tmp_path):
     out = tmp_path / "aruco.npz"
     assert main(["track", str(realdata / "video" / "aruco" / "video.avi"), "-o", str(out), "--markers", "aruco",

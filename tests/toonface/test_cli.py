@@ -239,6 +239,17 @@ def test_help_imports_no_heavy_library():
     assert result.stderr.strip() == "loaded:"
 
 
+def test_the_live_mapper_loads_no_signal_library_until_a_filter_needs_one():
+    """scipy.signal was a second of `send` and `play --source` start-up, for a filter most
+    mappings never make."""
+    code = ("import sys\nfrom toonface.send import build_mapper\nfrom capture.sources import synthetic_source\n"
+            "source = synthetic_source(seconds=2)\nmapper = build_mapper(source)\n"
+            "for frame in source.frames:\n    mapper.step_frame(frame)\n"
+            "sys.stderr.write(str('scipy.signal' in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True)
+    assert result.stderr.strip() == "False"
+
+
 @pytest.fixture(scope="module")
 def small_take(tmp_path_factory):
     """A 2 s synthetic take at 30 Hz and its mapped motors."""
