@@ -51,10 +51,10 @@ class MotorPlan:
     soft : list of int
         The rules with a soft clamp.
     alone : ndarray of int, shape (A,)
-        The rules of one source; the rest (``several``, ``(S,)``) are combined side by side:
-        ``pairs`` ``(P,)`` their pairs, ``place`` ``(P,)`` each pair's rule among them,
-        ``several_starts`` ``(S,)`` where each one's pairs start among those, and ``groups``
-        each way of combining with its rules (among the ``several``).
+        The rules of one source; the rest (``several``, ``(S,)``) are reduced over their pairs:
+        ``pairs`` ``(P,)`` those pairs (rule by rule), ``several_starts`` ``(S,)`` where each
+        rule's pairs start among them, and ``groups`` each way of combining with its rules
+        (places among the ``several``).
     """
 
     distinct: list[Source]

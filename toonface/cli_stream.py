@@ -182,13 +182,16 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
 
     recordings: PerformerRecordings | None = None
 
+    def fresh() -> Playout:
+        return Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+
     def playout_for() -> Playout:  # each newcomer's, recorded where asked
-        made = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+        made = fresh()
         if recordings is not None:
             recordings.attach(made)
         return made
 
-    playout = Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+    playout = fresh()
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file),
                                   more=playout_for if max_performers > 1 else None, max_streams=max_performers)
