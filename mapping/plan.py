@@ -14,7 +14,6 @@ from mapping.profile import Profile, SourceRange
 from mapping.sources import Source
 from toon import motor_index
 
-COMBINES = ("max", "min", "mean", "weighted")
 SCALE, SCORE, PROFILE = 0, 1, 2
 MODES = ("scale", "score", "profile")
 
@@ -119,7 +118,7 @@ class MotorPlan:
         weight = np.array([p[3] for p in pairs], dtype=float)
         several = np.flatnonzero(counts > 1)
         in_several = np.flatnonzero(np.isin(rule_of, several))
-        kind = np.array([COMBINES.index(rules[r].combine) for r in several], dtype=int)
+        combines = [rules[r].combine for r in several]
         plan = cls(
             distinct=distinct, channels=[distinct[k].channel for k in scores], scores=np.array(scores, dtype=int),
             measured=[k for k, s in enumerate(distinct) if s.kind != "blendshape"],
@@ -143,7 +142,7 @@ class MotorPlan:
             soft=[r for r, rule in enumerate(rules) if rule.clamp == "soft"],
             alone=np.flatnonzero(counts == 1), several=several, pairs=in_several,
             several_starts=np.searchsorted(rule_of[in_several], several),
-            groups=[(COMBINES[k], np.flatnonzero(kind == k)) for k in np.unique(kind)])
+            groups=[(how, np.flatnonzero([c == how for c in combines])) for how in dict.fromkeys(combines)])
         return plan.under(rules, profile)
 
     def under(self, rules: tuple[MotorRule, ...], profile: Profile) -> MotorPlan:

@@ -30,8 +30,9 @@ from mapping.clean import head_references
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.mapfile import Mapping
-from mapping.mapper import FILLED_QUALITY, MotorPlan, check_profile, marker_quality, motor_values
+from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
+from mapping.plan import MotorPlan
 from mapping.profile import Profile, SourceRange
 from mapping.rules import MotorRules
 from mapping.sources import head_angles, measure

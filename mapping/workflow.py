@@ -23,7 +23,8 @@ from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.coupling import learn_couplings
 from mapping.mapfile import Mapping, load_mapping
-from mapping.mapper import map_stabilised, normalise, resolved_mode
+from mapping.mapper import map_stabilised, normalise
+from mapping.plan import resolved_mode
 from mapping.profile import Profile, build_profile, load_profile, stillest_window
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised

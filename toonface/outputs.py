@@ -108,12 +108,13 @@ def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_
 def open_vmc(spec: str, neutral: np.ndarray | None = None, **_: Any) -> Any:
     """VMC messages to ``vmc://HOST:PORT`` (a VMC receiver: VTuber software, an avatar app),
     scores measured from the face's ``neutral``."""
+    from capture.vmc import VMC_PORT
     from common.address import parse_address
     from player.vmc_out import VmcOut
     from toon import standard_neutral
 
     try:
-        address = parse_address(spec.removeprefix("vmc://"), 39539)
+        address = parse_address(spec.removeprefix("vmc://"), VMC_PORT)
     except ValueError as exc:
         raise InputError(str(exc), spec) from None
     return VmcOut(address, standard_neutral() if neutral is None else neutral)

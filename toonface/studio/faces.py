@@ -61,6 +61,7 @@ class FaceEditor:
         self.history: History[dict] = History(UNDO_LEVELS)
         self.clipboard: tuple[str, dict] | None = None  # (kind of item, a copy); kept across faces
         self.listed: dict = {}  # the library last listed: its name and its composites' names
+        self.libraries = builtin_names("components", ".json")  # the built-in component libraries
 
     def _start(self, face: Face) -> None:
         """Edit ``face``: its library files named absolutely while it is edited (written relative
@@ -331,7 +332,7 @@ class FaceEditor:
     def describe(self) -> dict:
         """What the page's face panel shows: the document, and how many edits undo and redo hold."""
         return {"doc": self.doc, "outlines": parts.outlines(self.face),
-                "libraries": builtin_names("components", ".json"), "listed": self.listed, **self.history.counts()}
+                "libraries": self.libraries, "listed": self.listed, **self.history.counts()}
 
 
 def _component(doc: dict, index: int) -> int:

@@ -20,7 +20,8 @@ from capture import Take, load_take
 from common import InputError, read_document, write_toml
 from mapping import parse_mapping, save_profile
 from mapping.mapfile import MotorRule
-from mapping.mapper import normalise, resolved_mode
+from mapping.mapper import normalise
+from mapping.plan import resolved_mode
 from mapping.profile import SourceRange
 from mapping.sources import Source, head_angles, measure
 from mapping.workflow import ReadyTake, map_ready, ready_take
