@@ -95,6 +95,14 @@ def studio_page(session, ready: str = DRAWN, width: int = 1280, height: int = 90
         yield driver
 
 
+def design_off(driver) -> None:
+    """Leave design mode and hide the control points, so that the page shows the face alone (as
+    the offscreen renderer draws it)."""
+    driver.execute_script("document.getElementById('design').click();"
+                          "document.getElementById('show-points').click()")
+    wait_for(driver, "document.getElementById('shape').classList.contains('off')")
+
+
 def page_against_offscreen(driver, session):
     """How far the face the page shows (a screenshot of ``#view``) is from the offscreen renderer's
     picture of the session's face at its values: absolute differences ``(512, 512, 3)``."""

@@ -7,7 +7,7 @@ import json
 
 import numpy as np
 import pytest
-from browser import page_against_offscreen, studio_page, wait_for
+from browser import design_off, page_against_offscreen, studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.support.ui import Select
 
@@ -109,9 +109,7 @@ def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(
         slider = driver.find_element("id", "motor-MB")
         driver.execute_script("arguments[0].value = 1; arguments[0].dispatchEvent(new Event('input'))", slider)
         wait_for(driver, "window.studio.last.values.MB === 1")
-        driver.execute_script("document.getElementById('design').click();"
-                              "document.getElementById('show-points').click()")
-        wait_for(driver, "document.getElementById('shape').classList.contains('off')")
+        design_off(driver)
         difference = page_against_offscreen(driver, session)
         assert difference.mean() < 1.5 and np.mean(difference.max(axis=2) > 64) < 0.01
 

@@ -5,7 +5,7 @@ renders offscreen as the page draws it."""
 
 import numpy as np
 import pytest
-from browser import page_against_offscreen, studio_page, wait_for
+from browser import design_off, page_against_offscreen, studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 
 from toon import FaceRig, load_face, motor_index
@@ -91,9 +91,7 @@ def test_the_edited_face_renders_offscreen_as_the_page_draws_it(page):
     frames = driver.execute_script("return window.studio.frames")
     driver.find_element("id", "grow").click()  # the selected polygon, larger
     wait_for(driver, f"window.faces.last.undo === 1 && window.studio.frames > {frames}")
-    driver.execute_script("document.getElementById('design').click();"
-                          "document.getElementById('show-points').click()")
-    wait_for(driver, "document.getElementById('shape').classList.contains('off')")
+    design_off(driver)
     difference = page_against_offscreen(driver, session)
     assert difference.mean() < 1.5 and np.mean(difference.max(axis=2) > 64) < 0.01
 

@@ -5,12 +5,15 @@
 (() => {
   const el = (id) => document.getElementById(id);
   const faces = window.faces;
+  const node = studio.svg;
   const tools = {point: null};  // the chosen point: {part, index}
   const chosen = () => (faces.doc.components || [])[faces.selected];
   const outlinePart = (spec) => (spec.kind === "skeleton" ? "body" : "points");
   const closed = (spec) => spec.kind === "polygon" || spec.kind === "ellipse" || spec.closed
     || (spec.kind === "skeleton" && spec.closed !== false);
   const PARTS = ["points", "skeleton", "body"];
+  // the mean of points [[x, y], ...]: a composite's handle, a scale's origin
+  const centre = (points) => [0, 1].map((k) => points.reduce((s, p) => s + p[k], 0) / Math.max(points.length, 1));
 
   function pointKind(ref) {
     if (typeof ref === "string") return ["master", ref];
@@ -84,20 +87,19 @@
     const parts = [];
     const flat = (line) => line.map(([x, y]) => `${x},${-y}`).join(" ");
     const ring = (line, i) => (i === 0 && spec.kind !== "composite" && closed(spec) ? [...line, line[0]] : line);
-    lines.forEach((line, i) => parts.push(faces.node("polyline", {class: "outline", points: flat(ring(line, i)),
+    lines.forEach((line, i) => parts.push(node("polyline", {class: "outline", points: flat(ring(line, i)),
                                                                    "stroke-width": r / 3, "stroke-opacity": i ? 0.5 : 1})));
     if (spec.kind === "composite") {
       const all = lines.flat();
       if (all.length) {
-        const cx = all.reduce((s, p) => s + p[0], 0) / all.length;
-        const cy = all.reduce((s, p) => s + p[1], 0) / all.length;
-        parts.push(faces.node("rect", {class: "unit", x: cx - 1.5 * r, y: -cy - 1.5 * r, width: 3 * r, height: 3 * r,
+        const [cx, cy] = centre(all);
+        parts.push(node("rect", {class: "unit", x: cx - 1.5 * r, y: -cy - 1.5 * r, width: 3 * r, height: 3 * r,
                                        "stroke-width": r / 3, "data-drag": "unit"}));
       }
       return parts;
     }
     const outline = lines[0] || [];
-    parts.push(faces.node("polyline", {class: "outline-hit", points: flat(ring(outline, 0)), "stroke-width": 3 * r}));
+    parts.push(node("polyline", {class: "outline-hit", points: flat(ring(outline, 0)), "stroke-width": 3 * r}));
     for (const part of PARTS) {
       (spec[part] || []).forEach((ref, index) => {
         const [kind, master] = pointKind(ref);
@@ -105,13 +107,13 @@
         const picked = tools.point && tools.point.part === part && tools.point.index === index;
         const data = {"data-drag": "cpoint", "data-part": part, "data-index": index, "stroke-width": r / 3};
         if (kind === "master") {
-          parts.push(faces.node("circle", {class: `vertex master${picked ? " chosen" : ""}`, cx: x, cy: -y,
+          parts.push(node("circle", {class: `vertex master${picked ? " chosen" : ""}`, cx: x, cy: -y,
                                            r: 1.4 * r, "data-master": master, ...data}));
         } else {
-          parts.push(faces.node("rect", {class: `vertex${picked ? " chosen" : ""}`, x: x - r, y: -y - r, width: 2 * r,
+          parts.push(node("rect", {class: `vertex${picked ? " chosen" : ""}`, x: x - r, y: -y - r, width: 2 * r,
                                          height: 2 * r, transform: `rotate(45 ${x} ${-y})`, ...data}));
         }
-        const label = faces.node("text", {class: "index", x: x + 1.6 * r, y: -y - 1.2 * r, "font-size": 2.2 * r});
+        const label = node("text", {class: "index", x: x + 1.6 * r, y: -y - 1.2 * r, "font-size": 2.2 * r});
         label.textContent = part === "points" ? `${index}` : `${part[0]}${index}`;
         parts.push(label);
       });
@@ -145,8 +147,7 @@
     if (key === "visible") return {visible: {motor, range: v.slice(0, 2)}};
     const spec = {motor, at0: v.slice(0, 2), at1: v.slice(2, 4)};
     if (key === "scale") {  // about the component's centre at rest
-      const all = ((faces.last.outlines || [])[faces.selected] || []).flat();
-      spec.origin = [0, 1].map((k) => all.reduce((s, p) => s + p[k], 0) / Math.max(all.length, 1));
+      spec.origin = centre(((faces.last.outlines || [])[faces.selected] || []).flat());
     }
     return {[key]: spec};
   }

@@ -17,13 +17,8 @@
   const STAFF_HEIGHT = 40;
   const PAD = 4;  // pixels above 1 and below 0
   const el = (id) => document.getElementById(id);
-  const NS = "http://www.w3.org/2000/svg";
 
-  function svgNode(name, attrs) {
-    const node = document.createElementNS(NS, name);
-    for (const [key, value] of Object.entries(attrs)) node.setAttribute(key, value);
-    return node;
-  }
+  const svgNode = studio.svg;
 
   const xOf = (t) => t * editor.zoom;
   const yOf = (v) => PAD + (1 - v) * (STAFF_HEIGHT - 2 * PAD);

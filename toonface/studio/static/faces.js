@@ -2,7 +2,6 @@
 // (toonface/studio/faces.py) makes and validates every edit; the page draws the document it sends.
 "use strict";
 (() => {
-  const NS = "http://www.w3.org/2000/svg";
   const el = (id) => document.getElementById(id);
   const KINDS = ["hole", "pupil", "face", "free", "point", "feature"];
   const ANGLES = new Set(["PLH", "PLV", "PRH", "PRV", "HH", "HV"]);
@@ -15,11 +14,7 @@
                  target: "polygon"};
   window.faces = faces;  // components.js adds the component tools to it
 
-  function node(name, attrs) {
-    const n = document.createElementNS(NS, name);
-    for (const [key, value] of Object.entries(attrs)) n.setAttribute(key, value);
-    return n;
-  }
+  const node = studio.svg;
 
   function edit(message) {
     // one edit in flight: a drag sends its latest position when the previous edit has come back
@@ -42,7 +37,6 @@
 
   faces.edit = edit;
   faces.facePoint = facePoint;
-  faces.node = node;
 
   function show(message) {
     faces.last = message;

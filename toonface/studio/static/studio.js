@@ -16,6 +16,13 @@
   const $ = (id) => document.getElementById(id);
   const SVG = "http://www.w3.org/2000/svg";
 
+  studio.svg = (name, attrs = {}) => {
+    // an SVG element with these attributes (the other scripts draw with it too)
+    const node = document.createElementNS(SVG, name);
+    for (const [key, value] of Object.entries(attrs)) node.setAttribute(key, value);
+    return node;
+  };
+
   function send(message) {
     if (studio.socket && studio.socket.readyState === WebSocket.OPEN) {
       studio.socket.send(JSON.stringify(message));
@@ -115,7 +122,7 @@
     for (const [name, [x, y]] of Object.entries(frame.points)) {
       let dot = handles.querySelector(`circle[data-point="${name}"]`);
       if (!dot) {
-        dot = document.createElementNS(SVG, "circle");
+        dot = studio.svg("circle");
         dot.dataset.point = name;
         dot.addEventListener("pointerdown", startDrag);
         handles.append(dot);

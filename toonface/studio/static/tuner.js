@@ -2,7 +2,7 @@
 // edit, its output over the take as a curve. The server (toonface/studio/tuner.py) maps again.
 "use strict";
 (() => {
-  const NS = "http://www.w3.org/2000/svg";
+  const node = studio.svg;
   const el = (id) => document.getElementById(id);
   const tuner = {state: null};
   window.tuner = tuner;
@@ -46,12 +46,8 @@
     const height = Number(svg.getAttribute("height"));
     const x = (t) => (t / state.duration) * width;
     const y = (v) => 4 + (1 - v) * (height - 8);
-    const polyline = (values, kind) => {
-      const line = document.createElementNS(NS, "polyline");
-      line.setAttribute("class", kind);
-      line.setAttribute("points", state.curve.times.map((t, i) => `${x(t)},${y(values[i])}`).join(" "));
-      return line;
-    };
+    const polyline = (values, kind) => node("polyline", {
+      class: kind, points: state.curve.times.map((t, i) => `${x(t)},${y(values[i])}`).join(" ")});
     // the sources as the mapping reads them (-1 at the performer's low, 1 at high) under the output (0..1)
     const parts = Object.values(state.curve.sources).map((values) => polyline(values.map((v) => (v + 1) / 2),
                                                                                "source"));
@@ -71,11 +67,6 @@
     }
   }
 
-  const node = (name, attrs) => {
-    const n = document.createElementNS(NS, name);
-    for (const [k, v] of Object.entries(attrs)) n.setAttribute(k, v);
-    return n;
-  };
 
   function raw() {
     // each source as measured, in its units (mm, °, score), under the performer's low, rest and high:
