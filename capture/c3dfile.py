@@ -231,8 +231,9 @@ def _units(reader: c3d.Reader) -> str:
 
 def _unit_name(text: str) -> str:
     """The unit a ``POINT:UNITS`` names, however it is stored: ``"mm  "``, ``" cm "``, or one per
-    row (``"mm  mm  mm  "``); an empty value means millimetres."""
-    words = text.lower().split()
+    row (``"mm  mm  mm  "``), padded with NUL bytes or other control characters (``"mm\\0\\0"``, as
+    some exporters write it); an empty value means millimetres."""
+    words = "".join(c if c.isprintable() else " " for c in text).lower().split()
     if not words:
         return "mm"
     return words[0] if len(set(words)) == 1 else " ".join(words)

@@ -17,7 +17,7 @@ def plain(tmp_path):
     return load_take(vendors.plain(tmp_path / "plain.c3d"))
 
 
-@pytest.mark.parametrize("quirk", ["units_in_rows", "units_padded", "duplicated_parameter"])
+@pytest.mark.parametrize("quirk", ["units_in_rows", "units_padded", "units_nul_padded", "duplicated_parameter"])
 def test_vendor_quirks_read_as_the_plain_file(tmp_path, plain, quirk):
     """Units padded or one per row were refused as unknown; a parameter named twice as corrupt."""
     take = load_take(vendors.QUIRKS[quirk](tmp_path / f"{quirk}.c3d"))

@@ -55,6 +55,11 @@ def units_in_rows(path: Path) -> Path:
     return _write(path, ["A", "B", "C"], _positions(), np.zeros((FRAMES, 3)), edit)
 
 
+def units_nul_padded(path: Path) -> Path:
+    """POINT:UNITS "cm\\0\\0" (NUL bytes as padding, as three public files store it), centimetres."""
+    return _write(path, ["A", "B", "C"], _positions() / 10.0, np.zeros((FRAMES, 3)), units="cm\0\0")
+
+
 def units_padded(path: Path) -> Path:
     """POINT:UNITS " cm " (padded both sides) with the positions in centimetres."""
     return _write(path, ["A", "B", "C"], _positions() / 10.0, np.zeros((FRAMES, 3)), units=" cm ")
@@ -96,5 +101,6 @@ def plug_in_gait(path: Path) -> Path:
     return _write(path, labels, positions, np.zeros((FRAMES, len(labels))), edit)
 
 
-QUIRKS = {"units_in_rows": units_in_rows, "units_padded": units_padded, "duplicated_parameter": duplicated_parameter,
+QUIRKS = {"units_in_rows": units_in_rows, "units_padded": units_padded, "units_nul_padded": units_nul_padded,
+          "duplicated_parameter": duplicated_parameter,
           "zeros_for_gaps": zeros_for_gaps, "plug_in_gait": plug_in_gait}
