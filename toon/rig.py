@@ -14,6 +14,13 @@ middles meet, so a closed eye or mouth hides what it holds.
 
 Point-attached vertices (A1.5-A1.6): ``V = V_min + P_CTRL * (V_max - V_min)``.
 
+Lids that cross. A smile can push the lower lid above the upper one (real takes do this); a
+crossed eye is a closed eye on every face. Where an upper lid's middle would sit below its lower
+lid's, both middles meet half-way, so that holes and composite eyes close; and what a face shows
+or hides by an upper lid's motor (a line face's pupil) reads how open the eye is: the upper lid's
+value that would leave the same opening above the lower lid at rest (0 where the lids meet), at
+most the lid's own value.
+
 Pupils: a pupil's control point sits ``eyes.radius * sin(angle)`` from its rest position for the
 gaze angles of its two motors, and its polygons narrow by ``cos(angle)`` about that point, as the
 disc of a turning eyeball would.
@@ -57,6 +64,8 @@ from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_
 
 #: Features whose four points make two arcs (corners, upper and lower middles): eyes and mouth.
 ARC_FEATURES: tuple[str, ...] = ("eye_right", "eye_left", "mouth")
+#: Each eye's upper and lower lid motors (whose control points share their names).
+LIDS: tuple[tuple[str, str], ...] = (("ERU", "ERL"), ("ELU", "ELL"))
 #: Mask groups: holes write their group; pupils and clipped components draw only inside it.
 MASK_GROUPS: dict[str, int] = {name: i + 1 for i, name in enumerate(HOLE_FEATURES)}
 
@@ -95,6 +104,9 @@ class FaceRig:
                           if isinstance(prep, ComponentPrep) and prep.spec.visible is not None]
         self._animated = [(self._plan.slices[key], prep.spec) for key, prep in enumerate(self._order)
                           if isinstance(prep, ComponentPrep) and (prep.spec.scale or prep.spec.translate)]
+        # Per eye: the rows of its lid points, the upper lid's motor and range, the lower lid's rest height.
+        self._lids = [(self._index[up], self._index[low], motor_index(up), face.ranges[up], face.points[low][1])
+                      for up, low in LIDS]
 
     def control_points(self, values: np.ndarray) -> np.ndarray:
         """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
@@ -106,7 +118,23 @@ class FaceRig:
         for col, row, axis, lo, hi in self._driven:
             pts[row, axis] = lo + values[col] * (hi - lo)
         pts[self._pupil_rows] += self.face.eye_radius * np.sin(gaze)
+        for up, low, *_ in self._lids:  # lids that cross meet half-way: a closed eye
+            if pts[up, 1] < pts[low, 1]:
+                pts[up, 1] = pts[low, 1] = (pts[up, 1] + pts[low, 1]) / 2
         return pts
+
+    def shown_values(self, values: np.ndarray, pts: np.ndarray) -> np.ndarray:
+        """The motor values that decide what is shown (``visible`` ranges), for ``values`` ``(21,)``
+        whose control points are ``pts`` ``(P, 2)``: each upper lid's value is how open its eye is,
+        the value that would leave the same opening above the lower lid at rest (see the module
+        docstring), and never more than its own (a lowered lower lid does not open an eye);
+        shape ``(21,)``."""
+        shown = values.copy()
+        for up, low, column, (lo, hi), rest in self._lids:
+            if hi != lo:
+                height = rest + max(pts[up, 1] - pts[low, 1], 0.0)
+                shown[column] = min(values[column], (height - lo) / (hi - lo))
+        return shown
 
     def head_degrees(self, values: np.ndarray) -> tuple[float, float]:
         """The head's yaw and pitch in degrees for motor values ``(21,)`` (HH and HV within the
@@ -158,8 +186,9 @@ class FaceRig:
         yaw, pitch = self.head_degrees(values)
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
+        decides = self.shown_values(values, pts) if self._switched else values
         hidden = {key for key, shown in self._switched
-                  if not shown.low <= values[self._columns[shown.motor]] <= shown.high}
+                  if not shown.low <= decides[self._columns[shown.motor]] <= shown.high}
         items = tuple(template.with_vertices(out[where]) for key, (template, where)
                       in enumerate(zip(self.templates, plan.slices, strict=True)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)

@@ -147,3 +147,37 @@ def test_both_pupils_show_at_a_strong_head_turn(name, turn):
         image = render_cpu(replace(geometry, items=painted), (384, 384)).astype(int)
         shown = ((image[..., 0] > 150) & (image[..., 1] < 110) & (image[..., 2] > 150)).sum()
         assert shown > 15, f"{name} HH={turn}: the {side} eye's pupil shows {shown} pixels"
+
+
+GAZE = ("PRH", "PRV", "PLH", "PLV")
+
+
+def _lid_heights(face, upper: float, lower: float) -> tuple[float, float]:
+    """Where the right eye's upper and lower lid middles would sit, from the face's own ranges."""
+    (ulo, uhi), (llo, lhi) = face.ranges["ERU"], face.ranges["ERL"]
+    return ulo + upper * (uhi - ulo), llo + lower * (lhi - llo)
+
+
+@pytest.mark.parametrize("name", FACES)
+def test_crossing_lids_are_a_closed_eye(name):
+    """A smile that pushes the lower lid above the upper reopened the round face's eye (white and
+    iris) and left the line face's pupils over closed lids. The oracle needs no knowledge of how a
+    face draws its eye: a closed eye shows no gaze, so moving the pupils to opposite corners
+    changes no pixel; an open eye (checked too) does show it."""
+    face = load_face(name)
+    rig = FaceRig(face)
+
+    def picture(upper: float, lower: float, gaze: float) -> np.ndarray:
+        values = face.neutral().copy()
+        values[[motor_index("ERU"), motor_index("ELU")]] = upper
+        values[[motor_index("ERL"), motor_index("ELL")]] = lower
+        values[[motor_index(c) for c in GAZE]] = gaze
+        return render_cpu(rig.geometry(values), (256, 256)).astype(int)
+
+    assert (picture(1.0, 0.0, 0.0) != picture(1.0, 0.0, 1.0)).any(axis=2).sum() > 20  # the oracle can fail
+    crossing = [(u, lo) for u, lo in product((0.0, 0.2, 0.4, 0.6), (0.4, 0.6, 0.8, 1.0))
+                if _lid_heights(face, u, lo)[0] < _lid_heights(face, u, lo)[1] - 1.0]
+    assert len(crossing) >= 4, f"{name}: too few crossing pairs on the grid"
+    for upper, lower in crossing:
+        moved = (picture(upper, lower, 0.0) != picture(upper, lower, 1.0)).any(axis=2).sum()
+        assert moved == 0, f"{name}: ERU={upper} ERL={lower} (lids crossed): {moved} pixels follow the gaze"
