@@ -132,7 +132,10 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
         meta["renamed"] = renamed
     if times is None:
         times = np.arange(len(rows)) / rate
-    return Take(positions * _mm_per_unit(units, path), clean, rate, times=times, dims=dims, meta=meta)
+    scale = _mm_per_unit(units, path)
+    meta["units"] = units_meta(scale, "marker set " + from_set["markerset"] if "units" in from_set
+                               else "given" if units is not None else "assumed")
+    return Take(positions * scale, clean, rate, times=times, dims=dims, meta=meta)
 
 
 def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float | None,
@@ -156,8 +159,10 @@ def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float 
     positions = np.zeros((len(rows), len(labels), 3))
     positions[:, :, :dims] = data.reshape(len(rows), len(labels), dims)
     positions[np.isnan(positions).any(axis=2)] = np.nan
-    meta: dict[str, Any] = {"source": "csv", "layout": "headerless", "file": path.name, "separator": _describe(sep)}
-    return Take(positions * _mm_per_unit(units, path), tuple(labels), rate, dims=dims, meta=meta)
+    scale = _mm_per_unit(units, path)
+    meta: dict[str, Any] = {"source": "csv", "layout": "headerless", "file": path.name, "separator": _describe(sep),
+                            "units": units_meta(scale, "given" if units is not None else "assumed")}
+    return Take(positions * scale, tuple(labels), rate, dims=dims, meta=meta)
 
 
 def _read_nexus(path: Path, lines: list[str], first: int, units: str | float | None) -> Take:
@@ -188,7 +193,8 @@ def _read_nexus(path: Path, lines: list[str], first: int, units: str | float | N
     positions[np.isnan(positions).any(axis=2)] = np.nan
     scale = _mm_per_unit(units, path) if units is not None else UNIT_MM[file_units]
     clean, renamed = unique_labels([m for _, m in labels])
-    meta: dict[str, Any] = {"source": "csv", "layout": "nexus", "file": path.name, "units_in_file": file_units}
+    meta: dict[str, Any] = {"source": "csv", "layout": "nexus", "file": path.name, "units_in_file": file_units,
+                            "units": units_meta(scale, "given" if units is not None else "file")}
     if renamed:
         meta["renamed"] = renamed
     return Take(positions * scale, clean, rate, times=times, meta=meta)
@@ -218,6 +224,13 @@ def _data_rows(lines: list[str], start: int, sep: str | None, path: Path,
     if not rows:
         raise InputError("no data rows (zero frames)", path)
     return rows
+
+
+def units_meta(mm_per_unit: float, origin: str) -> dict[str, Any]:
+    """A take's ``meta["units"]``: the millimetres per unit it was read with, and who said so
+    (``"given"``, ``"file"``, ``"marker set NAME"``, or ``"assumed"`` for a table that does not
+    say, read as millimetres). A take without it carries units its file stated."""
+    return {"mm_per_unit": mm_per_unit, "from": origin}
 
 
 def _mm_per_unit(units: str | float | None, path: Path) -> float:

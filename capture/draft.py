@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from capture.plot import neutral_pose
+from capture.scale import check_scale
 from capture.take import Take
 from common import InputError
 
@@ -133,10 +134,16 @@ def draft_markerset(take: Take, up: str | None = None) -> Draft:
     Raises
     ------
     InputError
-        When too few markers are seen to place a head frame, or ``up`` is no marker of the take.
+        When too few markers are seen to place a head frame, ``up`` is no marker of the take, or
+        the take is not the size of a face in millimetres (:mod:`capture.scale`: wrong units).
     """
     if up is not None and up not in take.labels:
         raise InputError(f'no marker "{up}" in the take (its markers: {", ".join(take.labels)})')
+    said = take.meta.get("units") or {}
+    scale = check_scale(take, None, float(said.get("mm_per_unit", 1.0)))
+    if scale.off:  # a draft keeps millimetres: a take in other units would make a wrong layout
+        raise InputError(f"{scale.words()}; give --units {scale.likely()}" if said.get("from") != "file"
+                         else f"{scale.words()}, not the units its file states", take.meta.get("file"))
     rest = neutral_pose(take)
     seen = np.isfinite(rest).all(axis=1)
     if seen.sum() < 4:

@@ -50,13 +50,25 @@ def _read_npz(path: Path) -> Take:
                 channels = ((z["channels"], tuple(str(x) for x in z["channel_names"])) if "channels" in z.files
                             else (np.empty((len(z["times"]), 0)), ()))  # written before takes had channels
                 return Take(z["positions"], tuple(str(x) for x in z["labels"]), float(z["rate"]),
-                            times=z["times"], dims=int(z["dims"]), meta=json.loads(str(z["meta"])),
+                            times=z["times"], dims=int(z["dims"]), meta=_npz_meta(json.loads(str(z["meta"])), path),
                             channels=channels[0], channel_names=channels[1])
     except InputError as exc:
         raise InputError(exc.message, path) from None
     except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error,
             NotImplementedError, RuntimeError) as exc:
         raise InputError(f"not a readable .npz take ({type(exc).__name__}: {exc})", path) from None
+
+
+def _npz_meta(meta: dict, path: Path) -> dict:
+    """A take's meta as read back: the file is this one; units a user gave when the take was
+    first read are now the file's (it holds millimetres as they made them), while units the first
+    file left unsaid stay an assumption (``meta["units"]``, :mod:`capture.csvfile`)."""
+    units = meta.get("units")
+    if isinstance(units, dict) and units.get("from") in ("given", "inferred"):
+        meta["units"] = {**units, "mm_per_unit": 1.0, "from": "file"}
+    elif isinstance(units, dict):
+        meta["units"] = {**units, "mm_per_unit": 1.0}
+    return {**meta, "file": path.name}
 
 
 def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[str] | None = None,

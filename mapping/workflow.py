@@ -29,6 +29,7 @@ from mapping.profile import Profile, build_profile, load_profile, stillest_windo
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
 from mapping.sweep import mirror_lost_sides
+from mapping.units import Units, settle_units
 from toon import MotorTrack
 
 #: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
@@ -43,6 +44,7 @@ class Prepared:
     markerset: MarkerSet
     stable: Stabilised
     columns: dict[str, int]
+    units: Units | None = None
 
 
 def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Mapping, MarkerSet]:
@@ -84,12 +86,15 @@ def check_markers(mapping: Mapping, markerset: MarkerSet, take: Take | None = No
 
 
 def prepare(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSettings()) -> Prepared:
-    """Clean and stabilise; raises :class:`InputError` saying why the head cannot be found."""
+    """Settle the take's units (:func:`mapping.units.settle_units`), clean and stabilise; raises
+    :class:`InputError` for units given that cannot be a face, or saying why the head cannot be
+    found."""
+    take, units = settle_units(take, markerset)
     result = clean_stabilised(take, markerset, settings)
     if not result:
         raise InputError(f"cannot remove head motion: {result}")
     found = markerset.match(take.labels)
-    return Prepared(take, markerset, result[0], {label: take.index(name) for label, name in found.items()})
+    return Prepared(take, markerset, result[0], {label: take.index(name) for label, name in found.items()}, units)
 
 
 NeutralSpec = tuple[float, float] | str | None
@@ -248,10 +253,13 @@ def stabilisation_notes(prepared: Prepared) -> list[str]:
     """What the user should know about the head fit: references whose shape on this take is far
     from the marker set's (wrong labels, another layout, a neutral not in head-frame mm), and head
     travel that the motors cannot show (only the rotation reaches HH and HV)."""
-    notes = [f"warning: marker set {prepared.markerset.name}: {doubt}" for doubt in prepared.markerset.doubts()]
+    units = prepared.units
+    notes = list(units.notes) if units is not None else []
+    notes += [f"warning: marker set {prepared.markerset.name}: {doubt}" for doubt in prepared.markerset.doubts()]
     refs = [r for r in prepared.markerset.head_reference if r in prepared.columns]
     expected = np.array([prepared.markerset.neutral_of(r) for r in refs])
-    if len(refs) == len(prepared.stable.reference):
+    scale_off = units is not None and units.check.off and units.origin != "inferred"  # said already, in units
+    if len(refs) == len(prepared.stable.reference) and not scale_off:
         off = float(np.sqrt(np.mean(np.sum((prepared.stable.reference - expected) ** 2, axis=1))))
         if off > REFERENCE_TOLERANCE:
             notes.append(f"warning: the take's head references ({', '.join(refs)}) lie {off:.0f} mm (RMS) from "

@@ -17,7 +17,7 @@ def test_take_npz_round_trip(tmp_path):
     take = Take(pos, take.labels, take.rate, meta={"note": "gap"})
     back = load_take(save_take(take, tmp_path / "t.npz"))
     np.testing.assert_array_equal(back.positions, take.positions)
-    assert back.labels == take.labels and back.rate == 50.0 and back.meta == {"note": "gap"}
+    assert back.labels == take.labels and back.rate == 50.0 and back.meta == {"note": "gap", "file": "t.npz"}
     np.testing.assert_array_equal(back.times, take.times)
     assert int((~back.valid).sum()) == 4
 
