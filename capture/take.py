@@ -9,6 +9,8 @@ import numpy as np
 from common import InputError, readonly
 
 #: Millimetres per unit, for the unit names take files use (C3D POINT:UNITS, TRC Units, --units).
+#: The channel that holds a take's sound level at each frame (1: its loudest), where it had sound.
+SOUND_LEVEL = "sound_level"
 UNIT_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "cm": 10.0, "m": 1000.0, "meters": 1000.0,
            "metres": 1000.0, "in": 25.4, "inch": 25.4, "inches": 25.4}
 

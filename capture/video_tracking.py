@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -22,9 +23,10 @@ from capture.aruco import track_aruco
 from capture.dots import pixels_to_mm
 from capture.face_sources import face_source
 from capture.sources import video_source
-from capture.take import Take
+from capture.take import SOUND_LEVEL, Take
 from capture.videoio import frames, probe
 from common import InputError, read_document
+from common.sound import has_audio, sound_envelope
 
 
 def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = "toon32",
@@ -51,7 +53,7 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
         if not seen.any():
             raise InputError(f"no face found in any of its {take.frames} frames", path)
         take.meta["faces_found"] = int(seen.sum())
-        return take
+        return with_sound_level(take, path)
     if method == "dots":
         take = _some_frames(video_source(path, colour, markerset, start_frame, info).to_take(progress), path)
         if not np.isfinite(take.positions).any():
@@ -75,6 +77,20 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
         raise InputError("the video has no frames", path)
     meta["mm_per_pixel"] = float(scale)
     return Take(pixels_to_mm(pixels, origin, scale), tuple(labels), rate, dims=2, meta=meta)
+
+
+def with_sound_level(take: Take, path: str | os.PathLike) -> Take:
+    """``take`` with a :data:`~capture.take.SOUND_LEVEL` channel: the loudness of ``path``'s sound
+    at each frame (RMS over 20 ms, 1 the loudest; NaN past the sound's end), which says where
+    nobody speaks (:mod:`mapping.rest`). A video without sound gives the take unchanged."""
+    if not has_audio(path):
+        return take
+    times, envelope = sound_envelope(path)
+    level = np.interp(take.times, times, envelope, left=np.nan, right=np.nan) if len(times) else \
+        np.full(take.frames, np.nan)
+    take.meta["sound"] = "sound_level channel: the voice's loudness at each frame"
+    return replace(take, channels=np.column_stack([take.channels, level]),
+                   channel_names=(*take.channel_names, SOUND_LEVEL))
 
 
 def _some_frames(take: Take, path: str | os.PathLike) -> Take:

@@ -79,20 +79,6 @@ class Profile:
     couplings: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
 
 
-def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = 1.0) -> tuple[float, float]:
-    """The ``seconds``-long window where the face moves least (mean head-frame marker speed)."""
-    speed = np.linalg.norm(np.diff(stable.local, axis=0), axis=2)  # (F-1, M)
-    seen = np.isfinite(speed)
-    count = seen.sum(axis=1)
-    per_frame = np.where(count > 0, np.where(seen, speed, 0.0).sum(axis=1) / np.maximum(count, 1), 1e9)
-    n = max(1, int(round(seconds / np.median(np.diff(times))))) if len(times) > 1 else 1
-    if len(per_frame) < n:
-        return float(times[0]), float(times[-1])
-    window_sum = np.convolve(per_frame, np.ones(n), mode="valid")
-    start = int(np.argmin(window_sum))
-    return float(times[start]), float(times[min(start + n, len(times) - 1)])
-
-
 def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_window: tuple[float, float],
                   range_take: Stabilised, range_frames: np.ndarray, columns: dict[str, int],
                   range_columns: dict[str, int], markerset: str, extra: Sequence[Source] = (),

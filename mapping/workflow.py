@@ -4,7 +4,9 @@ With no mapping named, the built-in preset whose marker set matches the take's l
 With no profile, the marker set's built-in typical profile is used if it has one
 (``data/profiles/``), with the rest pose taken from the take; otherwise one is made from the take
 itself. Rest poses from the take come from ``neutral_window``: seconds, ``"first"`` (the first
-second with a head pose: takes conventionally start at rest; the default) or ``"stillest"``;
+second with a head pose), ``"stillest"``, or by default one chosen from the take's motion and,
+for a video, its sound (:mod:`mapping.rest`: where nobody speaks; else the first second where
+it is still, else the stillest);
 ranges from the take itself are its 1st to 99th percentiles, at least :data:`SELF_MIN_SIDE` either
 side of rest. A profile that lacks a derived
 source the mapping reads gets it from the take the same way. The track's metadata says which.
@@ -19,13 +21,15 @@ import numpy as np
 
 from capture import MarkerSet, Take, load_markerset
 from capture.markerset import find_markerset
+from capture.take import SOUND_LEVEL
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.coupling import learn_couplings
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, normalise
 from mapping.plan import resolved_mode
-from mapping.profile import Profile, build_profile, load_profile, stillest_window
+from mapping.profile import Profile, build_profile, load_profile
+from mapping.rest import choose_rest, stillest_window
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
 from mapping.sweep import mirror_lost_sides
@@ -101,14 +105,17 @@ NeutralSpec = tuple[float, float] | str | None
 
 
 def rest_window(prepared: Prepared, spec: NeutralSpec) -> tuple[tuple[float, float], str]:
-    """Where the take is at rest: ``spec`` seconds, or ``"first"`` (None too) / ``"stillest"``
-    second; returns the window and how it was found."""
+    """Where the take is at rest: ``spec`` seconds, ``"first"`` (its first second with the head
+    seen), ``"stillest"`` (second), or None: chosen from its motion and sound
+    (:func:`mapping.rest.choose_rest`); returns the window and how it was found."""
     times = prepared.take.times
     if isinstance(spec, tuple):
         return spec, "given"
     if spec == "stillest":
         return stillest_window(prepared.stable, times), "stillest second"
-    if spec not in (None, "first"):
+    if spec is None:
+        return choose_rest(prepared.stable, times, prepared.stable.channels.get(SOUND_LEVEL))
+    if spec != "first":
         raise InputError(f'neutral must be START:END, "first" or "stillest", got {spec!r}')
     posed = np.flatnonzero(prepared.stable.ok)
     start = float(times[posed[0]]) if len(posed) else float(times[0])

@@ -39,7 +39,7 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
         Pixels.
     sound : tuple of ndarray, optional
         ``(times, loudness in [0, 1])`` drawn as a last stave, ``sound``, filled (to check a
-        mouth against the voice; :func:`player.mux.sound_envelope`).
+        mouth against the voice; :func:`common.sound.sound_envelope`).
     """
     codes = tuple(codes or MOTOR_CODES)
     for code in codes:

@@ -37,7 +37,9 @@ _PROFILE = click.option("--profile", "profile_path", default=None, type=click.Pa
                              "the take].")
 _NEUTRAL = click.option("--neutral", default=None, metavar="START:END|first|stillest",
                         help="Where the take is at rest: seconds, its first second with the head seen, or its "
-                             "stillest second [default: a given profile's rest, else first].")
+                             "stillest second [default: a given profile's rest, else chosen and said: for a video, "
+                             "the stillest stretch where nobody speaks; else the first second where it is about "
+                             "as restful as any, else the second nearest the take's typical pose and stillest].")
 _WORDS = ("first", "stillest")
 _CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click.Path(dir_okay=False),
                           help="A calibration take of the same performer: its first second is the neutral and "
@@ -153,7 +155,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     if not 0 <= low < high <= 100:
         raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
                                  param_hint="--percentiles")
-    windows = parse_window(neutral, words=_WORDS), parse_span(range_window, "--range")
+    windows = parse_window(neutral or "first", words=_WORDS), parse_span(range_window, "--range")
     loaded = read_take(take, reading)
     settings = cleaning.settings(loaded.rate)
     chosen, markerset = choose_mapping(loaded, mapping)
@@ -184,7 +186,7 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
     if calibration:
         source = (read or {}).get(calibration) or read_take(calibration, reading)
         chosen, markerset = choose_mapping(source, mapping)
-        return calibrate(chosen, prepare(source, markerset))
+        return calibrate(chosen, prepare(source, markerset), "first")  # a calibration take starts at rest
     return None
 
 
@@ -296,7 +298,7 @@ def score(motors: str, output: str, compare: str | None, codes: str | None, widt
     other = load_track(compare) if compare else None
     sound = None
     if sound_path:
-        from player.mux import sound_envelope
+        from common.sound import sound_envelope
 
         sound = sound_envelope(sound_path)
     if as_text:

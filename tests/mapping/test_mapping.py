@@ -129,7 +129,8 @@ def test_the_rest_window_is_the_first_second_with_the_head_seen_or_the_stillest(
     pos[:45] = np.nan  # nothing seen for 1.5 s
     _, markerset = choose_mapping(syn.take)
     prepared = prepare(Take(pos, syn.take.labels, 30.0), markerset)
-    assert rest_window(prepared, None) == ((1.5, 2.5), "first second with the head seen")
+    assert rest_window(prepared, "first") == ((1.5, 2.5), "first second with the head seen")
+    assert rest_window(prepared, None) == ((1.5, 2.5), "first second with the head seen, as still and typical as any")
     assert rest_window(prepared, (3.0, 4.0)) == ((3.0, 4.0), "given")
     (start, end), how = rest_window(prepared, "stillest")
     motion = np.linalg.norm(np.diff(prepared.stable.local, axis=0), axis=2).mean(axis=1)  # NaN before 1.5 s

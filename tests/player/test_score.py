@@ -3,7 +3,7 @@
 import av
 import numpy as np
 
-from player.mux import sound_envelope
+from common.sound import sound_envelope
 from player.score import STAVE_PX, score_image
 from toon import MotorTrack
 from toonface.cli import main

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from common import InputError
-from player.mux import decode_mono
+from common.sound import decode_mono
 
 #: Samples per second of the sound the page plays and draws (speech keeps its words at 16 kHz).
 RATE = 16_000
