@@ -147,7 +147,9 @@ def draft_markerset(take: Take, up: str | None = None) -> Draft:
     rest = neutral_pose(take)
     seen = np.isfinite(rest).all(axis=1)
     if seen.sum() < 4:
-        raise InputError(f"only {int(seen.sum())} markers are ever seen: a marker set needs at least 4")
+        count = int(seen.sum())
+        raise InputError(f"only {count} marker{' is' if count == 1 else 's are'} ever seen: a marker set needs at "
+                         "least 4")
     spread = _distance_spread(take)
     refs = head_references(take, spread, rest)
     centre = rest[seen].mean(axis=0)

@@ -85,9 +85,13 @@ def with_sound_level(take: Take, path: str | os.PathLike) -> Take:
     nobody speaks (:mod:`mapping.rest`). A video without sound gives the take unchanged."""
     if not has_audio(path):
         return take
-    times, envelope = sound_envelope(path)
-    level = np.interp(take.times, times, envelope, left=np.nan, right=np.nan) if len(times) else \
-        np.full(take.frames, np.nan)
+    step = 0.02
+    times, envelope = sound_envelope(path, step)
+    if len(times):  # each level holds for its step: the last one up to the sound's end
+        level = np.interp(take.times, np.append(times, times[-1] + step), np.append(envelope, envelope[-1]),
+                          left=np.nan, right=np.nan)
+    else:
+        level = np.full(take.frames, np.nan)
     take.meta["sound"] = "sound_level channel: the voice's loudness at each frame"
     return replace(take, channels=np.column_stack([take.channels, level]),
                    channel_names=(*take.channel_names, SOUND_LEVEL))

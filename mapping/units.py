@@ -53,7 +53,8 @@ class Units:
 
     def as_dict(self) -> dict[str, Any]:
         return {"unit": self.name(), "mm_per_unit": self.mm_per_unit, "from": self.origin,
-                "check": self.check.figure(), "plausible": not self.check.off or self.origin == "inferred"}
+                "check": ("as read, " if self.origin == "inferred" else "") + self.check.figure(),
+                "plausible": not self.check.off or self.origin == "inferred"}
 
 
 def settle_units(take: Take, markerset: MarkerSet) -> tuple[Take, Units]:

@@ -29,12 +29,13 @@ from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, normalise
 from mapping.plan import resolved_mode
 from mapping.profile import Profile, build_profile, load_profile
+from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
 from mapping.sweep import mirror_lost_sides
 from mapping.units import Units, settle_units
-from toon import MotorTrack
+from toon import MotorTrack, standard_neutral
 
 #: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
 SELF_MIN_SIDE = 4.0
@@ -195,6 +196,8 @@ class ReadyTake:
     mapping: Mapping
     profile: Profile
     notes: tuple[str, ...]
+    rest: str = ""  # where the rest pose came from, for the report
+    profile_kind: str = ""  # given, calibrated, typical or from the take, for the report
 
 
 def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
@@ -209,12 +212,17 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
     rest_from_take = neutral_window is not None
     typical = typical_profile(markerset.name) if profile is None else None
     if typical is not None:
-        profile, rest_from_take = typical, True
+        profile, rest_from_take, kind = typical, True, f"typical for {markerset.name} (built in)"
         notes.append(f"ranges from the built-in typical profile for {markerset.name}")
     if profile is None:
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
+        kind, rest = "from the take itself (1st-99th percentiles)", profile.notes["neutral"]
     else:
+        if typical is None:
+            kind = (f"calibrated on a range of motion{f' ({profile.source})' if profile.source else ''}"
+                    if profile.full_range else f"given ({profile.source or 'calibrated on a take'})")
+        rest = f"the profile's ({profile.notes.get('neutral', 'its own')})"
         check_profile(profile, chosen, markerset.name)
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
         if missing or rest_from_take:
@@ -225,7 +233,8 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
             if rest_from_take:
                 notes.append(f"neutral from the take ({own.notes['neutral']})")
-    return ReadyTake(prepared, chosen, profile, tuple(notes))
+                rest = own.notes["neutral"]
+    return ReadyTake(prepared, chosen, profile, tuple(notes), rest, kind)
 
 
 def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None) -> MotorTrack:
@@ -234,7 +243,10 @@ def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None) -> Mot
     track = map_stabilised(stable, ready.prepared.columns, take.times, take.rate, ready.mapping, ready.profile,
                            target_neutral, stable.filled)
     meta = {**track.meta, "source": take.meta.get("source", ""), "notes": list(ready.notes)}
-    return MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+    mapped = MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+    rest = standard_neutral() if target_neutral is None else target_neutral
+    mapped.meta["report"] = take_report(ready, mapped, rest).as_dict()  # what was chosen, and how far to trust it
+    return mapped
 
 
 def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,

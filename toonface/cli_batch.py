@@ -62,6 +62,8 @@ def batch(ctx: click.Context, job_file: str, scheduler: str | None, workers: int
     path = write_manifest(report, manifest or job.output / "manifest.json")
     for line in report.table():
         click.echo(line)
+    for line in report.warned():
+        click.echo(f"warning: {line}", err=True)
     for line in report.failures():
         click.echo(f"failed: {line}", err=True)
     click.echo(f"wrote {path}")

@@ -41,6 +41,9 @@ _NEUTRAL = click.option("--neutral", default=None, metavar="START:END|first|stil
                              "the stillest stretch where nobody speaks; else the first second where it is about "
                              "as restful as any, else the second nearest the take's typical pose and stillest].")
 _WORDS = ("first", "stillest")
+_JSON = click.option("--json", "as_json", is_flag=True,
+                     help="Print the take's report as one JSON object on standard output (the rest on standard "
+                          "error) instead of as text on standard error.")
 _CALIBRATE = click.option("--calibrate", "calibration", default=None, type=click.Path(dir_okay=False),
                           help="A calibration take of the same performer: its first second is the neutral and "
                                "all of it the range (instead of --profile).")
@@ -201,11 +204,16 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
               help="Map the performer's neutral onto this face's rest pose.")
 @MIRROR
 @_clean_settings
+@_JSON
 @take_options
 def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
-            neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning,
+            neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning, as_json: bool,
             reading: TakeReading) -> None:
-    """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz)."""
+    """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz).
+
+    Ends with a report of what was chosen and how far to trust it: the units, the rest window
+    and why, the profile, each motor's frames pinned at 0 or 1 and range used, and every warning.
+    """
     from toon import load_face, save_track
     from toonface.pipeline import map_onto_face
 
@@ -215,9 +223,22 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     track = map_onto_face(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
                      cleaning.settings(loaded.rate))
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
-               f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)")
-    for note in track.meta.get("notes", []):
-        click.echo(note if note.startswith("warning: ") else f"note: {note}", err=True)
+               f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)", err=as_json)
+    _report(track, Path(take).name, as_json)
+
+
+def _report(track, take: str, as_json: bool) -> None:
+    """The take's report (:mod:`mapping.report`): as text on stderr, or as JSON on stdout."""
+    import json
+
+    from mapping.report import TakeReport
+
+    report = TakeReport.from_dict({**track.meta["report"], "take": take})
+    if as_json:
+        click.echo(json.dumps(report.as_dict()))
+    else:
+        for line in report.lines():
+            click.echo(line, err=True)
 
 
 @click.command()
@@ -233,13 +254,16 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
               help="Output rate [default: the take's].")
 @MIRROR
 @click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")
+@_JSON
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             side_by_side: bool, reading: TakeReading) -> None:
+             side_by_side: bool, as_json: bool, reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4."""
     from capture.sources import VIDEO_SUFFIXES
+    from common.sound import has_audio
+    from player.beside import beside_width
     from toon import load_face
     from toonface.pipeline import map_onto_face, render, render_with_sound
 
@@ -257,12 +281,16 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
     bar = progress("render")(track.frames)
+    sound = video and has_audio(take)
     if video:  # the performer's own voice goes with the cartoon
         frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0)), dims,
                                    fps, progress=bar, side_by_side=side_by_side)
     else:
         frames = render(track, face_obj, output, dims, fps, progress=bar)
-    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]}{', with its sound' if video else ''})")
+    width = dims[0] + (beside_width(take, dims[1]) if side_by_side else 0)
+    click.echo(f"wrote {output} ({frames} frames, {width}x{dims[1]}"
+               f"{', with its sound' if sound else ', no sound in the video' if video else ''})", err=as_json)
+    _report(track, Path(take).name, as_json)
 
 
 @click.command()

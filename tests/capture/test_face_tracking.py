@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from capture.face_landmarks import BLENDSHAPES, LANDMARKS, canonical_face, model_path
+from capture.take import SOUND_LEVEL
 from capture.video_tracking import track_video
 from common import InputError
 from toonface.cli import main
@@ -77,11 +78,13 @@ def test_a_real_talking_face_is_found_in_every_frame_and_its_lips_stop_when_its_
     path = realdata / "video" / "grid" / clip
     take = track_video(path, "face")
     assert take.frames == 75 and take.meta["faces_found"] == 75 and take.dims == 3
-    assert take.labels == tuple(LANDMARKS) and take.channel_names == BLENDSHAPES
+    assert take.labels == tuple(LANDMARKS) and take.channel_names == (*BLENDSHAPES, SOUND_LEVEL)
     assert np.isfinite(take.channels).all() and 0 <= take.channels.min() and take.channels.max() <= 1
     gap = np.linalg.norm(take.positions[:, take.index("LIP_UP_IN")] - take.positions[:, take.index("LIP_LOW_IN")],
                          axis=1)
     loud = _speech_envelope(path, take.times, take.meta["start_time"])
+    level = take.channel(SOUND_LEVEL)  # the voice's loudness travels with the take: the same envelope
+    assert np.corrcoef(level, loud)[0, 1] > 0.8 and level.max() > 0.5
     last = np.flatnonzero(loud > 0.1 * loud.max())[-1]
     assert last < 60  # the clip ends in silence
     motion = np.abs(np.diff(gap))

@@ -90,9 +90,9 @@ def test_a_grid_clip_cut_as_speech_starts_rests_in_its_silence_and_opens_the_mou
     assert np.nanmax(sound[rest]) < QUIET
     mouth = track.values[:, motor_index("MB")]
     speaking = sound > 0.3
-    assert np.median(mouth[speaking]) > np.median(mouth[rest]) + 0.15
+    assert np.percentile(mouth[speaking], 75) > np.median(mouth[rest]) + 0.2
     first = map_take(take, neutral_window="first").values[:, motor_index("MB")]
-    assert np.median(mouth[speaking]) > np.median(first[speaking]) + 0.05  # what the first second did
+    assert mouth[speaking].mean() > first[speaking].mean() + 0.05  # what the first second did
     save_take(take, tmp_path / "cut.npz")  # the sound level travels with the take
     capsys.readouterr()
     assert main(["map", str(tmp_path / "cut.npz"), "-o", str(tmp_path / "m.csv")]) == 0

@@ -355,3 +355,24 @@ def test_dry_run_lists_what_a_changed_setting_remakes_as_the_readme_says(tmp_pat
         assert main(["batch", str(path), "--dry-run"]) == 0
         assert capsys.readouterr().out.strip() == f"a/classic: {remade}"
         path.write_text(path.read_text().replace(new, old))
+
+
+@pytest.mark.slow
+def test_each_pair_keeps_its_takes_report_and_the_summary_names_takes_with_warnings(tmp_path, capsys):
+    """The per-take report of map, kept per pair in the manifest and the stamp: a rerun that
+    skips the pair still lists the take whose report holds a warning."""
+    path = write_job(tmp_path, {"fine": 1.0}, ["classic"], "[write]\nsheet = false\nscore = false\nvideo = false\n")
+    syn = synthesize(seconds=1.0, rate=30.0, seed=5).take
+    save_take(type(syn)(syn.positions / 10.0, syn.labels, syn.rate), tmp_path / "takes" / "cm.npz")
+    for _ in range(2):  # made, then skipped
+        assert main(["batch", str(path), "--workers", "1"]) == 0
+        captured = capsys.readouterr()
+        warned = [line for line in captured.err.splitlines()
+                  if line.startswith("warning: ") and "matches no" not in line]  # the job's unused c3d glob
+        assert len(warned) == 1 and warned[0].startswith("warning: cm/classic: units: cm.npz read in"), captured.err
+        manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+        reports = {p["name"]: p["report"] for p in manifest["pairs"]}
+        assert reports["cm/classic"]["warnings"][0].startswith("units: cm.npz read in the units its file states")
+        assert reports["fine/classic"]["warnings"] == [] and reports["fine/classic"]["units"]["unit"] == "mm"
+        assert reports["fine/classic"]["motors"]["MB"]["range_used"] >= 0
+    assert "skipped         2" in captured.out

@@ -184,7 +184,9 @@ def test_side_by_side_puts_the_performers_own_frame_left_of_the_cartoon(realdata
 
     source = realdata / "video" / "grid" / "bbaf2n.mpg"
     out = tmp_path / "both.mp4"
+    capsys.readouterr()
     assert main(["retarget", str(source), "-o", str(out), "--face", "round", "--size", "64", "--side-by-side"]) == 0
+    assert f"wrote {out} (75 frames, 144x64, with its sound)" in capsys.readouterr().out  # it said 64x64
     with av.open(str(out)) as made, av.open(str(source)) as original:
         ours = [f.to_ndarray(format="rgb24") for f in made.decode(video=0)]
         theirs = [f.to_ndarray(format="rgb24") for f in original.decode(video=0)]
@@ -222,3 +224,25 @@ def test_play_follows_a_camera_live(realdata, tmp_path, capsys):
     assert "no camera 9" in capsys.readouterr().err
     assert main(["play", "--listen", "off", "--camera", "0", "--source", "synthetic"]) == 2
     assert "give --camera or --source, not both" in capsys.readouterr().err
+
+
+@pytest.mark.gl
+@pytest.mark.slow
+def test_a_video_without_sound_is_not_said_to_carry_its_sound(realdata, tmp_path, capsys):
+    """retarget said "with its sound" for a video that has no audio stream."""
+    source = realdata / "video" / "grid" / "lbax4n.mpg"
+    silent = tmp_path / "silent.mp4"
+    with av.open(str(source)) as inp, av.open(str(silent), "w", format="mp4") as out:
+        stream = out.add_stream("libx264", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 360, 288, "yuv420p"
+        for frame in inp.decode(video=0):
+            out.mux(stream.encode(av.VideoFrame.from_ndarray(frame.to_ndarray(format="rgb24"), format="rgb24")))
+        out.mux(stream.encode(None))
+    capsys.readouterr()
+    assert main(["retarget", str(silent), "-o", str(tmp_path / "c.mp4"), "--size", "48"]) == 0
+    captured = capsys.readouterr()
+    assert "(75 frames, 48x48, no sound in the video)" in captured.out
+    assert "report for silent.mp4:" in captured.err and "where nobody speaks" not in captured.err
+    with av.open(str(tmp_path / "c.mp4")) as made:
+        assert not made.streams.audio
+

@@ -125,8 +125,9 @@ def read_stamp(path: Path) -> dict:
     return doc if isinstance(doc, dict) and doc.get("format") == STAMP_FORMAT else {"outputs": {}}
 
 
-def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
-    """Record the outputs just ``written`` (kind -> bytes) for ``pair``, keeping earlier up-to-date ones."""
+def write_stamp(pair: Pair, written: dict[str, int], frames: int, report: dict | None = None) -> None:
+    """Record the outputs just ``written`` (kind -> bytes) for ``pair``, keeping earlier up-to-date
+    ones, and its take's ``report``, which a rerun that skips the pair reports again."""
     previous = pair.recorded.get("outputs", {})
     outputs = {}
     for output in pair.outputs:
@@ -136,7 +137,8 @@ def write_stamp(pair: Pair, written: dict[str, int], frames: int) -> None:
             outputs[output.kind] = previous[output.kind]
     seen = list(pair.take_stat) if pair.take_stat else None
     doc = {"format": STAMP_FORMAT, "take": str(pair.take), "take_stat": seen, "face": pair.face,
-           "inputs": pair.inputs, "frames": frames, "outputs": outputs}
+           "inputs": pair.inputs, "frames": frames, "outputs": outputs,
+           "report": report if report else pair.recorded.get("report", {})}
     pair.stamp.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(pair.stamp) as tmp:
         tmp.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")

@@ -6,6 +6,7 @@ import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from common import atomic_path
 from toonface.batch.job import Job
@@ -18,7 +19,9 @@ STATUSES = ("done", "skipped", "failed", "cancelled")
 @dataclass
 class PairResult:
     """How one pair ended: ``status`` is one of :data:`STATUSES`; ``written`` maps output kinds
-    made this run to their bytes; ``seconds`` is the compute time of its tasks on the workers."""
+    made this run to their bytes; ``seconds`` is the compute time of its tasks on the workers;
+    ``report`` is its mapped take's report (:mod:`mapping.report`; empty for a pair not mapped
+    this run)."""
 
     pair: Pair
     status: str
@@ -26,6 +29,7 @@ class PairResult:
     frames: int = 0
     seconds: float = 0.0
     written: dict[str, int] = field(default_factory=dict)
+    report: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass
@@ -62,6 +66,16 @@ class BatchReport:
                      f"{self.seconds:>9.1f} s wall on {self.workers} worker thread{'s' * (self.workers != 1)}{rate}")
         return lines
 
+    def warned(self) -> list[str]:
+        """One line per pair whose take's report holds a warning: its name, how many, the first."""
+        lines = []
+        for result in self.results:
+            warnings = result.report.get("warnings", [])
+            if warnings:
+                more = f" (and {len(warnings) - 1} more)" if len(warnings) > 1 else ""
+                lines.append(f"{result.pair.name}: {warnings[0]}{more}")
+        return lines
+
     def failures(self) -> list[str]:
         """One line per pair that did not finish: its name and why."""
         return [f"{r.pair.name}: {r.reason}" for r in self.results if r.status in ("failed", "cancelled")]
@@ -84,7 +98,8 @@ def write_manifest(report: BatchReport, path: str | os.PathLike) -> Path:
                             "written": output.kind in result.written, "up_to_date": size is not None})
         pairs.append({"name": result.pair.name, "take": str(result.pair.take), "face": result.pair.face,
                       "status": result.status, "reason": result.reason, "frames": result.frames,
-                      "compute_seconds": round(result.seconds, 3), "inputs": result.pair.inputs, "outputs": outputs})
+                      "compute_seconds": round(result.seconds, 3), "inputs": result.pair.inputs, "outputs": outputs,
+                      "report": result.report})
     doc = {"format": MANIFEST_FORMAT, "job": str(report.job.path), "scheduler": report.scheduler,
            "workers": report.workers, "wall_seconds": round(report.seconds, 3),
            "totals": {status: report.count(status) for status in STATUSES}, "pairs": pairs}

@@ -130,6 +130,7 @@ class _PairWork:
         self.frames = 0
         self.written: dict[str, int] = {}
         self.reason = ""
+        self.report: dict = {}
 
 
 class _Run:
@@ -158,7 +159,8 @@ class _Run:
             if pair.error:
                 self.results[pair.name] = PairResult(pair, "failed", pair.error)
             elif not pair.stale:
-                self.results[pair.name] = PairResult(pair, "skipped", frames=pair.recorded.get("frames", 0))
+                self.results[pair.name] = PairResult(pair, "skipped", frames=pair.recorded.get("frames", 0),
+                                                     report=_recorded_report(pair))
             else:
                 waiting.append(pair)
                 self.remaining[pair.take] = self.remaining.get(pair.take, 0) + 1
@@ -221,6 +223,7 @@ class _Run:
             work.keys.append(key)
         work.track = self._submit(work, "map", tasks.map_pair, self.ready[pair.take], pair.face, priority=0)
         self._submit(work, "count", tasks.count_frames, work.track, self.job.render.fps)
+        self._submit(work, "report", tasks.report_pair, work.track)
         for kind in pair.stale:
             path = pair.output(kind).path
             if kind == "motors":
@@ -243,6 +246,8 @@ class _Run:
             work.frames, work.written["video"] = future.result()
         elif stage in ("motors", "score", "sheet"):
             work.written[stage] = future.result()
+        elif stage == "report":
+            work.report = future.result()
 
     def _submit_video(self, work: _PairWork, frames: int, fps: float) -> None:
         if frames < 1:
@@ -262,9 +267,10 @@ class _Run:
         if self.remaining[work.pair.take] == 0:  # the last pair of its take: the cleaned take may go
             self.ready.pop(work.pair.take, None)
         if work.written:
-            write_stamp(work.pair, work.written, work.frames)
+            write_stamp(work.pair, work.written, work.frames, work.report)
         status = "failed" if work.reason else "done"
-        self.results[work.pair.name] = PairResult(work.pair, status, work.reason, work.frames, 0.0, work.written)
+        self.results[work.pair.name] = PairResult(work.pair, status, work.reason, work.frames, 0.0, work.written,
+                                                  work.report)
 
     def cancel_unfinished(self) -> None:
         """Cancel the tasks of pairs still in flight and report those pairs as cancelled."""
@@ -276,7 +282,7 @@ class _Run:
             self.results[work.pair.name] = PairResult(work.pair, "cancelled", "interrupted before it finished",
                                                       work.frames, 0.0, work.written)
             if work.written:
-                write_stamp(work.pair, work.written, work.frames)
+                write_stamp(work.pair, work.written, work.frames, work.report)
         self.active.clear()
 
     def add_compute_times(self, records: list[dict]) -> None:
@@ -314,3 +320,9 @@ def _reason(stage: str, future: Future) -> str:
     if isinstance(exc, OSError):
         return f"{exc.filename + ': ' if exc.filename else ''}{exc.strerror or exc}"
     return f"{stage}: {type(exc).__name__}: {exc}"
+
+
+def _recorded_report(pair: Pair) -> dict:
+    """The take's report a skipped pair's stamp kept (empty if none, or not a table)."""
+    report = pair.recorded.get("report")
+    return report if isinstance(report, dict) else {}

@@ -45,6 +45,11 @@ def map_pair(ready: ReadyTake, face: str) -> MotorTrack:
     return map_ready(ready, face_rig(face).face.neutral())
 
 
+def report_pair(track: MotorTrack) -> dict:
+    """The report of a pair's mapped take (:mod:`mapping.report`), as data for the manifest."""
+    return dict(track.meta.get("report", {}))
+
+
 def face_rig(face: str) -> FaceRig:
     """This worker's rig for ``face`` (a built-in name or a file), made once while the file is
     unchanged."""

@@ -1,0 +1,109 @@
+"""What was chosen for a mapped take, and how far to trust it: the report ``map``, ``retarget``
+and each batch pair end with.
+
+It names the units (and who said them, with the size check's figure), the rest window and why,
+the profile (given, calibrated, typical, from the take), per mapped motor the share of frames
+pinned at 0 and at 1 and the share of its range used, and every warning. A motor pinned at a
+bound it does not rest at for more than :data:`PINNED_SHARE` of the take is a warning: its range
+is narrower than the take's motion (or the rest is wrong), and the cartoon holds still there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from toon import MOTOR_CODES, MotorTrack
+
+if TYPE_CHECKING:
+    from mapping.workflow import ReadyTake
+
+#: A motor value within this of 0 or 1 is pinned there.
+PINNED_WITHIN = 0.005
+#: Pinned at a bound it does not rest at for more than this share of the frames: a warning.
+PINNED_SHARE = 0.10
+#: A motor rests at a bound when its neutral is within this of it.
+RESTS_AT = 0.05
+WARNING = "warning: "
+
+
+@dataclass(frozen=True)
+class TakeReport:
+    """The report of one mapped take (see the module docstring).
+
+    Attributes
+    ----------
+    take : str
+        The take's file name.
+    units, rest, profile : str
+        What was chosen, in words.
+    motors : dict of str to dict
+        Per mapped motor: ``at_0`` and ``at_1`` (shares of frames pinned there) and
+        ``range_used`` (1st to 99th percentile spread, a share of the motor's range).
+    warnings, notes : list of str
+        Without their ``warning:``/``note:`` prefixes.
+    units_detail : dict
+        The units as data (:meth:`mapping.units.Units.as_dict`).
+    """
+
+    take: str
+    units: str
+    rest: str
+    profile: str
+    motors: dict[str, dict[str, float]]
+    warnings: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    units_detail: dict[str, Any] = field(default_factory=dict)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The report as data (``--json``, the batch manifest)."""
+        return {"take": self.take, "units": self.units_detail or self.units, "rest": self.rest,
+                "profile": self.profile, "motors": self.motors, "warnings": self.warnings, "notes": self.notes}
+
+    @classmethod
+    def from_dict(cls, doc: dict[str, Any]) -> TakeReport:
+        """The report :meth:`as_dict` gave (a track's ``meta["report"]``)."""
+        units = doc.get("units", "")
+        text = (f"{units['unit']} ({units['from']}; {units['check']})" if isinstance(units, dict) else str(units))
+        return cls(str(doc.get("take", "")), text, str(doc.get("rest", "")), str(doc.get("profile", "")),
+                   dict(doc.get("motors", {})), list(doc.get("warnings", [])), list(doc.get("notes", [])),
+                   units if isinstance(units, dict) else {})
+
+    def lines(self) -> list[str]:
+        """The report as text, one item a line (the motors four to a line)."""
+        out = [f"report for {self.take}:", f"  units: {self.units}", f"  rest: {self.rest}",
+               f"  profile: {self.profile}",
+               "  motors (frames at 0 / at 1, range used):"]
+        cells = [f"{code} {m['at_0']:4.0%}/{m['at_1']:4.0%} {m['range_used']:4.0%}" for code, m in self.motors.items()]
+        out += ["    " + "   ".join(cells[i:i + 4]) for i in range(0, len(cells), 4)]
+        out += [f"  {WARNING}{w}" for w in self.warnings] + [f"  note: {n}" for n in self.notes]
+        return out
+
+
+def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: str = "") -> TakeReport:
+    """The report of ``track``, mapped from ``ready`` onto a face whose rest is ``neutral`` ``(21,)``."""
+    units = ready.prepared.units
+    detail = units.as_dict() if units is not None else {}
+    units_text = f"{detail['unit']} ({detail['from']}; {detail['check']})" if detail else "not checked"
+    warnings = [n[len(WARNING):] for n in ready.notes if n.startswith(WARNING)]
+    notes = [n for n in ready.notes if not n.startswith(WARNING)]
+    motors: dict[str, dict[str, float]] = {}
+    mapped = track.meta.get("mapped", MOTOR_CODES)
+    for code in (c for c in MOTOR_CODES if c in mapped):
+        values = track.column(code)
+        values = values[np.isfinite(values)]
+        if not len(values):
+            continue
+        low, high = float(np.mean(values <= PINNED_WITHIN)), float(np.mean(values >= 1 - PINNED_WITHIN))
+        spread = np.percentile(np.clip(values, 0.0, 1.0), [1.0, 99.0])
+        motors[code] = {"at_0": round(low, 4), "at_1": round(high, 4), "range_used": round(float(np.ptp(spread)), 4)}
+        rest = float(neutral[MOTOR_CODES.index(code)])
+        for share, bound, word in ((low, 0.0, "bottom"), (high, 1.0, "top")):
+            if share > PINNED_SHARE and abs(rest - bound) > RESTS_AT:
+                warnings.append(f"{code} is pinned at {bound:g} (its {word}) in {share:.0%} of the frames, and rests "
+                                f"at {rest:.2f}: the take moves beyond the profile's range there (or the rest is "
+                                "not a rest); a calibration (--calibrate) or --neutral may fit it")
+    return TakeReport(take or ready.prepared.take.meta.get("file", "the take"), units_text, ready.rest or "given",
+                      ready.profile_kind or "given", motors, warnings, notes, detail)

@@ -1,0 +1,105 @@
+"""The report every mapped take ends with: what was chosen (units, rest, profile), each motor's
+frames pinned at its bounds and range used, and every warning; for map, retarget and batch."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from capture import Take, load_markerset, save_take, synthesize
+from mapping import calibrate, choose_mapping, prepare
+from mapping.report import TakeReport, take_report
+from mapping.workflow import map_ready, ready_take
+from toon import MOTOR_CODES, MotorTrack, motor_index, standard_neutral
+from toonface.cli import main
+
+
+def test_shares_are_counted_and_a_motor_pinned_away_from_its_rest_is_a_warning():
+    """Counted by hand on a made-up track: MB at 1 in 30 of 100 frames, BRL at 0 in 50, ERU
+    at 1 in 20 (ERU rests at 0.8: pinned at a bound it does not rest at)."""
+    syn = synthesize(seconds=2.0, seed=2)
+    ready = ready_take(syn.take)
+    values = np.tile(standard_neutral(), (100, 1))
+    values[:30, motor_index("MB")] = 1.0
+    values[:50, motor_index("BRL")] = 0.0
+    values[:20, motor_index("ERU")] = 1.0
+    values[20:25, motor_index("ERL")] = 0.0  # 5 %: not a warning
+    track = MotorTrack(values, 30.0, meta={"mapped": list(MOTOR_CODES)})
+    rest = standard_neutral().copy()
+    rest[motor_index("BRL")] = 0.02  # BRL rests at its bottom here: pinned there is its rest
+    report = take_report(ready, track, rest)
+    assert report.motors["MB"] == {"at_0": 0.0, "at_1": 0.3, "range_used": pytest.approx(0.9)}
+    assert report.motors["BRL"]["at_0"] == 0.5 and report.motors["ERL"]["at_0"] == 0.05
+    pinned = [w for w in report.warnings if "pinned" in w]
+    assert [w.split()[0] for w in pinned] == ["ERU", "MB"]
+    assert pinned[1].startswith("MB is pinned at 1 (its top) in 30% of the frames, and rests at 0.10")
+
+
+def test_a_profile_narrower_than_the_take_pins_motors_and_says_so():
+    """A profile whose range is the rest second alone: the take's expressions go past it."""
+    syn = synthesize(seconds=12.0, seed=3)
+    mapping, markerset = choose_mapping(syn.take)
+    narrow = calibrate(mapping, prepare(syn.take, markerset), (0.0, 1.0), range_window=(0.0, 1.0),
+                       require_motion=False)
+    ready = ready_take(syn.take, profile=narrow)
+    track = map_ready(ready)
+    report = TakeReport.from_dict(track.meta["report"])
+    assert report.profile == "calibrated on a range of motion" and report.rest.startswith("the profile's")
+    flagged = {w.split()[0] for w in report.warnings if "pinned" in w}
+    by_hand = {c for c in track.meta["mapped"]
+               if max(np.mean(track.column(c) <= 0.005) * (standard_neutral()[motor_index(c)] > 0.05),
+                      np.mean(track.column(c) >= 0.995) * (standard_neutral()[motor_index(c)] < 0.95)) > 0.1}
+    assert flagged == by_hand and "MB" in flagged
+
+
+def test_map_prints_the_report_and_json_gives_it_as_data(realdata, tmp_path, capsys):
+    path = realdata / "facial" / "animface" / "JawMoCap.csv"
+    assert main(["map", str(path), "-o", str(tmp_path / "m.csv")]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith("wrote ")
+    lines = captured.err.splitlines()
+    assert lines[0] == "report for JawMoCap.csv:"
+    assert lines[1].startswith("  units: cm (inferred; as read, shape 0.1")
+    assert lines[2].startswith("  rest: 0-1 s (first second with the head seen")
+    assert lines[3] == "  profile: from the take itself (1st-99th percentiles)"
+    assert any(" MLH " in line for line in lines)
+    assert main(["map", str(path), "-o", str(tmp_path / "m.csv"), "--json"]) == 0
+    captured = capsys.readouterr()
+    doc = json.loads(captured.out)
+    assert doc["units"]["unit"] == "cm" and doc["units"]["from"] == "inferred"
+    assert set(doc["motors"]) == {c for c in MOTOR_CODES if c not in ("PLH", "PLV", "PRH", "PRV")}
+    assert doc["motors"]["MB"]["range_used"] > 0.8  # the jaw take opens the mouth wide
+    assert captured.err.startswith("wrote ")
+
+
+def test_retarget_ends_with_the_same_report_as_map(tmp_path, capsys):
+    """retarget printed none of map's warnings and notes."""
+    syn = synthesize(seconds=1.5, seed=4).take
+    save_take(Take(syn.positions / 10.0, syn.labels, syn.rate), tmp_path / "cm.npz")  # a file in the wrong units
+    assert main(["map", str(tmp_path / "cm.npz"), "-o", str(tmp_path / "m.csv")]) == 0
+    mapped = capsys.readouterr().err.splitlines()
+    assert main(["retarget", str(tmp_path / "cm.npz"), "-o", str(tmp_path / "v.mp4"), "--size", "48"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith(f"wrote {tmp_path / 'v.mp4'} (45 frames, 48x48)")
+    reported = [line for line in captured.err.splitlines() if not line.startswith("render")]
+    assert reported == mapped
+    assert any(line.startswith("  warning: units: cm.npz read in the units its file states") for line in reported)
+
+
+def test_the_markerset_drafted_with_one_marker_says_one_marker(tmp_path, capsys):
+    take = synthesize(seconds=1.0, seed=1).take
+    positions = np.full_like(take.positions, np.nan)
+    positions[:, 0] = take.positions[:, 0]
+    save_take(replace(take, positions=positions), tmp_path / "t.npz")
+    assert main(["markerset", "draft", str(tmp_path / "t.npz"), "-o", str(tmp_path / "m.toml")]) == 2
+    assert "only 1 marker is ever seen" in capsys.readouterr().err
+
+
+def test_a_toon32_take_has_units_from_its_file_and_nothing_to_warn(tmp_path):
+    syn = synthesize(seconds=4.0, seed=6)
+    report = TakeReport.from_dict(map_ready(ready_take(syn.take)).meta["report"])
+    assert report.units.startswith("mm (file; shape 1") and not report.warnings
+    assert report.profile == f"typical for {load_markerset('toon32').name} (built in)"
