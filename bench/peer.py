@@ -59,20 +59,31 @@ def plain_pipeline(take: Take, mapping: Mapping, markerset: MarkerSet, rest: tup
     return out
 
 
-def scores(values: np.ndarray, truth: np.ndarray) -> dict:
-    """RMSE (% of range) raw and with each motor's gain and offset fitted away, and each motor's
-    correlation with the truth, over frames ``(F, 21)``."""
+def scores(values: np.ndarray, truth: np.ndarray, rest: np.ndarray | None = None) -> dict:
+    """RMSE (% of range) raw, with each motor's gain and offset fitted away, and (given the
+    performer's ``rest`` ``(21,)``) with a separate gain either side of it (``two_sided_pct``:
+    how a rest maps onto a face's own does not count), and each motor's correlation with the
+    truth, over frames ``(F, 21)``."""
     fitted = np.empty_like(values)
+    sided = np.empty_like(values)
     r = np.empty(values.shape[1])
     for c in range(values.shape[1]):
         design = np.column_stack([values[:, c], np.ones(len(values))])
         coef, *_ = np.linalg.lstsq(design, truth[:, c], rcond=None)
         fitted[:, c] = design @ coef
+        if rest is not None:
+            off = values[:, c] - rest[c]
+            both = np.column_stack([np.minimum(off, 0.0), np.maximum(off, 0.0), np.ones(len(values))])
+            coef, *_ = np.linalg.lstsq(both, truth[:, c], rcond=None)
+            sided[:, c] = both @ coef
         spread = values[:, c].std() * truth[:, c].std()
         r[c] = float(np.mean((values[:, c] - values[:, c].mean()) * (truth[:, c] - truth[:, c].mean())) / spread) \
             if spread > 0 else 0.0
-    return {"raw_pct": 100 * float(np.sqrt(np.mean((values - truth) ** 2))),
-            "fitted_pct": 100 * float(np.sqrt(np.mean((fitted - truth) ** 2))),
-            "r": {code: round(float(x), 3) for code, x in zip(MOTOR_CODES, r, strict=True)},
-            "per_motor_pct": {code: round(100 * float(x), 2) for code, x in
-                              zip(MOTOR_CODES, np.sqrt(np.mean((values - truth) ** 2, axis=0)), strict=True)}}
+    out = {"raw_pct": 100 * float(np.sqrt(np.mean((values - truth) ** 2))),
+           "fitted_pct": 100 * float(np.sqrt(np.mean((fitted - truth) ** 2))),
+           "r": {code: round(float(x), 3) for code, x in zip(MOTOR_CODES, r, strict=True)},
+           "per_motor_pct": {code: round(100 * float(x), 2) for code, x in
+                             zip(MOTOR_CODES, np.sqrt(np.mean((values - truth) ** 2, axis=0)), strict=True)}}
+    if rest is not None:
+        out["two_sided_pct"] = 100 * float(np.sqrt(np.mean((sided - truth) ** 2)))
+    return out

@@ -34,6 +34,14 @@ MIN_RANGE = 0.5
 MIN_MOTION = 4.0
 #: Such a source keeps at least this much either side of rest, so its drift moves its motor little.
 STILL_SIDE = 10.0
+#: Per kind of motor (a motor code's first letter), what its sources' :data:`MIN_MOTION` and
+#: :data:`STILL_SIDE` are on a real face (mm): brows and the mouth move 10-40 mm, but lids travel
+#: 2-10 mm (a lower lid 2-4) and pupils 3-6, so one threshold for all took a lower lid's whole
+#: 3 mm squint for drift and kept it 10 mm either side of rest (its motor then hardly moved).
+KIND_MOTION: dict[str, tuple[float, float]] = {"B": (MIN_MOTION, STILL_SIDE), "M": (MIN_MOTION, STILL_SIDE),
+                                               "E": (1.0, 3.0), "P": (1.0, 4.0)}
+#: A source moves if its range is this many times its own jitter, whatever its kind.
+NOISE_FACTOR = 8.0
 
 
 @dataclass(frozen=True)
@@ -84,13 +92,14 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
                   range_columns: dict[str, int], markerset: str, extra: Sequence[Source] = (),
                   percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "",
                   notes: dict[str, str] | None = None, min_side: float = 0.0,
-                  require_motion: bool = True) -> Profile | Failure:
+                  require_motion: bool = True, kinds: dict[str, str] | None = None) -> Profile | Failure:
     """Measure a profile.
 
     Parameters
     ----------
     neutral_take, range_take : Stabilised
-        Cleaned, head-stabilised takes (may be the same one) for the rest pose and the range.
+        Cleaned, head-stabilised takes (may be the same one) for the rest pose and the range;
+        the range is measured on samples seen, not on gaps filled (``filled``).
     neutral_times : ndarray, shape (F,)
         ``neutral_take``'s frame times.
     neutral_window : tuple of float
@@ -110,6 +119,12 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         Each side of a face source's range reaches at least this far from rest (mm, or degrees
         for angles), so that a take that hardly moves a marker does not stretch its jitter over
         the motor's whole range (for ranges taken from an ordinary take, not a calibration).
+    kinds : dict of str to str, optional
+        For a range-of-motion take: source key -> the kind of motor it drives
+        (:data:`KIND_MOTION`'s letters), so that what counts as moving, and the range a still
+        source keeps, follow its kind. A source moves when its range is at least its kind's
+        minimum (:data:`MIN_MOTION` without a kind), or :data:`NOISE_FACTOR` times its own jitter
+        (the median frame-to-frame change, as a standard deviation), whichever is larger.
 
     Returns
     -------
@@ -133,10 +148,18 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     range_values = _measure_all(wanted, range_take.local[usable], range_columns,
                                 head_angles(range_take.rotation[usable], rest),
                                 {k: v[usable] for k, v in range_take.channels.items()})
+    if range_take.filled is not None:  # a range is what the performer was seen to do, not a gap's guess
+        made_up = range_take.filled[usable]
+        for i, source in enumerate(wanted):
+            if source.markers and np.isfinite(range_values[:, i]).any():
+                guessed = made_up[:, [range_columns[m] for m in source.markers]].any(axis=1)
+                if guessed.mean() < 0.5:  # a source seen so little keeps its guesses rather than nothing
+                    range_values[guessed, i] = np.nan
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
         rest_value = np.nanmedian(rest_values, axis=0)
         low, high = _nan_percentiles(range_values, percentiles)
+        jitter = 1.4826 * np.nanmedian(np.abs(np.diff(range_values, axis=0)), axis=0) / np.sqrt(2)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
     moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
@@ -148,10 +171,11 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         if source.kind != "head" and hi - lo >= MIN_RANGE * unit:
             moving.append(source.key)
         if source.kind != "head":
+            least, still_side = KIND_MOTION.get((kinds or {}).get(source.key, ""), (MIN_MOTION, STILL_SIDE))
             side = min_side * unit
-            if hi - lo < MIN_MOTION * unit:
+            if hi - lo < max(least * unit, NOISE_FACTOR * jitter[i]):
                 still.append(source.key)
-                side = max(side, STILL_SIDE * unit)
+                side = max(side, still_side * unit)
             lo, hi = min(lo, rest_value[i] - side), max(hi, rest_value[i] + side)
         elif hi - lo < MIN_RANGE:
             still.append(source.key)

@@ -28,7 +28,7 @@ from mapping.coupling import learn_couplings
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, normalise
 from mapping.plan import resolved_mode
-from mapping.profile import Profile, build_profile, load_profile
+from mapping.profile import KIND_MOTION, Profile, build_profile, load_profile
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
 from mapping.sources import head_angles, measure
@@ -154,12 +154,15 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + ("" if how == "given" else f" ({how})"),
              "range": f"percentiles {percentiles[0]:g}-{percentiles[1]:g}"
                       + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}
+    full = (range_from is not None or range_window is not None) and not rest_only
+    # A range-of-motion take moves each part on purpose: a lid's 3 mm there is its range, where in
+    # an ordinary take 3 mm may be drift, and the one threshold for every kind stays.
+    kinds = source_kinds(mapping) if full else None
     profile = build_profile(neutral.stable, neutral.take.times, window, source.stable, frames, neutral.columns,
                             source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes,
-                            min_side, require_motion)
+                            min_side, require_motion, kinds)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
-    full = (range_from is not None or range_window is not None) and not rest_only
     profile = replace(profile, full_range=full)
     if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
         profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames, percentiles)
@@ -168,6 +171,24 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
         profile = replace(profile, couplings=_couplings(mapping, source, frames, profile))
     return profile
+
+
+def source_kinds(mapping: Mapping) -> dict[str, str]:
+    """Each marker source the mapping reads (its key) -> the kind of motor it drives
+    (:data:`mapping.profile.KIND_MOTION`'s letters; the smallest where it drives several).
+    Blendshape scores keep the thresholds tuned in their own units."""
+    order = {kind: i for i, kind in enumerate(sorted(KIND_MOTION, key=lambda k: KIND_MOTION[k]))}
+    kinds: dict[str, str] = {}
+    for rule in mapping.rules:
+        kind = rule.code[0]
+        if kind not in KIND_MOTION:
+            continue
+        for source in rule.sources:
+            if not source.markers:
+                continue
+            if source.key not in kinds or order[kind] < order[kinds[source.key]]:
+                kinds[source.key] = kind
+    return kinds
 
 
 def _couplings(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile: Profile

@@ -172,7 +172,8 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
                f"range {profile.notes['range']}")
     idle = [src.key for src in chosen.sources() if src.key in still and not src.key.startswith("head.")]
     if idle:
-        click.echo(f"warning: not moving over the range frames (under {MIN_MOTION:g} mm): {', '.join(idle)}; "
+        kinds = "" if not profile.full_range else " (1 mm for lids and pupils, which keep 3-4 mm, in a range window)"
+        click.echo(f"warning: not moving over the range frames (under {MIN_MOTION:g} mm{kinds}): {', '.join(idle)}; "
                    f"they keep a range of {STILL_SIDE:g} mm either side of rest, so the motors that follow them "
                    "move little", err=True)
 

@@ -144,3 +144,29 @@ def test_a_side_the_sweep_lost_takes_the_mirror_s_reach():
     reach = truth.sources[key].high - truth.sources[key].neutral
     assert lost.sources[key].high - lost.sources[key].neutral == pytest.approx(reach, abs=0.25)
     assert "LID_R_UP.y high" in lost.notes["from_mirror"] and "from_mirror" not in truth.notes
+
+
+@pytest.mark.parametrize("seed", [11, 12])
+def test_lids_that_travel_three_millimetres_in_a_sweep_are_moving(seed):
+    """On a performer whose lower lids rise 2.6 mm in a smile, the one 4 mm "not moving" rule
+    for every source kept the lid 10 mm either side of rest: its motor moved between 0.17 and
+    0.37 where the truth went from 0 to 0.65. A sweep's lid motion is the lid's range."""
+    from bench import third_performer
+    from mapping import map_stabilised
+
+    third = third_performer.perform(seconds=10.0, seed=seed)
+    take = third.take
+    mapping, markerset = choose_mapping(take)
+    prepared = prepare(take, markerset)
+    profile = calibrate(mapping, prepared, (0.0, 1.0), range_window=(1.0, third_performer.SWEEP_END))
+    for side in "RL":
+        lid = profile.sources[f"LID_{side}_LOW.y"]
+        assert 2.0 < lid.high - lid.neutral < 3.3  # the truth's 2.6 mm, as cleaned
+        assert f"LID_{side}_LOW.y" not in profile.notes.get("no_motion", "")
+    values = map_stabilised(prepared.stable, prepared.columns, take.times, take.rate, mapping, profile, third.rest,
+                            filled=prepared.stable.filled).values
+    for code in ("ERL", "ELL"):  # over the whole take, sweep included: the lid's full travel
+        c = MOTOR_CODES.index(code)
+        truth = third.motors[:, c]
+        assert np.ptp(values[:, c]) > 0.7 * np.ptp(truth)
+        assert np.corrcoef(values[:, c], truth)[0, 1] > 0.85
