@@ -21,6 +21,7 @@ import numpy as np
 
 from capture import MarkerSet, Take, load_markerset
 from capture.markerset import find_markerset
+from capture.scale import check_scale
 from capture.take import SOUND_LEVEL
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
@@ -34,6 +35,7 @@ from mapping.rest import choose_rest, stillest_window
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
 from mapping.sweep import mirror_lost_sides
+from mapping.typical import TYPICAL, bound_by_typical
 from mapping.units import Units, settle_units
 from toon import MotorTrack, standard_neutral
 
@@ -239,6 +241,13 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
         kind, rest = "from the take itself (1st-99th percentiles)", profile.notes["neutral"]
+        size = check_scale(prepared.take, markerset).ratio or 1.0
+        profile, widened = bound_by_typical(profile, chosen, size)
+        if widened:
+            kind += f", each side at least a typical face's (x{size:.2f})"
+            notes.append(f"the take's own ranges of {', '.join(widened)} widened to a typical face's ({TYPICAL}'s "
+                         f"typical profile, scaled x{size:.2f} to this performer): a take's extremes need not be the "
+                         "performer's; calibrate on a range-of-motion take (--calibrate) for the performer's own")
     else:
         if typical is None:
             kind = (f"calibrated on a range of motion{f' ({profile.source})' if profile.source else ''}"

@@ -64,7 +64,7 @@ def test_map_prints_the_report_and_json_gives_it_as_data(realdata, tmp_path, cap
     assert lines[0] == "report for JawMoCap.csv:"
     assert lines[1].startswith("  units: cm (inferred; as read, shape 0.1")
     assert lines[2].startswith("  rest: 0-1 s (first second with the head seen")
-    assert lines[3] == "  profile: from the take itself (1st-99th percentiles)"
+    assert lines[3] == "  profile: from the take itself (1st-99th percentiles), each side at least a typical face's (x1.00)"
     assert any(" MLH " in line for line in lines)
     assert main(["map", str(path), "-o", str(tmp_path / "m.csv"), "--json"]) == 0
     captured = capsys.readouterr()
@@ -103,3 +103,21 @@ def test_a_toon32_take_has_units_from_its_file_and_nothing_to_warn(tmp_path):
     report = TakeReport.from_dict(map_ready(ready_take(syn.take)).meta["report"])
     assert report.units.startswith("mm (file; shape 1") and not report.warnings
     assert report.profile == f"typical for {load_markerset('toon32').name} (built in)"
+
+
+def test_a_squint_on_a_layout_without_a_typical_profile_is_not_a_shut_eye(realdata):
+    """A take's own extremes were its motors' ends: upper lids that narrow by 5 mm in a smile
+    (a typical face closes them by 11) shut the cartoon's eyes. Bounded by a typical face's
+    range, and said so."""
+    from capture import load_take
+    from mapping import map_take
+
+    take = load_take(realdata / "facial" / "animface" / "JawMoCap.csv", units="cm")
+    positions = take.positions.copy()
+    squint = slice(600, 700)
+    for lid in ("Reye_Up", "Leye_Up"):  # the recording's axes are the head frame's: y is up
+        positions[squint, take.index(lid), 1] -= 5.0
+    track = map_take(replace(take, positions=positions))
+    eru = track.column("ERU")
+    assert eru[squint].min() > 0.3 and np.median(eru[squint]) < eru[:500].mean() - 0.2  # narrowed, not shut
+    assert any("widened to a typical face's" in n and "Reye_Up.y" in n for n in track.meta["notes"])

@@ -1,0 +1,72 @@
+"""A take's own ranges bounded by what a typical face can do.
+
+Without a range-of-motion calibration, a profile made on the take itself maps the take's 1st
+and 99th percentiles onto each motor's ends. A take's extremes are not the performer's: one who
+narrows the eyes by a quarter in a smile would get a cartoon whose eyes shut, and a sneer would
+read as a full squint. :func:`bound_by_typical` widens each side of such a range to at least a
+typical face's (the built-in typical profile of ``toon32``, :data:`TYPICAL`), scaled to the
+performer's size, for every plain marker source whose motor ``toon32``'s mapping drives from the
+same axis. Motion beyond the typical range is kept: the take shows the performer can do it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from common import data_path
+from mapping.mapfile import Mapping, MotorRule, load_mapping
+from mapping.profile import Profile, SourceRange, load_profile
+from mapping.sources import Source
+
+#: The layout whose built-in typical profile says what a typical face can do.
+TYPICAL = "toon32"
+#: The performer's size against the layout's own is trusted within these bounds.
+SIZE_BOUNDS = (0.6, 1.6)
+
+
+def typical_sides(mapping: Mapping) -> dict[str, tuple[float, float]]:
+    """Source key -> how far a typical face moves it below and above rest (mm; negative,
+    positive), for the plain marker sources of ``mapping`` that drive a motor toon32 drives
+    from the same axis, oriented by each rule's and source's ``invert``."""
+    path = data_path("profiles", f"{TYPICAL}.toml")
+    if not path.is_file():
+        return {}
+    typical, reference = load_profile(path), load_mapping(TYPICAL)
+    rules = {rule.code: rule for rule in reference.rules}
+    out: dict[str, tuple[float, float]] = {}
+    for rule in mapping.rules:
+        ref_rule = rules.get(rule.code)
+        if ref_rule is None:
+            continue
+        for source in rule.sources:
+            match = _same_axis(source, ref_rule)
+            if source.kind != "marker" or match is None or match.key not in typical.sources:
+                continue
+            span = typical.sources[match.key]
+            low, high = span.low - span.neutral, span.high - span.neutral
+            if (source.invert != rule.invert) != (match.invert != ref_rule.invert):
+                low, high = -high, -low
+            out.setdefault(source.key, (low, high))
+    return out
+
+
+def _same_axis(source: Source, rule: MotorRule) -> Source | None:
+    return next((s for s in rule.sources if s.kind == "marker" and s.axis == source.axis), None)
+
+
+def bound_by_typical(profile: Profile, mapping: Mapping, size: float = 1.0) -> tuple[Profile, list[str]]:
+    """``profile`` with each side of its typical-bounded sources at least a typical face's,
+    scaled by ``size`` (the performer's against the layout's, held within :data:`SIZE_BOUNDS`);
+    returns it and the keys widened."""
+    scale = min(max(size, SIZE_BOUNDS[0]), SIZE_BOUNDS[1])
+    sources = dict(profile.sources)
+    widened = []
+    for key, (below, above) in typical_sides(mapping).items():
+        span = sources.get(key)
+        if span is None:
+            continue
+        low, high = min(span.low, span.neutral + below * scale), max(span.high, span.neutral + above * scale)
+        if low < span.low or high > span.high:
+            sources[key] = SourceRange(span.neutral, low, high)
+            widened.append(key)
+    return replace(profile, sources=sources), widened
