@@ -64,7 +64,8 @@ def test_map_prints_the_report_and_json_gives_it_as_data(realdata, tmp_path, cap
     assert lines[0] == "report for JawMoCap.csv:"
     assert lines[1].startswith("  units: cm (inferred; as read, shape 0.1")
     assert lines[2].startswith("  rest: 0-1 s (first second with the head seen")
-    assert lines[3] == "  profile: from the take itself (1st-99th percentiles), each side at least a typical face's (x1.00)"
+    assert lines[3] == ("  profile: from the take itself (1st-99th percentiles), each side at least a typical "
+                        "face's (x1.00)")
     assert any(" MLH " in line for line in lines)
     assert main(["map", str(path), "-o", str(tmp_path / "m.csv"), "--json"]) == 0
     captured = capsys.readouterr()
