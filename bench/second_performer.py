@@ -26,10 +26,9 @@ What differs from the project's own performer, on purpose:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from bench.sensor import PerformedTake, axis_rotations, sensor_faults
 from capture import Take, load_markerset
 from toon import MOTOR_CODES
 
@@ -53,16 +52,7 @@ YAW_RANGE, PITCH_RANGE = 60.0, 40.0  # degrees over HH's and HV's 0..1
 EYE_RADIUS = 12.0
 
 
-@dataclass(frozen=True, eq=False)
-class SecondTake:
-    """The take, its true motors ``(F, 21)`` in ToonFace order, and the performer's rest ``(21,)``."""
-
-    take: Take
-    motors: np.ndarray
-    rest: np.ndarray
-
-
-def perform(seconds: float = 20.0, rate: float = 60.0, seed: int = 7, faults: bool = True) -> SecondTake:
+def perform(seconds: float = 20.0, rate: float = 60.0, seed: int = 7, faults: bool = True) -> PerformedTake:
     """The performer's take: rest, sweep, then ``seconds`` of performance."""
     rng = np.random.default_rng(seed)
     times = np.arange(int(round((SWEEP_END + seconds) * rate))) / rate
@@ -72,9 +62,9 @@ def perform(seconds: float = 20.0, rate: float = 60.0, seed: int = 7, faults: bo
     local = _face(face, ms.labels, motors)
     world = _head(local, times, motors, rng)
     if faults:
-        world = _sensor(world, rate, rng)
+        world = sensor_faults(world, rate, rng)
     take = Take(world, ms.labels, rate, times=times, meta={"source": "second synthetic performer", "seed": seed})
-    return SecondTake(take, motors, np.array([REST[c] for c in MOTOR_CODES]))
+    return PerformedTake(take, motors, np.array([REST[c] for c in MOTOR_CODES]))
 
 
 def _script(times: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -169,31 +159,7 @@ def _head(local: np.ndarray, times: np.ndarray, motors: np.ndarray, rng: np.rand
     yaw = np.radians(YAW_RANGE * (motors[:, MOTOR_CODES.index("HH")] - 0.5))
     pitch = np.radians(PITCH_RANGE * (motors[:, MOTOR_CODES.index("HV")] - 0.5))
     roll = np.radians(3.0 * np.sin(2 * np.pi * times / 11.0 + rng.uniform(0, 6)))
-    c, s = np.cos, np.sin
-    one, zero = np.ones_like(yaw), np.zeros_like(yaw)
-    ry = np.stack([np.stack([c(yaw), zero, s(yaw)], -1), np.stack([zero, one, zero], -1),
-                   np.stack([-s(yaw), zero, c(yaw)], -1)], -2)
-    rx = np.stack([np.stack([one, zero, zero], -1), np.stack([zero, c(pitch), s(pitch)], -1),
-                   np.stack([zero, -s(pitch), c(pitch)], -1)], -2)
-    rz = np.stack([np.stack([c(roll), -s(roll), zero], -1), np.stack([s(roll), c(roll), zero], -1),
-                   np.stack([zero, zero, one], -1)], -2)
+    ry, rx, rz = axis_rotations(yaw, pitch, roll)
     rotation = rz @ ry @ rx
     sway = 5.0 * np.column_stack([np.sin(0.5 * times), np.sin(0.37 * times + 1), np.sin(0.23 * times + 2)])
     return np.einsum("fij,fmj->fmi", rotation, local - HEAD_PIVOT) + HEAD_PIVOT + sway[:, None, :]
-
-
-def _sensor(world: np.ndarray, rate: float, rng: np.random.Generator) -> np.ndarray:
-    """Jitter, 0.5 s gaps until 10 % of samples are gone, 1 % spikes."""
-    out = world + rng.normal(0.0, 0.3, world.shape)
-    frames, markers = out.shape[:2]
-    gap = int(round(0.5 * rate))
-    missing = np.zeros((frames, markers), bool)
-    while missing.mean() < 0.10:
-        start, m = int(rng.integers(0, frames - gap)), int(rng.integers(markers))
-        missing[start:start + gap, m] = True
-    spikes = rng.random((frames, markers)) < 0.01
-    direction = rng.normal(size=(frames, markers, 3))
-    direction /= np.linalg.norm(direction, axis=2, keepdims=True)
-    out = np.where(spikes[..., None], out + direction * rng.uniform(5, 15, (frames, markers, 1)), out)
-    out[missing] = np.nan
-    return out

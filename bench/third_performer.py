@@ -20,16 +20,16 @@ travel 10 mm or more, brows that rest mid-range and move in the face's plane, a 
   the origin, a ±2° roll and a 6 mm drift. HH's 0..1 is ±25° of yaw, HV's ±18° of pitch.
 - **Script.** A second at rest, a sweep (each group to its lowest, held, to its highest, held,
   back: 0.4, 0.4, 0.8, 0.4, 0.4 s), then expressions (smile with squint, surprise, frown, sad),
-  speech, blinks every 2.5-5 s, gaze holds and head turns, each at a seeded strength.
+  speech, blinks every 2.5-5 s, gaze holds reached by 50 ms saccades and head turns, each at a
+  seeded strength.
 - **Sensor.** 0.3 mm jitter, 0.5 s gaps until 10 % of samples are missing, 1 % spikes of 5-15 mm.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from bench.sensor import PerformedTake, axis_rotations, sensor_faults
 from capture import Take, load_markerset
 from toon import MOTOR_CODES
 
@@ -73,16 +73,7 @@ _EXPRESSIONS: tuple[dict[str, float], ...] = (
 )
 
 
-@dataclass(frozen=True, eq=False)
-class ThirdTake:
-    """The take, its true motors ``(F, 21)`` in ToonFace order, and the performer's rest ``(21,)``."""
-
-    take: Take
-    motors: np.ndarray
-    rest: np.ndarray
-
-
-def perform(seconds: float = 20.0, rate: float = 60.0, seed: int = 11, faults: bool = True) -> ThirdTake:
+def perform(seconds: float = 20.0, rate: float = 60.0, seed: int = 11, faults: bool = True) -> PerformedTake:
     """Rest, sweep, then ``seconds`` of performance."""
     rng = np.random.default_rng(seed)
     times = np.arange(int(round((SWEEP_END + seconds) * rate))) / rate
@@ -91,9 +82,9 @@ def perform(seconds: float = 20.0, rate: float = 60.0, seed: int = 11, faults: b
     face = _proportions(ms.neutral, ms.labels, rng)
     world = _head(_face(face, ms.labels, motors), times, motors, rng)
     if faults:
-        world = _sensor(world, rate, rng)
+        world = sensor_faults(world, rate, rng)
     take = Take(world, ms.labels, rate, times=times, meta={"source": "third synthetic performer", "seed": seed})
-    return ThirdTake(take, motors, np.array([REST[c] for c in MOTOR_CODES]))
+    return PerformedTake(take, motors, np.array([REST[c] for c in MOTOR_CODES]))
 
 
 def _proportions(neutral: np.ndarray, labels: tuple[str, ...], rng: np.random.Generator) -> np.ndarray:
@@ -140,13 +131,18 @@ def _script(times: np.ndarray, rng: np.random.Generator) -> np.ndarray:
             out[:, col[code]] *= 1 - shut
         at += rng.uniform(2.5, 5.0)
     at = t0
-    while at < t1:  # gaze holds, both eyes together
+    while at < t1:  # gaze holds, both eyes together, reached by 50 ms saccades
         look = rng.uniform(0.1, 0.9, 2)
         hold = (times >= at) & (times < at + 1.5)
         for axis, value in zip("HV", look, strict=True):
             for side in "RL":
                 out[hold, col[f"P{side}{axis}"]] = value
         at += rng.uniform(0.8, 2.0)
+    saccade = max(1, int(round(0.05 / float(np.median(np.diff(times))))))
+    for code in ("PRH", "PRV", "PLH", "PLV"):  # a moving average: each jump becomes a 50 ms ramp
+        c = col[code]
+        padded = np.concatenate([np.full(saccade, out[free[0], c]), out[free, c]])
+        out[free, c] = np.convolve(padded, np.ones(saccade) / saccade, mode="valid")[1:]
     for code, period in (("HH", 7.5), ("HV", 5.2)):
         phase, reach = rng.uniform(0, 6), rng.uniform(0.3, 0.45)
         out[free, col[code]] = 0.5 + reach * np.sin(2 * np.pi * (times[free] - t0) / period + phase) * np.sin(
@@ -182,30 +178,7 @@ def _head(local: np.ndarray, times: np.ndarray, motors: np.ndarray, rng: np.rand
     yaw = np.radians(2 * YAW_DEGREES * (motors[:, MOTOR_CODES.index("HH")] - 0.5))
     pitch = np.radians(2 * PITCH_DEGREES * (motors[:, MOTOR_CODES.index("HV")] - 0.5))
     roll = np.radians(2.0 * np.sin(2 * np.pi * times / 13.0 + rng.uniform(0, 6)))
-    c, s = np.cos, np.sin
-    one, zero = np.ones_like(yaw), np.zeros_like(yaw)
-    ry = np.stack([np.stack([c(yaw), zero, s(yaw)], -1), np.stack([zero, one, zero], -1),
-                   np.stack([-s(yaw), zero, c(yaw)], -1)], -2)
-    rx = np.stack([np.stack([one, zero, zero], -1), np.stack([zero, c(pitch), s(pitch)], -1),
-                   np.stack([zero, -s(pitch), c(pitch)], -1)], -2)  # chin up: the face's z turns toward +y
-    rz = np.stack([np.stack([c(roll), -s(roll), zero], -1), np.stack([s(roll), c(roll), zero], -1),
-                   np.stack([zero, zero, one], -1)], -2)
+    ry, rx, rz = axis_rotations(yaw, pitch, roll)
     rotation = rz @ rx @ ry
     drift = 6.0 * np.column_stack([np.sin(0.31 * times), np.sin(0.43 * times + 2), np.sin(0.19 * times + 4)])
     return np.einsum("fij,fmj->fmi", rotation, local - HEAD_PIVOT) + HEAD_PIVOT + drift[:, None, :]
-
-
-def _sensor(world: np.ndarray, rate: float, rng: np.random.Generator) -> np.ndarray:
-    out = world + rng.normal(0.0, 0.3, world.shape)
-    frames, markers = out.shape[:2]
-    gap = int(round(0.5 * rate))
-    missing = np.zeros((frames, markers), bool)
-    while missing.mean() < 0.10:
-        start, m = int(rng.integers(0, frames - gap)), int(rng.integers(markers))
-        missing[start:start + gap, m] = True
-    spikes = rng.random((frames, markers)) < 0.01
-    direction = rng.normal(size=(frames, markers, 3))
-    direction /= np.linalg.norm(direction, axis=2, keepdims=True)
-    out = np.where(spikes[..., None], out + direction * rng.uniform(5, 15, (frames, markers, 1)), out)
-    out[missing] = np.nan
-    return out
