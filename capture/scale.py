@@ -1,8 +1,9 @@
 """Is a take in the units it was read in? A face's size says.
 
 A CSV does not say its units, and a unit given by mistake (``--units m`` for millimetres) or a
-file that states the wrong one moves every marker a thousandth as far: the cartoon barely moves,
-or gap filling meets numbers it cannot solve. Two figures tell, in the take's first frames:
+file that states the wrong one scales every motion by ten or a thousand: the cartoon barely moves,
+or gap filling meets numbers it cannot solve. Two figures tell, over frames spread through the
+take:
 
 * **against the marker set** (a built-in or drafted layout whose rest shape is in millimetres):
   the median ratio of distances between the markers the take and the set share, as the take

@@ -8,7 +8,7 @@ second with a head pose), ``"stillest"``, or by default one chosen from the take
 for a video, its sound (:mod:`mapping.rest`: where nobody speaks; else the first second where
 it is still, else the stillest);
 ranges from the take itself are its 1st to 99th percentiles, at least :data:`SELF_MIN_SIDE` either
-side of rest. A profile that lacks a derived
+side of rest and at least a typical face's (:mod:`mapping.typical`). A profile that lacks a derived
 source the mapping reads gets it from the take the same way. The track's metadata says which.
 """
 
