@@ -34,7 +34,7 @@ FACE_EXTENT_MM = (30.0, 400.0)
 #: A typical face's extent (mm), to which a take too small or too large is compared.
 TYPICAL_EXTENT_MM = 150.0
 #: Frames looked at (evenly spread), enough for medians.
-SAMPLE_FRAMES = 120
+SAMPLE_FRAMES = 40
 #: A unit's name explains a size that is within this factor of it.
 NAMED_WITHIN = 1.6
 #: Pairs of markers closer than this in the marker set (mm) say little about scale.
@@ -122,9 +122,10 @@ def check_scale(take: Take, markerset: MarkerSet | None = None, mm_per_unit: flo
     ScaleCheck
     """
     frames = np.unique(np.linspace(0, take.frames - 1, min(take.frames, SAMPLE_FRAMES)).astype(int))
-    positions = take.positions[frames]  # (S, M, 3)
-    extent = _extent(positions)
-    ratio = _shape_ratio(positions, take, markerset) if markerset is not None else None
+    positions = take.positions[frames][:, :, :take.dims]  # (S, M, dims)
+    apart = np.sqrt(np.sum((positions[:, :, None] - positions[:, None]) ** 2, axis=3))  # (S, M, M), NaN: unseen
+    extent = _extent(apart)
+    ratio = _shape_ratio(apart, take, markerset) if markerset is not None else None
     name = markerset.name if markerset is not None else ""
     if ratio is not None and not 1 / SHAPE_TOLERANCE <= ratio <= SHAPE_TOLERANCE:
         factor = ratio
@@ -136,32 +137,27 @@ def check_scale(take: Take, markerset: MarkerSet | None = None, mm_per_unit: flo
     return ScaleCheck(ratio, extent, unit, factor, mm_per_unit, name)
 
 
-def _extent(positions: np.ndarray) -> float | None:
-    """Median over frames of the largest distance between two seen markers; None if no frame
-    sees two."""
-    values = []
-    for frame in positions:
-        seen = frame[np.isfinite(frame).all(axis=1)]
-        if len(seen) >= 2:
-            values.append(float(np.max(np.linalg.norm(seen[:, None] - seen[None], axis=2))))
-    return float(np.median(values)) if values else None
+def _extent(apart: np.ndarray) -> float | None:
+    """Median over frames of the largest distance between two seen markers, from distances
+    ``(S, M, M)`` (NaN where either is unseen); None if no frame sees two."""
+    largest = np.max(np.where(np.isfinite(apart), apart, -np.inf).reshape(len(apart), -1), axis=1, initial=-np.inf)
+    usable = largest > 0
+    return float(np.median(largest[usable])) if usable.any() else None
 
 
-def _shape_ratio(positions: np.ndarray, take: Take, markerset: MarkerSet) -> float | None:
+def _shape_ratio(apart: np.ndarray, take: Take, markerset: MarkerSet) -> float | None:
     """Median of (distance in the take / distance in the set) over shared marker pairs that are
-    at least :data:`MIN_PAIR_MM` apart in the set, over the sampled frames."""
+    at least :data:`MIN_PAIR_MM` apart in the set, from the take's distances ``(S, M, M)``."""
     found = markerset.match(take.labels)
     if len(found) < 2:
         return None
     columns = [take.index(name) for name in found.values()]
-    rest = np.array([markerset.neutral_of(label) for label in found])
-    dims = take.dims
-    rest_d = np.linalg.norm(rest[:, None, :dims] - rest[None, :, :dims], axis=2)
+    rest = np.array([markerset.neutral_of(label) for label in found])[:, :take.dims]
+    rest_d = np.linalg.norm(rest[:, None] - rest[None], axis=2)
     upper = np.triu(np.ones_like(rest_d, dtype=bool), 1) & (rest_d >= MIN_PAIR_MM)
     if not upper.any():
         return None
-    at = positions[:, columns, :dims]  # (S, K, dims)
-    take_d = np.linalg.norm(at[:, :, None] - at[:, None], axis=3)[:, upper]  # (S, pairs)
+    take_d = apart[:, columns][:, :, columns][:, upper]  # (S, pairs)
     ratios = take_d / rest_d[upper]
     ratios = ratios[np.isfinite(ratios) & (ratios > 0)]
     return float(np.median(ratios)) if len(ratios) else None

@@ -10,6 +10,7 @@ is narrower than the take's motion (or the rest is wrong), and the cartoon holds
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -87,23 +88,29 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
     units = ready.prepared.units
     detail = units.as_dict() if units is not None else {}
     units_text = f"{detail['unit']} ({detail['from']}; {detail['check']})" if detail else "not checked"
-    warnings = [n[len(WARNING):] for n in ready.notes if n.startswith(WARNING)]
+    warned = [n[len(WARNING):] for n in ready.notes if n.startswith(WARNING)]
     notes = [n for n in ready.notes if not n.startswith(WARNING)]
     motors: dict[str, dict[str, float]] = {}
-    mapped = track.meta.get("mapped", MOTOR_CODES)
-    for code in (c for c in MOTOR_CODES if c in mapped):
-        values = track.column(code)
-        values = values[np.isfinite(values)]
-        if not len(values):
+    mapped = [c for c in MOTOR_CODES if c in track.meta.get("mapped", MOTOR_CODES)]
+    columns = [MOTOR_CODES.index(c) for c in mapped]
+    values = track.values[:, columns]
+    seen = np.isfinite(values)
+    count = np.maximum(seen.sum(axis=0), 1)
+    lows = (seen & (values <= PINNED_WITHIN)).sum(axis=0) / count
+    highs = (seen & (values >= 1 - PINNED_WITHIN)).sum(axis=0) / count
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a motor never seen
+        spreads = np.ptp(np.nanpercentile(np.clip(values, 0.0, 1.0), [1.0, 99.0], axis=0), axis=0)
+    for i, code in enumerate(mapped):
+        if not seen[:, i].any():
             continue
-        low, high = float(np.mean(values <= PINNED_WITHIN)), float(np.mean(values >= 1 - PINNED_WITHIN))
-        spread = np.percentile(np.clip(values, 0.0, 1.0), [1.0, 99.0])
-        motors[code] = {"at_0": round(low, 4), "at_1": round(high, 4), "range_used": round(float(np.ptp(spread)), 4)}
+        low, high = float(lows[i]), float(highs[i])
+        motors[code] = {"at_0": round(low, 4), "at_1": round(high, 4), "range_used": round(float(spreads[i]), 4)}
         rest = float(neutral[MOTOR_CODES.index(code)])
         for share, bound, word in ((low, 0.0, "bottom"), (high, 1.0, "top")):
             if share > PINNED_SHARE and abs(rest - bound) > RESTS_AT:
-                warnings.append(f"{code} is pinned at {bound:g} (its {word}) in {share:.0%} of the frames, and rests "
+                warned.append(f"{code} is pinned at {bound:g} (its {word}) in {share:.0%} of the frames, and rests "
                                 f"at {rest:.2f}: the take moves beyond the profile's range there (or the rest is "
                                 "not a rest); a calibration (--calibrate) or --neutral may fit it")
     return TakeReport(take or ready.prepared.take.meta.get("file", "the take"), units_text, ready.rest or "given",
-                      ready.profile_kind or "given", motors, warnings, notes, detail)
+                      ready.profile_kind or "given", motors, warned, notes, detail)
