@@ -136,5 +136,8 @@ def save_take(take: Take, path: str | os.PathLike) -> Path:
     if take.dims == 2 and path.suffix.lower() in (".c3d", ".trc"):
         raise InputError("a planar (2-D) take can be written as .csv or .npz only", path)
     with atomic_path(path) as tmp:
-        writer(take, tmp)
+        if writer is write_trc:  # its header names the file: the final name, not the temporary one
+            write_trc(take, tmp, path.name)
+        else:
+            writer(take, tmp)
     return path

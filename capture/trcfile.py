@@ -79,11 +79,13 @@ def read_trc(path: Path) -> Take:
     return Take(positions, clean, rate, times=times, meta=meta)
 
 
-def write_trc(take: Take, path: Path) -> None:
-    """Write ``take`` as a tab-delimited TRC in millimetres; gaps are empty cells."""
+def write_trc(take: Take, path: Path, name: str | None = None) -> None:
+    """Write ``take`` as a tab-delimited TRC in millimetres; gaps are empty cells. ``name`` is the
+    file name the header gives (``path``'s by default; the final name where ``path`` is a
+    temporary file that will be renamed)."""
     n = take.markers
     out = [
-        f"PathFileType\t4\t(X/Y/Z)\t{path.name}",
+        f"PathFileType\t4\t(X/Y/Z)\t{name or path.name}",
         "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames",
         f"{take.rate!r}\t{take.rate!r}\t{take.frames}\t{n}\tmm\t{take.rate!r}\t1\t{take.frames}",
         "Frame#\tTime\t" + "\t".join(f"{m}\t\t" for m in take.labels).rstrip("\t"),

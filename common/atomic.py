@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Iterator
@@ -21,6 +22,7 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
     """
     target = Path(target)
     _check_folder(target)
+    _remove_leftovers(target, rf"\.{re.escape(target.stem)}\.[a-z0-9_]{{8}}\.partial{re.escape(target.suffix)}")
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".partial{target.suffix}",
                                dir=target.parent)
     os.close(fd)
@@ -31,6 +33,16 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
         os.replace(tmp_path, target)
     finally:
         tmp_path.unlink(missing_ok=True)
+
+
+def _remove_leftovers(target: Path, pattern: str) -> None:
+    """Remove the hidden temporaries an earlier run writing ``target`` left when it was killed
+    (SIGKILL leaves no time to clean up): the next run to the same output clears them."""
+    match = re.compile(pattern).fullmatch
+    for path in target.parent.iterdir():
+        if match(path.name):
+            with contextlib.suppress(OSError):
+                shutil.rmtree(path) if path.is_dir() else path.unlink()
 
 
 def _check_folder(target: Path) -> None:
@@ -59,6 +71,7 @@ def atomic_dir(target: str | os.PathLike) -> Iterator[Path]:
     """
     target = Path(target)
     _check_folder(target)
+    _remove_leftovers(target, rf"\.{re.escape(target.name)}\.([a-z0-9_]{{8}}\.partial|old)")
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent))
     try:
         yield tmp

@@ -89,17 +89,30 @@ class H264Encoder:
             self._container.close()
 
 
+def partial_name(target: str | os.PathLike, frames: int) -> Path:
+    """Where an interrupted output keeps its ``frames``: ``out.mp4`` -> ``out.partial-318.mp4``, a
+    folder ``frames`` -> ``frames.partial-318``."""
+    target = Path(target)
+    if target.suffix:
+        return target.with_name(f"{target.stem}.partial-{frames}{target.suffix}")
+    return target.with_name(f"{target.name}.partial-{frames}")
+
+
 class _AtomicSink:
     """Shared lifetime: an atomic-output guard, left committed by :meth:`close` or rolled back."""
 
-    def __init__(self, guard: contextlib.AbstractContextManager) -> None:
+    def __init__(self, guard: contextlib.AbstractContextManager, target: str | os.PathLike) -> None:
         self._guard = guard
+        self._target = Path(target)
         self._tmp: Path = guard.__enter__()
         self.frames = 0
         self._done = False
 
     def _finish(self) -> None:
         """Flush the format's trailer; overridden where there is one."""
+
+    def _trim(self) -> None:
+        """Drop what was written past :attr:`frames` (an interrupt between a write and its count)."""
 
     def close(self) -> None:
         """Finish the output and move it into place."""
@@ -112,6 +125,22 @@ class _AtomicSink:
             self._guard.__exit__(type(exc), exc, exc.__traceback__)
             raise
         self._guard.__exit__(None, None, None)
+
+    def keep_partial(self, named_after: str | os.PathLike | None = None) -> Path:
+        """Finish what was written and keep it under a name that says it is partial, beside the
+        target (``out.partial-318.mp4``, ``frames.partial-318``; named after ``named_after``
+        instead where given), leaving the target, perhaps a complete earlier output, untouched.
+        Returns the name kept."""
+        kept = partial_name(named_after if named_after is not None else self._target, self.frames)
+        if not self._done:
+            self._done = True
+            self._finish()
+            self._trim()
+            if kept.is_dir():
+                shutil.rmtree(kept)
+            os.replace(self._tmp, kept)
+            self._guard.__exit__(RuntimeError, RuntimeError("kept as partial"), None)
+        return kept
 
     def abort(self) -> None:
         """Drop the partial output."""
@@ -151,7 +180,7 @@ class Mp4Sink(_AtomicSink):
     def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 18) -> None:
         if size[0] % 2 or size[1] % 2:
             raise InputError(f"H.264 needs an even frame size, got {size[0]}x{size[1]}", path)
-        super().__init__(atomic_path(path))
+        super().__init__(atomic_path(path), path)
         self._encoder = H264Encoder(self._tmp, fps, size, crf)
         self.size = self._encoder.size
 
@@ -172,7 +201,7 @@ class PngSink(_AtomicSink):
     """A folder of ``frame_000000.png`` files (replaced whole if it exists)."""
 
     def __init__(self, directory: str | os.PathLike) -> None:
-        super().__init__(atomic_dir(directory))
+        super().__init__(atomic_dir(directory), directory)
 
     def write(self, frame: np.ndarray) -> None:
         """Write one RGB frame as the next PNG."""
@@ -180,6 +209,11 @@ class PngSink(_AtomicSink):
         if not cv2.imwrite(str(path), np.ascontiguousarray(frame[:, :, ::-1])):
             raise OSError(f"cannot write {path}")
         self.frames += 1
+
+    def _trim(self) -> None:
+        for path in self._tmp.glob("frame_*.png"):
+            if int(path.stem.split("_")[1]) >= self.frames:
+                path.unlink()
 
     def skip(self, frames: int) -> None:
         """Slots without a frame: the previous PNG is copied into each, so the sequence keeps its rate."""

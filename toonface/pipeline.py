@@ -44,14 +44,16 @@ def map_onto_face(take: Take, neutral_window: tuple[float, float] | str | None =
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),
            fps: float | None = None, samples: int = 4, progress: Callable[[int], None] | None = None,
-           beside: str | os.PathLike | None = None, beside_start: float = 0.0) -> int:
+           beside: str | os.PathLike | None = None, beside_start: float = 0.0,
+           partial_as: str | os.PathLike | None = None) -> int:
     """Render ``track`` on ``face`` to an MP4 (``*.mp4``), a PNG folder or raw RGB (``-``);
     returns frames written.
 
-    The output appears only when complete, or when Ctrl-C or SIGTERM stops it: then, as ffmpeg
-    does, it is closed with the frames written so far and :class:`~common.errors.Interrupted`
-    says how many. On an error nothing is left. ``beside``: a video shown left of the cartoon,
-    frame for frame from ``beside_start`` seconds of its clock (:mod:`player.beside`).
+    The output appears only when complete. When Ctrl-C or SIGTERM stops it, the frames drawn so
+    far are kept under a name that says so (``out.partial-318.mp4``, after ``partial_as`` where
+    given), an earlier ``output`` is left as it was, and :class:`~common.errors.Interrupted`
+    says what was kept. On an error nothing is left. ``beside``: a video shown left of the
+    cartoon, frame for frame from ``beside_start`` seconds of its clock (:mod:`player.beside`).
     """
     with open_renderer(size, samples) as renderer:
         extra = beside_width(beside, size[1]) if beside is not None else 0
@@ -60,8 +62,12 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
         try:
             frames = render_track(track, FaceRig(face), renderer, writer, fps, progress)
         except KeyboardInterrupt as stop:
-            sink.close()
-            raise Interrupted(str(output), sink.frames, frame_count(track, fps or track.rate),
+            if hasattr(sink, "keep_partial"):  # a file or folder: kept under a partial name
+                kept: str | os.PathLike = sink.keep_partial(partial_as)
+            else:  # a stream has nothing to keep apart
+                sink.close()
+                kept = output
+            raise Interrupted(str(kept), sink.frames, frame_count(track, fps or track.rate),
                               "SIGTERM" if isinstance(stop, Terminated) else "SIGINT") from None
         except BaseException:
             sink.abort()
@@ -86,8 +92,9 @@ def render_with_sound(track: MotorTrack, face: Face, output: str | os.PathLike, 
     if output.suffix.lower() != ".mp4" or not has_audio(sound):
         return render(track, face, output, size, fps, progress=progress, beside=beside, beside_start=start)
     picture = output.with_name(f".{output.stem}.picture.mp4")
-    try:
-        frames = render(track, face, picture, size, fps, progress=progress, beside=beside, beside_start=start)
+    try:  # interrupted, the picture drawn so far is kept as the output's partial (without its sound)
+        frames = render(track, face, picture, size, fps, progress=progress, beside=beside, beside_start=start,
+                        partial_as=output)
         mux_audio(picture, sound, output, start)
     finally:
         picture.unlink(missing_ok=True)

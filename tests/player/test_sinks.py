@@ -92,3 +92,18 @@ def test_skipped_slots_keep_each_output_in_real_time(tmp_path):
     for path, which in zip(pngs, shown, strict=True):
         assert np.array_equal(cv2.imread(str(path))[:, :, ::-1], frames[which])
     assert raw_bytes.getvalue() == b"".join(frames[which].tobytes() for which in shown)
+
+
+def test_a_png_written_but_not_counted_when_stopped_is_not_kept(tmp_path):
+    """After SIGTERM there was one more PNG on disk than the message said: the interrupt came
+    between a frame's file and its count."""
+    from player.sinks import PngSink
+
+    sink = PngSink(tmp_path / "frames")
+    for _ in range(3):
+        sink.write(np.zeros((8, 8, 3), np.uint8))
+    (sink._tmp / "frame_000003.png").write_bytes((sink._tmp / "frame_000002.png").read_bytes())  # the race
+    kept = sink.keep_partial()
+    assert kept == tmp_path / "frames.partial-3"
+    assert sorted(p.name for p in kept.iterdir()) == [f"frame_00000{i}.png" for i in range(3)]
+    assert not (tmp_path / "frames").exists()
