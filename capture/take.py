@@ -2,15 +2,16 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from common import InputError, readonly
 
-#: Millimetres per unit, for the unit names take files use (C3D POINT:UNITS, TRC Units, --units).
 #: The channel that holds a take's sound level at each frame (1: its loudest), where it had sound.
 SOUND_LEVEL = "sound_level"
+#: Millimetres per unit, for the unit names take files use (C3D POINT:UNITS, TRC Units, --units).
 UNIT_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "cm": 10.0, "m": 1000.0, "meters": 1000.0,
            "metres": 1000.0, "in": 25.4, "inch": 25.4, "inches": 25.4}
 
@@ -58,7 +59,7 @@ class Take:
         labels = tuple(str(x) for x in self.labels)
         if len(labels) != pos.shape[1]:
             raise InputError(f"{len(labels)} labels for {pos.shape[1]} markers")
-        dupes = sorted({x for x in labels if labels.count(x) > 1})
+        dupes = sorted(x for x, n in Counter(labels).items() if n > 1)  # linear: tables may have 100k columns
         if dupes:
             raise InputError(f"marker labels must be unique; repeated: {dupes}")
         if not (np.isfinite(self.rate) and self.rate > 0):
@@ -76,6 +77,7 @@ class Take:
             raise InputError("times must be strictly increasing")
         object.__setattr__(self, "positions", readonly(pos))
         object.__setattr__(self, "labels", labels)
+        object.__setattr__(self, "_columns", {label: i for i, label in enumerate(labels)})
         object.__setattr__(self, "rate", float(self.rate))
         object.__setattr__(self, "times", readonly(times))
         self._check_channels(pos.shape[0])
@@ -88,7 +90,7 @@ class Take:
             raise InputError(f"channels must have shape ({frames}, {len(names)}) for {len(names)} channel names, "
                              f"got {channels.shape}")
         if len(set(names)) != len(names):
-            repeated = sorted({x for x in names if names.count(x) > 1})
+            repeated = sorted(x for x, n in Counter(names).items() if n > 1)
             raise InputError(f"channel names must be unique; repeated: {repeated}")
         if np.isinf(channels).any():
             raise InputError("channels contain infinities; use NaN for values not measured")
@@ -112,10 +114,10 @@ class Take:
 
     def index(self, label: str) -> int:
         """Column of a marker; raises :class:`InputError` naming the missing label."""
-        try:
-            return self.labels.index(label)
-        except ValueError:
-            raise InputError(f'no marker "{label}" in this take') from None
+        column = self._columns.get(label)  # type: ignore[attr-defined]
+        if column is None:
+            raise InputError(f'no marker "{label}" in this take')
+        return column
 
     def marker(self, label: str) -> np.ndarray:
         """One marker's trajectory, shape ``(frames, 3)``."""

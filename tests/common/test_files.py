@@ -135,3 +135,16 @@ def test_atomic_outputs_get_the_usual_permissions(tmp_path):
         os.umask(mask)
     assert (tmp_path / "out.txt").stat().st_mode & 0o777 == 0o644
     assert (tmp_path / "frames").stat().st_mode & 0o777 == 0o755
+
+
+def test_labels_are_checked_and_found_by_name_however_many_there_are():
+    """A CSV with 100,000 columns took 26 s for info and 77 s for clean: labels were checked
+    with list.count and found with list.index. The answers stay the same."""
+    n = 40_000
+    labels = tuple(f"M{i}" for i in range(n))
+    take = Take(np.zeros((2, n, 3)), labels, 30.0)
+    assert take.index(f"M{n - 1}") == n - 1 and take.index("M0") == 0
+    with pytest.raises(InputError, match='no marker "M-1" in this take'):
+        take.index("M-1")
+    with pytest.raises(InputError, match=r"repeated: \['B', 'M7'\]"):
+        Take(np.zeros((2, 5, 3)), ("M7", "B", "M7", "B", "C"), 30.0)
