@@ -21,6 +21,7 @@ from capture.csvfile import read_csv, write_csv
 from capture.take import Take
 from capture.trcfile import read_trc, write_trc
 from common import InputError, atomic_path
+from common.errors import require_file
 from common.npz import check_npz
 
 NPZ_FORMAT = "toonface.take/1"
@@ -97,8 +98,7 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     if suffix not in READABLE:
         raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)})",
                          path)
-    if not path.is_file():
-        raise InputError("no such file", path)
+    require_file(path)
     if suffix in _TABLES:
         return read_csv(path, rate=rate, labels=labels, units=units)
     given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]

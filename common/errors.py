@@ -39,6 +39,26 @@ class InputError(ToonfaceError, ValueError):
         return ": ".join([*parts, self.message])
 
 
+def require_file(path: str | os.PathLike) -> None:
+    """Raise :class:`InputError` unless ``path`` is a regular file, saying what it is instead
+    ("no such file", "a folder, not a file", "a named pipe (FIFO), not a file"...): a FIFO was
+    reported as missing."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise InputError("no such file", path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read it ({exc.strerror})", path) from None
+    if stat.S_ISREG(mode):
+        return
+    kinds = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISSOCK, "a socket"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"))
+    what = next((name for test, name in kinds if test(mode)), "not a regular file")
+    raise InputError(f"{what}, not a file", path)
+
+
 class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread like Ctrl-C's KeyboardInterrupt, so that outputs are
     closed and kept the same way (the ``toonface`` command installs the handler)."""

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from common import InputError, atomic_path
+from common.errors import require_file
 from common.npz import check_npz
 from toon.motors import MOTOR_CODES, N_MOTORS
 from toon.track import MotorTrack
@@ -45,8 +46,7 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
     suffix = path.suffix.lower()
     if suffix not in _SUFFIXES:
         raise InputError(f"unknown motor track format {path.suffix!r} (use .csv or .npz)", path)
-    if not path.is_file():
-        raise InputError("no such file", path)
+    require_file(path)
     if suffix == ".csv":
         return _from_csv(path)
     try:

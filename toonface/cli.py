@@ -21,7 +21,7 @@ from common.memory import keep_freed_memory
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_layout import LAYOUT_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
-from toonface.cli_options import FACE, SIZE, TakeReading, parse_size, progress, read_take, take_options
+from toonface.cli_options import FACE, SIZE, FiniteFloat, TakeReading, parse_size, progress, read_take, take_options
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
 from toonface.cli_studio import STUDIO_COMMANDS
@@ -43,8 +43,8 @@ def cli(verbose: bool) -> None:
 @cli.command()
 @click.option("--out", "out_dir", default="toonface-demo", show_default=True, type=click.Path(file_okay=False),
               help="Folder for demo.mp4, take.npz, motors.csv and truth.csv.")
-@click.option("--seconds", default=10.0, show_default=True, type=click.FloatRange(min=1.0, max=600.0))
-@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=240.0),
+@click.option("--seconds", default=10.0, show_default=True, type=FiniteFloat(min=1.0, max=600.0))
+@click.option("--rate", default=30.0, show_default=True, type=FiniteFloat(min=1.0, max=240.0),
               help="Frames per second.")
 @click.option("--size", default=512, show_default=True, type=click.IntRange(16, 4096), help="Square frame size, even.")
 @FACE
@@ -69,24 +69,24 @@ def demo(out_dir: str, seconds: float, rate: float, size: int, face: str, seed: 
 
 @cli.command()
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Take file to write (.npz).")
-@click.option("--seconds", default=10.0, show_default=True, type=click.FloatRange(min=0.1, max=3600.0))
-@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(min=1.0, max=1000.0))
-@click.option("--noise", default=0.2, show_default=True, type=click.FloatRange(min=0.0), help="Jitter, mm (σ).")
+@click.option("--seconds", default=10.0, show_default=True, type=FiniteFloat(min=0.1, max=3600.0))
+@click.option("--rate", default=30.0, show_default=True, type=FiniteFloat(min=1.0, max=1000.0))
+@click.option("--noise", default=0.2, show_default=True, type=FiniteFloat(min=0.0), help="Jitter, mm (σ).")
 @click.option("--seed", default=0, show_default=True, type=int)
-@click.option("--gaps", default=0.0, show_default=True, type=click.FloatRange(min=0.0),
+@click.option("--gaps", default=0.0, show_default=True, type=FiniteFloat(min=0.0),
               help="Occlusions per marker per second.")
-@click.option("--gap-seconds", default=0.3, show_default=True, type=click.FloatRange(min=0.0), help="Occlusion length.")
-@click.option("--spikes", default=0.0, show_default=True, type=click.FloatRange(0.0, 1.0),
+@click.option("--gap-seconds", default=0.3, show_default=True, type=FiniteFloat(min=0.0), help="Occlusion length.")
+@click.option("--spikes", default=0.0, show_default=True, type=FiniteFloat(0.0, 1.0),
               help="Share of marker-samples with a one-frame 15 mm spike.")
-@click.option("--swaps", default=0.0, show_default=True, type=click.FloatRange(0.0, 1.0),
+@click.option("--swaps", default=0.0, show_default=True, type=FiniteFloat(0.0, 1.0),
               help="Chance per frame that two neighbouring markers swap labels for 10 frames.")
-@click.option("--drift", default=0.0, show_default=True, type=click.FloatRange(min=0.0), help="Slow drift, mm.")
+@click.option("--drift", default=0.0, show_default=True, type=FiniteFloat(min=0.0), help="Slow drift, mm.")
 @click.option("--expressions", metavar="NAME,NAME,...",
               help="Repertoire expressions to act in turn "
                    "[default: happiness,surprise,sadness,anger,fear,disgust,wink].")
 @click.option("--calibration", is_flag=True,
               help="Start with a calibration segment: 1 s neutral, then each motor group to its extremes (14.4 s).")
-@click.option("--max-turn", default=30.0, show_default=True, type=click.FloatRange(0.0, 30.0),
+@click.option("--max-turn", default=30.0, show_default=True, type=FiniteFloat(0.0, 30.0),
               help="Largest head turn, degrees.")
 @click.option("--script", "script_file", type=click.Path(dir_okay=False),
               help="A performance script (TOML, toonface.performance/1) instead of the generated one; "
@@ -182,8 +182,8 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, rea
 @click.option("--corners", is_flag=True, help="ArUco: four corner points per marker instead of its centre.")
 @click.option("--dictionary", default="aruco_original", show_default=True,
               help="ArUco: OpenCV's predefined dictionary.")
-@click.option("--mm-per-pixel", type=click.FloatRange(min=0, min_open=True), help="ArUco: image scale.")
-@click.option("--marker-mm", type=click.FloatRange(min=0, min_open=True),
+@click.option("--mm-per-pixel", type=FiniteFloat(min=0, min_open=True), help="ArUco: image scale.")
+@click.option("--marker-mm", type=FiniteFloat(min=0, min_open=True),
               help="ArUco: printed side length, to measure the scale (with --corners).")
 def track(video: str, output: str, method: str, markerset: str, colour: str, start_frame: int,
           names_file: str | None, corners: bool, dictionary: str, mm_per_pixel: float | None,
@@ -213,7 +213,7 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
               help="A .mp4 file, a folder for PNG frames, or - for raw RGB frames on standard output.")
 @FACE
 @SIZE
-@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0),
+@click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
               help="Output rate [default: the track's].")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face."""

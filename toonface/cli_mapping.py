@@ -14,6 +14,7 @@ from toonface.cli_options import (
     FACE,
     MIRROR,
     SIZE,
+    FiniteFloat,
     TakeReading,
     parse_codes,
     parse_size,
@@ -79,10 +80,10 @@ def _clean_settings(fn):
         return fn(*args, cleaning=Cleaning(not no_spikes, max_gap, cutoff, given), **kwargs)
 
     default = CleanSettings()
-    command = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=click.FloatRange(min=0.0),
+    command = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=FiniteFloat(min=0.0),
                            help="Zero-phase low-pass, Hz (0: no smoothing); below half the take's rate.")(command)
     command = click.option("--max-gap", default=default.max_gap_seconds, show_default=True,
-                           type=click.FloatRange(min=0.0),
+                           type=FiniteFloat(min=0.0),
                            help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(command)
     return click.option("--no-spikes", is_flag=True, help="Keep spikes (no robust spike rejection).")(command)
 
@@ -251,7 +252,7 @@ def _report(track, take: str, as_json: bool) -> None:
 @_CALIBRATE
 @_NEUTRAL
 @SIZE
-@click.option("--fps", default=None, type=click.FloatRange(min=1.0, max=240.0),
+@click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
               help="Output rate [default: the take's].")
 @MIRROR
 @click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import math
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -13,6 +14,20 @@ import click
 
 if TYPE_CHECKING:
     from capture import Take
+
+
+class FiniteFloat(click.FloatRange):
+    """A number option that refuses NaN and infinities by name, within optional bounds as
+    :class:`click.FloatRange` (``clean --max-gap nan`` ended in "internal error", and some
+    options wrote a file the reader then rejected)."""
+
+    name = "number"
+
+    def convert(self, value, param, ctx):  # click's signature
+        number = super().convert(value, param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        return number
 
 
 class ProgressBar:
@@ -125,7 +140,7 @@ def take_options(fn: Callable) -> Callable:
     command = click.option("--labels", default=None, metavar="A,B,...|@FILE",
                            help="CSV only: marker names of a table without a header row, or @FILE to read "
                                 "them from a file (one per line or comma-separated).")(command)
-    return click.option("--rate", "take_rate", default=None, type=float, metavar="HZ",
+    return click.option("--rate", "take_rate", default=None, type=FiniteFloat(), metavar="HZ",
                         help="CSV only: frame rate of a table without a time column.")(command)
 
 

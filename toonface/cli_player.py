@@ -8,7 +8,17 @@ from typing import TYPE_CHECKING
 import click
 
 from player.animator import DEFAULT_LOOP_TIME
-from toonface.cli_options import FACE, OPENSEEFACE, SIZE, VMC, VMC_OUT, bridge_spec, parse_codes, parse_size
+from toonface.cli_options import (
+    FACE,
+    OPENSEEFACE,
+    SIZE,
+    VMC,
+    VMC_OUT,
+    FiniteFloat,
+    bridge_spec,
+    parse_codes,
+    parse_size,
+)
 
 if TYPE_CHECKING:
     from toon.animation import Animation
@@ -40,7 +50,7 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
               help="Serve a live MJPEG preview for a browser, e.g. 127.0.0.1:8080.")
 @click.option("-o", "--output", default=None, type=click.Path(),
               help="Also record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
-@click.option("--loop-ms", default=DEFAULT_LOOP_TIME * 1000, show_default=True, type=click.FloatRange(5, 1000),
+@click.option("--loop-ms", default=DEFAULT_LOOP_TIME * 1000, show_default=True, type=FiniteFloat(5, 1000),
               help="Loop time: one frame and one slice per moving motor per loop (ToonFace used 100).")
 @SIZE
 @click.option("--motors", "--track", "track_path", default=None, type=click.Path(dir_okay=False),
@@ -57,7 +67,7 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--providers", "providers_path", default=None, type=click.Path(dir_okay=False),
               help="Who moves a motor (toonface.providers/1 TOML): the idle face's blinks, breathing and "
                    "saccades, and each layer's weight and fade [default: blink 15 a minute, breathe, look about].")
-@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
@@ -141,8 +151,10 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
 
 
 def _slice_options(fn):
-    fn = click.option("--to", "end", type=float, default=None, help="Slice end, seconds [default: the end].")(fn)
-    fn = click.option("--from", "start", type=float, default=0.0, show_default=True, help="Slice start, seconds.")(fn)
+    fn = click.option("--to", "end", type=FiniteFloat(), default=None,
+                      help="Slice end, seconds [default: the end].")(fn)
+    fn = click.option("--from", "start", type=FiniteFloat(), default=0.0, show_default=True,
+                      help="Slice start, seconds.")(fn)
     return click.option("--motors", default=None, metavar="CODE,...", help="Motors to edit [default: all].")(fn)
 
 
@@ -166,7 +178,7 @@ def anim() -> None:
 @anim.command("sample")
 @click.argument("animation", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Motor track (.csv or .npz).")
-@click.option("--rate", default=30.0, show_default=True, type=click.FloatRange(1, 1000), help="Frames per second.")
+@click.option("--rate", default=30.0, show_default=True, type=FiniteFloat(1, 1000), help="Frames per second.")
 def anim_sample(animation: str, output: str, rate: float) -> None:
     """Sample an animation into a motor track (a movie script)."""
     from toon import animation as an
@@ -212,7 +224,7 @@ def anim_copy(animation: str, output: str, motors: str | None, start: float, end
 @click.argument("animation", type=click.Path(dir_okay=False))
 @click.argument("clip", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
-@click.option("--at", type=click.FloatRange(min=0), required=True, help="Where the clip starts, seconds.")
+@click.option("--at", type=FiniteFloat(min=0), required=True, help="Where the clip starts, seconds.")
 @click.option("--onto", default=None, metavar="FROM=TO,...",
               help="Put clip motors onto other motors, e.g. BRL=BLL,BRC=BLC,BRM=BLM [default: the same].")
 def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | None) -> None:
@@ -233,9 +245,9 @@ def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | No
 @anim.command("scale")
 @click.argument("animation", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
-@click.option("--time", "time_factor", default=1.0, show_default=True, type=click.FloatRange(min=0, min_open=True),
+@click.option("--time", "time_factor", default=1.0, show_default=True, type=FiniteFloat(min=0, min_open=True),
               help="Stretch the slice in time by this factor.")
-@click.option("--value", "value_factor", default=1.0, show_default=True, type=float,
+@click.option("--value", "value_factor", default=1.0, show_default=True, type=FiniteFloat(),
               help="Scale values about neutral by this factor.")
 @_slice_options
 def anim_scale(animation: str, output: str, time_factor: float, value_factor: float, motors: str | None,
@@ -270,7 +282,7 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
 @anim.command("from-track")
 @click.argument("track", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Animation (.toml).")
-@click.option("--tolerance", default=0.01, show_default=True, type=click.FloatRange(min=0, min_open=True),
+@click.option("--tolerance", default=0.01, show_default=True, type=FiniteFloat(min=0, min_open=True),
               help="How far (of the 0..1 range) the lines between knots may stray from the track's values.")
 def anim_from_track(track: str, output: str, tolerance: float) -> None:
     """Turn a motor track (.csv, .npz) into knots to edit: as few as keep every value within the tolerance."""
@@ -333,7 +345,7 @@ def _pair(text: str, option: str) -> tuple[float, float]:
 @anim.command("concat")
 @click.argument("animations", nargs=-1, required=True, type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False))
-@click.option("--fade", default=0.0, show_default=True, type=click.FloatRange(min=0),
+@click.option("--fade", default=0.0, show_default=True, type=FiniteFloat(min=0),
               help="Cross-fade seconds between one and the next.")
 def anim_concat(animations: tuple[str, ...], output: str, fade: float) -> None:
     """Join animations one after another, optionally cross-fading."""

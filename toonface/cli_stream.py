@@ -18,6 +18,7 @@ from toonface.cli_options import (
     SIZE,
     VMC,
     VMC_OUT,
+    FiniteFloat,
     TakeReading,
     bridge_spec,
     check_output,
@@ -54,11 +55,11 @@ def _key(path: str | None) -> bytes | None:
               help="Mapping [default: the preset matching the markers].")
 @click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
               help="Performer profile [default: the marker set's typical one, rest from the first second].")
-@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @click.option("--repeat", is_flag=True, help="A take file: play it again and again.")
 @click.option("--frames-per-packet", default=2, show_default=True, type=click.IntRange(1, 32),
               help="More: fewer packets and headers, more delay.")
-@click.option("--keyframe-seconds", default=0.5, show_default=True, type=click.FloatRange(0.02, 0.5),
+@click.option("--keyframe-seconds", default=0.5, show_default=True, type=FiniteFloat(0.02, 0.5),
               help="A keyframe at least this often (also whenever the receiver asks).")
 @click.option("--colour", default="blue", show_default=True, help="A video: the dot markers' colour.")
 @KEY
@@ -134,16 +135,16 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
 @click.option("-o", "--output", default=None, type=click.Path(),
               help="Record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
 @click.option("--preview", default=None, metavar="HOST:PORT", help="Serve a live MJPEG preview, e.g. 127.0.0.1:8080.")
-@click.option("--fps", default=60.0, show_default=True, type=click.FloatRange(1, 240), help="Frames drawn a second.")
+@click.option("--fps", default=60.0, show_default=True, type=FiniteFloat(1, 240), help="Frames drawn a second.")
 @click.option("--conceal", default="linear", show_default=True, type=click.Choice(["hold", "linear"]),
               help="How lost frames are guessed (then eased to neutral if the loss goes on); linear "
                    "had the lower error on the live performer and on real takes under loss.")
-@click.option("--jitter-ms", default=4.0, show_default=True, type=click.FloatRange(0, 500),
+@click.option("--jitter-ms", default=4.0, show_default=True, type=FiniteFloat(0, 500),
               help="Extra delay above what the recent packets needed.")
-@click.option("--max-jump", default=0.05, show_default=True, type=click.FloatRange(0.001, 1),
+@click.option("--max-jump", default=0.05, show_default=True, type=FiniteFloat(0.001, 1),
               help="While concealing and recovering, the most a motor moves per stream frame where its "
                    "own recent steps were smaller.")
-@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @KEY
 @click.option("--record", default=None, type=click.Path(dir_okay=False),
               help="Also write the motors shown (.csv/.npz); each later performer's beside it, as "
@@ -243,17 +244,17 @@ def _print_stats(receiver: StreamReceiver, done: threading.Event, say) -> None:
 @click.command()
 @click.option("--listen", default="127.0.0.1:7711", show_default=True, metavar="HOST:PORT", help="Where senders send.")
 @click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where to forward (the receiver).")
-@click.option("--loss", default=0.0, show_default=True, type=click.FloatRange(0, 1), help="Probability of a loss.")
-@click.option("--burst-ms", default=0.0, show_default=True, type=click.FloatRange(0, 10000),
+@click.option("--loss", default=0.0, show_default=True, type=FiniteFloat(0, 1), help="Probability of a loss.")
+@click.option("--burst-ms", default=0.0, show_default=True, type=FiniteFloat(0, 10000),
               help="Loss bursts this long, about one every 2 s.")
-@click.option("--duplicate", default=0.0, show_default=True, type=click.FloatRange(0, 1))
-@click.option("--corrupt", default=0.0, show_default=True, type=click.FloatRange(0, 1), help="Flip one bit.")
-@click.option("--reorder", default=0.0, show_default=True, type=click.FloatRange(0, 1),
+@click.option("--duplicate", default=0.0, show_default=True, type=FiniteFloat(0, 1))
+@click.option("--corrupt", default=0.0, show_default=True, type=FiniteFloat(0, 1), help="Flip one bit.")
+@click.option("--reorder", default=0.0, show_default=True, type=FiniteFloat(0, 1),
               help="Hold a packet back 30 ms.")
-@click.option("--delay-ms", default=0.0, show_default=True, type=click.FloatRange(0, 10000))
-@click.option("--jitter-ms", default=0.0, show_default=True, type=click.FloatRange(0, 10000))
+@click.option("--delay-ms", default=0.0, show_default=True, type=FiniteFloat(0, 10000))
+@click.option("--jitter-ms", default=0.0, show_default=True, type=FiniteFloat(0, 10000))
 @click.option("--seed", default=0, show_default=True, type=int)
-@click.option("--seconds", default=None, type=click.FloatRange(min=0.1), help="Stop after this long.")
+@click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: float, corrupt: float, reorder: float,
           delay_ms: float, jitter_ms: float, seed: int, seconds: float | None) -> None:
     """A bad network on one machine: forward UDP from --listen to --to (and replies back),

@@ -1,6 +1,7 @@
 """File round trips and errors: takes (.npz), motor tracks (.csv, .npz), atomic writes."""
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -148,3 +149,15 @@ def test_labels_are_checked_and_found_by_name_however_many_there_are():
         take.index("M-1")
     with pytest.raises(InputError, match=r"repeated: \['B', 'M7'\]"):
         Take(np.zeros((2, 5, 3)), ("M7", "B", "M7", "B", "C"), 30.0)
+
+
+@pytest.mark.parametrize("kind", ["fifo", "missing"])
+def test_a_named_pipe_is_not_called_missing(tmp_path, kind):
+    """A FIFO given as a take or a motor track was reported as "no such file"."""
+    for name, load in (("t.csv", load_take), ("m.csv", load_track)):
+        path = tmp_path / name
+        if kind == "fifo":
+            os.mkfifo(path)
+        expected = "a named pipe (FIFO), not a file" if kind == "fifo" else "no such file"
+        with pytest.raises(InputError, match=rf"^{tmp_path / name}: {re.escape(expected)}$"):
+            load(path)

@@ -418,3 +418,30 @@ def test_a_trc_names_its_own_file_not_the_temporary_one(small_take, tmp_path):
     """TRC files written by clean carried the temporary file's name in their header."""
     assert main(["clean", str(small_take / "t.npz"), "-o", str(tmp_path / "clean.trc")]) == 0
     assert (tmp_path / "clean.trc").read_text().splitlines()[0].split("\t")[-1] == "clean.trc"
+
+
+def _commands(group, path=()):
+    for name, command in group.commands.items():
+        if isinstance(command, click.Group):
+            yield from _commands(command, (*path, name))
+        else:
+            yield (*path, name), command
+
+
+def test_every_number_option_refuses_nan_and_infinities_by_name(tmp_path, capsys):
+    """clean --max-gap nan|inf ended in "internal error" (ValueError, OverflowError); anim's
+    --rate, --time, --value and --fade let NaN through to a file the reader then rejected."""
+    from toonface.cli import cli
+    from toonface.cli_options import FiniteFloat
+
+    numbers = [(path, p) for path, command in _commands(cli) for p in command.params
+               if isinstance(p.type, click.types.FloatParamType)]
+    assert len(numbers) > 30
+    plain = [f"{' '.join(path)} {p.opts[0]}" for path, p in numbers if not isinstance(p.type, FiniteFloat)]
+    assert not plain, plain
+    for _, param in numbers:
+        for bad in ("nan", "inf", "-inf"):
+            with pytest.raises(click.BadParameter, match="is not a finite number|not in the range"):
+                param.type.convert(bad, param, None)
+    assert main(["clean", "missing.npz", "-o", str(tmp_path / "x.npz"), "--max-gap", "nan"]) == 2
+    assert "Invalid value for '--max-gap': 'nan' is not a finite number" in capsys.readouterr().err

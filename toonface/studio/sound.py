@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from common import InputError
+from common.errors import require_file
 from common.sound import decode_mono
 
 #: Samples per second of the sound the page plays and draws (speech keeps its words at 16 kHz).
@@ -77,8 +78,7 @@ class Sound:
 def load_sound(path: str | os.PathLike) -> Sound:
     """Decode ``path``'s sound; :class:`~common.InputError` when it has none or cannot be read."""
     source = Path(path)
-    if not source.is_file():
-        raise InputError("no such file", source)
+    require_file(source)
     samples, _, _ = decode_mono(source, RATE)
     if not len(samples):
         raise InputError("its sound is empty", source)
@@ -94,8 +94,7 @@ def load_labels(path: str | os.PathLike) -> tuple[Label, ...]:
         Naming the file and the line that is not ``start<TAB>end<TAB>text``.
     """
     source = Path(path)
-    if not source.is_file():
-        raise InputError("no such file", source)
+    require_file(source)
     try:
         lines = source.read_text(encoding="utf-8").splitlines()
     except UnicodeDecodeError:
