@@ -74,8 +74,14 @@ def _to_csv(track: MotorTrack) -> str:
 
 
 def _from_csv(path: Path) -> MotorTrack:
-    with open(path, newline="", encoding="utf-8") as fh:
-        rows = list(csv.reader(fh))
+    raw = path.read_bytes()
+    try:
+        if b"\x00" in raw[:65536]:
+            raise UnicodeDecodeError("utf-8", raw, raw.index(b"\x00"), raw.index(b"\x00") + 1, "NUL byte")
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"binary data (byte {exc.start}), not a text movie script (time,BRL,...,HV)", path) from None
+    rows = list(csv.reader(io.StringIO(text, newline="")))
     if not rows:
         raise InputError("empty file; expected a header time,BRL,...,HV", path)
     header = [h.strip() for h in rows[0]]

@@ -445,3 +445,16 @@ def test_every_number_option_refuses_nan_and_infinities_by_name(tmp_path, capsys
                 param.type.convert(bad, param, None)
     assert main(["clean", "missing.npz", "-o", str(tmp_path / "x.npz"), "--max-gap", "nan"]) == 2
     assert "Invalid value for '--max-gap': 'nan' is not a finite number" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", [["render", "{path}", "-o", "{out}/x.mp4"], ["anim", "from-track", "{path}", "-o",
+                                                                              "{out}/a.toml"]])
+@pytest.mark.parametrize("content", [bytes(range(256)) * 8, b"time,BRL\n\xff\xfe\x00\x01"])
+def test_a_binary_file_given_as_a_motor_csv_is_one_line(tmp_path, capsys, command, content):
+    """It ended in "internal error: UnicodeDecodeError"."""
+    path = tmp_path / "m.csv"
+    path.write_bytes(content)
+    args = [a.format(path=path, out=tmp_path) for a in command]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"toonface: error: {path}: binary data")
