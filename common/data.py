@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import json
 import os
+import re
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -90,16 +91,45 @@ def _copied(value: object) -> object:
     return value
 
 
+#: The largest TOML or JSON file read (bytes): every toonface document is far smaller.
+MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
+#: The deepest nesting of arrays and tables read; a parser recursing deeper ran out of stack.
+MAX_NESTING = 64
+
+
+def nesting_depth(text: str) -> int:
+    """The deepest nesting of ``[``/``{`` in a TOML or JSON text, outside quoted strings (an upper
+    bound where TOML's comments hold brackets, which is all a limit needs)."""
+    import numpy as np  # loaded when a file is read, not when the command starts
+
+    data = np.frombuffer(_STRINGS.sub("", text).encode("utf-8"), dtype=np.uint8)
+    steps = ((data == ord("[")) | (data == ord("{"))).astype(np.int64) - ((data == ord("]")) | (data == ord("}")))
+    return int(np.cumsum(steps).max(initial=0))
+
+
+_STRINGS = re.compile(r'"(?:\\.|[^"\\\n])*"|\'[^\'\n]*\'')
+
+
 @functools.lru_cache(maxsize=256)
 def _parsed(path: Path, mtime_ns: int, size: int) -> dict:
     """The parsed document (the process's one cache: keyed by the file's path, modification time
     and size, so that a changed file is read again; errors are not kept)."""
     kind = "TOML" if path.suffix.lower() == ".toml" else "JSON"
+    if size > MAX_DOCUMENT_BYTES:
+        raise InputError(f"{size} bytes: larger than the {MAX_DOCUMENT_BYTES} bytes a {kind} file here may have", path)
     try:
         text = path.read_text(encoding="utf-8")
-        doc = tomllib.loads(text) if kind == "TOML" else json.loads(text)
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+    except UnicodeDecodeError as exc:
         raise InputError(f"not valid {kind} ({exc})", path) from None
+    depth = nesting_depth(text)
+    if depth > MAX_NESTING:
+        raise InputError(f"nested {depth} deep: deeper than the {MAX_NESTING} levels any toonface file has", path)
+    try:
+        doc = tomllib.loads(text) if kind == "TOML" else json.loads(text)
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError, RecursionError) as exc:
+        raise InputError(f"not valid {kind} ({exc})", path) from None
+    except ValueError:  # Python refuses to convert an integer of more than 4300 digits
+        raise InputError(f"not valid {kind}: a number of thousands of digits", path) from None
     if not isinstance(doc, dict):
         raise InputError(f"expected a {kind} object at the top level, got {type(doc).__name__}", path)
     return doc

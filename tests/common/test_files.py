@@ -161,3 +161,37 @@ def test_a_named_pipe_is_not_called_missing(tmp_path, kind):
         expected = "a named pipe (FIFO), not a file" if kind == "fifo" else "no such file"
         with pytest.raises(InputError, match=rf"^{tmp_path / name}: {re.escape(expected)}$"):
             load(path)
+
+
+@pytest.mark.parametrize(("suffix", "kind"), [(".json", "face"), (".toml", "mapping"), (".toml", "profile"),
+                                              (".toml", "animation"), (".toml", "markerset"), (".toml", "batch"),
+                                              (".toml", "expressions")])
+@pytest.mark.parametrize("hostile", ["deep", "digits"])
+def test_deeply_nested_or_huge_number_documents_are_one_line(tmp_path, capsys, suffix, kind, hostile):
+    """Nesting 100,000 deep ended in "internal error: RecursionError" for every file kind; an
+    integer of 5000 digits in a face in a ValueError."""
+    from toonface.cli import main
+
+    path = tmp_path / f"hostile{suffix}"
+    if hostile == "deep":
+        body = "[" * 100_000 + "]" * 100_000
+    else:
+        body = "9" * 5000
+    path.write_text(f'{{"format": 1, "x": {body}}}' if suffix == ".json" else f"format = 1\nx = {body}\n")
+    args = {"face": ["face", str(path), "--sheet", str(tmp_path / "s.png")],
+            "mapping": ["map", "t.npz", "-o", str(tmp_path / "m.csv"), "--mapping", str(path)],
+            "profile": ["map", "t.npz", "-o", str(tmp_path / "m.csv"), "--profile", str(path)],
+            "animation": ["anim", "sample", str(path), "-o", str(tmp_path / "m.csv")],
+            "markerset": ["markerset", "mapping", str(path), "-o", str(tmp_path / "x.toml")],
+            "batch": ["batch", str(path)],
+            "expressions": ["face", "classic", "--sheet", str(tmp_path / "s.png"), "--expressions", str(path)]}[kind]
+    save_take(synthesize(seconds=1.0, seed=1).take, tmp_path / "t.npz")
+    args = [str(tmp_path / "t.npz") if a == "t.npz" else a for a in args]
+    status = main(args)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2, err
+    reason = "nested 100001 deep" if hostile == "deep" and suffix == ".json" else (
+        "nested 100000 deep" if hostile == "deep" else "a number of thousands of digits")
+    assert err == [f"toonface: error: {path}: {reason}" + (
+        ": deeper than the 64 levels any toonface file has" if hostile == "deep" else "")] or (
+        hostile == "digits" and err[0] == f"toonface: error: {path}: not valid {suffix[1:].upper()}: {reason}")
