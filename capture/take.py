@@ -11,6 +11,8 @@ from common import InputError, readonly
 
 #: The channel that holds a take's sound level at each frame (1: its loudest), where it had sound.
 SOUND_LEVEL = "sound_level"
+#: No marker lies further than this from its take's origin (mm): a kilometre.
+MAX_POSITION_MM = 1e6
 #: Millimetres per unit, for the unit names take files use (C3D POINT:UNITS, TRC Units, --units).
 UNIT_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "cm": 10.0, "m": 1000.0, "meters": 1000.0,
            "metres": 1000.0, "in": 25.4, "inch": 25.4, "inches": 25.4}
@@ -68,6 +70,10 @@ class Take:
             raise InputError(f"dims must be 2 or 3, got {self.dims!r}")
         if np.isinf(pos).any():
             raise InputError("positions contain infinities; use NaN for unseen markers")
+        far = np.nanmax(np.abs(pos), initial=0.0)
+        if far > MAX_POSITION_MM:  # 1e308 in a take overflowed every sum downstream
+            raise InputError(f"a position of {far:.3g} mm: markers lie within {MAX_POSITION_MM:g} mm (a kilometre) of "
+                             "the origin; are these markers in millimetres?")
         pos = pos.copy()
         pos[np.isnan(pos).any(axis=2)] = np.nan  # a marker is seen in all coordinates or none
         times = np.arange(pos.shape[0]) / float(self.rate) if self.times is None else np.asarray(self.times, float)

@@ -99,15 +99,20 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
         raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)})",
                          path)
     require_file(path)
-    if suffix in _TABLES:
-        return read_csv(path, rate=rate, labels=labels, units=units)
     given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]
-    if given:
+    if given and suffix not in _TABLES:
         raise InputError(f"a {suffix} take carries its own {', '.join(given)}; those options are for CSV tables",
                          path)
-    if suffix == ".c3d":
-        return read_c3d(path, allow_truncated)
-    return {".trc": read_trc, ".npz": _read_npz}[suffix](path)
+    try:
+        if suffix in _TABLES:
+            return read_csv(path, rate=rate, labels=labels, units=units)
+        if suffix == ".c3d":
+            return read_c3d(path, allow_truncated)
+        return {".trc": read_trc, ".npz": _read_npz}[suffix](path)
+    except InputError as exc:  # what the take itself refuses (Take's checks) names the file too
+        if exc.source is None:
+            raise InputError(exc.message, path, exc.field) from None
+        raise
 
 
 def is_table(path: str | os.PathLike) -> bool:

@@ -104,10 +104,17 @@ def numeric_rows(rows: list[tuple[int, list[str]]], columns: list[int], names: l
     return out
 
 
+#: The frame rates a take may have, Hz: a frame a minute to 100 kHz (a time column of 1e300-second
+#: steps made a rate of 1e-300 Hz and a take of 1e302 seconds).
+RATE_BOUNDS = (1 / 60, 100_000.0)
+
+
 def check_rate(rate: float | None, path: Path, where: str = "rate") -> float:
-    """A frame rate that makes sense (0 < rate <= 100 kHz), else an error naming where it came from."""
-    if not (isinstance(rate, (int, float)) and math.isfinite(rate) and 0 < rate <= 100_000):
-        raise InputError(f"{where} is {rate!r}; expected frames per second in (0, 100000]", path)
+    """A frame rate that makes sense (:data:`RATE_BOUNDS`), else an error naming where it came from."""
+    low, high = RATE_BOUNDS
+    if not (isinstance(rate, (int, float)) and math.isfinite(rate) and low <= rate <= high):
+        raise InputError(f"{where} is {rate:g}; expected frames per second from {low:.3g} (a frame a minute) to "
+                         f"{high:g}" if isinstance(rate, (int, float)) else f"{where} is {rate!r}", path)
     return float(rate)
 
 

@@ -12,6 +12,7 @@ import os
 import signal
 import sys
 import threading
+import warnings
 
 import click
 
@@ -308,7 +309,10 @@ def main(argv: list[str] | None = None) -> int:
 def _main(argv: list[str] | None) -> int:
     debug = os.environ.get("TOONFACE_DEBUG") == "1"
     try:
-        status = cli.main(args=argv, prog_name="toonface", standalone_mode=False)
+        with warnings.catch_warnings():
+            if not debug:  # numpy's overflow and empty-slice warnings are not the user's to read
+                warnings.simplefilter("ignore", RuntimeWarning)
+            status = cli.main(args=argv, prog_name="toonface", standalone_mode=False)
         if isinstance(status, int):  # ctx.exit(N) in a subcommand
             return status
     except click.exceptions.Exit as exc:

@@ -195,3 +195,25 @@ def test_deeply_nested_or_huge_number_documents_are_one_line(tmp_path, capsys, s
     assert err == [f"toonface: error: {path}: {reason}" + (
         ": deeper than the 64 levels any toonface file has" if hostile == "deep" else "")] or (
         hostile == "digits" and err[0] == f"toonface: error: {path}: not valid {suffix[1:].upper()}: {reason}")
+
+
+def test_absurd_positions_and_rates_are_refused_by_name(tmp_path):
+    """A take full of 1e308 ended in LinAlgError with numpy warnings on the terminal; a time
+    column of 1e300-second steps was read as a take of 1e302 seconds at 1e-300 Hz."""
+    take = synthesize(seconds=1.0, seed=1).take
+    huge = take.positions.copy()
+    huge[3, 4] = 1e308
+    save_take(Take(take.positions, take.labels, take.rate), tmp_path / "ok.csv")
+    lines = (tmp_path / "ok.csv").read_text().splitlines()
+    cells = [row.split(",") for row in lines[1:]]
+    (tmp_path / "huge.csv").write_text("\n".join([lines[0]] + [",".join(c[:2] + ["1e308"] * (len(c) - 2))
+                                                               for c in cells]) + "\n")
+    (tmp_path / "slow.csv").write_text("\n".join([lines[0]] + [",".join([c[0], repr(i * 1e300)] + c[2:])
+                                                               for i, c in enumerate(cells)]) + "\n")
+    with pytest.raises(InputError, match=r"huge.csv: a position of 1e\+308 mm: markers lie within"):
+        load_take(tmp_path / "huge.csv")
+    with pytest.raises(InputError, match=r'slow.csv: the rate implied by column "time_s" is 1e-300; expected'):
+        load_take(tmp_path / "slow.csv")
+    with pytest.raises(InputError, match="a position of 1e\\+308 mm"):
+        Take(huge, take.labels, take.rate)
+    assert load_take(tmp_path / "ok.csv").frames == take.frames

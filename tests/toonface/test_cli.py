@@ -458,3 +458,23 @@ def test_a_binary_file_given_as_a_motor_csv_is_one_line(tmp_path, capsys, comman
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"toonface: error: {path}: binary data")
+
+
+def test_no_numpy_warning_reaches_the_terminal(small_take, tmp_path, monkeypatch, capsys):
+    """Overflow and empty-slice warnings were printed among a command's own lines."""
+    import warnings as python_warnings
+
+    from mapping import workflow
+
+    report = workflow.take_report
+
+    def noisy(*args, **kwargs):
+        python_warnings.warn("overflow encountered in add", RuntimeWarning, stacklevel=1)
+        return report(*args, **kwargs)
+
+    monkeypatch.setattr(workflow, "take_report", noisy)
+    assert main(["map", str(small_take / "t.npz"), "-o", str(tmp_path / "m.csv")]) == 0
+    assert "RuntimeWarning" not in capsys.readouterr().err
+    monkeypatch.setenv("TOONFACE_DEBUG", "1")  # a developer still sees them
+    with pytest.warns(RuntimeWarning, match="overflow"):
+        main(["map", str(small_take / "t.npz"), "-o", str(tmp_path / "m.csv")])
