@@ -102,6 +102,8 @@ class Commands:
         if not words or len(words) % 2:
             raise CommandError("hold needs CODE VALUE pairs")
         targets = {self._code(words[k]): _number(words[k + 1], "value", 0.0, 1.0) for k in range(0, len(words), 2)}
+        if len(targets) != len(words) // 2:
+            raise CommandError("a motor is named twice; give each motor one value per command")
         self.mixer.hold(targets)
         return f"holding {len(targets)}"
 
@@ -121,6 +123,8 @@ class Commands:
             code = words[k].upper()
             if code not in MOTOR_CODES:
                 raise CommandError(f"unknown motor {words[k]!r} (motors: {' '.join(MOTOR_CODES)})")
+            if any(m.code == code for m in moves):  # "ELU 0 500 ELU 1 500" answered "moving 2"
+                raise CommandError(f"{code} is named twice; give each motor one target per command")
             moves.append(Move(code, _number(words[k + 1], "target", 0.0, 1.0), _ms(words[k + 2])))
         self.animator.command(moves)
         return f"moving {len(moves)}"

@@ -52,6 +52,7 @@ def test_moves_frames_and_state(commands):
     ("ELU 0 100 MB x 100", "target: expected a number, got 'x'"),
     ("frame 1 2 3", "frame needs 21 values"),
     ("play moonwalk", "unknown motion 'moonwalk'"),
+    ("ELU 0 500 ELU 1 500", "ELU is named twice"),  # answered "moving 2"
 ])
 def test_a_malformed_line_changes_nothing(commands, line, message):
     cmd, animator, _ = commands

@@ -113,6 +113,7 @@ def test_alone_a_move_holds_where_it_put_a_motor_and_a_blink_gives_the_lids_back
     assert commands.handle("release") == "ok released all"
     assert commands.handle("hold XX 1").startswith("error: unknown motor")
     assert commands.handle("hold MB").startswith("error: hold needs")
+    assert commands.handle("hold ELU 0 elu 1") == "error: a motor is named twice; give each motor one value per command"
     for t in _times(0.5, 2.5):
         animator.tick(t)
         mixer.step(t)
