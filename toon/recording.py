@@ -15,13 +15,17 @@ import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Protocol
+from typing import Protocol, TextIO
 
 import numpy as np
 
 from common import InputError
+from toon.motors import MOTOR_CODES
 from toon.track import MotorTrack
 from toon.track_io import save_track
+
+#: A live recording's partial file is flushed at least this often (seconds of the recording).
+FLUSH_SECONDS = 1.0
 
 
 class MotorSink(Protocol):
@@ -47,6 +51,11 @@ class MotorRecorder:
     without a frame (a player that fell behind) repeat the frame before them. Values are clipped
     to [0, 1], so that no stray value can cost the recording.
 
+    While it records, each slot is also appended as it is settled to ``NAME.partial.csv`` beside
+    the output, flushed every :data:`FLUSH_SECONDS` of the recording: a process killed outright
+    (SIGKILL, a power cut to the program) leaves that movie script with all but the last second
+    or so. :meth:`close` writes the output and removes it; :meth:`abort` removes it.
+
     Parameters
     ----------
     path : str or PathLike
@@ -65,6 +74,11 @@ class MotorRecorder:
         self.written: Path | None = None
         self._times: list[float] = []
         self._values: list[np.ndarray] = []
+        self.partial = self.path.with_name(f"{self.path.stem}.partial.csv")
+        self._live: TextIO | None = None
+        self._slot = 0  # the next slot to append
+        self._latest: np.ndarray | None = None
+        self._flushed = 0.0
 
     @property
     def frames(self) -> int:
@@ -73,9 +87,29 @@ class MotorRecorder:
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
               confidence: np.ndarray | None = None) -> None:
-        """Keep one frame ``(21,)`` at ``t`` seconds."""
+        """Keep one frame ``(21,)`` at ``t`` seconds (and append the slots it settles)."""
+        frame = np.array(values, dtype=float)
         self._times.append(float(t))
-        self._values.append(np.array(values, dtype=float))
+        self._values.append(frame)
+        self._append_settled(float(t), frame)
+
+    def _append_settled(self, t: float, frame: np.ndarray) -> None:
+        """Append the slots that ``t`` settles (those more than half a slot before it) to the
+        partial file, holding the newest frame before ``t``."""
+        if self._live is None:
+            self._live = open(self.partial, "w", encoding="utf-8")  # noqa: SIM115 - closed by close/abort
+            self._live.write(",".join(("time", *MOTOR_CODES)) + "\n")
+        held = frame if self._latest is None else self._latest
+        rows = []
+        while (self._slot + 0.5) / self.rate < t:
+            rows.append(f"{self._slot / self.rate:.6f}," + ",".join(f"{v:.6f}" for v in np.clip(held, 0.0, 1.0)))
+            self._slot += 1
+        self._latest = frame
+        if rows:
+            self._live.write("\n".join(rows) + "\n")
+            if t - self._flushed >= FLUSH_SECONDS:
+                self._live.flush()
+                self._flushed = t
 
     def track(self) -> MotorTrack:
         """The frames so far as a track (see the class docstring); needs at least one frame."""
@@ -87,14 +121,23 @@ class MotorRecorder:
         return MotorTrack(np.clip(values, 0.0, 1.0), self.rate, meta=self.meta)
 
     def close(self) -> None:
-        """Write the track (nothing when no frame came); :attr:`written` is its path."""
+        """Write the track (nothing when no frame came); :attr:`written` is its path. The partial
+        file goes once the track is written."""
         if self._times and self.written is None:
             self.written = save_track(self.track(), self.path)
+        self._drop_partial()
 
     def abort(self) -> None:
         """Write nothing."""
         self._times.clear()
         self._values.clear()
+        self._drop_partial()
+
+    def _drop_partial(self) -> None:
+        if self._live is not None:
+            self._live.close()
+            self._live = None
+            self.partial.unlink(missing_ok=True)
 
 
 class LatestMotors:

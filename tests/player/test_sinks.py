@@ -107,3 +107,44 @@ def test_a_png_written_but_not_counted_when_stopped_is_not_kept(tmp_path):
     assert kept == tmp_path / "frames.partial-3"
     assert sorted(p.name for p in kept.iterdir()) == [f"frame_00000{i}.png" for i in range(3)]
     assert not (tmp_path / "frames").exists()
+
+
+def test_a_recording_killed_outright_leaves_all_but_its_last_second(tmp_path):
+    """After SIGKILL, receive --record rec.csv left no CSV at all: the recording was kept in
+    memory until close. Now it is appended as it goes to rec.partial.csv."""
+    import signal
+    import subprocess
+    import sys
+    import textwrap
+
+    from toon import load_track
+
+    script = textwrap.dedent(f"""
+        import os, signal
+        import numpy as np
+        from toon.recording import MotorRecorder
+        recorder = MotorRecorder({str(tmp_path / "rec.csv")!r}, 30.0)
+        for f in range(95):  # 3.2 s of frames, the values a ramp
+            recorder.write(f / 30.0, np.full(21, f / 100.0))
+        os.kill(os.getpid(), signal.SIGKILL)
+    """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=60)
+    assert done.returncode == -signal.SIGKILL
+    assert not (tmp_path / "rec.csv").exists()
+    kept = load_track(tmp_path / "rec.partial.csv")
+    assert 2.0 * 30 <= kept.frames <= 94  # all but the last second or so
+    np.testing.assert_allclose(kept.values[:, 0], np.arange(kept.frames) / 100.0, atol=1e-6)  # slot k: frame k
+
+
+def test_a_recording_closed_or_aborted_leaves_no_partial_file(tmp_path):
+    from toon import load_track
+    from toon.recording import MotorRecorder
+
+    for end in ("close", "abort"):
+        recorder = MotorRecorder(tmp_path / f"{end}.csv", 30.0)
+        for f in range(40):
+            recorder.write(f / 30.0, np.full(21, 0.5))
+        getattr(recorder, end)()
+        assert not (tmp_path / f"{end}.partial.csv").exists()
+        assert (tmp_path / f"{end}.csv").exists() == (end == "close")
+    assert load_track(tmp_path / "close.csv").frames == 40
