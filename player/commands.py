@@ -118,7 +118,7 @@ class Commands:
             raise CommandError(f"{words[0]!r} is not a command; {HELP}")  # such as quit: not a move either
         if len(words) % 3:
             raise CommandError(f"expected CODE TARGET MS triples, got {len(words)} words")
-        moves = []
+        moves: list[Move] = []
         for k in range(0, len(words), 3):
             code = words[k].upper()
             if code not in MOTOR_CODES:
