@@ -172,7 +172,7 @@ def test_crossing_lids_are_a_closed_eye(name):
         values[[motor_index("ERU"), motor_index("ELU")]] = upper
         values[[motor_index("ERL"), motor_index("ELL")]] = lower
         values[[motor_index(c) for c in GAZE]] = gaze
-        return render_cpu(rig.geometry(values), (256, 256)).astype(int)
+        return render_cpu(rig.geometry(values), (160, 160)).astype(int)
 
     assert (picture(1.0, 0.0, 0.0) != picture(1.0, 0.0, 1.0)).any(axis=2).sum() > 20  # the oracle can fail
     crossing = [(u, lo) for u, lo in product((0.0, 0.2, 0.4, 0.6), (0.4, 0.6, 0.8, 1.0))
