@@ -376,3 +376,24 @@ def test_each_pair_keeps_its_takes_report_and_the_summary_names_takes_with_warni
         assert reports["fine/classic"]["warnings"] == [] and reports["fine/classic"]["units"]["unit"] == "mm"
         assert reports["fine/classic"]["motors"]["MB"]["range_used"] >= 0
     assert "skipped         2" in captured.out
+
+
+@pytest.mark.slow
+def test_ctrl_c_cancels_the_pairs_in_flight_without_dask_tracebacks(tmp_path, client, monkeypatch):
+    """Ctrl-C while the first tasks ran printed 35 lines of the scheduler's own tracebacks
+    ("Exception while handling op register-client") before "aborted": Dask's loggers are quiet
+    once the user has stopped the run."""
+    import logging
+
+    for name in [n for n in logging.root.manager.loggerDict if n.split(".")[0] in ("distributed", "asyncio")]:
+        monkeypatch.setattr(logging.getLogger(name), "level", logging.getLogger(name).level)  # restored after
+    path = write_job(tmp_path, {"a": 2.0, "b": 2.0}, ["classic", "round"])
+    job = load_job(path)
+
+    def stop(finished: int, submitted: int) -> None:
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_batch(job, plan(job), client, stop)
+    for name in ("distributed", "distributed.core", "distributed.scheduler", "asyncio"):
+        assert not logging.getLogger(name).isEnabledFor(logging.CRITICAL), name

@@ -80,6 +80,15 @@ def connect(scheduler: str | None = None, workers: int | None = None, wait_secon
         yield client
 
 
+def quiet_dask() -> None:
+    """Silence Dask's and asyncio's loggers for the rest of the process: on Ctrl-C, cancelling the
+    tasks in flight made the scheduler log 35 lines of its own tracebacks ("Exception while
+    handling op register-client", "Task exception was never retrieved") before "aborted"."""
+    names = [name for name in logging.root.manager.loggerDict if name.split(".")[0] in ("distributed", "asyncio")]
+    for name in {"distributed", "asyncio", *names}:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
 class KeepFreedMemory(WorkerPlugin):
     """Each worker's allocator keeps freed memory for the next take's arrays, as the ``toonface``
     command's does (:func:`common.memory.keep_freed_memory`)."""
@@ -111,6 +120,9 @@ def run_batch(job: Job, pairs: list[Pair], client: Client | None,
         with stream:
             try:
                 run.execute(pairs)
+            except KeyboardInterrupt:
+                quiet_dask()  # cancelling mid-flight makes Dask log its own races: not the user's to read
+                raise
             finally:
                 run.cancel_unfinished()
     finally:
