@@ -94,7 +94,7 @@ def _take(raw: _Raw, path: Path, allow_truncated: bool) -> Take:
     """The take from what a library read: units, gaps, modelled points and truncation handled."""
     rate, labels, data = raw.rate, raw.labels, raw.samples
     if not np.isfinite(rate) or rate <= 0 or rate > 1e6:
-        raise InputError(f"POINT:RATE is {rate!r}; expected a positive frame rate", path)
+        raise InputError(f"POINT:RATE is {_plain(rate)}; expected a positive frame rate", path)
     if not len(data):
         raise InputError("no point frames in the file", path)
     if len(data) < raw.declared:
@@ -237,3 +237,12 @@ def _unit_name(text: str) -> str:
     if not words:
         return "mm"
     return words[0] if len(set(words)) == 1 else " ".join(words)
+
+
+def _plain(value: object) -> str:
+    """A number as a user writes it (``0``, ``nan``), not as numpy spells it (``np.float32(0.0)``)."""
+    try:
+        return f"{float(value):g}"  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return repr(value)
+

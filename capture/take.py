@@ -65,7 +65,7 @@ class Take:
         if dupes:
             raise InputError(f"marker labels must be unique; repeated: {dupes}")
         if not (np.isfinite(self.rate) and self.rate > 0):
-            raise InputError(f"rate must be a positive number of frames per second, got {self.rate!r}")
+            raise InputError(f"rate must be a positive number of frames per second, got {float(self.rate):g}")
         if self.dims not in (2, 3):
             raise InputError(f"dims must be 2 or 3, got {self.dims!r}")
         if np.isinf(pos).any():

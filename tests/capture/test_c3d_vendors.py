@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from capture import load_take
+from common import InputError
 
 
 @pytest.fixture
@@ -69,3 +70,13 @@ def test_every_real_c3d_reads_as_ezc3d_reads_it(realdata):
         np.testing.assert_allclose(take.positions[~gaps], points[~gaps], atol=step, err_msg=path.name)
         compared += 1
     assert compared == 14
+
+
+def test_a_zero_rate_is_said_as_a_number_not_as_numpy_spells_it(tmp_path):
+    """An error showed "POINT:RATE is np.float32(0.0)": what a reader gives a file whose
+    POINT:RATE is 0 (the c3d library reads such a file; its writer refuses to make one)."""
+    from capture import c3dfile
+
+    raw = c3dfile._Raw(np.float32(0.0), ["A"], "mm", np.zeros((3, 1, 4), np.float32), 3, {})
+    with pytest.raises(InputError, match=r"p.c3d: POINT:RATE is 0; expected a positive frame rate$"):
+        c3dfile._take(raw, tmp_path / "p.c3d", False)
