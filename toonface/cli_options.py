@@ -29,6 +29,10 @@ class FiniteFloat(click.FloatRange):
             self.fail(f"{value!r} is not a finite number", param, ctx)
         return number
 
+    def _describe_range(self) -> str:
+        """The bounds for ``--help``; nothing where there are none (click wrote "x<=None")."""
+        return "" if self.min is None and self.max is None else super()._describe_range()
+
 
 class ProgressBar:
     """A per-frame progress callback drawing a bar on stderr (only when stderr is a terminal)."""

@@ -445,6 +445,9 @@ def test_every_number_option_refuses_nan_and_infinities_by_name(tmp_path, capsys
                 param.type.convert(bad, param, None)
     assert main(["clean", "missing.npz", "-o", str(tmp_path / "x.npz"), "--max-gap", "nan"]) == 2
     assert "Invalid value for '--max-gap': 'nan' is not a finite number" in capsys.readouterr().err
+    for path in sorted({path for path, _ in numbers}):  # an unbounded number's help said "x<=None"
+        assert main([*path, "--help"]) == 0
+        assert "None]" not in capsys.readouterr().out.replace("\n", " "), path
 
 
 @pytest.mark.parametrize("command", [["render", "{path}", "-o", "{out}/x.mp4"], ["anim", "from-track", "{path}", "-o",
