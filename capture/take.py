@@ -53,6 +53,7 @@ class Take:
     meta: dict = field(default_factory=dict)
     channels: np.ndarray = None  # type: ignore[assignment]  # None: no channels; __post_init__ stores an array
     channel_names: tuple[str, ...] = ()
+    _columns: dict[str, int] = field(init=False, repr=False, default_factory=dict)  # label -> column, for index
 
     def __post_init__(self) -> None:
         pos = np.asarray(self.positions, dtype=np.float64)
@@ -120,7 +121,7 @@ class Take:
 
     def index(self, label: str) -> int:
         """Column of a marker; raises :class:`InputError` naming the missing label."""
-        column = self._columns.get(label)  # type: ignore[attr-defined]
+        column = self._columns.get(label)
         if column is None:
             raise InputError(f'no marker "{label}" in this take')
         return column

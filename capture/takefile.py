@@ -133,7 +133,8 @@ def dropped_channels(take: Take, path: str | os.PathLike) -> str:
 def save_take(take: Take, path: str | os.PathLike) -> Path:
     """Write a take file atomically, choosing the writer by suffix (``.c3d .trc .csv .npz``)."""
     path = Path(path)
-    writers = {".c3d": write_c3d, ".trc": write_trc, ".csv": write_csv, ".npz": _write_npz}
+    writers = {".c3d": write_c3d, ".csv": write_csv, ".npz": _write_npz,
+               ".trc": lambda t, tmp: write_trc(t, tmp, path.name)}  # its header names the file, not the temporary
     writer = writers.get(path.suffix.lower())
     if writer is None:
         raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (writable: {', '.join(WRITABLE)})",
@@ -141,8 +142,5 @@ def save_take(take: Take, path: str | os.PathLike) -> Path:
     if take.dims == 2 and path.suffix.lower() in (".c3d", ".trc"):
         raise InputError("a planar (2-D) take can be written as .csv or .npz only", path)
     with atomic_path(path) as tmp:
-        if writer is write_trc:  # its header names the file: the final name, not the temporary one
-            write_trc(take, tmp, path.name)
-        else:
-            writer(take, tmp)
+        writer(take, tmp)
     return path

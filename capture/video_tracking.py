@@ -26,7 +26,7 @@ from capture.sources import video_source
 from capture.take import SOUND_LEVEL, Take
 from capture.videoio import frames, probe
 from common import InputError, read_document
-from common.sound import has_audio, sound_envelope
+from common.sound import sound_envelope
 
 
 def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = "toon32",
@@ -83,10 +83,11 @@ def with_sound_level(take: Take, path: str | os.PathLike) -> Take:
     """``take`` with a :data:`~capture.take.SOUND_LEVEL` channel: the loudness of ``path``'s sound
     at each frame (RMS over 20 ms, 1 the loudest; NaN past the sound's end), which says where
     nobody speaks (:mod:`mapping.rest`). A video without sound gives the take unchanged."""
-    if not has_audio(path):
-        return take
     step = 0.02
-    times, envelope = sound_envelope(path, step)
+    try:
+        times, envelope = sound_envelope(path, step)
+    except InputError:  # no sound (or none that decodes): nothing to say where nobody speaks
+        return take
     if len(times):  # each level holds for its step: the last one up to the sound's end
         level = np.interp(take.times, np.append(times, times[-1] + step), np.append(envelope, envelope[-1]),
                           left=np.nan, right=np.nan)

@@ -77,16 +77,15 @@ def stillest_window(stable: Stabilised, times: np.ndarray, seconds: float = REST
     n = _frames(times, seconds)
     if len(times) <= n:
         return float(times[0]), float(times[-1])
-    speeds = window_speeds(frame_speed(stable), n)
-    start = int(np.argmin(speeds))
-    return float(times[start]), float(times[min(start + n, len(times) - 1)])
+    return _span(times, int(np.argmin(window_speeds(frame_speed(stable), n))), n)
 
 
 def window_costs(stable: Stabilised, rate: float, n: int, speed: np.ndarray | None = None) -> np.ndarray:
-    """How unlike rest each window of ``n`` frames is, ``(F - n + 1,)``, in mm: the RMS distance
-    of its mean pose from the take's median pose (rest is the pose a face keeps coming back to)
-    plus the distance its markers travel in :data:`SPEED_SECONDS` (rest is still); ``inf`` where
-    a frame has no head pose, or a marker seen in most of the take is never seen."""
+    """How unlike rest each window of ``n`` frames is, ``(F - n + 1,)``, in mm: how far its mean
+    pose is from the take's median pose (the :data:`AWAY_PERCENTILE` th percentile of its
+    markers' distances; rest is the pose a face keeps coming back to) plus the distance its
+    markers travel in :data:`SPEED_SECONDS` (rest is still); ``inf`` where a frame has no head
+    pose, or a marker seen in most of the take is never seen."""
     speed = frame_speed(stable, round(SPEED_LAG * rate)) if speed is None else speed
     moving = window_speeds(speed, n) * rate * SPEED_SECONDS
     local = stable.local

@@ -12,6 +12,7 @@ same axis. Motion beyond the typical range is kept: the take shows the performer
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 from common import data_path
 from mapping.mapfile import Mapping, MotorRule, load_mapping
@@ -24,14 +25,27 @@ TYPICAL = "toon32"
 SIZE_BOUNDS = (0.6, 1.6)
 
 
+def builtin_profile(markerset: str) -> Path | None:
+    """The built-in typical performer profile for a marker set, if there is one."""
+    path = data_path("profiles", f"{markerset}.toml")
+    return path if path.is_file() else None
+
+
+def typical_profile(markerset: str) -> Profile | None:
+    """The profile used when none is given: the marker set's built-in typical one, if it has one
+    (else ``map`` and ``send`` calibrate on the take itself)."""
+    path = builtin_profile(markerset)
+    return None if path is None else load_profile(path)
+
+
 def typical_sides(mapping: Mapping) -> dict[str, tuple[float, float]]:
     """Source key -> how far a typical face moves it below and above rest (mm; negative,
     positive), for the plain marker sources of ``mapping`` that drive a motor toon32 drives
     from the same axis, oriented by each rule's and source's ``invert``."""
-    path = data_path("profiles", f"{TYPICAL}.toml")
-    if not path.is_file():
+    typical = typical_profile(TYPICAL)
+    if typical is None:
         return {}
-    typical, reference = load_profile(path), load_mapping(TYPICAL)
+    reference = load_mapping(TYPICAL)
     rules = {rule.code: rule for rule in reference.rules}
     out: dict[str, tuple[float, float]] = {}
     for rule in mapping.rules:

@@ -47,6 +47,14 @@ class Units:
     check: ScaleCheck
     notes: tuple[str, ...] = ()
 
+    @property
+    def size(self) -> float:
+        """The take's size against its marker set's as settled (1.0 where it has no figure): the
+        shape ratio as read, in the units the take was settled in."""
+        if self.check.ratio is None:
+            return 1.0
+        return self.check.ratio * self.mm_per_unit / self.check.mm_per_unit
+
     def name(self) -> str:
         """The unit's name (``"cm"``), or millimetres per unit as a number."""
         return next((u for u, mm in UNITS.items() if np.isclose(mm, self.mm_per_unit)), f"{self.mm_per_unit:g} mm/unit")

@@ -21,7 +21,6 @@ import numpy as np
 
 from capture import MarkerSet, Take, load_markerset
 from capture.markerset import find_markerset
-from capture.scale import check_scale
 from capture.take import SOUND_LEVEL
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
@@ -29,13 +28,13 @@ from mapping.coupling import learn_couplings
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, normalise
 from mapping.plan import resolved_mode
-from mapping.profile import KIND_MOTION, Profile, build_profile, load_profile
+from mapping.profile import KIND_MOTION, Profile, build_profile
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised
 from mapping.sweep import mirror_lost_sides
-from mapping.typical import TYPICAL, bound_by_typical
+from mapping.typical import TYPICAL, bound_by_typical, typical_profile
 from mapping.units import Units, settle_units
 from toon import MotorTrack, standard_neutral
 
@@ -241,7 +240,7 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
         profile = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE)
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
         kind, rest = "from the take itself (1st-99th percentiles)", profile.notes["neutral"]
-        size = check_scale(prepared.take, markerset).ratio or 1.0
+        size = prepared.units.size if prepared.units is not None else 1.0
         profile, widened = bound_by_typical(profile, chosen, size)
         if widened:
             kind += f", each side at least a typical face's (x{size:.2f})"
@@ -335,19 +334,6 @@ def check_profile(profile: Profile, mapping: Mapping, markerset: str) -> None:
     raise InputError(f"the profile {profile.source or '(given)'} is for marker set {profile.markerset}, but {which} "
                      f"reads marker set {markerset}: calibrate a profile on a {markerset} take "
                      f"(toonface calibrate), or use a mapping for {profile.markerset}")
-
-
-def builtin_profile(markerset: str) -> Path | None:
-    """The built-in typical performer profile for a marker set, if there is one."""
-    path = data_path("profiles", f"{markerset}.toml")
-    return path if path.is_file() else None
-
-
-def typical_profile(markerset: str) -> Profile | None:
-    """The profile used when none is given: the marker set's built-in typical one, if it has one
-    (else ``map`` and ``send`` calibrate on the take itself)."""
-    path = builtin_profile(markerset)
-    return None if path is None else load_profile(path)
 
 
 def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool) -> Profile:

@@ -259,6 +259,11 @@ class RawSink:
         with contextlib.suppress(BrokenPipeError, ValueError):
             self._stream.flush()
 
+    def keep_partial(self, named_after: str | os.PathLike | None = None) -> Path:
+        """What a stream sent is the reader's already: flush it; the stream is ``-``."""
+        self.close()
+        return Path("-")
+
     def abort(self) -> None:
         """Nothing to roll back on a stream."""
         self.close()

@@ -62,11 +62,7 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
         try:
             frames = render_track(track, FaceRig(face), renderer, writer, fps, progress)
         except KeyboardInterrupt as stop:
-            if hasattr(sink, "keep_partial"):  # a file or folder: kept under a partial name
-                kept: str | os.PathLike = sink.keep_partial(partial_as)
-            else:  # a stream has nothing to keep apart
-                sink.close()
-                kept = output
+            kept = sink.keep_partial(partial_as)  # a file or folder under a partial name; a stream flushed
             raise Interrupted(str(kept), sink.frames, frame_count(track, fps or track.rate),
                               "SIGTERM" if isinstance(stop, Terminated) else "SIGINT") from None
         except BaseException:

@@ -22,7 +22,8 @@ from capture.sources import Source, paced
 from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
 from mapping.stepwise import LiveMapper
-from mapping.workflow import SELF_MIN_SIDE, check_profile, typical_profile
+from mapping.typical import typical_profile
+from mapping.workflow import SELF_MIN_SIDE, check_profile
 from toon.recording import LatestMotors, MotorSink
 
 #: Seconds of a take its own profile is calibrated on, when its marker set has no typical one.
