@@ -4,9 +4,7 @@ import importlib
 import importlib.metadata
 import importlib.util
 import json
-import os
 import re
-import signal
 import socket
 import subprocess
 import sys
@@ -19,7 +17,6 @@ import pytest
 from capture import load_take, save_take, synthesize
 from capture.performance import DEFAULT_EXPRESSIONS
 from toon import MOTOR_CODES, builtin_faces, load_track, motor_index
-from toonface import cli_options
 from toonface.cli import cli, main
 from toonface.pipeline import map_onto_face
 
@@ -250,15 +247,6 @@ def test_the_live_mapper_loads_no_signal_library_until_a_filter_needs_one():
     assert result.stderr.strip() == "False"
 
 
-@pytest.fixture(scope="module")
-def small_take(tmp_path_factory):
-    """A 2 s synthetic take at 30 Hz and its mapped motors."""
-    root = tmp_path_factory.mktemp("small")
-    save_take(synthesize(seconds=2.0, rate=30.0).take, root / "t.npz")
-    assert main(["map", str(root / "t.npz"), "-o", str(root / "m.csv")]) == 0
-    return root
-
-
 @pytest.mark.parametrize("argv, fragment", [
     (["score", "{m}", "-o", "{out}/s.png", "--motors", "XX"],
      "Invalid value for --motors: unknown motor code(s) XX"),  # was: internal error: KeyError
@@ -335,149 +323,3 @@ def test_every_option_s_help_default_is_its_real_default():
 def test_map_without_a_profile_uses_the_typical_one_as_its_help_says(small_take):
     mapped = map_onto_face(load_take(small_take / "t.npz"))  # what `map` runs without --profile
     assert any("built-in typical profile for toon32" in note for note in mapped.meta["notes"])
-
-
-@pytest.mark.parametrize("signum, status", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
-@pytest.mark.parametrize("suffix", [".mp4", ""])
-def test_a_signal_stops_a_render_keeps_what_was_drawn_and_the_earlier_output(small_take, tmp_path, monkeypatch,
-                                                                            capsys, signum, status, suffix):
-    """SIGTERM lost the output and left a hidden .NAME.xxxx.partial.mp4; then an interrupted run
-    replaced a complete earlier output with its 12 frames. Now the 12 frames are kept as
-    out.partial-12 beside the earlier output, which is left as it was."""
-    output = tmp_path / f"out{suffix}"
-    assert main(["render", str(small_take / "m.csv"), "-o", str(output), "--size", "32"]) == 0  # complete
-    before = _frames(output)
-    assert before == 60
-    drawn = []
-
-    def frame_done(bar, frames):
-        drawn.append(frames)
-        if len(drawn) == 12:
-            os.kill(os.getpid(), signum)  # delivered to this (the main) thread before the next frame
-
-    monkeypatch.setattr(cli_options.ProgressBar, "__call__", frame_done)
-    capsys.readouterr()
-    assert main(["render", str(small_take / "m.csv"), "-o", str(output), "--size", "32"]) == status
-    err = capsys.readouterr().err.strip()
-    partial = tmp_path / f"out.partial-12{suffix}"
-    assert err.endswith(f"kept {partial} with the 12 of 60 frames drawn")
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([output.name, partial.name])  # nothing hidden
-    assert _frames(output) == before and _frames(partial) == 12
-    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL  # the handler is the command's alone
-
-
-def _frames(output) -> int:
-    """Frames in an MP4, or PNGs in a folder."""
-    if output.is_dir():
-        return len(list(output.glob("frame_*.png")))
-    with av.open(str(output)) as c:
-        return len(list(c.decode(video=0)))
-
-
-
-def test_a_render_with_sound_interrupted_keeps_its_picture_as_the_outputs_partial(realdata, tmp_path):
-    """retarget of a video, interrupted while rendering, said "kept .out.picture.mp4 with the 5
-    of 75 frames drawn" and left nothing on disk."""
-    from common.errors import Interrupted
-    from toon import MotorTrack, load_face, standard_neutral
-    from toonface.pipeline import render_with_sound
-
-    track = MotorTrack(np.tile(standard_neutral(), (75, 1)), 25.0)
-    drawn = []
-
-    def progress(frames):
-        drawn.append(frames)
-        if len(drawn) == 5:
-            raise KeyboardInterrupt
-
-    with pytest.raises(Interrupted) as stopped:
-        render_with_sound(track, load_face("classic"), tmp_path / "out.mp4",
-                          realdata / "video" / "grid" / "bbaf2n.mpg", size=(32, 32), progress=progress)
-    kept = tmp_path / "out.partial-5.mp4"
-    assert stopped.value.output == str(kept) and stopped.value.frames == 5
-    assert [p.name for p in tmp_path.iterdir()] == [kept.name]
-    assert _frames(kept) == 5
-
-
-@pytest.mark.parametrize("name", ["out.mp4", "frames"])
-def test_hidden_leftovers_of_a_killed_run_are_cleared_by_the_next_run_to_the_same_output(small_take, tmp_path,
-                                                                                         name):
-    """SIGKILL leaves no time to clean up: 28 MB of hidden PNGs stayed beside the output."""
-    output = tmp_path / name
-    if output.suffix:
-        (tmp_path / ".out.a1b2c3d4.partial.mp4").write_bytes(b"\0" * 48)
-    else:
-        (tmp_path / ".frames.x9y8z7w6.partial").mkdir()
-        (tmp_path / ".frames.x9y8z7w6.partial" / "frame_000000.png").write_bytes(b"png")
-    (tmp_path / ".other.a1b2c3d4.partial.mp4").write_bytes(b"not ours")  # another output's: left alone
-    assert main(["render", str(small_take / "m.csv"), "-o", str(output), "--size", "32"]) == 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([".other.a1b2c3d4.partial.mp4", name])
-
-
-def test_a_trc_names_its_own_file_not_the_temporary_one(small_take, tmp_path):
-    """TRC files written by clean carried the temporary file's name in their header."""
-    assert main(["clean", str(small_take / "t.npz"), "-o", str(tmp_path / "clean.trc")]) == 0
-    assert (tmp_path / "clean.trc").read_text().splitlines()[0].split("\t")[-1] == "clean.trc"
-
-
-def _commands(group, path=()):
-    for name, command in group.commands.items():
-        if isinstance(command, click.Group):
-            yield from _commands(command, (*path, name))
-        else:
-            yield (*path, name), command
-
-
-def test_every_number_option_refuses_nan_and_infinities_by_name(tmp_path, capsys):
-    """clean --max-gap nan|inf ended in "internal error" (ValueError, OverflowError); anim's
-    --rate, --time, --value and --fade let NaN through to a file the reader then rejected."""
-    from toonface.cli import cli
-    from toonface.cli_options import FiniteFloat
-
-    numbers = [(path, p) for path, command in _commands(cli) for p in command.params
-               if isinstance(p.type, click.types.FloatParamType)]
-    assert len(numbers) > 30
-    plain = [f"{' '.join(path)} {p.opts[0]}" for path, p in numbers if not isinstance(p.type, FiniteFloat)]
-    assert not plain, plain
-    for _, param in numbers:
-        for bad in ("nan", "inf", "-inf"):
-            with pytest.raises(click.BadParameter, match="is not a finite number|not in the range"):
-                param.type.convert(bad, param, None)
-    assert main(["clean", "missing.npz", "-o", str(tmp_path / "x.npz"), "--max-gap", "nan"]) == 2
-    assert "Invalid value for '--max-gap': 'nan' is not a finite number" in capsys.readouterr().err
-    for path in sorted({path for path, _ in numbers}):  # an unbounded number's help said "x<=None"
-        assert main([*path, "--help"]) == 0
-        assert "None]" not in capsys.readouterr().out.replace("\n", " "), path
-
-
-@pytest.mark.parametrize("command", [["render", "{path}", "-o", "{out}/x.mp4"], ["anim", "from-track", "{path}", "-o",
-                                                                              "{out}/a.toml"]])
-@pytest.mark.parametrize("content", [bytes(range(256)) * 8, b"time,BRL\n\xff\xfe\x00\x01"])
-def test_a_binary_file_given_as_a_motor_csv_is_one_line(tmp_path, capsys, command, content):
-    """It ended in "internal error: UnicodeDecodeError"."""
-    path = tmp_path / "m.csv"
-    path.write_bytes(content)
-    args = [a.format(path=path, out=tmp_path) for a in command]
-    assert main(args) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith(f"toonface: error: {path}: binary data")
-
-
-def test_no_numpy_warning_reaches_the_terminal(small_take, tmp_path, monkeypatch, capsys):
-    """Overflow and empty-slice warnings were printed among a command's own lines."""
-    import warnings as python_warnings
-
-    from mapping import workflow
-
-    report = workflow.take_report
-
-    def noisy(*args, **kwargs):
-        python_warnings.warn("overflow encountered in add", RuntimeWarning, stacklevel=1)
-        return report(*args, **kwargs)
-
-    monkeypatch.setattr(workflow, "take_report", noisy)
-    assert main(["map", str(small_take / "t.npz"), "-o", str(tmp_path / "m.csv")]) == 0
-    assert "RuntimeWarning" not in capsys.readouterr().err
-    monkeypatch.setenv("TOONFACE_DEBUG", "1")  # a developer still sees them
-    with pytest.warns(RuntimeWarning, match="overflow"):
-        main(["map", str(small_take / "t.npz"), "-o", str(tmp_path / "m.csv")])
