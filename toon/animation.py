@@ -26,6 +26,8 @@ from toon.motors import MOTOR_CODES, MOTOR_INDEX, standard_neutral
 from toon.track import MotorTrack
 
 FORMAT = "toonface.animation/1"
+#: The longest animation, seconds (a day): what the reader takes and every edit may make.
+MAX_DURATION = 86400.0
 Knots = tuple[tuple[float, float], ...]
 
 
@@ -132,8 +134,18 @@ def _with_edges(knots: list, start: float, end: float, value_at) -> list:
 
 
 def _dedupe(knots: list) -> list:
-    """Drop a knot that repeats the one before it (same time and value)."""
-    return [k for i, k in enumerate(knots) if i == 0 or k != knots[i - 1]]
+    """Drop a knot that repeats the one before it (same time and value), and the middle of three
+    or more at one time (a slice squeezed to nothing): a step keeps where it comes from and
+    where it goes, which is all a file may hold."""
+    out: list = []
+    for knot in knots:
+        if out and knot == out[-1]:
+            continue
+        if len(out) >= 2 and out[-1][0] == out[-2][0] == knot[0]:
+            out[-1] = knot
+            continue
+        out.append(knot)
+    return out
 
 
 def _slice(knots: list, start: float, end: float, value_at) -> list:
@@ -284,6 +296,9 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
 def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
     """Write TOML (atomically), each motor's knots as inline ``[time, value]`` pairs: a short
     curve on one line, a long one a few knots to a line, so the file reads like the curves."""
+    if not 0 <= anim.duration <= MAX_DURATION:  # anim scale --time 1e300 wrote a file the reader refused
+        raise InputError(f"the animation would last {anim.duration:g} s; an animation lasts 0..{MAX_DURATION:g} s",
+                         path)
     lines = [f'format = "{FORMAT}"', f"duration = {float(anim.duration)!r}", "", "[knots]"]
     for code in MOTOR_CODES:
         if code not in anim.knots:
@@ -306,8 +321,8 @@ def load_animation(path: str | os.PathLike) -> Animation:
     path = Path(path)
     doc = read_versioned(path, FORMAT, "animation")
     duration = doc.get("duration")
-    if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not 0 <= duration <= 86400:
-        raise InputError(f"expected seconds (0..86400), got {duration!r}", path, "duration")
+    if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not 0 <= duration <= MAX_DURATION:
+        raise InputError(f"expected seconds (0..{MAX_DURATION:g}), got {duration!r}", path, "duration")
     table = doc.get("knots", {})
     if not isinstance(table, dict):
         raise InputError("expected a table CODE = [[time, value], ...]", path, "knots")

@@ -13,11 +13,16 @@ from toonface.cli_player import _required_address
 @FACE
 @click.option("--listen", default="127.0.0.1:8765", show_default=True, metavar="HOST:PORT",
               help="Where the page is served. Loopback unless told otherwise; port 0 picks a free one.")
+@click.option("--allow-host", "allow", multiple=True, metavar="NAME",
+              help="Also answer requests addressed to NAME (or NAME:PORT), a name of this machine that"
+                   " other machines use; repeatable. Bound to every interface the studio answers any"
+                   " IP address of this machine, and a name only when given here.")
 @click.option("--receive", default=None, metavar="HOST:PORT",
               help="Also receive a motor stream from `toonface send` (UDP) and show it, with its quality.")
 @click.option("--conceal", default="linear", show_default=True, type=click.Choice(["hold", "linear"]),
               help="With --receive: how lost frames are guessed (as `toonface receive`).")
-def studio(animation: str | None, face: str, listen: str, receive: str | None, conceal: str) -> None:
+def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...], receive: str | None,
+           conceal: str) -> None:
     """The studio: a local web page showing FACE, with a slider per motor, control points to
     drag, expressions and standard motions to play, and head and eyes that can follow the
     pointer (CharToon's test mode); beside it, ANIMATION on staves to edit, play with a sound
@@ -28,6 +33,10 @@ def studio(animation: str | None, face: str, listen: str, receive: str | None, c
     With --receive, the page is also the browser viewer of a stream, with its latency, loss
     and concealed frames. Open the printed address in a browser on this machine. The page
     answers only at that address; Ctrl-C stops the server.
+
+    The pages read and write files only inside the folder the studio was started in. Listening
+    on an address other machines reach (--listen 0.0.0.0:8765), the printed address carries a
+    secret made for this run: only a browser given it can open the page.
     """
     import asyncio
     import contextlib
@@ -50,7 +59,8 @@ def studio(animation: str | None, face: str, listen: str, receive: str | None, c
             session.show_live(True)
             click.echo(f"receiving a motor stream on {session.live.name}")
         try:
-            asyncio.run(serve(session, host, port, lambda url: click.echo(f"studio at {url} (Ctrl-C stops)")))
+            asyncio.run(serve(session, host, port, lambda url: click.echo(f"studio at {url} (Ctrl-C stops)"),
+                              allow))
         except OSError as exc:
             raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}",
                                      param_hint="--listen") from None

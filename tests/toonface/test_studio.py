@@ -113,27 +113,3 @@ def test_studio_command_errors_are_one_line(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 4 and 'no built-in face "nope"' in err[0] and "--listen" in err[1]
     assert "cannot receive on 8.8.8.8:7710" in err[2] and "missing.toml" in err[3]
-
-
-
-def test_a_page_closing_while_frames_are_sent_does_not_stop_the_others():
-    """The ticker broadcast to a page whose socket was closing, and died with the error (seen in
-    a browser test): that page is dropped and the others still get the frame."""
-    from toonface.studio.server import SOCKETS, _broadcast
-
-    class Page:
-        closed = False
-
-        def __init__(self, dying: bool) -> None:
-            self.dying, self.got = dying, []
-
-        async def send_str(self, text: str) -> None:
-            if self.dying:
-                raise ConnectionResetError("Cannot write to closing transport")
-            self.got.append(text)
-
-    app = make_app(StudioSession("classic"), set())
-    dying, alive = Page(True), Page(False)
-    app[SOCKETS].update({dying, alive})
-    asyncio.run(_broadcast(app, {"type": "frame"}))
-    assert alive.got == ['{"type": "frame"}'] and app[SOCKETS] == {alive}

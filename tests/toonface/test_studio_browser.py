@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from browser import page_against_offscreen, studio_page, wait_for
 from PIL import Image
+from studios import temp_folder
 
 from toon import motor_index
 from toonface.studio.session import StudioSession
@@ -26,7 +27,7 @@ def _set(driver, code: str, value: float) -> None:
 @pytest.fixture(scope="module")
 def page():
     """One server and one browser for the module; each test starts from the neutral face."""
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY) as driver:
         yield driver, session
 

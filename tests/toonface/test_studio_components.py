@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 import pytest
+from studios import temp_folder
 
 from common import InputError
 from toon import FaceRig, load_face, motor_index
@@ -199,7 +200,7 @@ def test_a_builtin_library_entry_is_inserted_renamed_onto_the_other_eye():
 
 
 def test_component_messages_from_the_page_edit_the_shown_face():
-    session = StudioSession(face="classic")
+    session = StudioSession(face="classic", folder=temp_folder())
     n = len(session.faces.doc.get("components", []))
     apply(session, {"op": "faceedit", "action": "new_component", "kind": "ellipse", "x": 0, "y": 150}, 0.0)
     apply(session, {"op": "faceedit", "action": "set_point_kind", "component": n, "part": "points", "index": 1,

@@ -10,6 +10,7 @@ import pytest
 from browser import design_off, page_against_offscreen, studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.support.ui import Select
+from studios import temp_folder
 
 from toon import load_face
 from toonface.studio.session import StudioSession
@@ -43,7 +44,7 @@ def _diamond(driver, index: int):
 
 
 def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(tmp_path):
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY, 1400, 1100) as driver:
         _open(driver)
         Select(driver.find_element("id", "new-kind")).select_by_visible_text("polygon")
@@ -115,7 +116,7 @@ def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(
 
 
 def test_components_are_grouped_moved_as_one_saved_to_a_library_and_inserted_into_another_face(tmp_path):
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY, 1400, 1100) as driver:
         _open(driver)
         for kind in ("ellipse", "polyline"):

@@ -3,6 +3,7 @@
 
 import numpy as np
 import pytest
+from studios import temp_folder
 
 from toon import MOTOR_CODES, load_track, motor_index, standard_neutral
 from toon import animation as an
@@ -102,7 +103,7 @@ def test_files_round_trip_and_the_movie_script(tmp_path):
 
 
 def test_the_server_drives_the_editor_and_the_face_shows_the_cursor():
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     for message in ({"op": "knot", "action": "add", "code": "MB", "t": 1.0, "v": 0.9},
                     {"op": "knot", "action": "add", "code": "MB", "t": 3.0, "v": 0.1},
                     {"op": "cursor", "t": 1.0}):

@@ -6,6 +6,7 @@ import pytest
 from browser import studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.keys import Keys
+from studios import temp_folder
 
 from toon import animation as an
 from toon import motor_index
@@ -18,7 +19,7 @@ READY = "window.editor && window.editor.state && document.querySelectorAll('#sta
 
 @pytest.fixture(scope="module")
 def page():
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY, 1400, 1000) as driver:
         yield driver, session
 

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from studios import temp_folder
 
 from common import InputError
 from toon import FaceRig, load_face, motor_index
@@ -69,7 +70,7 @@ def test_undo_and_redo_walk_the_edits():
 
 
 def test_the_studio_shows_the_edited_face_moving_and_extremes_follow_the_range():
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     session.set_motor("MB", 1.0)  # the mouth wide open while the face is edited
     lo, hi = session.face.ranges["MB"]
     said = apply(session, {"op": "faceedit", "action": "set_range", "code": "MB", "end": "max", "value": hi + 12.0},
@@ -146,7 +147,7 @@ def test_a_new_polygon_and_an_expression_looping_while_the_face_is_edited(tmp_pa
     assert np.array(new.vertices).tolist() == [[6.0, -24.0], [14.0, -24.0], [14.0, -16.0], [6.0, -16.0]]
     assert load_face(editor.save(tmp_path / "f.json")) == editor.face
 
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     apply(session, {"op": "play", "name": "happiness", "loop": True}, 0.0)
     pose = session.expressions["happiness"].pose(session.neutral)[motor_index("MLV")]
     rest = session.neutral[motor_index("MLV")]
@@ -164,7 +165,7 @@ def test_a_new_polygon_and_an_expression_looping_while_the_face_is_edited(tmp_pa
 
 
 def test_a_component_copied_from_one_face_is_pasted_into_another(tmp_path):
-    session = StudioSession("cat")
+    session = StudioSession("cat", folder=temp_folder())
     tongue = next(i for i, c in enumerate(session.faces.doc["components"]) if c.get("name") == "tongue")
     said = apply(session, {"op": "faceedit", "action": "copy", "kind": "component", "index": tongue}, 0.0)[1]
     assert said == f"copied component {tongue}"

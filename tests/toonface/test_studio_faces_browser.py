@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from browser import design_off, page_against_offscreen, studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
+from studios import temp_folder
 
 from toon import FaceRig, load_face, motor_index
 from toonface.studio.session import StudioSession
@@ -17,7 +18,7 @@ READY = "window.faces && window.faces.doc && window.studio.frames > 0"
 
 @pytest.fixture
 def page():
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY, 1400, 1000) as driver:
         driver.execute_script("document.getElementById('face-panel').open = true;"
                               "document.getElementById('slider-panel').open = false;"
@@ -135,7 +136,7 @@ def test_a_face_file_is_named_in_the_face_list(tmp_path):
     from toon import save_face
 
     path = save_face(load_face("wizard"), tmp_path / "mine.json")
-    session = StudioSession(str(path))
+    session = StudioSession(str(path), folder=temp_folder())
     with studio_page(session) as driver:
         assert Select(driver.find_element("id", "face")).first_selected_option.text == str(path)
 
@@ -144,7 +145,7 @@ def test_a_component_is_dragged_restyled_and_moved_whole(tmp_path):
     from selenium.webdriver.common.keys import Keys
     from selenium.webdriver.support.ui import Select
 
-    session = StudioSession("round")  # components only
+    session = StudioSession("round", folder=temp_folder())  # components only
     with studio_page(session, READY, 1400, 1000) as driver:
         driver.execute_script("document.getElementById('face-panel').open = true;"
                               "document.getElementById('slider-panel').open = false;"

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from browser import studio_page, wait_for
 from motor_streams import RATE, smooth_motion
+from studios import temp_folder
 
 from stream.packets import StreamWriter
 from toon import motor_index
@@ -19,7 +20,7 @@ pytestmark = pytest.mark.slow
 def test_a_stream_drives_the_face_and_its_quality_shows():
     import time
 
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     values = smooth_motion(240)
     values[:, motor_index("MB")] = np.linspace(0.1, 0.9, 240)  # the mouth opens over the stream
     writer = StreamWriter(RATE, first_sequence=0)

@@ -1,13 +1,18 @@
 """The studio's mapping tuner without a browser: edits re-map the take, and what it saves maps
 the take exactly as `toonface map` does with those files."""
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
+from studios import temp_folder
 
 from capture import save_take, synthesize
 from common import InputError
 from toon import load_track, motor_index
 from toonface.cli import main
+from toonface.studio.guard import Folder
 from toonface.studio.messages import apply
 from toonface.studio.session import StudioSession
 
@@ -18,7 +23,7 @@ def take(tmp_path):
 
 
 def test_tuning_remaps_and_the_saved_files_map_as_the_command_does(take, tmp_path):
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     said = apply(session, {"op": "tune", "action": "open", "take": str(take)}, 0.0)[1]
     assert said.startswith("tuning toon32") and session.showing == "tune"
     tuner = session.tuner
@@ -42,7 +47,7 @@ def test_tuning_remaps_and_the_saved_files_map_as_the_command_does(take, tmp_pat
 
 
 def test_a_bad_tuning_is_refused_and_the_take_keeps_playing(take):
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     apply(session, {"op": "tune", "action": "open", "take": str(take)}, 10.0)
     tuner = session.tuner
     track = tuner.track
@@ -69,7 +74,7 @@ def test_the_sources_are_shown_as_measured_in_millimetres_and_degrees(tmp_path):
     doc["motor"]["MB"]["sources"] = [{"distance": ["LIP_UP", "LIP_LOW"]}]
     doc["motor"]["MB"].pop("combine", None)
     mapping = write_toml(doc, tmp_path / "distance.toml")
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     apply(session, {"op": "tune", "action": "open", "take": str(take), "mapping": str(mapping)}, 0.0)
     apply(session, {"op": "tune", "action": "motor", "code": "MB"}, 0.0)
     curve = session.tuner.describe("MB")["curve"]
@@ -92,7 +97,8 @@ def test_a_talking_head_video_is_tracked_and_tuned_and_maps_as_its_tracked_take(
     video = realdata / "video" / "grid" / "bbaf2n.mpg"
     if not video.is_file():
         pytest.skip(f"{video} is absent")
-    session = StudioSession("classic")
+    both = Path(os.path.commonpath([video.resolve(), tmp_path.resolve()]))  # the studio works where both are
+    session = StudioSession("classic", folder=Folder(both))
     said = apply(session, {"op": "tune", "action": "open", "take": str(video)}, 0.0)[1]
     assert said.startswith("tuning face on") and session.tuner.duration == pytest.approx(3.0)
     tuner = session.tuner

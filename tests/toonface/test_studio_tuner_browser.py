@@ -7,6 +7,7 @@ import pytest
 from browser import studio_page, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.support.ui import Select
+from studios import temp_folder
 
 from capture import save_take, synthesize
 from toon import load_track, motor_index
@@ -18,7 +19,7 @@ pytestmark = pytest.mark.slow
 
 def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
     take = save_take(synthesize(seconds=4.0, rate=60.0).take, tmp_path / "take.npz")
-    session = StudioSession("classic")
+    session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, "window.tuner && window.studio.frames > 0", 1400, 1000) as driver:
         driver.execute_script("document.getElementById('tuner-panel').open = true;"
                               "document.getElementById('slider-panel').open = false")

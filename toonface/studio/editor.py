@@ -16,7 +16,7 @@ import numpy as np
 from common import InputError
 from toon import MOTOR_CODES, MotorTrack, load_track, save_track
 from toon import animation as an
-from toon.animation import Animation
+from toon.animation import MAX_DURATION, Animation
 from toonface.studio.history import History
 
 #: How many edits can be undone.
@@ -51,6 +51,9 @@ class AnimationEditor:
 
     # -- edits (each undoable) -------------------------------------------------------------------
     def _change(self, new: Animation) -> None:
+        if new.duration > MAX_DURATION:  # a paste far away or a stretch by 1e6 asked for days of frames
+            raise ValueError(f"the animation would last {new.duration:g} s; an animation lasts at most "
+                             f"{MAX_DURATION:g} s")
         if new == self.animation:
             return
         self.history.push(self.animation)
@@ -104,8 +107,8 @@ class AnimationEditor:
     def set_duration(self, seconds: float) -> None:
         """A new length; knots beyond it are dropped (undoable)."""
         seconds = float(seconds)
-        if not 0 < seconds <= 86400:
-            raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
+        if not 0 < seconds <= MAX_DURATION:
+            raise ValueError(f"a duration is 0..{MAX_DURATION:g} s, got {seconds:g}")
         knots = {c: tuple(k for k in ks if k[0] <= seconds) for c, ks in self.animation.knots.items()}
         self._change(Animation({c: ks for c, ks in knots.items() if ks}, seconds))
 

@@ -12,8 +12,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from toon.animation import Animation
+from toon.animation import MAX_DURATION, Animation
 from toonface.studio.editor import NEW_SECONDS, AnimationEditor
+from toonface.studio.guard import Folder, index, number
 from toonface.studio.session import StudioSession
 from toonface.studio.sound import load_labels, load_sound
 from toonface.studio.tuner import MappingTuner
@@ -39,20 +40,21 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     if op == "tune":
         return "tune", _tune(session, message, now)
     if op == "sound":
-        session.sound = load_sound(str(message["path"]))
+        session.sound = load_sound(session.folder.inside(message["path"], "a sound"))
         return "sound", f"opened {session.sound.path} ({session.sound.duration:.1f} s of sound)"
     if op == "labels":
+        path = session.folder.inside(message["path"], "labels")
         if session.sound is None:
             raise ValueError("open a sound before its labels")
-        labels = load_labels(str(message["path"]))
+        labels = load_labels(path)
         session.sound = replace(session.sound, labels=labels)
         return "sound", f"opened {message['path']} ({len(labels)} labels)"
     if op == "motor":
-        session.set_motor(str(message["code"]), float(message["value"]))
+        session.set_motor(str(message["code"]), number(message["value"]))
     elif op == "drag":
-        session.drag(str(message["point"]), float(message["x"]), float(message["y"]))
+        session.drag(str(message["point"]), number(message["x"]), number(message["y"]))
     elif op == "look":
-        session.look(float(message["x"]), float(message["y"]))
+        session.look(number(message["x"]), number(message["y"]))
     elif op == "follow":
         session.follow = bool(message["on"])
     elif op == "play":
@@ -60,7 +62,7 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     elif op == "reset":
         session.reset()
     elif op == "face":
-        session.set_face(str(message["name"]))
+        session.set_face(session.folder.name_or_inside(message["name"], "a face"))
         return "described", None
     elif op == "live":
         session.show_live(bool(message["on"]))
@@ -82,52 +84,54 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
     if op == "knot":
         action, code = message["action"], str(message["code"])
         if action == "add":
-            editor.add_knot(code, float(message["t"]), float(message["v"]))
+            editor.add_knot(code, number(message["t"]), number(message["v"]))
         elif action == "move":
-            editor.move_knot(code, int(message["index"]), float(message["t"]), float(message["v"]))
+            editor.move_knot(code, index(message["index"]), number(message["t"]), number(message["v"]))
         elif action == "delete":
-            editor.delete_knot(code, int(message["index"]))
+            editor.delete_knot(code, index(message["index"]))
         else:
             raise ValueError(f"unknown knot action {action!r}")
     elif op == "slice":
         action, codes = message["action"], list(message.get("codes") or [])
-        span = (float(message["start"]), float(message["end"]))
+        span = (number(message["start"]), number(message["end"]))
         if action in ("cut", "copy", "flip"):
             getattr(editor, action)(codes, *span)
         elif action in ("scale_time", "scale_value"):
-            getattr(editor, action)(codes, *span, float(message["factor"]))
+            getattr(editor, action)(codes, *span, number(message["factor"]))
         else:
             raise ValueError(f"unknown slice action {action!r}")
     elif op == "paste":
-        editor.paste(float(message["at"]), message.get("onto") or None)
+        editor.paste(number(message["at"]), message.get("onto") or None)
     elif op in ("undo", "redo"):
         getattr(editor, op)()
     elif op == "cursor":
         editor.pause()
-        editor.set_cursor(float(message["t"]))
+        editor.set_cursor(number(message["t"]))
     elif op == "playback":
         if message["action"] == "play":
             start, end = message.get("start"), message.get("end")
-            editor.play(now, None if start is None else float(start), None if end is None else float(end),
+            editor.play(now, None if start is None else number(start), None if end is None else number(end),
                         bool(message.get("loop")))
         else:
             editor.pause()
     elif op == "duration":
-        editor.set_duration(float(message["seconds"]))
+        editor.set_duration(number(message["seconds"]))
     elif op == "new":
-        seconds = float(message.get("seconds", NEW_SECONDS))
-        if not 0 < seconds <= 86400:
-            raise ValueError(f"a duration is 0..86400 s, got {seconds:g}")
+        seconds = number(message.get("seconds", NEW_SECONDS))
+        if not 0 < seconds <= MAX_DURATION:
+            raise ValueError(f"a duration is 0..{MAX_DURATION:g} s, got {seconds:g}")
         session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
     elif op == "open":
-        said = editor.open(str(message["path"]))
+        said = editor.open(str(session.folder.inside(message["path"])))
     elif op == "save":
-        said = f"wrote {editor.save(message.get('path') or None)}"
+        path = message.get("path")
+        said = f"wrote {editor.save(str(session.folder.inside(path)) if path else None)}"
     elif op == "sample":
-        rate = float(message.get("rate", 30.0))
+        rate = number(message.get("rate", 30.0))
         if not 1 <= rate <= 1000:
             raise ValueError(f"a movie script's rate is 1..1000 frames/s, got {rate:g}")
-        said = f"wrote {message['path']} ({editor.sample(str(message['path']), rate)} frames at {rate:g} Hz)"
+        target = session.folder.inside(message["path"])
+        said = f"wrote {target} ({editor.sample(str(target), rate)} frames at {rate:g} Hz)"
     session.show_animation()
     return said
 
@@ -159,27 +163,31 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
     if action in FACE_ACTIONS:
         arguments = {key.rstrip("?"): _argument(key.rstrip("?"), message[key.rstrip("?")])
                      for key in FACE_ACTIONS[action] if not key.endswith("?") or key.rstrip("?") in message}
+        if "library" in arguments:
+            arguments["library"] = session.folder.name_or_inside(arguments["library"], "a library")
         getattr(faces, action)(**arguments)
     elif verb in UNIT_ACTIONS and kind in ("polygon", "component"):
-        getattr(faces, verb)(kind, int(message[kind]), *[_argument(key, message[key]) for key in UNIT_ACTIONS[verb]])
+        getattr(faces, verb)(kind, index(message[kind]), *[_argument(key, message[key]) for key in UNIT_ACTIONS[verb]])
     elif action in ("set_style", "set_component"):  # a polygon's or a component's fields
         kind = "polygon" if action == "set_style" else "component"
-        faces.restyle(kind, int(message[kind]), **dict(message.get("fields") or {}))
+        faces.restyle(kind, index(message[kind]), **dict(message.get("fields") or {}))
     elif action in ("undo", "redo"):
         getattr(faces, action)()
     elif action == "copy":
-        faces.copy_item(str(message["kind"]), int(message["index"]))
+        faces.copy_item(str(message["kind"]), index(message["index"]))
         said = f"copied {message['kind']} {message['index']}"
     elif action == "paste":
         faces.paste_item()
     elif action == "open":
-        faces.open(str(message["name"]))
-        session.face_name = str(message["name"])
+        name = session.folder.name_or_inside(message["name"], "a face")
+        faces.open(name)
+        session.face_name = name
         said = f"editing a copy of {message['name']}"
     elif action == "save":
-        said = f"wrote {faces.save(str(message['path']))}"
+        said = f"wrote {faces.save(session.folder.inside(message['path']))}"
     elif action == "save_to_library":
-        written = faces.save_to_library(int(message["index"]), str(message["library"]), str(message["name"]),
+        written = faces.save_to_library(index(message["index"]), session.folder.name_or_inside(message["library"]),
+                                        str(message["name"]),
                                         str(message.get("description", "")))
         said = f"wrote {message['name']} to {written}"
     else:
@@ -192,7 +200,7 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     """One mapping tuner message: open a take, change a rule or a range, pause, save."""
     action = message.get("action")
     if action == "open":
-        return show_tuner(session, open_tuner(message, session.neutral), now)
+        return show_tuner(session, open_tuner(message, session.neutral, session.folder), now)
     tuner = session.tuner
     if tuner is None:
         raise ValueError("open a take to tune first")
@@ -204,22 +212,25 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     elif action == "rule":
         tuner.set_rule(str(message["code"]), str(message["field"]), message.get("value"))
     elif action == "range":
-        tuner.set_range(str(message["key"]), float(message["neutral"]), float(message["low"]), float(message["high"]))
+        tuner.set_range(str(message["key"]), *(number(message[end], end) for end in ("neutral", "low", "high")))
     elif action in ("pause", "play"):
         session.tune_pause(now, action == "pause")
     elif action == "save_mapping":
-        return f"wrote {tuner.save_mapping(str(message['path']))}"
+        return f"wrote {tuner.save_mapping(session.folder.inside(message['path']))}"
     elif action == "save_profile":
-        return f"wrote {tuner.save_profile(str(message['path']))}"
+        return f"wrote {tuner.save_profile(session.folder.inside(message['path']))}"
     else:
         raise ValueError(f"unknown tuner action {action!r}")
     return None
 
 
-def open_tuner(message: dict, neutral: np.ndarray) -> MappingTuner:
-    """The take a tuner ``open`` message names, mapped onto a face whose rest is ``neutral``: the
-    slow part (a video is tracked first), which the server runs off its event loop."""
-    return MappingTuner(str(message["take"]), neutral, message.get("mapping") or None, message.get("units") or None)
+def open_tuner(message: dict, neutral: np.ndarray, folder: Folder) -> MappingTuner:
+    """The take a tuner ``open`` message names (inside ``folder``), mapped onto a face whose rest
+    is ``neutral``: the slow part (a video is tracked first), which the server runs off its event loop."""
+    mapping = message.get("mapping")
+    return MappingTuner(str(folder.inside(message["take"], "a take")), neutral,
+                        folder.name_or_inside(mapping, "a mapping") if mapping else None,
+                        str(message.get("units")) if message.get("units") else None)
 
 
 def show_tuner(session: StudioSession, tuner: MappingTuner, now: float) -> str:
@@ -233,18 +244,18 @@ def _argument(key: str, value: object) -> object:
     """A face action's argument as its method takes it: an index, a name, a number, a list of
     indices (``indices``) or a renaming of control points (``controls``)."""
     if key in ("polygon", "component", "index", "after"):
-        return int(value)  # type: ignore[call-overload]
+        return index(value, key)
     if key == "indices":
         if not isinstance(value, list):
             raise TypeError("indices: expected a list of component indices")
-        return [int(i) for i in value]
+        return [index(i, key) for i in value]
     if key == "controls":
         if not isinstance(value, dict):
             raise TypeError('controls: expected an object like {"M": "BLM"}')
         return {str(k): str(v) for k, v in value.items()}
     if key in ("name", "code", "end", "axis", "color", "part", "kind", "master", "library", "use"):
         return str(value)
-    return float(value)  # type: ignore[arg-type]
+    return number(value, key)
 
 
 def reason(exc: Exception) -> str:

@@ -2,22 +2,26 @@
 
 One :class:`~toonface.studio.session.StudioSession` per server: every page connected to it
 shows the same face, so a reload or a second window picks up where the first was. Each page's
-messages are applied to the session, and every page is sent the new frame; while the Animator
+messages are checked (:mod:`toonface.studio.guard`) and applied to the session, and every page
+is sent the new frame through its own queue (:mod:`toonface.studio.pages`); while the Animator
 has moves to run, the animation plays or a stream is shown, a loop ticks the session every loop
-time and sends each frame (and a stream's quality once a second). Rendering an MP4 runs in a
+time and queues each frame (and a stream's quality once a second). Rendering an MP4 runs in a
 worker thread, so the pages go on being served meanwhile.
 
-It binds loopback unless told otherwise, and answers only requests addressed to the address it
-listens on (a page elsewhere cannot reach it through DNS rebinding; listening on every
-interface, as asked, it answers any name) and WebSockets opened from its own page (the
-``Origin`` header names the host the request came to); the page and its scripts are files
-inside the package.
+It binds loopback unless told otherwise and answers only requests addressed to a name it was
+given (:func:`host_allowed`: a page elsewhere cannot reach it through DNS rebinding), and
+WebSockets opened from its own page (the ``Origin`` is ``http://`` and the host the request came
+to). Bound to any other address it also asks for a secret made for the run: the printed address
+carries it, the page's first request trades it for a cookie, and the socket and the sound ask
+for that cookie (as Jupyter does). The page and its scripts are files inside the package.
 """
 
 from __future__ import annotations
 
 import asyncio
-import json
+import hmac
+import ipaddress
+import secrets
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from pathlib import Path
@@ -26,17 +30,21 @@ from aiohttp import WSMsgType, web
 
 from common import InputError
 from toon import builtin_faces
+from toonface.studio.guard import number, parse_message
 from toonface.studio.messages import apply, open_tuner, reason, show_tuner
+from toonface.studio.pages import Page, broadcast
 from toonface.studio.session import StudioSession
 
 SESSION = web.AppKey("session", StudioSession)
-SOCKETS = web.AppKey("sockets", set[web.WebSocketResponse])
+PAGES = web.AppKey("pages", set[Page])
 HOSTS = web.AppKey("hosts", set[str])
+TOKEN = web.AppKey("token", str)
 TICKER = web.AppKey("ticker", asyncio.Task)
 WAKE = web.AppKey("wake", asyncio.Event)
 
-#: In :data:`HOSTS`: the server listens on every interface and answers whatever name it is reached by.
-ANY_HOST = "*"
+#: In :data:`HOSTS`: the server listens on every interface and answers any IP address it is reached
+#: at (a name that DNS could point elsewhere only when the user names it).
+ANY_ADDRESS = "*"
 #: The largest message a page may send (a drag or a slider is under 200 bytes).
 MAX_MESSAGE = 64 * 1024
 
@@ -46,13 +54,15 @@ def static_folder() -> Path:
     return Path(str(resources.files("toonface.studio") / "static"))
 
 
-def make_app(session: StudioSession, hosts: set[str]) -> web.Application:
+def make_app(session: StudioSession, hosts: set[str], token: str = "") -> web.Application:
     """The studio's application for ``session``, answering requests whose ``Host`` is one of
-    ``hosts`` (``"127.0.0.1:8765"``, ``"localhost:8765"``)."""
+    ``hosts`` (``"127.0.0.1:8765"``, ``"localhost:8765"``; :data:`ANY_ADDRESS`: any IP address),
+    and, given a ``token``, serving the page only to an address that carries it."""
     app = web.Application(middlewares=[_only_our_host], client_max_size=MAX_MESSAGE)
     app[SESSION] = session
-    app[SOCKETS] = set()
+    app[PAGES] = set()
     app[HOSTS] = set(hosts)
+    app[TOKEN] = token
     app.router.add_get("/", _index)
     app.router.add_get("/ws", _socket)
     app.router.add_get("/sound.wav", _sound)
@@ -66,16 +76,50 @@ def make_app(session: StudioSession, hosts: set[str]) -> web.Application:
 async def _only_our_host(request: web.Request, handler: Callable[[web.Request], Awaitable[web.StreamResponse]]
                          ) -> web.StreamResponse:
     hosts: set[str] = request.app[HOSTS]
-    if request.host not in hosts and ANY_HOST not in hosts:
-        raise web.HTTPForbidden(text=f"this studio answers at {' or '.join(sorted(hosts))}")
+    if not host_allowed(request.host, hosts):
+        named = sorted(hosts - {ANY_ADDRESS}) + (["any IP address"] if ANY_ADDRESS in hosts else [])
+        raise web.HTTPForbidden(text=f"this studio answers at {' or '.join(named)}")
     return await handler(request)
 
 
+def host_allowed(host: str, hosts: set[str]) -> bool:
+    """Whether a request's ``Host`` header is one the studio answers: one of ``hosts``, or, where
+    they hold :data:`ANY_ADDRESS`, an IP address (never a name that DNS could rebind)."""
+    if host in hosts:
+        return True
+    if ANY_ADDRESS not in hosts:
+        return False
+    name = host.rsplit(":", 1)[0] if host.count(":") == 1 or host.startswith("[") else host
+    try:
+        ipaddress.ip_address(name.strip("[]"))
+    except ValueError:
+        return False
+    return True
+
+
+def _cookie(request: web.Request) -> str:
+    """The cookie that holds the run's secret, one per port (cookies ignore ports)."""
+    return f"toonface-studio-{request.url.port}"
+
+
+def _has_token(request: web.Request, given: str | None) -> bool:
+    token = request.app[TOKEN]
+    return not token or (given is not None and hmac.compare_digest(given.encode(), token.encode()))
+
+
 async def _index(request: web.Request) -> web.FileResponse:
-    return web.FileResponse(static_folder() / "index.html", headers={"Cache-Control": "no-store"})
+    given = request.query.get("token")
+    if not _has_token(request, given if given is not None else request.cookies.get(_cookie(request))):
+        raise web.HTTPForbidden(text="open the address the studio printed, with its token")
+    response = web.FileResponse(static_folder() / "index.html", headers={"Cache-Control": "no-store"})
+    if request.app[TOKEN]:
+        response.set_cookie(_cookie(request), request.app[TOKEN], httponly=True, samesite="Strict")
+    return response
 
 
 async def _sound(request: web.Request) -> web.Response:
+    if not _has_token(request, request.cookies.get(_cookie(request))):
+        raise web.HTTPForbidden(text="open the studio's page first")
     sound = request.app[SESSION].sound
     if sound is None:
         raise web.HTTPNotFound(text="no sound is open")
@@ -83,44 +127,47 @@ async def _sound(request: web.Request) -> web.Response:
 
 
 async def _socket(request: web.Request) -> web.WebSocketResponse:
-    origin = request.headers.get("Origin")
-    if origin is None or origin.split("://", 1)[-1] != request.host:
+    if request.headers.get("Origin") != f"http://{request.host}":
         raise web.HTTPForbidden(text="the studio's socket is for its own page")
+    if not _has_token(request, request.cookies.get(_cookie(request))):
+        raise web.HTTPForbidden(text="open the studio's page first")
     ws = web.WebSocketResponse(heartbeat=30.0, max_msg_size=MAX_MESSAGE)
     await ws.prepare(request)
     app = request.app
     session = app[SESSION]
-    app[SOCKETS].add(ws)
+    page = Page(ws)
+    app[PAGES].add(page)
     try:
         for state in _state(session, "all"):
-            await ws.send_json(state)
+            page.send(state)
         async for message in ws:
             if message.type != WSMsgType.TEXT:
                 continue
             try:
-                parsed = json.loads(message.data)
+                parsed = parse_message(message.data)
                 if isinstance(parsed, dict) and parsed.get("op") == "render":
-                    await _render(app, ws, parsed)
+                    await _render(app, page, parsed)
                     continue
                 if isinstance(parsed, dict) and parsed.get("op") == "tune" and parsed.get("action") == "open":
                     # a take is cleaned and mapped, a video tracked first, while the server goes on serving
-                    await ws.send_json({"type": "said", "message": f"opening {parsed.get('take')}…"})
+                    page.send({"type": "said", "message": f"opening {parsed.get('take')}…"})
                     loop = asyncio.get_running_loop()
-                    tuner = await loop.run_in_executor(None, open_tuner, parsed, session.neutral)
+                    tuner = await loop.run_in_executor(None, open_tuner, parsed, session.neutral, session.folder)
                     said: str | None = show_tuner(session, tuner, loop.time())
                     changed = "tune"
                 else:
                     changed, said = apply(session, parsed, asyncio.get_running_loop().time())
             except (ValueError, KeyError, TypeError, IndexError, InputError) as exc:
-                await ws.send_json({"type": "error", "message": reason(exc)})
+                page.send({"type": "error", "message": reason(exc)})
                 continue
             if said:
-                await ws.send_json({"type": "said", "message": said})
+                page.send({"type": "said", "message": said})
             for state in _state(session, changed):
-                await _broadcast(app, state)
+                broadcast(app[PAGES], state)
             app[WAKE].set()
     finally:
-        app[SOCKETS].discard(ws)
+        app[PAGES].discard(page)
+        await page.close()
     return ws
 
 
@@ -142,16 +189,16 @@ def _state(session: StudioSession, changed: str) -> list[dict]:
     return [*out, {"type": "frame", **session.frame()}]
 
 
-async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict) -> None:
+async def _render(app: web.Application, page: Page, message: dict) -> None:
     """Render the animation to an MP4 (``path``, ``fps``) in a worker thread, telling the page how far
     it has got about ten times a second; the server goes on serving meanwhile."""
     from toonface.pipeline import render, render_with_sound
 
     session = app[SESSION]
-    path = Path(str(message["path"]))
+    path = session.folder.inside(message["path"], "a movie")
     if path.suffix.lower() != ".mp4":
         raise InputError("the studio renders to an .mp4 file", path)
-    fps = float(message.get("fps", 30.0))
+    fps = number(message.get("fps", 30.0), "fps")
     if not 1 <= fps <= 240:
         raise ValueError(f"fps must be 1..240, got {fps:g}")
     track = session.editor.animation.sample(fps, session.neutral)
@@ -163,31 +210,16 @@ async def _render(app: web.Application, ws: web.WebSocketResponse, message: dict
         done[0] += frames
         if loop.time() - last[0] >= 0.1 or done[0] == track.frames:
             last[0] = loop.time()
-            loop.call_soon_threadsafe(asyncio.ensure_future,
-                                      ws.send_json({"type": "rendering", "frames": done[0], "of": track.frames}))
+            loop.call_soon_threadsafe(page.send, {"type": "rendering", "frames": done[0], "of": track.frames})
 
-    await ws.send_json({"type": "rendering", "frames": 0, "of": track.frames})
+    page.send({"type": "rendering", "frames": 0, "of": track.frames})
     try:
         written = await loop.run_in_executor(None, lambda: render_with_sound(
             track, face, path, sound.path, fps=fps, progress=progress) if sound is not None else render(
             track, face, path, fps=fps, progress=progress))
     except InputError as exc:
         raise InputError(exc.message, path) from None
-    await ws.send_json({"type": "rendered", "path": str(path), "frames": written})
-
-
-async def _broadcast(app: web.Application, message: dict) -> None:
-    """``message`` to every open page; a page closing meanwhile is dropped, not an error (the
-    ticker that sends frames must outlive any page)."""
-    text = json.dumps(message)
-    sockets: set[web.WebSocketResponse] = app[SOCKETS]
-    for ws in list(sockets):
-        if ws.closed:
-            continue
-        try:
-            await ws.send_str(text)
-        except ConnectionResetError:  # aiohttp's "cannot write to closing transport" is one
-            sockets.discard(ws)
+    page.send({"type": "rendered", "path": str(path), "frames": written})
 
 
 async def _start_ticker(app: web.Application) -> None:
@@ -214,28 +246,50 @@ async def _tick(app: web.Application) -> None:
         next_at = said_at = loop.time()
         while session.busy():
             session.tick(loop.time())
-            await _broadcast(app, {"type": "frame", **session.frame()})
+            broadcast(app[PAGES], {"type": "frame", **session.frame()})
             if session.live is not None and loop.time() - said_at >= 1.0:  # the stream's readout, once a second
                 said_at = loop.time()
-                await _broadcast(app, {"type": "quality", **session.live.quality()})
+                broadcast(app[PAGES], {"type": "quality", **session.live.quality()})
             next_at = max(next_at + session.loop_time, loop.time() - session.loop_time)  # no burst to catch up
             await asyncio.sleep(max(0.0, next_at - loop.time()))
 
 
-async def serve(session: StudioSession, host: str, port: int, ready: Callable[[str], None]) -> None:
+async def serve(session: StudioSession, host: str, port: int, ready: Callable[[str], None],
+                allow: tuple[str, ...] = ()) -> None:
     """Serve the studio on ``host:port`` (0: any free port) until cancelled; ``ready`` gets the
-    page's address once the server listens."""
-    runner = web.AppRunner(make_app(session, set()), access_log=None)
+    page's address once the server listens (with the run's secret where ``host`` is not loopback).
+
+    Parameters
+    ----------
+    allow : tuple of str
+        More names (``NAME`` or ``NAME:PORT``) the studio answers at, as ``--allow-host`` gives them.
+    """
+    every = host in ("0.0.0.0", "::", "")
+    token = "" if is_loopback(host) else secrets.token_urlsafe(18)
+    runner = web.AppRunner(make_app(session, set(), token), access_log=None)
     await runner.setup()
-    site = web.TCPSite(runner, host, port, reuse_address=True)
+    site = web.TCPSite(runner, host or None, port, reuse_address=True)
     try:
         await site.start()
         bound = runner.addresses[0][1] if runner.addresses else port
-        names = {f"{host}:{bound}"} | ({f"localhost:{bound}", f"127.0.0.1:{bound}"} if host == "127.0.0.1" else set())
-        if host in ("0.0.0.0", "::", ""):  # every interface, as asked: any name the machine has
-            names = {ANY_HOST}
+        shown = "127.0.0.1" if every else f"[{host}]" if ":" in host else host
+        names = {f"{shown}:{bound}", f"localhost:{bound}", f"127.0.0.1:{bound}"} if is_loopback(host) or every \
+            else {f"{shown}:{bound}"}
+        names |= {name if ":" in name else f"{name}:{bound}" for name in allow}
+        if every:  # every interface, as asked: any of the machine's addresses
+            names.add(ANY_ADDRESS)
         runner.app[HOSTS].update(names)
-        ready(f"http://{host}:{bound}/")
+        ready(f"http://{shown}:{bound}/" + (f"?token={token}" if token else ""))
         await asyncio.Event().wait()
     finally:
         await runner.cleanup()
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` (an address or a name to bind) reaches only this machine."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False

@@ -28,6 +28,7 @@ from toon.motors import MOTORS, motor_index
 from toon.svg import geometry_svg
 from toonface.studio.editor import AnimationEditor
 from toonface.studio.faces import FaceEditor
+from toonface.studio.guard import Folder
 from toonface.studio.sound import Sound
 from toonface.studio.tuner import MappingTuner
 
@@ -77,9 +78,13 @@ class StudioSession:
         The Animator's loop, seconds (the page's frame rate while something moves).
     animation : str, optional
         A file for the Animation Editor to open (see :meth:`AnimationEditor.open`).
+    folder : Folder, optional
+        Where the pages' messages may read and write files; the working folder by default.
     """
 
-    def __init__(self, face: str = "classic", loop_time: float = 1 / 30, animation: str | None = None) -> None:
+    def __init__(self, face: str = "classic", loop_time: float = 1 / 30, animation: str | None = None,
+                 folder: Folder | None = None) -> None:
+        self.folder = folder if folder is not None else Folder.here()
         self.expressions: dict[str, Expression] = load_expressions()
         self.loop_time = loop_time
         self.face_name = face

@@ -107,8 +107,8 @@ def load_labels(path: str | os.PathLike) -> tuple[Label, ...]:
         try:
             start, end = float(parts[0]), float(parts[1])
         except (ValueError, IndexError):
-            raise InputError(f"expected start<TAB>end<TAB>text (Audacity's labels), got {line[:40]!r}", source,
-                             f"line {number}") from None
+            # the line's text is not quoted: a page must not read a file through the studio's errors
+            raise InputError("expected start<TAB>end<TAB>text (Audacity's labels)", source, f"line {number}") from None
         if not (np.isfinite(start) and np.isfinite(end)) or start < 0 or end < start:
             raise InputError(f"expected 0 <= start <= end, got {start:g}, {end:g}", source, f"line {number}")
         labels.append(Label(start, end, parts[2].strip() if len(parts) > 2 else ""))
