@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import json
 import os
-import zipfile
-import zlib
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +20,7 @@ from capture.take import Take
 from capture.trcfile import read_trc, write_trc
 from common import InputError, atomic_path
 from common.errors import require_file
-from common.npz import check_npz
+from common.npz import NPZ_ERRORS, check_npz
 
 NPZ_FORMAT = "toonface.take/1"
 READABLE = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
@@ -55,8 +53,7 @@ def _read_npz(path: Path) -> Take:
                             channels=channels[0], channel_names=channels[1])
     except InputError as exc:
         raise InputError(exc.message, path) from None
-    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile, zlib.error,
-            NotImplementedError, RuntimeError) as exc:
+    except NPZ_ERRORS as exc:
         raise InputError(f"not a readable .npz take ({type(exc).__name__}: {exc})", path) from None
 
 

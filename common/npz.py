@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+import zipfile
+import zlib
 from pathlib import Path
 from typing import BinaryIO
 
@@ -10,6 +12,11 @@ from common.errors import InputError
 
 _ZIP = b"PK\x03\x04"  # every .npz is a zip archive; an empty one starts PK\x05\x06
 _EMPTY_ZIP = b"PK\x05\x06"
+
+
+#: What numpy, zipfile and zlib raise on a damaged .npz (a reader turns each into one line).
+NPZ_ERRORS: tuple[type[BaseException], ...] = (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile,
+                                              zlib.error, NotImplementedError, RuntimeError)
 
 
 def check_npz(fh: BinaryIO, path: str | os.PathLike, what: str) -> None:

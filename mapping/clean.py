@@ -148,7 +148,7 @@ def clean_channels(take: Take, settings: CleanSettings) -> dict[str, np.ndarray]
     """The take's channels by name, ``(F,)`` each: gaps up to ``settings.max_gap_seconds`` with
     values on both sides filled by a straight line, then smoothed as markers are."""
     values = np.array(take.channels, dtype=np.float64)
-    longest = int(round(settings.max_gap_seconds * take.rate))  # frames, as markers' gaps are counted
+    longest = settings.max_gap_frames(take.rate)  # frames, as markers' gaps are counted
     if longest > 0 and take.frames > 1:
         for c in range(values.shape[1]):
             column = values[:, c]

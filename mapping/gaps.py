@@ -103,7 +103,7 @@ class GapFiller:
         missing = np.asarray(np.isnan(pos).any(axis=2))
         pos[missing] = np.nan
         rate = (frames - 1) / (times[-1] - times[0]) if frames > 1 and times[-1] > times[0] else 1.0
-        max_frames = int(round(self.max_gap_seconds * rate))
+        max_frames = int(round(min(self.max_gap_seconds, 86400.0) * rate))  # 1e308 s overflowed: a day is all
         short, long_, lined = np.zeros_like(missing), np.zeros_like(missing), np.zeros_like(missing)
         for m in range(markers):
             for start, end in gap_runs(missing[:, m]):

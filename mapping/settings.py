@@ -22,3 +22,8 @@ class CleanSettings:
     spikes: bool = True
     max_gap_seconds: float = 2.0
     cutoff_hz: float = 8.0
+
+    def max_gap_frames(self, rate: float) -> int:
+        """The longest gap filled, in frames at ``rate`` Hz (a huge ``max_gap_seconds``, which
+        overflowed, means every gap: none is longer than a day of frames)."""
+        return int(round(min(self.max_gap_seconds, 86400.0) * rate))

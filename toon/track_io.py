@@ -17,7 +17,7 @@ import numpy as np
 
 from common import InputError, atomic_path
 from common.errors import require_file
-from common.npz import check_npz
+from common.npz import NPZ_ERRORS, check_npz
 from toon.motors import MOTOR_CODES, N_MOTORS
 from toon.track import MotorTrack
 
@@ -61,8 +61,8 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
                 return MotorTrack.from_columns(codes, z["values"], float(z["rate"]), confidence=conf, meta=meta)
     except InputError as exc:
         raise InputError(exc.message, path) from None
-    except (OSError, ValueError, KeyError) as exc:
-        raise InputError(f"not a toonface motor track .npz ({exc})", path) from None
+    except NPZ_ERRORS as exc:
+        raise InputError(f"not a toonface motor track .npz ({type(exc).__name__}: {exc})", path) from None
 
 
 def _to_csv(track: MotorTrack) -> str:
@@ -85,8 +85,8 @@ def _from_csv(path: Path) -> MotorTrack:
     if not rows:
         raise InputError("empty file; expected a header time,BRL,...,HV", path)
     header = [h.strip() for h in rows[0]]
-    if not header or header[0].lower() not in ("time", "time_s"):
-        raise InputError(f'first column must be "time", got {header[0]!r}', path, "line 1")
+    if not header or header[0].lower() not in ("time", "time_s"):  # a lone "\r" made an empty header
+        raise InputError(f'first column must be "time", got {header[0] if header else ""!r}', path, "line 1")
     codes = header[1:]
     unknown = [c for c in codes if c not in MOTOR_CODES]
     if unknown or len(set(codes)) != N_MOTORS:

@@ -63,11 +63,19 @@ class Cleaning:
         """The settings for a take of ``rate`` Hz; a --cutoff it cannot hold is refused."""
         from mapping import CleanSettings
 
+        if 0 < self.cutoff_hz < MIN_CUTOFF_HZ:  # 1e-300 Hz ended in "internal error: LinAlgError"
+            raise click.BadParameter(f"{self.cutoff_hz:g} Hz: a low-pass cutoff is at least {MIN_CUTOFF_HZ:g} Hz "
+                                     "(below that it flattens the face's motion); 0 means no smoothing",
+                                     param_hint="--cutoff")
         if self.cutoff_given and self.cutoff_hz >= rate / 2:
             raise click.BadParameter(f"{self.cutoff_hz:g} Hz is not below half the take's {rate:g} Hz frame rate "
                                      f"(the fastest motion a {rate:g} Hz take holds is {rate / 2:g} Hz)",
                                      param_hint="--cutoff")
         return CleanSettings(self.spikes, self.max_gap_seconds, self.cutoff_hz)
+
+
+#: The lowest --cutoff taken (a blink or a word lasts a few tenths of a second).
+MIN_CUTOFF_HZ = 0.1
 
 
 def _clean_settings(fn):

@@ -103,7 +103,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     face_obj = load_face(face)
     outputs = Outputs()
     if output is not None:
-        settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims))
+        settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims, live=True))
     if stream_to is not None:
         host, port = _required_address(stream_to, "--stream-to", 7710)
         settings.shown.append(outputs.motor(f"udp://{host}:{port}", rate=1 / loop_time).write)
@@ -159,7 +159,7 @@ def _slice_options(fn):
 
 
 def _span(anim: Animation, start: float, end: float | None) -> tuple[float, float]:
-    end = anim.duration if end is None else end
+    end = anim.duration if end is None else min(end, anim.duration)  # a slice past the end stops there
     if not 0 <= start < end:
         raise click.BadParameter(f"expected 0 <= --from < --to, got {start:g}, {end:g}", param_hint="--from/--to")
     return start, end
