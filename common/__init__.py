@@ -4,7 +4,7 @@ Nothing here imports any other toonface package; every package may import this o
 """
 
 from common.arrays import readonly
-from common.atomic import atomic_dir, atomic_path
+from common.atomic import atomic_dir, atomic_path, check_folder
 from common.data import (
            builtin_names,
            data_path,
@@ -17,5 +17,6 @@ from common.data import (
 from common.errors import InputError, ToonfaceError
 from common.failure import Failure
 
-__all__ = ["Failure", "InputError", "ToonfaceError", "atomic_dir", "atomic_path", "builtin_names", "data_path",
-           "read_document", "read_versioned", "readonly", "resolve_builtin", "write_document", "write_toml"]
+__all__ = ["Failure", "InputError", "ToonfaceError", "atomic_dir", "atomic_path", "builtin_names", "check_folder",
+           "data_path", "read_document", "read_versioned", "readonly", "resolve_builtin", "write_document",
+           "write_toml"]

@@ -21,7 +21,7 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
     still work). On an exception the temporary file is removed and ``target`` is untouched.
     """
     target = Path(target)
-    _check_folder(target)
+    check_folder(target)
     _remove_leftovers(target, rf"\.{re.escape(target.stem)}\.[a-z0-9_]{{8}}\.partial{re.escape(target.suffix)}")
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".partial{target.suffix}",
                                dir=target.parent)
@@ -45,7 +45,7 @@ def _remove_leftovers(target: Path, pattern: str) -> None:
                 shutil.rmtree(path) if path.is_dir() else path.unlink()
 
 
-def _check_folder(target: Path) -> None:
+def check_folder(target: Path) -> None:
     """Refuse an output whose folder does not exist, as ``cp`` does (a typo must not make folders)."""
     folder = target.parent
     if not folder.is_dir():
@@ -70,7 +70,7 @@ def atomic_dir(target: str | os.PathLike) -> Iterator[Path]:
     An existing ``target`` directory is replaced whole, so a re-run never mixes old and new files.
     """
     target = Path(target)
-    _check_folder(target)
+    check_folder(target)
     _remove_leftovers(target, rf"\.{re.escape(target.name)}\.([a-z0-9_]{{8}}\.partial|old)")
     tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".partial", dir=target.parent))
     try:

@@ -19,7 +19,7 @@ import av
 import cv2
 import numpy as np
 
-from common import InputError, atomic_dir, atomic_path
+from common import InputError, atomic_dir, atomic_path, check_folder
 
 
 class FrameWriter(Protocol):
@@ -45,19 +45,23 @@ class H264Encoder:
     writable binary file object; :meth:`finish` flushes and closes it.
 
     ``fps`` is stored as an exact fraction (29.97 -> 2997/100); ``options`` are extra x264
-    options, such as ``bframes="0"`` for pieces that are joined later.
+    options, such as ``bframes="0"`` for pieces that are joined later. ``fragmented``: for a live
+    recording, a file that plays up to its last second or two if the process is killed.
     """
 
     def __init__(self, target: str | os.PathLike | BinaryIO, fps: float, size: tuple[int, int], crf: int = 18,
-                 **options: str) -> None:
+                 fragmented: bool = False, **options: str) -> None:
         width, height = size
         if width % 2 or height % 2:
             raise InputError(f"H.264 needs an even frame size, got {width}x{height}",
                              target if isinstance(target, (str, os.PathLike)) else None)
         self.size = (width, height)
         self.frames = 0
+        # fragmented: a fragment per keyframe, each flushed to the file as written, so that a process
+        # killed outright leaves a playable file (a plain MP4 is unreadable until its index is written)
         self._container = av.open(target if not isinstance(target, os.PathLike) else str(target), mode="w",
-                                  format="mp4")
+                                  format="mp4", options={"movflags": "frag_keyframe+empty_moov+default_base_moof",
+                                                         "flush_packets": "1"} if fragmented else {})
         rate = Fraction(fps).limit_denominator(1001)
         self._stream = self._container.add_stream("libx264", rate=rate)
         self._time_base = 1 / rate  # a frame's pts counts frame slots, so a skipped slot leaves a gap
@@ -65,7 +69,8 @@ class H264Encoder:
         self._pts = 0
         self._stream.width, self._stream.height = width, height
         self._stream.pix_fmt = "yuv420p"
-        self._stream.options = {"crf": str(crf), "preset": "veryfast", "movflags": "+faststart", **options}
+        self._stream.options = {"crf": str(crf), "preset": "veryfast", **(
+            {"g": str(max(1, round(fps)))} if fragmented else {"movflags": "+faststart"}), **options}
 
     def write(self, frame: np.ndarray) -> None:
         """Encode one RGB frame of shape ``(height, width, 3)``."""
@@ -197,6 +202,72 @@ class Mp4Sink(_AtomicSink):
         self._encoder.finish()
 
 
+class LiveMp4Sink:
+    """An MP4 recorded live (``play -o``, ``receive -o``), which a kill must not lose: written as
+    it goes to ``NAME.partial.mp4`` beside the target, fragmented with a keyframe every second
+    and flushed as each fragment ends, so that after SIGKILL that file plays up to its last
+    second or two (the encoder holds that much). :meth:`close` (the run's end, Ctrl-C included)
+    renames it to the target; :meth:`keep_partial` keeps it as ``NAME.partial-N.mp4`` beside an
+    earlier target left as it was.
+
+    Parameters are those of :class:`Mp4Sink`.
+    """
+
+    def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 18) -> None:
+        self._target = Path(path)
+        self.partial = self._target.with_name(f"{self._target.stem}.partial{self._target.suffix}")
+        check_folder(self._target)
+        self._encoder = H264Encoder(self.partial, fps, size, crf, fragmented=True)
+        self.size = self._encoder.size
+        self.frames = 0
+        self._done = False
+
+    def write(self, frame: np.ndarray) -> None:
+        """Encode one RGB frame."""
+        self._encoder.write(frame)
+        self.frames += 1
+
+    def skip(self, frames: int) -> None:
+        """Slots without a frame: a gap in the timestamps, so the video keeps real time."""
+        self._encoder.skip(frames)
+
+    def _end(self, to: Path | None) -> None:
+        if self._done:
+            return
+        self._done = True
+        try:
+            self._encoder.finish()
+        finally:
+            if to is None:
+                self.partial.unlink(missing_ok=True)
+            else:
+                os.replace(self.partial, to)
+
+    def close(self) -> None:
+        """Finish the recording and move it into place."""
+        self._end(self._target)
+
+    def keep_partial(self, named_after: str | os.PathLike | None = None) -> Path:
+        """Finish what was recorded and keep it as ``NAME.partial-N.mp4``; returns that name."""
+        kept = partial_name(named_after if named_after is not None else self._target, self.frames)
+        self._end(kept)
+        return kept
+
+    def abort(self) -> None:
+        """Drop the recording."""
+        with contextlib.suppress(Exception):
+            self._end(None)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
+
+
 class PngSink(_AtomicSink):
     """A folder of ``frame_000000.png`` files (replaced whole if it exists)."""
 
@@ -275,13 +346,15 @@ class RawSink:
         self.close()
 
 
-def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int]) -> Mp4Sink | PngSink | RawSink:
-    """An MP4 sink for ``*.mp4``, raw RGB on standard output for ``-``, otherwise a PNG folder."""
+def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int],
+              live: bool = False) -> Mp4Sink | LiveMp4Sink | PngSink | RawSink:
+    """An MP4 sink for ``*.mp4`` (``live``: one that a kill does not lose, :class:`LiveMp4Sink`),
+    raw RGB on standard output for ``-``, otherwise a PNG folder."""
     if str(target) == "-":
         return RawSink()
     target = Path(target)
     if target.suffix.lower() == ".mp4":
-        return Mp4Sink(target, fps, size)
+        return LiveMp4Sink(target, fps, size) if live else Mp4Sink(target, fps, size)
     if target.suffix:
         raise InputError(f"unknown output type {target.suffix!r}: give a .mp4 file, a folder for PNG frames "
                          "or - for raw RGB on standard output", target)

@@ -202,7 +202,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         settings = LiveSettings(loop_time=1 / fps, size=dims, tcp=None, preview=_address(preview, "--preview", 8080),
                                 seconds=seconds)
         if output is not None:
-            settings.sinks.append(outputs.picture(output, rate=fps, size=dims))
+            settings.sinks.append(outputs.picture(output, rate=fps, size=dims, live=True))
         if record:  # each performer's stream frames at stream time, as shown
             recordings = PerformerRecordings(outputs, record)
             recordings.attach(playout, first=True)

@@ -10,8 +10,9 @@ them (aborts).
 Each kind is registered in :data:`PICTURE_SINKS` or :data:`MOTOR_SINKS`: a function
 ``open(target, **options) -> sink`` named by ``"module:function"`` (imported only when used) and
 a test of whether a spec is of that kind. Options every opener may take: ``rate`` (frames per
-second), ``size`` (``(width, height)``), ``key`` (a stream's shared secret); each ignores the
-rest. A new kind is one module with its function and one line in a table.
+second), ``size`` (``(width, height)``), ``key`` (a stream's shared secret), ``live`` (frames
+that come as a performer plays, which a kill must not lose); each ignores the rest. A new kind
+is one module with its function and one line in a table.
 """
 
 from __future__ import annotations
@@ -65,11 +66,13 @@ def open_sink(spec: str, kinds: dict[str, SinkKind], what: str, **options: Any) 
     raise InputError(f"not a known output: expected {what}", spec)
 
 
-def open_pictures(spec: str, rate: float = 30.0, size: tuple[int, int] = (512, 512), **_: Any) -> Any:
-    """An MP4 file, a folder of PNG frames, or raw RGB on standard output (``-``)."""
+def open_pictures(spec: str, rate: float = 30.0, size: tuple[int, int] = (512, 512), live: bool = False,
+                  **_: Any) -> Any:
+    """An MP4 file (``live``: recorded so that a kill does not lose it), a folder of PNG frames,
+    or raw RGB on standard output (``-``)."""
     from player.sinks import open_sink as open_picture_file
 
-    return open_picture_file(spec, rate, size)
+    return open_picture_file(spec, rate, size, live=live)
 
 
 def open_preview(spec: str, **_: Any) -> Any:

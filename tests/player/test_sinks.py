@@ -148,3 +148,49 @@ def test_a_recording_closed_or_aborted_leaves_no_partial_file(tmp_path):
         assert not (tmp_path / f"{end}.partial.csv").exists()
         assert (tmp_path / f"{end}.csv").exists() == (end == "close")
     assert load_track(tmp_path / "close.csv").frames == 40
+
+
+def test_a_live_video_killed_outright_plays_up_to_its_last_seconds(tmp_path):
+    """After SIGKILL, play -o x.mp4 left a 48-byte file no player opens: an MP4's index is
+    written at the end. A live video is now fragmented and flushed as it goes."""
+    import signal
+    import subprocess
+    import sys
+    import textwrap
+
+    import av
+
+    script = textwrap.dedent(f"""
+        import os, signal
+        import numpy as np
+        from player.sinks import open_sink
+        sink = open_sink({str(tmp_path / "live.mp4")!r}, 30.0, (64, 48), live=True)
+        for f in range(150):  # 5 s of frames, each a grey level that tells which it is
+            sink.write(np.full((48, 64, 3), f, np.uint8))
+        os.kill(os.getpid(), signal.SIGKILL)
+    """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=60)
+    assert done.returncode == -signal.SIGKILL, done.stderr
+    assert not (tmp_path / "live.mp4").exists()
+    with av.open(str(tmp_path / "live.partial.mp4")) as container:
+        greys = [int(np.median(frame.to_ndarray(format="rgb24"))) for frame in container.decode(video=0)]
+    assert 90 <= len(greys) < 150  # all but the last second or two (what the encoder holds)
+    assert np.abs(np.array(greys) - np.arange(len(greys))).max() <= 2  # frame k is frame k
+
+
+def test_a_live_video_closed_is_the_target_and_interrupted_keeps_a_partial_beside_it(tmp_path):
+    import av
+
+    from player.sinks import open_sink
+
+    (tmp_path / "b.mp4").write_bytes(b"an earlier complete video")
+    for name, end in (("a.mp4", "close"), ("b.mp4", "keep_partial"), ("c.mp4", "abort")):
+        sink = open_sink(tmp_path / name, 30.0, (64, 48), live=True)
+        for f in range(40):
+            sink.write(np.full((48, 64, 3), f, np.uint8))
+        getattr(sink, end)()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.mp4", "b.mp4", "b.partial-40.mp4"]
+    assert (tmp_path / "b.mp4").read_bytes() == b"an earlier complete video"
+    for name in ("a.mp4", "b.partial-40.mp4"):
+        with av.open(str(tmp_path / name)) as container:
+            assert sum(1 for _ in container.decode(video=0)) == 40
