@@ -59,13 +59,20 @@ def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...]
             session.show_live(True)
             click.echo(f"receiving a motor stream on {session.live.name}")
         try:
-            asyncio.run(serve(session, host, port, lambda url: click.echo(f"studio at {url} (Ctrl-C stops)"),
+            asyncio.run(serve(session, host, port, lambda url: _announce(url, host in ("0.0.0.0", "::", "")),
                               allow))
         except OSError as exc:
             raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}",
                                      param_hint="--listen") from None
         except KeyboardInterrupt:
             click.echo("studio stopped")
+
+
+def _announce(url: str, every: bool) -> None:
+    click.echo(f"studio at {url} (Ctrl-C stops)")
+    if every:
+        click.echo("from another machine: the same address with this machine's IP address, or a name given with"
+                   " --allow-host, in place of 127.0.0.1")
 
 
 STUDIO_COMMANDS = (studio,)

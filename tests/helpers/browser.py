@@ -17,8 +17,9 @@ import pytest
 
 
 @contextmanager
-def studio_server(session) -> Iterator[str]:
-    """Serve ``session`` on a free loopback port in a thread; yields the page's address."""
+def studio_server(session, host: str = "127.0.0.1") -> Iterator[str]:
+    """Serve ``session`` on a free port of ``host`` (loopback unless told) in a thread; yields the
+    page's address, as the studio prints it."""
     from toonface.studio.server import serve
 
     loop = asyncio.new_event_loop()
@@ -33,7 +34,7 @@ def studio_server(session) -> Iterator[str]:
 
     def run() -> None:
         asyncio.set_event_loop(loop)
-        task = loop.create_task(serve(session, "127.0.0.1", 0, on_ready))
+        task = loop.create_task(serve(session, host, 0, on_ready))
         task_box.append(task)
         try:
             loop.run_until_complete(task)

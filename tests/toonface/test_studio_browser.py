@@ -128,3 +128,24 @@ def test_another_face_shows_the_same_motors(fresh):
     assert session.face.name == "cat" and session.values[motor_index("MB")] == 0.7
     Select(driver.find_element("id", "face")).select_by_value("classic")
     wait_for(driver, "window.studio.last.svg === window.classic")
+
+
+def test_a_studio_other_machines_reach_works_in_a_browser_given_its_secret_and_only_then():
+    """Listening on every interface, the printed address (with the run's secret) opens a working
+    page: Chromium trades the secret for the cookie and opens the socket with it. Without the
+    secret, the page is refused."""
+    from browser import chromium, studio_server
+
+    session = StudioSession("classic", folder=temp_folder())
+    with studio_server(session, "0.0.0.0") as url, chromium() as driver:
+        assert "?token=" in url
+        driver.get(url.split("?")[0])  # the address without its secret
+        assert "open the address the studio printed" in driver.find_element("tag name", "body").text
+        driver.get(url)
+        wait_for(driver, READY)
+        driver.execute_script("const s = document.getElementById('motor-MB'); s.value = 0.9;"
+                              "s.dispatchEvent(new Event('input'))")
+        wait_for(driver, "window.studio.last.values.MB === 0.9")
+        assert session.values[motor_index("MB")] == 0.9
+        driver.get(url.split("?")[0])  # again without it: the cookie it was given is enough now
+        wait_for(driver, READY)
