@@ -150,6 +150,7 @@ def test_a_recording_closed_or_aborted_leaves_no_partial_file(tmp_path):
     assert load_track(tmp_path / "close.csv").frames == 40
 
 
+@pytest.mark.slow
 def test_a_live_video_killed_outright_plays_up_to_its_last_seconds(tmp_path):
     """After SIGKILL, play -o x.mp4 left a 48-byte file no player opens: an MP4's index is
     written at the end. A live video is now fragmented and flushed as it goes."""

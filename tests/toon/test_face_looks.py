@@ -158,7 +158,8 @@ def _lid_heights(face, upper: float, lower: float) -> tuple[float, float]:
     return ulo + upper * (uhi - ulo), llo + lower * (lhi - llo)
 
 
-@pytest.mark.parametrize("name", FACES)
+@pytest.mark.parametrize("name", [n if n in ("classic", "cat") else pytest.param(n, marks=pytest.mark.slow)
+                                  for n in FACES])  # 2-4 s a face: two in the quick run
 def test_crossing_lids_are_a_closed_eye(name):
     """A smile that pushes the lower lid above the upper reopened the round face's eye (white and
     iris) and left the line face's pupils over closed lids. The oracle needs no knowledge of how a
