@@ -103,7 +103,27 @@ def partial_name(target: str | os.PathLike, frames: int) -> Path:
     return target.with_name(f"{target.name}.partial-{frames}")
 
 
-class _AtomicSink:
+class _KeptOrDropped:
+    """A sink as a context: kept (:meth:`close`) when the block ends normally, dropped
+    (:meth:`abort`) on an exception."""
+
+    def close(self) -> None:
+        raise NotImplementedError
+
+    def abort(self) -> None:
+        raise NotImplementedError
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
+
+
+class _AtomicSink(_KeptOrDropped):
     """Shared lifetime: an atomic-output guard, left committed by :meth:`close` or rolled back."""
 
     def __init__(self, guard: contextlib.AbstractContextManager, target: str | os.PathLike) -> None:
@@ -157,15 +177,6 @@ class _AtomicSink:
         reason = RuntimeError("output aborted")
         self._guard.__exit__(RuntimeError, reason, None)
 
-    def __enter__(self):
-        return self
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is None:
-            self.close()
-        else:
-            self.abort()
-
 
 class Mp4Sink(_AtomicSink):
     """H.264 (yuv420p, browser-playable) MP4 through PyAV.
@@ -202,7 +213,7 @@ class Mp4Sink(_AtomicSink):
         self._encoder.finish()
 
 
-class LiveMp4Sink:
+class LiveMp4Sink(_KeptOrDropped):
     """An MP4 recorded live (``play -o``, ``receive -o``), which a kill must not lose: written as
     it goes to ``NAME.partial.mp4`` beside the target, fragmented with a keyframe every second
     and flushed as each fragment ends, so that after SIGKILL that file plays up to its last
@@ -257,15 +268,6 @@ class LiveMp4Sink:
         """Drop the recording."""
         with contextlib.suppress(Exception):
             self._end(None)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is None:
-            self.close()
-        else:
-            self.abort()
 
 
 class PngSink(_AtomicSink):

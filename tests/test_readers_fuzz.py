@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, example, given, settings
+from fuzzing import Seeds, fuzz_settings
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from capture.markerset import load_markerset
@@ -20,8 +21,7 @@ from toon.expressions import load_expressions
 from toonface.batch.job import load_job
 from toonface.studio.sound import load_labels
 
-SETTINGS = settings(max_examples=150, deadline=None, derandomize=True,
-                    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+SETTINGS = fuzz_settings(150)
 
 JOB = b'''format = "toonface.batch/1"
 faces = ["classic"]
@@ -50,16 +50,11 @@ READERS = {
 }
 
 
-class _Seeds(dict):
-    def __repr__(self) -> str:  # keep hypothesis's failure report short
-        return "<seed files>"
-
-
 @pytest.fixture(scope="module")
 def seeds(tmp_path_factory) -> dict[str, bytes]:
     folder = tmp_path_factory.mktemp("seeds")
     values = np.random.default_rng(0).uniform(0, 1, size=(10, len(MOTOR_CODES)))
-    out = _Seeds()
+    out = Seeds()
     for kind, (suffix, _, seed) in READERS.items():
         if seed is None:
             out[kind] = save_track(MotorTrack(values, 30.0), folder / f"m{suffix}").read_bytes()

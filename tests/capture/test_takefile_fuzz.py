@@ -4,19 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, example, given, settings
+from fuzzing import Seeds, fuzz_settings
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from capture import Take, load_take, save_take
 from common import InputError
 
-SETTINGS = settings(max_examples=80, deadline=None, derandomize=True,
-                    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-
-
-class _Seeds(dict):
-    def __repr__(self) -> str:  # keep hypothesis's failure report short
-        return "<seed files>"
+SETTINGS = fuzz_settings(80)
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +22,7 @@ def seeds(tmp_path_factory) -> dict[str, bytes]:
     pos = rng.normal(0, 100, size=(12, 4, 3)).astype(np.float32)
     pos[3, 2] = np.nan
     take = Take(pos, ("A", "B", "C", "D"), 60.0)
-    return _Seeds({suffix: save_take(take, folder / f"s{suffix}").read_bytes()
+    return Seeds({suffix: save_take(take, folder / f"s{suffix}").read_bytes()
                    for suffix in (".c3d", ".trc", ".csv", ".npz")})
 
 

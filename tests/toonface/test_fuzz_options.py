@@ -4,7 +4,8 @@ or a file that toonface reads back; never "internal error" (status 70), a traceb
 import math
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from fuzzing import fuzz_settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from capture import load_take
@@ -16,8 +17,7 @@ from toonface.cli import main
 #: Values that broke commands before: tiny, huge, negative zero, the smallest subnormal.
 HOSTILE = (0.0, -0.0, 5e-324, 1e-300, -1e-300, 1e300, -1e300, 1.7e308, 1e15, -1.0, 0.5, 2.0)
 NUMBERS = st.one_of(st.sampled_from(HOSTILE), st.floats(allow_nan=False, allow_infinity=False))
-SETTINGS = settings(max_examples=14, deadline=None, derandomize=True,
-                    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+SETTINGS = fuzz_settings(14)
 
 #: (command with {take}, {motors}, {anim} and {out}, the option, how its value is written).
 INVOCATIONS = [

@@ -7,7 +7,8 @@ import logging
 
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
-from hypothesis import HealthCheck, given, settings
+from fuzzing import fuzz_settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from toon import MOTOR_CODES
@@ -217,8 +218,7 @@ MESSAGES = st.one_of(
 
 
 @pytest.mark.slow
-@settings(max_examples=150, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@fuzz_settings(150)
 @given(messages=st.lists(MESSAGES, min_size=5, max_size=25))
 def test_hostile_messages_get_replies_and_never_a_traceback(tmp_path, caplog, messages):
     caplog.set_level(logging.ERROR)
