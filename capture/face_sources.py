@@ -57,8 +57,10 @@ def camera_source(target: str, clock: Callable[[], float] = time.perf_counter,
     ``live`` (nothing waits for it). A file is read at its own frame rate."""
     import cv2
 
+    from capture.videoio import open_capture
+
     device = int(target) if target.isdigit() else None
-    capture = cv2.VideoCapture(device if device is not None else str(target))
+    capture = open_capture(device if device is not None else str(target))
     if not capture.isOpened():
         capture.release()
         raise InputError("cannot open it as a camera" if device is None else f"no camera {device}", target)

@@ -27,6 +27,14 @@ class VideoInfo:
     backend: str
 
 
+def open_capture(target: str | int) -> cv2.VideoCapture:
+    """OpenCV's capture of a file or a camera, with FFmpeg's own complaints kept off the terminal
+    (they would break a one-line error). OpenCV reads the setting when it first opens a video,
+    so every capture in the process goes through here."""
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
+    return cv2.VideoCapture(target)
+
+
 def probe(path: str | os.PathLike) -> VideoInfo:
     """Size, rate and frame count of a video; an undecodable file is an :class:`InputError`."""
     path = Path(path)
@@ -34,8 +42,7 @@ def probe(path: str | os.PathLike) -> VideoInfo:
         raise InputError("no such video file", path)
     if path.stat().st_size == 0:
         raise InputError("empty file (0 bytes), not a video", path)
-    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")  # FFmpeg's own complaints would break the one-line error
-    cap = cv2.VideoCapture(str(path))
+    cap = open_capture(str(path))
     try:
         if cap.isOpened():
             ok, frame = cap.read()
@@ -64,7 +71,7 @@ def frames(info: VideoInfo) -> Iterator[np.ndarray]:
     """Decode every frame as BGR ``uint8`` ``(height, width, 3)``, with the backend :func:`probe` chose,
     turned upright by the container's display matrix (OpenCV turns its own)."""
     if info.backend == "opencv":
-        cap = cv2.VideoCapture(str(info.path))
+        cap = open_capture(str(info.path))
         try:
             while True:
                 ok, frame = cap.read()
