@@ -27,15 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from capture.headframe import Frame, distance_spread, find_frame
 from capture.plot import neutral_pose
 from capture.scale import check_scale
 from capture.take import Take
 from common import InputError
-
-#: Head references a draft picks.
-REFERENCES = 4
-#: The two steadiest references must be at least this far apart (mm), so that the fit is stable.
-MIN_SPREAD_MM = 20.0
 
 
 @dataclass(frozen=True)
@@ -55,8 +51,8 @@ class Draft:
     steadiness : dict of str to float
         Each marker's median variation (mm, standard deviation over the take) of its distances
         to the others: small for markers on the skull.
-    symmetry_mm : float
-        How far the neutral is from its mirror image across the found midline (mean, mm).
+    frame : Frame
+        How the axes were found and how sure each cue is (:mod:`capture.headframe`).
     """
 
     labels: tuple[str, ...]
@@ -65,80 +61,29 @@ class Draft:
     rotation: np.ndarray
     origin: np.ndarray
     steadiness: dict[str, float]
-    symmetry_mm: float
+    frame: Frame
+
+    @property
+    def symmetry_mm(self) -> float:
+        """How far the neutral is from its mirror image across the found midline (mean, mm)."""
+        return self.frame.symmetry_mm
 
 
-def _distance_spread(take: Take, frames: int = 2000) -> np.ndarray:
-    """Standard deviation over the take of every pair's distance, ``(M, M)`` (NaN where a pair is
-    never seen together)."""
-    step = max(1, take.frames // frames)
-    pos = take.positions[::step]
-    dist = np.linalg.norm(pos[:, :, None, :] - pos[:, None, :, :], axis=3)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        return np.nanstd(dist, axis=0)
-
-
-def head_references(take: Take, spread: np.ndarray, rest: np.ndarray, count: int = REFERENCES) -> list[int]:
-    """Columns of the markers that deform least together (see the module docstring), given each
-    pair's distance variation ``spread`` ``(M, M)`` and the neutral ``rest`` ``(M, 3)``."""
-    apart = np.linalg.norm(rest[:, None] - rest[None], axis=2)
-    usable = np.isfinite(spread) & (apart >= MIN_SPREAD_MM)
-    if not usable.any():
-        raise InputError(f"no two markers are seen together {MIN_SPREAD_MM:g} mm apart: cannot find the head")
-    score = np.where(usable, spread, np.inf)
-    first, second = np.unravel_index(np.argmin(score), score.shape)
-    chosen = [int(first), int(second)]
-    while len(chosen) < min(count, take.markers):
-        with np.errstate(invalid="ignore"):
-            cost = np.nanmax(spread[:, chosen], axis=1)
-        cost[chosen] = np.inf
-        cost[~np.isfinite(cost)] = np.inf
-        candidate = int(np.argmin(cost))
-        if not np.isfinite(cost[candidate]):
-            break
-        chosen.append(candidate)
-    if len(chosen) < 3:
-        raise InputError("fewer than 3 markers move together with the head: cannot find the head frame")
-    return chosen
-
-
-def _best_mirror(points: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, float]:
-    """The unit direction in the plane with normal ``normal`` across which ``points`` (centred)
-    are most nearly symmetric, and the mean distance from each mirrored point to its nearest."""
-    a = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    a /= np.linalg.norm(a)
-    b = np.cross(normal, a)
-    best, best_cost = a, np.inf
-    for angle in np.radians(np.arange(0.0, 180.0, 1.0)):
-        u = np.cos(angle) * a + np.sin(angle) * b
-        mirrored = points - 2.0 * np.outer(points @ u, u)
-        cost = float(np.linalg.norm(mirrored[:, None] - points[None], axis=2).min(axis=1).mean())
-        if cost < best_cost:
-            best, best_cost = u, cost
-    return best, best_cost
-
-
-def _width(cloud: np.ndarray, x: np.ndarray, y: np.ndarray, upper: bool) -> float:
-    """The spread across (along ``x``, 10th to 90th percentile) of the upper or lower third."""
-    height = cloud @ y
-    third = height >= np.percentile(height, 67) if upper else height <= np.percentile(height, 33)
-    across = cloud[third] @ x
-    return float(np.percentile(across, 90) - np.percentile(across, 10))
-
-
-def draft_markerset(take: Take, up: str | None = None) -> Draft:
+def draft_markerset(take: Take, up: str | None = None, front: str | None = None) -> Draft:
     """Estimate a marker set from ``take`` (see the module docstring); ``up`` names a marker above
-    the face's middle (on the forehead), which settles which way is up.
+    the face's middle (on the forehead) and ``front`` one on its front (the nose), which settle
+    which way is up and which way the face points where the take's motion cannot.
 
     Raises
     ------
     InputError
-        When too few markers are seen to place a head frame, ``up`` is no marker of the take, or
-        the take is not the size of a face in millimetres (:mod:`capture.scale`: wrong units).
+        When too few markers are seen to place a head frame, ``up`` or ``front`` is no marker of
+        the take, or the take is not the size of a face in millimetres (:mod:`capture.scale`:
+        wrong units).
     """
-    if up is not None and up not in take.labels:
-        raise InputError(f'no marker "{up}" in the take (its markers: {", ".join(take.labels)})')
+    for option, name in (("--up", up), ("--front", front)):
+        if name is not None and name not in take.labels:
+            raise InputError(f'{option}: no marker "{name}" in the take (its markers: {", ".join(take.labels)})')
     said = take.meta.get("units") or {}
     scale = check_scale(take, None, float(said.get("mm_per_unit", 1.0)))
     if scale.off:  # a draft keeps millimetres: a take in other units would make a wrong layout
@@ -150,31 +95,19 @@ def draft_markerset(take: Take, up: str | None = None) -> Draft:
         count = int(seen.sum())
         raise InputError(f"only {count} marker{' is' if count == 1 else 's are'} ever seen: a marker set needs at "
                          "least 4")
-    spread = _distance_spread(take)
-    refs = head_references(take, spread, rest)
+    frame = find_frame(take.positions, rest, None if up is None else take.labels.index(up),
+                       None if front is None else take.labels.index(front))
+    x, _, _ = frame.rotation
+    refs = list(frame.skull)
     centre = rest[seen].mean(axis=0)
-    cloud = rest[seen] - centre
-    _, _, axes = np.linalg.svd(cloud, full_matrices=False)
-    z = axes[2]
-    radius = np.linalg.norm(cloud - np.outer(cloud @ z, z), axis=1)
-    if np.corrcoef(cloud @ z, -radius)[0, 1] < 0:  # the middle (nose) stands out: that is +z
-        z = -z
-    x, symmetry = _best_mirror(cloud, z)
-    y = np.cross(z, x)
-    if up is not None:
-        if (rest[take.labels.index(up)] - centre) @ y < 0:
-            y = -y
-    elif _width(cloud, x, y, upper=True) < _width(cloud, x, y, upper=False):  # faces narrow toward the chin
-        y = -y
-    x = np.cross(y, z)
-    rotation = np.array([x, y, z])
     origin = rest[refs].mean(axis=0)
     origin = origin + ((centre - origin) @ x) * x  # on the midline: x = 0 between left and right
-    neutral = (rest - origin) @ rotation.T
+    neutral = (rest - origin) @ frame.rotation.T
+    spread = distance_spread(take.positions)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
-    return Draft(take.labels, neutral, tuple(take.labels[i] for i in refs), rotation, origin, steadiness, symmetry)
+    return Draft(take.labels, neutral, tuple(take.labels[i] for i in refs), frame.rotation, origin, steadiness, frame)
 
 
 @dataclass(frozen=True)

@@ -2,11 +2,11 @@
 
 Each built-in mapping is a pattern of where a motor's markers sit on a face (the brows' above the
 eyes, the mouth corners' beside the lips, the chin's below). A preset's marker set is laid over
-the new one (both are in the head frame, so only a scale and an offset are fitted, by alternating
-nearest neighbours and least squares); each marker the preset's rules read is taken to be the new
-marker nearest it, if one is within :data:`MATCH_FRACTION` of the face's size and no nearer
-preset marker claims it. The preset that finds the most of its markers is the draft's pattern;
-motors whose markers were not all found are left out and listed.
+the new one (both are in a head frame, so only a scale, an offset and a turn of a few degrees
+are fitted, by alternating nearest neighbours and least squares); each marker the preset's
+rules read is taken to be the new marker nearest it, if one is within :data:`MATCH_FRACTION` of
+the face's size and no nearer preset marker claims it. The preset that finds the most of its
+markers is the draft's pattern; motors whose markers were not all found are left out and listed.
 """
 
 from __future__ import annotations
@@ -21,6 +21,8 @@ from mapping.mapfile import Mapping, parse_mapping
 
 #: A preset marker is found in the new set within this share of the face's size (its RMS radius).
 MATCH_FRACTION = 0.15
+#: The most a preset is turned to lie over the new set (degrees).
+MAX_TURN_DEGREES = 25.0
 
 
 @dataclass(frozen=True)
@@ -48,19 +50,29 @@ class MappingDraft:
     fit_mm: float
 
 
-def _fit(source: np.ndarray, target: np.ndarray, rounds: int = 30) -> tuple[float, np.ndarray]:
-    """Scale and offset laying ``source`` (K, 3) over ``target`` (N, 3): ``s * source + t``."""
+def _fit(source: np.ndarray, target: np.ndarray, rounds: int = 30) -> np.ndarray:
+    """``source`` (K, 3) laid over ``target`` (N, 3) by a scale, a turn and an offset, alternating
+    nearest neighbours and least squares (Umeyama's fit); the turn is kept within
+    :data:`MAX_TURN_DEGREES` (two head frames drafted from data differ by a few degrees, not by
+    a half turn). Returns the placed source, ``(K, 3)``."""
     def size(points: np.ndarray) -> float:
         return float(np.sqrt(np.mean(np.sum((points - points.mean(axis=0)) ** 2, axis=1))))
-    scale = size(target) / max(size(source), 1e-9)
+    scale, turn = size(target) / max(size(source), 1e-9), np.eye(3)
     offset = target.mean(axis=0) - scale * source.mean(axis=0)
     for _ in range(rounds):
-        near = np.linalg.norm((scale * source + offset)[:, None] - target[None], axis=2).argmin(axis=1)
-        matched = target[near]
+        placed = scale * source @ turn.T + offset
+        matched = target[np.linalg.norm(placed[:, None] - target[None], axis=2).argmin(axis=1)]
         a, b = source - source.mean(axis=0), matched - matched.mean(axis=0)
-        scale = float(np.sum(a * b) / max(np.sum(a * a), 1e-9))
-        offset = matched.mean(axis=0) - scale * source.mean(axis=0)
-    return scale, offset
+        u, singular, vt = np.linalg.svd(b.T @ a)
+        fix = np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))])
+        turned = u @ fix @ vt
+        if np.degrees(np.arccos(np.clip((np.trace(turned) - 1) / 2, -1, 1))) <= MAX_TURN_DEGREES:
+            turn = turned
+            scale = float(np.sum(singular * np.diag(fix)) / max(np.sum(a * a), 1e-9))
+        else:
+            scale = float(np.sum((a @ turn.T) * b) / max(np.sum(a * a), 1e-9))
+        offset = matched.mean(axis=0) - scale * source.mean(axis=0) @ turn.T
+    return scale * source @ turn.T + offset
 
 
 def _rule_markers(mapping: Mapping) -> dict[str, set[str]]:
@@ -84,8 +96,7 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
             continue  # scores a marker set cannot give (the face and arkit presets)
         known = load_markerset(parsed.markerset)
         markers = _rule_markers(parsed)
-        scale, offset = _fit(known.neutral, markerset.neutral)
-        placed = scale * known.neutral + offset
+        placed = _fit(known.neutral, markerset.neutral)
         distance = np.linalg.norm(placed[:, None] - markerset.neutral[None], axis=2)
         found: dict[str, str] = {}
         gaps: list[float] = []

@@ -23,17 +23,24 @@ def markerset() -> None:
 @click.argument("take", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Marker set to write (.toml).")
 @click.option("--up", default=None, metavar="MARKER",
-              help="A marker above the face's middle (on the forehead): settles which way is up "
-                   "[default: the face's wider end].")
+              help="A marker above the face's middle (on the forehead): settles which way is up where the "
+                   "take's motion cannot [default: found from the jaw, brows and mouth corners].")
+@click.option("--front", default=None, metavar="MARKER",
+              help="A marker on the front of the face (the nose): settles which way the face points where "
+                   "its shape cannot [default: the side where the midline stands out].")
 @click.option("--name", default=None, help="The marker set's name [default: the output file's stem].")
 @take_options
-def draft(take: str, output: str, up: str | None, name: str | None, reading: TakeReading) -> None:
+def draft(take: str, output: str, up: str | None, front: str | None, name: str | None, reading: TakeReading) -> None:
     """Draft a marker set from a take: head references, head-frame axes and every neutral.
 
-    The head references are the markers that deform least together over the take; the axes
-    come from the face's plane, its symmetry and (with --up) a forehead marker. Check the
-    draft with `toonface info TAKE --plot markers.png` and edit it: its comments say what was
-    found. Use a take with expressions, so that the moving markers show themselves.
+    The head references are the largest group of markers that stay rigid together; x is the
+    normal of the face's plane of mirror symmetry, y the line of its midline markers (else the
+    main direction of its motion), up where the jaw opens from and the brows rise to, z out of
+    the face. A layout in any frame and any units the face's size can tell works without --up;
+    where the data cannot tell, a warning says so and names the option. Check the draft with
+    `toonface info TAKE --plot markers.png --markerset DRAFT` and edit it: its comments say
+    what was found. Use a take with expressions and speech, so that the moving markers show
+    themselves.
     """
     from capture.draft import draft_markerset
     from capture.markerset import load_markerset
@@ -43,13 +50,13 @@ def draft(take: str, output: str, up: str | None, name: str | None, reading: Tak
         raise click.BadParameter(f"{output}: a marker set is a .toml file", param_hint="--output")
     check_output(output, "--output")
     loaded = read_take(take, reading)
-    found = draft_markerset(loaded, up)
+    found = draft_markerset(loaded, up, front)
     title = name or Path(output).stem
     with atomic_path(output) as tmp:
         tmp.write_text(_toml(found, title, Path(take).name, up), encoding="utf-8")
     written = load_markerset(output)  # the draft must load, and look like head-frame millimetres
     click.echo(f"wrote {output}: {len(found.labels)} markers, head references {', '.join(found.head_reference)}")
-    for doubt in written.doubts():
+    for doubt in (*found.frame.doubts, *written.doubts()):
         click.echo(f"warning: {doubt}", err=True)
 
 
@@ -60,14 +67,20 @@ def _key(label: str) -> str:
 def _toml(found, title: str, source: str, up: str | None) -> str:
     axes = ", ".join(f"{n} = ({', '.join(f'{v:+.3f}' for v in row)})" for n, row in zip("xyz", found.rotation,
                                                                                           strict=True))
+    frame = found.frame
+    votes = {1: "agrees", -1: "disagrees", 0: "cannot tell"}
     lines = [
         f"# A draft marker set from {source} (toonface markerset draft). Check it before use:",
-        f"#   toonface info {source} --plot markers.png",
+        f"#   toonface info {source} --plot markers.png --markerset THIS_FILE",
         "# Head frame, in the take's axes: " + axes + "; origin on the midline at the head references' centroid.",
-        "# x points to the performer's left, y up, z out of the face; up was "
-        + (f"set by {up}." if up else "taken as the face's wider end (give --up MARKER if the plot is upside down)."),
-        f"# The face mirrors across its midline to within {found.symmetry_mm:.1f} mm on average.",
-        "# Head references: the markers whose mutual distances vary least over the take. Each marker's",
+        "# x points to the performer's left, y up, z out of the face. How each was found:",
+        f"#   x: the face mirrors across its midline to within {frame.symmetry_mm:.1f} mm on average;",
+        f"#   y: {frame.vertical:.0%} of the face's motion in the midline plane is along its main direction;",
+        "#   up: " + (f"set by {up}." if up else f"the skull above the jaw {votes[frame.up_votes[0]]}, the largest "
+                      f"mover's travel from rest {votes[frame.up_votes[1]]};"),
+        f"#   front: the midline stands {frame.front_mm:.0f} mm out from the sides.",
+        *[f"# DOUBT: {doubt}" for doubt in frame.doubts],
+        "# Head references: the largest group of markers that stay rigid together. Each marker's",
         "# steadiness (the median variation, mm, of its distances to the others) is in its comment:",
         "# markers on the skull have the smallest.",
         'format = "toonface.markerset/1"',
@@ -125,9 +138,10 @@ def match(take: str, layout: str, output: str, reading: TakeReading) -> None:
 def mapping_cmd(layout: str, output: str) -> None:
     """Draft a mapping for a marker set from the built-in presets.
 
-    Each preset's marker set is laid over yours (a scale and an offset in the head frame); the
-    markers its rules read are found by position, and the preset that finds the most gives the
-    draft. Motors whose markers were not found are left out and listed; check the rest.
+    Each preset's marker set is laid over yours (a scale, an offset and a turn of a few degrees
+    in the head frame); the markers its rules read are found by position, and the preset that
+    finds the most gives the draft. Motors whose markers were not found are left out and listed;
+    a draft that drives fewer than 8 of the face's motors, or not the jaw, is a warning.
     """
     import os
 
@@ -154,7 +168,15 @@ def mapping_cmd(layout: str, output: str) -> None:
     load_mapping(output)  # the draft must load
     click.echo(f"wrote {output}: {len(found.doc['motor'])} motors after the {found.template} preset"
                + (f"; left out: {', '.join(found.unmapped)}" if found.unmapped else ""))
+    face = [code for code in found.doc["motor"] if code not in ("HH", "HV")]
+    if len(face) < MIN_DRAFTED_MOTORS or "MB" not in face:  # 3 motors mapped, then a still face in silence
+        missing = [code for code in ("MB", "MLH", "MRH", "BLC", "BRC", "ELU", "ERU") if code not in face]
+        click.echo(f"warning: the draft drives {len(face)} of the face's motors ({', '.join(face) or 'none'}); "
+                   f"not {', '.join(missing)}: no preset's markers for them lie near yours. Check the marker set's "
+                   "axes (info --plot --markerset) and write those rules by hand", err=True)
 
 
+#: A drafted mapping driving fewer of the face's motors than this (or not MB) is a warning.
+MIN_DRAFTED_MOTORS = 8
 #: A column further than this (mm) from its matched neutral is listed for checking.
 MATCH_DOUBT_MM = 5.0

@@ -1,0 +1,105 @@
+"""A rig from another lab (issue 39): a layout as deep as it is tall, in a camera frame with z up,
+turned and tilted, in metres at 120 Hz, unlabelled columns in any order (bench/foreign_rig.py),
+made from two independently written performers; and the real AnimFace takes."""
+
+import numpy as np
+import pytest
+
+from bench import third_performer
+from bench.foreign_rig import foreign_take
+from capture import synthesize
+from capture.draft import draft_markerset
+from toon import MOTOR_CODES, load_track
+from toonface.cli import main
+
+SKULL_OR_STILL = {"FOREHEAD", "TEMPLE_R", "TEMPLE_L", "NOSE_BRIDGE", "CHEEK_R", "CHEEK_L", "LIP_UP"}
+
+
+def _performer(kind: str, seed: int):
+    if kind == "own":
+        return synthesize(seconds=20.0, rate=120.0, noise_mm=0.0, seed=seed).take, None
+    performed = third_performer.perform(seconds=20.0, rate=120.0, seed=seed, faults=False)
+    return performed.take, performed.motors
+
+
+def _degrees(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.degrees(np.arccos(np.clip(np.sum(a * b, axis=1), -1.0, 1.0)))
+
+
+@pytest.mark.parametrize(("kind", "seed"), [("own", 0), ("third", 4),
+                                            *[pytest.param(k, s, marks=pytest.mark.slow)
+                                              for k, s in (("own", 1), ("own", 2), ("third", 5), ("third", 6))]])
+def test_the_head_frame_is_found_within_ten_degrees_without_up(kind, seed):
+    """The old rule (thinnest extent as depth, wider end up) put "out of the face" along the
+    camera system's down axis: 87-90 degrees off on every axis here."""
+    clean, _ = _performer(kind, seed)
+    rig = foreign_take(clean, seed)
+    found = draft_markerset(rig.take)
+    assert _degrees(found.rotation, rig.axes).max() < 10.0
+    assert {rig.names[rig.take.labels.index(r)] for r in found.head_reference} <= SKULL_OR_STILL
+    assert not found.frame.doubts and found.frame.up_votes == (1, 1)
+
+
+def test_the_documented_route_maps_the_rig_without_code(tmp_path, capsys):
+    """draft, mapping, map on a metres CSV at 120 Hz: at least 8 motors, MB and both mouth
+    corners among them, each rising and falling with the performer's own motor."""
+    clean, truth = _performer("third", 4)
+    rig = foreign_take(clean, 4)
+    rig.write_csv(tmp_path / "lab.csv")
+    reading = ["--rate", "120", "--units", "m"]
+    assert main(["markerset", "draft", str(tmp_path / "lab.csv"), "-o", str(tmp_path / "lab.toml"), *reading]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert main(["markerset", "mapping", str(tmp_path / "lab.toml"), "-o", str(tmp_path / "map.toml")]) == 0
+    assert main(["map", str(tmp_path / "lab.csv"), *reading, "--mapping", str(tmp_path / "map.toml"),
+                 "-o", str(tmp_path / "m.csv")]) == 0
+    track = load_track(tmp_path / "m.csv")
+    import tomllib
+
+    driven = [c for c in tomllib.loads((tmp_path / "map.toml").read_text())["motor"] if c not in ("HH", "HV")]
+    assert len(driven) >= 8 and {"MB", "MLH", "MRH", "MLV", "MRV"} <= set(driven), driven
+    for code in driven:
+        k = MOTOR_CODES.index(code)
+        r = np.corrcoef(track.values[:, k], truth[:, k])[0, 1]
+        assert r > 0.6, (code, r)
+
+
+@pytest.mark.realdata
+@pytest.mark.parametrize(("take", "up", "doubt"), [("JawMoCap.csv", None, False), ("JawMoCap.csv", "ForeHead_M", False),
+                                                   ("EyebrowsMoCap.csv", "ForeHead_M", False),
+                                                   ("EyebrowsMoCap.csv", None, True)])
+def test_a_real_layout_is_framed_as_its_hand_made_set_or_the_draft_asks_for_up(realdata, take, up, doubt):
+    """AnimFace's takes: the jaw take says which way is up by itself (the chin opens down from
+    a still upper face); the brows take, whose lower face is the still part, cannot: the draft
+    says so and names --up, instead of an upside-down frame in silence."""
+    from capture import load_markerset, load_take
+
+    path = realdata / "facial" / "animface" / take
+    if not path.is_file():
+        pytest.skip(f"{path} is absent")
+    loaded = load_take(path, units="cm")
+    found = draft_markerset(loaded, up=up)
+    preset = load_markerset("animface41")
+    mine = np.array([found.neutral[loaded.labels.index(label)] for label in preset.labels])
+    a, b = mine - mine.mean(axis=0), preset.neutral - preset.neutral.mean(axis=0)
+    u, _, vt = np.linalg.svd(a.T @ b)
+    turn = np.degrees(np.arccos(np.clip((np.trace(u @ vt) - 1) / 2, -1, 1)))
+    assert any("--up" in d for d in found.frame.doubts) == doubt
+    if not doubt:
+        assert turn < 10.0
+
+
+def test_a_drafted_mapping_that_drives_few_motors_is_a_warning_naming_them(tmp_path, capsys):
+    """markerset mapping kept 3 motors, and map then rendered a still face without a word."""
+    (tmp_path / "few.toml").write_text('''format = "toonface.markerset/1"
+name = "few"
+head_reference = ["F", "TR", "TL"]
+[markers]
+F = { neutral = [0.0, 55.0, 8.0] }
+TR = { neutral = [-66.0, 12.0, -28.0] }
+TL = { neutral = [66.0, 12.0, -28.0] }
+NB = { neutral = [0.0, -6.0, 14.0] }
+CR = { neutral = [-25.0, -70.0, 12.0] }
+''')
+    assert main(["markerset", "mapping", str(tmp_path / "few.toml"), "-o", str(tmp_path / "m.toml")]) == 0
+    err = capsys.readouterr().err
+    assert "warning: the draft drives" in err and "not MB" in err and "MLH" in err
