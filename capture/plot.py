@@ -1,8 +1,11 @@
 """A take's markers drawn from three sides, labelled, so that a person can tell which is which.
 
-The views are of the file's own axes (front: x to the right, y up; side: z to the right, y up;
-top: x to the right, z up), one scale for all three; each marker is drawn at its neutral (the
-median of the take's first second where it is seen) with its label, head references ringed.
+The views are along the take's own axes (x to the right and y up; z and y; x and z), one scale
+for all three; a take in a camera's frame is seen from wherever that camera stood, so a take can
+first be placed in a marker set's head frame (:func:`in_head_frame`), and the views are then the
+face's front, side and top. Each marker is drawn at its neutral (the median of the take's first
+second where it is seen) with its label and, given a mapping, the motors it drives; head
+references are ringed.
 With ``motion``, every marker's path over the take is drawn under it, so the markers that move
 (lips, brows, lids) stand out from those that ride on the skull.
 """
@@ -11,11 +14,13 @@ from __future__ import annotations
 
 import os
 import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
 import numpy as np
 
+from capture.markerset import MarkerSet
 from capture.take import Take
 from common import InputError, atomic_path
 
@@ -34,9 +39,34 @@ def neutral_pose(take: Take, seconds: float = 1.0) -> np.ndarray:
     return np.where(np.isnan(early), whole, early)
 
 
-def plot_take(take: Take, path: str | os.PathLike, motion: bool = False,
-              head_reference: tuple[str, ...] = ()) -> Path:
-    """Draw ``take`` from the front, side and top into a PNG at ``path``; returns the path.
+def in_head_frame(take: Take, markerset: MarkerSet) -> Take:
+    """``take`` in ``markerset``'s head frame: the head's motion removed frame by frame where
+    three of the set's head references are seen (:func:`capture.headframe.stabilise`), then the
+    rigid fit of its rest pose onto the set's neutral over the markers both have."""
+    from capture.headframe import stabilise
+
+    found = markerset.match(take.labels)
+    rest = neutral_pose(take)
+    skull = [take.labels.index(found[r]) for r in markerset.head_reference if r in found]
+    if len(skull) >= 3 and np.isfinite(rest[skull]).all():
+        steady = stabilise(take.positions, skull, rest)
+        take = replace(take, positions=np.where(np.isnan(steady), take.positions, steady))
+    pairs = [(take.labels.index(mine), markerset.neutral_of(label)) for label, mine in found.items()
+             if np.isfinite(rest[take.labels.index(mine)]).all()]
+    if len(pairs) < 3:
+        raise InputError(f"only {len(pairs)} of its markers are in marker set {markerset.name}: cannot place the "
+                         "take in its head frame")
+    a = rest[[m for m, _ in pairs]]
+    b = np.array([n for _, n in pairs])
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((a - ca).T @ (b - cb))
+    turn = u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt
+    return replace(take, positions=(take.positions - ca) @ turn + cb)
+
+
+def plot_take(take: Take, path: str | os.PathLike, motion: bool = False, head_reference: tuple[str, ...] = (),
+              roles: dict[str, str] | None = None, frame: str | None = None) -> Path:
+    """Draw ``take`` from three sides into a PNG at ``path``; returns the path.
 
     Parameters
     ----------
@@ -47,10 +77,17 @@ def plot_take(take: Take, path: str | os.PathLike, motion: bool = False,
         Also draw each marker's path over the whole take.
     head_reference : tuple of str
         Labels to ring (a marker set's head references).
+    roles : dict of str to str, optional
+        Words after a marker's label (the motors a mapping drives from it).
+    frame : str, optional
+        The head frame the take is in (a marker set's name, see :func:`in_head_frame`): the panels
+        are then the face's front, side and top; without one they are named by the take's own
+        axes, which need not be the face's.
     """
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise InputError(f"cannot draw markers as {path.suffix or '(no suffix)'!r} (format: .png)", path)
+    roles = roles or {}
     rest = neutral_pose(take)
     seen = np.isfinite(rest).all(axis=1)
     if not seen.any():
@@ -71,8 +108,10 @@ def plot_take(take: Take, path: str | os.PathLike, motion: bool = False,
     for panel, (name, h, v, h_name, v_name) in enumerate(VIEWS):
         left = panel * _PANEL
         cv2.rectangle(image, (left + 4, _TITLE), (left + _PANEL - 4, _TITLE + _PANEL - 4), (200, 200, 200), 1)
-        cv2.putText(image, f"{name}: {h_name} right, {v_name} up ({1 / scale:.2g} mm/px)", (left + 10, 22),
-                    cv2.FONT_HERSHEY_SIMPLEX, 0.55, (40, 40, 40), 1, cv2.LINE_AA)
+        title = (f"{name} ({frame}): {h_name} right, {v_name} up" if frame
+                 else f"take's {h_name} right, {v_name} up")
+        cv2.putText(image, f"{title} ({1 / scale:.2g} mm/px)", (left + 10, 22),
+                    cv2.FONT_HERSHEY_SIMPLEX, 0.5, (40, 40, 40), 1, cv2.LINE_AA)
         if motion:
             for m in np.flatnonzero(seen):
                 track = to_px(take.positions[:, m], h, v, panel)
@@ -85,8 +124,9 @@ def plot_take(take: Take, path: str | os.PathLike, motion: bool = False,
             cv2.circle(image, (int(x), int(y)), 4, (200, 60, 30), -1, cv2.LINE_AA)
             if ringed:
                 cv2.circle(image, (int(x), int(y)), 8, (30, 140, 30), 2, cv2.LINE_AA)
-            cv2.putText(image, take.labels[m], (int(x) + 6, int(y) - 5), cv2.FONT_HERSHEY_SIMPLEX, 0.38,
-                        (20, 20, 20), 1, cv2.LINE_AA)
+            text = f"{take.labels[m]} {roles[take.labels[m]]}" if take.labels[m] in roles else take.labels[m]
+            cv2.putText(image, text, (int(x) + 6, int(y) - 5), cv2.FONT_HERSHEY_SIMPLEX, 0.38,
+                        (20, 20, 20) if take.labels[m] not in roles else (20, 20, 160), 1, cv2.LINE_AA)
     ok, data = cv2.imencode(".png", image)
     if not ok:
         raise OSError(f"{path}: could not encode the picture")

@@ -130,14 +130,46 @@ def synth(output: str, seconds: float, rate: float, noise: float, seed: int, gap
                f"samples) and {truth}")
 
 
+def _plot(loaded, plot_path: str, motion: bool, layout: str | None, mapping_name: str | None) -> None:
+    """``info --plot``: the take in its own axes, or in a marker set's head frame with the roles a
+    mapping gives its markers."""
+    from capture.markerset import find_markerset, load_markerset
+    from capture.plot import in_head_frame, plot_take
+
+    roles: dict[str, list[str]] = {}
+    if mapping_name is not None:
+        from mapping.mapfile import load_mapping
+
+        mapping = load_mapping(mapping_name)
+        layout = layout or mapping.markerset
+        for rule in mapping.rules:
+            for source in rule.sources:
+                for marker in source.markers:
+                    roles.setdefault(marker, []).append(rule.code)
+    known = load_markerset(layout) if layout else find_markerset(loaded.labels)
+    if layout and known is not None:
+        loaded = in_head_frame(loaded, known)
+    found = known.match(loaded.labels) if known else {}
+    words = {found.get(marker, marker): " ".join(dict.fromkeys(codes)) for marker, codes in roles.items()}
+    plot_take(loaded, plot_path, motion, tuple(found.get(r, r) for r in known.head_reference) if known else (),
+              words, known.name if layout and known else None)
+
+
 @cli.command()
 @click.argument("take", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="One JSON object instead of text.")
 @click.option("--plot", "plot_path", default=None, type=click.Path(dir_okay=False),
               help="Draw the markers' neutral from the front, side and top, labelled (PNG), to tell them apart.")
 @click.option("--plot-motion", is_flag=True, help="With --plot: also each marker's path over the take.")
+@click.option("--markerset", "layout", default=None, metavar="NAME|FILE",
+              help="With --plot: draw the take in this marker set's head frame (front, side and top of the face), "
+                   "its head references ringed [default: the take's own axes].")
+@click.option("--mapping", "mapping_name", default=None, metavar="NAME|FILE",
+              help="With --plot: label each marker with the motors this mapping drives from it (and draw in its "
+                   "marker set's head frame).")
 @take_options
-def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, reading: TakeReading) -> None:
+def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, layout: str | None,
+         mapping_name: str | None, reading: TakeReading) -> None:
     """Frames, markers, rate, duration, units and gaps of a take (.c3d .trc .csv .npz).
 
     With --json, prints one object with the keys frames, markers, rate, duration, units, dims,
@@ -146,16 +178,12 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, rea
     """
     from capture.info import describe, summarize
 
-    if plot_motion and not plot_path:
-        raise click.UsageError("--plot-motion draws into the --plot picture: give --plot too")
+    if (plot_motion or layout or mapping_name) and not plot_path:
+        raise click.UsageError("--plot-motion, --markerset and --mapping draw into the --plot picture: give --plot too")
     loaded = read_take(take, reading)
     summary = summarize(loaded)
     if plot_path:
-        from capture.markerset import find_markerset
-        from capture.plot import plot_take
-
-        known = find_markerset(loaded.labels)
-        plot_take(loaded, plot_path, plot_motion, known.head_reference if known else ())
+        _plot(loaded, plot_path, plot_motion, layout, mapping_name)
         click.echo(f"wrote {plot_path}", err=as_json)
     if as_json:
         click.echo(json.dumps(summary))

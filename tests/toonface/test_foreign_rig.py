@@ -103,3 +103,30 @@ CR = { neutral = [-25.0, -70.0, 12.0] }
     assert main(["markerset", "mapping", str(tmp_path / "few.toml"), "-o", str(tmp_path / "m.toml")]) == 0
     err = capsys.readouterr().err
     assert "warning: the draft drives" in err and "not MB" in err and "MLH" in err
+
+
+def test_the_check_plot_draws_the_take_in_the_drafted_head_frame(tmp_path):
+    """info --plot had no --markerset: a take in a camera frame was drawn from wherever the
+    camera stood, its panel called "front" a side view."""
+    from capture import load_markerset
+    from capture.plot import in_head_frame, neutral_pose
+
+    clean, _ = _performer("third", 4)
+    rig = foreign_take(clean, 4)
+    rig.write_csv(tmp_path / "lab.csv")
+    reading = ["--rate", "120", "--units", "m"]
+    assert main(["markerset", "draft", str(tmp_path / "lab.csv"), "-o", str(tmp_path / "lab.toml"), *reading]) == 0
+    assert main(["markerset", "mapping", str(tmp_path / "lab.toml"), "-o", str(tmp_path / "map.toml")]) == 0
+    assert main(["info", str(tmp_path / "lab.csv"), *reading, "--plot", str(tmp_path / "p.png"), "--mapping",
+                 str(tmp_path / "map.toml"), "--plot-motion"]) == 0
+    assert (tmp_path / "p.png").stat().st_size > 10_000
+    assert main(["info", str(tmp_path / "lab.csv"), *reading, "--markerset", str(tmp_path / "lab.toml")]) == 2
+    drafted = load_markerset(tmp_path / "lab.toml")
+    placed = in_head_frame(rig.take, drafted)
+    rest = neutral_pose(placed)
+    assert np.abs(rest - drafted.neutral).max() < 1.0  # the take's rest on the drafted neutral
+    chin = rig.names.index("CHIN")
+    travel = placed.positions[:, chin] - rest[chin]
+    assert np.nanpercentile(travel[:, 1], 1) < -15.0 and np.nanpercentile(travel[:, 1], 99) < 3.0  # the jaw opens down
+    forehead = rig.names.index("FOREHEAD")
+    assert np.nanmax(np.abs(placed.positions[:, forehead] - rest[forehead])) < 3.0  # the head's motion removed
