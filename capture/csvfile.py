@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from capture.markerset import find_markerset
+from capture.markerset import MarkerSet, find_markerset
 from capture.take import UNIT_MM, Take, unique_labels
 from capture.textio import (
     check_rate,
@@ -46,8 +46,10 @@ _FRAME_NAMES = ("frame", "frames", "frame#", "frame_no", "frame number")
 
 
 def read_csv(path: Path, rate: float | None = None, labels: list[str] | None = None,
-             units: str | float | None = None) -> Take:
-    """Read a CSV take; see the module docstring for the layouts and options."""
+             units: str | float | None = None, markerset: MarkerSet | None = None) -> Take:
+    """Read a CSV take; see the module docstring for the layouts and options. ``markerset``: the
+    set the take is for (one the user named), whose ``[tables]`` rate and units stand for what
+    the table and the options leave unsaid, as a built-in set's do for the labels it knows."""
     lines = read_lines(path)
     first = next((i for i, line in enumerate(lines) if line.strip().strip(",;|")), None)  # any whitespace
     if first is None:
@@ -58,12 +60,12 @@ def read_csv(path: Path, rate: float | None = None, labels: list[str] | None = N
     sep = detect_separator(lines[first])
     header = split(lines[first], sep)
     if labels is not None or all(is_number(c) for c in header if c):
-        return _read_headerless(path, lines, sep, rate, labels, units)
-    return _read_wide(path, lines, first, sep, header, rate, units)
+        return _read_headerless(path, lines, sep, rate, labels, units, markerset)
+    return _read_wide(path, lines, first, sep, header, rate, units, markerset)
 
 
 def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header: list[str],
-               rate: float | None, units: str | float | None) -> Take:
+               rate: float | None, units: str | float | None, markerset: MarkerSet | None = None) -> Take:
     lowered = [h.lower() for h in header]
     time_col = next((lowered.index(n) for n in _TIME_NAMES if n in lowered), None)
     frame_col = next((lowered.index(n) for n in _FRAME_NAMES if n in lowered), None)
@@ -95,7 +97,7 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
                          path, f"line {first + 1}")
     dims = 3 if all(has_z) else 2
     clock = time_col if time_col is not None else frame_col  # the column that says when each row is
-    from_set = _set_defaults(list(markers), time_col is None and rate is None, units is None)
+    from_set = _set_defaults(list(markers), time_col is None and rate is None, units is None, markerset)
     rate, units = from_set.get("rate", rate), from_set.get("units", units)
     if time_col is None and rate is None:
         what = (f'a "{header[frame_col]}" column but no time column' if frame_col is not None
@@ -139,9 +141,11 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
 
 
 def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float | None,
-                     labels: list[str] | None, units: str | float | None) -> Take:
+                     labels: list[str] | None, units: str | float | None, markerset: MarkerSet | None = None) -> Take:
     if not labels:
         raise InputError("a table without a header needs the marker names (--labels A,B,C) and --rate", path)
+    from_set = _set_defaults(list(labels), rate is None, units is None, markerset)
+    rate, units = from_set.get("rate", rate), from_set.get("units", units)
     if rate is None:
         raise InputError("a table without a header needs the frame rate (--rate)", path)
     rate = check_rate(rate, path)
@@ -161,7 +165,8 @@ def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float 
     positions[np.isnan(positions).any(axis=2)] = np.nan
     scale = _mm_per_unit(units, path)
     meta: dict[str, Any] = {"source": "csv", "layout": "headerless", "file": path.name, "separator": _describe(sep),
-                            "units": units_meta(scale, "given" if units is not None else "assumed")}
+                            "units": units_meta(scale, "marker set " + from_set["markerset"] if "units" in from_set
+                                                else "given" if units is not None else "assumed")}
     return Take(positions * scale, tuple(labels), rate, dims=dims, meta=meta)
 
 
@@ -250,10 +255,14 @@ def _mm_per_unit(units: str | float | None, path: Path) -> float:
     return value
 
 
-def _set_defaults(names: list[str], need_rate: bool, need_units: bool) -> dict[str, Any]:
+def _set_defaults(names: list[str], need_rate: bool, need_units: bool,
+                  given: MarkerSet | None = None) -> dict[str, Any]:
     """The rate and units a table's marker set declares for what the table and the options leave
-    unsaid (``{"markerset": ..., "rate": ..., "units": ...}``; empty when nothing is taken)."""
-    markerset = find_markerset(names) if need_rate or need_units else None
+    unsaid (``{"markerset": ..., "rate": ..., "units": ...}``; empty when nothing is taken): the
+    ``given`` set where it names half the table's markers, else the built-in set that does."""
+    if not (need_rate or need_units):
+        return {}
+    markerset = given if given is not None and len(given.match(names)) >= len(names) / 2 else find_markerset(names)
     if markerset is None:
         return {}
     taken: dict[str, Any] = {}

@@ -16,6 +16,7 @@ import numpy as np
 
 from capture.c3dfile import read_c3d, write_c3d
 from capture.csvfile import read_csv, write_csv
+from capture.markerset import MarkerSet
 from capture.take import Take
 from capture.trcfile import read_trc, write_trc
 from common import InputError, atomic_path
@@ -70,7 +71,8 @@ def _npz_meta(meta: dict, path: Path) -> dict:
 
 
 def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[str] | None = None,
-              units: str | float | None = None, allow_truncated: bool = False) -> Take:
+              units: str | float | None = None, allow_truncated: bool = False,
+              markerset: MarkerSet | None = None) -> Take:
     """Read a take file, choosing the reader by suffix.
 
     Parameters
@@ -84,6 +86,9 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     allow_truncated
         Read a C3D file that ends before the last frame its header declares (with a warning in
         ``meta["warnings"]``); by default such a file is refused.
+    markerset : MarkerSet, optional
+        The set a CSV table is for (one the user named): its ``[tables]`` rate and units stand
+        for what the table and the options leave unsaid.
 
     Raises
     ------
@@ -102,7 +107,7 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
                          path)
     try:
         if suffix in _TABLES:
-            return read_csv(path, rate=rate, labels=labels, units=units)
+            return read_csv(path, rate=rate, labels=labels, units=units, markerset=markerset)
         if suffix == ".c3d":
             return read_c3d(path, allow_truncated)
         return {".trc": read_trc, ".npz": _read_npz}[suffix](path)

@@ -180,7 +180,7 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, lay
 
     if (plot_motion or layout or mapping_name) and not plot_path:
         raise click.UsageError("--plot-motion, --markerset and --mapping draw into the --plot picture: give --plot too")
-    loaded = read_take(take, reading)
+    loaded = read_take(take, reading, layout, mapping_name)
     summary = summarize(loaded)
     if plot_path:
         _plot(loaded, plot_path, plot_motion, layout, mapping_name)

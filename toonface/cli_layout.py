@@ -52,8 +52,9 @@ def draft(take: str, output: str, up: str | None, front: str | None, name: str |
     loaded = read_take(take, reading)
     found = draft_markerset(loaded, up, front)
     title = name or Path(output).stem
+    tables = {key: value for key, value in (("rate", reading.rate), ("units", reading.units)) if value is not None}
     with atomic_path(output) as tmp:
-        tmp.write_text(_toml(found, title, Path(take).name, up), encoding="utf-8")
+        tmp.write_text(_toml(found, title, Path(take).name, up) + _tables(tables), encoding="utf-8")
     written = load_markerset(output)  # the draft must load, and look like head-frame millimetres
     click.echo(f"wrote {output}: {len(found.labels)} markers, head references {', '.join(found.head_reference)}")
     for doubt in (*found.frame.doubts, *written.doubts()):
@@ -96,6 +97,18 @@ def _toml(found, title: str, source: str, up: str | None) -> str:
             continue
         values = ", ".join(f"{v:.2f}" for v in point)
         lines.append(f"{_key(label)} = {{ neutral = [{values}] }}  # steadiness {found.steadiness[label]:.2f} mm")
+    return "\n".join(lines) + "\n"
+
+
+def _tables(given: dict) -> str:
+    """The ``[tables]`` section: the rate and units the draft's take was read with, which every
+    later command reading a table of this rig then takes without --rate and --units."""
+    if not given:
+        return ""
+    lines = ["", "# How this rig's tables were read: commands given this set (or a mapping for it) read its",
+             "# tables so, where a table and the options do not say.", "[tables]"]
+    for key, value in given.items():
+        lines.append(f"{key} = {value!r}" if key == "rate" else f"{key} = {json.dumps(str(value))}")
     return "\n".join(lines) + "\n"
 
 

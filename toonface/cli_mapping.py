@@ -123,7 +123,7 @@ def clean(take: str, output: str, head_frame: bool, markerset: str | None, mappi
 
     if markerset and mapping:
         raise click.UsageError("give --markerset or --mapping, not both")
-    loaded = read_take(take, reading)
+    loaded = read_take(take, reading, markerset, mapping)
     layout = load_markerset(markerset) if markerset else choose_mapping(loaded, mapping)[1] if mapping else None
     cleaned, report = clean_take(loaded, cleaning.settings(loaded.rate), layout, head_frame=head_frame)
     path = save_take(cleaned, output)
@@ -168,11 +168,11 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
         raise click.BadParameter(f"expected LOW,HIGH with 0 <= LOW < HIGH <= 100, got {percentiles!r}",
                                  param_hint="--percentiles")
     windows = parse_window(neutral or "first", words=_WORDS), parse_span(range_window, "--range")
-    loaded = read_take(take, reading)
+    loaded = read_take(take, reading, mapping=mapping)
     settings = cleaning.settings(loaded.rate)
     chosen, markerset = choose_mapping(loaded, mapping)
     ranged = prepare(loaded, markerset, settings)
-    rest = prepare(read_take(neutral_take, reading), markerset, settings) if neutral_take else ranged
+    rest = prepare(read_take(neutral_take, reading, mapping=mapping), markerset, settings) if neutral_take else ranged
     profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
     path = save_profile(profile, output)
     still = set(profile.notes.get("no_motion", "").split(", "))
@@ -197,7 +197,7 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
     if profile_path:
         return load_profile(profile_path)
     if calibration:
-        source = (read or {}).get(calibration) or read_take(calibration, reading)
+        source = (read or {}).get(calibration) or read_take(calibration, reading, mapping=mapping)
         chosen, markerset = choose_mapping(source, mapping)
         return calibrate(chosen, prepare(source, markerset), "first")  # a calibration take starts at rest
     return None
@@ -228,7 +228,7 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     from toonface.pipeline import map_onto_face
 
     window = parse_window(neutral, words=_WORDS)
-    loaded = read_take(take, reading)
+    loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
                      cleaning.settings(loaded.rate))
@@ -287,7 +287,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
 
         loaded = track_video(take, "face", progress_factory=progress("track"))
     else:
-        loaded = read_take(take, reading)
+        loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
     bar = progress("render")(track.frames)

@@ -163,13 +163,23 @@ def _labels(value: str) -> list[str]:
     return [name.strip() for line in lines for name in line.split(",") if name.strip()]
 
 
-def read_take(path: str, reading: TakeReading = TakeReading()) -> Take:
-    """Load a take as the --rate/--labels/--units/--allow-truncated options say."""
-    from capture import load_take
+def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | None = None,
+              mapping: str | None = None) -> Take:
+    """Load a take as the --rate/--labels/--units/--allow-truncated options say; a CSV table's
+    rate and units, where neither it nor the options say them, from the ``[tables]`` of the
+    marker set named by ``layout`` or read by ``mapping`` (a drafted set keeps the rig's)."""
+    from capture import load_markerset, load_take
 
     names = _labels(reading.labels) if reading.labels else None
+    markerset = None
+    if Path(path).suffix.lower() in (".csv", ".tsv", ".txt") and (reading.rate is None or reading.units is None):
+        if mapping is not None and layout is None:
+            from mapping.mapfile import load_mapping
+
+            layout = load_mapping(mapping).markerset
+        markerset = load_markerset(layout) if layout is not None else None
     return load_take(path, rate=reading.rate, labels=names, units=reading.units,
-                     allow_truncated=reading.allow_truncated)
+                     allow_truncated=reading.allow_truncated, markerset=markerset)
 
 
 FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",

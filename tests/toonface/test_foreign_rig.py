@@ -42,7 +42,8 @@ def test_the_head_frame_is_found_within_ten_degrees_without_up(kind, seed):
 
 def test_the_documented_route_maps_the_rig_without_code(tmp_path, capsys):
     """draft, mapping, map on a metres CSV at 120 Hz: at least 8 motors, MB and both mouth
-    corners among them, each rising and falling with the performer's own motor."""
+    corners among them, each rising and falling with the performer's own motor; --rate and
+    --units given once, to the draft."""
     clean, truth = _performer("third", 4)
     rig = foreign_take(clean, 4)
     rig.write_csv(tmp_path / "lab.csv")
@@ -50,9 +51,13 @@ def test_the_documented_route_maps_the_rig_without_code(tmp_path, capsys):
     assert main(["markerset", "draft", str(tmp_path / "lab.csv"), "-o", str(tmp_path / "lab.toml"), *reading]) == 0
     assert "warning" not in capsys.readouterr().err
     assert main(["markerset", "mapping", str(tmp_path / "lab.toml"), "-o", str(tmp_path / "map.toml")]) == 0
-    assert main(["map", str(tmp_path / "lab.csv"), *reading, "--mapping", str(tmp_path / "map.toml"),
+    capsys.readouterr()
+    # the rig's rate and units come from the drafted set's [tables]: not given again
+    assert main(["map", str(tmp_path / "lab.csv"), "--mapping", str(tmp_path / "map.toml"),
                  "-o", str(tmp_path / "m.csv")]) == 0
+    assert "units: m (marker set lab;" in capsys.readouterr().err  # the report
     track = load_track(tmp_path / "m.csv")
+    assert track.rate == 120.0 and track.frames == rig.take.frames
     import tomllib
 
     driven = [c for c in tomllib.loads((tmp_path / "map.toml").read_text())["motor"] if c not in ("HH", "HV")]
