@@ -86,8 +86,8 @@ class MarkerSet:
             found.append(f"its head references are centred at ({', '.join(f'{v:.0f}' for v in centre)}) mm, "
                          "far from the head frame's origin between the eyes: were camera coordinates pasted?")
         extent = np.ptp(self.neutral, axis=0)
-        if extent[2] > min(extent[0], extent[1]):
-            found.append(f"it is deeper (z: {extent[2]:.0f} mm) than it is wide (x: {extent[0]:.0f}) or tall "
+        if extent[2] > DEPTH_DOUBT * max(extent[0], extent[1]):  # markers at the ears make a layout as deep as tall
+            found.append(f"it is deeper (z: {extent[2]:.0f} mm) than it is wide (x: {extent[0]:.0f}) and tall "
                          f"(y: {extent[1]:.0f}): z should point out of the face")
         sides = {side: [i for i, label in enumerate(self.labels) if _side(label) == side] for side in "LR"}
         if len(sides["L"]) >= 2 and len(sides["R"]) >= 2:
@@ -131,6 +131,9 @@ class MarkerSet:
 
 #: Head references centred further than this from the origin are not in the head frame.
 FAR_FROM_ORIGIN_MM = 150.0
+#: A set deeper than this share of both its width and its height has z on a wrong axis (a real
+#: layout with markers at the ears is as deep as it is tall, and that is no doubt).
+DEPTH_DOUBT = 1.0
 _SIDE_WORDS = {"l": "L", "left": "L", "lt": "L", "r": "R", "right": "R", "rt": "R"}
 
 

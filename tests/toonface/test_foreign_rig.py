@@ -50,6 +50,9 @@ def test_the_documented_route_maps_the_rig_without_code(tmp_path, capsys):
     reading = ["--rate", "120", "--units", "m"]
     assert main(["markerset", "draft", str(tmp_path / "lab.csv"), "-o", str(tmp_path / "lab.toml"), *reading]) == 0
     assert "warning" not in capsys.readouterr().err
+    from capture import load_markerset
+
+    assert load_markerset(tmp_path / "lab.toml").doubts() == []  # "deeper than wide" came on every command
     assert main(["markerset", "mapping", str(tmp_path / "lab.toml"), "-o", str(tmp_path / "map.toml")]) == 0
     capsys.readouterr()
     # the rig's rate and units come from the drafted set's [tables]: not given again
