@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from capture.headframe import Frame, distance_spread, find_frame
+from capture.headframe import Frame, distance_spread, find_frame, sparse_frame
 from capture.plot import neutral_pose
 from capture.scale import check_scale
 from capture.take import Take
@@ -93,8 +93,10 @@ def draft_markerset(take: Take, up: str | None = None, front: str | None = None)
     seen = np.isfinite(rest).all(axis=1)
     if seen.sum() < 4:
         count = int(seen.sum())
-        raise InputError(f"only {count} marker{' is' if count == 1 else 's are'} ever seen: a marker set needs at "
-                         "least 4")
+        if count != 3 or take.markers != 3:
+            raise InputError(f"only {count} marker{' is' if count == 1 else 's are'} ever seen: a marker set needs at "
+                             "least 4, or 3 on a jaw and the mouth corners")
+        return _sparse(take, rest, up, front)
     frame = find_frame(take.positions, rest, None if up is None else take.labels.index(up),
                        None if front is None else take.labels.index(front))
     x, _, _ = frame.rotation
@@ -108,6 +110,19 @@ def draft_markerset(take: Take, up: str | None = None, front: str | None = None)
         warnings.simplefilter("ignore", RuntimeWarning)
         steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
     return Draft(take.labels, neutral, tuple(take.labels[i] for i in refs), frame.rotation, origin, steadiness, frame)
+
+
+def _sparse(take: Take, rest: np.ndarray, up: str | None, front: str | None) -> Draft:
+    """A draft of three markers, a jaw and the mouth corners (:func:`capture.headframe.sparse_frame`):
+    no head references, the origin between the corners."""
+    frame = sparse_frame(take.positions, rest, None if up is None else take.labels.index(up),
+                         None if front is None else take.labels.index(front))
+    corners = rest[np.argsort(np.abs((rest - rest.mean(axis=0)) @ frame.rotation[0]))[1:]]
+    origin = corners.mean(axis=0)
+    neutral = (rest - origin) @ frame.rotation.T
+    spread = distance_spread(take.positions)
+    steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
+    return Draft(take.labels, neutral, (), frame.rotation, origin, steadiness, frame)
 
 
 @dataclass(frozen=True)

@@ -283,3 +283,50 @@ def find_frame(positions: np.ndarray, rest: np.ndarray, up: int | None = None, f
     if symmetry > 8.0:
         doubts.append(f"the midline: the layout mirrors only to within {symmetry:.0f} mm; check the plot")
     return Frame(np.array([x, y, z]), tuple(skull), symmetry, vertical, votes, front_mm, tuple(doubts))
+
+
+def sparse_frame(positions: np.ndarray, rest: np.ndarray, up: int | None = None, front: int | None = None) -> Frame:
+    """The head frame of a take of three markers, a jaw (a lip, the chin) and the mouth corners,
+    which cannot fix a head pose: the corners are the pair the third lies equally far from, x
+    runs between them, y is the jaw's main travel against the corners' midpoint (down the way it
+    opens from rest), z points from the corners toward the jaw (the lips stand in front of the
+    corners), and x = y × z. The head's own motion stays in the take: :attr:`Frame.doubts` says so."""
+    if len(rest) != 3 or not np.isfinite(rest).all():
+        raise InputError("a layout of fewer than 4 markers needs exactly 3, each seen: a jaw and the mouth corners")
+    apart = np.linalg.norm(rest[:, None] - rest[None], axis=2)
+    jaw = int(np.argmin([abs(apart[k, (k + 1) % 3] - apart[k, (k + 2) % 3]) for k in range(3)]))
+    corners = [(jaw + 1) % 3, (jaw + 2) % 3]
+    x = rest[corners[1]] - rest[corners[0]]
+    x /= np.linalg.norm(x)
+    mid = positions[:, corners].mean(axis=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        moves = (positions[:, jaw] - mid) - (rest[jaw] - rest[corners].mean(axis=0))
+        moves = moves[np.isfinite(moves).all(axis=1)]
+    moves = moves - np.outer(moves @ x, x)
+    values, vectors = np.linalg.eigh(moves.T @ moves / max(len(moves), 1))
+    y = _in_plane(vectors[:, 2], x)
+    lo, hi = np.percentile(moves @ y, [2, 98]) if len(moves) else (0.0, 0.0)
+    opens = int(np.sign(lo + hi)) if abs(lo + hi) > 0.25 * max(hi - lo, 1e-9) else 0
+    doubts = ["head motion is not removed: three markers cannot fix a head frame, so a nod moves the jaw's "
+              "motors as a jaw drop would; add three markers on the skull (forehead, temples, nose bridge) for it"]
+    if up is not None:
+        y = y if (rest[up] - rest[corners].mean(axis=0)) @ y >= 0 else -y
+    elif opens:
+        y = -opens * y  # the jaw opens downwards
+    else:
+        doubts.append("which way is up: the jaw's travel does not say; give --up MARKER")
+    ahead = (rest[jaw] - rest[corners].mean(axis=0)) - ((rest[jaw] - rest[corners].mean(axis=0)) @ y) * y
+    if front is not None:
+        ahead = rest[front] - rest[corners].mean(axis=0) if front != jaw else ahead
+    ahead = ahead - (ahead @ x) * x
+    if np.linalg.norm(ahead) < 2.0:
+        doubts.append("which way the face points: the jaw is level with the corners; give --front MARKER")
+        ahead = np.cross(x, y)
+    z = ahead / np.linalg.norm(ahead)
+    z = z - (z @ y) * y
+    z /= np.linalg.norm(z)
+    x = np.cross(y, z)
+    vertical = float(values[2] / max(values[1] + values[2], 1e-12))
+    return Frame(np.array([x, y, z]), (), 0.0, vertical, (0, opens and 1), float(np.linalg.norm(ahead)),
+                 tuple(doubts))

@@ -48,7 +48,9 @@ class MarkerSet:
         Rest positions in the head frame, millimetres (x to the performer's left, y up, z out of
         the face, origin between the eyes).
     head_reference : tuple of str
-        Markers that move rigidly with the skull, used to remove head motion.
+        Markers that move rigidly with the skull, used to remove head motion: three or more, or
+        none for a sparse layout that cannot fix a head frame (its head motion is not removed,
+        :func:`mapping.clean.fixed_frame`).
     description : str
     aliases : dict of str to str
         Other name -> label.
@@ -80,7 +82,7 @@ class MarkerSet:
         for a plausible set): the head frame has its origin between the eyes, x to the
         performer's left, y up and z out of the face."""
         found = []
-        refs = np.array([self.neutral_of(r) for r in self.head_reference])
+        refs = np.array([self.neutral_of(r) for r in self.head_reference] or [np.zeros(3)])
         centre = refs.mean(axis=0)
         if np.linalg.norm(centre) > FAR_FROM_ORIGIN_MM:
             found.append(f"its head references are centred at ({', '.join(f'{v:.0f}' for v in centre)}) mm, "
@@ -176,8 +178,10 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
             mpeg4[label] = code
     refs = tuple(check.strings(doc.get("head_reference", []), "head_reference"))
     unknown_refs = [r for r in refs if r not in labels]
-    check.require(not unknown_refs and len(refs) >= 3,
-                  f"expected at least 3 head reference markers of this set; unknown {unknown_refs}", "head_reference")
+    sparse = "head_reference" in doc and not refs  # said empty: a few markers with no head frame to fix
+    check.require(not unknown_refs and (len(refs) >= 3 or sparse),
+                  f"expected at least 3 head reference markers of this set (or head_reference = [] for a layout "
+                  f"that cannot fix a head frame); unknown {unknown_refs}", "head_reference")
     independent = tuple(check.strings(doc.get("independent", []), "independent"))
     unknown = [m for m in independent if m not in labels]
     check.require(not unknown, f"expected markers of this set; unknown {unknown}", "independent")

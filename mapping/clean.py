@@ -31,7 +31,15 @@ from mapping.filters import Butterworth
 from mapping.gaps import GapFiller, gap_runs, straight_line
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings
-from mapping.stabilise import Stabilised, express, fit_head, nearest_rotation, refit_head, yaw_pitch_degrees
+from mapping.stabilise import (
+    Stabilised,
+    express,
+    fit_head,
+    nearest_rotation,
+    refit_head,
+    to_head_frame,
+    yaw_pitch_degrees,
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,6 +79,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
 
     Returns a :class:`~common.Failure` saying why when the head cannot be found.
     """
+    if not markerset.head_reference:  # a sparse layout: no head frame to find (see fixed_frame)
+        return _without_head(take, markerset, settings)
     references = head_references(take.labels, markerset)
     if not references:
         return references
@@ -105,6 +115,49 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
                          clean_channels(take, settings))
     missing = int(np.isnan(local[..., 0]).sum())
     return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()))
+
+
+def fixed_frame(take: Take, markerset: MarkerSet) -> tuple[np.ndarray, np.ndarray] | Failure:
+    """For a marker set without head references (three markers on a jaw and mouth corners): the
+    one rigid placement of the take in the set's head frame, ``(rotation (3, 3), translation
+    (3,))`` head frame to world, fitted on the take's first second over every marker both have.
+    The head's own motion is not removed: it reaches the motors as if the face moved."""
+    from capture.plot import neutral_pose
+
+    found = markerset.match(take.labels)
+    rest = neutral_pose(take)
+    pairs = [(take.index(mine), markerset.neutral_of(label)) for label, mine in found.items()
+             if np.isfinite(rest[take.index(mine)]).all()]
+    if len(pairs) < 3:
+        return Failure(f"only {len(pairs)} of marker set {markerset.name}'s markers are seen: cannot place the take")
+    world = rest[[m for m, _ in pairs]]
+    head = np.array([n for _, n in pairs])
+    cw, ch = world.mean(axis=0), head.mean(axis=0)
+    u, _, vt = np.linalg.svd((head - ch).T @ (world - cw))
+    rotation = (u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt).T  # head frame to world
+    return rotation, cw - ch @ rotation.T
+
+
+def _without_head(take: Take, markerset: MarkerSet, settings: CleanSettings
+                  ) -> tuple[Stabilised, CleanReport] | Failure:
+    """:func:`clean_stabilised` for a set without head references: spikes, gaps and smoothing as
+    for any take, in one fixed placement (:func:`fixed_frame`)."""
+    placed = fixed_frame(take, markerset)
+    if isinstance(placed, Failure):
+        return placed
+    rotation = np.broadcast_to(placed[0], (take.frames, 3, 3)).copy()
+    translation = np.broadcast_to(placed[1], (take.frames, 3)).copy()
+    local = to_head_frame(take.positions, rotation, translation)
+    rejected = 0
+    if settings.spikes:
+        spikes = np.isnan(SpikeFilter().apply(local, take.times)[..., 0]) & ~np.isnan(local[..., 0])
+        rejected = int(spikes.sum())
+        local = np.where(spikes[..., None], np.nan, local)
+    local, filled = _fill_and_smooth(local, take, settings)
+    cleaned = Stabilised(local, rotation, translation, np.ones(take.frames, bool), np.empty((0, 3)), filled,
+                         clean_channels(take, settings))
+    return cleaned, CleanReport(rejected, int(filled.sum()), int(np.isnan(local[..., 0]).sum()), 0,
+                                head="not removed (the marker set has no head references)")
 
 
 def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset: MarkerSet | None = None,

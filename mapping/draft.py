@@ -84,8 +84,35 @@ def _rename(value, names: dict[str, str]):
     return names.get(value, value) if isinstance(value, str) else [names.get(v, v) for v in value]
 
 
+def sparse_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
+    """Rules for a layout of three markers without a head frame, a jaw and the mouth corners,
+    found by position in its head frame: the corners are the two furthest from the midline
+    (the left one at +x), the jaw the third. Without a head frame a nod would move every marker,
+    so what can be is read between markers: MB from how far the jaw lies below the corners (a
+    nod turns that difference a little, not the whole face's travel), MLH and MRH from the
+    mouth's width, which no turn changes; the corners' heights (MLV, MRV) are read along y,
+    where a nod still reaches them; the head's turn cannot be seen."""
+    order = np.argsort(np.abs(markerset.neutral[:, 0]))
+    jaw, corners = markerset.labels[order[0]], [markerset.labels[i] for i in order[1:]]
+    left, right = sorted(corners, key=lambda label: -markerset.neutral_of(label)[0])
+    loss = {"policy": "ease", "seconds": 0.5}
+    motors = {"MB": {"sources": [{"difference": [left, jaw], "axis": "y"}, {"difference": [right, jaw], "axis": "y"}],
+                     "combine": "mean", "loss": loss},
+              "MLH": {"sources": [{"distance": [left, right]}], "loss": loss},
+              "MLV": {"sources": [{"marker": left, "axis": "y"}], "loss": loss},
+              "MRH": {"sources": [{"distance": [left, right]}], "loss": loss},
+              "MRV": {"sources": [{"marker": right, "axis": "y"}], "loss": loss}}
+    doc = {"format": "toonface.mapping/1", "name": markerset.name, "markerset": markerset_ref,
+           "description": "drafted for a jaw and mouth corners (no head frame: head motion not removed)",
+           "motor": motors}
+    return MappingDraft(doc, "jaw-and-corners", {"jaw": jaw, "left corner": left, "right corner": right}, (), 0.0)
+
+
 def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
-    """The best preset's rules for ``markerset``, which the mapping names as ``markerset_ref``."""
+    """The best preset's rules for ``markerset``, which the mapping names as ``markerset_ref``
+    (:func:`sparse_mapping` for three markers without a head frame)."""
+    if not markerset.head_reference and len(markerset.labels) == 3:
+        return sparse_mapping(markerset, markerset_ref)
     size = float(np.sqrt(np.mean(np.sum((markerset.neutral - markerset.neutral.mean(axis=0)) ** 2, axis=1))))
     best: MappingDraft | None = None
     for preset in builtin_names("mappings", ".toml"):

@@ -304,6 +304,9 @@ def stabilisation_notes(prepared: Prepared) -> list[str]:
     units = prepared.units
     notes = list(units.notes) if units is not None else []
     notes += [f"warning: marker set {prepared.markerset.name}: {doubt}" for doubt in prepared.markerset.doubts()]
+    if not prepared.markerset.head_reference:
+        return [*notes, f"warning: marker set {prepared.markerset.name} has no head references: the head's motion "
+                "is not removed, and a nod or a turn moves the motors as the face would"]
     refs = [r for r in prepared.markerset.head_reference if r in prepared.columns]
     expected = np.array([prepared.markerset.neutral_of(r) for r in refs])
     scale_off = units is not None and units.check.off and units.origin != "inferred"  # said already, in units

@@ -56,7 +56,9 @@ def draft(take: str, output: str, up: str | None, front: str | None, name: str |
     with atomic_path(output) as tmp:
         tmp.write_text(_toml(found, title, Path(take).name, up) + _tables(tables), encoding="utf-8")
     written = load_markerset(output)  # the draft must load, and look like head-frame millimetres
-    click.echo(f"wrote {output}: {len(found.labels)} markers, head references {', '.join(found.head_reference)}")
+    click.echo(f"wrote {output}: {len(found.labels)} markers, "
+               + (f"head references {', '.join(found.head_reference)}" if found.head_reference
+                  else "no head references (a jaw and the mouth corners: head motion is not removed)"))
     for doubt in (*found.frame.doubts, *written.doubts()):
         click.echo(f"warning: {doubt}", err=True)
 
@@ -70,16 +72,21 @@ def _toml(found, title: str, source: str, up: str | None) -> str:
                                                                                           strict=True))
     frame = found.frame
     votes = {1: "agrees", -1: "disagrees", 0: "cannot tell"}
+    how = [f"#   x: the face mirrors across its midline to within {frame.symmetry_mm:.1f} mm on average;",
+           f"#   y: {frame.vertical:.0%} of the face's motion in the midline plane is along its main direction;",
+           "#   up: " + (f"set by {up}." if up else f"the skull above the jaw {votes[frame.up_votes[0]]}, the largest "
+                         f"mover's travel from rest {votes[frame.up_votes[1]]};"),
+           f"#   front: the midline stands {frame.front_mm:.0f} mm out from the sides."]
+    if not found.head_reference:
+        how = ["#   x: from the right mouth corner to the left (the two the third marker lies equally far from);",
+               "#   y: up, against the way the jaw marker travels from the corners when it opens;",
+               f"#   z: toward the jaw marker, {frame.front_mm:.0f} mm in front of the corners' line."]
     lines = [
         f"# A draft marker set from {source} (toonface markerset draft). Check it before use:",
         f"#   toonface info {source} --plot markers.png --markerset THIS_FILE",
         "# Head frame, in the take's axes: " + axes + "; origin on the midline at the head references' centroid.",
         "# x points to the performer's left, y up, z out of the face. How each was found:",
-        f"#   x: the face mirrors across its midline to within {frame.symmetry_mm:.1f} mm on average;",
-        f"#   y: {frame.vertical:.0%} of the face's motion in the midline plane is along its main direction;",
-        "#   up: " + (f"set by {up}." if up else f"the skull above the jaw {votes[frame.up_votes[0]]}, the largest "
-                      f"mover's travel from rest {votes[frame.up_votes[1]]};"),
-        f"#   front: the midline stands {frame.front_mm:.0f} mm out from the sides.",
+        *how,
         *[f"# DOUBT: {doubt}" for doubt in frame.doubts],
         "# Head references: the largest group of markers that stay rigid together. Each marker's",
         "# steadiness (the median variation, mm, of its distances to the others) is in its comment:",
@@ -184,9 +191,12 @@ def mapping_cmd(layout: str, output: str) -> None:
     face = [code for code in found.doc["motor"] if code not in ("HH", "HV")]
     if len(face) < MIN_DRAFTED_MOTORS or "MB" not in face:  # 3 motors mapped, then a still face in silence
         missing = [code for code in ("MB", "MLH", "MRH", "BLC", "BRC", "ELU", "ERU") if code not in face]
+        why = ("a jaw and the mouth corners show no brows or lids, and the corners' heights (MLV, MRV) move with "
+               "the head" if not target.head_reference else
+               "no preset's markers for them lie near yours. Check the marker set's axes (info --plot --markerset) "
+               "and write those rules by hand")
         click.echo(f"warning: the draft drives {len(face)} of the face's motors ({', '.join(face) or 'none'}); "
-                   f"not {', '.join(missing)}: no preset's markers for them lie near yours. Check the marker set's "
-                   "axes (info --plot --markerset) and write those rules by hand", err=True)
+                   f"not {', '.join(missing)}: {why}", err=True)
 
 
 #: A drafted mapping driving fewer of the face's motors than this (or not MB) is a warning.

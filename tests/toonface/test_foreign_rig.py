@@ -138,3 +138,35 @@ def test_the_check_plot_draws_the_take_in_the_drafted_head_frame(tmp_path):
     assert np.nanpercentile(travel[:, 1], 1) < -15.0 and np.nanpercentile(travel[:, 1], 99) < 3.0  # the jaw opens down
     forehead = rig.names.index("FOREHEAD")
     assert np.nanmax(np.abs(placed.positions[:, forehead] - rest[forehead])) < 3.0  # the head's motion removed
+
+
+def test_a_take_of_three_markers_maps_the_jaw_and_the_corners(tmp_path, capsys):
+    """Three markers (the lower lip and the mouth corners) had no route: no preset matched and a
+    draft needed 4. Now the draft places them without a head frame, saying that head motion is
+    not removed, and the mapping reads the jaw and the mouth's width between markers, which the
+    third performer's nods and turns (25 and 18 degrees) do not reach."""
+    from bench.foreign_rig import ForeignTake
+    from capture import Take, load_markerset
+
+    clean, truth = _performer("third", 4)
+    rig = foreign_take(clean, 4)
+    keep = [rig.names.index(n) for n in ("MOUTH_L", "LIP_LOW", "MOUTH_R")]
+    three = Take(rig.take.positions[:, keep], ("P", "Q", "R"), 120.0, times=rig.take.times)
+    ForeignTake(three, ("MOUTH_L", "LIP_LOW", "MOUTH_R"), rig.axes).write_csv(tmp_path / "three.csv")
+    assert main(["markerset", "draft", str(tmp_path / "three.csv"), "-o", str(tmp_path / "three.toml"), "--rate",
+                 "120", "--units", "m"]) == 0
+    out, err = capsys.readouterr()
+    assert "no head references" in out and "head motion is not removed" in err
+    drafted = load_markerset(tmp_path / "three.toml")
+    assert drafted.head_reference == ()
+    assert drafted.neutral_of("P")[0] > 25 > -25 > drafted.neutral_of("R")[0]  # P is the performer's left corner
+    assert drafted.neutral_of("Q")[1] < 0 < drafted.neutral_of("Q")[2]  # the lower lip: below, in front
+    assert main(["markerset", "mapping", str(tmp_path / "three.toml"), "-o", str(tmp_path / "map.toml")]) == 0
+    assert "show no brows or lids" in capsys.readouterr().err
+    assert main(["map", str(tmp_path / "three.csv"), "--mapping", str(tmp_path / "map.toml"),
+                 "-o", str(tmp_path / "m.csv")]) == 0
+    assert "the head's motion is not removed" in capsys.readouterr().err
+    track = load_track(tmp_path / "m.csv")
+    for code in ("MB", "MLH", "MRH"):
+        k = MOTOR_CODES.index(code)
+        assert np.corrcoef(track.values[:, k], truth[:, k])[0, 1] > 0.75, code
