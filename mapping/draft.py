@@ -151,4 +151,56 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
                 len(motors) == len(best.doc["motor"]) and draft.fit_mm < best.fit_mm):
             best = draft
     assert best is not None
-    return best
+    return _mirror_missing(best, markerset, size)
+
+
+def _partner(markerset: MarkerSet, label: str, size: float) -> str | None:
+    """The marker at ``label``'s mirror image across the midline (x = 0), within
+    :data:`MATCH_FRACTION` of the face's size; a marker on the midline is its own."""
+    point = markerset.neutral_of(label) * np.array([-1.0, 1.0, 1.0])
+    distance = np.linalg.norm(markerset.neutral - point, axis=1)
+    j = int(distance.argmin())
+    return markerset.labels[j] if distance[j] <= MATCH_FRACTION * size else None
+
+
+def _mirror_missing(draft: MappingDraft, markerset: MarkerSet, size: float) -> MappingDraft:
+    """A motor of one side left out while its twin on the other side was found (a preset laid
+    over a face a little asymmetric finds one brow and not the other) gets its twin's rules on
+    the mirror-image markers, x read the other way."""
+    motors, still = dict(draft.doc["motor"]), []
+    for code in draft.unmapped:
+        twin = code[0] + {"R": "L", "L": "R"}.get(code[1], code[1]) + code[2:]
+        rule = motors.get(twin)
+        if twin == code or rule is None or any("angle" in source for source in rule.get("sources", [])):
+            still.append(code)
+            continue
+        sources = []
+        for source in rule.get("sources", []):
+            names = {name: _partner(markerset, name, size) for key in ("marker", "distance", "difference")
+                     if key in source for name in ([source[key]] if isinstance(source[key], str) else source[key])}
+            found = {name: partner for name, partner in names.items() if partner is not None}
+            if len(found) < len(names):
+                break
+            flipped = {k: (_rename(v, found) if k in ("marker", "distance", "difference") else v)
+                       for k, v in source.items()}
+            if flipped.get("axis") == "x":
+                flipped["invert"] = not source.get("invert", False)
+                if not flipped["invert"]:
+                    del flipped["invert"]
+            sources.append(flipped)
+        else:
+            motors[code] = {**rule, "sources": sources}
+            continue
+        still.append(code)
+    if len(still) == len(draft.unmapped):
+        return draft
+    mirrored = [code for code in draft.unmapped if code not in still]
+    doc = {**draft.doc, "motor": {code: motors[code] for code in sorted(motors, key=_motor_order)},
+           "description": f"{draft.doc['description']}; {', '.join(mirrored)} mirrored from the other side"}
+    return MappingDraft(doc, draft.template, draft.found, tuple(still), draft.fit_mm)
+
+
+def _motor_order(code: str) -> int:
+    from toon import MOTOR_CODES
+
+    return MOTOR_CODES.index(code) if code in MOTOR_CODES else len(MOTOR_CODES)
