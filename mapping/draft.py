@@ -6,7 +6,8 @@ the new one (both are in a head frame, so only a scale, an offset and a turn of 
 are fitted, by alternating nearest neighbours and least squares); each marker the preset's
 rules read is taken to be the new marker nearest it, if one is within :data:`MATCH_FRACTION` of
 the face's size and no nearer preset marker claims it. The preset that finds the most of its
-markers is the draft's pattern; motors whose markers were not all found are left out and listed.
+markers (one that finds the jaw's before any that does not) is the draft's pattern; motors whose
+markers were not all found are left out and listed.
 """
 
 from __future__ import annotations
@@ -142,16 +143,24 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
                 motors[code] = {**rule, "sources": sources}
             else:
                 unmapped.append(code)
+        for code, rule in motors.items():  # a motor decoupled from one left out: nothing to measure it by
+            if "decouple" in rule:
+                kept = [other for other in rule["decouple"] if other in motors]
+                motors[code] = {k: v for k, v in rule.items() if k != "decouple"} | ({"decouple": kept} if kept else {})
         new = {**doc, "name": f"{markerset.name}", "markerset": markerset_ref, "motor": motors,
                "description": f"drafted from the {preset} preset"}
         used = set().union(*markers.values())
         draft = MappingDraft(new, preset, {k: v for k, v in found.items() if k in used}, tuple(unmapped),
                              float(np.mean(gaps)) if gaps else float("inf"))
-        if best is None or len(motors) > len(best.doc["motor"]) or (
-                len(motors) == len(best.doc["motor"]) and draft.fit_mm < best.fit_mm):
+        if best is None or _rank(draft) > _rank(best):
             best = draft
     assert best is not None
     return _mirror_missing(best, markerset, size)
+
+
+def _rank(draft: MappingDraft) -> tuple[bool, int, float]:
+    """Which draft is better: one that opens the jaw, then the most motors, then the closest fit."""
+    return "MB" in draft.doc["motor"], len(draft.doc["motor"]), -draft.fit_mm
 
 
 def _partner(markerset: MarkerSet, label: str, size: float) -> str | None:

@@ -171,3 +171,43 @@ def test_a_take_of_three_markers_maps_the_jaw_and_the_corners(tmp_path, capsys):
     for code in ("MB", "MLH", "MRH"):
         k = MOTOR_CODES.index(code)
         assert np.corrcoef(track.values[:, k], truth[:, k])[0, 1] > 0.75, code
+
+
+@pytest.mark.slow
+def test_the_readme_rig_chapter_runs_as_written(tmp_path, monkeypatch, capsys):
+    """The README's "A rig from another lab" commands, verbatim, on a rig made from the project's
+    own performer (the chapter's pictures use the third)."""
+    import re
+    import shlex
+    from pathlib import Path
+
+    clean, _ = _performer("own", 3)
+    rig = foreign_take(clean, 3)
+    rig.write_csv(tmp_path / "lab.csv")
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    chapter = readme.split("### A rig from another lab, step by step", 1)[1]
+    block = re.search(r"```sh\n(.*?)```", chapter, re.S).group(1)
+    commands = [line.strip() for line in block.splitlines() if line.strip()]
+    assert len(commands) == 6 and all(c.startswith("toonface ") for c in commands)
+    monkeypatch.chdir(tmp_path)
+    for command in commands:
+        assert main(shlex.split(command)[1:]) == 0, command
+    assert "warning" not in capsys.readouterr().err
+    assert load_track(tmp_path / "motors.csv").frames == rig.take.frames
+    assert (tmp_path / "lab.mp4").stat().st_size > 0 and (tmp_path / "check.png").is_file()
+
+
+def test_a_drafted_mapping_never_decouples_from_a_motor_it_left_out():
+    """toon32's corners are decoupled from MB; a layout without the lower lip and chin left MB
+    out and kept 'decouple = [\"MB\"]', a mapping file toonface itself refused."""
+    from capture import MarkerSet, load_markerset
+    from mapping.draft import draft_mapping
+    from mapping.mapfile import parse_mapping
+
+    toon32 = load_markerset("toon32")
+    keep = [i for i, label in enumerate(toon32.labels) if label not in ("LIP_LOW", "CHIN", "LIP_LOW_R", "LIP_LOW_L")]
+    layout = MarkerSet("nojaw", tuple(toon32.labels[i] for i in keep), toon32.neutral[keep], toon32.head_reference)
+    draft = draft_mapping(layout, "nojaw.toml")
+    parse_mapping(draft.doc, "nojaw-mapping.toml")  # loads: every decouple names a motor the draft drives
+    motors = draft.doc["motor"]
+    assert all(other in motors for rule in motors.values() for other in rule.get("decouple", []))

@@ -240,9 +240,10 @@ def test_a_drafted_layout_maps_as_well_as_the_hand_made_preset(realdata, tmp_pat
     preset = map_take(take, neutral_window=None)  # what `map` does with the original file
     assert mine.frames == preset.frames
     error = np.sqrt(np.mean((mine.values - preset.values) ** 2, axis=0))
-    # The drafted frame is 6.6 degrees from the hand-made one: the mouth corners' large vertical
-    # motion leaks into their small horizontal range (MLH 0.086); every other motor is within 0.05.
-    assert error.max() < 0.1 and error.mean() < 0.03, dict(zip(MOTOR_CODES, error.round(3), strict=True))
+    # The drafted frame is 7 degrees from the hand-made one; with the frame found from the data
+    # every motor is within 0.03 (the old rule's frame leaked the corners' vertical motion into
+    # their horizontal range: MLH 0.086).
+    assert error.max() < 0.04 and error.mean() < 0.015, dict(zip(MOTOR_CODES, error.round(3), strict=True))
 
 
 @pytest.mark.slow
