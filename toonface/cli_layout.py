@@ -155,13 +155,19 @@ def match(take: str, layout: str, output: str, reading: TakeReading) -> None:
 @markerset.command("mapping")
 @click.argument("layout", metavar="MARKERSET.toml", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="Mapping to write (.toml).")
-def mapping_cmd(layout: str, output: str) -> None:
+@click.option("--take", "take_path", default=None, type=click.Path(dir_okay=False),
+              help="A take of the layout with expressions and speech: the jaw, the mouth corners and the brows "
+                   "are also found from how they move, for motors no preset's markers gave.")
+@take_options
+def mapping_cmd(layout: str, output: str, take_path: str | None, reading: TakeReading) -> None:
     """Draft a mapping for a marker set from the built-in presets.
 
     Each preset's marker set is laid over yours (a scale, an offset and a turn of a few degrees
     in the head frame); the markers its rules read are found by position, and the preset that
-    finds the most gives the draft. Motors whose markers were not found are left out and listed;
-    a draft that drives fewer than 8 of the face's motors, or not the jaw, is a warning.
+    finds the most gives the draft; a motor found on one side only is mirrored from its twin.
+    With --take, the jaw, the mouth corners and the brows are also found from how they move,
+    for the motors the presets left out. Motors still missing are listed; a draft that drives
+    fewer than 8 of the face's motors, or not the jaw, is a warning.
     """
     import os
 
@@ -178,6 +184,8 @@ def mapping_cmd(layout: str, output: str) -> None:
     target = load_markerset(layout)
     reference = os.path.relpath(Path(layout).resolve(), Path(output).resolve().parent)
     found = draft_mapping(target, reference)
+    if take_path is not None and target.head_reference:
+        found = _with_motion_roles(found, target, read_take(take_path, reading, layout))
     pairs = ", ".join(f"{mine} = {theirs}" for theirs, mine in sorted(found.found.items(), key=lambda p: p[1]))
     header = (f"# A draft mapping for {Path(layout).name} (toonface markerset mapping), following the "
               f"{found.template} preset.\n# Its markers found by position ({found.fit_mm:.1f} mm apart on average "
@@ -197,6 +205,31 @@ def mapping_cmd(layout: str, output: str) -> None:
                "and write those rules by hand")
         click.echo(f"warning: the draft drives {len(face)} of the face's motors ({', '.join(face) or 'none'}); "
                    f"not {', '.join(missing)}: {why}", err=True)
+
+
+def _with_motion_roles(found, target, take):
+    """``found`` (a :class:`~mapping.draft.MappingDraft`) with the motors it left out that the
+    take's motion gives (:func:`mapping.roles.motion_roles`), said on the terminal."""
+    from dataclasses import replace
+
+    from capture.plot import in_head_frame
+    from mapping.roles import motion_roles
+
+    placed = in_head_frame(take, target)
+    columns = target.match(placed.labels)
+    local = np.full((placed.frames, len(target.labels), 3), np.nan)
+    for k, label in enumerate(target.labels):
+        if label in columns:
+            local[:, k] = placed.positions[:, placed.labels.index(columns[label])]
+    roles = motion_roles(target, local)
+    added = {code: rule for code, rule in roles.items() if code not in found.doc["motor"]}
+    if not added:
+        return found
+    click.echo(f"found from the take's motion: {', '.join(added)}")
+    source = take.meta.get("file", "a take")
+    doc = {**found.doc, "motor": {**found.doc["motor"], **added},
+           "description": f"{found.doc['description']}; {', '.join(added)} found from the motion of {source}"}
+    return replace(found, doc=doc, unmapped=tuple(code for code in found.unmapped if code not in added))
 
 
 #: A drafted mapping driving fewer of the face's motors than this (or not MB) is a warning.

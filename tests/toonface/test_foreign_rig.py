@@ -211,3 +211,62 @@ def test_a_drafted_mapping_never_decouples_from_a_motor_it_left_out():
     parse_mapping(draft.doc, "nojaw-mapping.toml")  # loads: every decouple names a motor the draft drives
     motors = draft.doc["motor"]
     assert all(other in motors for rule in motors.values() for other in rule.get("decouple", []))
+
+
+@pytest.mark.parametrize(("kind", "seed"), [("own", 0), ("third", 4)])
+def test_the_jaw_the_corners_and_the_brows_are_found_from_motion(kind, seed, tmp_path):
+    """Roles told apart by how markers move, wherever they sit: the midline marker that drops
+    one way is the jaw, the mirror pair that spreads is the corners, what rises well above them
+    the brows (two performers written apart: one opens the lip, the other swings the chin)."""
+    from capture import load_markerset
+    from capture.plot import in_head_frame
+    from mapping.roles import motion_roles
+    clean, _ = _performer(kind, seed)
+    rig = foreign_take(clean, seed)
+    from toonface.cli_layout import _toml
+
+    (tmp_path / "drafted.toml").write_text(_toml(draft_markerset(rig.take), "drafted", "rig.csv", None))
+    layout = load_markerset(tmp_path / "drafted.toml")
+    local = in_head_frame(rig.take, layout).positions
+    roles = motion_roles(layout, local)
+    name = {label: rig.names[rig.take.labels.index(label)] for label in rig.take.labels}
+    read = {code: [name[s["marker"]] for s in rule["sources"]] for code, rule in roles.items()}
+    assert read["MLH"] == read["MLV"] == ["MOUTH_L"] and read["MRH"] == read["MRV"] == ["MOUTH_R"]
+    assert roles["MRH"]["sources"][0].get("invert") and not roles["MLH"]["sources"][0].get("invert")
+    assert read["MB"][0] in ("LIP_LOW", "CHIN") and roles["MB"]["sources"][0]["invert"]
+    for side in "LR":
+        brows = {m for code in (f"B{side}M", f"B{side}C", f"B{side}L") for m in read[code]}
+        assert brows and brows <= {f"BROW_{side}_MED", f"BROW_{side}_CEN"}, read
+
+
+def test_markerset_mapping_with_a_take_finds_what_no_preset_placed(tmp_path, capsys):
+    """A layout whose brows sit where no preset's do (moved 22 mm up and 15 mm out): the presets
+    leave them out; with --take their motion finds them."""
+    import re
+
+    clean, _ = _performer("third", 4)
+    rig = foreign_take(clean, 4)
+    rig.write_csv(tmp_path / "lab.csv")
+    assert main(["markerset", "draft", str(tmp_path / "lab.csv"), "-o", str(tmp_path / "lab.toml"), "--rate", "120",
+                 "--units", "m"]) == 0
+    text = (tmp_path / "lab.toml").read_text()
+    for brow in ("BROW_R_CEN", "BROW_L_CEN", "BROW_R_MED", "BROW_L_MED"):
+        label = rig.take.labels[rig.names.index(brow)]
+        entry = re.search(rf'"{label}" = {{ neutral = \[([^\]]*)\] }}', text)
+        x, y, z = (float(v) for v in entry.group(1).split(","))
+        moved = f"{x + 15 * np.sign(x):.2f}, {y + 22:.2f}, {z:.2f}"
+        text = text.replace(entry.group(0), f'"{label}" = {{ neutral = [{moved}] }}')
+    (tmp_path / "odd.toml").write_text(text)
+    assert main(["markerset", "mapping", str(tmp_path / "odd.toml"), "-o", str(tmp_path / "plain.toml")]) == 0
+    import tomllib
+
+    plain = tomllib.loads((tmp_path / "plain.toml").read_text())["motor"]
+    assert not {"BLM", "BRM"} & set(plain)
+    capsys.readouterr()
+    assert main(["markerset", "mapping", str(tmp_path / "odd.toml"), "-o", str(tmp_path / "moved.toml"),
+                 "--take", str(tmp_path / "lab.csv")]) == 0
+    assert "found from the take's motion: " in capsys.readouterr().out
+    moved = tomllib.loads((tmp_path / "moved.toml").read_text())["motor"]
+    name = dict(zip(rig.take.labels, rig.names, strict=True))
+    assert name[moved["BLM"]["sources"][0]["marker"]] == "BROW_L_MED"
+    assert name[moved["BRM"]["sources"][0]["marker"]] == "BROW_R_MED"
