@@ -26,6 +26,7 @@ from toonface.cli_options import FACE, SIZE, FiniteFloat, TakeReading, parse_siz
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
 from toonface.cli_studio import STUDIO_COMMANDS
+from toonface.cli_voice import VOICE_COMMANDS
 
 # Commands import the stages they use when they run: `toonface --help` loads none of them.
 
@@ -310,7 +311,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
 
 
 for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS, *LAYOUT_COMMANDS,
-                 *STUDIO_COMMANDS):
+                 *STUDIO_COMMANDS, *VOICE_COMMANDS):
     cli.add_command(_command)
 
 

@@ -1,0 +1,197 @@
+"""A voice as performer data: the phones spoken and when, turned into mouth shapes over time.
+
+Offline and without a network: pocketsphinx (BSD-2-Clause, its US-English acoustic model,
+dictionary and phone language model inside its wheel) recognises the phones, either freely
+(a phone loop: any speech, no words needed) or, given the words, by forced alignment, which
+places each phone of the known words and is much surer. A voice-activity step keeps silence
+silent whatever the recogniser heard in it.
+
+Each phone is one of Rhubarb Lip Sync's mouth shapes (:data:`VISEMES`, the animators' common
+set: A closed for M B P, B slightly open for most consonants and EE, C open for EH and AE,
+D wide open for AA, E rounded for AO and ER, F puckered for UW, OW and W, G teeth on lip for
+F and V, H the tongue up for L, X at rest). Shapes then follow each other as a mouth does
+(:func:`shape_curves`): a vowel is anticipated, a shape is held at least a little, a short pause
+keeps the shape before it, a long one relaxes to rest, and the change between shapes is a
+smooth blend, never a jump.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from common import InputError
+
+#: Rhubarb Lip Sync's mouth shapes, in its order.
+VISEMES = ("A", "B", "C", "D", "E", "F", "G", "H", "X")
+#: Each ARPAbet phone of pocketsphinx's US-English model as a mouth shape; anything else (SIL,
+#: noises) is rest.
+PHONE_SHAPES: dict[str, str] = {
+    **dict.fromkeys(("M", "B", "P"), "A"),
+    **dict.fromkeys(("K", "G", "T", "D", "N", "NG", "S", "Z", "SH", "ZH", "CH", "JH", "TH", "DH", "HH", "Y", "IY",
+                     "IH"), "B"),
+    **dict.fromkeys(("EH", "AE", "EY", "AH"), "C"),
+    **dict.fromkeys(("AA", "AW", "AY"), "D"),
+    **dict.fromkeys(("AO", "ER", "UH", "R", "OY"), "E"),
+    **dict.fromkeys(("UW", "OW", "W"), "F"),
+    **dict.fromkeys(("F", "V"), "G"),
+    "L": "H",
+}
+VOWELS = frozenset({"AA", "AE", "AH", "AO", "AW", "AY", "EH", "ER", "EY", "IH", "IY", "OW", "OY", "UH", "UW"})
+#: The recogniser's frame rate (Hz): one frame per 10 ms.
+FRAME_RATE = 100.0
+SAMPLE_RATE = 16000
+#: A vowel's shape starts this long before its sound (s): the lips get there first.
+ANTICIPATE_S = 0.04
+#: No shape is held for less than this (s): a shorter one is merged into the one before.
+MIN_HOLD_S = 0.03
+#: A pause shorter than this (s) keeps the shape before it; a longer one relaxes to rest.
+SHORT_PAUSE_S = 0.2
+#: The blend between shapes: a Gaussian of this standard deviation (s).
+BLEND_S = 0.025
+#: Voice activity: a frame is speech when its level is within this many dB of the loud part of
+#: the sound (its 95th percentile) and above the quiet part (5th percentile) by at least half
+#: of the way.
+SPEECH_RANGE_DB = 35.0
+
+
+@dataclass(frozen=True)
+class Phone:
+    """A phone heard: its ARPAbet ``name`` and when, seconds (``end`` exclusive)."""
+
+    name: str
+    start: float
+    end: float
+
+
+def decode_voice(path: str | os.PathLike) -> np.ndarray:
+    """The sound of ``path`` (a sound file or a video with sound), mono, 16 kHz, float32 in
+    -1..1; an :class:`~common.InputError` when it has none."""
+    from common.sound import decode_mono
+
+    samples, _, _ = decode_mono(Path(path), SAMPLE_RATE)
+    if not len(samples):
+        raise InputError("no sound in it", path)
+    return samples
+
+
+def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
+    """The phones in ``samples`` (16 kHz mono), freely (a phone loop) or, given the words
+    ``text``, by forced alignment of those words.
+
+    Raises
+    ------
+    InputError
+        When a word of ``text`` is not in the dictionary (named) or the words cannot be aligned.
+    """
+    from pocketsphinx import Decoder, get_model_path
+
+    pcm = (np.clip(samples, -1.0, 1.0) * 32767).astype(np.int16).tobytes()
+    model = Path(get_model_path()) / "en-us"
+    if text is None:
+        decoder = Decoder(allphone=str(model / "en-us-phone.lm.bin"), lw=2.0, pip=0.3, beam=1e-20, pbeam=1e-20,
+                          samprate=SAMPLE_RATE, loglevel="FATAL")
+        decoder.start_utt()
+        decoder.process_raw(pcm, full_utt=True)
+        decoder.end_utt()
+        return [Phone(s.word, s.start_frame / FRAME_RATE, (s.end_frame + 1) / FRAME_RATE) for s in decoder.seg()]
+    words = " ".join(text.lower().split())
+    decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
+    unknown = [w for w in words.split() if decoder.lookup_word(w) is None]
+    if unknown:
+        raise InputError(f"not in the pronouncing dictionary: {', '.join(unknown)} (spell numbers and names out "
+                         "as they are said)")
+    try:
+        decoder.set_align_text(words)
+        decoder.start_utt()
+        decoder.process_raw(pcm, full_utt=True)
+        decoder.end_utt()
+        decoder.set_alignment()
+        decoder.start_utt()
+        decoder.process_raw(pcm, full_utt=True)
+        decoder.end_utt()
+        aligned = decoder.get_alignment()
+    except (RuntimeError, ValueError) as exc:
+        raise InputError(f"the words could not be aligned with the sound ({exc})") from None
+    return [Phone(p.name, p.start / FRAME_RATE, (p.start + p.duration) / FRAME_RATE) for w in aligned for p in w]
+
+
+def speaking(samples: np.ndarray, frames: int) -> np.ndarray:
+    """Which of ``frames`` 10 ms frames of ``samples`` (16 kHz) hold speech, ``(frames,)`` bool:
+    the level (dB, in 20 ms windows) against the sound's own loud and quiet parts."""
+    hop = int(SAMPLE_RATE / FRAME_RATE)
+    padded = np.pad(samples.astype(np.float64), (hop // 2, frames * hop + hop))
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * hop)[::hop][:frames]
+    level = 10 * np.log10(np.mean(windows ** 2, axis=1) + 1e-10)
+    loud, quiet = np.percentile(level, 95), np.percentile(level, 5)
+    threshold = max(loud - SPEECH_RANGE_DB, (loud + quiet) / 2)
+    on = level >= threshold
+    bridge = int(round(SHORT_PAUSE_S * FRAME_RATE / 2))  # a stop's silence inside a word is not a pause
+    return _close_gaps(on, bridge)
+
+
+def _close_gaps(on: np.ndarray, longest: int) -> np.ndarray:
+    out = on.copy()
+    runs = _runs(~on)
+    for start, end in runs:
+        if 0 < start and end < len(on) and end - start <= longest:
+            out[start:end] = True
+    return out
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
+
+
+def shape_sequence(phones: list[Phone], frames: int, speech: np.ndarray | None = None) -> np.ndarray:
+    """The mouth shape of each 10 ms frame, ``(frames,)`` indices into :data:`VISEMES`, with the
+    rules of coarticulation (see the module docstring); ``speech`` ``(frames,)`` marks where
+    there is voice, rest elsewhere."""
+    rest = VISEMES.index("X")
+    shapes = np.full(frames, rest)
+    for phone in phones:
+        start = int(round(phone.start * FRAME_RATE))
+        if phone.name in VOWELS:
+            start -= int(round(ANTICIPATE_S * FRAME_RATE))
+        end = int(round(phone.end * FRAME_RATE))
+        named = PHONE_SHAPES.get(phone.name, "X")
+        if named != "X":
+            shapes[max(start, 0):max(end, 0)] = VISEMES.index(named)
+    if speech is not None:  # silence is rest; lips pressed shut for a B or an M are silent too, and stay
+        shapes[~speech[:frames] & (shapes != VISEMES.index("A"))] = rest
+    hold = max(1, int(round(MIN_HOLD_S * FRAME_RATE)))
+    runs = _shape_runs(shapes)
+    for k, (start, end, index) in enumerate(runs):  # a flicker joins the shape before it
+        if end - start < hold and k > 0 and index != rest:
+            shapes[start:end] = shapes[start - 1]
+    pause = int(round(SHORT_PAUSE_S * FRAME_RATE))
+    for start, end, index in _shape_runs(shapes):
+        if index == rest and 0 < start and end < frames and end - start < pause:
+            shapes[start:end] = shapes[start - 1]
+    return shapes
+
+
+def _shape_runs(shapes: np.ndarray) -> list[tuple[int, int, int]]:
+    cuts = np.flatnonzero(np.diff(shapes)) + 1
+    bounds = [0, *cuts.tolist(), len(shapes)]
+    return [(a, b, int(shapes[a])) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
+
+
+def shape_curves(shapes: np.ndarray) -> np.ndarray:
+    """Each shape's weight per frame, ``(frames, 9)`` in :data:`VISEMES` order, summing to 1: the
+    frames' shapes blended by a Gaussian of :data:`BLEND_S`."""
+    from scipy.ndimage import gaussian_filter1d
+
+    onehot = np.zeros((len(shapes), len(VISEMES)))
+    onehot[np.arange(len(shapes)), shapes] = 1.0
+    blended = gaussian_filter1d(onehot, BLEND_S * FRAME_RATE, axis=0, mode="nearest")
+    return blended / blended.sum(axis=1, keepdims=True)
+
+
+def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:
+    """Rhubarb's mouth cues: ``(start, end, shape)`` seconds, one per run of a shape."""
+    return [(a / FRAME_RATE, b / FRAME_RATE, VISEMES[s]) for a, b, s in _shape_runs(shapes)]
