@@ -41,6 +41,9 @@ PHONE_SHAPES: dict[str, str] = {
     "L": "H",
 }
 VOWELS = frozenset({"AA", "AE", "AH", "AO", "AW", "AY", "EH", "ER", "EY", "IH", "IY", "OW", "OY", "UH", "UW"})
+#: How open the mouth is in each shape (0 shut .. 1 wide): what a jaw motor follows.
+OPENNESS: dict[str, float] = {"A": 0.0, "B": 0.15, "C": 0.5, "D": 0.9, "E": 0.4, "F": 0.25, "G": 0.1, "H": 0.35,
+                              "X": 0.0}
 #: The recogniser's frame rate (Hz): one frame per 10 ms.
 FRAME_RATE = 100.0
 SAMPLE_RATE = 16000
@@ -190,6 +193,11 @@ def shape_curves(shapes: np.ndarray) -> np.ndarray:
     onehot[np.arange(len(shapes)), shapes] = 1.0
     blended = gaussian_filter1d(onehot, BLEND_S * FRAME_RATE, axis=0, mode="nearest")
     return blended / blended.sum(axis=1, keepdims=True)
+
+
+def openness(curves: np.ndarray) -> np.ndarray:
+    """How open the mouth is per frame, ``(frames,)``, from the shapes' weights ``(frames, 9)``."""
+    return curves @ np.array([OPENNESS[v] for v in VISEMES])
 
 
 def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:
