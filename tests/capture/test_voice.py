@@ -92,6 +92,19 @@ def test_a_grid_clip_gives_rhubarb_cues_with_the_bilabials_shut(realdata, tmp_pa
 
 
 @pytest.mark.realdata
+def test_the_same_sound_gives_the_same_phones_whatever_came_before(realdata):
+    from capture.voice import decode_voice, recognise
+
+    clips = [realdata / "video" / "grid" / f"{name}.mpg" for name in ("bbaf2n", "lbax4n")]
+    if not all(c.is_file() for c in clips):
+        pytest.skip("the GRID clips are absent")
+    first, second = (decode_voice(c) for c in clips)
+    before = recognise(first), recognise(first, "bin blue at f two now")
+    recognise(second), recognise(second, "lay blue at x four now")
+    assert (recognise(first), recognise(first, "bin blue at f two now")) == before
+
+
+@pytest.mark.realdata
 def test_bad_voice_input_is_one_line(realdata, tmp_path, capsys):
     clip = realdata / "video" / "grid" / "bbaf2n.mpg"
     if not clip.is_file():
