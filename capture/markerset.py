@@ -81,7 +81,9 @@ class MarkerSet:
         """Reasons to think the neutral is not in head-frame millimetres, each a sentence (none
         for a plausible set): the head frame has its origin between the eyes, x to the
         performer's left, y up and z out of the face."""
-        found = []
+        found: list[str] = []
+        if not self.labels:  # no markers (a voice): no frame to doubt
+            return found
         refs = np.array([self.neutral_of(r) for r in self.head_reference] or [np.zeros(3)])
         centre = refs.mean(axis=0)
         if np.linalg.norm(centre) > FAR_FROM_ORIGIN_MM:
@@ -157,7 +159,8 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     doc = read_versioned(path, FORMAT, "marker set")
     check = Validator(path)
     markers = doc.get("markers")
-    check.require(isinstance(markers, dict) and bool(markers), "missing [markers] table", "markers")
+    markerless = doc.get("head_reference") == []  # a source with no markers at all (a voice) says so
+    check.require(isinstance(markers, dict) and (bool(markers) or markerless), "missing [markers] table", "markers")
     assert isinstance(markers, dict)
     labels = tuple(markers)
     neutral = np.empty((len(labels), 3))

@@ -19,6 +19,7 @@ from capture.csvfile import read_csv, write_csv
 from capture.markerset import MarkerSet
 from capture.take import Take
 from capture.trcfile import read_trc, write_trc
+from capture.voice import SOUND_SUFFIXES, read_voice
 from common import InputError, atomic_path
 from common.errors import require_file
 from common.npz import NPZ_ERRORS, check_npz
@@ -97,9 +98,15 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    if suffix in SOUND_SUFFIXES:  # a voice: its mouth shapes (capture/voice.py)
+        require_file(path)
+        given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]
+        if given:
+            raise InputError(f"a voice has no {', '.join(given)} to give; those options are for CSV tables", path)
+        return read_voice(path)
     if suffix not in READABLE:
-        raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)})",
-                         path)
+        raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)}, "
+                         f"and a voice: {', '.join(sorted(SOUND_SUFFIXES))})", path)
     require_file(path)
     given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]
     if given and suffix not in _TABLES:

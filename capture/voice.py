@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from capture.take import Take
 from common import InputError
 
 #: Rhubarb Lip Sync's mouth shapes, in its order.
@@ -205,3 +206,29 @@ def openness(curves: np.ndarray) -> np.ndarray:
 def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:
     """Rhubarb's mouth cues: ``(start, end, shape)`` seconds, one per run of a shape."""
     return [(a / FRAME_RATE, b / FRAME_RATE, VISEMES[s]) for a, b, s in _shape_runs(shapes)]
+
+
+#: The suffixes read as a voice (a take of mouth shapes), not a marker take.
+SOUND_SUFFIXES = frozenset({".wav", ".mp3", ".ogg", ".oga", ".opus", ".flac", ".m4a", ".aac", ".wma"})
+
+
+def read_voice(path: str | os.PathLike, text: str | None = None) -> Take:
+    """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
+    ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
+    level, ``sound_level`` (0..1), by which a rest window is chosen in silence."""
+    samples = decode_voice(path)
+    frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
+    try:
+        phones = recognise(samples, text)
+    except InputError as exc:
+        raise InputError(exc.message, path, exc.field) from None
+    speech = speaking(samples, frames)
+    curves = shape_curves(shape_sequence(phones, frames, speech))
+    hop = int(SAMPLE_RATE / FRAME_RATE)
+    level = np.sqrt(np.mean(np.resize(np.pad(samples, (0, frames * hop)), frames * hop).reshape(frames, hop) ** 2,
+                            axis=1))
+    level = level / max(float(level.max()), 1e-9)
+    channels = np.column_stack([curves, level])
+    names = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
+    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=channels, channel_names=names,
+                meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(phones)})

@@ -124,6 +124,8 @@ def fixed_frame(take: Take, markerset: MarkerSet) -> tuple[np.ndarray, np.ndarra
     The head's own motion is not removed: it reaches the motors as if the face moved."""
     from capture.plot import neutral_pose
 
+    if not markerset.labels:  # a source with no markers (a voice): nothing to place
+        return np.eye(3), np.zeros(3)
     found = markerset.match(take.labels)
     rest = neutral_pose(take)
     pairs = [(take.index(mine), markerset.neutral_of(label)) for label, mine in found.items()

@@ -4,7 +4,8 @@ One ``[motor.CODE]`` table per mapped motor::
 
     [motor.MB]
     sources = [{ marker = "LIP_LOW", axis = "y", invert = true }, { distance = ["LIP_UP", "LIP_LOW"] },
-               { blendshape = "jawOpen" }]   # kinds: mapping.sources
+               { blendshape = "jawOpen" }, { viseme = "D", weight = 0.9 }]   # kinds: mapping.sources;
+                             # a viseme is a voice's mouth shape (capture.voice), read as a blendshape score
     combine = "max"          # max | mean | min | weighted (each source's weight)
     normalise = "profile"    # profile: the performer's range -> the motor's 0..1 | scale: units per motor unit
                              # | calibrated: a range-of-motion calibration's range where the profile has one, else scale
@@ -38,6 +39,7 @@ from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
 
+from capture.voice import VISEMES
 from common import read_document, resolve_builtin
 from common.validate import Validator, at, is_number
 from mapping.sources import AXES, BLENDSHAPE_NAMES, KINDS, Source
@@ -220,17 +222,22 @@ def _source(check: Validator, spec: object, where: str) -> Source:
     check.require(isinstance(spec, dict), f'expected a table such as {{ marker = "LID_R_UP", axis = "y" }}, got '
                   f"{spec!r}", where)
     assert isinstance(spec, dict)
-    kinds = [k for k in KINDS if k in spec]
-    check.require(len(kinds) == 1, f"expected exactly one of {', '.join(KINDS)}", where)
+    kinds = [k for k in (*KINDS, "viseme") if k in spec]
+    check.require(len(kinds) == 1, f"expected exactly one of {', '.join((*KINDS, 'viseme'))}", where)
     kind = kinds[0]
-    check.fields(spec, {kind, "axis", "invert", "weight"} if kind != "blendshape" else {kind, "invert", "weight"},
-                 where)
+    check.fields(spec, {kind, "axis", "invert", "weight"} if kind not in ("blendshape", "viseme")
+                 else {kind, "invert", "weight"}, where)
     value = spec[kind]
+    if kind == "viseme":  # a mouth shape's weight from a voice: a score, read as a blendshape's is
+        check.require(value in VISEMES, f"expected one of the mouth shapes {', '.join(VISEMES)}, got {value!r}",
+                      at(where, kind))
+        kind, value = "blendshape", f"viseme_{value}"
     count = {"marker": 1, "distance": 2, "difference": 2, "angle": 3}.get(kind, 0)
     markers: tuple[str, ...] | list[str]
     channel = ""
     if kind == "blendshape":
-        check.require(value in BLENDSHAPE_NAMES, f"expected one of ARKit's blendshape names (jawOpen, "
+        check.require(value in BLENDSHAPE_NAMES or value in {f"viseme_{v}" for v in VISEMES},
+                      "expected one of ARKit's blendshape names (jawOpen, "
                       f"eyeBlinkLeft, ...), got {value!r}", at(where, kind))
         markers, axis, channel = (), 0, str(value)
     elif kind == "head":

@@ -88,6 +88,8 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
     units = ready.prepared.units
     detail = units.as_dict() if units is not None else {}
     units_text = f"{detail['unit']} ({detail['from']}; {detail['check']})" if detail else "not checked"
+    if not ready.prepared.take.markers:  # a voice: scores, no lengths
+        units_text, detail = "none (no markers: the take's channels are scores)", {}
     warned = [n[len(WARNING):] for n in ready.notes if n.startswith(WARNING)]
     notes = [n for n in ready.notes if not n.startswith(WARNING)]
     motors: dict[str, dict[str, float]] = {}

@@ -159,6 +159,13 @@ def _silent_window(stable: Stabilised, speed: np.ndarray, times: np.ndarray, rat
         n = _frames(times, seconds)
         if n > len(times):
             continue
+        if not stable.local.shape[1]:  # no markers (a voice): the first window clear of speech
+            clear = np.convolve(near_speech.astype(float), np.ones(n), mode="valid") == 0
+            if clear.any():
+                return _span(times, int(np.argmax(clear)), n), (
+                    f"the first {n / rate:.2g} s where nobody speaks (sound under {QUIET:.0%} of its loudest, "
+                    f"{SPEECH_MARGIN:g} s from speech)")
+            continue
         costs = window_costs(stable, rate, n, calm)
         if np.isfinite(costs).any():
             best = int(np.argmin(costs))

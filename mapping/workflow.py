@@ -62,6 +62,8 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
         When no preset matches, or the take lacks the mapping's markers.
     """
     found = None
+    if mapping is None and not take.labels and "viseme_A" in take.channel_names:
+        mapping = "voice"  # a voice's mouth shapes
     if mapping is None:
         found = find_markerset(take.labels)
         if found is None or not data_path("mappings", f"{found.name}.toml").is_file():
@@ -304,6 +306,8 @@ def stabilisation_notes(prepared: Prepared) -> list[str]:
     units = prepared.units
     notes = list(units.notes) if units is not None else []
     notes += [f"warning: marker set {prepared.markerset.name}: {doubt}" for doubt in prepared.markerset.doubts()]
+    if not prepared.markerset.labels:  # a voice: no head at all
+        return notes
     if not prepared.markerset.head_reference:
         return [*notes, f"warning: marker set {prepared.markerset.name} has no head references: the head's motion "
                 "is not removed, and a nod or a turn moves the motors as the face would"]

@@ -270,8 +270,11 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
              side_by_side: bool, as_json: bool, reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
-    with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4."""
+    with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
+    (a sound file: .wav .mp3 .ogg ...), whose mouth shapes move the mouth (the voice mapping)
+    and which goes into the MP4."""
     from capture.sources import VIDEO_SUFFIXES
+    from capture.voice import SOUND_SUFFIXES
     from common.sound import has_audio
     from player.beside import beside_width
     from toon import load_face
@@ -291,8 +294,10 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
     bar = progress("render")(track.frames)
-    sound = video and has_audio(take)
-    if video:  # the performer's own voice goes with the cartoon
+    voice = Path(take).suffix.lower() in SOUND_SUFFIXES
+    fps = fps or (30.0 if voice else None)  # a voice's shapes come at 100 Hz: a movie need not
+    sound = (video and has_audio(take)) or voice
+    if video or voice:  # the performer's own voice goes with the cartoon
         frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0)), dims,
                                    fps, progress=bar, side_by_side=side_by_side)
     else:

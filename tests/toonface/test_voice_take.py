@@ -1,0 +1,73 @@
+"""A voice through the same pipeline as any take (issue 40): map and retarget a sound file with
+the voice mapping, its viseme sources in the mapping language."""
+
+import av
+import numpy as np
+import pytest
+
+from common import InputError
+from mapping.mapfile import parse_mapping
+from toon import MOTOR_CODES, load_track
+from toonface.cli import main
+
+
+@pytest.fixture
+def voice(realdata, tmp_path):
+    """GRID's bbaf2n ("bin blue at f two now") as a 16 kHz WAV: 0.9 s of silence, then speech."""
+    clip = realdata / "video" / "grid" / "bbaf2n.mpg"
+    if not clip.is_file():
+        pytest.skip(f"{clip} is absent")
+    path = tmp_path / "line.wav"
+    with av.open(str(clip)) as source, av.open(str(path), "w") as target:
+        stream = target.add_stream("pcm_s16le", rate=16000, layout="mono")
+        resampler = av.AudioResampler(format="s16", layout="mono", rate=16000)
+        for frame in source.decode(audio=0):
+            for chunk in resampler.resample(frame):
+                target.mux(stream.encode(chunk))
+        target.mux(stream.encode(None))
+    return path
+
+
+@pytest.mark.realdata
+def test_map_moves_the_mouth_from_a_voice_and_rests_in_its_silence(voice, tmp_path, capsys):
+    assert main(["map", str(voice), "-o", str(tmp_path / "m.csv")]) == 0
+    out, err = capsys.readouterr()
+    assert "mapping voice, 5 motors mapped" in out
+    assert "units: none (no markers" in err and "where nobody speaks" in err
+    track = load_track(tmp_path / "m.csv")
+    mb = track.values[:, MOTOR_CODES.index("MB")]
+    rest = float(np.median(mb[:60]))  # the first 0.6 s is silence
+    assert np.ptp(mb[:60]) < 0.01 and mb[100:200].max() > rest + 0.3  # shut in silence, open in speech
+    assert abs(mb[-20:].mean() - rest) < 0.02  # and back at rest after the last word
+    corners = track.values[:, [MOTOR_CODES.index("MLH"), MOTOR_CODES.index("MRH")]]
+    assert np.allclose(corners[:, 0], corners[:, 1]) and np.ptp(corners[:, 0]) > 0.1  # wide and round together
+    untouched = [MOTOR_CODES.index(c) for c in ("BRL", "ERU", "PLH", "HH")]
+    assert np.ptp(track.values[:, untouched], axis=0).max() == 0.0  # a voice moves the mouth alone
+
+
+@pytest.mark.realdata
+def test_retarget_renders_the_voice_with_its_sound(voice, tmp_path):
+    assert main(["retarget", str(voice), "-o", str(tmp_path / "line.mp4"), "--size", "128"]) == 0
+    with av.open(str(tmp_path / "line.mp4")) as movie:
+        kinds = sorted(s.type for s in movie.streams)
+        frames = sum(1 for _ in movie.decode(video=0))
+    assert kinds == ["audio", "video"] and abs(frames - 2.97 * 30) <= 2  # 30 frames a second by default
+
+
+def test_a_viseme_source_is_a_mouth_shape_read_as_a_score():
+    doc = {"format": "toonface.mapping/1", "name": "v", "markerset": "voice",
+           "motor": {"MB": {"sources": [{"viseme": "D", "weight": 0.9}], "normalise": "score"}}}
+    rule = parse_mapping(doc, "v.toml").rules[0]
+    assert rule.sources[0].kind == "blendshape" and rule.sources[0].channel == "viseme_D"
+    doc["motor"]["MB"]["sources"] = [{"viseme": "Q"}]
+    with pytest.raises(InputError, match="mouth shapes A, B, C, D, E, F, G, H, X"):
+        parse_mapping(doc, "v.toml")
+    doc["motor"]["MB"]["sources"] = [{"viseme": "D", "axis": "y"}]
+    with pytest.raises(InputError, match="axis"):
+        parse_mapping(doc, "v.toml")
+
+
+@pytest.mark.realdata
+def test_a_voice_has_no_table_options(voice, capsys):
+    assert main(["info", str(voice), "--rate", "30"]) == 2
+    assert "a voice has no rate to give" in capsys.readouterr().err
