@@ -209,6 +209,8 @@ def find_markerset(labels: tuple[str, ...] | list[str], min_share: float = 0.5) 
     best, best_key = None, (0, 0.0)
     for name in builtin_names("markersets", ".toml"):
         markerset = load_markerset(name)
+        if not markerset.labels:  # a voice's: no markers to recognise
+            continue
         found = markerset.match(labels)
         key = (len(found), len(found) / len(markerset.labels))
         if sum(r in found for r in markerset.head_reference) >= 3 and key > best_key:

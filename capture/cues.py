@@ -1,0 +1,112 @@
+"""Rhubarb Lip Sync's mouth cues, written and read: the shapes a voice gave, as other tools keep them.
+
+Two of Rhubarb's formats: TSV (each line a cue's start, seconds, a tab and its shape; the last
+line the end, at rest) and JSON (``metadata`` with the sound file and its duration, and
+``mouthCues``, each ``{"start", "end", "value"}``). Read back, cues are the voice take they came
+from (:func:`cues_take`): the same shapes at 100 Hz, blended as :func:`capture.voice.shape_curves`
+blends them, so a track mapped from the cues is the track mapped from the voice.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from capture.take import Take
+from capture.voice import FRAME_RATE, VISEMES, shape_curves
+from common import InputError
+
+#: What cues are written as and read from, by suffix.
+CUE_SUFFIXES = (".tsv", ".json")
+
+
+def cues_text(cues: list[tuple[float, float, str]], suffix: str, sound: str | os.PathLike = "",
+              words: str | None = None) -> str:
+    """``cues`` (``(start, end, shape)``, seconds) as Rhubarb's ``.tsv`` or ``.json`` text."""
+    if suffix == ".tsv":
+        lines = [f"{start:.2f}\t{shape}" for start, _, shape in cues]
+        if cues:
+            lines.append(f"{cues[-1][1]:.2f}\tX")
+        return "\n".join(lines) + "\n"
+    duration = cues[-1][1] if cues else 0.0
+    doc: dict[str, Any] = {"metadata": {"soundFile": str(Path(sound).resolve()) if sound else "",
+                                        "duration": round(duration, 2)},
+                           "mouthCues": [{"start": round(a, 2), "end": round(b, 2), "value": s} for a, b, s in cues]}
+    if words:
+        doc["metadata"]["dialog"] = words
+    return json.dumps(doc, indent=2) + "\n"
+
+
+def read_cues(path: str | os.PathLike) -> list[tuple[float, float, str]]:
+    """The cues of a Rhubarb ``.tsv`` or ``.json`` file, ``(start, end, shape)`` seconds.
+
+    Raises
+    ------
+    InputError
+        Naming the file and the line or cue that is not a cue.
+    """
+    source = Path(path)
+    try:
+        text = source.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InputError("not a text file of mouth cues (UTF-8)", source) from None
+    if source.suffix.lower() == ".json":
+        return _json_cues(text, source)
+    starts: list[tuple[float, str]] = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.strip():
+            continue
+        parts = line.split("\t")
+        try:
+            start = float(parts[0])
+        except ValueError:
+            raise InputError("expected start<TAB>shape (Rhubarb's TSV)", source, f"line {number}") from None
+        if len(parts) != 2 or parts[1].strip() not in VISEMES or not np.isfinite(start) or start < 0:
+            raise InputError(f"expected start<TAB>shape with a shape of {', '.join(VISEMES)}", source,
+                             f"line {number}")
+        if starts and start < starts[-1][0]:
+            raise InputError("cue times must not go back", source, f"line {number}")
+        starts.append((start, parts[1].strip()))
+    if len(starts) < 2:
+        raise InputError("no mouth cues: expected start<TAB>shape lines ending with the end at rest", source)
+    return [(a, b, shape) for (a, shape), (b, _) in zip(starts, starts[1:], strict=False)]
+
+
+def _json_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
+    try:
+        doc = json.loads(text)
+    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
+        raise InputError(f"not valid JSON ({exc})", source) from None
+    listed = doc.get("mouthCues") if isinstance(doc, dict) else None
+    if not isinstance(listed, list) or not listed:
+        raise InputError('expected Rhubarb\'s JSON: an object with "mouthCues"', source)
+    cues = []
+    for k, cue in enumerate(listed):
+        where = f"mouthCues[{k}]"
+        if not isinstance(cue, dict) or cue.get("value") not in VISEMES:
+            raise InputError(f"expected {{\"start\", \"end\", \"value\"}} with a value of {', '.join(VISEMES)}",
+                             source, where)
+        start, end = cue.get("start"), cue.get("end")
+        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in (start, end)) \
+                or not 0 <= start <= end or (cues and start < cues[-1][1] - 1e-9):
+            raise InputError("expected 0 <= start <= end, each cue after the one before", source, where)
+        cues.append((float(start), float(end), str(cue["value"])))
+    return cues
+
+
+def cues_take(path: str | os.PathLike) -> Take:
+    """Mouth cues as the voice take they describe: no markers, at 100 Hz, the shapes' weights
+    (``viseme_A`` ... ``viseme_X``), blended as a voice's are."""
+    cues = read_cues(path)
+    frames = max(2, int(round(cues[-1][1] * FRAME_RATE)))
+    shapes = np.full(frames, VISEMES.index("X"))
+    for start, end, shape in cues:
+        shapes[int(round(start * FRAME_RATE)):int(round(end * FRAME_RATE))] = VISEMES.index(shape)
+    curves = shape_curves(shapes)
+    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=curves,
+                channel_names=tuple(f"viseme_{v}" for v in VISEMES),
+                meta={"source": "mouth cues", "file": Path(path).name, "cues": len(cues)})
