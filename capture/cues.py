@@ -84,29 +84,45 @@ def _json_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
     listed = doc.get("mouthCues") if isinstance(doc, dict) else None
     if not isinstance(listed, list) or not listed:
         raise InputError('expected Rhubarb\'s JSON: an object with "mouthCues"', source)
-    cues = []
+    cues: list[tuple[float, float, str]] = []
     for k, cue in enumerate(listed):
         where = f"mouthCues[{k}]"
         if not isinstance(cue, dict) or cue.get("value") not in VISEMES:
             raise InputError(f"expected {{\"start\", \"end\", \"value\"}} with a value of {', '.join(VISEMES)}",
                              source, where)
-        start, end = cue.get("start"), cue.get("end")
-        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in (start, end)) \
-                or not 0 <= start <= end or (cues and start < cues[-1][1] - 1e-9):
+        times = [cue.get("start"), cue.get("end")]
+        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in times):
+            raise InputError("expected numbers of seconds for start and end", source, where)
+        start, end = float(times[0]), float(times[1])  # type: ignore[arg-type]
+        if not 0 <= start <= end or (cues and start < cues[-1][1] - 1e-9):
             raise InputError("expected 0 <= start <= end, each cue after the one before", source, where)
-        cues.append((float(start), float(end), str(cue["value"])))
+        cues.append((start, end, str(cue["value"])))
     return cues
 
 
 def cues_take(path: str | os.PathLike) -> Take:
     """Mouth cues as the voice take they describe: no markers, at 100 Hz, the shapes' weights
-    (``viseme_A`` ... ``viseme_X``), blended as a voice's are."""
+    (``viseme_A`` ... ``viseme_X``), blended as a voice's are, and a ``sound_level`` of 1 where a
+    shape other than rest is (where the voice was), 0 elsewhere."""
     cues = read_cues(path)
     frames = max(2, int(round(cues[-1][1] * FRAME_RATE)))
     shapes = np.full(frames, VISEMES.index("X"))
     for start, end, shape in cues:
         shapes[int(round(start * FRAME_RATE)):int(round(end * FRAME_RATE))] = VISEMES.index(shape)
     curves = shape_curves(shapes)
-    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=curves,
-                channel_names=tuple(f"viseme_{v}" for v in VISEMES),
+    voiced = (shapes != VISEMES.index("X")).astype(float)  # where a voice was: what says where rest is
+    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=np.column_stack([curves, voiced]),
+                channel_names=(*(f"viseme_{v}" for v in VISEMES), "sound_level"),
                 meta={"source": "mouth cues", "file": Path(path).name, "cues": len(cues)})
+
+
+def is_cue_table(path: str | os.PathLike) -> bool:
+    """Whether a ``.tsv`` file holds Rhubarb's cues (``0.00<TAB>X`` lines) rather than a table of
+    markers."""
+    try:
+        with open(path, encoding="utf-8") as handle:
+            first = next((line for line in handle if line.strip()), "")
+    except (OSError, UnicodeDecodeError):
+        return False
+    parts = first.rstrip("\n").split("\t")
+    return len(parts) == 2 and parts[1].strip() in VISEMES and parts[0].replace(".", "", 1).isdigit()

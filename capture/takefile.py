@@ -16,6 +16,7 @@ import numpy as np
 
 from capture.c3dfile import read_c3d, write_c3d
 from capture.csvfile import read_csv, write_csv
+from capture.cues import cues_take, is_cue_table
 from capture.markerset import MarkerSet
 from capture.take import Take
 from capture.trcfile import read_trc, write_trc
@@ -98,6 +99,9 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    if suffix == ".json" or (suffix == ".tsv" and is_cue_table(path)):  # Rhubarb's mouth cues
+        require_file(path)
+        return cues_take(path)
     if suffix in SOUND_SUFFIXES:  # a voice: its mouth shapes (capture/voice.py)
         require_file(path)
         given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]

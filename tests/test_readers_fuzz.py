@@ -1,6 +1,7 @@
 """Every document reader, fed mutated and random bytes (hypothesis, derandomized), raises only
 InputError: a face, an animation, a motor track, a mapping, a marker set, a profile, expressions,
-a batch job, a label file. (The take readers have their own: tests/capture/test_takefile_fuzz.py.)"""
+a batch job, a label file, Rhubarb's mouth cues. (The take readers have their own:
+tests/capture/test_takefile_fuzz.py.)"""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from fuzzing import Seeds, fuzz_settings
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+from capture.cues import read_cues
 from capture.markerset import load_markerset
 from common import InputError
 from common.data import data_path
@@ -45,6 +47,9 @@ READERS = {
     "animation": (".toml", load_animation, ANIMATION),
     "job": (".toml", load_job, JOB),
     "labels": (".txt", load_labels, LABELS),
+    "cues-tsv": (".tsv", read_cues, b"0.00\tX\n0.92\tA\n0.99\tB\n1.18\tX\n"),
+    "cues-json": (".json", read_cues, b'{"metadata": {"duration": 1.2}, "mouthCues": [{"start": 0.0, "end": 0.92, '
+                                      b'"value": "X"}, {"start": 0.92, "end": 1.2, "value": "D"}]}'),
     "track-csv": (".csv", load_track, None),
     "track-npz": (".npz", load_track, None),
 }

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
-from typing import Any
 
 import click
 
@@ -23,11 +21,13 @@ CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON"}
 def lipsync(voice: str, output: str, text: str | None) -> None:
     """Mouth shapes from a voice: a sound file (WAV, MP3, OGG, anything FFmpeg decodes) or the
     sound of a video, recognised offline (pocketsphinx, US English), as Rhubarb Lip Sync's
-    mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and the like.
+    mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and the like. The cues
+    read back as a take: `toonface map cues.tsv` gives the motors `toonface map VOICE` gives.
 
     Silence is rest (X) whatever was heard in it; a vowel's shape comes a little early, no shape
     is held for less than 30 ms, and a pause under 0.2 s keeps the shape before it.
     """
+    from capture.cues import cues_text
     from capture.voice import decode_voice, mouth_cues, recognise, shape_sequence, speaking
     from common import InputError, atomic_path
 
@@ -45,7 +45,7 @@ def lipsync(voice: str, output: str, text: str | None) -> None:
     cues = mouth_cues(shape_sequence(phones, frames, speaking(samples, frames)))
     duration = frames / 100.0
     with atomic_path(output) as tmp:
-        tmp.write_text(_tsv(cues) if suffix == ".tsv" else _json(cues, voice, duration, words), encoding="utf-8")
+        tmp.write_text(cues_text(cues, suffix, voice, words), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
     click.echo(f"wrote {output}: {len(cues)} mouth cues over {duration:.2f} s ({shaped} speaking), "
                + ("aligned with the words given" if words else "from the phones heard (no words given)"))
@@ -64,22 +64,6 @@ def _words(text: str | None) -> str | None:
     if not text.split():
         raise click.BadParameter("no words given", param_hint="--text")
     return " ".join(text.split())
-
-
-def _tsv(cues: list[tuple[float, float, str]]) -> str:
-    """Rhubarb's TSV: each cue's start and shape; a last line at the end, at rest."""
-    lines = [f"{start:.2f}\t{shape}" for start, _, shape in cues]
-    if cues:
-        lines.append(f"{cues[-1][1]:.2f}\tX")
-    return "\n".join(lines) + "\n"
-
-
-def _json(cues: list[tuple[float, float, str]], voice: str, duration: float, words: str | None) -> str:
-    doc: dict[str, Any] = {"metadata": {"soundFile": str(Path(voice).resolve()), "duration": round(duration, 2)},
-                           "mouthCues": [{"start": round(a, 2), "end": round(b, 2), "value": s} for a, b, s in cues]}
-    if words:
-        doc["metadata"]["dialog"] = words
-    return json.dumps(doc, indent=2) + "\n"
 
 
 VOICE_COMMANDS = (lipsync,)

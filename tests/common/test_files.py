@@ -101,7 +101,8 @@ def test_builtin_names_and_paths_resolve_the_same_way_for_faces_and_marker_sets(
 
     assert load_markerset("toon32").labels[0] == "FOREHEAD"
     with pytest.raises(InputError,
-                       match=r'no built-in marker set "toon99" \(built-in: animface41, face, gluedots16, toon32, voice\)'):
+                       match=r'no built-in marker set "toon99" \(built-in: animface41, face, gluedots16, toon32, '
+                             r'voice\)'):
         load_markerset("toon99")
     with pytest.raises(InputError, match=r'no built-in face "toon99" \(built-in: .*classic'):
         load_face("toon99")

@@ -71,3 +71,31 @@ def test_a_viseme_source_is_a_mouth_shape_read_as_a_score():
 def test_a_voice_has_no_table_options(voice, capsys):
     assert main(["info", str(voice), "--rate", "30"]) == 2
     assert "a voice has no rate to give" in capsys.readouterr().err
+
+
+@pytest.mark.realdata
+@pytest.mark.parametrize("suffix", [".tsv", ".json"])
+def test_rhubarb_cues_read_back_as_the_motors_they_came_from(voice, tmp_path, suffix):
+    assert main(["lipsync", str(voice), "-o", str(tmp_path / f"cues{suffix}")]) == 0
+    assert main(["map", str(voice), "-o", str(tmp_path / "voice.csv")]) == 0
+    assert main(["map", str(tmp_path / f"cues{suffix}"), "-o", str(tmp_path / "cues.csv")]) == 0
+    from_voice, from_cues = load_track(tmp_path / "voice.csv"), load_track(tmp_path / "cues.csv")
+    assert from_cues.frames == from_voice.frames
+    np.testing.assert_allclose(from_cues.values, from_voice.values, atol=1e-6)
+
+
+def test_cues_written_are_the_cues_read(tmp_path):
+    from capture.cues import cues_text, read_cues
+
+    cues = [(0.0, 0.92, "X"), (0.92, 0.99, "A"), (0.99, 1.18, "B"), (1.18, 2.97, "X")]
+    folder = tmp_path
+    for suffix in (".tsv", ".json"):
+        (folder / f"c{suffix}").write_text(cues_text(cues, suffix, "line.wav", "bin blue"))
+        assert read_cues(folder / f"c{suffix}") == cues
+    (folder / "bad.tsv").write_text("0.00\tX\n0.50\tQ\n")
+    with pytest.raises(InputError, match="line 2: expected start<TAB>shape"):
+        read_cues(folder / "bad.tsv")
+    (folder / "back.json").write_text('{"mouthCues": [{"start": 1, "end": 2, "value": "A"}, '
+                                      '{"start": 0.5, "end": 3, "value": "X"}]}')
+    with pytest.raises(InputError, match=r"mouthCues\[1\]: expected 0 <= start <= end"):
+        read_cues(folder / "back.json")
