@@ -125,17 +125,23 @@ class TakeReading:
     labels: str | None = None  # comma-separated
     units: str | None = None
     allow_truncated: bool = False
+    words: str | None = None  # a voice's words, read from @FILE already
 
 
 def take_options(fn: Callable) -> Callable:
-    """--rate, --labels, --units and --allow-truncated, handed to the command as one
+    """--rate, --labels, --units, --allow-truncated and --text, handed to the command as one
     :class:`TakeReading` argument named ``reading``."""
 
     @functools.wraps(fn)
     def command(*args, take_rate: float | None, labels: str | None, units: str | None, allow_truncated: bool,
-                **kwargs):
-        return fn(*args, reading=TakeReading(take_rate, labels, units, allow_truncated), **kwargs)
+                text: str | None, **kwargs):
+        words = read_words(text) if text is not None else None
+        return fn(*args, reading=TakeReading(take_rate, labels, units, allow_truncated, words), **kwargs)
 
+    command = click.option("--text", default=None, metavar="WORDS|@FILE",
+                           help="A voice (a sound file) only: the words spoken (or @FILE holding them), aligned "
+                                "with the sound, which places each mouth shape far more surely than the phones "
+                                "heard without them.")(command)
     command = click.option("--allow-truncated", is_flag=True,
                            help="C3D: read a file that ends before the last frame its header declares, "
                                 "with a warning, instead of refusing it.")(command)
@@ -146,6 +152,20 @@ def take_options(fn: Callable) -> Callable:
                                 "them from a file (one per line or comma-separated).")(command)
     return click.option("--rate", "take_rate", default=None, type=FiniteFloat(), metavar="HZ",
                         help="CSV only: frame rate of a table without a time column.")(command)
+
+
+def read_words(text: str) -> str:
+    """The words a voice speaks, from ``WORDS`` or ``@FILE``, on one line."""
+    if text.startswith("@"):
+        path = Path(text[1:])
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise click.BadParameter(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}",
+                                     param_hint="--text") from None
+    if not text.split():
+        raise click.BadParameter("no words given", param_hint="--text")
+    return " ".join(text.split())
 
 
 def _labels(value: str) -> list[str]:
@@ -179,7 +199,7 @@ def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | Non
             layout = load_mapping(mapping).markerset
         markerset = load_markerset(layout) if layout is not None else None
     return load_take(path, rate=reading.rate, labels=names, units=reading.units,
-                     allow_truncated=reading.allow_truncated, markerset=markerset)
+                     allow_truncated=reading.allow_truncated, markerset=markerset, words=reading.words)
 
 
 FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",

@@ -30,12 +30,13 @@ def lipsync(voice: str, output: str, text: str | None) -> None:
     from capture.cues import cues_text
     from capture.voice import decode_voice, mouth_cues, recognise, shape_sequence, speaking
     from common import InputError, atomic_path
+    from toonface.cli_options import read_words
 
     suffix = Path(output).suffix.lower()
     if suffix not in CUE_FORMATS:
         raise click.BadParameter(f"{output}: expected {' or '.join(CUE_FORMATS)} ({', '.join(CUE_FORMATS.values())})",
                                  param_hint="--output")
-    words = _words(text)
+    words = read_words(text) if text is not None else None
     samples = decode_voice(voice)
     frames = int(len(samples) * 100 // 16000)
     try:
@@ -49,21 +50,6 @@ def lipsync(voice: str, output: str, text: str | None) -> None:
     shaped = sum(1 for _, _, shape in cues if shape != "X")
     click.echo(f"wrote {output}: {len(cues)} mouth cues over {duration:.2f} s ({shaped} speaking), "
                + ("aligned with the words given" if words else "from the phones heard (no words given)"))
-
-
-def _words(text: str | None) -> str | None:
-    if text is None:
-        return None
-    if text.startswith("@"):
-        path = Path(text[1:])
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise click.BadParameter(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}",
-                                     param_hint="--text") from None
-    if not text.split():
-        raise click.BadParameter("no words given", param_hint="--text")
-    return " ".join(text.split())
 
 
 VOICE_COMMANDS = (lipsync,)

@@ -99,3 +99,20 @@ def test_cues_written_are_the_cues_read(tmp_path):
                                       '{"start": 0.5, "end": 3, "value": "X"}]}')
     with pytest.raises(InputError, match=r"mouthCues\[1\]: expected 0 <= start <= end"):
         read_cues(folder / "back.json")
+
+
+@pytest.mark.realdata
+def test_the_words_given_are_aligned_and_are_for_a_voice_only(voice, tmp_path, capsys):
+    text = tmp_path / "line.txt"
+    text.write_text("bin blue at\nf two now\n")
+    assert main(["map", str(voice), "--text", f"@{text}", "-o", str(tmp_path / "aligned.csv")]) == 0
+    assert main(["map", str(voice), "-o", str(tmp_path / "heard.csv")]) == 0
+    aligned, heard = (load_track(tmp_path / f"{n}.csv").values for n in ("aligned", "heard"))
+    assert aligned.shape == heard.shape and np.abs(aligned - heard).max() > 0.05  # the words place the shapes
+    capsys.readouterr()
+    assert main(["map", str(voice), "--text", "bin blue at f two qqq", "-o", str(tmp_path / "x.csv")]) == 2
+    assert main(["lipsync", str(voice), "-o", str(tmp_path / "c.tsv")]) == 0
+    assert main(["map", str(tmp_path / "c.tsv"), "--text", "hello", "-o", str(tmp_path / "y.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "not in the pronouncing dictionary: qqq" in err and "words (--text) are for a voice" in err
+    assert not (tmp_path / "x.csv").exists() and not (tmp_path / "y.csv").exists()
