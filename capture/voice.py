@@ -64,11 +64,13 @@ SPEECH_RANGE_DB = 35.0
 
 @dataclass(frozen=True)
 class Phone:
-    """A phone heard: its ARPAbet ``name`` and when, seconds (``end`` exclusive)."""
+    """A phone heard: its ARPAbet ``name`` and when, seconds (``end`` exclusive), and the word it
+    belongs to where the words were given (``word``, empty otherwise)."""
 
     name: str
     start: float
     end: float
+    word: str = ""
 
 
 def decode_voice(path: str | os.PathLike) -> np.ndarray:
@@ -122,7 +124,8 @@ def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
         aligned = decoder.get_alignment()
     except (RuntimeError, ValueError) as exc:
         raise InputError(f"the words could not be aligned with the sound ({exc})") from None
-    return [Phone(p.name, p.start / FRAME_RATE, (p.start + p.duration) / FRAME_RATE) for w in aligned for p in w]
+    return [Phone(p.name, p.start / FRAME_RATE, (p.start + p.duration) / FRAME_RATE, w.name) for w in aligned
+            for p in w]
 
 
 def speaking(samples: np.ndarray, frames: int) -> np.ndarray:
@@ -201,6 +204,20 @@ def shape_curves(shapes: np.ndarray) -> np.ndarray:
 def openness(curves: np.ndarray) -> np.ndarray:
     """How open the mouth is per frame, ``(frames,)``, from the shapes' weights ``(frames, 9)``."""
     return curves @ np.array([OPENNESS[v] for v in VISEMES])
+
+
+def heard(phones: list[Phone]) -> tuple[list[tuple[float, float, str]], list[tuple[float, float, str]]]:
+    """What was heard, for a person to read: the words (where they were given and aligned) and
+    each phone with its mouth shape (``B·A``), as ``(start, end, text)`` seconds; silence left out."""
+    words: list[tuple[float, float, str]] = []
+    for phone in phones:
+        if phone.word and not phone.word.startswith("<"):
+            if words and words[-1][2] == phone.word and abs(words[-1][1] - phone.start) < 1e-9:
+                words[-1] = (words[-1][0], phone.end, phone.word)
+            else:
+                words.append((phone.start, phone.end, phone.word))
+    sounds = [(p.start, p.end, f"{p.name}·{PHONE_SHAPES[p.name]}") for p in phones if p.name in PHONE_SHAPES]
+    return words, sounds
 
 
 def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:

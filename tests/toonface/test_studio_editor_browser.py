@@ -246,3 +246,36 @@ def test_scrubbing_the_ruler_moves_the_face_and_hidden_staves_come_back(blank):
     driver.find_element("id", "show-all").click()
     assert driver.find_element("css selector", '.staff[data-code="BRL"]').is_displayed()
 
+
+
+def test_the_studio_hears_the_words_and_phones_of_a_voice(blank, realdata, tmp_path):
+    """Issue 40: the recognised words and phones under the staves, the words a row above the
+    phones (each with its mouth shape)."""
+    driver, _ = blank
+    import shutil
+
+    source = realdata / "video" / "grid" / "bbaf2n.mpg"
+    if not source.is_file():
+        pytest.skip(f"{source} is absent")
+    clip = shutil.copy(source, tmp_path / "bbaf2n.mpg")  # the studio opens files in its own folder only
+    box = driver.find_element("id", "sound-path")
+    box.clear()
+    box.send_keys(str(clip))
+    driver.find_element("id", "open-sound").click()
+    wait_for(driver, "window.editor.sound && window.editor.sound.path.endsWith('bbaf2n.mpg')")
+    words = driver.find_element("id", "hear-words")
+    words.clear()
+    words.send_keys("bin blue at f two now")
+    driver.find_element("id", "hear").click()
+    wait_for(driver, "window.editor.sound.labels.some((l) => l.row === 1)", timeout=30)
+    shown = driver.execute_script("return [...document.querySelectorAll('#label-track text.word')]"
+                                  ".map(t => t.textContent)")
+    phones = driver.execute_script("return [...document.querySelectorAll('#label-track text.phone')]"
+                                   ".map(t => t.textContent)")
+    assert shown == ["bin", "blue", "at", "f", "two", "now"]
+    assert phones[:3] == ["B·A", "IH·B", "N·B"] and "F·G" in phones
+    tops = driver.execute_script("return ['word', 'phone'].map(c => document.querySelector(`#label-track rect.${c}`)"
+                                 ".getAttribute('y'))")
+    assert float(tops[0]) < float(tops[1])  # words above phones
+    assert "heard 6 words and" in driver.find_element("id", "message").text
+    driver.find_element("id", "score").screenshot(str(tmp_path / "heard.png"))

@@ -167,8 +167,8 @@ def test_a_studio_other_machines_reach_asks_for_its_secret():
 
 # -- fuzz: random and hostile messages to one running studio -------------------------------------
 
-OPS = ["motor", "drag", "look", "follow", "play", "reset", "face", "live", "sound", "labels", "tune", "faceedit",
-       "render", *EDITOR_OPS, "nope"]
+OPS = ["motor", "drag", "look", "follow", "play", "reset", "face", "live", "sound", "labels", "hear", "tune",
+       "faceedit", "render", *EDITOR_OPS, "nope"]
 ACTIONS = ["add", "move", "delete", "cut", "copy", "flip", "scale_time", "scale_value", "play", "pause", "open",
            "save", "undo", "redo", *FACE_ACTIONS, *[f"{verb}_{kind}" for verb in UNIT_ACTIONS
                                                      for kind in ("polygon", "component")],

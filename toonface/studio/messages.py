@@ -2,8 +2,9 @@
 
 A message is a JSON object with an ``op``: test mode (``motor``, ``drag``, ``look``, ``follow``,
 ``play``, ``reset``, ``face``, ``live``), the Animation Editor (:data:`EDITOR_OPS`), the sound
-(``sound``, ``labels``) and the face editor (``faceedit`` with an ``action``). A message the
-session cannot take raises, and the page is told why in one line (:func:`reason`).
+(``sound``, ``labels``, ``hear``: the words and phones a voice says) and the face editor
+(``faceedit`` with an ``action``). A message the session cannot take raises, and the page is
+told why in one line (:func:`reason`).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from toon.animation import MAX_DURATION, Animation
 from toonface.studio.editor import NEW_SECONDS, AnimationEditor
 from toonface.studio.guard import Folder, index, number
 from toonface.studio.session import StudioSession
-from toonface.studio.sound import load_labels, load_sound
+from toonface.studio.sound import Label, Sound, heard_labels, load_labels, load_sound
 from toonface.studio.tuner import MappingTuner
 
 
@@ -42,6 +43,8 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     if op == "sound":
         session.sound = load_sound(session.folder.inside(message["path"], "a sound"))
         return "sound", f"opened {session.sound.path} ({session.sound.duration:.1f} s of sound)"
+    if op == "hear":
+        return "sound", show_heard(session, hear(message, session.sound))
     if op == "labels":
         path = session.folder.inside(message["path"], "labels")
         if session.sound is None:
@@ -222,6 +225,24 @@ def _tune(session: StudioSession, message: dict, now: float) -> str | None:
     else:
         raise ValueError(f"unknown tuner action {action!r}")
     return None
+
+
+def hear(message: dict, sound: Sound | None) -> tuple[Label, ...]:
+    """What the open sound says (a ``hear`` message, its words in ``text`` if given): the slow part
+    (the phones are recognised), which the server runs off its event loop."""
+    if sound is None:
+        raise ValueError("open a sound before hearing what it says")
+    text = message.get("text")
+    return heard_labels(sound, " ".join(str(text).split()) if text and str(text).split() else None)
+
+
+def show_heard(session: StudioSession, labels: tuple[Label, ...]) -> str:
+    """Put what was heard under the staves; returns what the page is told."""
+    if session.sound is None:
+        raise ValueError("the sound was closed meanwhile")
+    session.sound = replace(session.sound, labels=labels)
+    words = sum(1 for label in labels if label.row == 0)
+    return f"heard {words} words and {len(labels) - words} phones" if words else f"heard {len(labels)} phones"
 
 
 def open_tuner(message: dict, neutral: np.ndarray, folder: Folder) -> MappingTuner:

@@ -31,7 +31,7 @@ from aiohttp import WSMsgType, web
 from common import InputError
 from toon import builtin_faces
 from toonface.studio.guard import number, parse_message
-from toonface.studio.messages import apply, open_tuner, reason, show_tuner
+from toonface.studio.messages import apply, hear, open_tuner, reason, show_heard, show_tuner
 from toonface.studio.pages import Page, broadcast
 from toonface.studio.session import StudioSession
 
@@ -143,17 +143,22 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
         async for message in ws:
             if message.type != WSMsgType.TEXT:
                 continue
+            said: str | None
             try:
                 parsed = parse_message(message.data)
                 if isinstance(parsed, dict) and parsed.get("op") == "render":
                     await _render(app, page, parsed)
                     continue
-                if isinstance(parsed, dict) and parsed.get("op") == "tune" and parsed.get("action") == "open":
+                if isinstance(parsed, dict) and parsed.get("op") == "hear":  # recognising takes a while
+                    page.send({"type": "said", "message": "listening…"})
+                    labels = await asyncio.get_running_loop().run_in_executor(None, hear, parsed, session.sound)
+                    said, changed = show_heard(session, labels), "sound"
+                elif isinstance(parsed, dict) and parsed.get("op") == "tune" and parsed.get("action") == "open":
                     # a take is cleaned and mapped, a video tracked first, while the server goes on serving
                     page.send({"type": "said", "message": f"opening {parsed.get('take')}…"})
                     loop = asyncio.get_running_loop()
                     tuner = await loop.run_in_executor(None, open_tuner, parsed, session.neutral, session.folder)
-                    said: str | None = show_tuner(session, tuner, loop.time())
+                    said = show_tuner(session, tuner, loop.time())
                     changed = "tune"
                 else:
                     changed, said = apply(session, parsed, asyncio.get_running_loop().time())

@@ -29,11 +29,13 @@ PEAKS_PER_SECOND = 100
 
 @dataclass(frozen=True, eq=False)
 class Label:
-    """A stretch of the sound ``[start, end]`` (seconds) and what it says."""
+    """A stretch of the sound ``[start, end]`` (seconds) and what it says; ``row`` 1 for the
+    phones heard (drawn under the words), 0 for words and a label file's labels."""
 
     start: float
     end: float
     text: str
+    row: int = 0
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +74,7 @@ class Sound:
         low, high = self.peaks()
         return {"path": str(self.path), "duration": self.duration, "per_second": PEAKS_PER_SECOND,
                 "low": low, "high": high,
-                "labels": [{"start": lb.start, "end": lb.end, "text": lb.text} for lb in self.labels]}
+                "labels": [{"start": lb.start, "end": lb.end, "text": lb.text, "row": lb.row} for lb in self.labels]}
 
 
 def load_sound(path: str | os.PathLike) -> Sound:
@@ -83,6 +85,15 @@ def load_sound(path: str | os.PathLike) -> Sound:
     if not len(samples):
         raise InputError("its sound is empty", source)
     return Sound(source, samples.astype(np.float32))
+
+
+def heard_labels(sound: Sound, text: str | None = None) -> tuple[Label, ...]:
+    """What a voice says (:mod:`capture.voice`): its words where ``text`` gives them (aligned),
+    and each phone heard with its mouth shape, a row under them."""
+    from capture.voice import heard, recognise
+
+    words, sounds = heard(recognise(sound.samples, text))
+    return tuple([Label(a, b, w) for a, b, w in words] + [Label(a, b, t, 1) for a, b, t in sounds])
 
 
 def load_labels(path: str | os.PathLike) -> tuple[Label, ...]:

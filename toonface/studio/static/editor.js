@@ -132,10 +132,13 @@
     parts.push(svgNode("line", {class: "cursor", x1: xOf(editor.state.cursor), x2: xOf(editor.state.cursor),
                                 y1: 0, y2: height}));
     wave.replaceChildren(...parts);
+    const rows = sound.labels.some((label) => label.row === 1) ? 2 : 1;  // phones heard: a row under the words
     labels.replaceChildren(...sound.labels.flatMap((label) => {
-      const box = svgNode("rect", {x: xOf(label.start), y: 4, width: Math.max(2, xOf(label.end - label.start)),
-                                   height: 28, rx: 3});
-      const text = svgNode("text", {x: xOf(label.start) + 3, y: 22});
+      const top = rows === 1 ? 4 : 2 + 16 * (label.row || 0);
+      const box = svgNode("rect", {x: xOf(label.start), y: top, width: Math.max(2, xOf(label.end - label.start)),
+                                   height: rows === 1 ? 28 : 14, rx: 3, class: label.row === 1 ? "phone" : "word"});
+      const text = svgNode("text", {x: xOf(label.start) + 3, y: rows === 1 ? 22 : top + 11,
+                                    class: label.row === 1 ? "phone" : "word"});
       text.textContent = label.text;
       const title = svgNode("title", {});
       title.textContent = `${label.start.toFixed(2)}–${label.end.toFixed(2)} s: ${label.text}`;
@@ -311,6 +314,7 @@
   };
   el("open-sound").addEventListener("click", () => studio.send({op: "sound", path: el("sound-path").value}));
   el("open-labels").addEventListener("click", () => studio.send({op: "labels", path: el("labels-path").value}));
+  el("hear").addEventListener("click", () => studio.send({op: "hear", text: el("hear-words").value || null}));
   studio.handlers.rendering = (message) => {
     const bar = el("render-progress");
     bar.hidden = false;
