@@ -138,6 +138,7 @@ def test_generated_dots_are_tracked_with_identities(generated):
     assert tracker.mm_per_pixel == pytest.approx(1 / truth.pixels_per_mm, rel=0.01)
 
 
+@pytest.mark.slow  # a few seconds: make test runs it
 def test_generated_video_file_through_the_track_command(generated, tmp_path):
     truth, images = generated
     video = write_video(images, tmp_path / "dots.mp4", truth.rate)
@@ -150,6 +151,7 @@ def test_generated_video_file_through_the_track_command(generated, tmp_path):
     assert np.nanmedian(np.abs(take.positions[0, :, :2] - neutral)) < 1.0
 
 
+@pytest.mark.slow  # a few seconds: make test runs it
 def test_a_video_played_as_a_source_is_the_tracking_loop_in_millimetres(generated, tmp_path):
     """`send`'s video source and `track` run one loop; its pixels become mm about the fitted
     origin, y up (by hand here)."""

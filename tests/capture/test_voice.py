@@ -91,6 +91,7 @@ def test_a_grid_clip_gives_rhubarb_cues_with_the_bilabials_shut(realdata, tmp_pa
     assert "aligned with the words given" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 def test_the_same_sound_gives_the_same_phones_whatever_came_before(realdata):
     from capture.voice import decode_voice, recognise

@@ -92,6 +92,7 @@ def test_a_take_of_the_right_size_is_left_alone_on_every_built_in_layout(realdat
         assert 30 < check.extent_mm < 400
 
 
+@pytest.mark.slow  # a few seconds: make test runs it
 def test_a_drafted_layout_catches_both_directions(realdata, tmp_path, capsys):
     """A drafted set is made in the take's own units, so its shape cannot tell: the face's size
     does. Drafting from centimetres read as millimetres is refused naming cm; a drafted set then

@@ -216,7 +216,7 @@ def test_a_drafted_mapping_never_decouples_from_a_motor_it_left_out():
     assert all(other in motors for rule in motors.values() for other in rule.get("decouple", []))
 
 
-@pytest.mark.parametrize(("kind", "seed"), [("own", 0), ("third", 4)])
+@pytest.mark.parametrize(("kind", "seed"), [("own", 0), pytest.param("third", 4, marks=pytest.mark.slow)])
 def test_the_jaw_the_corners_and_the_brows_are_found_from_motion(kind, seed, tmp_path):
     """Roles told apart by how markers move, wherever they sit: the midline marker that drops
     one way is the jaw, the mirror pair that spreads is the corners, what rises well above them

@@ -199,6 +199,7 @@ def test_a_drafted_marker_set_matches_the_hand_made_one(realdata, tmp_path, caps
     assert np.nanmax(np.nanstd(pairs, axis=0)) < 1.0
 
 
+@pytest.mark.slow  # a few seconds: make test runs it
 def test_a_second_take_in_another_column_order_is_matched_by_shape(realdata, tmp_path, capsys):
     """Two files of one layout with their columns in different orders: using one file's names on
     the other exited 0 with nonsense; now the second is named by matching shapes."""
@@ -222,6 +223,7 @@ def test_a_second_take_in_another_column_order_is_matched_by_shape(realdata, tmp
     assert matched == truth  # all 41, at 1.0 mm RMS
 
 
+@pytest.mark.slow  # a few seconds: make test runs it
 def test_a_drafted_layout_maps_as_well_as_the_hand_made_preset(realdata, tmp_path, capsys):
     """The issue's measure: from an unfamiliar headerless CSV, the commands alone give a marker
     set and mapping that map the take as the hand-made animface41 preset maps the original."""

@@ -73,6 +73,7 @@ def test_a_voice_has_no_table_options(voice, capsys):
     assert "a voice has no rate to give" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.parametrize("suffix", [".tsv", ".json"])
 def test_rhubarb_cues_read_back_as_the_motors_they_came_from(voice, tmp_path, suffix):
@@ -101,6 +102,7 @@ def test_cues_written_are_the_cues_read(tmp_path):
         read_cues(folder / "back.json")
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 def test_the_words_given_are_aligned_and_are_for_a_voice_only(voice, tmp_path, capsys):
     text = tmp_path / "line.txt"
