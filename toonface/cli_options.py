@@ -154,15 +154,22 @@ def take_options(fn: Callable) -> Callable:
                         help="CSV only: frame rate of a table without a time column.")(command)
 
 
+def _at_file(value: str, option: str, what: str) -> str:
+    """The text an ``@FILE`` option value names, or the value itself; a file that cannot be read
+    is the option's one-line error."""
+    if not value.startswith("@"):
+        return value
+    path = Path(value[1:])
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise click.BadParameter(f"{path}: cannot read {what} ({getattr(exc, 'strerror', None) or exc})",
+                                 param_hint=option) from None
+
+
 def read_words(text: str) -> str:
     """The words a voice speaks, from ``WORDS`` or ``@FILE``, on one line."""
-    if text.startswith("@"):
-        path = Path(text[1:])
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise click.BadParameter(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}",
-                                     param_hint="--text") from None
+    text = _at_file(text, "--text", "the words")
     if not text.split():
         raise click.BadParameter("no words given", param_hint="--text")
     return " ".join(text.split())
@@ -173,13 +180,7 @@ def _labels(value: str) -> list[str]:
     starts a comment)."""
     if not value.startswith("@"):
         return [x.strip() for x in value.split(",") if x.strip()]
-    path = Path(value[1:])
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise click.BadParameter(f"{path}: cannot read the names ({getattr(exc, 'strerror', None) or exc})",
-                                 param_hint="--labels") from None
-    lines = [line.split("#", 1)[0] for line in text.splitlines()]
+    lines = [line.split("#", 1)[0] for line in _at_file(value, "--labels", "the names").splitlines()]
     return [name.strip() for line in lines for name in line.split(",") if name.strip()]
 
 
