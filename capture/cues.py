@@ -1,8 +1,11 @@
 """Rhubarb Lip Sync's mouth cues, written and read: the shapes a voice gave, as other tools keep them.
 
-Two of Rhubarb's formats: TSV (each line a cue's start, seconds, a tab and its shape; the last
-line the end, at rest) and JSON (``metadata`` with the sound file and its duration, and
-``mouthCues``, each ``{"start", "end", "value"}``). Read back, cues are the voice take they came
+Rhubarb's formats: TSV (each line a cue's start, seconds, a tab and its shape; the last line the
+end, at rest), JSON (``metadata`` with the sound file and its duration, and ``mouthCues``, each
+``{"start", "end", "value"}``), XML (``rhubarbResult`` with ``metadata`` and ``mouthCues`` of
+``<mouthCue start end>SHAPE</mouthCue>``), and Moho's and OpenToonz's switch data, ``.dat``
+(``MohoSwitch1``, then ``FRAME SHAPE`` lines, frames counted from 1 at a chosen rate; written
+only, as it keeps no seconds). Read back, cues are the voice take they came
 from (:func:`cues_take`): the same shapes at 100 Hz, blended as :func:`capture.voice.shape_curves`
 blends them, so a track mapped from the cues is the track mapped from the voice.
 """
@@ -20,13 +23,36 @@ from capture.take import Take
 from capture.voice import FRAME_RATE, VISEMES, shape_curves
 from common import InputError
 
-#: What cues are written as and read from, by suffix.
-CUE_SUFFIXES = (".tsv", ".json")
+#: What cues are written as, by suffix (all but ``.dat`` are read back too).
+CUE_SUFFIXES = (".tsv", ".json", ".xml", ".dat")
+#: Moho's switch files count frames at this rate unless told (Rhubarb's default).
+DAT_FPS = 24.0
 
 
 def cues_text(cues: list[tuple[float, float, str]], suffix: str, sound: str | os.PathLike = "",
-              words: str | None = None) -> str:
-    """``cues`` (``(start, end, shape)``, seconds) as Rhubarb's ``.tsv`` or ``.json`` text."""
+              words: str | None = None, fps: float = DAT_FPS) -> str:
+    """``cues`` (``(start, end, shape)``, seconds) as the text of a ``.tsv``, ``.json``, ``.xml``
+    or ``.dat`` (frames at ``fps``) file."""
+    if suffix == ".dat":  # each cue from the frame it starts on; a cue shorter than a frame is lost
+        lines, last = ["MohoSwitch1"], None
+        for start, _, shape in cues:
+            frame = int(round(start * fps)) + 1
+            if lines[-1].startswith(f"{frame} "):
+                lines[-1] = f"{frame} {shape}"
+            elif shape != last:
+                lines.append(f"{frame} {shape}")
+            last = shape
+        return "\n".join(lines) + "\n"
+    if suffix == ".xml":
+        from xml.sax.saxutils import escape
+
+        duration = cues[-1][1] if cues else 0.0
+        body = "\n".join(f'    <mouthCue start="{a:.2f}" end="{b:.2f}">{s}</mouthCue>' for a, b, s in cues)
+        return ('<?xml version="1.0" encoding="utf-8"?>\n<rhubarbResult>\n  <metadata>\n'
+                f"    <soundFile>{escape(str(Path(sound).resolve()) if sound else '')}</soundFile>\n"
+                f"    <duration>{duration:.2f}</duration>\n"
+                + (f"    <dialog>{escape(words)}</dialog>\n" if words else "")
+                + f"  </metadata>\n  <mouthCues>\n{body}\n  </mouthCues>\n</rhubarbResult>\n")
     if suffix == ".tsv":
         lines = [f"{start:.2f}\t{shape}" for start, _, shape in cues]
         if cues:
@@ -56,6 +82,8 @@ def read_cues(path: str | os.PathLike) -> list[tuple[float, float, str]]:
         raise InputError("not a text file of mouth cues (UTF-8)", source) from None
     if source.suffix.lower() == ".json":
         return _json_cues(text, source)
+    if source.suffix.lower() == ".xml":
+        return _xml_cues(text, source)
     starts: list[tuple[float, str]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip():
@@ -97,6 +125,34 @@ def _json_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
         if not 0 <= start <= end or (cues and start < cues[-1][1] - 1e-9):
             raise InputError("expected 0 <= start <= end, each cue after the one before", source, where)
         cues.append((start, end, str(cue["value"])))
+    return cues
+
+
+def _xml_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
+    import xml.etree.ElementTree as ElementTree
+
+    if "<!DOCTYPE" in text or "<!ENTITY" in text:  # no entity expansion from a stranger's file
+        raise InputError("an XML document type is not read in mouth cues", source)
+    try:
+        root = ElementTree.fromstring(text)
+    except ElementTree.ParseError as exc:
+        raise InputError(f"not valid XML ({exc})", source) from None
+    listed = root.findall("./mouthCues/mouthCue")
+    if root.tag != "rhubarbResult" or not listed:
+        raise InputError("expected Rhubarb's XML: rhubarbResult with mouthCues", source)
+    cues: list[tuple[float, float, str]] = []
+    for k, cue in enumerate(listed):
+        where = f"mouthCue {k + 1}"
+        shape = (cue.text or "").strip()
+        try:
+            start, end = float(cue.get("start", "")), float(cue.get("end", ""))
+        except ValueError:
+            raise InputError("expected start and end in seconds", source, where) from None
+        if shape not in VISEMES or not (np.isfinite(start) and np.isfinite(end)) or not 0 <= start <= end \
+                or (cues and start < cues[-1][1] - 1e-9):
+            raise InputError(f"expected 0 <= start <= end after the cue before, and a shape of {', '.join(VISEMES)}",
+                             source, where)
+        cues.append((start, end, shape))
     return cues
 
 

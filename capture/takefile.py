@@ -103,7 +103,7 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     suffix = path.suffix.lower()
     if words is not None and suffix not in SOUND_SUFFIXES:
         raise InputError("words (--text) are for a voice: a sound file such as .wav", path)
-    if suffix == ".json" or (suffix == ".tsv" and is_cue_table(path)):  # Rhubarb's mouth cues
+    if suffix in (".json", ".xml") or (suffix == ".tsv" and is_cue_table(path)):  # Rhubarb's mouth cues
         require_file(path)
         return cues_take(path)
     if suffix in SOUND_SUFFIXES:  # a voice: its mouth shapes (capture/voice.py)

@@ -50,6 +50,9 @@ READERS = {
     "cues-tsv": (".tsv", read_cues, b"0.00\tX\n0.92\tA\n0.99\tB\n1.18\tX\n"),
     "cues-json": (".json", read_cues, b'{"metadata": {"duration": 1.2}, "mouthCues": [{"start": 0.0, "end": 0.92, '
                                       b'"value": "X"}, {"start": 0.92, "end": 1.2, "value": "D"}]}'),
+    "cues-xml": (".xml", read_cues, b'<?xml version="1.0"?><rhubarbResult><metadata><duration>1.2</duration>'
+                                    b'</metadata><mouthCues><mouthCue start="0.00" end="0.92">X</mouthCue>'
+                                    b'<mouthCue start="0.92" end="1.20">D</mouthCue></mouthCues></rhubarbResult>'),
     "track-csv": (".csv", load_track, None),
     "track-npz": (".npz", load_track, None),
 }

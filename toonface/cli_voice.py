@@ -6,19 +6,25 @@ from pathlib import Path
 
 import click
 
+from toonface.cli_options import FiniteFloat
+
 #: What ``lipsync -o`` writes, by suffix.
-CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON"}
+CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhubarb's XML",
+               ".dat": "Moho's and OpenToonz's switch data"}
 
 
 @click.command()
 @click.argument("voice", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
-              help="Mouth cues: .tsv (Rhubarb's: start<TAB>shape, the last line the end at rest) or .json "
-                   "(Rhubarb's: metadata and mouthCues with start, end and value).")
+              help="Mouth cues: .tsv (Rhubarb's: start<TAB>shape, the last line the end at rest), .json or .xml "
+                   "(Rhubarb's: metadata and mouthCues with start, end and shape), or .dat (Moho's and OpenToonz's "
+                   "switch data: FRAME SHAPE lines at --dat-fps).")
+@click.option("--dat-fps", default=24.0, show_default=True, type=FiniteFloat(min=1, max=240),
+              help="With a .dat output: the frame rate its frame numbers count at.")
 @click.option("--text", default=None, metavar="WORDS|@FILE",
               help="The words spoken (or @FILE holding them): aligned with the sound, which places each phone "
                    "much more surely than recognising phones freely [default: a phone loop, no words needed].")
-def lipsync(voice: str, output: str, text: str | None) -> None:
+def lipsync(voice: str, output: str, dat_fps: float, text: str | None) -> None:
     """Mouth shapes from a voice: a sound file (WAV, MP3, OGG, anything FFmpeg decodes) or the
     sound of a video, recognised offline (pocketsphinx, US English), as Rhubarb Lip Sync's
     mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and the like. The cues
@@ -46,7 +52,7 @@ def lipsync(voice: str, output: str, text: str | None) -> None:
     cues = mouth_cues(shape_sequence(phones, frames, speaking(samples, frames)))
     duration = frames / 100.0
     with atomic_path(output) as tmp:
-        tmp.write_text(cues_text(cues, suffix, voice, words), encoding="utf-8")
+        tmp.write_text(cues_text(cues, suffix, voice, words, dat_fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
     click.echo(f"wrote {output}: {len(cues)} mouth cues over {duration:.2f} s ({shaped} speaking), "
                + ("aligned with the words given" if words else "from the phones heard (no words given)"))

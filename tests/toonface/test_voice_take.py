@@ -75,7 +75,7 @@ def test_a_voice_has_no_table_options(voice, capsys):
 
 @pytest.mark.slow
 @pytest.mark.realdata
-@pytest.mark.parametrize("suffix", [".tsv", ".json"])
+@pytest.mark.parametrize("suffix", [".tsv", ".json", ".xml"])
 def test_rhubarb_cues_read_back_as_the_motors_they_came_from(voice, tmp_path, suffix):
     assert main(["lipsync", str(voice), "-o", str(tmp_path / f"cues{suffix}")]) == 0
     assert main(["map", str(voice), "-o", str(tmp_path / "voice.csv")]) == 0
@@ -90,9 +90,15 @@ def test_cues_written_are_the_cues_read(tmp_path):
 
     cues = [(0.0, 0.92, "X"), (0.92, 0.99, "A"), (0.99, 1.18, "B"), (1.18, 2.97, "X")]
     folder = tmp_path
-    for suffix in (".tsv", ".json"):
-        (folder / f"c{suffix}").write_text(cues_text(cues, suffix, "line.wav", "bin blue"))
+    for suffix in (".tsv", ".json", ".xml"):
+        (folder / f"c{suffix}").write_text(cues_text(cues, suffix, "line.wav", "bin <blue> & at"))
         assert read_cues(folder / f"c{suffix}") == cues
+    # Moho's switch data: the frame each cue starts on, counted from 1 (0.92 s is frame 23.08 at 24 fps)
+    assert cues_text(cues, ".dat", fps=24) == "MohoSwitch1\n1 X\n23 A\n25 B\n29 X\n"
+    assert cues_text(cues, ".dat", fps=10) == "MohoSwitch1\n1 X\n10 A\n11 B\n13 X\n"
+    (folder / "entity.xml").write_text('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaa">]><rhubarbResult/>')
+    with pytest.raises(InputError, match="document type"):
+        read_cues(folder / "entity.xml")
     (folder / "bad.tsv").write_text("0.00\tX\n0.50\tQ\n")
     with pytest.raises(InputError, match="line 2: expected start<TAB>shape"):
         read_cues(folder / "bad.tsv")
