@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from capture.take import Take
+from capture.take import UNIT_MM, Take
 
 
 def summarize(take: Take) -> dict:
@@ -52,6 +52,16 @@ def _longest_run(flags: np.ndarray) -> int:
     return int((edges[1::2] - edges[::2]).max()) if len(edges) else 0
 
 
+def _as_read(units: object) -> str:
+    """What the file's numbers were, where not millimetres (``info`` said "mm" for a take read
+    with --units m: every take is held in millimetres, which is not what the file holds)."""
+    if not isinstance(units, dict) or units.get("mm_per_unit") in (None, 1.0):
+        return ""
+    per = float(units["mm_per_unit"])
+    name = next((unit for unit, mm in UNIT_MM.items() if mm == per), f"{per:g} mm units")
+    return f" (the file's numbers in {name}, {units.get('from', 'given')}; held as mm)"
+
+
 def describe(summary: dict) -> list[str]:
     """Human-readable lines of a :func:`summarize` result."""
     lines = [
@@ -59,7 +69,7 @@ def describe(summary: dict) -> list[str]:
         f"markers   {summary['markers']}",
         f"rate      {summary['rate']:g} Hz",
         f"duration  {summary['duration']:.3f} s",
-        f"units     {summary['units']}",
+        f"units     {summary['units']}{_as_read(summary['source'].get('units'))}",
         f"dims      {summary['dims']}",
         f"missing   {summary['missing']} marker-samples"
         + (f" in {len(summary['missing_per_marker'])} markers" if summary["missing"] else ""),

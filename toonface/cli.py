@@ -163,11 +163,12 @@ def _plot(loaded, plot_path: str, motion: bool, layout: str | None, mapping_name
               help="Draw the markers' neutral from the front, side and top, labelled (PNG), to tell them apart.")
 @click.option("--plot-motion", is_flag=True, help="With --plot: also each marker's path over the take.")
 @click.option("--markerset", "layout", default=None, metavar="NAME|FILE",
-              help="With --plot: draw the take in this marker set's head frame (front, side and top of the face), "
-                   "its head references ringed [default: the take's own axes].")
+              help="The take's marker set: a table is read with its [tables] rate and units, and --plot draws the "
+                   "take in its head frame (front, side and top of the face), its head references ringed "
+                   "[default: the take's own axes].")
 @click.option("--mapping", "mapping_name", default=None, metavar="NAME|FILE",
-              help="With --plot: label each marker with the motors this mapping drives from it (and draw in its "
-                   "marker set's head frame).")
+              help="As --markerset, with the mapping's marker set; --plot also labels each marker with the motors "
+                   "this mapping drives from it.")
 @take_options
 def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, layout: str | None,
          mapping_name: str | None, reading: TakeReading) -> None:
@@ -179,8 +180,8 @@ def info(take: str, as_json: bool, plot_path: str | None, plot_motion: bool, lay
     """
     from capture.info import describe, summarize
 
-    if (plot_motion or layout or mapping_name) and not plot_path:
-        raise click.UsageError("--plot-motion, --markerset and --mapping draw into the --plot picture: give --plot too")
+    if plot_motion and not plot_path:
+        raise click.UsageError("--plot-motion draws into the --plot picture: give --plot too")
     loaded = read_take(take, reading, layout, mapping_name)
     summary = summarize(loaded)
     if plot_path:

@@ -116,7 +116,7 @@ CR = { neutral = [-25.0, -70.0, 12.0] }
 
 
 @pytest.mark.slow
-def test_the_check_plot_draws_the_take_in_the_drafted_head_frame(tmp_path):
+def test_the_check_plot_draws_the_take_in_the_drafted_head_frame(tmp_path, capsys):
     """info --plot had no --markerset: a take in a camera frame was drawn from wherever the
     camera stood, its panel called "front" a side view."""
     from capture import load_markerset
@@ -131,7 +131,9 @@ def test_the_check_plot_draws_the_take_in_the_drafted_head_frame(tmp_path):
     assert main(["info", str(tmp_path / "lab.csv"), *reading, "--plot", str(tmp_path / "p.png"), "--mapping",
                  str(tmp_path / "map.toml"), "--plot-motion"]) == 0
     assert (tmp_path / "p.png").stat().st_size > 10_000
-    assert main(["info", str(tmp_path / "lab.csv"), *reading, "--markerset", str(tmp_path / "lab.toml")]) == 2
+    capsys.readouterr()
+    assert main(["info", str(tmp_path / "lab.csv"), "--markerset", str(tmp_path / "lab.toml")]) == 0  # no --plot
+    assert "units     mm (the file's numbers in m, marker set lab; held as mm)" in capsys.readouterr().out
     drafted = load_markerset(tmp_path / "lab.toml")
     placed = in_head_frame(rig.take, drafted)
     rest = neutral_pose(placed)
