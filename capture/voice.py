@@ -229,18 +229,35 @@ def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:
 SOUND_SUFFIXES = frozenset({".wav", ".mp3", ".ogg", ".oga", ".opus", ".flac", ".m4a", ".aac", ".wma"})
 
 
-def read_voice(path: str | os.PathLike, text: str | None = None) -> Take:
-    """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
-    ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
-    level, ``sound_level`` (0..1), by which a rest window is chosen in silence."""
+@dataclass(frozen=True, eq=False)
+class Heard:
+    """What a voice says: its sound (16 kHz mono, ``(n,)``), the phones heard, and the mouth
+    shape of each 10 ms frame (``shapes`` ``(frames,)``, indices into :data:`VISEMES`)."""
+
+    samples: np.ndarray
+    phones: list[Phone]
+    shapes: np.ndarray
+
+
+def hear_voice(path: str | os.PathLike, text: str | None = None) -> Heard:
+    """Decode ``path``'s sound, recognise its phones (aligning ``text`` where given) and place
+    the mouth shapes: the one way every command hears a voice (errors name the file)."""
     samples = decode_voice(path)
     frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
     try:
         phones = recognise(samples, text)
     except InputError as exc:
         raise InputError(exc.message, path, exc.field) from None
-    speech = speaking(samples, frames)
-    curves = shape_curves(shape_sequence(phones, frames, speech))
+    return Heard(samples, phones, shape_sequence(phones, frames, speaking(samples, frames)))
+
+
+def read_voice(path: str | os.PathLike, text: str | None = None) -> Take:
+    """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
+    ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
+    level, ``sound_level`` (0..1), by which a rest window is chosen in silence."""
+    heard = hear_voice(path, text)
+    frames, samples = len(heard.shapes), heard.samples
+    curves = shape_curves(heard.shapes)
     hop = int(SAMPLE_RATE / FRAME_RATE)
     level = np.sqrt(np.mean(np.resize(np.pad(samples, (0, frames * hop)), frames * hop).reshape(frames, hop) ** 2,
                             axis=1))
@@ -248,4 +265,4 @@ def read_voice(path: str | os.PathLike, text: str | None = None) -> Take:
     channels = np.column_stack([curves, level])
     names = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
     return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=channels, channel_names=names,
-                meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(phones)})
+                meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones)})

@@ -34,8 +34,8 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None) -> None:
     is held for less than 30 ms, and a pause under 0.2 s keeps the shape before it.
     """
     from capture.cues import cues_text
-    from capture.voice import decode_voice, mouth_cues, recognise, shape_sequence, speaking
-    from common import InputError, atomic_path
+    from capture.voice import FRAME_RATE, hear_voice, mouth_cues
+    from common import atomic_path
     from toonface.cli_options import read_words
 
     suffix = Path(output).suffix.lower()
@@ -43,14 +43,9 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None) -> None:
         raise click.BadParameter(f"{output}: expected {' or '.join(CUE_FORMATS)} ({', '.join(CUE_FORMATS.values())})",
                                  param_hint="--output")
     words = read_words(text) if text is not None else None
-    samples = decode_voice(voice)
-    frames = int(len(samples) * 100 // 16000)
-    try:
-        phones = recognise(samples, words)
-    except InputError as exc:
-        raise InputError(exc.message, voice, exc.field) from None
-    cues = mouth_cues(shape_sequence(phones, frames, speaking(samples, frames)))
-    duration = frames / 100.0
+    heard = hear_voice(voice, words)
+    cues = mouth_cues(heard.shapes)
+    duration = len(heard.shapes) / FRAME_RATE
     with atomic_path(output) as tmp:
         tmp.write_text(cues_text(cues, suffix, voice, words, dat_fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
