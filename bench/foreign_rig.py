@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from capture import Take, load_markerset
+from common.rotations import rigid_fit
 
 #: The markers kept and how each is moved in the head frame (mm): a lab's layout, not toon32's.
 LAYOUT: dict[str, tuple[float, float, float]] = {
@@ -92,13 +93,7 @@ def _poses(clean: Take) -> np.ndarray:
     ms = load_markerset("toon32")
     ref = np.array([ms.neutral[ms.labels.index(n)] for n in SKULL])
     pos = clean.positions[:, [clean.labels.index(n) for n in SKULL]]
-    a = ref - ref.mean(axis=0)
-    b = pos - pos.mean(axis=1, keepdims=True)
-    u, _, vt = np.linalg.svd(np.einsum("mi,fmj->fij", a, b))
-    d = np.sign(np.linalg.det(u @ vt))
-    fix = np.zeros((len(d), 3, 3))
-    fix[:, 0, 0], fix[:, 1, 1], fix[:, 2, 2] = 1.0, 1.0, d
-    return np.transpose(u @ fix @ vt, (0, 2, 1))
+    return rigid_fit(ref, pos)[0]
 
 
 def foreign_take(clean: Take, seed: int = 0, jitter_mm: float = 0.3) -> ForeignTake:

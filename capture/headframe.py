@@ -136,19 +136,10 @@ def rigid_group(spread: np.ndarray, rest: np.ndarray) -> list[int]:
 def stabilise(positions: np.ndarray, skull: list[int], rest: np.ndarray) -> np.ndarray:
     """Positions ``(F, M, 3)`` with the head's motion removed: each frame turned and moved so that
     its skull markers lie on theirs in ``rest`` (a frame that sees fewer than 3 of them is NaN)."""
-    out = np.full_like(positions, np.nan)
-    ref = rest[skull]
-    for f in range(len(positions)):
-        seen = np.isfinite(positions[f, skull]).all(axis=1)
-        if seen.sum() < 3:
-            continue
-        a, b = positions[f, skull][seen], ref[seen]
-        ca, cb = a.mean(axis=0), b.mean(axis=0)
-        u, _, vt = np.linalg.svd((a - ca).T @ (b - cb))
-        fix = np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))])
-        turn = u @ fix @ vt
-        out[f] = (positions[f] - ca) @ turn + cb
-    return out
+    from common.rotations import rigid_fit
+
+    rotation, translation, _ = rigid_fit(rest[skull], positions[:, skull])  # rest -> each frame
+    return np.einsum("fmi,fij->fmj", positions - translation[:, None], rotation)  # each frame -> rest
 
 
 def _fibonacci(count: int) -> np.ndarray:

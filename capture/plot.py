@@ -56,12 +56,10 @@ def in_head_frame(take: Take, markerset: MarkerSet) -> Take:
     if len(pairs) < 3:
         raise InputError(f"only {len(pairs)} of its markers are in marker set {markerset.name}: cannot place the "
                          "take in its head frame")
-    a = rest[[m for m, _ in pairs]]
-    b = np.array([n for _, n in pairs])
-    ca, cb = a.mean(axis=0), b.mean(axis=0)
-    u, _, vt = np.linalg.svd((a - ca).T @ (b - cb))
-    turn = u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt
-    return replace(take, positions=(take.positions - ca) @ turn + cb)
+    from common.rotations import rigid_fit
+
+    rotation, translation, _ = rigid_fit(np.array([n for _, n in pairs]), rest[[m for m, _ in pairs]][None])
+    return replace(take, positions=(take.positions - translation[0]) @ rotation[0])
 
 
 def plot_take(take: Take, path: str | os.PathLike, motion: bool = False, head_reference: tuple[str, ...] = (),

@@ -27,6 +27,7 @@ import numpy as np
 from capture import MarkerSet, Take
 from capture.markerset import find_markerset
 from common import Failure
+from common.rotations import rigid_fit
 from mapping.filters import Butterworth
 from mapping.gaps import GapFiller, gap_runs, straight_line
 from mapping.outliers import SpikeFilter, centred_spikes
@@ -132,12 +133,8 @@ def fixed_frame(take: Take, markerset: MarkerSet) -> tuple[np.ndarray, np.ndarra
              if np.isfinite(rest[take.index(mine)]).all()]
     if len(pairs) < 3:
         return Failure(f"only {len(pairs)} of marker set {markerset.name}'s markers are seen: cannot place the take")
-    world = rest[[m for m, _ in pairs]]
-    head = np.array([n for _, n in pairs])
-    cw, ch = world.mean(axis=0), head.mean(axis=0)
-    u, _, vt = np.linalg.svd((head - ch).T @ (world - cw))
-    rotation = (u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt).T  # head frame to world
-    return rotation, cw - ch @ rotation.T
+    rotation, translation, _ = rigid_fit(np.array([n for _, n in pairs]), rest[[m for m, _ in pairs]][None])
+    return rotation[0], translation[0]
 
 
 def _without_head(take: Take, markerset: MarkerSet, settings: CleanSettings

@@ -8,72 +8,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from common import Failure
-from mapping.rotations import best_rotation
-
-
-def rigid_fit(source: np.ndarray, target: np.ndarray, min_points: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Least-squares rotations and translations mapping ``source`` onto each frame of ``target``.
-
-    Kabsch's method per frame, using only the points seen in that frame.
-
-    Parameters
-    ----------
-    source : ndarray, shape (K, 3)
-        Reference points (for example the marker set's neutral head references).
-    target : ndarray, shape (F, K, 3)
-        Observed points, NaN where unseen.
-    min_points : int
-        Frames with fewer seen points get no pose.
-
-    Returns
-    -------
-    rotation : ndarray, shape (F, 3, 3)
-    translation : ndarray, shape (F, 3)
-        ``target[f] ≈ source @ rotation[f].T + translation[f]``; NaN for frames without a pose.
-    ok : ndarray of bool, shape (F,)
-    """
-    seen = ~np.isnan(target[..., 0])  # (F, K)
-    ok = seen.sum(axis=1) >= min_points
-    w = seen[..., None].astype(float)
-    n = np.maximum(seen.sum(axis=1), 1)[:, None]
-    tgt = np.where(seen[..., None], target, 0.0)
-    src = np.broadcast_to(source, target.shape) * w
-    src_c = src.sum(axis=1) / n
-    tgt_c = tgt.sum(axis=1) / n
-    a = (src - src_c[:, None]) * w
-    b = (tgt - tgt_c[:, None]) * w
-    rot = best_rotation(np.transpose(b, (0, 2, 1)) @ a)  # the covariance (F, 3, 3): target x source
-    trans = tgt_c - rotate(src_c[:, None, :], rot)[:, 0]
-    rot[~ok] = np.nan
-    trans[~ok] = np.nan
-    return rot, trans, ok
+from common.rotations import best_rotation, rigid_fit, rotate
 
 
 def nearest_rotation(matrices: np.ndarray) -> np.ndarray:
     """The rotation nearest (Frobenius) to each ``(..., 3, 3)`` matrix."""
     return best_rotation(matrices)
-
-
-def rotate(points: np.ndarray, rotation: np.ndarray, inverse: bool = False) -> np.ndarray:
-    """``R @ p`` (``R.T @ p`` with ``inverse``) for every point of each frame.
-
-    Parameters
-    ----------
-    points : ndarray, shape (F, M, 3)
-    rotation : ndarray, shape (F, 3, 3)
-
-    Returns
-    -------
-    ndarray, shape (F, M, 3)
-        Written out coordinate by coordinate: several times faster than ``einsum`` or a batched
-        ``matmul`` of 3 × 3 matrices.
-    """
-    out = np.empty(np.broadcast_shapes(points.shape, (len(rotation), 1, 3)))
-    for i in range(3):
-        row = [rotation[:, j, i] if inverse else rotation[:, i, j] for j in range(3)]
-        out[..., i] = points[..., 0] * row[0][:, None] + points[..., 1] * row[1][:, None] \
-            + points[..., 2] * row[2][:, None]
-    return out
 
 
 def to_head_frame(positions: np.ndarray, rotation: np.ndarray, translation: np.ndarray, block: int = 256

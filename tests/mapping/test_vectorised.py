@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from common.rotations import best_rotation
 from mapping.outliers import SpikeFilter, centred_spikes, nan_median
-from mapping.rotations import best_rotation
 from mapping.stabilise import express, fit_head, refit_head, stabilise
 
 

@@ -6,7 +6,8 @@ call per frame, which made them the largest single cost of cleaning. Horn's quat
 traceless 4 × 4 matrix; as in Theobald's QCP method (Theobald 2005; Liu, Agrafiotis & Theobald
 2010) that eigenvalue is found by Newton's method on the characteristic polynomial, here for
 every frame at once, and the quaternion read from the adjugate of ``N - λI``. Frames where the
-best rotation is not unique (a degenerate point set) fall back to the SVD.
+best rotation is not unique (a degenerate point set) fall back to the SVD. :func:`rigid_fit` uses it for
+the rotation and translation of every frame, for each stage that lays points over points.
 """
 
 from __future__ import annotations
@@ -147,4 +148,64 @@ def _quaternion_matrix(q: np.ndarray) -> np.ndarray:
     out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)
     out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = 2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)
     out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z
+    return out
+
+
+def rigid_fit(source: np.ndarray, target: np.ndarray, min_points: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Least-squares rotations and translations mapping ``source`` onto each frame of ``target``.
+
+    Kabsch's method per frame, using only the points seen in that frame.
+
+    Parameters
+    ----------
+    source : ndarray, shape (K, 3)
+        Reference points (for example the marker set's neutral head references).
+    target : ndarray, shape (F, K, 3)
+        Observed points, NaN where unseen.
+    min_points : int
+        Frames with fewer seen points get no pose.
+
+    Returns
+    -------
+    rotation : ndarray, shape (F, 3, 3)
+    translation : ndarray, shape (F, 3)
+        ``target[f] ≈ source @ rotation[f].T + translation[f]``; NaN for frames without a pose.
+    ok : ndarray of bool, shape (F,)
+    """
+    seen = ~np.isnan(target[..., 0])  # (F, K)
+    ok = seen.sum(axis=1) >= min_points
+    w = seen[..., None].astype(float)
+    n = np.maximum(seen.sum(axis=1), 1)[:, None]
+    tgt = np.where(seen[..., None], target, 0.0)
+    src = np.broadcast_to(source, target.shape) * w
+    src_c = src.sum(axis=1) / n
+    tgt_c = tgt.sum(axis=1) / n
+    a = (src - src_c[:, None]) * w
+    b = (tgt - tgt_c[:, None]) * w
+    rot = best_rotation(np.transpose(b, (0, 2, 1)) @ a)  # the covariance (F, 3, 3): target x source
+    trans = tgt_c - rotate(src_c[:, None, :], rot)[:, 0]
+    rot[~ok] = np.nan
+    trans[~ok] = np.nan
+    return rot, trans, ok
+
+
+def rotate(points: np.ndarray, rotation: np.ndarray, inverse: bool = False) -> np.ndarray:
+    """``R @ p`` (``R.T @ p`` with ``inverse``) for every point of each frame.
+
+    Parameters
+    ----------
+    points : ndarray, shape (F, M, 3)
+    rotation : ndarray, shape (F, 3, 3)
+
+    Returns
+    -------
+    ndarray, shape (F, M, 3)
+        Written out coordinate by coordinate: several times faster than ``einsum`` or a batched
+        ``matmul`` of 3 × 3 matrices.
+    """
+    out = np.empty(np.broadcast_shapes(points.shape, (len(rotation), 1, 3)))
+    for i in range(3):
+        row = [rotation[:, j, i] if inverse else rotation[:, i, j] for j in range(3)]
+        out[..., i] = points[..., 0] * row[0][:, None] + points[..., 1] * row[1][:, None] \
+            + points[..., 2] * row[2][:, None]
     return out
