@@ -105,11 +105,16 @@ def draft_markerset(take: Take, up: str | None = None, front: str | None = None)
     origin = rest[refs].mean(axis=0)
     origin = origin + ((centre - origin) @ x) * x  # on the midline: x = 0 between left and right
     neutral = (rest - origin) @ frame.rotation.T
+    return Draft(take.labels, neutral, tuple(take.labels[i] for i in refs), frame.rotation, origin, _steadiness(take),
+                 frame)
+
+
+def _steadiness(take: Take) -> dict[str, float]:
+    """Each marker's median variation (mm) of its distances to the others."""
     spread = distance_spread(take.positions)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
-    return Draft(take.labels, neutral, tuple(take.labels[i] for i in refs), frame.rotation, origin, steadiness, frame)
+        return {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
 
 
 def _sparse(take: Take, rest: np.ndarray, up: str | None, front: str | None) -> Draft:
@@ -120,9 +125,7 @@ def _sparse(take: Take, rest: np.ndarray, up: str | None, front: str | None) -> 
     corners = rest[np.argsort(np.abs((rest - rest.mean(axis=0)) @ frame.rotation[0]))[1:]]
     origin = corners.mean(axis=0)
     neutral = (rest - origin) @ frame.rotation.T
-    spread = distance_spread(take.positions)
-    steadiness = {label: float(np.nanmedian(np.delete(spread[i], i))) for i, label in enumerate(take.labels)}
-    return Draft(take.labels, neutral, (), frame.rotation, origin, steadiness, frame)
+    return Draft(take.labels, neutral, (), frame.rotation, origin, _steadiness(take), frame)
 
 
 @dataclass(frozen=True)

@@ -79,12 +79,16 @@ class Frame:
     doubts: tuple[str, ...] = field(default=())
 
 
+def _pair_distances(positions: np.ndarray, frames: int) -> np.ndarray:
+    """Every pair's distance in about ``frames`` frames spread over the take, ``(F', M, M)``."""
+    pos = positions[::max(1, len(positions) // frames)]
+    return np.linalg.norm(pos[:, :, None, :] - pos[:, None, :, :], axis=3)
+
+
 def distance_spread(positions: np.ndarray, frames: int = 2000) -> np.ndarray:
     """Standard deviation over the take of every pair's distance, ``(M, M)``, from positions
     ``(F, M, 3)`` (NaN where a pair is never seen together)."""
-    step = max(1, len(positions) // frames)
-    pos = positions[::step]
-    dist = np.linalg.norm(pos[:, :, None, :] - pos[:, None, :, :], axis=3)
+    dist = _pair_distances(positions, frames)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         return np.nanstd(dist, axis=0)
@@ -94,9 +98,7 @@ def distance_reach(positions: np.ndarray, frames: int = 4000, share: float = 99.
     """How far every pair's distance strays from its median, ``(M, M)``: the ``share`` percentile
     of the absolute deviation over the take. Unlike a standard deviation it sees what a marker
     does now and then: a lid that shuts in blinks, 6 % of the time, strays by its full travel."""
-    step = max(1, len(positions) // frames)
-    pos = positions[::step]
-    dist = np.linalg.norm(pos[:, :, None, :] - pos[:, None, :, :], axis=3)
+    dist = _pair_distances(positions, frames)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         return np.nanpercentile(np.abs(dist - np.nanmedian(dist, axis=0)), share, axis=0)

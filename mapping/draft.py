@@ -19,6 +19,7 @@ import numpy as np
 from capture import MarkerSet, load_markerset
 from common import builtin_names, data_path, read_document
 from mapping.mapfile import Mapping, parse_mapping
+from mapping.roles import mirror_partner
 
 #: A preset marker is found in the new set within this share of the face's size (its RMS radius).
 MATCH_FRACTION = 0.15
@@ -164,12 +165,11 @@ def _rank(draft: MappingDraft) -> tuple[bool, int, float]:
 
 
 def _partner(markerset: MarkerSet, label: str, size: float) -> str | None:
-    """The marker at ``label``'s mirror image across the midline (x = 0), within
-    :data:`MATCH_FRACTION` of the face's size; a marker on the midline is its own."""
-    point = markerset.neutral_of(label) * np.array([-1.0, 1.0, 1.0])
-    distance = np.linalg.norm(markerset.neutral - point, axis=1)
-    j = int(distance.argmin())
-    return markerset.labels[j] if distance[j] <= MATCH_FRACTION * size else None
+    """The marker at ``label``'s mirror image, within :data:`MATCH_FRACTION` of the face's size
+    (:func:`mapping.roles.mirror_partner`; a marker on the midline is its own)."""
+    j = mirror_partner(markerset.neutral, markerset.labels.index(markerset.canonical(label)), MATCH_FRACTION * size,
+                       itself=True)
+    return None if j is None else markerset.labels[j]
 
 
 def _mirror_missing(draft: MappingDraft, markerset: MarkerSet, size: float) -> MappingDraft:

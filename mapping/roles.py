@@ -34,11 +34,14 @@ PARTNER_FRACTION = 0.15
 _LOSS = {"policy": "ease", "seconds": 0.5}
 
 
-def _partner(neutral: np.ndarray, i: int, size: float) -> int | None:
+def mirror_partner(neutral: np.ndarray, i: int, within: float, itself: bool = False) -> int | None:
+    """The row of ``neutral`` ``(M, 3)`` nearest marker ``i``'s mirror image across the midline
+    (x = 0), if within ``within`` mm of it; ``itself``: a marker on the midline may be its own."""
     distance = np.linalg.norm(neutral - neutral[i] * np.array([-1.0, 1.0, 1.0]), axis=1)
-    distance[i] = np.inf
+    if not itself:
+        distance[i] = np.inf
     j = int(np.argmin(distance))
-    return j if distance[j] <= PARTNER_FRACTION * size else None
+    return j if distance[j] <= within else None
 
 
 def motion_roles(markerset: MarkerSet, local: np.ndarray) -> dict[str, dict]:
@@ -98,7 +101,7 @@ def _corners(neutral: np.ndarray, local: np.ndarray, free: list[int], size: floa
     """The mirror pair ``(right, left)`` whose distance apart varies most, if it varies at all."""
     best, best_reach = None, MIN_TRAVEL_MM
     for i in free:
-        j = _partner(neutral, i, size)
+        j = mirror_partner(neutral, i, PARTNER_FRACTION * size)
         if j is None or j not in free or neutral[i, 0] <= MIDLINE_MM:
             continue
         with warnings.catch_warnings():
