@@ -74,7 +74,7 @@ def _npz_meta(meta: dict, path: Path) -> dict:
 
 def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[str] | None = None,
               units: str | float | None = None, allow_truncated: bool = False,
-              markerset: MarkerSet | None = None, words: str | None = None) -> Take:
+              markerset: MarkerSet | None = None, words: str | None = None, listen: str | None = None) -> Take:
     """Read a take file, choosing the reader by suffix.
 
     Parameters
@@ -93,6 +93,8 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
         for what the table and the options leave unsaid.
     words : str, optional
         A voice's words (a sound file only): aligned with the sound (:mod:`capture.voice`).
+    listen : str, optional
+        How a voice is heard without words (:data:`capture.voice.LISTEN_MODES`; ``sound`` by default).
 
     Raises
     ------
@@ -101,8 +103,9 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     """
     path = Path(path)
     suffix = path.suffix.lower()
-    if words is not None and suffix not in SOUND_SUFFIXES:
-        raise InputError("words (--text) are for a voice: a sound file such as .wav", path)
+    if (words is not None or listen is not None) and suffix not in SOUND_SUFFIXES:
+        option = "words (--text) are" if words is not None else "--listen is"
+        raise InputError(f"{option} for a voice: a sound file such as .wav", path)
     if suffix in (".json", ".xml") or (suffix == ".tsv" and is_cue_table(path)):  # Rhubarb's mouth cues
         require_file(path)
         return cues_take(path)
@@ -111,7 +114,7 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
         given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]
         if given:
             raise InputError(f"a voice has no {', '.join(given)} to give; those options are for CSV tables", path)
-        return read_voice(path, words)
+        return read_voice(path, words, listen or "sound")
     if suffix not in READABLE:
         raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)}, "
                          f"and a voice: {', '.join(sorted(SOUND_SUFFIXES))})", path)

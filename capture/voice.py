@@ -54,8 +54,10 @@ ANTICIPATE_S = 0.04
 MIN_HOLD_S = 0.03
 #: A pause shorter than this (s) keeps the shape before it; a longer one relaxes to rest.
 SHORT_PAUSE_S = 0.2
-#: The blend between shapes: a Gaussian of this standard deviation (s).
-BLEND_S = 0.025
+#: The blend between shapes over time: a Gaussian of 25 ms cut at ±50 ms, so a live voice
+#: waits no more than those 50 ms for a blend (:func:`blend`).
+KERNEL = np.exp(-0.5 * (np.arange(-5, 6) / 2.5) ** 2) / np.exp(-0.5 * (np.arange(-5, 6) / 2.5) ** 2).sum()
+LOOKAHEAD = (len(KERNEL) - 1) // 2
 #: Voice activity: a frame is speech when its level is within this many dB of the loud part of
 #: the sound (its 95th percentile) and above the quiet part (5th percentile) by at least half
 #: of the way.
@@ -190,15 +192,26 @@ def _shape_runs(shapes: np.ndarray) -> list[tuple[int, int, int]]:
     return [(a, b, int(shapes[a])) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
 
 
-def shape_curves(shapes: np.ndarray) -> np.ndarray:
-    """Each shape's weight per frame, ``(frames, 9)`` in :data:`VISEMES` order, summing to 1: the
-    frames' shapes blended by a Gaussian of :data:`BLEND_S`."""
-    from scipy.ndimage import gaussian_filter1d
+def blend(values: np.ndarray) -> np.ndarray:
+    """``values`` ``(frames, ...)`` blended over time by :data:`KERNEL`, the ends held."""
+    if not len(values):
+        return np.asarray(values, np.float64)
+    padded = np.concatenate([np.repeat(values[:1], LOOKAHEAD, 0), values, np.repeat(values[-1:], LOOKAHEAD, 0)])
+    return np.tensordot(np.lib.stride_tricks.sliding_window_view(padded, len(KERNEL), axis=0), KERNEL,
+                        axes=([-1], [0]))
 
+
+def one_hot(shapes: np.ndarray) -> np.ndarray:
+    """``shapes`` ``(frames,)`` indices into :data:`VISEMES` as ``(frames, 9)`` weights of 0 or 1."""
     onehot = np.zeros((len(shapes), len(VISEMES)))
     onehot[np.arange(len(shapes)), shapes] = 1.0
-    blended = gaussian_filter1d(onehot, BLEND_S * FRAME_RATE, axis=0, mode="nearest")
-    return blended / blended.sum(axis=1, keepdims=True)
+    return onehot
+
+
+def shape_curves(shapes: np.ndarray) -> np.ndarray:
+    """Each shape's weight per frame, ``(frames, 9)`` in :data:`VISEMES` order, summing to 1: the
+    frames' shapes blended by :func:`blend`."""
+    return blend(one_hot(shapes))
 
 
 def openness(curves: np.ndarray) -> np.ndarray:
@@ -239,23 +252,62 @@ class Heard:
     shapes: np.ndarray
 
 
-def hear_voice(path: str | os.PathLike, text: str | None = None) -> Heard:
-    """Decode ``path``'s sound, recognise its phones (aligning ``text`` where given) and place
-    the mouth shapes: the one way every command hears a voice (errors name the file)."""
+#: How a voice is heard (``--listen``): ``sound`` its spectrum alone, in any language
+#: (:mod:`capture.voice_sound`); ``phones`` pocketsphinx's US-English phone loop. Given the
+#: words, their phones are aligned and the mouth opens as the sound says, shaped as the phones say.
+LISTEN_MODES = ("sound", "phones")
+
+
+def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Heard:
+    """Decode ``path``'s sound and place the mouth shapes: from the sound alone
+    (``listen="sound"``), from the phones pocketsphinx hears (``"phones"``), or, given the words
+    ``text``, from their aligned phones, opened as wide as the sound says: the one way every
+    command hears a voice (errors name the file)."""
+    from capture.voice_sound import sound_shapes
+
+    if listen not in LISTEN_MODES:
+        raise InputError(f"unknown way to listen {listen!r} (known: {', '.join(LISTEN_MODES)})", path)
     samples = decode_voice(path)
     frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
+    if listen == "sound" and text is None:
+        return Heard(samples, [], sound_shapes(samples, frames))
     try:
         phones = recognise(samples, text)
     except InputError as exc:
         raise InputError(exc.message, path, exc.field) from None
-    return Heard(samples, phones, shape_sequence(phones, frames, speaking(samples, frames)))
+    shapes = shape_sequence(phones, frames, speaking(samples, frames))
+    if text is not None:
+        shapes = with_opening(shapes, sound_shapes(samples, frames))
+    return Heard(samples, phones, shapes)
 
 
-def read_voice(path: str | os.PathLike, text: str | None = None) -> Take:
+def with_opening(shapes: np.ndarray, heard: np.ndarray) -> np.ndarray:
+    """The words' ``shapes`` ``(frames,)`` opened as wide as the sound says (``heard``, from
+    :func:`capture.voice_sound.sound_shapes`): the words keep what they know better (lips
+    pressed for M B P, teeth on lip for F V, the tongue for L, round or spread), and each other
+    frame takes the rung of its ladder (A B C D spread, A F E D round) nearest the mean of the
+    two openings; where the words place silence but the sound has a voice, the sound's shape."""
+    levels = np.array([OPENNESS[v] for v in VISEMES])
+    mean = (levels[shapes] + levels[heard]) / 2
+    rounded = np.isin(shapes, [VISEMES.index("E"), VISEMES.index("F")])
+    out = shapes.copy()
+    for ladder, where in (("ABCD", ~rounded), ("AFED", rounded)):
+        rungs = np.array([VISEMES.index(v) for v in ladder])
+        nearest = rungs[np.argmin(np.abs(levels[rungs][None, :] - mean[:, None]), axis=1)]
+        out[where] = nearest[where]
+    rest = VISEMES.index("X")
+    voiced = (shapes == rest) & (levels[heard] > 0)
+    kept = np.isin(shapes, [VISEMES.index(v) for v in "AGH"]) | ((shapes == rest) & ~voiced)
+    out[kept] = shapes[kept]
+    out[voiced] = heard[voiced]
+    return out
+
+
+def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Take:
     """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
     ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
     level, ``sound_level`` (0..1), by which a rest window is chosen in silence."""
-    heard = hear_voice(path, text)
+    heard = hear_voice(path, text, listen)
     frames, samples = len(heard.shapes), heard.samples
     curves = shape_curves(heard.shapes)
     hop = int(SAMPLE_RATE / FRAME_RATE)
@@ -265,4 +317,5 @@ def read_voice(path: str | os.PathLike, text: str | None = None) -> Take:
     channels = np.column_stack([curves, level])
     names = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
     return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=channels, channel_names=names,
-                meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones)})
+                meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones),
+                      "listen": "words" if text else listen})

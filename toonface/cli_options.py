@@ -126,18 +126,20 @@ class TakeReading:
     units: str | None = None
     allow_truncated: bool = False
     words: str | None = None  # a voice's words, read from @FILE already
+    listen: str | None = None  # how a voice is heard (capture.voice.LISTEN_MODES), None for the default
 
 
 def take_options(fn: Callable) -> Callable:
-    """--rate, --labels, --units, --allow-truncated and --text, handed to the command as one
-    :class:`TakeReading` argument named ``reading``."""
+    """--rate, --labels, --units, --allow-truncated, --text and --listen, handed to the command
+    as one :class:`TakeReading` argument named ``reading``."""
 
     @functools.wraps(fn)
     def command(*args, take_rate: float | None, labels: str | None, units: str | None, allow_truncated: bool,
-                text: str | None, **kwargs):
+                text: str | None, listen: str | None, **kwargs):
         words = read_words(text) if text is not None else None
-        return fn(*args, reading=TakeReading(take_rate, labels, units, allow_truncated, words), **kwargs)
+        return fn(*args, reading=TakeReading(take_rate, labels, units, allow_truncated, words, listen), **kwargs)
 
+    command = LISTEN(command)
     command = click.option("--text", default=None, metavar="WORDS|@FILE",
                            help="A voice (a sound file) only: the words spoken (or @FILE holding them), aligned "
                                 "with the sound, which places each mouth shape far more surely than the phones "
@@ -152,6 +154,14 @@ def take_options(fn: Callable) -> Callable:
                                 "them from a file (one per line or comma-separated).")(command)
     return click.option("--rate", "take_rate", default=None, type=FiniteFloat(), metavar="HZ",
                         help="CSV only: frame rate of a table without a time column.")(command)
+
+
+#: How a voice is heard; shared by every command that reads one.
+LISTEN = click.option(
+    "--listen", default=None, type=click.Choice(("sound", "phones")),
+    help="A voice only: how to hear it without --text. 'sound' (the default) reads how open and how round "
+         "the mouth is from the sound's spectrum, in any language; 'phones' recognises US-English phones "
+         "(pocketsphinx), which names each shape but follows the jaw less well.")
 
 
 def _at_file(value: str, option: str, what: str) -> str:
@@ -200,7 +210,8 @@ def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | Non
             layout = load_mapping(mapping).markerset
         markerset = load_markerset(layout) if layout is not None else None
     return load_take(path, rate=reading.rate, labels=names, units=reading.units,
-                     allow_truncated=reading.allow_truncated, markerset=markerset, words=reading.words)
+                     allow_truncated=reading.allow_truncated, markerset=markerset, words=reading.words,
+                     listen=reading.listen)
 
 
 FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from toonface.cli_options import FiniteFloat
+from toonface.cli_options import LISTEN, FiniteFloat
 
 #: What ``lipsync -o`` writes, by suffix.
 CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhubarb's XML",
@@ -23,15 +23,18 @@ CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhub
               help="With a .dat output: the frame rate its frame numbers count at.")
 @click.option("--text", default=None, metavar="WORDS|@FILE",
               help="The words spoken (or @FILE holding them): aligned with the sound, which places each phone "
-                   "much more surely than recognising phones freely [default: a phone loop, no words needed].")
-def lipsync(voice: str, output: str, dat_fps: float, text: str | None) -> None:
+                   "and opened as wide as the sound says [default: no words needed, see --listen].")
+@LISTEN
+def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: str | None) -> None:
     """Mouth shapes from a voice: a sound file (WAV, MP3, OGG, anything FFmpeg decodes) or the
-    sound of a video, recognised offline (pocketsphinx, US English), as Rhubarb Lip Sync's
-    mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and the like. The cues
-    read back as a take: `toonface map cues.tsv` gives the motors `toonface map VOICE` gives.
+    sound of a video, heard offline in any language (or, with --text, its English words aligned),
+    as Rhubarb Lip Sync's mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and
+    the like. The cues read back as a take: `toonface map cues.tsv` gives the motors
+    `toonface map VOICE` gives.
 
-    Silence is rest (X) whatever was heard in it; a vowel's shape comes a little early, no shape
-    is held for less than 30 ms, and a pause under 0.2 s keeps the shape before it.
+    Silence is rest (X) whatever was heard in it, and the blend between shapes reaches 50 ms
+    either side. From phones, a vowel's shape comes a little early, no shape is held for less
+    than 30 ms, and a pause under 0.2 s keeps the shape before it.
     """
     from capture.cues import cues_text
     from capture.voice import FRAME_RATE, hear_voice, mouth_cues
@@ -43,14 +46,16 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None) -> None:
         raise click.BadParameter(f"{output}: expected {' or '.join(CUE_FORMATS)} ({', '.join(CUE_FORMATS.values())})",
                                  param_hint="--output")
     words = read_words(text) if text is not None else None
-    heard = hear_voice(voice, words)
+    heard = hear_voice(voice, words, listen or "sound")
     cues = mouth_cues(heard.shapes)
     duration = len(heard.shapes) / FRAME_RATE
     with atomic_path(output) as tmp:
         tmp.write_text(cues_text(cues, suffix, voice, words, dat_fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
     click.echo(f"wrote {output}: {len(cues)} mouth cues over {duration:.2f} s ({shaped} speaking), "
-               + ("aligned with the words given" if words else "from the phones heard (no words given)"))
+               + ("the words given aligned, opened as the sound says" if words else
+                  "from the phones heard (no words given)" if listen == "phones" else
+                  "from the sound's spectrum (no words given)"))
 
 
 VOICE_COMMANDS = (lipsync,)

@@ -36,8 +36,8 @@ def test_map_moves_the_mouth_from_a_voice_and_rests_in_its_silence(voice, tmp_pa
     assert "units: none (no markers" in err and "where nobody speaks" in err
     track = load_track(tmp_path / "m.csv")
     mb = track.values[:, MOTOR_CODES.index("MB")]
-    rest = float(np.median(mb[:60]))  # the first 0.6 s is silence
-    assert np.ptp(mb[:60]) < 0.01 and mb[100:200].max() > rest + 0.3  # shut in silence, open in speech
+    rest = float(np.median(mb[:45]))  # room noise until 0.45 s; a breath at 0.54 s parts the lips (the video's too)
+    assert np.ptp(mb[:45]) < 0.01 and mb[100:200].max() > rest + 0.3  # shut in silence, open in speech
     assert abs(mb[-20:].mean() - rest) < 0.02  # and back at rest after the last word
     corners = track.values[:, [MOTOR_CODES.index("MLH"), MOTOR_CODES.index("MRH")]]
     assert np.allclose(corners[:, 0], corners[:, 1]) and np.ptp(corners[:, 0]) > 0.1  # wide and round together
