@@ -32,6 +32,8 @@ from common import InputError
 if TYPE_CHECKING:
     from capture.videoio import VideoInfo
 
+#: A sound file is a voice (capture.voice.SOUND_SUFFIXES, kept here so that listing kinds imports no sound code).
+SOUND_SUFFIXES = frozenset({".wav", ".mp3", ".ogg", ".oga", ".opus", ".flac", ".m4a", ".aac", ".wma"})
 VIDEO_SUFFIXES = frozenset({".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg", ".mpeg", ".m4v"})
 
 
@@ -135,6 +137,8 @@ KINDS: dict[str, SourceKind] = {
     "camera": SourceKind("capture.face_sources:camera_source"),  # camera:N, or camera:VIDEO played as one
     "vmc": SourceKind("capture.vmc:vmc_source"),  # vmc:HOST:PORT, a face-tracking app over the VMC protocol
     "openseeface": SourceKind("capture.openseeface:openseeface_source"),  # openseeface:HOST:PORT, its tracker
+    "voice": SourceKind("capture.voice_live:voice_source",  # voice:mic, voice:mic:DEVICE, or a sound file
+                        lambda spec: Path(spec).suffix.lower() in SOUND_SUFFIXES),
     "video": SourceKind("capture.sources:video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
     "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
 }

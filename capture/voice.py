@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from capture.sources import SOUND_SUFFIXES as _SOUND_SUFFIXES
 from capture.take import Take
 from common import InputError
 
@@ -239,7 +240,7 @@ def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:
 
 
 #: The suffixes read as a voice (a take of mouth shapes), not a marker take.
-SOUND_SUFFIXES = frozenset({".wav", ".mp3", ".ogg", ".oga", ".opus", ".flac", ".m4a", ".aac", ".wma"})
+SOUND_SUFFIXES = _SOUND_SUFFIXES
 
 
 @dataclass(frozen=True, eq=False)

@@ -85,12 +85,15 @@ class LiveMapper:
         self.learner: RangeLearner | None = None
         self._plan: MotorPlan | None = None  # motor_values' arrays, for the profile it was made for
         self._plan_for: Profile | None = None
-        references = head_references(labels, markerset)
-        if not references:
-            raise ValueError(str(references))
         self.mapping, self.profile, self.rate = mapping, profile, rate
         self.columns = {label: list(labels).index(name) for label, name in markerset.match(labels).items()}
-        self.rows, self.shape = references
+        self.rows: list[int] = []
+        self.shape = np.empty((0, 3))
+        if markerset.labels:  # a set with markers has a head to find; a voice has none (nothing to stabilise)
+            references = head_references(labels, markerset)
+            if not references:
+                raise ValueError(str(references))
+            self.rows, self.shape = references
         self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
         self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
         self.spikes = SpikeFilter() if spikes else None
@@ -150,6 +153,8 @@ class LiveMapper:
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
         """Head-frame markers ``(M, 3)``, the pose and whether there is one; spikes removed
         (but from a tracker's own head where the mapping reads no markers: nothing to remove)."""
+        if not self.rows:  # no markers, no head: the frame is its own head frame
+            return positions.copy(), np.eye(3), np.zeros(3), True
         given = head is not None and np.isfinite(head).all() and np.isfinite(positions[self.rows]).all()
         if given:  # the tracker's turn; the references' shift where it leaves them
             rotation = np.asarray(head, dtype=float)[None]

@@ -40,6 +40,7 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     from the first ``rest_seconds``. Where the marker set has no typical profile, a take's own first
     :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
     mapping = mapping or source.meta.get("mapping")  # a bridge names the mapping its data needs
+    rest_seconds = source.meta.get("rest_seconds", rest_seconds)  # a voice knows its rest: silence
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate,
                       channels=np.zeros((1, len(source.channel_names))), channel_names=source.channel_names)
     chosen, markerset = choose_mapping(probe_take, mapping)
@@ -48,7 +49,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     if profile is None and not any(rule.normalise == "profile" for rule in chosen.rules):
         profile = Profile(markerset.name, {}, np.eye(3))  # scores, degrees: no performer's range to measure
         if notes is not None:
-            notes.append(f"mapping {chosen.name} reads no performer's ranges: rest from the first {rest_seconds:g} s")
+            notes.append(f"mapping {chosen.name} reads no performer's ranges: "
+                         + (f"rest from the first {rest_seconds:g} s" if rest_seconds else "its rest is silence"))
     elif profile is None and source.recording is None:  # a camera: rest from its first second, ranges as it runs
         profile, learn = Profile(markerset.name, {}, np.eye(3)), LEARN_SECONDS
         if notes is not None:
