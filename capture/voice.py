@@ -79,12 +79,18 @@ class Phone:
 def decode_voice(path: str | os.PathLike) -> np.ndarray:
     """The sound of ``path`` (a sound file or a video with sound), mono, 16 kHz, float32 in
     -1..1; an :class:`~common.InputError` when it has none."""
+    return decode_voice_at(path)[0]
+
+
+def decode_voice_at(path: str | os.PathLike) -> tuple[np.ndarray, float]:
+    """:func:`decode_voice`, and where the sound starts on the clock of the file's first video
+    frame (seconds; 0 for a sound file): the clock a face tracked in the same video keeps."""
     from common.sound import decode_mono
 
-    samples, _, _ = decode_mono(Path(path), SAMPLE_RATE)
+    samples, _, start = decode_mono(Path(path), SAMPLE_RATE)
     if not len(samples):
         raise InputError("no sound in it", path)
-    return samples
+    return samples, start
 
 
 def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
@@ -245,12 +251,14 @@ SOUND_SUFFIXES = _SOUND_SUFFIXES
 
 @dataclass(frozen=True, eq=False)
 class Heard:
-    """What a voice says: its sound (16 kHz mono, ``(n,)``), the phones heard, and the mouth
-    shape of each 10 ms frame (``shapes`` ``(frames,)``, indices into :data:`VISEMES`)."""
+    """What a voice says: its sound (16 kHz mono, ``(n,)``), the phones heard, the mouth
+    shape of each 10 ms frame (``shapes`` ``(frames,)``, indices into :data:`VISEMES`), and
+    where the sound starts on its video's clock (``start``, seconds; 0 for a sound file)."""
 
     samples: np.ndarray
     phones: list[Phone]
     shapes: np.ndarray
+    start: float = 0.0
 
 
 #: How a voice is heard (``--listen``): ``sound`` its spectrum alone, in any language
@@ -268,10 +276,10 @@ def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
 
     if listen not in LISTEN_MODES:
         raise InputError(f"unknown way to listen {listen!r} (known: {', '.join(LISTEN_MODES)})", path)
-    samples = decode_voice(path)
+    samples, start = decode_voice_at(path)
     frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
     if listen == "sound" and text is None:
-        return Heard(samples, [], sound_shapes(samples, frames))
+        return Heard(samples, [], sound_shapes(samples, frames), start)
     try:
         phones = recognise(samples, text)
     except InputError as exc:
@@ -279,7 +287,7 @@ def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     shapes = shape_sequence(phones, frames, speaking(samples, frames))
     if text is not None:
         shapes = with_opening(shapes, sound_shapes(samples, frames))
-    return Heard(samples, phones, shapes)
+    return Heard(samples, phones, shapes, start)
 
 
 def with_opening(shapes: np.ndarray, heard: np.ndarray) -> np.ndarray:
@@ -307,7 +315,8 @@ def with_opening(shapes: np.ndarray, heard: np.ndarray) -> np.ndarray:
 def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Take:
     """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
     ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
-    level, ``sound_level`` (0..1), by which a rest window is chosen in silence."""
+    level, ``sound_level`` (0..1), by which a rest window is chosen in silence. Times are on
+    the clock of a video's first frame (a video's sound may start before or after it)."""
     heard = hear_voice(path, text, listen)
     frames, samples = len(heard.shapes), heard.samples
     curves = shape_curves(heard.shapes)
@@ -317,6 +326,7 @@ def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     level = level / max(float(level.max()), 1e-9)
     channels = np.column_stack([curves, level])
     names = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
-    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, channels=channels, channel_names=names,
+    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, times=heard.start + np.arange(frames) / FRAME_RATE,
+                channels=channels, channel_names=names,
                 meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones),
                       "listen": "words" if text else listen})

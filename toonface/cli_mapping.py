@@ -237,6 +237,24 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     _report(track, Path(take).name, as_json)
 
 
+def _fill_from_voice(track, loaded, video: str, face, mapping: str | None, mirror: bool, as_json: bool):
+    """``track`` with its mouth from ``video``'s voice where the tracked face lost it (said aloud)."""
+    from capture.voice import read_voice
+    from mapping.voicefill import MOUTH, fill_from_voice, lost_mouth
+    from mapping.workflow import choose_mapping
+    from toonface.pipeline import map_onto_face
+
+    chosen, markerset = choose_mapping(loaded, mapping)
+    lost = lost_mouth(loaded, chosen, markerset)
+    if not lost.any():
+        return track
+    voice = read_voice(video)
+    filled, frames = fill_from_voice(track, lost, map_onto_face(voice, "first", face, mirror), voice.times)
+    click.echo(f"note: the mouth ({', '.join(MOUTH)}) from the voice in {frames} frames where the face's mouth was "
+               f"lost ({int(lost.any(axis=1).sum())} frames; --no-voice-fill keeps the face's own hold)", err=True)
+    return filled
+
+
 def _report(track, take: str, as_json: bool) -> None:
     """The take's report (:mod:`mapping.report`): as text on stderr, or as JSON on stdout."""
     import json
@@ -264,11 +282,14 @@ def _report(track, take: str, as_json: bool) -> None:
               help="Output rate [default: the take's].")
 @MIRROR
 @click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")
+@click.option("--voice-fill/--no-voice-fill", default=True, show_default=True,
+              help="A video TAKE with sound: where the face's mouth is lost (turned away, covered, out of the "
+                   "frame), the voice moves the mouth (the voice mapping, crossfaded over 0.1 s).")
 @_JSON
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             side_by_side: bool, as_json: bool, reading: TakeReading) -> None:
+             side_by_side: bool, voice_fill: bool, as_json: bool, reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
     (a sound file: .wav .mp3 .ogg ...), whose mouth shapes move the mouth (the voice mapping)
@@ -293,6 +314,8 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
         loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
+    if video and voice_fill and has_audio(take):
+        track = _fill_from_voice(track, loaded, take, face_obj, mapping, mirror, as_json)
     bar = progress("render")(track.frames)
     voice = Path(take).suffix.lower() in SOUND_SUFFIXES
     fps = fps or (30.0 if voice else None)  # a voice's shapes come at 100 Hz: a movie need not
