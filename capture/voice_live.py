@@ -70,9 +70,10 @@ def played(samples: np.ndarray, clock: Callable[[], float] = time.perf_counter,
         yield samples[k:k + step]
 
 
-def microphone(device: str = "") -> Iterator[np.ndarray]:
+def microphone(device: str = "") -> tuple[Iterator[np.ndarray], Callable[[], None]]:
     """Sound from a microphone (PyAV: PulseAudio's default input, else ALSA's ``default``, or the
-    ALSA ``device`` named), 16 kHz mono float32 pieces as the device delivers them.
+    ALSA ``device`` named), opened now: 16 kHz mono float32 pieces as the device delivers them,
+    and what closes it.
 
     Raises
     ------
@@ -91,20 +92,22 @@ def microphone(device: str = "") -> Iterator[np.ndarray]:
             errors.append(f"{driver} {name}: {exc}")
     if container is None:
         raise InputError(f"no microphone could be opened ({'; '.join(errors)})", f"voice:mic:{device}".rstrip(":"))
-    resampler = av.AudioResampler(format="flt", layout="mono", rate=SAMPLE_RATE)
-    try:
-        for frame in container.decode(audio=0):
+    opened = container
+
+    def pieces() -> Iterator[np.ndarray]:
+        resampler = av.AudioResampler(format="flt", layout="mono", rate=SAMPLE_RATE)
+        for frame in opened.decode(audio=0):
             for piece in resampler.resample(frame):
                 yield piece.to_ndarray().reshape(-1).astype(np.float32)
-    finally:
-        container.close()
+    return pieces(), opened.close
 
 
 def voice_source(target: str, clock: Callable[[], float] = time.perf_counter,
                  sleep: Callable[[float], None] = time.sleep, **_: Any) -> Source:
     """A live voice (see the module docstring): ``target`` is ``mic``, ``mic:DEVICE`` or a sound file."""
+    release = None
     if target == "mic" or target.startswith("mic:"):
-        chunks, name = microphone(target[4:]), "microphone"
+        (chunks, release), name = microphone(target[4:]), "microphone"
     else:
         path = Path(target)
         if not path.is_file():
@@ -112,4 +115,5 @@ def voice_source(target: str, clock: Callable[[], float] = time.perf_counter,
         chunks, name = played(decode_voice(path), clock, sleep), path.name
     wait_ms = 1000 * (2 * LOOKAHEAD * HOP + WINDOW / 2 + CHUNK_S * SAMPLE_RATE) / SAMPLE_RATE
     meta = {"source": "voice", "file": name, "listen": "sound", "rest_seconds": 0.0, "lookahead_ms": wait_ms}
-    return Source((), FRAME_RATE, voice_frames(chunks), name, live=True, meta=meta, channel_names=CHANNELS)
+    return Source((), FRAME_RATE, voice_frames(chunks), name, live=True, meta=meta, channel_names=CHANNELS,
+                  release=release)
