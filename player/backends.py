@@ -36,8 +36,9 @@ class FrameRenderer(Protocol):
 
     size: tuple[int, int]
 
-    def render(self, geometry: Geometry) -> np.ndarray:
-        """One frame, RGB ``uint8`` ``(height, width, 3)``, row 0 at the top."""
+    def render(self, geometry: Geometry, alpha: bool = False) -> np.ndarray:
+        """One frame, RGB ``uint8`` ``(height, width, 3)``, row 0 at the top; straight RGBA
+        ``(height, width, 4)`` with ``alpha``."""
         ...
 
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from player.alpha import straight
 from toon import Geometry, fit_viewbox
 from toon.curves import MITER_LIMIT
 
@@ -33,6 +34,8 @@ from toon.curves import MITER_LIMIT
 MOVE_TO, LINE_TO, CLOSE_PATH = 0, 1, 3
 #: cairo_fill_rule_t, cairo_antialias_t
 EVEN_ODD, ANTIALIAS_NONE, ANTIALIAS_DEFAULT = 1, 1, 0
+#: cairo_operator_t
+OPERATOR_SOURCE, OPERATOR_OVER = 1, 2
 
 
 class CairoRenderer:
@@ -62,7 +65,7 @@ class CairoRenderer:
             raise ValueError(f"frame size must be 1..8192 pixels per side, got {self.size}")
         width, height = self.size
         self._ffi, self._lib = cairocffi.ffi, cairocffi.cairo
-        self._surface = cairocffi.ImageSurface(cairocffi.FORMAT_RGB24, width, height)
+        self._surface = cairocffi.ImageSurface(cairocffi.FORMAT_ARGB32, width, height)  # premultiplied
         self._context = cairocffi.Context(self._surface)
         self._cr = self._context._pointer
         lib = self._lib
@@ -72,14 +75,15 @@ class CairoRenderer:
         lib.cairo_set_antialias(self._cr, ANTIALIAS_DEFAULT if samples > 1 else ANTIALIAS_NONE)
         stride = self._surface.get_stride()
         data = self._ffi.buffer(lib.cairo_image_surface_get_data(self._surface._pointer), height * stride)
-        self._bgrx = np.ndarray((height, stride // 4, 4), np.uint8, buffer=data)[:, :width]  # Cairo's RGB24
+        self._bgra = np.ndarray((height, stride // 4, 4), np.uint8, buffer=data)[:, :width]  # Cairo's ARGB32
         self._path = self._ffi.new("cairo_path_t *")
         self._layout_key: tuple[tuple[int, bool], ...] | None = None
         self._layout: tuple[np.ndarray, np.ndarray, list[tuple[int, int]]] = (np.zeros((0, 2)), np.zeros(0, int), [])
         self._closed = False
 
-    def render(self, geometry: Geometry) -> np.ndarray:
-        """Draw one frame; returns RGB ``uint8`` of shape ``(height, width, 3)``, row 0 at the top."""
+    def render(self, geometry: Geometry, alpha: bool = False) -> np.ndarray:
+        """Draw one frame; returns RGB ``uint8`` of shape ``(height, width, 3)``, row 0 at the top,
+        or with ``alpha`` straight RGBA ``(height, width, 4)`` (:mod:`player.alpha`)."""
         if self._closed:
             raise RuntimeError("renderer is closed")
         lib, cr = self._lib, self._cr
@@ -87,8 +91,10 @@ class CairoRenderer:
         scale, ox, oy = fit_viewbox(geometry.viewbox, self.size)
         x0, y0 = ox - geometry.viewbox[0] * scale, oy + geometry.viewbox[3] * scale
         data, bounds = self._outlines(geometry, scale, x0, y0)
-        lib.cairo_set_source_rgb(cr, *geometry.background[:3])
+        lib.cairo_set_operator(cr, OPERATOR_SOURCE)  # the background replaces the last frame, alpha too
+        lib.cairo_set_source_rgba(cr, *geometry.background)
         lib.cairo_paint(cr)
+        lib.cairo_set_operator(cr, OPERATOR_OVER)
         groups: dict[int, list[np.ndarray]] = {}  # mask group -> its holes' path data so far
         for item, (start, stop) in zip(items, bounds, strict=True):
             outline = data[start:stop]  # closed where the item is
@@ -125,7 +131,9 @@ class CairoRenderer:
             if clipped:
                 lib.cairo_restore(cr)
         lib.cairo_surface_flush(self._surface._pointer)
-        return cv2.cvtColor(self._bgrx, cv2.COLOR_BGRA2RGB)
+        if alpha:
+            return straight(cv2.cvtColor(self._bgra, cv2.COLOR_BGRA2RGBA))
+        return cv2.cvtColor(self._bgra, cv2.COLOR_BGRA2RGB)
 
     def _outlines(self, geometry: Geometry, scale: float, x0: float, y0: float
                   ) -> tuple[np.ndarray, list[tuple[int, int]]]:
@@ -165,7 +173,7 @@ class CairoRenderer:
         if self._closed:
             return
         self._closed = True
-        del self._bgrx
+        del self._bgra
         self._context = None
         self._surface.finish()
 

@@ -35,11 +35,13 @@ def render_track(track: MotorTrack, rig: FaceRig, renderer: FrameRenderer, sink:
     """Render every frame of ``track`` on ``rig``'s face into ``sink``; returns the frame count.
 
     ``progress`` is called with the number of frames just finished (1) after each frame. The sink
-    is not closed here: the caller decides whether the output is complete.
+    is not closed here: the caller decides whether the output is complete. A sink that keeps
+    alpha (``sink.alpha``) gets straight RGBA frames where the face's background is transparent.
     """
     values = resample(track, fps or track.rate)
+    alpha = bool(getattr(sink, "alpha", False)) and rig.face.background[3] < 1.0  # transparency kept
     for row in values:
-        sink.write(renderer.render(rig.geometry(row)))
+        sink.write(renderer.render(rig.geometry(row), alpha) if alpha else renderer.render(rig.geometry(row)))
         if progress is not None:
             progress(1)
     return len(values)

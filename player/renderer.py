@@ -20,6 +20,7 @@ import cv2
 import moderngl
 import numpy as np
 
+from player.alpha import premultiplied_clear, straight
 from player.layout import CLEAR_DEPTH, CORNERS, DrawLayout, FramePlanner
 from toon import Geometry, fit_viewbox
 from toon.curves import MITER_LIMIT
@@ -185,15 +186,19 @@ class Renderer:
                                        2 * (oy + viewbox[3] * scale) / height - 1)
         self._viewbox = viewbox
 
-    def render(self, geometry: Geometry) -> np.ndarray:
-        """Draw one frame; returns RGB ``uint8`` of shape ``(height, width, 3)``, row 0 at the top."""
+    def render(self, geometry: Geometry, alpha: bool = False) -> np.ndarray:
+        """Draw one frame; returns RGB ``uint8`` of shape ``(height, width, 3)``, row 0 at the top,
+        or with ``alpha`` straight RGBA ``(height, width, 4)`` (a transparent background stays
+        transparent; :mod:`player.alpha`)."""
         if self._closed:
             raise RuntimeError("renderer is closed")
         layout, points = self.planner.plan(geometry)
         self.set_view(geometry.viewbox)
         self.fbo.use()
-        self.fbo.clear(*geometry.background[:3], 1.0, depth=CLEAR_DEPTH)
-        self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        self.fbo.clear(*premultiplied_clear(geometry.background), depth=CLEAR_DEPTH)
+        # colour as before; coverage adds up in alpha, so the framebuffer holds premultiplied RGBA
+        self.ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA,  # type: ignore[assignment]
+                               moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA)  # moderngl's stub knows 2 only
         if layout.runs:
             self._upload(layout, points)
         for (mode, blend), first, count in layout.runs:
@@ -201,7 +206,7 @@ class Renderer:
             self.vao.render(moderngl.LINES_ADJACENCY, vertices=count * CORNERS, first=first * CORNERS)
         self.fbo.depth_mask = True
         self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
-        return self.read()
+        return self.read(alpha)
 
     def _set_state(self, mode: str, blend: bool) -> None:
         """Depth as the mask of A1.2.2 (see the module docstring); blending only where needed.
@@ -222,8 +227,9 @@ class Renderer:
         else:
             self.ctx.disable(moderngl.BLEND)
 
-    def read(self) -> np.ndarray:
-        """Resolve and read back the framebuffer: RGB ``uint8`` ``(height, width, 3)``, row 0 on top.
+    def read(self, alpha: bool = False) -> np.ndarray:
+        """Resolve and read back the framebuffer: RGB ``uint8`` ``(height, width, 3)``, row 0 on top
+        (straight RGBA ``(height, width, 4)`` with ``alpha``).
 
         Mesa reads RGBA as a plain copy but converts pixel by pixel to RGB (about 1 ms more at
         512x512 on llvmpipe), so RGBA is read into a buffer kept for it and OpenCV drops alpha.
@@ -232,6 +238,8 @@ class Renderer:
         if self.resolve_fbo is not self.fbo:
             self.ctx.copy_framebuffer(self.resolve_fbo, self.fbo)
         self.resolve_fbo.read_into(self._rgba, components=4)
+        if alpha:
+            return straight(self._rgba)
         return cv2.cvtColor(self._rgba, cv2.COLOR_RGBA2RGB)
 
     def close(self) -> None:

@@ -13,13 +13,16 @@ import shutil
 import sys
 from fractions import Fraction
 from pathlib import Path
-from typing import BinaryIO, Protocol
+from typing import TYPE_CHECKING, BinaryIO, Protocol
 
 import av
 import cv2
 import numpy as np
 
 from common import InputError, atomic_dir, atomic_path, check_folder
+
+if TYPE_CHECKING:
+    from player.alpha_sinks import AlphaVideoSink
 
 
 class FrameWriter(Protocol):
@@ -271,15 +274,19 @@ class LiveMp4Sink(_KeptOrDropped):
 
 
 class PngSink(_AtomicSink):
-    """A folder of ``frame_000000.png`` files (replaced whole if it exists)."""
+    """A folder of ``frame_000000.png`` files (replaced whole if it exists); RGBA where the
+    frames have alpha (a transparent background)."""
+
+    alpha = True
 
     def __init__(self, directory: str | os.PathLike) -> None:
         super().__init__(atomic_dir(directory), directory)
 
     def write(self, frame: np.ndarray) -> None:
-        """Write one RGB frame as the next PNG."""
+        """Write one RGB (or straight RGBA) frame as the next PNG."""
         path = self._tmp / f"frame_{self.frames:06d}.png"
-        if not cv2.imwrite(str(path), np.ascontiguousarray(frame[:, :, ::-1])):
+        order = [2, 1, 0, 3][:frame.shape[2]]  # OpenCV writes BGR(A)
+        if not cv2.imwrite(str(path), np.ascontiguousarray(frame[:, :, order])):
             raise OSError(f"cannot write {path}")
         self.frames += 1
 
@@ -348,16 +355,34 @@ class RawSink:
         self.close()
 
 
+#: What a picture output can be, by suffix, for messages (a folder has none: PNG frames).
+PICTURE_SUFFIXES = {".mp4": "an H.264 MP4", ".webm": "a WebM (VP9 with alpha)",
+                    ".mov": "a QuickTime .mov (ProRes 4444 with alpha)", ".apng": "an animated PNG",
+                    ".webp": "an animated WebP"}
+
+
 def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int],
-              live: bool = False) -> Mp4Sink | LiveMp4Sink | PngSink | RawSink:
+              live: bool = False) -> Mp4Sink | LiveMp4Sink | PngSink | RawSink | AlphaVideoSink:
     """An MP4 sink for ``*.mp4`` (``live``: one that a kill does not lose, :class:`LiveMp4Sink`),
-    raw RGB on standard output for ``-``, otherwise a PNG folder."""
+    a moving picture with alpha for ``.webm .mov .apng .webp`` (:mod:`player.alpha_sinks`), raw
+    RGB on standard output for ``-``, otherwise a PNG folder."""
+    from player.alpha_sinks import ALPHA_FORMATS, AlphaVideoSink
+
     if str(target) == "-":
         return RawSink()
     target = Path(target)
-    if target.suffix.lower() == ".mp4":
+    suffix = target.suffix.lower()
+    if suffix == ".mp4":
         return LiveMp4Sink(target, fps, size) if live else Mp4Sink(target, fps, size)
+    if suffix in ALPHA_FORMATS:
+        return AlphaVideoSink(target, fps, size)
     if target.suffix:
-        raise InputError(f"unknown output type {target.suffix!r}: give a .mp4 file, a folder for PNG frames "
-                         "or - for raw RGB on standard output", target)
+        known = ", ".join(f"{k} ({v})" for k, v in PICTURE_SUFFIXES.items())
+        raise InputError(f"unknown output type {target.suffix!r}: give {known}, a folder for PNG frames or - for "
+                         "raw RGB on standard output", target)
     return PngSink(target)
+
+
+def keeps_alpha(sink: object) -> bool:
+    """Whether ``sink`` stores transparency (a PNG folder, WebM, ProRes, APNG, WebP; not MP4 or raw RGB)."""
+    return bool(getattr(sink, "alpha", False))

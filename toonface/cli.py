@@ -22,7 +22,18 @@ from common.memory import keep_freed_memory
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_layout import LAYOUT_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
-from toonface.cli_options import FACE, SIZE, FiniteFloat, TakeReading, parse_size, progress, read_take, take_options
+from toonface.cli_options import (
+    BACKGROUND,
+    FACE,
+    SIZE,
+    FiniteFloat,
+    TakeReading,
+    parse_size,
+    progress,
+    read_take,
+    take_options,
+    with_background,
+)
 from toonface.cli_player import PLAYER_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
 from toonface.cli_studio import STUDIO_COMMANDS
@@ -241,19 +252,24 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 @cli.command("render")
 @click.argument("motors", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(),
-              help="A .mp4 file, a folder for PNG frames, or - for raw RGB frames on standard output.")
+              help="A .mp4 file (H.264); with alpha, .webm (VP9), .mov (ProRes 4444), .apng or .webp; a folder for "
+                   "PNG frames; or - for raw RGB frames on standard output.")
 @FACE
 @SIZE
 @click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
               help="Output rate [default: the track's].")
-def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None) -> None:
-    """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face."""
+@BACKGROUND
+def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None) -> None:
+    """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face.
+
+    With --background none (or a face whose background is transparent) the picture keeps its
+    alpha: composite it over anything in an editor, a compositor or a web page."""
     from toon import load_face, load_track
     from toon.animation import load_animation
     from toonface.pipeline import render
 
     dims = parse_size(size)
-    face_obj = load_face(face)
+    face_obj = with_background(load_face(face), background)
     if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
         track = load_animation(motors).sample(fps or 30.0, face_obj.neutral())
     else:

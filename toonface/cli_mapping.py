@@ -11,6 +11,7 @@ import click
 from click.core import ParameterSource
 
 from toonface.cli_options import (
+    BACKGROUND,
     FACE,
     MIRROR,
     SIZE,
@@ -23,6 +24,7 @@ from toonface.cli_options import (
     progress,
     read_take,
     take_options,
+    with_background,
 )
 
 if TYPE_CHECKING:
@@ -282,6 +284,7 @@ def _report(track, take: str, as_json: bool) -> None:
               help="Output rate [default: the take's].")
 @MIRROR
 @click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")
+@BACKGROUND
 @click.option("--voice-fill/--no-voice-fill", default=True, show_default=True,
               help="A video TAKE with sound: where the face's mouth is lost (turned away, covered, out of the "
                    "frame), the voice moves the mouth (the voice mapping, crossfaded over 0.1 s).")
@@ -289,7 +292,8 @@ def _report(track, take: str, as_json: bool) -> None:
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             side_by_side: bool, voice_fill: bool, as_json: bool, reading: TakeReading) -> None:
+             side_by_side: bool, background: str | None, voice_fill: bool, as_json: bool,
+             reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
     (a sound file: .wav .mp3 .ogg ...), whose mouth shapes move the mouth (the voice mapping)
@@ -302,7 +306,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     from toonface.pipeline import map_onto_face, render, render_with_sound
 
     window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
-    face_obj = load_face(face)
+    face_obj = with_background(load_face(face), background)
     video = Path(take).suffix.lower() in VIDEO_SUFFIXES
     if side_by_side and not video:
         raise click.BadParameter("needs a video TAKE to show beside the cartoon", param_hint="--side-by-side")
@@ -319,15 +323,19 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     bar = progress("render")(track.frames)
     voice = Path(take).suffix.lower() in SOUND_SUFFIXES
     fps = fps or (30.0 if voice else None)  # a voice's shapes come at 100 Hz: a movie need not
-    sound = (video and has_audio(take)) or voice
+    from player.mux import SOUND_CONTAINERS
+
+    sound = ((video and has_audio(take)) or voice) and (Path(output).suffix.lower() in SOUND_CONTAINERS)
     if video or voice:  # the performer's own voice goes with the cartoon
         frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0)), dims,
                                    fps, progress=bar, side_by_side=side_by_side)
     else:
         frames = render(track, face_obj, output, dims, fps, progress=bar)
     width = dims[0] + (beside_width(take, dims[1]) if side_by_side else 0)
-    click.echo(f"wrote {output} ({frames} frames, {width}x{dims[1]}"
-               f"{', with its sound' if sound else ', no sound in the video' if video else ''})", err=as_json)
+    heard = (video or voice) and has_audio(take)
+    said = ", with its sound" if sound else ", no sound: the format carries none" if heard else (
+        ", no sound in the video" if video else "")
+    click.echo(f"wrote {output} ({frames} frames, {width}x{dims[1]}{said})", err=as_json)
     _report(track, Path(take).name, as_json)
 
 

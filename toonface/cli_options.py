@@ -8,7 +8,7 @@ import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -212,6 +212,30 @@ def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | Non
     return load_take(path, rate=reading.rate, labels=names, units=reading.units,
                      allow_truncated=reading.allow_truncated, markerset=markerset, words=reading.words,
                      listen=reading.listen)
+
+
+BACKGROUND = click.option(
+    "--background", default=None, metavar="none|#RRGGBB[AA]",
+    help="The picture's background instead of the face's own: 'none' for transparent (kept by .webm, .mov, "
+         ".apng, .webp and PNG folders; antialiased edges without a dark fringe), or a colour.")
+
+
+def with_background(face: Any, value: str | None) -> Any:
+    """``face`` (a :class:`toon.Face`) with the ``--background`` given (``none``: transparent)."""
+    import dataclasses
+    import re
+
+    if value is None:
+        return face
+    if value.lower() in ("none", "transparent"):
+        return dataclasses.replace(face, background=(*face.background[:3], 0.0))
+    match = re.fullmatch(r"#?([0-9a-fA-F]{6})([0-9a-fA-F]{2})?", value.strip())
+    if match is None:
+        raise click.BadParameter(f"expected none or a colour #RRGGBB or #RRGGBBAA, got {value!r}",
+                                 param_hint="--background")
+    rgb, alpha = match.group(1), match.group(2)
+    return dataclasses.replace(face, background=(int(rgb[0:2], 16) / 255, int(rgb[2:4], 16) / 255,
+                                                 int(rgb[4:6], 16) / 255, int(alpha, 16) / 255 if alpha else 1.0))
 
 
 FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",

@@ -12,12 +12,13 @@ from pathlib import Path
 import numpy as np
 
 from capture import SyntheticTake, Take, save_take, synthesize
-from common.errors import Interrupted, Terminated
+from common.errors import InputError, Interrupted, Terminated
 from mapping import CleanSettings, Mapping, Profile, map_take
 from player import render_track
 from player.backends import open_renderer
 from player.beside import SideBySide, beside_width
 from player.offline import frame_count
+from player.sinks import keeps_alpha
 from toon import Face, FaceRig, MotorTrack, load_face, save_track
 from toonface.outputs import Outputs
 
@@ -46,8 +47,9 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
            fps: float | None = None, samples: int = 4, progress: Callable[[int], None] | None = None,
            beside: str | os.PathLike | None = None, beside_start: float = 0.0,
            partial_as: str | os.PathLike | None = None) -> int:
-    """Render ``track`` on ``face`` to an MP4 (``*.mp4``), a PNG folder or raw RGB (``-``);
-    returns frames written.
+    """Render ``track`` on ``face`` to an MP4 (``*.mp4``), a WebM, ProRes .mov, APNG or WebP
+    (transparent where the face's background is), a PNG folder or raw RGB (``-``); returns
+    frames written.
 
     The output appears only when complete. When Ctrl-C or SIGTERM stops it, the frames drawn so
     far are kept under a name that says so (``out.partial-318.mp4``, after ``partial_as`` where
@@ -55,9 +57,17 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
     says what was kept. On an error nothing is left. ``beside``: a video shown left of the
     cartoon, frame for frame from ``beside_start`` seconds of its clock (:mod:`player.beside`).
     """
+    transparent = face.background[3] < 1.0
+    if transparent and beside is not None:
+        raise InputError("a transparent background and a video beside it do not go together: give the face a "
+                         "colour (--background) or leave out --side-by-side")
     with open_renderer(size, samples) as renderer:
         extra = beside_width(beside, size[1]) if beside is not None else 0
         sink = Outputs().picture(str(output), rate=fps or track.rate, size=(size[0] + extra, size[1]))
+        if transparent and not keeps_alpha(sink):
+            sink.abort()
+            raise InputError("has no alpha channel for the transparent background: give .webm, .mov (ProRes 4444), "
+                             ".apng, .webp or a folder for PNG frames, or a background colour (--background)", output)
         writer = SideBySide(sink, beside, extra, size[1], fps or track.rate, beside_start) if beside else sink
         try:
             frames = render_track(track, FaceRig(face), renderer, writer, fps, progress)
@@ -78,16 +88,17 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
 def render_with_sound(track: MotorTrack, face: Face, output: str | os.PathLike, sound: str | os.PathLike,
                       start: float = 0.0, size: tuple[int, int] = (512, 512), fps: float | None = None,
                       progress: Callable[[int], None] | None = None, side_by_side: bool = False) -> int:
-    """:func:`render` into an MP4 that carries ``sound``'s audio from ``start`` seconds (a
-    talking-head video's own voice; with ``side_by_side``, its picture left of the cartoon);
-    without an audio stream in ``sound``, the picture alone."""
-    from player.mux import has_audio, mux_audio
+    """:func:`render` into an MP4, a .mov or a WebM that carries ``sound``'s audio from
+    ``start`` seconds (a talking-head video's own voice; with ``side_by_side``, its picture left
+    of the cartoon); without an audio stream in ``sound``, or into a format without sound
+    (APNG, WebP, PNG frames), the picture alone."""
+    from player.mux import SOUND_CONTAINERS, has_audio, mux_audio
 
     output = Path(output)
     beside = sound if side_by_side else None
-    if output.suffix.lower() != ".mp4" or not has_audio(sound):
+    if output.suffix.lower() not in SOUND_CONTAINERS or not has_audio(sound):
         return render(track, face, output, size, fps, progress=progress, beside=beside, beside_start=start)
-    picture = output.with_name(f".{output.stem}.picture.mp4")
+    picture = output.with_name(f".{output.stem}.picture{output.suffix}")
     try:  # interrupted, the picture drawn so far is kept as the output's partial (without its sound)
         frames = render(track, face, picture, size, fps, progress=progress, beside=beside, beside_start=start,
                         partial_as=output)
