@@ -40,8 +40,12 @@ def render_track(track: MotorTrack, rig: FaceRig, renderer: FrameRenderer, sink:
     """
     values = resample(track, fps or track.rate)
     alpha = bool(getattr(sink, "alpha", False)) and rig.face.background[3] < 1.0  # transparency kept
+    vector = getattr(sink, "write_geometry", None)  # an SVG output: the geometry, nothing rasterised
     for row in values:
-        sink.write(renderer.render(rig.geometry(row), alpha) if alpha else renderer.render(rig.geometry(row)))
+        if vector is not None:
+            vector(rig.geometry(row))
+        else:
+            sink.write(renderer.render(rig.geometry(row), alpha) if alpha else renderer.render(rig.geometry(row)))
         if progress is not None:
             progress(1)
     return len(values)

@@ -252,18 +252,23 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 @cli.command("render")
 @click.argument("motors", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(),
-              help="A .mp4 file (H.264); with alpha, .webm (VP9), .mov (ProRes 4444), .apng or .webp; a folder for "
-                   "PNG frames; or - for raw RGB frames on standard output.")
+              help="A .mp4 file (H.264); with alpha, .webm (VP9), .mov (ProRes 4444), .apng or .webp; an animated "
+                   ".svg; a folder for PNG (or --format svg) frames; or - for raw RGB frames on standard output.")
 @FACE
 @SIZE
 @click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
               help="Output rate [default: the track's].")
 @BACKGROUND
-def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None) -> None:
+@click.option("--format", "fmt", default=None, type=click.Choice(("png", "svg")),
+              help="A folder OUTPUT: PNG frames (the default) or SVG frames, one file per frame.")
+def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None,
+               fmt: str | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face.
 
     With --background none (or a face whose background is transparent) the picture keeps its
-    alpha: composite it over anything in an editor, a compositor or a web page."""
+    alpha: composite it over anything in an editor, a compositor or a web page. An .svg OUTPUT
+    is one animated SVG of the whole track that browsers play with no script (SMIL), keyed only
+    where an outline strays more than a pixel (at 500 pixels) from its interpolation."""
     from toon import load_face, load_track
     from toon.animation import load_animation
     from toonface.pipeline import render
@@ -274,7 +279,7 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
         track = load_animation(motors).sample(fps or 30.0, face_obj.neutral())
     else:
         track = load_track(motors)
-    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames))
+    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames), fmt=fmt)
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})", err=output == "-")
 
 

@@ -46,6 +46,7 @@ PICTURE_SINKS: dict[str, SinkKind] = {
     "mp4": SinkKind("toonface.outputs:open_pictures", lambda spec: Path(spec).suffix.lower() == ".mp4"),
     "alpha": SinkKind("toonface.outputs:open_pictures",  # moving pictures with alpha (player.alpha_sinks)
                       lambda spec: Path(spec).suffix.lower() in (".webm", ".mov", ".apng", ".webp")),
+    "svg": SinkKind("toonface.outputs:open_pictures", lambda spec: Path(spec).suffix.lower() == ".svg"),
     "png": SinkKind("toonface.outputs:open_pictures", lambda spec: not Path(spec).suffix),
 }
 
@@ -69,12 +70,13 @@ def open_sink(spec: str, kinds: dict[str, SinkKind], what: str, **options: Any) 
 
 
 def open_pictures(spec: str, rate: float = 30.0, size: tuple[int, int] = (512, 512), live: bool = False,
-                  **_: Any) -> Any:
+                  fmt: str | None = None, **_: Any) -> Any:
     """An MP4 file (``live``: recorded so that a kill does not lose it), a WebM, ProRes .mov,
-    APNG or WebP with alpha, a folder of PNG frames, or raw RGB on standard output (``-``)."""
+    APNG or WebP with alpha, an animated SVG, a folder of PNG (or, ``fmt="svg"``, SVG) frames, or
+    raw RGB on standard output (``-``)."""
     from player.sinks import open_sink as open_picture_file
 
-    return open_picture_file(spec, rate, size, live=live)
+    return open_picture_file(spec, rate, size, live=live, fmt=fmt)
 
 
 def open_preview(spec: str, **_: Any) -> Any:
@@ -136,8 +138,8 @@ class Outputs:
     def picture(self, spec: str, **options: Any) -> Any:
         """Open a picture sink for ``spec`` and keep it."""
         sink = open_sink(spec, PICTURE_SINKS, "a .mp4 file; with alpha, .webm (VP9), .mov (ProRes 4444), .apng or "
-                         ".webp; a folder for PNG frames; - for raw RGB on standard output; or http://HOST:PORT for "
-                         "a preview", **options)
+                         ".webp; an animated .svg; a folder for PNG (or SVG) frames; - for raw RGB on standard output; "
+                         "or http://HOST:PORT for a preview", **options)
         self.pictures.append(sink)
         return sink
 

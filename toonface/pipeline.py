@@ -46,10 +46,10 @@ def map_onto_face(take: Take, neutral_window: tuple[float, float] | str | None =
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),
            fps: float | None = None, samples: int = 4, progress: Callable[[int], None] | None = None,
            beside: str | os.PathLike | None = None, beside_start: float = 0.0,
-           partial_as: str | os.PathLike | None = None) -> int:
+           partial_as: str | os.PathLike | None = None, fmt: str | None = None) -> int:
     """Render ``track`` on ``face`` to an MP4 (``*.mp4``), a WebM, ProRes .mov, APNG or WebP
-    (transparent where the face's background is), a PNG folder or raw RGB (``-``); returns
-    frames written.
+    (transparent where the face's background is), an animated SVG (``.svg``), a folder of PNG
+    frames (or SVG frames, ``fmt="svg"``) or raw RGB (``-``); returns frames written.
 
     The output appears only when complete. When Ctrl-C or SIGTERM stops it, the frames drawn so
     far are kept under a name that says so (``out.partial-318.mp4``, after ``partial_as`` where
@@ -63,7 +63,11 @@ def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple
                          "colour (--background) or leave out --side-by-side")
     with open_renderer(size, samples) as renderer:
         extra = beside_width(beside, size[1]) if beside is not None else 0
-        sink = Outputs().picture(str(output), rate=fps or track.rate, size=(size[0] + extra, size[1]))
+        sink = Outputs().picture(str(output), rate=fps or track.rate, size=(size[0] + extra, size[1]), fmt=fmt)
+        if beside is not None and hasattr(sink, "write_geometry"):
+            sink.abort()
+            raise InputError("a vector output cannot show a video beside the cartoon: leave out --side-by-side",
+                             output)
         if transparent and not keeps_alpha(sink):
             sink.abort()
             raise InputError("has no alpha channel for the transparent background: give .webm, .mov (ProRes 4444), "
