@@ -283,6 +283,45 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})", err=output == "-")
 
 
+@cli.group()
+def export() -> None:
+    """Results for other tools: a web page that plays a track with no server."""
+
+
+@export.command("web")
+@click.argument("motors", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="The page (.html).")
+@FACE
+@SIZE
+@click.option("--fps", default=30.0, show_default=True, type=FiniteFloat(min=1.0, max=120.0),
+              help="Frames a second sampled from the track (the browser interpolates between them).")
+@click.option("--sound", default=None, type=click.Path(dir_okay=False),
+              help="A sound file (or a video's sound) to embed and play with the face.")
+@click.option("--transparent", is_flag=True,
+              help="No background and no controls: the face alone, looping (OBS's browser source).")
+@click.option("--paused", is_flag=True, help="Open paused at the start.")
+def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, sound: str | None, transparent: bool,
+                   paused: bool) -> None:
+    """MOTORS (.csv/.npz, or a knot-point animation .toml) on a face as one self-contained HTML
+    file: it plays in any browser with no server, with play/pause and a time slider, and the
+    sound in step where one is given. The face is an animated SVG, the studio's own drawing."""
+    from pathlib import Path
+
+    from toon import load_face, load_track
+    from toon.animation import load_animation
+    from toonface.web_export import export_web
+
+    if Path(output).suffix.lower() not in (".html", ".htm"):
+        raise click.BadParameter(f"{output}: expected a .html page", param_hint="--output")
+    face_obj = load_face(face)
+    track = (load_animation(motors).sample(fps, face_obj.neutral()) if motors.lower().endswith(".toml")
+             else load_track(motors))
+    path = export_web(track, face_obj, output, size=parse_size(size), fps=fps, sound=sound, transparent=transparent,
+                      paused=paused, title=f"{Path(motors).stem} on {face_obj.name}")
+    click.echo(f"wrote {path} ({path.stat().st_size // 1024} KB, {track.duration:.2f} s"
+               f"{', with sound' if sound else ''}{', transparent' if transparent else ''})")
+
+
 @cli.command()
 def faces() -> None:
     """List the built-in faces."""
