@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -70,6 +71,9 @@ def mean_errors(frames: list[np.ndarray], reference: list[np.ndarray]) -> np.nda
     ('[write]\nvideo = false\nmotors = false\nscore = false\nsheet = false\n', "write"),
     ('neutral = [2, 1]\n', "neutral"),
     ('[clean]\ncutoff = -1\n', "clean.cutoff"),
+    ('[write]\nvideo = "gif"\n', "write.video"),
+    ('[render]\nbackground = "pink"\n', "render.background"),
+    ('[render]\nbackground = "none"\n', "render.background"),  # an MP4 has no alpha
 ])
 def test_a_bad_job_file_names_the_field(tmp_path, extra, field):
     path = tmp_path / "job.toml"
@@ -182,6 +186,24 @@ def run(path: Path, client, force: bool = False, progress=None):
     report = run_batch(job, plan(job, force), client, progress)
     write_manifest(report, job.output / "manifest.json")
     return report
+
+
+@pytest.mark.slow
+def test_a_job_writes_each_picture_format_it_names(tmp_path, client):
+    from player.alpha_sinks import decode_rgba
+
+    path = write_job(tmp_path, {"a": 1.0}, ["cat"], '[write]\nscore = false\nsheet = false\nvideo = "webm"\n')
+    path.write_text(path.read_text().replace("part_seconds = 0.5", 'part_seconds = 0.5\nbackground = "none"'))
+    for video in ("webm", "svg", "html", "apng"):
+        path.write_text(re.sub(r'video = "\w+"', f'video = "{video}"', path.read_text()))
+        report = run(path, client)
+        assert report.ok, video
+        written = tmp_path / "out" / "a" / f"cat.{video}"
+        assert written.is_file() and written.stat().st_size > 1000, video
+    frames = decode_rgba(tmp_path / "out" / "a" / "cat.webm")
+    assert len(frames) == 30 and frames[0][0, 0, 3] == 0  # transparent, as the job said
+    assert "<animate" in (tmp_path / "out" / "a" / "cat.svg").read_text()
+    assert "window.player" in (tmp_path / "out" / "a" / "cat.html").read_text()
 
 
 @pytest.mark.slow

@@ -12,7 +12,8 @@ Example, with every field and its default::
     mirror = false
 
     [write]
-    video = true              # <take>/<face>.mp4
+    video = true              # <take>/<face>.mp4; or "webm", "mov", "apng", "webp" (alpha), "svg" (animated),
+                              # "html" (the web player), "mp4", or false
     motors = "csv"            # <take>/<face>.csv, "npz", or false
     score = true              # <take>/<face>.score.png: the motor curves as staves
     sheet = true              # <take>/<face>.sheet.png: 12 frames through the take, labelled
@@ -21,7 +22,8 @@ Example, with every field and its default::
     size = "512"              # N or WxH pixels, even
     fps = 0                   # 0: each take's own rate
     samples = 4               # MSAA samples
-    part_seconds = 10.0       # longer videos are rendered in parts of at most this long, in parallel
+    part_seconds = 10.0       # longer MP4s are rendered in parts of at most this long, in parallel
+    background = ""           # the face's own; "none" (transparent: not for mp4) or "#rrggbb"
 
     [clean]
     cutoff = 8.0              # Hz, 0: no smoothing
@@ -38,6 +40,7 @@ from __future__ import annotations
 
 import glob
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -50,31 +53,36 @@ from toonface.cli_options import frame_size
 FORMAT = "toonface.batch/1"
 TAKE_SUFFIXES = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
 OUTPUT_KINDS = ("motors", "video", "score", "sheet")
+#: What ``write.video`` may name: the picture formats (``true`` is ``mp4``).
+VIDEO_FORMATS = ("mp4", "webm", "mov", "apng", "webp", "svg", "html")
 
 
 @dataclass(frozen=True)
 class WriteSettings:
-    """Which outputs each (take, face) pair gets; ``motors`` is ``"csv"``, ``"npz"`` or ``""`` (none)."""
+    """Which outputs each (take, face) pair gets; ``video`` is one of :data:`VIDEO_FORMATS` or
+    ``""`` (none), ``motors`` is ``"csv"``, ``"npz"`` or ``""`` (none)."""
 
-    video: bool = True
+    video: str = "mp4"
     motors: str = "csv"
     score: bool = True
     sheet: bool = True
 
     def kinds(self) -> tuple[str, ...]:
         """The requested output kinds, in :data:`OUTPUT_KINDS` order."""
-        wanted = {"motors": bool(self.motors), "video": self.video, "score": self.score, "sheet": self.sheet}
+        wanted = {"motors": bool(self.motors), "video": bool(self.video), "score": self.score, "sheet": self.sheet}
         return tuple(kind for kind in OUTPUT_KINDS if wanted[kind])
 
 
 @dataclass(frozen=True)
 class RenderSettings:
-    """Frame size ``(width, height)``, rate (0: the take's), MSAA samples, and the longest part."""
+    """Frame size ``(width, height)``, rate (0: the take's), MSAA samples, the longest part, and
+    the background (``""``: the face's own, ``"none"``: transparent, or ``"#rrggbb[aa]"``)."""
 
     size: tuple[int, int] = (512, 512)
     fps: float = 0.0
     samples: int = 4
     part_seconds: float = 10.0
+    background: str = ""
 
 
 @dataclass(frozen=True)
@@ -126,11 +134,15 @@ def load_job(path: str | os.PathLike) -> Job:
         raise InputError("a face is named twice", path, "faces")
     mapping = fields.text("mapping") or None
     profile = fields.text("profile")
+    write, render = _write_settings(fields), _render_settings(fields)
+    if write.video == "mp4" and render.background.lower() == "none":
+        raise InputError('an MP4 has no alpha channel: write.video = "webm", "mov", "apng", "webp", "svg" or "html" '
+                         'for a transparent background', path, "render.background")
     return Job(
         path=path, takes=takes, faces=faces, output=output,
         mapping=_mapping_spec(mapping, base), profile=(base / profile) if profile else None,
         neutral=fields.neutral("neutral"), mirror=fields.flag("mirror", False),
-        write=_write_settings(fields), render=_render_settings(fields), clean=_clean_settings(fields),
+        write=write, render=render, clean=_clean_settings(fields),
         take_options=_take_options(fields), empty_globs=empty)
 
 
@@ -169,8 +181,13 @@ def _write_settings(fields: _Fields) -> WriteSettings:
         motors = ""
     if motors not in ("csv", "npz", ""):
         raise InputError(f'expected "csv", "npz" or false, got {motors!r}', fields.path, "write.motors")
+    video = table.get("video", True)
+    video = {True: "mp4", False: ""}.get(video, video) if isinstance(video, bool) else video
+    if video not in (*VIDEO_FORMATS, ""):
+        raise InputError(f"expected true, false or one of {', '.join(map(repr, VIDEO_FORMATS))}, got {video!r}",
+                         fields.path, "write.video")
     default = WriteSettings()
-    settings = WriteSettings(video=fields.flag("write.video", default.video), motors=motors,
+    settings = WriteSettings(video=video, motors=motors,
                              score=fields.flag("write.score", default.score),
                              sheet=fields.flag("write.sheet", default.sheet))
     if not settings.kinds():
@@ -180,7 +197,7 @@ def _write_settings(fields: _Fields) -> WriteSettings:
 
 
 def _render_settings(fields: _Fields) -> RenderSettings:
-    table = fields.table("render", {"size", "fps", "samples", "part_seconds"})
+    table = fields.table("render", {"size", "fps", "samples", "part_seconds", "background"})
     default = RenderSettings()
     size_text = str(table.get("size", "x".join(map(str, default.size))))
     try:
@@ -189,9 +206,14 @@ def _render_settings(fields: _Fields) -> RenderSettings:
         raise InputError(str(exc), fields.path, "render.size") from None
     if size[0] % 2 or size[1] % 2:
         raise InputError(f"H.264 needs even sides, got {size_text!r}", fields.path, "render.size")
+    background = str(table.get("background", ""))
+    if background and background.lower() != "none" and not re.fullmatch(r"#[0-9a-fA-F]{6}([0-9a-fA-F]{2})?",
+                                                                        background):
+        raise InputError(f'expected "", "none" or "#rrggbb[aa]", got {background!r}', fields.path, "render.background")
     return RenderSettings(size=size, fps=fields.number("render.fps", default.fps, 0.0, 240.0),
                           samples=int(fields.number("render.samples", default.samples, 0, 16)),
-                          part_seconds=fields.number("render.part_seconds", default.part_seconds, 0.5, 3600.0))
+                          part_seconds=fields.number("render.part_seconds", default.part_seconds, 0.5, 3600.0),
+                          background=background)
 
 
 def _clean_settings(fields: _Fields) -> CleanSettings:

@@ -155,14 +155,16 @@ def _up_to_date(output: Output, stamp: dict) -> bool:
 
 
 def _output_path(job: Job, name: str, kind: str) -> Path:
-    suffix = f".{job.write.motors}" if kind == "motors" else SUFFIXES[kind]
+    suffix = (f".{job.write.motors}" if kind == "motors" else f".{job.write.video}" if kind == "video"
+              else SUFFIXES[kind])
     return job.output / f"{name}{suffix}"
 
 
 def _output_key(inputs: dict[str, str], kind: str, job: Job) -> str:
     """The key of one output: the inputs plus the settings that shape this kind of output."""
     own = {"motors": {"format": job.write.motors},
-           "video": {"size": job.render.size, "fps": job.render.fps, "samples": job.render.samples},
+           "video": {"size": job.render.size, "fps": job.render.fps, "samples": job.render.samples,
+                     "format": job.write.video, "background": job.render.background},
            "score": {},
            "sheet": {"samples": job.render.samples}}[kind]
     return _digest_json({"inputs": inputs, "kind": kind, "settings": own})

@@ -266,6 +266,10 @@ class _Run:
             work.reason = "the take has no frames to render"
             return
         render = self.job.render
+        if self.job.write.video != "mp4" or render.background:  # other formats: one task draws the whole
+            self._submit(work, "join", tasks.render_whole, work.track, work.pair.face, work.pair.output("video").path,
+                         render.fps, render.size, render.samples, render.background, priority=2)
+            return
         part_frames = max(1, math.floor(render.part_seconds * fps))
         parts = [self._submit(work, "part", tasks.render_video_part, work.track, work.pair.face, start, stop,
                               render.fps, render.size, render.samples, priority=2)

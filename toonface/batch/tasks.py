@@ -91,6 +91,23 @@ def render_video_part(track: MotorTrack, face: str, start: int, stop: int, fps: 
     return render_part(track, face_rig(face), start, stop, fps or track.rate, size, samples)
 
 
+def render_whole(track: MotorTrack, face: str, path: Path, fps: float, size: tuple[int, int], samples: int,
+                 background: str) -> tuple[int, int]:
+    """The take's picture on ``face`` in one go, in the format ``path``'s suffix names (WebM,
+    ProRes .mov, APNG, WebP, an animated SVG, the web player's .html, or an MP4 with a
+    ``background`` of its own); returns ``(frames, bytes)``."""
+    from toonface.cli_options import with_background
+    from toonface.pipeline import render
+    from toonface.web_export import export_web
+
+    rig_face = with_background(face_rig(face).face, background or None)
+    if path.suffix == ".html":
+        export_web(track, rig_face, _in_folder(path), size=size, fps=fps or 30.0)
+        return frame_count(track, fps or 30.0), _size(path)
+    frames = render(track, rig_face, _in_folder(path), size, fps or None, samples)
+    return frames, _size(path)
+
+
 def join_video(path: Path, *parts: bytes) -> tuple[int, int]:
     """Join the parts into ``path``; returns ``(frames, bytes)``."""
     frames = join_parts(parts, _in_folder(path))
