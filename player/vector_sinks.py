@@ -3,6 +3,7 @@
 - ``anim.svg``: one animated SVG of the whole track (:mod:`toon.svg_anim`: SMIL, no script),
   written when the track ends.
 - a folder with ``--format svg``: ``frame_000000.svg`` ... one SVG per frame (:mod:`toon.svg`).
+- ``anim.json``: a Lottie animation (:mod:`toon.lottie`), written when the track ends.
 
 Both appear atomically like every picture output, and keep what was drawn under a partial name
 when a run is interrupted. The render loop hands them :class:`toon.Geometry` (``vector = True``),
@@ -11,23 +12,27 @@ so nothing is rasterised.
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
 from common import atomic_dir, atomic_path
 from player.sinks import _AtomicSink
 from toon.geometry import Geometry
+from toon.lottie import track_lottie
 from toon.svg import geometry_svg
 from toon.svg_anim import track_svg
 
 
 class AnimatedSvgSink(_AtomicSink):
-    """The frames as one looping animated SVG at ``fps`` (see the module docstring)."""
+    """The frames as one looping animated SVG at ``fps`` (see the module docstring); with
+    ``lottie``, as a Lottie animation (JSON) instead."""
 
     vector = True
     alpha = True  # a face whose background is transparent stays so
 
-    def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int]) -> None:
+    def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], lottie: bool = False) -> None:
+        self.lottie = lottie
         super().__init__(atomic_path(path), path)
         self.fps, self.size = fps, size
         self._frames: list[Geometry] = []
@@ -47,7 +52,10 @@ class AnimatedSvgSink(_AtomicSink):
             self.frames += max(0, frames)
 
     def _finish(self) -> None:
-        if self._frames:
+        if self._frames and self.lottie:
+            document = track_lottie(self._frames, self.fps, self.size, name=self._target.stem)
+            self._tmp.write_text(json.dumps(document, separators=(",", ":")), encoding="utf-8")
+        elif self._frames:
             self._tmp.write_text(track_svg(self._frames, self.fps, self.size), encoding="utf-8")
 
 

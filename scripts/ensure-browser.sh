@@ -1,8 +1,18 @@
 #!/usr/bin/env bash
-# Installs Debian's Chromium and its chromedriver with apt-get, only when missing, for the studio's
-# browser tests (browser builds cannot be downloaded here; Selenium is pointed at these). Never
+# Installs Debian's Chromium and its chromedriver with apt-get, and the npm packages of package.json,
+# only when missing, for the browser tests (browser builds cannot be downloaded here; Selenium is pointed at these). Never
 # fails the build: where they cannot be installed, the browser tests skip and say why.
 set -uo pipefail
+
+# The npm packages the browser tests load (package.json: lottie-web), from the lockfile, only
+# when missing; without npm, the tests that need them skip.
+if [ ! -f node_modules/lottie-web/build/player/lottie.min.js ]; then
+    if command -v npm >/dev/null 2>&1; then
+        npm ci --no-audit --no-fund --silent >/dev/null 2>&1 || echo "toonface: npm ci failed: the Lottie browser test will skip" >&2
+    else
+        echo "toonface: npm is missing: the Lottie browser test will skip" >&2
+    fi
+fi
 
 if command -v chromium >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1; then
     exit 0

@@ -253,14 +253,16 @@ def track(video: str, output: str, method: str, markerset: str, colour: str, sta
 @click.argument("motors", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(),
               help="A .mp4 file (H.264); with alpha, .webm (VP9), .mov (ProRes 4444), .apng or .webp; an animated "
-                   ".svg; a folder for PNG (or --format svg) frames; or - for raw RGB frames on standard output.")
+                   ".svg; a Lottie .json; a folder for PNG (or --format svg) frames; or - for raw RGB frames on "
+                   "standard output.")
 @FACE
 @SIZE
 @click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
               help="Output rate [default: the track's].")
 @BACKGROUND
-@click.option("--format", "fmt", default=None, type=click.Choice(("png", "svg")),
-              help="A folder OUTPUT: PNG frames (the default) or SVG frames, one file per frame.")
+@click.option("--format", "fmt", default=None, type=click.Choice(("png", "svg", "lottie")),
+              help="A folder OUTPUT: PNG frames (the default) or SVG frames, one file per frame; lottie: a .json "
+                   "OUTPUT is a Lottie animation (what a .json OUTPUT is anyway).")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None,
                fmt: str | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face.
@@ -268,7 +270,9 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     With --background none (or a face whose background is transparent) the picture keeps its
     alpha: composite it over anything in an editor, a compositor or a web page. An .svg OUTPUT
     is one animated SVG of the whole track that browsers play with no script (SMIL), keyed only
-    where an outline strays more than a pixel (at 500 pixels) from its interpolation."""
+    where an outline strays more than a pixel (at 500 pixels) from its interpolation; a .json
+    OUTPUT is a Lottie animation (Bodymovin JSON: shape layers with keyframed paths, layer masks
+    for the holes) for Lottie players, After Effects and mobile apps."""
     from toon import load_face, load_track
     from toon.animation import load_animation
     from toonface.pipeline import render

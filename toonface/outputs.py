@@ -46,7 +46,8 @@ PICTURE_SINKS: dict[str, SinkKind] = {
     "mp4": SinkKind("toonface.outputs:open_pictures", lambda spec: Path(spec).suffix.lower() == ".mp4"),
     "alpha": SinkKind("toonface.outputs:open_pictures",  # moving pictures with alpha (player.alpha_sinks)
                       lambda spec: Path(spec).suffix.lower() in (".webm", ".mov", ".apng", ".webp")),
-    "svg": SinkKind("toonface.outputs:open_pictures", lambda spec: Path(spec).suffix.lower() == ".svg"),
+    "vector": SinkKind("toonface.outputs:open_pictures",  # an animated SVG, a Lottie animation
+                       lambda spec: Path(spec).suffix.lower() in (".svg", ".json")),
     "png": SinkKind("toonface.outputs:open_pictures", lambda spec: not Path(spec).suffix),
 }
 
@@ -138,8 +139,8 @@ class Outputs:
     def picture(self, spec: str, **options: Any) -> Any:
         """Open a picture sink for ``spec`` and keep it."""
         sink = open_sink(spec, PICTURE_SINKS, "a .mp4 file; with alpha, .webm (VP9), .mov (ProRes 4444), .apng or "
-                         ".webp; an animated .svg; a folder for PNG (or SVG) frames; - for raw RGB on standard output; "
-                         "or http://HOST:PORT for a preview", **options)
+                         ".webp; an animated .svg; a Lottie .json; a folder for PNG (or SVG) frames; - for raw RGB on "
+                         "standard output; or http://HOST:PORT for a preview", **options)
         self.pictures.append(sink)
         return sink
 

@@ -13,7 +13,7 @@ Example, with every field and its default::
 
     [write]
     video = true              # <take>/<face>.mp4; or "webm", "mov", "apng", "webp" (alpha), "svg" (animated),
-                              # "html" (the web player), "mp4", or false
+                              # "json" (Lottie), "html" (the web player), "mp4", or false
     motors = "csv"            # <take>/<face>.csv, "npz", or false
     score = true              # <take>/<face>.score.png: the motor curves as staves
     sheet = true              # <take>/<face>.sheet.png: 12 frames through the take, labelled
@@ -54,7 +54,7 @@ FORMAT = "toonface.batch/1"
 TAKE_SUFFIXES = (".c3d", ".trc", ".csv", ".tsv", ".txt", ".npz")
 OUTPUT_KINDS = ("motors", "video", "score", "sheet")
 #: What ``write.video`` may name: the picture formats (``true`` is ``mp4``).
-VIDEO_FORMATS = ("mp4", "webm", "mov", "apng", "webp", "svg", "html")
+VIDEO_FORMATS = ("mp4", "webm", "mov", "apng", "webp", "svg", "json", "html")
 
 
 @dataclass(frozen=True)
