@@ -118,9 +118,17 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
                     tell(t, values)
                 drawn = settings.scene(t) if settings.scene is not None else None
-                picture = renderer.render(drawn if drawn is not None else rig.geometry(values))
+                geometry = drawn if drawn is not None else rig.geometry(values)
+                pictures: dict[bool, np.ndarray] = {}  # drawn once each: opaque RGB, straight RGBA
                 for sink in sinks:
-                    sink.write(picture)
+                    vector = getattr(sink, "write_geometry", None)  # an SVG or Lottie recording
+                    if vector is not None:
+                        vector(geometry)
+                        continue
+                    alpha = bool(getattr(sink, "alpha", False)) and geometry.background[3] < 1.0
+                    if alpha not in pictures:
+                        pictures[alpha] = renderer.render(geometry, alpha) if alpha else renderer.render(geometry)
+                    sink.write(pictures[alpha])
 
             loops = None if settings.seconds is None else max(1, int(round(settings.seconds / settings.loop_time)))
             if settings.track is not None and not settings.repeat:

@@ -165,8 +165,8 @@ def test_the_movie_script_and_the_mp4_come_from_the_page(blank, tmp_path):
         driver.execute_script("window.studio.send(arguments[0])", {"op": "knot", "action": "add", "code": "MB",
                                                                    "t": t, "v": v})
     wait_for(driver, "window.editor.state.undo === 3")
-    script, movie = tmp_path / "take.csv", tmp_path / "take.mp4"
-    for path, button in ((script, "sample"), (movie, "render")):
+    script, movie, page = tmp_path / "take.csv", tmp_path / "take.mp4", tmp_path / "take.html"
+    for path, button in ((script, "sample"), (movie, "render"), (page, "render")):
         box = driver.find_element("id", "export")
         box.clear()
         box.send_keys(str(path))
@@ -180,11 +180,12 @@ def test_the_movie_script_and_the_mp4_come_from_the_page(blank, tmp_path):
     assert track.frames == 15 and abs(track.values - expected.values).max() < 1e-6
     with av.open(str(movie)) as container:
         assert sum(1 for _ in container.decode(video=0)) == 15
+    assert "window.player" in page.read_text()  # the web player, as export web writes it
     box = driver.find_element("id", "export")
     box.clear()
     box.send_keys(str(tmp_path / "take.avi"))
     driver.find_element("id", "render").click()
-    wait_for(driver, "document.getElementById('message').textContent.includes('.mp4 file')")
+    wait_for(driver, "document.getElementById('message').textContent.includes('.webm')")
 
 
 def test_a_sound_and_its_labels_play_under_the_staves_and_go_into_the_mp4(blank, tmp_path):

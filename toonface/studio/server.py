@@ -195,14 +195,19 @@ def _state(session: StudioSession, changed: str) -> list[dict]:
 
 
 async def _render(app: web.Application, page: Page, message: dict) -> None:
-    """Render the animation to an MP4 (``path``, ``fps``) in a worker thread, telling the page how far
-    it has got about ten times a second; the server goes on serving meanwhile."""
+    """Render the animation (``path``, ``fps``) in a worker thread, telling the page how far it has
+    got about ten times a second; the server goes on serving meanwhile. Any picture file
+    ``render`` writes (an MP4; WebM, ProRes .mov, APNG, WebP with the face's own alpha; an
+    animated SVG; a Lottie .json) or the web player's .html."""
+    from player.sinks import PICTURE_SUFFIXES
     from toonface.pipeline import render, render_with_sound
+    from toonface.web_export import export_web
 
     session = app[SESSION]
     path = session.folder.inside(message["path"], "a movie")
-    if path.suffix.lower() != ".mp4":
-        raise InputError("the studio renders to an .mp4 file", path)
+    known = (*PICTURE_SUFFIXES, ".html")
+    if path.suffix.lower() not in known:
+        raise InputError(f"the studio renders to a file ending {', '.join(known)}", path)
     fps = number(message.get("fps", 30.0), "fps")
     if not 1 <= fps <= 240:
         raise ValueError(f"fps must be 1..240, got {fps:g}")
@@ -218,10 +223,16 @@ async def _render(app: web.Application, page: Page, message: dict) -> None:
             loop.call_soon_threadsafe(page.send, {"type": "rendering", "frames": done[0], "of": track.frames})
 
     page.send({"type": "rendering", "frames": 0, "of": track.frames})
+
+    def work() -> int:
+        if path.suffix.lower() == ".html":
+            export_web(track, face, path, fps=fps, sound=sound.path if sound is not None else None)
+            return track.frames
+        if sound is not None:
+            return render_with_sound(track, face, path, sound.path, fps=fps, progress=progress)
+        return render(track, face, path, fps=fps, progress=progress)
     try:
-        written = await loop.run_in_executor(None, lambda: render_with_sound(
-            track, face, path, sound.path, fps=fps, progress=progress) if sound is not None else render(
-            track, face, path, fps=fps, progress=progress))
+        written = await loop.run_in_executor(None, work)
     except InputError as exc:
         raise InputError(exc.message, path) from None
     page.send({"type": "rendered", "path": str(path), "frames": written})
