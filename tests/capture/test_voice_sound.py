@@ -100,6 +100,7 @@ def test_the_shapes_openness_matches_the_mapping_table():
     assert OPENNESS["D"] > OPENNESS["C"] > OPENNESS["E"] > OPENNESS["F"] > OPENNESS["B"] > OPENNESS["A"] == 0.0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("voice", ["de", "es", "it", "pl"])  # it and pl: nobody looked while choosing features
 def test_speech_in_another_language_opens_the_mouth_as_its_phonemes_say(voice):
     from bench import espeak

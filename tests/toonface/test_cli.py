@@ -21,7 +21,7 @@ from toonface.cli import cli, main
 from toonface.pipeline import map_onto_face
 
 SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
-               "anim", "send", "receive", "relay", "batch", "markerset", "studio", "lipsync",
+               "anim", "send", "receive", "relay", "batch", "markerset", "studio", "lipsync", "export",
                "faces", "face"]
 
 
