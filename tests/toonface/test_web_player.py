@@ -65,5 +65,11 @@ def test_the_player_shows_the_renderers_frames_and_plays_its_sound(face_name, tr
             shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
             drawn = renderer.render(rig.geometry(values[int(round(t * 30))])).astype(int)
             assert shown.shape == drawn.shape and np.abs(shown - drawn).mean() <= 1.5, (t, np.abs(shown - drawn).mean())
+        if transparent:  # what OBS's browser source composites: the page's own alpha
+            driver.execute_cdp_cmd("Emulation.setDefaultBackgroundColorOverride", {"color": {"r": 0, "g": 0, "b": 0,
+                                                                                             "a": 0}})
+            png = driver.find_element("css selector", "#stage svg").screenshot_as_png
+            alpha = np.asarray(Image.open(io.BytesIO(png)).convert("RGBA"))[..., 3]
+            assert alpha[0, 0] == 0 and alpha[-1, -1] == 0 and alpha[256, 256] == 255
         driver.execute_script("player.seek(0.5); player.play();")
         wait_for(driver, "player.playing && document.querySelector('#stage svg').getCurrentTime() > 0.7", 5.0)
