@@ -9,20 +9,30 @@ import numpy as np
 from player.backends import FrameRenderer
 from player.sinks import FrameWriter
 from toon import FaceRig, MotorTrack
+from toon.motors import N_MOTORS
 
 
 def resample(track: MotorTrack, fps: float, start: int = 0, stop: int | None = None) -> np.ndarray:
     """Motor values at the frame times of a ``fps`` video of the same duration, frames
-    ``[start, stop)`` of it (all by default); ``(frames, 21)``.
+    ``[start, stop)`` of it (all by default); ``(frames, 21)``, and the track's extra parameters
+    after them where it has any (:meth:`toon.MotorTrack.table`).
 
     Linear interpolation between the track's frames (CharToon's knot points interpolate
     linearly too); the track's own rate returns its values unchanged. Only the frames asked
     for are made (a part of a long video costs its own length).
     """
+    table = track.table()
     if abs(fps - track.rate) < 1e-9:
-        return track.values[start:stop]
+        return table[start:stop]
     times = np.arange(frame_count(track, fps))[start:stop] / fps
-    return np.column_stack([np.interp(times, track.times, col) for col in track.values.T])
+    return np.column_stack([np.interp(times, track.times, col) for col in table.T])
+
+
+def resampled(track: MotorTrack, fps: float, start: int = 0, stop: int | None = None) -> MotorTrack:
+    """:func:`resample` as a track at ``fps`` (its extra parameters kept)."""
+    table = resample(track, fps, start, stop)
+    return MotorTrack(table[:, :N_MOTORS], fps, extra_codes=track.extra_codes,
+                      extra=table[:, N_MOTORS:] if track.extra_codes else None)
 
 
 def frame_count(track: MotorTrack, fps: float) -> int:
@@ -42,10 +52,11 @@ def render_track(track: MotorTrack, rig: FaceRig, renderer: FrameRenderer, sink:
     alpha = bool(getattr(sink, "alpha", False)) and rig.face.background[3] < 1.0  # transparency kept
     vector = getattr(sink, "write_geometry", None)  # an SVG output: the geometry, nothing rasterised
     for row in values:
+        geometry = rig.geometry(row[:N_MOTORS], track.extra_at(row) if track.extra_codes else None)
         if vector is not None:
-            vector(rig.geometry(row))
+            vector(geometry)
         else:
-            sink.write(renderer.render(rig.geometry(row), alpha) if alpha else renderer.render(rig.geometry(row)))
+            sink.write(renderer.render(geometry, alpha) if alpha else renderer.render(geometry))
         if progress is not None:
             progress(1)
     return len(values)

@@ -20,7 +20,7 @@ import numpy as np
 
 from common import InputError, atomic_path
 from player.backends import open_renderer
-from player.offline import frame_count, render_track, resample
+from player.offline import frame_count, render_track, resampled
 from player.sinks import H264Encoder
 from toon import FaceRig, MotorTrack
 
@@ -49,14 +49,14 @@ def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: flo
     One x264 thread and no B-frames, so parts from many processes can be joined by
     :func:`join_parts`. Returns the MP4 file's bytes.
     """
-    values = resample(track, fps, start, stop)
-    if not len(values):
+    part = resampled(track, fps, start, stop)
+    if not part.frames:
         raise ValueError(f"frames {start}:{stop} are outside the video's {frame_count(track, fps)} frames")
     buffer = io.BytesIO()
     with open_renderer(size, samples) as renderer:
         encoder = H264Encoder(buffer, fps, size, crf, bframes="0", threads="1")
         try:
-            render_track(MotorTrack(values, fps), rig, renderer, encoder)
+            render_track(part, rig, renderer, encoder)
         finally:
             encoder.finish()
     return buffer.getvalue()

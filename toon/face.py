@@ -11,7 +11,9 @@ A face (``"format": "toonface.face/1"``) holds:
   out of the screen, left and up positive: a pupil moves ``eyes.radius * sin(angle)`` from its
   rest point and narrows by ``cos(angle)``;
 - ``head``: ``pivot`` of the head turn and ``feature_depth``, how far features stand in front of
-  the outline (see :mod:`toon.rig`); ``eyes``: ``radius`` of the eyeballs;
+  the outline (see :mod:`toon.rig`), and ``tilt``, how many degrees the head rolls each way
+  about the pivot for the extra parameter ``HT`` (0, absent: the face has no ``HT``);
+  ``eyes``: ``radius`` of the eyeballs;
 - ``polygons``: ToonFace's filled polygons, each with a ``kind`` that fixes how it moves and when
   it is drawn (A1.2.2) and what ``attach`` names: ``hole`` (a feature: an eye or the mouth),
   ``pupil`` (its control point, PR or PL; clipped to its eye's holes), ``face`` (at most one,
@@ -85,6 +87,7 @@ class Face:
     head_pivot: tuple[float, float] = (0.0, 0.0)
     feature_depth: float = 0.0
     eye_radius: float = 0.0
+    head_tilt: float = 0.0
     components: tuple[Component, ...] = ()
     description: str = ""
     meta: dict = field(default_factory=dict, compare=False)
@@ -101,6 +104,15 @@ class Face:
             rest = 0.0 if m.code in ANGLE_MOTORS else self.points[m.point][0 if m.axis == "x" else 1]
             out[i] = (rest - lo) / (hi - lo)
         return out
+
+    @property
+    def extra_codes(self) -> tuple[str, ...]:
+        """The parameters beyond the 21 this face declares (``HT`` where it tilts)."""
+        return ("HT",) if self.head_tilt else ()
+
+    def extra_neutral(self) -> dict[str, float]:
+        """Each extra parameter at which the face shows its rest drawing (``HT`` upright: 0.5)."""
+        return dict.fromkeys(self.extra_codes, 0.5)
 
     def to_dict(self) -> dict[str, Any]:
         """The face as its JSON document."""
@@ -123,7 +135,8 @@ class Face:
         doc = {
             "format": FORMAT, "name": self.name, "description": self.description,
             "viewbox": list(self.viewbox), "background": format_color(self.background),
-            "head": {"pivot": list(self.head_pivot), "feature_depth": self.feature_depth},
+            "head": {"pivot": list(self.head_pivot), "feature_depth": self.feature_depth,
+                     **({"tilt": self.head_tilt} if self.head_tilt else {})},
             "eyes": {"radius": self.eye_radius},
             "points": {k: list(v) for k, v in self.points.items()},
             "motors": {k: list(v) for k, v in self.ranges.items()},
@@ -188,7 +201,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     viewbox = tuple(v.numbers(doc.get("viewbox"), 4, "viewbox"))
     v.require(viewbox[2] > viewbox[0] and viewbox[3] > viewbox[1], "must be [xmin, ymin, xmax, ymax]", "viewbox")
     head = doc.get("head", {})
-    v.fields(head, {"pivot", "feature_depth"}, "head", "head")
+    v.fields(head, {"pivot", "feature_depth", "tilt"}, "head", "head")
     eyes = doc.get("eyes", {})
     v.fields(eyes, {"radius"}, "eyes", "eyes")
     raw_polys = doc.get("polygons", [])
@@ -207,6 +220,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
         points=points, ranges=ranges, polygons=polygons,
         head_pivot=tuple(v.numbers(head.get("pivot", [0, 0]), 2, "head.pivot")),  # type: ignore[arg-type]
         feature_depth=v.number(head.get("feature_depth", 0.0), "head.feature_depth"),
+        head_tilt=v.number(head.get("tilt", 0.0), "head.tilt", 0.0, 90.0),
         eye_radius=v.number(eyes.get("radius", 0.0), "eyes.radius", 0.0),
         components=components,
         description=str(doc.get("description", "")),

@@ -65,6 +65,14 @@ MOTORS: tuple[MotorSpec, ...] = (
 
 MOTOR_CODES: tuple[str, ...] = tuple(m.code for m in MOTORS)
 N_MOTORS: int = len(MOTORS)
+#: Parameters beyond the 21 that a face may declare, each 0..1 like a motor; a track carries
+#: them as named columns after the 21 (a face without one ignores nothing: it refuses it).
+STANDARD_EXTRAS: dict[str, str] = {
+    "HT": "head tilt (roll): 0.5 upright; towards 1 the head turns counter-clockwise as seen, towards 0 "
+          "clockwise, by up to the face's head.tilt degrees, about its head pivot",
+}
+#: What an extra parameter's code looks like (a motor's do too).
+EXTRA_CODE = r"[A-Z][A-Z0-9_]{0,15}"
 MOTOR_INDEX: MappingProxyType[str, int] = MappingProxyType({c: i for i, c in enumerate(MOTOR_CODES)})
 HEAD_MOTORS: tuple[str, ...] = ("HH", "HV")
 

@@ -43,6 +43,8 @@ orthographically, so features slide across the outline by ``z * sin(angle)`` and
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from common import InputError
@@ -151,8 +153,10 @@ class FaceRig:
         low, span = self._gaze_range
         return np.radians(low + values[self._gaze_columns] * span)
 
-    def geometry(self, values: np.ndarray) -> Geometry:
-        """The items of one frame, in drawing order, for motor values of shape ``(21,)``.
+    def geometry(self, values: np.ndarray, extra: Mapping[str, float] | None = None) -> Geometry:
+        """The items of one frame, in drawing order, for motor values of shape ``(21,)`` and the
+        face's extra parameters by code (``{"HT": 0.7}``; one the face lacks is an error naming
+        it, one not given holds its neutral).
 
         Every vertex of the frame is computed in one array, a few array operations per kind of
         vertex (see :class:`VertexPlan`); each item's vertices are a slice of it.
@@ -186,12 +190,29 @@ class FaceRig:
         yaw, pitch = self.head_degrees(values)
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
+        if extra:
+            self._tilt(out, extra)
         decides = self.shown_values(values, pts) if self._switched else values
         hidden = {key for key, shown in self._switched
                   if not shown.low <= decides[self._columns[shown.motor]] <= shown.high}
         items = tuple(template.with_vertices(out[where]) for key, (template, where)
                       in enumerate(zip(self.templates, plan.slices, strict=True)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)
+
+    def _tilt(self, out: np.ndarray, extra: Mapping[str, float]) -> None:
+        """Roll every vertex about the head pivot by ``HT`` (0.5 upright, 1 the face's full tilt
+        counter-clockwise as seen), in place."""
+        unknown = [code for code in extra if code not in self.face.extra_codes]
+        if unknown:
+            declared = ", ".join(self.face.extra_codes) or "none"
+            raise InputError(f"face {self.face.name} has no parameter {', '.join(unknown)} (it declares {declared})")
+        tilt = extra.get("HT", 0.5)
+        if tilt == 0.5:
+            return
+        angle = np.radians((2.0 * float(tilt) - 1.0) * self.face.head_tilt)
+        c, s = np.cos(angle), np.sin(angle)
+        moved = out - self._pivot
+        out[:] = self._pivot + moved @ np.array([[c, s], [-s, c]])
 
     def _outline_inputs(self, pts: np.ndarray) -> np.ndarray:
         """Every component's defining points (its body, for a skeleton) at control points ``pts``."""

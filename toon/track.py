@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from common import InputError, readonly
-from toon.motors import MOTOR_CODES, N_MOTORS, motor_index
+from toon.motors import EXTRA_CODE, MOTOR_CODES, N_MOTORS, motor_index
 
 
 @dataclass(frozen=True, eq=False)
@@ -25,12 +26,18 @@ class MotorTrack:
         How much each value is backed by observed data, in ``[0, 1]``.
     meta : dict, optional
         Free-form provenance (source file, mapping, ...).
+    extra_codes : tuple of str
+        Parameters beyond the 21 (a face's own, such as ``HT``, :data:`toon.motors.STANDARD_EXTRAS`).
+    extra : array_like, shape (frames, len(extra_codes)), optional
+        Their values in ``[0, 1]``; none where ``extra_codes`` is empty.
     """
 
     values: np.ndarray
     rate: float
     confidence: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
+    extra_codes: tuple[str, ...] = ()
+    extra: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         values = np.asarray(self.values, dtype=np.float64)
@@ -46,6 +53,7 @@ class MotorTrack:
         if not (np.isfinite(self.rate) and self.rate > 0):
             raise InputError(f"rate must be a positive number of frames per second, got {self.rate!r}")
         object.__setattr__(self, "values", readonly(values))
+        self._check_extra(values.shape[0])
         object.__setattr__(self, "rate", float(self.rate))
         if self.confidence is not None:
             conf = np.asarray(self.confidence, dtype=np.float64)
@@ -56,13 +64,43 @@ class MotorTrack:
     @classmethod
     def from_columns(cls, codes: tuple[str, ...] | list[str], values: np.ndarray, rate: float,
                      **kwargs) -> MotorTrack:
-        """Build a track from columns in any order, named by motor code (all 21 needed)."""
+        """Build a track from columns in any order, named by motor code (all 21 needed); columns
+        with other codes (``HT``...) are its extra parameters, in the order given."""
         codes = list(codes)
         missing = [c for c in MOTOR_CODES if c not in codes]
-        if missing or len(codes) != N_MOTORS:
+        if missing or len(codes) != len(set(codes)):
             raise InputError(f"motor columns must name each of the 21 motors once; missing {missing}")
+        table = np.asarray(values, dtype=np.float64)
         order = [codes.index(c) for c in MOTOR_CODES]
-        return cls(np.asarray(values, dtype=np.float64)[:, order], rate, **kwargs)
+        extra = [i for i, c in enumerate(codes) if c not in MOTOR_CODES]
+        if not extra:
+            return cls(table[:, order], rate, **kwargs)
+        return cls(table[:, order], rate, extra_codes=tuple(codes[i] for i in extra), extra=table[:, extra], **kwargs)
+
+    def _check_extra(self, frames: int) -> None:
+        codes = tuple(self.extra_codes)
+        bad = [c for c in codes if c in MOTOR_CODES or not re.fullmatch(EXTRA_CODE, c)]
+        if bad or len(set(codes)) != len(codes):
+            raise InputError("extra parameter codes must be new, unique and like HT (capitals, digits, _); "
+                             f"got {bad or codes}")
+        if not codes:
+            object.__setattr__(self, "extra", None)
+            return
+        extra = np.asarray(self.extra if self.extra is not None else [], dtype=np.float64)
+        if extra.shape != (frames, len(codes)):
+            raise InputError(f"extra values must have shape ({frames}, {len(codes)}), got {extra.shape}")
+        if not np.all(np.isfinite(extra)) or (extra.size and (extra.min() < 0.0 or extra.max() > 1.0)):
+            raise InputError(f"extra parameters {', '.join(codes)} must be finite and within [0, 1]")
+        object.__setattr__(self, "extra_codes", codes)
+        object.__setattr__(self, "extra", readonly(extra))
+
+    def table(self) -> np.ndarray:
+        """The 21 motors and then the extra parameters, ``(frames, 21 + len(extra_codes))``."""
+        return self.values if self.extra is None else np.hstack([self.values, self.extra])
+
+    def extra_at(self, row: np.ndarray) -> dict[str, float]:
+        """A row of :meth:`table` 's extra columns by code."""
+        return {code: float(row[N_MOTORS + k]) for k, code in enumerate(self.extra_codes)}
 
     @property
     def frames(self) -> int:

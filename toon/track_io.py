@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +19,7 @@ import numpy as np
 from common import InputError, atomic_path
 from common.errors import require_file
 from common.npz import NPZ_ERRORS, check_npz
-from toon.motors import MOTOR_CODES, N_MOTORS
+from toon.motors import EXTRA_CODE, MOTOR_CODES
 from toon.track import MotorTrack
 
 _SUFFIXES = (".csv", ".npz")
@@ -34,6 +35,8 @@ def save_track(track: MotorTrack, path: str | os.PathLike) -> Path:
             tmp.write_text(_to_csv(track), encoding="utf-8")
         else:
             extra: dict[str, Any] = {} if track.confidence is None else {"confidence": track.confidence}
+            if track.extra is not None:
+                extra.update(extra_codes=np.array(track.extra_codes), extra=track.extra)
             with open(tmp, "wb") as fh:
                 np.savez_compressed(fh, values=track.values, rate=np.float64(track.rate),
                                     codes=np.array(MOTOR_CODES), meta=json.dumps(track.meta), **extra)
@@ -58,7 +61,10 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
                 meta = json.loads(str(z["meta"])) if "meta" in z.files else {}
                 if conf is not None:
                     conf = conf[:, [codes.index(c) for c in MOTOR_CODES]]
-                return MotorTrack.from_columns(codes, z["values"], float(z["rate"]), confidence=conf, meta=meta)
+                more = {"extra_codes": tuple(str(c) for c in z["extra_codes"]), "extra": z["extra"]} if (
+                    "extra_codes" in z.files) else {}
+                return MotorTrack.from_columns(codes, z["values"], float(z["rate"]), confidence=conf, meta=meta,
+                                               **more)
     except InputError as exc:
         raise InputError(exc.message, path) from None
     except NPZ_ERRORS as exc:
@@ -67,8 +73,8 @@ def load_track(path: str | os.PathLike) -> MotorTrack:
 
 def _to_csv(track: MotorTrack) -> str:
     buf = io.StringIO()
-    buf.write(",".join(("time", *MOTOR_CODES)) + "\n")
-    table = np.column_stack([track.times, track.values])
+    buf.write(",".join(("time", *MOTOR_CODES, *track.extra_codes)) + "\n")
+    table = np.column_stack([track.times, track.table()])
     np.savetxt(buf, table, delimiter=",", fmt="%.6f")
     return buf.getvalue()
 
@@ -88,14 +94,15 @@ def _from_csv(path: Path) -> MotorTrack:
     if not header or header[0].lower() not in ("time", "time_s"):  # a lone "\r" made an empty header
         raise InputError(f'first column must be "time", got {header[0] if header else ""!r}', path, "line 1")
     codes = header[1:]
-    unknown = [c for c in codes if c not in MOTOR_CODES]
-    if unknown or len(set(codes)) != N_MOTORS:
-        raise InputError(f"header must name the 21 motors once each; unknown {unknown}, "
-                         f"missing {[c for c in MOTOR_CODES if c not in codes]}", path, "line 1")
-    data = np.empty((len(rows) - 1, N_MOTORS + 1))
+    unknown = [c for c in codes if c not in MOTOR_CODES and not re.fullmatch(EXTRA_CODE, c)]
+    missing = [c for c in MOTOR_CODES if c not in codes]
+    if unknown or missing or len(set(codes)) != len(codes):
+        raise InputError(f"header must name the 21 motors once each (and a face's extra parameters, such as HT); "
+                         f"unknown {unknown}, missing {missing}", path, "line 1")
+    data = np.empty((len(rows) - 1, len(codes) + 1))
     for i, row in enumerate(rows[1:]):
-        if len(row) != N_MOTORS + 1:
-            raise InputError(f"expected {N_MOTORS + 1} fields, found {len(row)}", path, f"line {i + 2}")
+        if len(row) != len(codes) + 1:
+            raise InputError(f"expected {len(codes) + 1} fields, found {len(row)}", path, f"line {i + 2}")
         try:
             data[i] = [float(x) for x in row]
         except ValueError:
