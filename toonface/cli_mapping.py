@@ -370,6 +370,9 @@ def score(motors: str, output: str, compare: str | None, codes: str | None, widt
         check_image_suffix(output)
     track = load_track(motors)
     other = load_track(compare) if compare else None
+    from toonface.cli_options import warn_unused_extras
+
+    warn_unused_extras(track, motors, "score")
     sound = None
     if sound_path:
         from common.sound import sound_envelope

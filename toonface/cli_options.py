@@ -220,6 +220,14 @@ BACKGROUND = click.option(
          ".apng, .webp and PNG folders; antialiased edges without a dark fringe), or a colour.")
 
 
+def warn_unused_extras(track: Any, path: str, by: str) -> None:
+    """Say on stderr that ``by`` (a command) uses the 21 motors of ``track`` (a
+    :class:`toon.MotorTrack` read from ``path``) and not its extra columns, where it has any."""
+    if track.extra_codes:
+        click.echo(f"warning: {path}: {by} uses the 21 motors; its {', '.join(track.extra_codes)} "
+                   f"column{'s are' if len(track.extra_codes) > 1 else ' is'} not used here yet", err=True)
+
+
 def with_background(face: Any, value: str | None) -> Any:
     """``face`` (a :class:`toon.Face`) with the ``--background`` given (``none``: transparent)."""
     import dataclasses

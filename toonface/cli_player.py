@@ -92,13 +92,17 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     from player.live import ListenError, LiveSettings, run_live
     from player.providers import load_providers
     from toon import load_face, load_track
+    from toonface.cli_options import warn_unused_extras
     from toonface.outputs import Outputs
 
     loop_time = loop_ms / 1000
     dims = parse_size(size)
+    played = load_track(track_path) if track_path else None
+    if played is not None and track_path:
+        warn_unused_extras(played, track_path, "play")
     settings = LiveSettings(loop_time=loop_time, size=dims, tcp=_address(listen, "--listen", 7707),
                             udp=_address(udp, "--udp", 7708), preview=_address(preview, "--preview", 8080),
-                            track=load_track(track_path) if track_path else None, repeat=not once, seconds=seconds,
+                            track=played, repeat=not once, seconds=seconds,
                             providers=load_providers(providers_path))
     face_obj = load_face(face)
     outputs = Outputs()
@@ -288,8 +292,10 @@ def anim_from_track(track: str, output: str, tolerance: float) -> None:
     """Turn a motor track (.csv, .npz) into knots to edit: as few as keep every value within the tolerance."""
     from toon import animation as an
     from toon import load_track
+    from toonface.cli_options import warn_unused_extras
 
     motors = load_track(track)
+    warn_unused_extras(motors, track, "anim from-track")
     try:
         out = an.from_track(motors, tolerance)
     except ValueError as exc:

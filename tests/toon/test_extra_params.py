@@ -88,3 +88,15 @@ def test_render_draws_the_tilt_and_refuses_an_undeclared_column(tmp_path, capsys
     save_track(odd, tmp_path / "odd.csv")
     assert main(["render", str(tmp_path / "odd.csv"), "-o", str(tmp_path / "g"), "--size", "64"]) == 2
     assert "face classic has no parameter TAIL" in capsys.readouterr().err
+
+
+def test_commands_that_use_only_the_21_say_so(tmp_path, capsys):
+    from toonface.cli import main
+
+    values = np.repeat(load_face("classic").neutral()[None], 4, 0)
+    save_track(MotorTrack(values, 10.0, extra_codes=("HT",), extra=np.full((4, 1), 0.8)), tmp_path / "t.csv")
+    assert main(["score", str(tmp_path / "t.csv"), "-o", str(tmp_path / "s.png")]) == 0
+    assert main(["anim", "from-track", str(tmp_path / "t.csv"), "-o", str(tmp_path / "a.toml")]) == 0
+    err = capsys.readouterr().err
+    assert "score uses the 21 motors; its HT column is not used here yet" in err
+    assert "anim from-track uses the 21 motors" in err

@@ -224,7 +224,9 @@ def _track(path: Path) -> tuple[MotorTrack, str]:
 
     if path.suffix.lower() in (".csv", ".npz"):
         try:
-            return load_track(path), "a motor track"
+            track = load_track(path)
+            unused = f" (its {', '.join(track.extra_codes)} not edited here yet)" if track.extra_codes else ""
+            return track, f"a motor track{unused}"
         except InputError as not_a_track:
             try:
                 take = load_take(path)
