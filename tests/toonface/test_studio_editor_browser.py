@@ -251,7 +251,7 @@ def test_scrubbing_the_ruler_moves_the_face_and_hidden_staves_come_back(blank):
 
 def test_the_studio_hears_the_words_and_phones_of_a_voice(blank, realdata, tmp_path):
     """Issue 40: the recognised words and phones under the staves, the words a row above the
-    phones (each with its mouth shape)."""
+    phones (each with its mouth shape), and under them the mouth shapes the motors follow."""
     driver, _ = blank
     import shutil
 
@@ -275,8 +275,17 @@ def test_the_studio_hears_the_words_and_phones_of_a_voice(blank, realdata, tmp_p
                                    ".map(t => t.textContent)")
     assert shown == ["bin", "blue", "at", "f", "two", "now"]
     assert phones[:3] == ["B·A", "IH·B", "N·B"] and "F·G" in phones
-    tops = driver.execute_script("return ['word', 'phone'].map(c => document.querySelector(`#label-track rect.${c}`)"
-                                 ".getAttribute('y'))")
-    assert float(tops[0]) < float(tops[1])  # words above phones
+    tops = driver.execute_script("return ['word', 'phone', 'shape'].map(c => "
+                                 "document.querySelector(`#label-track rect.${c}`).getAttribute('y'))")
+    assert float(tops[0]) < float(tops[1]) < float(tops[2])  # words above phones above shapes
+    shapes = driver.execute_script("return [...document.querySelectorAll('#label-track text.shape')]"
+                                   ".map(t => t.textContent)")
+    from capture.cues import read_cues
+    from toonface.cli import main
+
+    assert main(["lipsync", str(clip), "--text", "bin blue at f two now", "-o", str(tmp_path / "c.tsv")]) == 0
+    assert shapes == [shape for _, _, shape in read_cues(tmp_path / "c.tsv") if shape != "X"]  # lipsync's cues
+    height = driver.execute_script("return document.getElementById('label-track').getBoundingClientRect().height")
+    assert height >= 3 * 16  # three rows fit
     assert "heard 6 words and" in driver.find_element("id", "message").text
     driver.find_element("id", "score").screenshot(str(tmp_path / "heard.png"))

@@ -242,7 +242,10 @@ def show_heard(session: StudioSession, labels: tuple[Label, ...]) -> str:
         raise ValueError("the sound was closed meanwhile")
     session.sound = replace(session.sound, labels=labels)
     words = sum(1 for label in labels if label.row == 0)
-    return f"heard {words} words and {len(labels) - words} phones" if words else f"heard {len(labels)} phones"
+    phones = sum(1 for label in labels if label.row == 1)
+    shapes = sum(1 for label in labels if label.row == 2)
+    said = f"heard {words} words and {phones} phones" if words else f"heard {phones} phones"
+    return f"{said}; {shapes} mouth shapes"
 
 
 def open_tuner(message: dict, neutral: np.ndarray, folder: Folder) -> MappingTuner:

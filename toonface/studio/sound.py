@@ -30,7 +30,8 @@ PEAKS_PER_SECOND = 100
 @dataclass(frozen=True, eq=False)
 class Label:
     """A stretch of the sound ``[start, end]`` (seconds) and what it says; ``row`` 1 for the
-    phones heard (drawn under the words), 0 for words and a label file's labels."""
+    phones heard (drawn under the words), 2 for the mouth shapes (under the phones), 0 for words
+    and a label file's labels."""
 
     start: float
     end: float
@@ -89,11 +90,19 @@ def load_sound(path: str | os.PathLike) -> Sound:
 
 def heard_labels(sound: Sound, text: str | None = None) -> tuple[Label, ...]:
     """What a voice says (:mod:`capture.voice`): its words where ``text`` gives them (aligned),
-    and each phone heard with its mouth shape, a row under them."""
-    from capture.voice import heard, recognise
+    each phone heard with its mouth shape, a row under them, and under those the mouth shapes
+    that ``map`` and ``lipsync`` use (from the sound, or with the words), a shape a box."""
+    from capture.voice import FRAME_RATE, heard, mouth_cues, recognise, shape_sequence, speaking, with_opening
+    from capture.voice_sound import sound_shapes
 
-    words, sounds = heard(recognise(sound.samples, text))
-    return tuple([Label(a, b, w) for a, b, w in words] + [Label(a, b, t, 1) for a, b, t in sounds])
+    phones = recognise(sound.samples, text)
+    words, sounds = heard(phones)
+    frames = max(2, int(len(sound.samples) * FRAME_RATE // RATE))
+    shapes = sound_shapes(sound.samples, frames)
+    if text is not None:
+        shapes = with_opening(shape_sequence(phones, frames, speaking(sound.samples, frames)), shapes)
+    cues = [Label(a, b, shape, 2) for a, b, shape in mouth_cues(shapes) if shape != "X"]
+    return tuple([Label(a, b, w) for a, b, w in words] + [Label(a, b, t, 1) for a, b, t in sounds] + cues)
 
 
 def load_labels(path: str | os.PathLike) -> tuple[Label, ...]:

@@ -132,13 +132,16 @@
     parts.push(svgNode("line", {class: "cursor", x1: xOf(editor.state.cursor), x2: xOf(editor.state.cursor),
                                 y1: 0, y2: height}));
     wave.replaceChildren(...parts);
-    const rows = sound.labels.some((label) => label.row === 1) ? 2 : 1;  // phones heard: a row under the words
+    // heard: words, a row of phones under them, and a row of the mouth shapes the motors follow
+    const rows = 1 + Math.max(0, ...sound.labels.map((label) => label.row || 0));
+    const KIND = ["word", "phone", "shape"];
+    labels.style.height = `${rows === 1 ? 36 : 4 + 16 * rows}px`;
     labels.replaceChildren(...sound.labels.flatMap((label) => {
       const top = rows === 1 ? 4 : 2 + 16 * (label.row || 0);
+      const kind = KIND[label.row || 0] || "word";
       const box = svgNode("rect", {x: xOf(label.start), y: top, width: Math.max(2, xOf(label.end - label.start)),
-                                   height: rows === 1 ? 28 : 14, rx: 3, class: label.row === 1 ? "phone" : "word"});
-      const text = svgNode("text", {x: xOf(label.start) + 3, y: rows === 1 ? 22 : top + 11,
-                                    class: label.row === 1 ? "phone" : "word"});
+                                   height: rows === 1 ? 28 : 14, rx: 3, class: kind});
+      const text = svgNode("text", {x: xOf(label.start) + 3, y: rows === 1 ? 22 : top + 11, class: kind});
       text.textContent = label.text;
       const title = svgNode("title", {});
       title.textContent = `${label.start.toFixed(2)}–${label.end.toFixed(2)} s: ${label.text}`;
