@@ -46,6 +46,8 @@ def plain_pipeline(take: Take, mapping: Mapping, markerset: MarkerSet, rest: tup
     in_sweep = take.window(*sweep)
     out = np.full((take.frames, len(MOTOR_CODES)), np.nan)
     for rule in mapping.rules:
+        if rule.code not in MOTOR_CODES:  # the peer maps the 21 motors (HT: issue 42)
+            continue
         parts = []
         for source in rule.sources:
             if source.kind == "head":

@@ -160,8 +160,11 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
 
 
 def _rank(draft: MappingDraft) -> tuple[bool, int, float]:
-    """Which draft is better: one that opens the jaw, then the most motors, then the closest fit."""
-    return "MB" in draft.doc["motor"], len(draft.doc["motor"]), -draft.fit_mm
+    """Which draft is better: one that opens the jaw, then the most of the 21 motors (a preset
+    that drives the head's tilt as well is no better a fit for it), then the closest fit."""
+    from toon import MOTOR_CODES
+
+    return "MB" in draft.doc["motor"], sum(code in MOTOR_CODES for code in draft.doc["motor"]), -draft.fit_mm
 
 
 def _partner(markerset: MarkerSet, label: str, size: float) -> str | None:

@@ -42,8 +42,9 @@ from pathlib import Path
 from capture.voice import VISEMES
 from common import read_document, resolve_builtin
 from common.validate import Validator, at, is_number
-from mapping.sources import AXES, BLENDSHAPE_NAMES, KINDS, Source
+from mapping.sources import AXES, BLENDSHAPE_NAMES, HEAD_AXES, KINDS, Source
 from toon import MOTOR_CODES
+from toon.motors import ALL_CODES
 
 FORMAT = "toonface.mapping/1"
 COMBINES = ("max", "mean", "min", "weighted")
@@ -120,6 +121,12 @@ class Mapping:
     source: str = ""  # the file it was read from, for messages
     eyes: Eyes = Eyes()
 
+    @property
+    def extra_codes(self) -> tuple[str, ...]:
+        """The parameters beyond the 21 its rules drive (``HT``), in :data:`toon.motors.ALL_CODES` order."""
+        driven = {rule.code for rule in self.rules}
+        return tuple(code for code in ALL_CODES[len(MOTOR_CODES):] if code in driven)
+
     def sources(self) -> list[Source]:
         """Every source the rules read (each once, by key)."""
         seen: dict[str, Source] = {}
@@ -180,7 +187,7 @@ def _eyes(check: Validator, spec: object) -> Eyes:
 
 def _rule(check: Validator, code: str, spec: object) -> MotorRule:
     where = f"motor.{code}"
-    check.choice(code, MOTOR_CODES, where)
+    check.choice(code, ALL_CODES, where)  # the 21 and the standard extras (HT)
     check.fields(spec, _MOTOR_KEYS, where)
     assert isinstance(spec, dict)  # fields() checked it
     raw = spec.get("sources") or []
@@ -241,7 +248,7 @@ def _source(check: Validator, spec: object, where: str) -> Source:
                       f"eyeBlinkLeft, ...), got {value!r}", at(where, kind))
         markers, axis, channel = (), 0, str(value)
     elif kind == "head":
-        markers, axis = (), ("yaw", "pitch").index(check.choice(value, ("yaw", "pitch"), at(where, "head")))
+        markers, axis = (), HEAD_AXES.index(check.choice(value, HEAD_AXES, at(where, "head")))
     else:
         markers = (value,) if kind == "marker" and isinstance(value, str) else value
         check.require(isinstance(markers, (list, tuple)) and len(markers) == count

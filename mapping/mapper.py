@@ -26,7 +26,8 @@ from mapping.profile import Profile, SourceRange
 from mapping.rules import MotorRules
 from mapping.sources import Source, head_angles, measure
 from mapping.stabilise import Stabilised
-from toon import MOTOR_CODES, MotorTrack, standard_neutral
+from toon import MotorTrack, standard_neutral
+from toon.motors import N_CODES, N_MOTORS, code_index, extended_neutral
 
 FILLED_QUALITY = 0.5
 
@@ -54,7 +55,7 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
         Seeds the idle drift and the tremble.
     """
     check_profile(mapping, profile)
-    neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
+    neutral = extended_neutral(standard_neutral() if target_neutral is None else target_neutral)
     quality = marker_quality(stable.local, filled)
     raw, confidence = motor_values(mapping, stable, columns, quality, profile, neutral)
     values = MotorRules(mapping, rate, neutral, seed).apply(raw, times)
@@ -63,9 +64,12 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
         new_times = times[0] + np.arange(int(round(len(times) * scale))) / rate
         stretched = times[0] + (times - times[0]) * scale
         values, confidence = _resample(values, stretched, new_times), _resample(confidence, stretched, new_times)
+    extras = mapping.extra_codes  # the standard extras the mapping drives (HT): columns after the 21
     meta = {"mapping": mapping.name, "profile": profile.performer or profile.markerset,
-            "mapped": [r.code for r in mapping.rules], "lost_frames": int(np.isnan(raw).any(axis=1).sum())}
-    return MotorTrack(values, rate, confidence=np.clip(confidence, 0.0, 1.0), meta=meta)  # the rules clip values
+            "mapped": [r.code for r in mapping.rules if r.code not in extras], "mapped_extra": list(extras),
+            "lost_frames": int(np.isnan(raw[:, :N_MOTORS]).any(axis=1).sum())}
+    return MotorTrack(values[:, :N_MOTORS], rate, confidence=np.clip(confidence[:, :N_MOTORS], 0.0, 1.0), meta=meta,
+                      extra_codes=extras, extra=values[:, [code_index(c) for c in extras]] if extras else None)
 
 
 def marker_quality(local: np.ndarray, filled: np.ndarray | None = None) -> np.ndarray:
@@ -90,8 +94,9 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     operations, not a few per rule. ``plan``: the plan of the mapping's rules under ``profile``
     for ``columns``, where the caller keeps one (made here otherwise)."""
     frames = len(stable.local)
-    values = np.tile(np.asarray(neutral, dtype=float), (frames, 1))
-    confidence = np.ones((frames, len(MOTOR_CODES)))
+    neutral = extended_neutral(neutral)
+    values = np.tile(neutral, (frames, 1))
+    confidence = np.ones((frames, N_CODES))
     rules = mapping.rules
     if not rules:
         return values, confidence

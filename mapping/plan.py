@@ -12,7 +12,7 @@ import numpy as np
 from mapping.mapfile import MotorRule
 from mapping.profile import Profile, SourceRange
 from mapping.sources import Source
-from toon import motor_index
+from toon.motors import code_index
 
 SCALE, SCORE, PROFILE = 0, 1, 2
 MODES = ("scale", "score", "profile")
@@ -130,7 +130,7 @@ class MotorPlan:
             down=np.ones(len(pairs)), scale=np.array([rules[p[2]].scale for p in pairs], dtype=float),
             sign=np.array([-1.0 if p[0].invert else 1.0 for p in pairs]), weight=weight,
             decouples=np.array([bool(rules[p[2]].decouple) for p in pairs]), counts=counts, starts=starts,
-            columns=np.array([motor_index(r.code) for r in rules]),
+            columns=np.array([code_index(r.code) for r in rules]),
             invert=np.where([r.invert for r in rules], -1.0, 1.0), ways=np.zeros(len(rules), dtype=bool),
             gain=np.array([r.gain for r in rules], dtype=float),
             offset=np.array([r.offset for r in rules], dtype=float),

@@ -32,7 +32,7 @@ import numpy as np
 from mapping.filters import Butterworth, Delay, OneEuro, SavitzkyGolay, SpeedLimit
 from mapping.mapfile import Mapping, Style
 from toon import MOTOR_CODES, N_MOTORS, mirror_values, motor_index
-from toon.motors import MIRROR_PAIRS
+from toon.motors import MIRROR_PAIRS, N_CODES, code_index, extended_neutral
 
 IDLE_AMPLITUDE = 0.03  # motor units of the idle drift
 IDLE_HZ = 0.25
@@ -50,12 +50,12 @@ def make_filter(spec: dict, rate: float) -> OneEuro | Butterworth | SavitzkyGola
 
 def channel_limits(mapping: Mapping, rate: float) -> tuple[np.ndarray, np.ndarray]:
     """Each motor's speed limit (units/s, inf: none) and delay (whole frames), ``(21,)`` each."""
-    speeds = np.full(N_MOTORS, np.inf)
-    delays = np.zeros(N_MOTORS, dtype=int)
+    speeds = np.full(N_CODES, np.inf)
+    delays = np.zeros(N_CODES, dtype=int)
     for rule in mapping.rules:
         if rule.max_speed > 0:
-            speeds[motor_index(rule.code)] = rule.max_speed
-        delays[motor_index(rule.code)] = int(round(rule.delay * rate))
+            speeds[code_index(rule.code)] = rule.max_speed
+        delays[code_index(rule.code)] = int(round(rule.delay * rate))
     return speeds, delays
 
 
@@ -75,11 +75,13 @@ class MotorRules:
 
     def __init__(self, mapping: Mapping, rate: float, neutral: np.ndarray, seed: int = 0) -> None:
         self.mapping, self.rate = mapping, rate
-        self.neutral = np.asarray(neutral, dtype=float)
-        self.phases = np.random.default_rng(seed).uniform(0, 2 * np.pi, (2, N_MOTORS))  # idle drift, tremble
-        self.mapped = np.array([motor_index(r.code) for r in mapping.rules], dtype=int)
-        self.loss = [(motor_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
-        self.filters = [(motor_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]
+        self.neutral = extended_neutral(neutral)
+        # idle drift and tremble: the 21 motors' phases as before the extras came, theirs after
+        self.phases = np.hstack([np.random.default_rng(seed).uniform(0, 2 * np.pi, (2, N_MOTORS)),
+                                 np.random.default_rng([seed, 1]).uniform(0, 2 * np.pi, (2, N_CODES - N_MOTORS))])
+        self.mapped = np.array([code_index(r.code) for r in mapping.rules], dtype=int)
+        self.loss = [(code_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
+        self.filters = [(code_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]
         speeds, delays = channel_limits(mapping, rate)
         self.limited = np.isfinite(speeds)  # only these pass the speed limit
         self.limit = SpeedLimit(speeds[self.limited]) if self.limited.any() else None
@@ -90,7 +92,7 @@ class MotorRules:
     def reset(self) -> None:
         """Forget the past (loss, filters, limits, delays, smoothing)."""
         self._last = self.neutral.copy()  # the last value seen per motor
-        self._seen_at = np.full(N_MOTORS, np.nan)  # when it was seen (NaN: never)
+        self._seen_at = np.full(N_CODES, np.nan)  # when it was seen (NaN: never)
         self._first_t: float | None = None
         self._smooth: deque[np.ndarray] = deque(maxlen=self.window)
         for _, stage in self.filters:

@@ -13,8 +13,8 @@ Kinds (all in the marker set's head frame: x to the performer's left, y up, z ou
     The angle at the middle marker between the other two, degrees:
     ``{ angle = ["MOUTH_R", "LIP_LOW", "MOUTH_L"] }``.
 ``head``
-    The head's ``yaw`` (toward the performer's left) or ``pitch`` (chin up) from its rest pose,
-    degrees: ``{ head = "yaw" }``.
+    The head's ``yaw`` (toward the performer's left), ``pitch`` (chin up) or ``roll``
+    (counter-clockwise as the camera sees it) from its rest pose, degrees: ``{ head = "yaw" }``.
 ``blendshape``
     A blendshape score, 0..1, from a take's channels (a markerless tracker's, ARKit's names):
     ``{ blendshape = "jawOpen" }``. Not head-relative: the tracker has taken the head out.
@@ -35,6 +35,8 @@ from mapping.stabilise import yaw_pitch_degrees
 
 AXES = "xyz"
 KINDS = ("marker", "distance", "difference", "angle", "head", "blendshape")
+#: A ``head`` source's axes: turn, nod and roll (degrees from the rest pose).
+HEAD_AXES = ("yaw", "pitch", "roll")
 #: A score's worth of one millimetre, where thresholds written in mm (the least range a source
 #: must span, the span a range starts from) apply to blendshape scores: 4 mm, a small deliberate
 #: motion of a lip or a brow, is 0.2 of a score.
@@ -54,7 +56,7 @@ class Source:
         Marker-set labels: 1 (marker), 2 (distance, difference), 3 (angle) or none (head,
         blendshape).
     axis : int
-        0, 1, 2 for x, y, z (marker, difference); for head, 0 yaw and 1 pitch.
+        0, 1, 2 for x, y, z (marker, difference); for head, 0 yaw, 1 pitch and 2 roll.
     invert : bool
         Follow the source's decrease instead of its increase.
     weight : float
@@ -76,7 +78,7 @@ class Source:
         if self.kind == "marker":
             return f"{self.markers[0]}.{AXES[self.axis]}"
         if self.kind == "head":
-            return f"head.{('yaw', 'pitch')[self.axis]}"
+            return f"head.{HEAD_AXES[self.axis]}"
         if self.kind == "blendshape":
             return f"blendshape.{self.channel}"
         axis = f".{AXES[self.axis]}" if self.kind == "difference" else ""
@@ -129,11 +131,15 @@ def measure(source: Source, local: np.ndarray, columns: dict[str, int], head: np
 
 
 def head_angles(rotation: np.ndarray, rest: np.ndarray) -> np.ndarray:
-    """Yaw and pitch (degrees) of head rotations ``(F, 3, 3)`` from the rest rotation ``(3, 3)``;
-    ``(F, 2)``, NaN for frames without a pose."""
+    """Yaw, pitch and roll (degrees) of head rotations ``(F, 3, 3)`` from the rest rotation
+    ``(3, 3)``; ``(F, 3)``, NaN for frames without a pose. Roll is the head's up direction
+    turned about the view axis, counter-clockwise as the camera sees it positive (the head
+    frame's x to the right of the picture, y up, z toward the camera)."""
     ok = np.isfinite(rotation).all(axis=(1, 2))
     relative = np.asarray(rest).T @ np.where(ok[:, None, None], rotation, np.eye(3))
     yaw, pitch = yaw_pitch_degrees(relative)
-    angles = np.column_stack([yaw, pitch])
+    up = relative[:, :, 1]
+    roll = np.degrees(np.arctan2(-up[:, 0], up[:, 1]))
+    angles = np.column_stack([yaw, pitch, roll])
     angles[~ok] = np.nan
     return angles

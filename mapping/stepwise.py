@@ -240,4 +240,5 @@ class LiveMapper:
         self._plan_for = self.profile
         raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral,
                                        self._plan)
-        return self.rules.step(raw[0], t), np.clip(confidence[0], 0.0, 1.0)
+        # the 21 motors: a live stream carries no extra parameters yet (issue 42)
+        return self.rules.step(raw[0], t)[:N_MOTORS], np.clip(confidence[0, :N_MOTORS], 0.0, 1.0)

@@ -256,9 +256,11 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
         rest = f"the profile's ({profile.notes.get('neutral', 'its own')})"
         check_profile(profile, chosen, markerset.name)
         missing = [s.key for s in chosen.sources() if s.key not in profile.sources]
+        ranged = {s.key for r in chosen.rules if r.normalise != "scale" for s in r.sources}  # scale: a rest only
         if missing or rest_from_take:
             own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE,
-                            require_motion=bool(missing), rest_only=not missing)  # its ranges only if missing
+                            require_motion=any(key in ranged for key in missing),  # a range needs motion
+                            rest_only=not missing)  # its ranges only if missing
             profile = merge_profile(profile, own, missing, rest_from_take)
             if missing:
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
@@ -274,7 +276,7 @@ def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None) -> Mot
     track = map_stabilised(stable, ready.prepared.columns, take.times, take.rate, ready.mapping, ready.profile,
                            target_neutral, stable.filled)
     meta = {**track.meta, "source": take.meta.get("source", ""), "notes": list(ready.notes)}
-    mapped = MotorTrack(track.values, track.rate, confidence=track.confidence, meta=meta)
+    mapped = replace(track, meta=meta)  # the extra parameters (HT) kept
     rest = standard_neutral() if target_neutral is None else target_neutral
     mapped.meta["report"] = take_report(ready, mapped, rest).as_dict()  # what was chosen, and how far to trust it
     return mapped

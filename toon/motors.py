@@ -73,6 +73,9 @@ STANDARD_EXTRAS: dict[str, str] = {
 }
 #: What an extra parameter's code looks like (a motor's do too).
 EXTRA_CODE = r"[A-Z][A-Z0-9_]{0,15}"
+#: The 21 motors and then the standard extras: the columns a mapping computes.
+ALL_CODES: tuple[str, ...] = (*MOTOR_CODES, *STANDARD_EXTRAS)
+N_CODES: int = len(ALL_CODES)
 MOTOR_INDEX: MappingProxyType[str, int] = MappingProxyType({c: i for i, c in enumerate(MOTOR_CODES)})
 HEAD_MOTORS: tuple[str, ...] = ("HH", "HV")
 
@@ -93,6 +96,21 @@ def standard_neutral() -> np.ndarray:
     return np.array([_STANDARD_NEUTRAL[c] for c in MOTOR_CODES], dtype=np.float64)
 
 
+def code_index(code: str) -> int:
+    """Column of a motor or a standard extra in a ``(frames, N_CODES)`` array (:data:`ALL_CODES`)."""
+    try:
+        return ALL_CODES.index(code)
+    except ValueError:
+        raise KeyError(f'unknown motor or parameter "{code}" (expected one of {" ".join(ALL_CODES)})') from None
+
+
+def extended_neutral(neutral: np.ndarray) -> np.ndarray:
+    """A neutral of the 21 motors ``(21,)`` with each standard extra's (0.5) after it, ``(N_CODES,)``;
+    one already that long as it is."""
+    neutral = np.asarray(neutral, dtype=np.float64)
+    return neutral if len(neutral) == N_CODES else np.concatenate([neutral, np.full(N_CODES - N_MOTORS, 0.5)])
+
+
 def motor_index(code: str) -> int:
     """Column of a motor code in a ``(frames, 21)`` array; raises ``KeyError`` naming the code."""
     try:
@@ -107,7 +125,7 @@ MIRROR_PAIRS: tuple[tuple[str, str], ...] = (
     ("PRH", "PLH"), ("PRV", "PLV"), ("MRH", "MLH"), ("MRV", "MLV"),
 )
 #: Motors whose direction (toward the character's left) flips in a mirror image.
-MIRROR_REFLECTED: tuple[str, ...] = ("PLH", "PRH", "HH")
+MIRROR_REFLECTED: tuple[str, ...] = ("PLH", "PRH", "HH", "HT")  # HT where values carry the extras
 
 
 def mirror_values(values: np.ndarray, neutral: np.ndarray) -> np.ndarray:
@@ -124,6 +142,7 @@ def mirror_values(values: np.ndarray, neutral: np.ndarray) -> np.ndarray:
         i, j = MOTOR_INDEX[right], MOTOR_INDEX[left]
         out[:, [i, j]] = out[:, [j, i]]
     for code in MIRROR_REFLECTED:
-        i = MOTOR_INDEX[code]
-        out[:, i] = 2 * neutral[i] - out[:, i]
+        i = ALL_CODES.index(code)
+        if i < out.shape[1]:
+            out[:, i] = 2 * neutral[i] - out[:, i]
     return np.clip(out, 0.0, 1.0)

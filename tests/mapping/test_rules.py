@@ -152,7 +152,8 @@ def test_the_tremble_phases_come_from_the_seed_and_every_motor_has_its_own():
     a, b, c = (MotorRules(mapping, RATE, standard_neutral(), seed) for seed in (1, 1, 2))
     np.testing.assert_array_equal(a.phases, b.phases)
     assert not np.allclose(a.phases, c.phases)
-    assert len(set(np.round(a.phases[1], 6))) == len(MOTOR_CODES)
+    assert len(set(np.round(a.phases[1], 6))) == len(MOTOR_CODES) + 1  # the 21 and HT
+    np.testing.assert_array_equal(a.phases[:, :21], np.random.default_rng(1).uniform(0, 2 * np.pi, (2, 21)))
 
 
 def test_a_pair_of_eyes_blinks_together_and_winks_cleanly_by_hand():

@@ -100,3 +100,65 @@ def test_commands_that_use_only_the_21_say_so(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "score uses the 21 motors; its HT column is not used here yet" in err
     assert "anim from-track uses the 21 motors" in err
+
+
+def _turned_clip(clip, path, degrees: float = 15.0) -> np.ndarray:
+    """``clip`` with each frame turned about the face (counter-clockwise positive), upright for
+    0.6 s (the rest) and then rolling ``degrees`` each way over 2.4 s; the angles, per frame."""
+    import av
+    import cv2
+
+    angles = []
+    with av.open(str(clip)) as source, av.open(str(path), "w") as target:
+        stream = target.add_stream("mpeg4", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 360, 288, "yuv420p"
+        for k, frame in enumerate(source.decode(video=0)):
+            angle = degrees * np.sin(2 * np.pi * (k - 15) / 60) if k >= 15 else 0.0
+            turn = cv2.getRotationMatrix2D((180, 150), angle, 1.0)
+            image = cv2.warpAffine(frame.to_ndarray(format="rgb24"), turn, (360, 288), borderMode=cv2.BORDER_REPLICATE)
+            target.mux(stream.encode(av.VideoFrame.from_ndarray(image, format="rgb24")))
+            angles.append(angle)
+        target.mux(stream.encode(None))
+    return np.array(angles)
+
+
+def _drawn_angle(rig, values: np.ndarray, extra: dict) -> float:
+    """How far (degrees, counter-clockwise) the frame is turned from the same frame upright."""
+    upright = _vertices(rig.geometry(values))
+    turned = _vertices(rig.geometry(values, extra))
+    a, b = upright - upright.mean(axis=0), turned - turned.mean(axis=0)
+    return float(np.degrees(np.arctan2((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum(), (a * b).sum())))
+
+
+@pytest.mark.slow
+@pytest.mark.realdata
+def test_a_talking_head_that_tilts_tilts_every_face_within_three_degrees(realdata, tmp_path):
+    from capture.video_tracking import track_video
+    from toonface.pipeline import map_onto_face
+
+    clip = realdata / "video" / "grid" / "bbaf2n.mpg"
+    if not clip.is_file():
+        pytest.skip(f"{clip} is absent")
+    applied = _turned_clip(clip, tmp_path / "turned.mp4")
+    take = track_video(tmp_path / "turned.mp4", "face")
+    worst = 0.0
+    for name in builtin_faces():
+        face = load_face(name)
+        track = map_onto_face(take, (0.0, 0.5), face)  # the rest: the upright first half second
+        assert track.extra_codes == ("HT",)
+        rig = FaceRig(face)
+        for k in range(0, track.frames, 6):
+            drawn = _drawn_angle(rig, track.values[k], track.extra_at(track.table()[k]))
+            worst = max(worst, abs(drawn - applied[k]))
+    assert worst <= 3.0 and np.ptp(applied) > 25  # it did tilt, both ways
+
+
+def test_a_mapping_drives_the_head_tilt_from_the_head_fit_and_mirror_turns_it():
+    from capture import synthesize
+    from mapping.workflow import map_take
+
+    take = synthesize(seconds=4.0, seed=2).take
+    plain, mirrored = map_take(take), map_take(take, mirror=True)
+    assert plain.extra_codes == ("HT",) and plain.meta["mapped_extra"] == ["HT"]
+    assert "HT" not in plain.meta["mapped"]  # the report's motors are the 21
+    np.testing.assert_allclose(mirrored.extra[:, 0], 1.0 - plain.extra[:, 0], atol=1e-9)  # about 0.5
