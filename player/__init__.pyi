@@ -5,7 +5,8 @@ from .gl import RenderError, create_context
 from .layout import triangulate
 from .offline import render_track, resample
 from .renderer import Renderer
-from .sinks import Mp4Sink, PngSink, open_sink
+from .sink_choice import open_sink
+from .sinks import Mp4Sink, PngSink
 
 __all__ = [
     "FrameRenderer",

@@ -25,7 +25,7 @@ from player.preview import PreviewSink
 from player.providers import Mixer, Providers, Tracked
 from player.renderer import Renderer
 from player.server import CommandServer, CommandUDPServer, local_port, start
-from player.sinks import FrameSink
+from player.sinks import FrameSink, keeps_alpha
 from toon import Face, FaceRig, Geometry, MotorTrack, load_expressions
 
 _Server = TypeVar("_Server", bound="socketserver.TCPServer | socketserver.UDPServer | PreviewSink")
@@ -125,7 +125,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                     if vector is not None:
                         vector(geometry)
                         continue
-                    alpha = bool(getattr(sink, "alpha", False)) and geometry.background[3] < 1.0
+                    alpha = keeps_alpha(sink) and geometry.background[3] < 1.0
                     if alpha not in pictures:
                         pictures[alpha] = renderer.render(geometry, alpha) if alpha else renderer.render(geometry)
                     sink.write(pictures[alpha])

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
 from player.backends import FrameRenderer
-from player.sinks import FrameWriter
-from toon import FaceRig, MotorTrack
+from player.sinks import FrameWriter, keeps_alpha
+from toon import FaceRig, Geometry, MotorTrack
 from toon.motors import N_MOTORS
 
 
@@ -48,15 +48,21 @@ def render_track(track: MotorTrack, rig: FaceRig, renderer: FrameRenderer, sink:
     is not closed here: the caller decides whether the output is complete. A sink that keeps
     alpha (``sink.alpha``) gets straight RGBA frames where the face's background is transparent.
     """
-    values = resample(track, fps or track.rate)
-    alpha = bool(getattr(sink, "alpha", False)) and rig.face.background[3] < 1.0  # transparency kept
+    alpha = keeps_alpha(sink) and rig.face.background[3] < 1.0  # transparency kept
     vector = getattr(sink, "write_geometry", None)  # an SVG output: the geometry, nothing rasterised
-    for row in values:
-        geometry = rig.geometry(row[:N_MOTORS], track.extra_at(row) if track.extra_codes else None)
+    count = 0
+    for geometry in geometries(track, rig, fps or track.rate):
+        count += 1
         if vector is not None:
             vector(geometry)
         else:
             sink.write(renderer.render(geometry, alpha) if alpha else renderer.render(geometry))
         if progress is not None:
             progress(1)
-    return len(values)
+    return count
+
+
+def geometries(track: MotorTrack, rig: FaceRig, fps: float) -> Iterator[Geometry]:
+    """Each frame of a ``fps`` video of ``track`` on ``rig``'s face, its extra parameters (HT) too."""
+    for row in resample(track, fps):
+        yield rig.geometry(row[:N_MOTORS], track.extra_at(row) if track.extra_codes else None)

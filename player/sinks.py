@@ -13,17 +13,13 @@ import shutil
 import sys
 from fractions import Fraction
 from pathlib import Path
-from typing import TYPE_CHECKING, BinaryIO, Protocol
+from typing import BinaryIO, Protocol
 
 import av
 import cv2
 import numpy as np
 
 from common import InputError, atomic_dir, atomic_path, check_folder
-
-if TYPE_CHECKING:
-    from player.alpha_sinks import AlphaVideoSink
-    from player.vector_sinks import AnimatedSvgSink, SvgFolderSink
 
 
 class FrameWriter(Protocol):
@@ -354,47 +350,6 @@ class RawSink:
 
     def __exit__(self, exc_type, exc, tb) -> None:
         self.close()
-
-
-#: What a picture output can be, by suffix, for messages (a folder has none: PNG frames).
-PICTURE_SUFFIXES = {".mp4": "an H.264 MP4", ".webm": "a WebM (VP9 with alpha)",
-                    ".mov": "a QuickTime .mov (ProRes 4444 with alpha)", ".apng": "an animated PNG",
-                    ".webp": "an animated WebP", ".svg": "an animated SVG", ".json": "a Lottie animation"}
-#: What a folder of frames can hold (``--format``).
-FOLDER_FORMATS = ("png", "svg")
-
-
-def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int], live: bool = False,
-              fmt: str | None = None
-              ) -> Mp4Sink | LiveMp4Sink | PngSink | RawSink | AlphaVideoSink | AnimatedSvgSink | SvgFolderSink:
-    """An MP4 sink for ``*.mp4`` (``live``: one that a kill does not lose, :class:`LiveMp4Sink`),
-    a moving picture with alpha for ``.webm .mov .apng .webp`` (:mod:`player.alpha_sinks`), an
-    animated SVG for ``.svg`` and a Lottie animation for ``.json`` (:mod:`player.vector_sinks`),
-    raw RGB on standard output for ``-``, otherwise a folder of PNG frames (or of SVG frames,
-    ``fmt="svg"``)."""
-    from player.alpha_sinks import ALPHA_FORMATS, AlphaVideoSink
-    from player.vector_sinks import AnimatedSvgSink, SvgFolderSink
-
-    if str(target) == "-":
-        return RawSink()
-    target = Path(target)
-    suffix = target.suffix.lower()
-    if fmt == "lottie" and suffix != ".json":
-        raise InputError("--format lottie writes a .json file", target)
-    if fmt is not None and fmt != "lottie" and (suffix or fmt not in FOLDER_FORMATS):
-        raise InputError(f"--format {fmt} is for a folder of frames ({' or '.join(FOLDER_FORMATS)}); a file's "
-                         "suffix says its format", target)
-    if suffix == ".mp4":
-        return LiveMp4Sink(target, fps, size) if live else Mp4Sink(target, fps, size)
-    if suffix in ALPHA_FORMATS:
-        return AlphaVideoSink(target, fps, size)
-    if suffix in (".svg", ".json"):
-        return AnimatedSvgSink(target, fps, size, lottie=suffix == ".json")
-    if target.suffix:
-        known = ", ".join(f"{k} ({v})" for k, v in PICTURE_SUFFIXES.items())
-        raise InputError(f"unknown output type {target.suffix!r}: give {known}, a folder for PNG frames or - for "
-                         "raw RGB on standard output", target)
-    return SvgFolderSink(target, size) if fmt == "svg" else PngSink(target)
 
 
 def keeps_alpha(sink: object) -> bool:

@@ -75,7 +75,7 @@ def open_pictures(spec: str, rate: float = 30.0, size: tuple[int, int] = (512, 5
     """An MP4 file (``live``: recorded so that a kill does not lose it), a WebM, ProRes .mov,
     APNG or WebP with alpha, an animated SVG, a folder of PNG (or, ``fmt="svg"``, SVG) frames, or
     raw RGB on standard output (``-``)."""
-    from player.sinks import open_sink as open_picture_file
+    from player.sink_choice import open_sink as open_picture_file
 
     return open_picture_file(spec, rate, size, live=live, fmt=fmt)
 

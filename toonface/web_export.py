@@ -20,9 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from common import atomic_path
-from player.offline import resample
+from player.offline import geometries
 from toon import Face, FaceRig, MotorTrack
-from toon.motors import N_MOTORS
 from toon.svg_anim import track_svg
 
 #: The sound's rate and bit rate in the page (Opus, voice-grade stereo folded to mono).
@@ -70,11 +69,9 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
     """
     if transparent:
         face = dataclasses.replace(face, background=(*face.background[:3], 0.0))
-    values = resample(track, fps)
-    rig = FaceRig(face)
-    svg = track_svg([rig.geometry(row[:N_MOTORS], track.extra_at(row) if track.extra_codes else None)
-                     for row in values], fps, size)
-    duration = max(len(values) - 1, 1) / fps
+    frames = list(geometries(track, FaceRig(face), fps))
+    svg = track_svg(frames, fps, size)
+    duration = max(len(frames) - 1, 1) / fps
     audio = ""
     if sound is not None:
         data = base64.b64encode(encoded_sound(sound)).decode("ascii")

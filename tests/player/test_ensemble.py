@@ -10,7 +10,7 @@ from player.animator import FakeClock
 from player.ensemble import Ensemble, load_seats
 from player.live import LiveSettings, run_live
 from player.providers import IdleSettings, Providers
-from player.sinks import open_sink
+from player.sink_choice import open_sink
 from stream.packets import StreamWriter
 from stream.playout import Playout
 from stream.receiver import StreamReceiver

@@ -18,7 +18,7 @@ from player.commands import Commands
 from player.live import LiveSettings, run_live
 from player.preview import FrameBoard, PreviewServer
 from player.server import CommandServer, CommandUDPServer, RateLimit, local_port, start
-from player.sinks import open_sink
+from player.sink_choice import open_sink
 from toon import load_expressions, load_face, motor_index, standard_neutral
 
 

@@ -164,7 +164,7 @@ def test_a_live_video_killed_outright_plays_up_to_its_last_seconds(tmp_path):
     script = textwrap.dedent(f"""
         import os, signal
         import numpy as np
-        from player.sinks import open_sink
+        from player.sink_choice import open_sink
         sink = open_sink({str(tmp_path / "live.mp4")!r}, 30.0, (64, 48), live=True)
         for f in range(150):  # 5 s of frames, each a grey level that tells which it is
             sink.write(np.full((48, 64, 3), f, np.uint8))
@@ -182,7 +182,7 @@ def test_a_live_video_killed_outright_plays_up_to_its_last_seconds(tmp_path):
 def test_a_live_video_closed_is_the_target_and_interrupted_keeps_a_partial_beside_it(tmp_path):
     import av
 
-    from player.sinks import open_sink
+    from player.sink_choice import open_sink
 
     (tmp_path / "b.mp4").write_bytes(b"an earlier complete video")
     for name, end in (("a.mp4", "close"), ("b.mp4", "keep_partial"), ("c.mp4", "abort")):

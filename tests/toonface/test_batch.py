@@ -6,51 +6,27 @@ from __future__ import annotations
 
 import json
 import os
-import re
 import signal
 import subprocess
 import sys
-import textwrap
 from dataclasses import replace
 from pathlib import Path
 
 import av
 import numpy as np
 import pytest
+from batch_jobs import SIZE, run, write_job
 from distributed import get_task_stream
 
 from capture import load_take, save_take, synthesize
 from common import InputError
 from player.parts import frame_ranges, join_parts, render_part
 from toon import FaceRig, load_face, load_track, save_face
-from toonface.batch import connect, load_job, plan, run_batch, tasks, write_manifest
+from toonface.batch import connect, load_job, plan, run_batch, tasks
 from toonface.batch import pairs as batch_pairs
 from toonface.batch.pairs import file_digest as digest
 from toonface.cli import main
 from toonface.pipeline import map_onto_face, render
-
-SIZE = 64
-
-
-def write_job(root: Path, takes: dict[str, float], faces: list[str], extra: str = "") -> Path:
-    """Synthetic takes (name -> seconds, 30 Hz, seeded) under root/takes and a job file naming them."""
-    (root / "takes").mkdir(exist_ok=True)
-    for seed, (name, seconds) in enumerate(takes.items()):
-        save_take(synthesize(seconds=seconds, rate=30.0, seed=seed).take, root / "takes" / f"{name}.npz")
-    face_list = ", ".join(f'"{f}"' for f in faces)
-    text = f"""\
-        format = "toonface.batch/1"
-        takes = ["takes/*.npz", "takes/*.c3d"]
-        faces = [{face_list}]
-        output = "out"
-        [render]
-        size = "{SIZE}"
-        samples = 0
-        part_seconds = 0.5
-        """
-    path = root / "job.toml"
-    path.write_text(textwrap.dedent(text) + textwrap.dedent(extra))
-    return path
 
 
 def decode(path: Path) -> list[np.ndarray]:
@@ -179,31 +155,6 @@ def client():
     """A local cluster of two worker processes, one thread each, shared by this module's jobs."""
     with connect(None, workers=2) as dask_client:
         yield dask_client
-
-
-def run(path: Path, client, force: bool = False, progress=None):
-    job = load_job(path)
-    report = run_batch(job, plan(job, force), client, progress)
-    write_manifest(report, job.output / "manifest.json")
-    return report
-
-
-@pytest.mark.slow
-def test_a_job_writes_each_picture_format_it_names(tmp_path, client):
-    from player.alpha_sinks import decode_rgba
-
-    path = write_job(tmp_path, {"a": 1.0}, ["cat"], '[write]\nscore = false\nsheet = false\nvideo = "webm"\n')
-    path.write_text(path.read_text().replace("part_seconds = 0.5", 'part_seconds = 0.5\nbackground = "none"'))
-    for video in ("webm", "svg", "html", "apng"):
-        path.write_text(re.sub(r'video = "\w+"', f'video = "{video}"', path.read_text()))
-        report = run(path, client)
-        assert report.ok, video
-        written = tmp_path / "out" / "a" / f"cat.{video}"
-        assert written.is_file() and written.stat().st_size > 1000, video
-    frames = decode_rgba(tmp_path / "out" / "a" / "cat.webm")
-    assert len(frames) == 30 and frames[0][0, 0, 3] == 0  # transparent, as the job said
-    assert "<animate" in (tmp_path / "out" / "a" / "cat.svg").read_text()
-    assert "window.player" in (tmp_path / "out" / "a" / "cat.html").read_text()
 
 
 @pytest.mark.slow

@@ -199,7 +199,7 @@ async def _render(app: web.Application, page: Page, message: dict) -> None:
     got about ten times a second; the server goes on serving meanwhile. Any picture file
     ``render`` writes (an MP4; WebM, ProRes .mov, APNG, WebP with the face's own alpha; an
     animated SVG; a Lottie .json) or the web player's .html."""
-    from player.sinks import PICTURE_SUFFIXES
+    from player.sink_choice import PICTURE_SUFFIXES
     from toonface.pipeline import render, render_with_sound
     from toonface.web_export import export_web
 

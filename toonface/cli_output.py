@@ -1,0 +1,88 @@
+"""``toonface render`` and ``toonface export``: a motor track drawn into the pictures and pages
+other tools take (videos with alpha, SVG and Lottie, a web page that plays by itself)."""
+
+from __future__ import annotations
+
+import click
+
+from toonface.cli_options import BACKGROUND, FACE, SIZE, FiniteFloat, parse_size, progress, with_background
+
+
+@click.command("render")
+@click.argument("motors", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(),
+              help="A .mp4 file (H.264); with alpha, .webm (VP9), .mov (ProRes 4444), .apng or .webp; an animated "
+                   ".svg; a Lottie .json; a folder for PNG (or --format svg) frames; or - for raw RGB frames on "
+                   "standard output.")
+@FACE
+@SIZE
+@click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
+              help="Output rate [default: the track's].")
+@BACKGROUND
+@click.option("--format", "fmt", default=None, type=click.Choice(("png", "svg", "lottie")),
+              help="A folder OUTPUT: PNG frames (the default) or SVG frames, one file per frame; lottie: a .json "
+                   "OUTPUT is a Lottie animation (what a .json OUTPUT is anyway).")
+def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None,
+               fmt: str | None) -> None:
+    """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face.
+
+    With --background none (or a face whose background is transparent) the picture keeps its
+    alpha: composite it over anything in an editor, a compositor or a web page. An .svg OUTPUT
+    is one animated SVG of the whole track that browsers play with no script (SMIL), keyed only
+    where an outline strays more than a pixel (at 500 pixels) from its interpolation; a .json
+    OUTPUT is a Lottie animation (Bodymovin JSON: shape layers with keyframed paths, layer masks
+    for the holes) for Lottie players, After Effects and mobile apps."""
+    from toon import load_face, load_track
+    from toon.animation import load_animation
+    from toonface.pipeline import render
+
+    dims = parse_size(size)
+    face_obj = with_background(load_face(face), background)
+    if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
+        track = load_animation(motors).sample(fps or 30.0, face_obj.neutral())
+    else:
+        track = load_track(motors)
+    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames), fmt=fmt)
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})", err=output == "-")
+
+
+@click.group()
+def export() -> None:
+    """Results for other tools: a web page that plays a track with no server."""
+
+
+@export.command("web")
+@click.argument("motors", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="The page (.html).")
+@FACE
+@SIZE
+@click.option("--fps", default=30.0, show_default=True, type=FiniteFloat(min=1.0, max=120.0),
+              help="Frames a second sampled from the track (the browser interpolates between them).")
+@click.option("--sound", default=None, type=click.Path(dir_okay=False),
+              help="A sound file (or a video's sound) to embed and play with the face.")
+@click.option("--transparent", is_flag=True,
+              help="No background and no controls: the face alone, looping (OBS's browser source).")
+@click.option("--paused", is_flag=True, help="Open paused at the start.")
+def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, sound: str | None, transparent: bool,
+                   paused: bool) -> None:
+    """MOTORS (.csv/.npz, or a knot-point animation .toml) on a face as one self-contained HTML
+    file: it plays in any browser with no server, with play/pause and a time slider, and the
+    sound in step where one is given. The face is an animated SVG, the studio's own drawing."""
+    from pathlib import Path
+
+    from toon import load_face, load_track
+    from toon.animation import load_animation
+    from toonface.web_export import export_web
+
+    if Path(output).suffix.lower() not in (".html", ".htm"):
+        raise click.BadParameter(f"{output}: expected a .html page", param_hint="--output")
+    face_obj = load_face(face)
+    track = (load_animation(motors).sample(fps, face_obj.neutral()) if motors.lower().endswith(".toml")
+             else load_track(motors))
+    path = export_web(track, face_obj, output, size=parse_size(size), fps=fps, sound=sound, transparent=transparent,
+                      paused=paused, title=f"{Path(motors).stem} on {face_obj.name}")
+    click.echo(f"wrote {path} ({path.stat().st_size // 1024} KB, {track.duration:.2f} s"
+               f"{', with sound' if sound else ''}{', transparent' if transparent else ''})")
+
+
+OUTPUT_COMMANDS = (render_cmd, export)
