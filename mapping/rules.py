@@ -76,9 +76,10 @@ class MotorRules:
     def __init__(self, mapping: Mapping, rate: float, neutral: np.ndarray, seed: int = 0) -> None:
         self.mapping, self.rate = mapping, rate
         self.neutral = extended_neutral(neutral)
-        # idle drift and tremble: the 21 motors' phases as before the extras came, theirs after
+        # idle drift and tremble: the 21 motors' phases as before the extras came, then each extra's pair
+        # (drawn extra by extra, so a new extra leaves the phases of earlier ones as they were)
         self.phases = np.hstack([np.random.default_rng(seed).uniform(0, 2 * np.pi, (2, N_MOTORS)),
-                                 np.random.default_rng([seed, 1]).uniform(0, 2 * np.pi, (2, N_CODES - N_MOTORS))])
+                                 np.random.default_rng([seed, 1]).uniform(0, 2 * np.pi, (N_CODES - N_MOTORS, 2)).T])
         self.mapped = np.array([code_index(r.code) for r in mapping.rules], dtype=int)
         self.loss = [(code_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
         self.filters = [(code_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Iterator
 
 import numpy as np
 
 from player.backends import FrameRenderer
 from player.sinks import FrameWriter, keeps_alpha
-from toon import FaceRig, Geometry, MotorTrack
-from toon.motors import N_MOTORS
+from toon import Face, FaceRig, Geometry, MotorTrack
+from toon.motors import N_MOTORS, STANDARD_EXTRAS
+
+log = logging.getLogger(__name__)
 
 
 def resample(track: MotorTrack, fps: float, start: int = 0, stop: int | None = None) -> np.ndarray:
@@ -63,6 +66,19 @@ def render_track(track: MotorTrack, rig: FaceRig, renderer: FrameRenderer, sink:
 
 
 def geometries(track: MotorTrack, rig: FaceRig, fps: float) -> Iterator[Geometry]:
-    """Each frame of a ``fps`` video of ``track`` on ``rig``'s face, its extra parameters (HT) too."""
+    """Each frame of a ``fps`` video of ``track`` on ``rig``'s face, its extra parameters (HT...)
+    too: a standard one the face does not declare is left out (said once, as a warning); any
+    other the face lacks is an error naming it."""
+    skipped = undrawn_extras(track, rig.face)
+    if skipped:
+        log.warning("face %s does not declare %s: %s column%s not drawn", rig.face.name, ", ".join(skipped),
+                    "those" if len(skipped) > 1 else "that", "s are" if len(skipped) > 1 else " is")
+    drawn = [(N_MOTORS + k, code) for k, code in enumerate(track.extra_codes) if code not in skipped]
     for row in resample(track, fps):
-        yield rig.geometry(row[:N_MOTORS], track.extra_at(row) if track.extra_codes else None)
+        yield rig.geometry(row[:N_MOTORS], {code: float(row[k]) for k, code in drawn})
+
+
+def undrawn_extras(track: MotorTrack, face: Face) -> list[str]:
+    """The standard extra parameters (:data:`toon.motors.STANDARD_EXTRAS`) ``track`` carries and
+    ``face`` does not declare: a mapping writes every one it drives, and a face draws those it has."""
+    return [code for code in track.extra_codes if code in STANDARD_EXTRAS and code not in face.extra_codes]

@@ -12,6 +12,7 @@ import numpy as np
 
 from common import InputError, atomic_path
 from player.backends import open_renderer
+from player.offline import undrawn_extras
 from toon import Expression, FaceRig, MotorTrack
 
 _LABEL_HEIGHT = 28
@@ -19,7 +20,8 @@ _LABEL_HEIGHT = 28
 
 def expression_sheet(rig: FaceRig, expressions: dict[str, Expression], cell: tuple[int, int] = (256, 256),
                      columns: int = 0, samples: int = 4) -> np.ndarray:
-    """Render each expression on a face into a labelled grid.
+    """Render each expression on a face into a labelled grid, then each of the face's parameters
+    beyond the 21 at its extremes (:func:`parameter_poses`).
 
     Parameters
     ----------
@@ -38,8 +40,22 @@ def expression_sheet(rig: FaceRig, expressions: dict[str, Expression], cell: tup
         RGB; each picture has its expression's name written under it.
     """
     neutral = rig.face.neutral()
-    poses = [(name, expression.pose(neutral)) for name, expression in expressions.items()]
-    return labelled_grid(rig, poses, cell, columns, samples)
+    poses: list[Pose] = [(name, expression.pose(neutral), {}) for name, expression in expressions.items()]
+    return labelled_grid(rig, [*poses, *parameter_poses(rig)], cell, columns, samples)
+
+
+#: A picture of a contact sheet: its label, the 21 motor values ``(21,)`` and extra parameters by code.
+Pose = tuple[str, np.ndarray, dict[str, float]]
+
+
+def parameter_poses(rig: FaceRig) -> list[Pose]:
+    """The face at rest with each of its extra parameters (HT, UL...) at the ends of its range away
+    from its neutral (both ends for one that rests between them), labelled ``"UL 1"``."""
+    neutral = rig.face.neutral()
+    poses: list[Pose] = []
+    for code, rest in rig.face.extra_neutral().items():
+        poses += [(f"{code} {end}", neutral, {code: float(end)}) for end in (0, 1) if end != rest]
+    return poses
 
 
 def track_sheet(rig: FaceRig, track: MotorTrack, count: int = 12, cell: tuple[int, int] = (192, 192),
@@ -53,13 +69,17 @@ def track_sheet(rig: FaceRig, track: MotorTrack, count: int = 12, cell: tuple[in
         RGB.
     """
     picks = np.unique(np.round(np.linspace(0, track.frames - 1, min(count, track.frames))).astype(int))
-    poses = [(f"{track.times[i]:.2f} s", track.values[i]) for i in picks]
+    skipped = undrawn_extras(track, rig.face)
+    table = track.table()
+    poses: list[Pose] = [(f"{track.times[i]:.2f} s", track.values[i],
+                          {k: v for k, v in track.extra_at(table[i]).items() if k not in skipped}) for i in picks]
     return labelled_grid(rig, poses, cell, min(columns, len(poses)), samples)
 
 
-def labelled_grid(rig: FaceRig, poses: list[tuple[str, np.ndarray]], cell: tuple[int, int] = (256, 256),
+def labelled_grid(rig: FaceRig, poses: list[Pose], cell: tuple[int, int] = (256, 256),
                   columns: int = 0, samples: int = 4) -> np.ndarray:
-    """Render motor poses ``(label, values (21,))`` on a face into a grid, each labelled under it.
+    """Render poses ``(label, values (21,), extra parameters)`` on a face into a grid, each labelled
+    under it.
 
     ``columns`` 0 picks a near-square grid. Returns RGB uint8 of shape
     ``(rows * (height + 28), columns * width, 3)``.
@@ -69,9 +89,9 @@ def labelled_grid(rig: FaceRig, poses: list[tuple[str, np.ndarray]], cell: tuple
     rows = math.ceil(len(poses) / columns)
     sheet = np.full((rows * (height + _LABEL_HEIGHT), columns * width, 3), 255, dtype=np.uint8)
     with open_renderer(cell, samples) as renderer:
-        for i, (label, values) in enumerate(poses):
+        for i, (label, values, extra) in enumerate(poses):
             top, left = (i // columns) * (height + _LABEL_HEIGHT), (i % columns) * width
-            sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(values))
+            sheet[top:top + height, left:left + width] = renderer.render(rig.geometry(values, extra))
             _label(sheet, label, left, top + height, width)
     return sheet
 

@@ -34,11 +34,15 @@ class ComponentParser:
         Hole features a component may be clipped to.
     base_dir : Path or None
         Where a face's relative ``library`` paths are looked up.
+    drivers : tuple of str
+        What may drive ``visible``, ``translate`` and ``scale``: the 21 motors and the face's
+        parameters.
     """
 
     control_points: tuple[str, ...]
     clip_groups: tuple[str, ...]
     base_dir: Path | None = None
+    drivers: tuple[str, ...] = MOTOR_CODES
     _libraries: dict[Path, dict] = field(default_factory=dict)
 
     def parse_list(self, raw: Any, v: ShapeValidator, where: str, depth: int = 0,
@@ -104,7 +108,7 @@ class ComponentParser:
             raw = c["visible"]
             v.fields(raw, {"motor", "range"}, f"{where}.visible", "visible")
             low, high = v.numbers(raw.get("range"), 2, f"{where}.visible.range")
-            spec["visible"] = Visibility(v.choice(raw.get("motor"), MOTOR_CODES, f"{where}.visible.motor"),
+            spec["visible"] = Visibility(v.choice(raw.get("motor"), self.drivers, f"{where}.visible.motor"),
                                          low, high)
         for key, extra in (("translate", set()), ("scale", {"origin"})):
             if key in c:
@@ -218,7 +222,7 @@ class ComponentParser:
 
     def _param(self, raw: Any, v: ShapeValidator, where: str, extra: set[str]) -> MotorParam:
         v.fields(raw, {"motor", "at0", "at1"} | extra, where, where.rsplit(".", 1)[-1])
-        motor = v.choice(raw.get("motor"), MOTOR_CODES, f"{where}.motor")
+        motor = v.choice(raw.get("motor"), self.drivers, f"{where}.motor")
         at0 = tuple(v.numbers(raw.get("at0"), 2, f"{where}.at0"))
         at1 = tuple(v.numbers(raw.get("at1"), 2, f"{where}.at1"))
         origin = tuple(v.numbers(raw.get("origin", [0.0, 0.0]), 2, f"{where}.origin"))

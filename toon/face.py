@@ -14,11 +14,13 @@ A face (``"format": "toonface.face/1"``) holds:
   the outline (see :mod:`toon.rig`), and ``tilt``, how many degrees the head rolls each way
   about the pivot for the extra parameter ``HT`` (0, absent: the face has no ``HT``);
   ``eyes``: ``radius`` of the eyeballs;
+- ``params``: parameters beyond the 21 motors (:mod:`toon.params`): each moves control points,
+  and drives components and point polygons as a motor does;
 - ``polygons``: ToonFace's filled polygons, each with a ``kind`` that fixes how it moves and when
   it is drawn (A1.2.2) and what ``attach`` names: ``hole`` (a feature: an eye or the mouth),
   ``pupil`` (its control point, PR or PL; clipped to its eye's holes), ``face`` (at most one,
-  drawn minus the holes), ``free`` (never moves), ``point`` (a motor; two states ``vertices``
-  at 0 and ``vertices_max`` at 1, A1.5-A1.6), ``feature`` (a feature; follows its control-point
+  drawn minus the holes), ``free`` (never moves), ``point`` (a motor or a parameter; two states
+  ``vertices`` at 0 and ``vertices_max`` at 1, A1.5-A1.6), ``feature`` (a feature; follows its control-point
   lines, A1.1-A1.4); optional ``stroke`` colour and ``width`` draw its outline;
 - ``components``: CharToon's components (:mod:`toon.components`), drawn in their layers.
 """
@@ -37,6 +39,7 @@ from common import atomic_path, builtin_names, read_document, resolve_builtin
 from toon.component_parser import ComponentParser
 from toon.components import Component, flatten
 from toon.motors import MOTOR_CODES, MOTORS
+from toon.params import ParamSpec, parse_params
 from toon.validate import Color, ShapeValidator, Vertices, format_color
 
 FORMAT = "toonface.face/1"
@@ -88,6 +91,7 @@ class Face:
     feature_depth: float = 0.0
     eye_radius: float = 0.0
     head_tilt: float = 0.0
+    params: tuple[ParamSpec, ...] = ()
     components: tuple[Component, ...] = ()
     description: str = ""
     meta: dict = field(default_factory=dict, compare=False)
@@ -107,12 +111,12 @@ class Face:
 
     @property
     def extra_codes(self) -> tuple[str, ...]:
-        """The parameters beyond the 21 this face declares (``HT`` where it tilts)."""
-        return ("HT",) if self.head_tilt else ()
+        """The parameters beyond the 21 this face declares: ``HT`` where it tilts, then ``params``."""
+        return (("HT",) if self.head_tilt else ()) + tuple(p.code for p in self.params)
 
     def extra_neutral(self) -> dict[str, float]:
         """Each extra parameter at which the face shows its rest drawing (``HT`` upright: 0.5)."""
-        return dict.fromkeys(self.extra_codes, 0.5)
+        return {**({"HT": 0.5} if self.head_tilt else {}), **{p.code: p.neutral for p in self.params}}
 
     def to_dict(self) -> dict[str, Any]:
         """The face as its JSON document."""
@@ -142,6 +146,8 @@ class Face:
             "motors": {k: list(v) for k, v in self.ranges.items()},
             "polygons": polys,
         }
+        if self.params:
+            doc["params"] = {p.code: p.to_dict() for p in self.params}
         if self.components:
             doc["components"] = [c.to_dict() for c in self.components]
         return doc
@@ -174,7 +180,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     v.require(doc.get("format") == FORMAT, f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")',
               "format")
     v.fields(doc, {"format", "name", "description", "viewbox", "background", "head", "eyes", "points", "motors",
-                   "polygons", "components"}, "", "a face")
+                   "params", "polygons", "components"}, "", "a face")
     v.require(isinstance(doc.get("points"), dict), "missing object", "points")
     for name in CONTROL_POINTS:
         v.require(name in doc["points"], "missing control point", f"points.{name}")
@@ -204,14 +210,17 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     v.fields(head, {"pivot", "feature_depth", "tilt"}, "head", "head")
     eyes = doc.get("eyes", {})
     v.fields(eyes, {"radius"}, "eyes", "eyes")
+    params = parse_params(doc.get("params"), v, CONTROL_POINTS)
+    drivers = (*MOTOR_CODES, *(("HT",) if head.get("tilt") else ()), *(p.code for p in params))
     raw_polys = doc.get("polygons", [])
     v.require(isinstance(raw_polys, list), "must be a list", "polygons")
-    polygons = tuple(_polygon(v, p, f"polygons[{i}]") for i, p in enumerate(raw_polys))
+    polygons = tuple(_polygon(v, p, f"polygons[{i}]", drivers) for i, p in enumerate(raw_polys))
     n_face = sum(p.kind == "face" for p in polygons)
     v.require(n_face <= 1, f'a face has at most one polygon of kind "face", found {n_face}', "polygons")
     names = [p.name for p in polygons if p.name]
     v.require(len(names) == len(set(names)), "polygon names must be unique", "polygons")
-    parser = ComponentParser(CONTROL_POINTS, HOLE_FEATURES, Path(source).parent if source is not None else None)
+    parser = ComponentParser(CONTROL_POINTS, HOLE_FEATURES, Path(source).parent if source is not None else None,
+                             drivers)
     components = parser.parse_list(doc.get("components", []), v, "components")
     v.require(bool(polygons) or bool(components), "a face needs at least one polygon or component", "polygons")
     return Face(
@@ -220,7 +229,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
         points=points, ranges=ranges, polygons=polygons,
         head_pivot=tuple(v.numbers(head.get("pivot", [0, 0]), 2, "head.pivot")),  # type: ignore[arg-type]
         feature_depth=v.number(head.get("feature_depth", 0.0), "head.feature_depth"),
-        head_tilt=v.number(head.get("tilt", 0.0), "head.tilt", 0.0, 90.0),
+        head_tilt=v.number(head.get("tilt", 0.0), "head.tilt", 0.0, 90.0), params=params,
         eye_radius=v.number(eyes.get("radius", 0.0), "eyes.radius", 0.0),
         components=components,
         description=str(doc.get("description", "")),
@@ -235,7 +244,7 @@ def _motor_range(v: ShapeValidator, value: Any, where: str) -> tuple[float, floa
     return (lo, hi)
 
 
-def _polygon(v: ShapeValidator, p: Any, where: str) -> PolygonSpec:
+def _polygon(v: ShapeValidator, p: Any, where: str, drivers: tuple[str, ...] = MOTOR_CODES) -> PolygonSpec:
     v.require(isinstance(p, dict), "must be an object", where)
     kind = v.choice(p.get("kind"), KINDS, f"{where}.kind")
     attached = kind in ("hole", "feature", "pupil", "point")
@@ -265,8 +274,8 @@ def _polygon(v: ShapeValidator, p: Any, where: str) -> PolygonSpec:
             moving = [m.code for m in MOTORS if m.point == attach]
             v.require(False, f'control point "{attach}" ' + (f"moves in 2-D: attach to one of its motors {moving}"
                       if moving else "never moves: use a free polygon"), f"{where}.attach")
-        v.require(attach in MOTOR_CODES, f'unknown control point "{attach}" (a point polygon attaches to a '
-                  f'motor: {" ".join(MOTOR_CODES)})', f"{where}.attach")
+        v.require(attach in drivers, f'unknown control point "{attach}" (a point polygon attaches to a '
+                  f'motor or a parameter of the face: {" ".join(drivers)})', f"{where}.attach")
         spec["attach"] = attach
         spec["vertices_max"] = v.vertices(p.get("vertices_max"), f"{where}.vertices_max")
         v.require(len(spec["vertices_max"]) == len(spec["vertices"]),

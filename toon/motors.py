@@ -65,11 +65,26 @@ MOTORS: tuple[MotorSpec, ...] = (
 
 MOTOR_CODES: tuple[str, ...] = tuple(m.code for m in MOTORS)
 N_MOTORS: int = len(MOTORS)
+@dataclass(frozen=True)
+class ExtraSpec:
+    """A standard parameter beyond the 21: what it means and the value a face rests at."""
+
+    description: str
+    neutral: float
+
+
 #: Parameters beyond the 21 that a face may declare, each 0..1 like a motor; a track carries
-#: them as named columns after the 21 (a face without one ignores nothing: it refuses it).
-STANDARD_EXTRAS: dict[str, str] = {
-    "HT": "head tilt (roll): 0.5 upright; towards 1 the head turns counter-clockwise as seen, towards 0 "
-          "clockwise, by up to the face's head.tilt degrees, about its head pivot",
+#: them as named columns after the 21. The mapping presets drive all of them; a face that does
+#: not declare one is drawn without it (the player says so once).
+STANDARD_EXTRAS: dict[str, ExtraSpec] = {
+    "HT": ExtraSpec("head tilt (roll): 0.5 upright; towards 1 the head turns counter-clockwise as seen, towards 0 "
+                    "clockwise, by up to the face's head.tilt degrees, about its head pivot", 0.5),
+    "UL": ExtraSpec("upper lip raised, as in a sneer or a snarl: 0 at rest, 1 fully raised", 0.0),
+    "CP": ExtraSpec("cheeks puffed out with air: 0 at rest, 1 fully puffed", 0.0),
+    "JS": ExtraSpec("jaw sideways: 0.5 centred; towards 1 the chin moves to the character's own left, towards 0 "
+                    "to its right", 0.5),
+    "PERK": ExtraSpec("what stands on the head rises in surprise (ears prick up, a hat lifts): 0 at rest, "
+                      "1 fully up", 0.0),
 }
 #: What an extra parameter's code looks like (a motor's do too).
 EXTRA_CODE = r"[A-Z][A-Z0-9_]{0,15}"
@@ -105,10 +120,12 @@ def code_index(code: str) -> int:
 
 
 def extended_neutral(neutral: np.ndarray) -> np.ndarray:
-    """A neutral of the 21 motors ``(21,)`` with each standard extra's (0.5) after it, ``(N_CODES,)``;
-    one already that long as it is."""
+    """A neutral of the 21 motors ``(21,)`` with each standard extra's after it, ``(N_CODES,)``; one
+    already that long as it is."""
     neutral = np.asarray(neutral, dtype=np.float64)
-    return neutral if len(neutral) == N_CODES else np.concatenate([neutral, np.full(N_CODES - N_MOTORS, 0.5)])
+    if len(neutral) == N_CODES:
+        return neutral
+    return np.concatenate([neutral, [spec.neutral for spec in STANDARD_EXTRAS.values()]])
 
 
 def motor_index(code: str) -> int:
@@ -125,7 +142,7 @@ MIRROR_PAIRS: tuple[tuple[str, str], ...] = (
     ("PRH", "PLH"), ("PRV", "PLV"), ("MRH", "MLH"), ("MRV", "MLV"),
 )
 #: Motors whose direction (toward the character's left) flips in a mirror image.
-MIRROR_REFLECTED: tuple[str, ...] = ("PLH", "PRH", "HH", "HT")  # HT where values carry the extras
+MIRROR_REFLECTED: tuple[str, ...] = ("PLH", "PRH", "HH", "HT", "JS")  # HT, JS where values carry the extras
 
 
 def mirror_values(values: np.ndarray, neutral: np.ndarray) -> np.ndarray:

@@ -8,6 +8,7 @@ component outline), so that a frame costs a few array operations per kind of ver
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from itertools import pairwise
 
@@ -18,7 +19,6 @@ from toon.components import Component
 from toon.face import PUPIL_EYES, PolygonSpec
 from toon.formulas import ArcBinding, FeatureBinding
 from toon.geometry import DrawItem
-from toon.motors import motor_index
 from toon.skeleton import EdgeCoupling, PointCoupling
 
 
@@ -105,8 +105,9 @@ def outline_size(prep: Polygon | ComponentPrep) -> int:
     return len(prep.skeleton.body_rest) if prep.skeleton is not None else len(prep.rows)
 
 
-def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray) -> VertexPlan:
-    """Index every vertex of a frame of ``order`` by how it moves (``rest``: control points at rest)."""
+def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, columns: Mapping[str, int]) -> VertexPlan:
+    """Index every vertex of a frame of ``order`` by how it moves (``rest``: control points at rest;
+    ``columns``: each motor's and parameter's column in a frame's values)."""
     bounds = np.concatenate([[0], np.cumsum([outline_size(prep) for prep in order])]).astype(np.int64)
     slices = tuple(slice(int(a), int(b)) for a, b in pairwise(bounds))
     parts: dict[str, list] = {name: [] for name in (
@@ -136,7 +137,7 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray) -> Ver
                 parts["pupil_offset"].append(prep.rest - rest[prep.pupil_row])
             elif prep.v_max is not None:
                 parts["point_at"].append(at)
-                parts["point_motor"].append(np.full(len(at), motor_index(prep.spec.attach)))
+                parts["point_motor"].append(np.full(len(at), columns[prep.spec.attach]))
                 parts["point_min"].append(prep.rest)
                 parts["point_max"].append(prep.v_max)
             else:

@@ -60,7 +60,7 @@ from toon.formulas import (
     interpolate_states,
 )
 from toon.geometry import Geometry
-from toon.motors import MOTORS, N_MOTORS, motor_index
+from toon.motors import MOTOR_CODES, MOTORS, N_MOTORS, motor_index
 from toon.plan import ComponentPrep, Polygon, Skeleton, plan_vertices, template
 from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
 
@@ -95,8 +95,14 @@ class FaceRig:
         back = sorted((c for c in components if c.spec.layer < 0), key=lambda c: c.spec.layer)
         front = sorted((c for c in components if c.spec.layer > 0), key=lambda c: c.spec.layer)
         self._order: list[Polygon | ComponentPrep] = [*back, *polygons, *front]
-        self._plan = plan_vertices(self._order, self._rest)
-        self._columns = {m.code: motor_index(m.code) for m in MOTORS}
+        # A frame's values: the 21 motors, then the face's extra parameters (HT, then its params).
+        self.codes: tuple[str, ...] = (*MOTOR_CODES, *face.extra_codes)
+        self._columns = {code: i for i, code in enumerate(self.codes)}
+        extra_neutral = face.extra_neutral()
+        self._extra_neutral = np.array([extra_neutral[c] for c in face.extra_codes], dtype=np.float64)
+        self._moves = [(self._columns[p.code], self._index[m.point], np.array(m.at0), np.subtract(m.at1, m.at0))
+                       for p in face.params for m in p.points]
+        self._plan = plan_vertices(self._order, self._rest, self._columns)
         self._pupil_rows = [self._index[p] for p in PUPIL_EYES]
         self._gaze_columns = np.array([[motor_index(f"P{p[1]}{a}") for a in "HV"] for p in PUPIL_EYES])
         ranges = np.array([[face.ranges[f"P{p[1]}{a}"] for a in "HV"] for p in PUPIL_EYES])  # (2, 2, [lo, hi])
@@ -110,15 +116,37 @@ class FaceRig:
         self._lids = [(self._index[up], self._index[low], motor_index(up), face.ranges[up], face.points[low][1])
                       for up, low in LIDS]
 
-    def control_points(self, values: np.ndarray) -> np.ndarray:
-        """Control-point positions for one frame of motor values ``(21,)``; shape ``(P, 2)``."""
-        return self._control_points(values, self._gaze(values))
+    def control_points(self, values: np.ndarray, extra: Mapping[str, float] | None = None) -> np.ndarray:
+        """Control-point positions for one frame of motor values ``(21,)`` and extra parameters
+        (as for :meth:`geometry`); shape ``(P, 2)``."""
+        full = self.full_values(values, extra)
+        return self._control_points(full, self._gaze(full))
+
+    def full_values(self, values: np.ndarray, extra: Mapping[str, float] | None = None) -> np.ndarray:
+        """The 21 motor values ``(21,)`` and the face's extra parameters by code (one not given at
+        its neutral; one the face lacks is an error naming it) as one row in :attr:`codes` order."""
+        values = np.asarray(values, dtype=np.float64)
+        if values.shape != (N_MOTORS,):
+            raise ValueError(f"expected {N_MOTORS} motor values, got shape {values.shape}")
+        full = np.concatenate([values, self._extra_neutral])
+        if extra:
+            unknown = [code for code in extra if code not in self._columns or code in MOTOR_CODES]
+            if unknown:
+                declared = ", ".join(self.face.extra_codes) or "none"
+                raise InputError(f"face {self.face.name} has no parameter {', '.join(unknown)} "
+                                 f"(it declares {declared})")
+            for code, value in extra.items():
+                full[self._columns[code]] = value
+        return full
 
     def _control_points(self, values: np.ndarray, gaze: np.ndarray) -> np.ndarray:
-        """:meth:`control_points` with the pupils' gaze ``(2, 2)`` (radians) already known."""
+        """:meth:`control_points` of a full row (:meth:`full_values`) with the pupils' gaze
+        ``(2, 2)`` (radians) already known."""
         pts = self._rest.copy()
         for col, row, axis, lo, hi in self._driven:
             pts[row, axis] = lo + values[col] * (hi - lo)
+        for col, row, at0, span in self._moves:  # the face's own parameters displace their points
+            pts[row] += at0 + values[col] * span
         pts[self._pupil_rows] += self.face.eye_radius * np.sin(gaze)
         for up, low, *_ in self._lids:  # lids that cross meet half-way: a closed eye
             if pts[up, 1] < pts[low, 1]:
@@ -126,11 +154,11 @@ class FaceRig:
         return pts
 
     def shown_values(self, values: np.ndarray, pts: np.ndarray) -> np.ndarray:
-        """The motor values that decide what is shown (``visible`` ranges), for ``values`` ``(21,)``
-        whose control points are ``pts`` ``(P, 2)``: each upper lid's value is how open its eye is,
-        the value that would leave the same opening above the lower lid at rest (see the module
-        docstring), and never more than its own (a lowered lower lid does not open an eye);
-        shape ``(21,)``."""
+        """The values that decide what is shown (``visible`` ranges), for a row ``values`` (the 21
+        motors, and the extras after them as in :meth:`full_values`) whose control points are
+        ``pts`` ``(P, 2)``: each upper lid's value is how open its eye is, the value that would
+        leave the same opening above the lower lid at rest (see the module docstring), and never
+        more than its own (a lowered lower lid does not open an eye); the same shape as ``values``."""
         shown = values.copy()
         for up, low, column, (lo, hi), rest in self._lids:
             if hi != lo:
@@ -161,9 +189,7 @@ class FaceRig:
         Every vertex of the frame is computed in one array, a few array operations per kind of
         vertex (see :class:`VertexPlan`); each item's vertices are a slice of it.
         """
-        values = np.asarray(values, dtype=np.float64)
-        if values.shape != (N_MOTORS,):
-            raise ValueError(f"expected {N_MOTORS} motor values, got shape {values.shape}")
+        values = self.full_values(values, extra)
         plan = self._plan
         gaze = self._gaze(values)
         pts = self._control_points(values, gaze)
@@ -190,8 +216,8 @@ class FaceRig:
         yaw, pitch = self.head_degrees(values)
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
-        if extra:
-            self._tilt(out, extra)
+        if self.face.head_tilt:
+            self._tilt(out, values[self._columns["HT"]])
         decides = self.shown_values(values, pts) if self._switched else values
         hidden = {key for key, shown in self._switched
                   if not shown.low <= decides[self._columns[shown.motor]] <= shown.high}
@@ -199,14 +225,9 @@ class FaceRig:
                       in enumerate(zip(self.templates, plan.slices, strict=True)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)
 
-    def _tilt(self, out: np.ndarray, extra: Mapping[str, float]) -> None:
+    def _tilt(self, out: np.ndarray, tilt: float) -> None:
         """Roll every vertex about the head pivot by ``HT`` (0.5 upright, 1 the face's full tilt
         counter-clockwise as seen), in place."""
-        unknown = [code for code in extra if code not in self.face.extra_codes]
-        if unknown:
-            declared = ", ".join(self.face.extra_codes) or "none"
-            raise InputError(f"face {self.face.name} has no parameter {', '.join(unknown)} (it declares {declared})")
-        tilt = extra.get("HT", 0.5)
         if tilt == 0.5:
             return
         angle = np.radians((2.0 * float(tilt) - 1.0) * self.face.head_tilt)

@@ -271,7 +271,8 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     """Check a face (built-in NAME or a JSON file) and draw it.
 
     Without options, validates the face and prints a summary. With --sheet, renders every
-    expression of the repertoire (neutral, the six basic ones, blink, wink) into one labelled PNG.
+    expression of the repertoire (neutral, the six basic ones, blink, wink) into one labelled PNG,
+    and then each of the face's parameters beyond the 21 (HT, UL...) at its extremes.
     """
     from player.sheet import check_image_suffix, expression_sheet, save_image
     from toon import FaceRig, load_expressions, load_face, save_svg
@@ -287,12 +288,15 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
                                  param_hint="--expression")
     if sheet_path:
         save_image(expression_sheet(rig, expressions, cell=cell), sheet_path)
-        click.echo(f"wrote {sheet_path} ({len(expressions)} expressions on {loaded.name})")
+        extremes = f" and {len(loaded.extra_codes)} parameters at their extremes" if loaded.extra_codes else ""
+        click.echo(f"wrote {sheet_path} ({len(expressions)} expressions{extremes} on {loaded.name})")
     if svg_path:
         save_svg(rig.geometry(expressions[expression].pose(loaded.neutral())), svg_path, cell)
         click.echo(f"wrote {svg_path} ({expression} on {loaded.name})")
     if not sheet_path and not svg_path:
         counts = f"{len(loaded.polygons)} polygons, {len(loaded.basic_components())} components"
+        if loaded.extra_codes:
+            counts += f"; parameters beyond the 21: {' '.join(loaded.extra_codes)}"
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 

@@ -11,7 +11,8 @@ from mapping import CleanSettings, Stabilised, calibrate, load_mapping, map_stab
 from mapping.mapper import marker_quality
 from mapping.rules import WINK_BLEND, MotorRules, eyes_pair, trailing_mean
 from mapping.stepwise import LiveMapper
-from toon import MOTOR_CODES, motor_index, standard_neutral
+from toon import motor_index, standard_neutral
+from toon.motors import N_CODES
 
 RATE = 60.0
 
@@ -152,7 +153,9 @@ def test_the_tremble_phases_come_from_the_seed_and_every_motor_has_its_own():
     a, b, c = (MotorRules(mapping, RATE, standard_neutral(), seed) for seed in (1, 1, 2))
     np.testing.assert_array_equal(a.phases, b.phases)
     assert not np.allclose(a.phases, c.phases)
-    assert len(set(np.round(a.phases[1], 6))) == len(MOTOR_CODES) + 1  # the 21 and HT
+    assert len(set(np.round(a.phases[1], 6))) == N_CODES  # the 21 and the standard extras
+    # HT's pair is the first two draws of the extras' stream, as when HT was the only extra
+    np.testing.assert_array_equal(a.phases[:, 21], np.random.default_rng([1, 1]).uniform(0, 2 * np.pi, 2))
     np.testing.assert_array_equal(a.phases[:, :21], np.random.default_rng(1).uniform(0, 2 * np.pi, (2, 21)))
 
 
