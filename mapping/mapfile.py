@@ -5,7 +5,10 @@ One ``[motor.CODE]`` table per mapped motor::
     [motor.MB]
     sources = [{ marker = "LIP_LOW", axis = "y", invert = true }, { distance = ["LIP_UP", "LIP_LOW"] },
                { blendshape = "jawOpen" }, { viseme = "D", weight = 0.9 }]   # kinds: mapping.sources;
-                             # a viseme is a voice's mouth shape (capture.voice), read as a blendshape score
+                             # a viseme is a voice's mouth shape (capture.voice), read as a blendshape score;
+                             # only = "increase" | "decrease": just that motion from rest counts (the other reads
+                             # as rest), e.g. { distance = ["MOUTH_R", "MOUTH_L"], only = "increase", invert = true }
+                             # takes away the corners' widening and not their narrowing
     combine = "max"          # max | mean | min | weighted (each source's weight)
     normalise = "profile"    # profile: the performer's range -> the motor's 0..1 | scale: units per motor unit
                              # | calibrated: a range-of-motion calibration's range where the profile has one, else scale
@@ -48,6 +51,8 @@ from toon.motors import ALL_CODES
 
 FORMAT = "toonface.mapping/1"
 COMBINES = ("max", "mean", "min", "weighted")
+#: A source's ``only``: just its increase from rest counts, or just its decrease.
+ONLY = ("increase", "decrease")
 CLAMPS = ("hard", "soft", "none")
 NORMALISES = ("profile", "scale", "calibrated", "score")
 POLICIES = ("hold", "ease", "idle")
@@ -232,8 +237,8 @@ def _source(check: Validator, spec: object, where: str) -> Source:
     kinds = [k for k in (*KINDS, "viseme") if k in spec]
     check.require(len(kinds) == 1, f"expected exactly one of {', '.join((*KINDS, 'viseme'))}", where)
     kind = kinds[0]
-    check.fields(spec, {kind, "axis", "invert", "weight"} if kind not in ("blendshape", "viseme")
-                 else {kind, "invert", "weight"}, where)
+    check.fields(spec, {kind, "axis", "invert", "weight", "only"} if kind not in ("blendshape", "viseme")
+                 else {kind, "invert", "weight", "only"}, where)
     value = spec[kind]
     if kind == "viseme":  # a mouth shape's weight from a voice: a score, read as a blendshape's is
         check.require(value in VISEMES, f"expected one of the mouth shapes {', '.join(VISEMES)}, got {value!r}",
@@ -256,8 +261,9 @@ def _source(check: Validator, spec: object, where: str) -> Source:
                       f"expected {count} marker name{'s' if count > 1 else ''}, got {value!r}", at(where, kind))
         axis = AXES.index(check.choice(spec.get("axis", "y"), tuple(AXES), at(where, "axis")))
     weight = check.number(spec.get("weight", 1.0), at(where, "weight"))
+    only = check.choice(spec["only"], ONLY, at(where, "only")) if "only" in spec else ""
     return Source(kind, tuple(markers), axis, check.boolean(spec.get("invert", False), at(where, "invert")), weight,
-                  channel)
+                  channel, only)
 
 
 def _filter(check: Validator, spec: object, where: str) -> dict:

@@ -21,7 +21,7 @@ import numpy as np
 
 from mapping.coupling import decoupled, driver_of
 from mapping.mapfile import Mapping, MotorRule
-from mapping.plan import MODES, MotorPlan, combine_pairs, normalise_pairs, resolved_mode, span_of
+from mapping.plan import MODES, ONLY_SIGN, MotorPlan, combine_pairs, normalise_pairs, resolved_mode, span_of
 from mapping.profile import Profile, SourceRange
 from mapping.rules import MotorRules
 from mapping.sources import Source, head_angles, measure
@@ -104,7 +104,8 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     drivers = normalised_drivers(mapping, stable, columns, head, profile) if profile.couplings else {}
     plan = plan or MotorPlan.of(rules, profile, columns)
     raw, sure = _measure_all(plan, stable, columns, head, quality)
-    normalised = normalise_pairs(raw[:, plan.key], plan.mode, plan.rest, plan.up, plan.down, plan.scale, plan.sign)
+    normalised = normalise_pairs(raw[:, plan.key], plan.mode, plan.rest, plan.up, plan.down, plan.scale, plan.sign,
+                                 plan.only)
     if drivers:
         for j in np.flatnonzero(plan.decouples):
             normalised[:, j] = decoupled(normalised[:, j], plan.sources[j], drivers, profile)
@@ -183,7 +184,8 @@ def normalise(value: np.ndarray, source: Source, rule: MotorRule, span: SourceRa
     rest, up, down = span_of(span)
     code = np.array([MODES.index(mode)])
     out = normalise_pairs(np.asarray(value, dtype=float)[:, None], code, np.array([rest]), np.array([up]),
-                          np.array([down]), np.array([rule.scale]), np.array([-1.0 if source.invert else 1.0]))
+                          np.array([down]), np.array([rule.scale]), np.array([-1.0 if source.invert else 1.0]),
+                          np.array([ONLY_SIGN[source.only]]))
     return out[:, 0]
 
 

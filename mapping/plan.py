@@ -15,6 +15,8 @@ from mapping.sources import Source
 from toon.motors import code_index
 
 SCALE, SCORE, PROFILE = 0, 1, 2
+#: A source's ``only`` as a sign: +1 just its increase counts, -1 just its decrease, 0 both.
+ONLY_SIGN = {"": 0, "increase": 1, "decrease": -1}
 MODES = ("scale", "score", "profile")
 
 
@@ -36,10 +38,11 @@ class MotorPlan:
         source's confidence. Head sources (``head_sure``) are as sure as the head's fit.
     sources, key, rule : shape (J,)
         Each pair's source, its column among the distinct sources and its rule.
-    mode, rest, up, down, scale, sign, weight, decouples : ndarray, shape (J,)
+    mode, rest, up, down, scale, sign, only, weight, decouples : ndarray, shape (J,)
         How each pair is normalised (``SCALE``, ``SCORE``, ``PROFILE``), the performer's rest
-        and ranges above and below it, the rule's scale, -1 for an inverted source, its weight
-        (1 unless weighted) and whether it is decoupled.
+        and ranges above and below it, the rule's scale, -1 for an inverted source, +1 where
+        only its increase counts and -1 only its decrease (0 both), its weight (1 unless
+        weighted) and whether it is decoupled.
     counts, starts : ndarray of int, shape (R,)
         Each rule's number of sources and its first pair.
     columns, invert, ways, gain, offset, low, high, hard : ndarray, shape (R,)
@@ -72,6 +75,7 @@ class MotorPlan:
     down: np.ndarray
     scale: np.ndarray
     sign: np.ndarray
+    only: np.ndarray
     weight: np.ndarray
     decouples: np.ndarray
     counts: np.ndarray
@@ -128,7 +132,8 @@ class MotorPlan:
             sources=[p[0] for p in pairs], key=np.array([p[1] for p in pairs]), rule=rule_of,
             mode=np.zeros(len(pairs), dtype=int), rest=np.zeros(len(pairs)), up=np.ones(len(pairs)),
             down=np.ones(len(pairs)), scale=np.array([rules[p[2]].scale for p in pairs], dtype=float),
-            sign=np.array([-1.0 if p[0].invert else 1.0 for p in pairs]), weight=weight,
+            sign=np.array([-1.0 if p[0].invert else 1.0 for p in pairs]),
+            only=np.array([ONLY_SIGN[p[0].only] for p in pairs]), weight=weight,
             decouples=np.array([bool(rules[p[2]].decouple) for p in pairs]), counts=counts, starts=starts,
             columns=np.array([code_index(r.code) for r in rules]),
             invert=np.where([r.invert for r in rules], -1.0, 1.0), ways=np.zeros(len(rules), dtype=bool),
@@ -178,10 +183,14 @@ def resolved_mode(rule: MotorRule, profile: Profile) -> str:
 
 
 def normalise_pairs(raw: np.ndarray, mode: np.ndarray, rest: np.ndarray, up: np.ndarray, down: np.ndarray,
-                    scale: np.ndarray, sign: np.ndarray) -> np.ndarray:
+                    scale: np.ndarray, sign: np.ndarray, only: np.ndarray | None = None) -> np.ndarray:
     """Sources' values ``(F, J)`` normalised each by its own ``mode`` ``(J,)`` (see
-    :func:`mapping.mapper.normalise`)."""
+    :func:`mapping.mapper.normalise`); ``only`` ``(J,)``: +1 where just the increase from rest
+    counts, -1 just the decrease, 0 both."""
     out = raw - rest
+    if only is not None and only.any():
+        out = np.where(only > 0, np.fmax(out, 0.0), np.where(only < 0, np.fmin(out, 0.0), out))
+        out = np.where(np.isnan(raw), np.nan, out)
     ranged = mode == PROFILE
     if ranged.any():
         out = np.where(ranged & (out >= 0), out / up, np.where(ranged, out / down, out))

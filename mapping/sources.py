@@ -63,6 +63,9 @@ class Source:
         Weight in a weighted combine.
     channel : str
         The blendshape's name (blendshape).
+    only : str
+        ``increase`` or ``decrease``: only the source's motion that way from rest counts (the
+        other way reads as rest), before ``invert``; empty: both ways.
     """
 
     kind: str
@@ -71,10 +74,12 @@ class Source:
     invert: bool = False
     weight: float = 1.0
     channel: str = ""
+    only: str = ""
 
     @property
     def key(self) -> str:
-        """Canonical text, the profile's key for this measurement (``invert``/``weight`` aside)."""
+        """Canonical text, the profile's key for this measurement (``invert``, ``weight`` and
+        ``only`` aside)."""
         if self.kind == "marker":
             return f"{self.markers[0]}.{AXES[self.axis]}"
         if self.kind == "head":

@@ -145,10 +145,10 @@ def test_a_talking_head_that_tilts_tilts_every_face_within_three_degrees(realdat
     for name in builtin_faces():
         face = load_face(name)
         track = map_onto_face(take, (0.0, 0.5), face)  # the rest: the upright first half second
-        assert track.extra_codes == ("HT",)
+        assert track.extra_codes[0] == "HT"
         rig = FaceRig(face)
         for k in range(0, track.frames, 6):
-            drawn = _drawn_angle(rig, track.values[k], track.extra_at(track.table()[k]))
+            drawn = _drawn_angle(rig, track.values[k], {"HT": float(track.extra[k, 0])})
             worst = max(worst, abs(drawn - applied[k]))
     assert worst <= 3.0 and np.ptp(applied) > 25  # it did tilt, both ways
 
@@ -159,6 +159,9 @@ def test_a_mapping_drives_the_head_tilt_from_the_head_fit_and_mirror_turns_it():
 
     take = synthesize(seconds=4.0, seed=2).take
     plain, mirrored = map_take(take), map_take(take, mirror=True)
-    assert plain.extra_codes == ("HT",) and plain.meta["mapped_extra"] == ["HT"]
+    assert plain.extra_codes == ("HT", "UL", "CP", "JS", "PERK") and plain.meta["mapped_extra"] == list(
+        plain.extra_codes)
     assert "HT" not in plain.meta["mapped"]  # the report's motors are the 21
-    np.testing.assert_allclose(mirrored.extra[:, 0], 1.0 - plain.extra[:, 0], atol=1e-9)  # about 0.5
+    for k in (0, 3):  # HT and JS turn about 0.5; the others have no side
+        np.testing.assert_allclose(mirrored.extra[:, k], 1.0 - plain.extra[:, k], atol=1e-9)
+    np.testing.assert_allclose(mirrored.extra[:, [1, 2, 4]], plain.extra[:, [1, 2, 4]], atol=1e-9)
