@@ -39,6 +39,7 @@ from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
 from mapping.workflow import merge_profile
 from toon import N_MOTORS, standard_neutral
+from toon.motors import code_index, extended_neutral
 
 #: One Euro settings (Hz, and per mm/s) for head-frame markers live: 1 frame of lag at 60 Hz
 #: (``python -m bench fidelity`` measures this filter).
@@ -111,6 +112,11 @@ class LiveMapper:
         self._rest: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]] = []
         self._rest_start: float | None = None
         self._ready = rest_seconds <= 0
+        #: The parameters beyond the 21 the mapping drives (HT...), and their values in the frame
+        #: the last :meth:`step` returned (at their neutral before the rest is taken).
+        self.extra_codes: tuple[str, ...] = mapping.extra_codes
+        self._extra_columns = [code_index(code) for code in self.extra_codes]
+        self.extra = extended_neutral(self.neutral)[self._extra_columns]
 
     @property
     def ready(self) -> bool:
@@ -122,9 +128,10 @@ class LiveMapper:
         """One frame of world marker positions ``(M, 3)`` (NaN unseen) and channels ``(C,)``
         (NaN or None: not measured) at ``t`` seconds; returns the motors ``(21,)`` in [0, 1] and
         their confidence ``(21,)`` (1 seen, 0.5 held, 0 lost), times ``trust``: how sure the
-        tracker that made the frame was (0..1). ``head``: the head's rotation ``(3, 3)`` where
-        the tracker reports it (a bridge's, whose head references it turned), taken as the pose
-        instead of one fitted to the references."""
+        tracker that made the frame was (0..1); the parameters beyond the 21 are then in
+        :attr:`extra` (``(len(extra_codes),)``, by :attr:`extra_codes`, :meth:`extra_values`).
+        ``head``: the head's rotation ``(3, 3)`` where the tracker reports it (a bridge's, whose
+        head references it turned), taken as the pose instead of one fitted to the references."""
         local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t, head)
         if self.reads_markers:
             local, held = self._hold(local, t)
@@ -143,6 +150,10 @@ class LiveMapper:
             return self.neutral.copy(), np.zeros(N_MOTORS)
         values, confidence = self.map_frame(stable, quality[None], t)
         return values, confidence * min(max(trust, 0.0), 1.0)
+
+    def extra_values(self) -> dict[str, float]:
+        """The last frame's parameters beyond the 21 by code (empty when the mapping drives none)."""
+        return {code: float(v) for code, v in zip(self.extra_codes, self.extra, strict=True)}
 
     def step_frame(self, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`step` on a source's frame: its positions, channels, confidence and head."""
@@ -240,5 +251,6 @@ class LiveMapper:
         self._plan_for = self.profile
         raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral,
                                        self._plan)
-        # the 21 motors: a live stream carries no extra parameters yet (issue 42)
-        return self.rules.step(raw[0], t)[:N_MOTORS], np.clip(confidence[0, :N_MOTORS], 0.0, 1.0)
+        stepped = self.rules.step(raw[0], t)
+        self.extra = stepped[self._extra_columns]  # the parameters beyond the 21, beside the motors returned
+        return stepped[:N_MOTORS], np.clip(confidence[0, :N_MOTORS], 0.0, 1.0)

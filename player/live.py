@@ -27,6 +27,7 @@ from player.renderer import Renderer
 from player.server import CommandServer, CommandUDPServer, local_port, start
 from player.sinks import FrameSink, keeps_alpha
 from toon import Face, FaceRig, Geometry, MotorTrack, load_expressions
+from toon.params import DrawnExtras
 
 _Server = TypeVar("_Server", bound="socketserver.TCPServer | socketserver.UDPServer | PreviewSink")
 
@@ -50,6 +51,8 @@ class LiveSettings:
     providers: Providers = field(default_factory=Providers)  # who moves a motor (player/providers.py)
     shown: list[Callable[[float, np.ndarray], None]] = field(default_factory=list)  # told (t, values) each loop
     scene: Callable[[float], Geometry | None] | None = None  # what is drawn instead of the face (several faces)
+    extra: Callable[[float], dict[str, float]] | None = None  # the parameters beyond the 21 (HT...) at a loop time
+    say: Callable[[str], None] = lambda _: None  # a warning for the user (a parameter the face cannot draw)
 
 
 @dataclass
@@ -85,9 +88,11 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     """
     rig = FaceRig(face)
     neutral = face.neutral()
+    extras = DrawnExtras(face.extra_codes, face.name, settings.say)
     animator = Animator(neutral, settings.loop_time)
     loop = Loop(animator, clock, sleep)
     track_values = settings.source or _track_player(settings.track, settings.repeat)
+    extra_at = settings.extra or (None if settings.source else _track_extra(settings.track, settings.repeat))
     latest = [neutral]  # a track's or a stream's values at the loop's time, fully sure
     sure = np.ones(len(neutral))
     tracking = settings.tracking or (None if track_values is None else (lambda: (latest[0], sure, 0.0)))
@@ -118,7 +123,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
                     tell(t, values)
                 drawn = settings.scene(t) if settings.scene is not None else None
-                geometry = drawn if drawn is not None else rig.geometry(values)
+                extra = extras.drawn(extra_at(t)) if extra_at is not None else None
+                geometry = drawn if drawn is not None else rig.geometry(values, extra)
                 pictures: dict[bool, np.ndarray] = {}  # drawn once each: opaque RGB, straight RGBA
                 for sink in sinks:
                     vector = getattr(sink, "write_geometry", None)  # an SVG or Lottie recording
@@ -167,13 +173,25 @@ def _listen(kind: str, address: tuple[str, int], make: Callable[[tuple[str, int]
         raise ListenError(kind, address, exc.strerror or str(exc)) from None
 
 
-def _track_player(track: MotorTrack | None, repeat: bool) -> Callable[[float], np.ndarray] | None:
-    """The track's values at a time (looping if ``repeat``), by linear interpolation."""
-    if track is None:
+def _track_player(track: MotorTrack | None, repeat: bool, extra: bool = False
+                  ) -> Callable[[float], np.ndarray] | None:
+    """The track's values at a time (looping if ``repeat``), by linear interpolation: its 21
+    motors, or with ``extra`` its parameters beyond them (None where it has none)."""
+    if track is None or (extra and not track.extra_codes):
         return None
-    times, values = track.times, track.values
+    times = track.times
+    values = track.extra if extra and track.extra is not None else track.values
 
     def at(t: float) -> np.ndarray:
         when = t % max(track.duration, 1e-9) if repeat else min(t, times[-1])
         return np.array([np.interp(when, times, values[:, c]) for c in range(values.shape[1])])
     return at
+
+
+def _track_extra(track: MotorTrack | None, repeat: bool) -> Callable[[float], dict[str, float]] | None:
+    """The track's parameters beyond the 21 at a time, by code (None where it has none)."""
+    at = _track_player(track, repeat, extra=True)
+    if at is None or track is None:
+        return None
+    codes = track.extra_codes
+    return lambda t: dict(zip(codes, at(t).tolist(), strict=True))

@@ -10,7 +10,8 @@ import numpy as np
 from player.backends import FrameRenderer
 from player.sinks import FrameWriter, keeps_alpha
 from toon import Face, FaceRig, Geometry, MotorTrack
-from toon.motors import N_MOTORS, STANDARD_EXTRAS
+from toon.motors import N_MOTORS
+from toon.params import drawable
 
 log = logging.getLogger(__name__)
 
@@ -81,4 +82,4 @@ def geometries(track: MotorTrack, rig: FaceRig, fps: float) -> Iterator[Geometry
 def undrawn_extras(track: MotorTrack, face: Face) -> list[str]:
     """The standard extra parameters (:data:`toon.motors.STANDARD_EXTRAS`) ``track`` carries and
     ``face`` does not declare: a mapping writes every one it drives, and a face draws those it has."""
-    return [code for code in track.extra_codes if code in STANDARD_EXTRAS and code not in face.extra_codes]
+    return drawable(track.extra_codes, face.extra_codes)[1]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import socket
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -117,8 +118,10 @@ class VmcOut:
         return out
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
-              confidence: np.ndarray | None = None) -> None:
-        """Send one frame (a receiver that is not there costs nothing: UDP)."""
+              confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None:
+        """Send one frame (a receiver that is not there costs nothing: UDP); ``extra`` (the
+        parameters beyond the 21) is not sent: VMC out carries the 21 (a parameter has no VRM
+        name of its own)."""
         for datagram in self.datagrams(np.clip(np.asarray(values, dtype=float), 0.0, 1.0)):
             try:
                 self._sock.sendto(datagram, self.address)

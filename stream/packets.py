@@ -14,13 +14,17 @@ from stream.wire import (
     DEFAULT_STEPS,
     KEY_REQUEST,
     KEYFRAME,
+    MAX_EXTRA,
     MAX_FRAMES,
+    NAMED,
+    PARAMS,
     Header,
     Models,
     WireError,
     bridge,
     encode_frames,
     open_packet,
+    pack_params,
     quantise,
     seal,
 )
@@ -106,11 +110,14 @@ class StreamWriter:
         one a packet).
     stream : int
         This performer's stream id, 0..65535 (a receiver tells several apart by it).
+    codes : tuple of str
+        The parameters beyond the 21 each frame carries after them (HT...), named in every
+        keyframe packet; none: frames of the 21, packets as before parameters came.
     """
 
     def __init__(self, rate: float, frames_per_packet: int = 2, key_seconds: float = 0.5, steps: int = DEFAULT_STEPS,
                  key: bytes | None = None, first_sequence: int | None = None, repeat: int = 1,
-                 stream: int = 0) -> None:
+                 stream: int = 0, codes: tuple[str, ...] = ()) -> None:
         if not 1 <= frames_per_packet <= MAX_FRAMES:
             raise ValueError(f"frames per packet must be 1..{MAX_FRAMES}, got {frames_per_packet}")
         if not 1 <= steps <= 255:
@@ -123,6 +130,10 @@ class StreamWriter:
         if not 0 <= stream <= 0xFFFF:
             raise ValueError(f"a stream id is 0..65535, got {stream}")
         self.stream = stream
+        if len(codes) > MAX_EXTRA or not all(code.isascii() and code and " " not in code for code in codes):
+            raise ValueError(f"at most {MAX_EXTRA} parameter codes of ASCII without spaces, got {codes}")
+        self.codes = tuple(codes)
+        self._name = True  # the next keyframe names the parameters (the first, and each asked for)
         self.repeat = repeat
         self.key_every = max(1, int(round(key_seconds * rate)))
         self.models = Models(steps)
@@ -145,9 +156,16 @@ class StreamWriter:
         self.acked_packets = 0  # packets predicted from an acknowledged frame
         self.repeated_frames = 0  # frames sent again (see ``repeat``)
 
+    @property
+    def started(self) -> bool:
+        """Whether a frame was pushed (from then on its :attr:`codes` stand)."""
+        return bool(self._pending) or self.packets > 0
+
     def request_keyframe(self) -> None:
-        """Start the next packet with a keyframe (the receiver lost the chain)."""
+        """Start the next packet with a keyframe (the receiver lost the chain), naming the
+        parameters beyond the 21 (it may not know them)."""
         self._since_key = None
+        self._name = True
 
     def acknowledge(self, frame: int, held: int = (1 << ACK_BITS) - 1) -> None:
         """The receiver holds ``frame`` (u32 index, the newest it holds) and of the
@@ -176,8 +194,10 @@ class StreamWriter:
         return self._since_loss < LOSS_SECONDS * self.rate
 
     def push(self, values: np.ndarray, time_s: float) -> bytes | None:
-        """Add one frame ``(21,)`` captured at ``time_s`` (sender's clock); returns a datagram
-        when the packet is full, else None."""
+        """Add one frame ``(21 + len(codes),)`` captured at ``time_s`` (sender's clock); returns a
+        datagram when the packet is full, else None."""
+        if len(values) != N_MOTORS + len(self.codes):
+            raise ValueError(f"a frame of {len(values)} values; this stream carries {N_MOTORS + len(self.codes)}")
         if not self._pending:
             self._first_time_us = int(round(time_s * 1e6))
         self._pending.append(quantise(values, self.steps))
@@ -195,15 +215,18 @@ class StreamWriter:
         reference = self._reference(first, len(levels))
         keyframe = reference is None
         back = 0 if reference is None else (first - reference) % WRAP
-        history = np.zeros((0, N_MOTORS), np.int64)
+        history = np.zeros((0, N_MOTORS + len(self.codes)), np.int64)
         if reference is not None:
             found = self._sent.history(reference)
             assert found is not None  # _reference only picks a frame whose history is kept
             history = bridge(found, back - 1, self.steps)
-        body = encode_frames(levels, history, keyframe, self.models)
+        named = keyframe and self._name and bool(self.codes)
+        coded = encode_frames(levels, history, keyframe, self.models, self.codes)
+        body = pack_params(self.codes, keyframe, named) + coded
         time_us = self._first_time_us - int(round(len(again) * 1e6 / self.rate))
-        header = Header(KEYFRAME if keyframe else 0, self.sequence, first, time_us, len(levels),
-                        self.steps, self.rate, back, self.stream)
+        flags = (KEYFRAME if keyframe else 0) | (PARAMS if self.codes else 0) | (NAMED if named else 0)
+        header = Header(flags, self.sequence, first, time_us, len(levels), self.steps, self.rate, back, self.stream)
+        self._name = self._name and not named
         datagram = seal(header, body, self.key)
         depth = 0 if reference is None else self._sent.depth(reference) + back
         for i, row in enumerate(levels):

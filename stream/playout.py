@@ -30,12 +30,13 @@ while concealing is caught up at the eyelid's own speed, not drawn out over twen
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from stream.reader import Frames
+from toon.motors import N_MOTORS, extra_rest
 
 CONCEALMENT = ("hold", "linear", "sindy")
 #: Per stream frame, the factor a motor's remembered fastest step decays by (half in ~2.3 s at 60 Hz).
@@ -74,17 +75,22 @@ class Playout:
     max_jump : float
         Motor units per stream frame while concealing or recovering, where the motor's own
         recent steps were smaller.
+    declared : mapping, optional
+        The face's own parameters beyond the 21 and their neutrals (:meth:`toon.Face.extra_neutral`):
+        where a stream's parameters ease to (a standard one the face lacks: its standard neutral).
     """
 
     def __init__(self, neutral: np.ndarray, method: str = "linear", forecaster: Forecaster | None = None,
                  margin: float = 0.004, min_delay: float = 0.0, max_delay: float = 0.5, window: float = 2.0,
                  settle: float = 2.0, max_jump: float = 0.05, fade: float = 0.06, ease_after: float = 0.3,
-                 ease_seconds: float = 0.5) -> None:
+                 ease_seconds: float = 0.5, declared: Mapping[str, float] | None = None) -> None:
         if method not in CONCEALMENT:
             raise ValueError(f"concealment must be one of {', '.join(CONCEALMENT)}, got {method!r}")
         if method == "sindy" and forecaster is None:
             raise ValueError("sindy concealment needs a fitted forecaster")
         self.neutral = np.asarray(neutral, dtype=float)
+        self.codes: tuple[str, ...] = ()  # the stream's parameters after the 21 (its frames' last columns)
+        self.declared = dict(declared or {})
         self.method, self.forecaster = method, forecaster
         self.margin, self.min_delay, self.max_delay = margin, min_delay, max_delay
         self.window, self.settle, self.max_jump, self.fade = window, settle, max_jump, fade
@@ -111,6 +117,8 @@ class Playout:
     def add(self, frames: Frames) -> None:
         """Take a packet's frames (arrival on the caller's clock)."""
         self.rate = frames.rate
+        if frames.codes != self.codes:  # the stream's parameters beyond the 21 came or changed: start anew
+            self._carry(frames.codes)
         count = len(frames.values)
         if self._anchor is not None and frames.first < self._anchor[0] - 5 * self.rate:  # a restarted sender
             self._frames.clear()
@@ -140,6 +148,16 @@ class Playout:
         if self.delay is None or self._needed > self.delay:
             self.delay = self._needed
         self._forget()
+
+    def _carry(self, codes: tuple[str, ...]) -> None:
+        """Frames from now on carry the parameters ``codes`` after the 21: widen the neutral and
+        forget what was held at the old width."""
+        self.codes = codes
+        self.neutral = np.concatenate([self.neutral[:N_MOTORS], [extra_rest(c, self.declared) for c in codes]])
+        self.speed = np.zeros_like(self.neutral)
+        self._frames.clear()
+        self._concealed.clear()
+        self._output = None
 
     def _note_speed(self, index: int, values: np.ndarray) -> None:
         """Let :attr:`speed` decay by a frame and take in the steps to and from frame ``index``."""
@@ -243,7 +261,8 @@ class Playout:
             guess = level + slope * self.fade * (1 - np.exp(-gap / self.fade))
         else:
             assert self.forecaster is not None  # __init__ refuses sindy without one
-            guess = self.forecaster(values, times, gap)
+            guess = values[-1].copy()  # the parameters beyond the 21 hold; the forecaster knows the 21
+            guess[:N_MOTORS] = self.forecaster(values[:, :N_MOTORS], times, gap)
         ease = np.clip((gap - self.ease_after) / self.ease_seconds, 0.0, 1.0)
         return np.clip(guess + (self.neutral - guess) * ease, 0.0, 1.0)
 

@@ -10,7 +10,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from stream.packets import ACK_BITS, WRAP, FrameStore, behind
-from stream.wire import ACK, DEFAULT_STEPS, Header, Models, WireError, bridge, decode_frames, open_packet, seal
+from stream.wire import (
+    ACK,
+    DEFAULT_STEPS,
+    Header,
+    Models,
+    WireError,
+    bridge,
+    decode_frames,
+    open_packet,
+    params_check,
+    seal,
+    unpack_params,
+)
 from toon import N_MOTORS
 
 #: Packets this far behind the newest are too old to be anything but a replay.
@@ -20,13 +32,15 @@ REPLAY_WINDOW = 64
 @dataclass(frozen=True)
 class Frames:
     """Frames decoded from one packet: their first index, capture time (sender's clock, s, of
-    the first), rate, values ``(n, 21)``, and the packet's arrival (receiver's clock, s)."""
+    the first), rate, values ``(n, 21 + len(codes))``, the packet's arrival (receiver's clock,
+    s) and the codes of the parameters after the 21 (none for a stream of the 21)."""
 
     first: int
     time_s: float
     rate: float
     values: np.ndarray
     arrival: float
+    codes: tuple[str, ...] = ()
 
 
 class StreamReader:
@@ -57,6 +71,8 @@ class StreamReader:
         self.lost = 0  # packets never seen (sequence gaps not filled later)
         self.want_keyframe = False
         self.stream = 0  # the id of the stream read (its packets'), which replies carry back
+        self.codes: tuple[str, ...] = ()  # the parameters after the 21, named by the last keyframe packet
+        self._unnamed = False  # a keyframe of parameters this end does not know came: one naming them is wanted
         self._models: dict[int, Models] = {}
         self._newest: int | None = None  # highest sequence seen
         self._seen = 0  # bit i: sequence newest - i seen
@@ -98,8 +114,7 @@ class StreamReader:
                     del self._waiting[first]
                     out += self._decode(h, b, a)
                     progress = True
-        if not self._waiting:
-            self.want_keyframe = False
+        self.want_keyframe = bool(self._waiting) or self._unnamed
         return out
 
     def take_ack(self, sequence: int = 0) -> bytes | None:
@@ -143,14 +158,28 @@ class StreamReader:
             if len(self._models) >= 4:
                 self._models.clear()
             models = self._models[header.steps] = Models(header.steps)
-        history, depth = np.zeros((0, N_MOTORS), np.int64), 0
+        try:
+            section, body = unpack_params(header, body)
+        except WireError as error:
+            self.dropped[error.reason] += 1
+            return []
+        if isinstance(section, tuple):
+            self.codes, self._unnamed = section, False
+        elif (isinstance(section, int) and (not self.codes or section != params_check(self.codes))
+              or header.params != bool(self.codes)):  # a keyframe of parameters this end was not told (it joined late)
+            self.dropped["params"] += 1
+            self._unnamed = True
+            return []
+        elif header.keyframe:
+            self._unnamed = False
+        history, depth = np.zeros((0, N_MOTORS + len(self.codes)), np.int64), 0
         if not header.keyframe:
             reference = _reference(header)
             found = self._held.history(reference)
             assert found is not None  # read() decodes only packets whose reference is held
             history, depth = bridge(found, header.back - 1, header.steps), self._held.depth(reference) + header.back
         try:
-            levels = decode_frames(body, header.count, history, header.keyframe, models)
+            levels = decode_frames(body, header.count, history, header.keyframe, models, self.codes)
         except WireError as error:
             self.dropped[error.reason] += 1
             return []
@@ -173,7 +202,7 @@ class StreamReader:
         self._frame_mark = _unwrap(header.first_frame, self._frame_mark)
         self._time_mark = _unwrap(header.time_us, self._time_mark)
         return [Frames(self._frame_mark[1] + i, self._time_mark[1] / 1e6 + i / header.rate, header.rate,
-                       np.array(rows) / header.steps, arrival) for i, rows in runs]
+                       np.array(rows) / header.steps, arrival, self.codes) for i, rows in runs]
 
 
 def _reference(header: Header) -> int:

@@ -26,6 +26,7 @@ from stream.packets import key_request
 from stream.playout import Playout
 from stream.reader import StreamReader
 from stream.wire import MAX_PACKET, peek_stream
+from toon.motors import N_MOTORS
 
 
 @dataclass
@@ -80,6 +81,7 @@ class StreamReceiver:
             raise
         self.sock.settimeout(0.1)
         self._lock = threading.Lock()
+        self._shown: np.ndarray | None = None  # the row values_at gave last
         self._arrived = threading.Condition(self._lock)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._serve, daemon=True)
@@ -106,16 +108,30 @@ class StreamReceiver:
         self.close()
 
     def values_at(self, now: float | None = None) -> tuple[np.ndarray, str]:
-        """The face to show now (see :meth:`Playout.values_at`)."""
+        """The face to show now (see :meth:`Playout.values_at`): the 21 motors and the stream's
+        parameters beyond them (:meth:`extra_shown` names them)."""
         with self._lock:
-            return self.playout.values_at(self.clock() if now is None else now)
+            values, state = self.playout.values_at(self.clock() if now is None else now)
+            self._shown = values
+            return values, state
+
+    def extra_shown(self) -> dict[str, float]:
+        """The parameters beyond the 21 of what :meth:`values_at` gave last, by code (none for a
+        stream of the 21, or before it came)."""
+        with self._lock:
+            codes = self.playout.codes
+            if self._shown is None or len(self._shown) != N_MOTORS + len(codes):
+                return {}
+            return dict(zip(codes, self._shown[N_MOTORS:].tolist(), strict=True))
 
     def performers(self, now: float | None = None) -> list[tuple[int, np.ndarray, float]]:
         """Each performer's stream id, the face to show now ``(21,)`` and the seconds since its
-        last packet, in the order they first came."""
+        last packet, in the order they first came (the parameters beyond the 21 are not drawn on
+        a stage of several yet)."""
         with self._lock:
             now = self.clock() if now is None else now
-            return [(stream, lane.playout.values_at(now)[0], now - lane.arrived) for stream, lane in self.lanes.items()]
+            return [(stream, lane.playout.values_at(now)[0][:N_MOTORS], now - lane.arrived)
+                    for stream, lane in self.lanes.items()]
 
     def _lane(self, stream: int | None) -> Lane | None:
         """The lane of ``stream``, or a new one while there is room (kept by :meth:`feed` only once

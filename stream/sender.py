@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import socket
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from stream.packets import StreamWriter, is_key_request, read_ack
+from toon.motors import extra_rest
 
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
 
@@ -41,9 +42,19 @@ class StreamSender:
         self.sock.setblocking(False)
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
-              confidence: np.ndarray | None = None) -> None:
-        """Pack one frame ``(21,)``; send the packet it completes."""
+              confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None:
+        """Pack one frame ``(21,)`` and its parameters beyond the 21 (``extra``, by code); send
+        the packet it completes. The stream carries the parameters its first frame had (the
+        writer's ``codes`` where they were given): one a later frame lacks goes at its standard
+        neutral (0.5 for a parameter of the performer's own), one it adds is not sent."""
         self._take_requests()
+        w = self.writer
+        if extra and not w.codes and not w.started:
+            w.codes = tuple(extra)  # the stream's parameters, from its first frame
+        if w.codes:
+            given = extra or {}
+            row = [given.get(c, extra_rest(c)) for c in w.codes]
+            values = np.concatenate([np.asarray(values, dtype=float), row])
         datagram = self.writer.push(values, self.clock() if captured is None else captured)
         if datagram is not None:
             self._send(datagram)

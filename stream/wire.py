@@ -7,7 +7,9 @@ One UDP datagram is one packet::
     2      1    version (4)
     3      1    flags: 1 = the first frame is a keyframe, 2 = the tag is an HMAC,
                        4 = a keyframe request (receiver to sender; no frames),
-                       8 = an acknowledgement (receiver to sender; no frames)
+                       8 = an acknowledgement (receiver to sender; no frames),
+                       16 = the frames carry parameters beyond the 21 (see below),
+                       32 = this keyframe packet names them
     4      2    stream id (u16): the sender's, so that one receiver tells several performers
                 apart (through a relay too); a receiver's replies carry the id they answer
     6      4    sequence number of the packet (u32, wraps)
@@ -21,14 +23,29 @@ One UDP datagram is one packet::
     20     2    frame rate, 1/100 Hz (u16)
     22     1    reference: how many frames before the first frame the frame it is predicted
                 from lies (1: the frame just before; 0 in a keyframe)
-    23     ...  the coded frames
+    23     ...  with flags 16 and 32 (a keyframe packet), the parameters' list (1 byte: its
+                length L; L bytes: the codes in ASCII, one space between, ``HT UL``); with
+                flag 16 alone in a keyframe packet, the list's check (1 byte: the low byte
+                of its CRC-32); any other packet sets flag 16 and carries the list of the
+                keyframe its chain began with
+    ...    ...  the coded frames
     end-T  T    tag: CRC-32 of all before it (T = 4), or HMAC-SHA256 truncated to 10 bytes
                 with a shared key (T = 10)
 
 All integers are little-endian. The default S = 100 makes the quantisation error at most 0.5 %
 of a motor's range (log2(101) = 6.66 bits a value before coding).
 
-Coding: a keyframe's 21 values are coded with a flat model (all S + 1 levels alike). Every
+Parameters beyond the 21 (a face's own, :data:`toon.motors.STANDARD_EXTRAS`: HT, UL...) are
+columns after the 21, quantised and coded exactly as motors are. A stream of the 21 alone sets
+no flag 16 and is byte for byte what it was before parameters came. One with parameters names
+them in its first keyframe packet and in each keyframe asked for; other keyframes carry a
+one-byte check of the list, so that a receiver that joins late, or lost the packet that named
+them, sees that it does not know them and asks for a keyframe (as for a lost reference), which
+names them.
+
+Coding: a keyframe's 21 values are coded with a flat model (all S + 1 levels alike), and its
+parameters beyond the 21 as residuals from their rest (:func:`toon.motors.extra_rest`) under the
+widest model below, since they mostly rest. Every
 other value is predicted from the motor's three previous frames. Its *activity* is the size of
 its last two steps, ``|d1| + |d2|`` with ``d1 = q[f-1] - q[f-2]`` and ``d2 = q[f-2] - q[f-3]``
 (steps before a keyframe count as 0). Below :data:`HOLD_BELOW` steps of activity the motor is
@@ -65,10 +82,13 @@ import numpy as np
 
 from stream.rangecode import Decoder, Encoder, Model
 from toon import N_MOTORS
+from toon.motors import extra_rest
 
 MAGIC = b"TF"
 VERSION = 4
-KEYFRAME, AUTHENTICATED, KEY_REQUEST, ACK = 1, 2, 4, 8
+KEYFRAME, AUTHENTICATED, KEY_REQUEST, ACK, PARAMS, NAMED = 1, 2, 4, 8, 16, 32
+#: The most parameters beyond the 21 a stream carries.
+MAX_EXTRA = 32
 HEADER = struct.Struct("<2sBBHIIIBBHB")
 #: Where the stream id lies, for a relay or a receiver that sorts packets by it before reading them.
 STREAM_ID = struct.Struct("<H")
@@ -76,7 +96,7 @@ STREAM_ID_OFFSET = 4
 MAX_FRAMES = 32
 CRC_SIZE, HMAC_SIZE = 4, 10
 #: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
-MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + HMAC_SIZE + 64
+MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + HMAC_SIZE + 64 + MAX_EXTRA * (MAX_FRAMES * 2 + 17)
 DEFAULT_STEPS = 100
 #: Per-step decay of the residual model for each activity context (0..5 steps), fitted by maximum
 #: likelihood on 60 s of the synthetic performer's live-mapped motors (0.2 mm noise).
@@ -119,6 +139,46 @@ class Header:
     @property
     def ack(self) -> bool:
         return bool(self.flags & ACK)
+
+    @property
+    def params(self) -> bool:
+        return bool(self.flags & PARAMS)
+
+
+def pack_params(codes: tuple[str, ...], keyframe: bool, named: bool) -> bytes:
+    """The parameter section of a packet whose frames carry ``codes`` after the 21: in a keyframe
+    packet their list (``named``, flag 32) or its check; nothing in any other."""
+    if not codes or not keyframe:
+        return b""
+    text = " ".join(codes).encode("ascii")
+    return bytes([len(text)]) + text if named else bytes([params_check(codes)])
+
+
+def params_check(codes: tuple[str, ...]) -> int:
+    """The one-byte check of a list of parameters (the low byte of its text's CRC-32)."""
+    return zlib.crc32(" ".join(codes).encode("ascii")) & 0xFF
+
+
+def unpack_params(header: Header, body: bytes) -> tuple[tuple[str, ...] | int | None, bytes]:
+    """A keyframe packet's parameters beyond the 21, their list (flag 32; empty without flag 16)
+    or its check (an int), and the coded frames after it; any other packet's body as it is,
+    and None: its chain's keyframe's list holds."""
+    if not header.keyframe:
+        return None, body
+    if not header.params:
+        return (), body
+    if not body:
+        raise WireError("malformed", "a keyframe packet with parameters and no list or check of them")
+    if not header.flags & NAMED:
+        return body[0], body[1:]
+    size = body[0]
+    try:
+        codes = tuple(body[1:1 + size].decode("ascii").split(" "))
+    except UnicodeDecodeError:
+        raise WireError("malformed", "a parameter list that is not ASCII") from None
+    if size == 0 or len(body) < 1 + size or len(codes) > MAX_EXTRA or not all(codes):
+        raise WireError("malformed", "a parameter list that does not fit its packet")
+    return codes, body[1 + size:]
 
 
 class Models:
@@ -184,15 +244,20 @@ def _tag(data: bytes, key: bytes | None) -> bytes:
     return struct.pack("<I", zlib.crc32(data))
 
 
-def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, models: Models) -> bytes:
-    """Code ``levels`` ``(n, 21)`` (ints in 0..steps) after ``history`` ``(h, 21)``, the frames
-    before them (the last 3 are used; ignored for a keyframe)."""
+def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, models: Models,
+                  codes: tuple[str, ...] = ()) -> bytes:
+    """Code ``levels`` ``(n, 21 + len(codes))`` (ints in 0..steps; the 21, then the parameters
+    ``codes``) after ``history`` ``(h, 21 + len(codes))``, the frames before them (the last 3 are
+    used; ignored for a keyframe)."""
     encoder = Encoder()
     chain = [] if keyframe else [row for row in np.asarray(history, dtype=np.int64)[-3:]]
+    rests = rest_levels(codes, models.steps)
     for row in np.asarray(levels, dtype=np.int64):
         if not chain:
-            for value in row:
+            for value in row[:N_MOTORS]:
                 encoder.encode(int(value), models.flat)
+            for value, rest in zip(row[N_MOTORS:].tolist(), rests, strict=True):
+                encoder.encode(value - rest + models.steps, models.residual[-1])
         else:
             prediction, context = _predict(chain, models.steps)
             for value, guess, ctx in zip(row.tolist(), prediction.tolist(), context.tolist(), strict=True):
@@ -201,15 +266,18 @@ def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, model
     return encoder.finish()
 
 
-def decode_frames(body: bytes, count: int, history: np.ndarray, keyframe: bool, models: Models) -> np.ndarray:
+def decode_frames(body: bytes, count: int, history: np.ndarray, keyframe: bool, models: Models,
+                  codes: tuple[str, ...] = ()) -> np.ndarray:
     """Inverse of :func:`encode_frames`; raises :class:`WireError` when a value leaves 0..steps
     (the body is not what the header says)."""
     decoder = Decoder(body)
     chain = [] if keyframe else [row for row in np.asarray(history, dtype=np.int64)[-3:]]
-    out = np.empty((count, N_MOTORS), dtype=np.int64)
+    rests = rest_levels(codes, models.steps)
+    out = np.empty((count, N_MOTORS + len(codes)), dtype=np.int64)
     for f in range(count):
         if not chain:
             row = [decoder.decode(models.flat) for _ in range(N_MOTORS)]
+            row += [rest + decoder.decode(models.residual[-1]) - models.steps for rest in rests]
         else:
             prediction, context = _predict(chain, models.steps)
             row = [guess + decoder.decode(models.residual[ctx]) - models.steps
@@ -221,14 +289,20 @@ def decode_frames(body: bytes, count: int, history: np.ndarray, keyframe: bool, 
     return out
 
 
+def rest_levels(codes: tuple[str, ...], steps: int) -> list[int]:
+    """The levels at which parameters ``codes`` beyond the 21 rest, what a keyframe codes them from."""
+    return [int(round(extra_rest(code) * steps)) for code in codes]
+
+
 def bridge(history: np.ndarray, gap: int, steps: int) -> np.ndarray:
-    """``history`` ``(h, 21)`` (h <= 3, the reference frame last) run on by ``gap`` predicted
+    """``history`` ``(h, C)`` (h <= 3, the reference frame last) run on by ``gap`` predicted
     frames, the last 3 rows: what both ends predict a packet's first frame from when its
     reference lies ``gap`` frames before the frame just before it."""
-    chain = [row for row in np.asarray(history, dtype=np.int64)[-3:]]
+    history = np.asarray(history, dtype=np.int64)
+    chain = [row for row in history[-3:]]
     for _ in range(gap):
         chain = [*chain[-2:], _predict(chain, steps)[0]]
-    return np.array(chain[-3:], dtype=np.int64).reshape(-1, N_MOTORS)
+    return np.array(chain[-3:], dtype=np.int64).reshape(-1, history.shape[-1])
 
 
 def _predict(chain: list[np.ndarray], steps: int) -> tuple[np.ndarray, np.ndarray]:
@@ -242,6 +316,6 @@ def _predict(chain: list[np.ndarray], steps: int) -> tuple[np.ndarray, np.ndarra
 
 
 def quantise(values: np.ndarray, steps: int = DEFAULT_STEPS) -> np.ndarray:
-    """Motor values ``(..., 21)`` in [0, 1] as levels 0..steps (NaN and out-of-range clipped)."""
+    """Motor values ``(..., C)`` in [0, 1] as levels 0..steps (NaN and out-of-range clipped)."""
     clean = np.clip(np.nan_to_num(np.asarray(values, dtype=float), nan=0.5), 0.0, 1.0)
     return np.rint(clean * steps).astype(np.int64)

@@ -17,6 +17,7 @@ PLH is the left pupil here.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
@@ -126,6 +127,14 @@ def extended_neutral(neutral: np.ndarray) -> np.ndarray:
     if len(neutral) == N_CODES:
         return neutral
     return np.concatenate([neutral, [spec.neutral for spec in STANDARD_EXTRAS.values()]])
+
+
+def extra_rest(code: str, declared: Mapping[str, float] | None = None) -> float:
+    """Where parameter ``code`` beyond the 21 rests: as ``declared`` (a face's
+    :meth:`~toon.Face.extra_neutral`) where it is there, else its standard neutral, else 0.5."""
+    if declared and code in declared:
+        return float(declared[code])
+    return STANDARD_EXTRAS[code].neutral if code in STANDARD_EXTRAS else 0.5
 
 
 def motor_index(code: str) -> int:

@@ -22,6 +22,7 @@ Beyond its points a parameter drives, exactly as a motor does, components' ``vis
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -53,6 +54,39 @@ class ParamSpec:
         if self.points:
             d["points"] = {m.point: {"at0": list(m.at0), "at1": list(m.at1)} for m in self.points}
         return d
+
+
+def drawable(codes: tuple[str, ...] | list[str], declared: tuple[str, ...]) -> tuple[list[str], list[str], list[str]]:
+    """Parameters ``codes`` (a track's or a stream's) against those a face ``declared``: those it
+    draws, the standard ones it lacks (left out, said) and any other it lacks (an error, or a
+    stream refused)."""
+    kept = [c for c in codes if c in declared]
+    standard = [c for c in codes if c not in declared and c in STANDARD_EXTRAS]
+    return kept, standard, [c for c in codes if c not in declared and c not in STANDARD_EXTRAS]
+
+
+class DrawnExtras:
+    """The parameters beyond the 21 a live source sends (a stream, a performer), kept to those a
+    face declares; each one left out is said once through ``say``: a standard one the face lacks
+    is drawn without, any other is refused (it means something only to a face that has it)."""
+
+    def __init__(self, declared: tuple[str, ...], face_name: str, say: Callable[[str], None]) -> None:
+        self.declared, self.face_name, self.say = declared, face_name, say
+        self._said: set[str] = set()
+
+    def drawn(self, extra: Mapping[str, float] | None) -> dict[str, float]:
+        """``extra`` without the codes the face lacks."""
+        if not extra:
+            return {}
+        kept, standard, other = drawable(list(extra), self.declared)
+        if fresh := [c for c in standard if c not in self._said]:
+            self.say(f"face {self.face_name} does not declare {', '.join(fresh)}: drawn without "
+                     f"{'them' if len(fresh) > 1 else 'it'}")
+        if odd := [c for c in other if c not in self._said]:
+            self.say(f"refused parameter{'s' if len(odd) > 1 else ''} {', '.join(odd)}: not standard and not "
+                     f"declared by face {self.face_name} (declared: {', '.join(self.declared) or 'none'})")
+        self._said.update(standard + other)
+        return {code: float(extra[code]) for code in kept}
 
 
 def parse_params(raw: Any, v: ShapeValidator, control_points: tuple[str, ...]) -> tuple[ParamSpec, ...]:

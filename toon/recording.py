@@ -13,14 +13,14 @@ import math
 import os
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Protocol, TextIO
 
 import numpy as np
 
 from common import InputError
-from toon.motors import MOTOR_CODES
+from toon.motors import MOTOR_CODES, N_MOTORS, extra_rest
 from toon.track import MotorTrack
 from toon.track_io import save_track
 
@@ -31,14 +31,15 @@ FLUSH_SECONDS = 1.0
 class MotorSink(Protocol):
     """A consumer of motor frames.
 
-    ``write(t, values, captured, confidence)``: ``t`` the frame's time in seconds on the
+    ``write(t, values, captured, confidence, extra)``: ``t`` the frame's time in seconds on the
     producer's clock (the take's, the source's or the stream's), ``values`` ``(21,)``,
     ``captured`` when its performer data was captured on this machine's ``time.perf_counter``
-    clock, where known, and each motor's ``confidence`` ``(21,)`` (1 seen, 0 lost), where known.
+    clock, where known, each motor's ``confidence`` ``(21,)`` (1 seen, 0 lost), where known, and
+    the parameters beyond the 21 by code (``{"HT": 0.6}``), where there are any.
     """
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
-              confidence: np.ndarray | None = None) -> None: ...
+              confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None: ...
     def close(self) -> None: ...
     def abort(self) -> None: ...
 
@@ -79,6 +80,7 @@ class MotorRecorder:
         self._slot = 0  # the next slot to append
         self._latest: np.ndarray | None = None
         self._flushed = 0.0
+        self.codes: tuple[str, ...] = ()  # the parameters beyond the 21 recorded: the first frame's
 
     @property
     def frames(self) -> int:
@@ -86,9 +88,15 @@ class MotorRecorder:
         return len(self._times)
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
-              confidence: np.ndarray | None = None) -> None:
-        """Keep one frame ``(21,)`` at ``t`` seconds (and append the slots it settles)."""
-        frame = np.array(values, dtype=float)
+              confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None:
+        """Keep one frame ``(21,)`` at ``t`` seconds, and the parameters beyond the 21 its first
+        frame had (``extra``; one a later frame lacks at its standard neutral), and append the
+        slots it settles."""
+        if extra and not self._times:
+            self.codes = tuple(extra)
+        given = extra or {}
+        frame = np.concatenate([np.array(values, dtype=float),
+                                [given.get(c, extra_rest(c)) for c in self.codes]])
         self._times.append(float(t))
         self._values.append(frame)
         self._append_settled(float(t), frame)
@@ -98,7 +106,7 @@ class MotorRecorder:
         partial file, holding the newest frame before ``t``."""
         if self._live is None:
             self._live = open(self.partial, "w", encoding="utf-8")  # noqa: SIM115 - closed by close/abort
-            self._live.write(",".join(("time", *MOTOR_CODES)) + "\n")
+            self._live.write(",".join(("time", *MOTOR_CODES, *self.codes)) + "\n")
         held = frame if self._latest is None else self._latest
         rows = []
         while (self._slot + 0.5) / self.rate < t:
@@ -117,8 +125,9 @@ class MotorRecorder:
         slots = np.arange(int(round(times.max() * self.rate)) + 1) / self.rate
         order = np.argsort(times, kind="stable")
         rows = np.searchsorted(times[order], slots + 0.5 / self.rate, side="right") - 1
-        values = np.array(self._values)[order][np.maximum(rows, 0)]
-        return MotorTrack(np.clip(values, 0.0, 1.0), self.rate, meta=self.meta)
+        values = np.clip(np.array(self._values)[order][np.maximum(rows, 0)], 0.0, 1.0)
+        return MotorTrack(values[:, :N_MOTORS], self.rate, meta=self.meta, extra_codes=self.codes,
+                          extra=values[:, N_MOTORS:] if self.codes else None)
 
     def close(self) -> None:
         """Write the track (nothing when no frame came); :attr:`written` is its path. The partial
@@ -150,14 +159,17 @@ class LatestMotors:
         self._values = np.array(neutral, dtype=float)
         self._confidence = np.zeros(len(self._values))
         self._at = -math.inf
+        self._extra: dict[str, float] = {}
         self.clock = clock
         self.frames = 0
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
-              confidence: np.ndarray | None = None) -> None:
-        """Keep ``values`` ``(21,)`` as the newest (with full confidence where none is given)."""
+              confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None:
+        """Keep ``values`` ``(21,)`` and ``extra`` as the newest (with full confidence where none
+        is given)."""
         with self._lock:
             self._values = np.array(values, dtype=float)
+            self._extra = dict(extra or {})
             self._confidence = np.ones(len(self._values)) if confidence is None else np.array(confidence, dtype=float)
             self._at = self.clock()
             self.frames += 1
@@ -166,6 +178,11 @@ class LatestMotors:
         """The newest frame ``(21,)`` (the neutral before any)."""
         with self._lock:
             return self._values.copy()
+
+    def extra(self) -> dict[str, float]:
+        """The newest frame's parameters beyond the 21, by code (none before any)."""
+        with self._lock:
+            return dict(self._extra)
 
     def newest(self) -> tuple[np.ndarray, np.ndarray, float]:
         """The newest frame ``(21,)``, its confidence ``(21,)`` (0 before any) and the seconds

@@ -92,14 +92,11 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     from player.live import ListenError, LiveSettings, run_live
     from player.providers import load_providers
     from toon import load_face, load_track
-    from toonface.cli_options import warn_unused_extras
     from toonface.outputs import Outputs
 
     loop_time = loop_ms / 1000
     dims = parse_size(size)
     played = load_track(track_path) if track_path else None
-    if played is not None and track_path:
-        warn_unused_extras(played, track_path, "play")
     settings = LiveSettings(loop_time=loop_time, size=dims, tcp=_address(listen, "--listen", 7707),
                             udp=_address(udp, "--udp", 7708), preview=_address(preview, "--preview", 8080),
                             track=played, repeat=not once, seconds=seconds,
@@ -127,6 +124,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
 
         follower = Follower.open(source_spec, face_obj.neutral(), say)
         settings.tracking = follower.latest.newest
+        settings.extra = lambda t: follower.latest.extra() if follower is not None else {}
+    settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)
 
     def ready(addresses: dict[str, str]) -> None:
         for kind, where in addresses.items():

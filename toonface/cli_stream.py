@@ -173,6 +173,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     from stream.playout import Playout
     from stream.receiver import StreamReceiver
     from toon import load_face
+    from toon.motors import N_MOTORS
     from toonface.outputs import Outputs, PerformerRecordings
 
     check_output(record, "--record")
@@ -184,7 +185,8 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     recordings: PerformerRecordings | None = None
 
     def fresh() -> Playout:
-        return Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump)
+        return Playout(face_obj.neutral(), conceal, margin=jitter_ms / 1000, max_jump=max_jump,
+                       declared=face_obj.extra_neutral())
 
     def playout_for() -> Playout:  # each newcomer's, recorded where asked
         made = fresh()
@@ -208,7 +210,9 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
             recordings.attach(playout, first=True)
         if vmc_out is not None:
             settings.shown.append(outputs.motor(f"vmc://{vmc_out}", neutral=face_obj.neutral()).write)
-        settings.source = lambda t: receiver.values_at()[0]
+        settings.source = lambda t: receiver.values_at()[0][:N_MOTORS]
+        settings.extra = lambda t: receiver.extra_shown()  # of the row the line above just took
+        settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)
         if max_performers > 1:
             ensemble = Ensemble(face_obj, dims, settings.providers, seats)
             settings.scene = lambda t: ensemble.frame(receiver.performers(), t)

@@ -26,6 +26,7 @@ from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
 from common import InputError
+from toon.motors import N_MOTORS
 
 if TYPE_CHECKING:
     import numpy as np
@@ -202,7 +203,7 @@ class PerformerRecordings:
             if sink is None:
                 sink = self._open(first)
             sink.rate = playout.rate  # known once the stream's first packet has come
-            sink.write(t, values)
+            sink.write(t, values[:N_MOTORS], extra=dict(zip(playout.codes, values[N_MOTORS:].tolist(), strict=True)))
 
         playout.shown = keep
 

@@ -108,8 +108,9 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
         captured = clock()
         values, confidence = mapper.step_frame(frame)
         report.step_seconds.append(clock() - captured)
+        extra = mapper.extra_values() or None  # the parameters beyond the 21 (HT...), where the mapping drives any
         for sink in sinks:  # stream time: frame n at n / rate, as the wire carries it (a camera's stamps jitter)
-            sink.write(report.frames / source.rate, values, captured, confidence)
+            sink.write(report.frames / source.rate, values, captured, confidence, extra=extra)
         report.frames += 1
     return report
 
