@@ -49,7 +49,8 @@ class LiveSettings:
     source: Callable[[float], np.ndarray] | None = None  # values at a loop time, fully sure (a stream); not track
     tracking: Tracked | None = None  # a live performer: newest values, their confidence, their age
     providers: Providers = field(default_factory=Providers)  # who moves a motor (player/providers.py)
-    shown: list[Callable[[float, np.ndarray], None]] = field(default_factory=list)  # told (t, values) each loop
+    # told (t, values, extra=...) each loop: the 21 shown and the parameters beyond them drawn (a MotorSink's write)
+    shown: list[Callable[..., None]] = field(default_factory=list)
     scene: Callable[[float], Geometry | None] | None = None  # what is drawn instead of the face (several faces)
     extra: Callable[[float], dict[str, float]] | None = None  # the parameters beyond the 21 (HT...) at a loop time
     say: Callable[[str], None] = lambda _: None  # a warning for the user (a parameter the face cannot draw)
@@ -120,10 +121,10 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 if track_values is not None:
                     latest[0] = track_values(t)
                 values = mixer.step(t)  # idle, tracking, motions and overrides (player/providers.py)
-                for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
-                    tell(t, values)
-                drawn = settings.scene(t) if settings.scene is not None else None
                 extra = extras.drawn(extra_at(t)) if extra_at is not None else None
+                for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
+                    tell(t, values, extra=extra or None)
+                drawn = settings.scene(t) if settings.scene is not None else None
                 geometry = drawn if drawn is not None else rig.geometry(values, extra)
                 pictures: dict[bool, np.ndarray] = {}  # drawn once each: opaque RGB, straight RGBA
                 for sink in sinks:

@@ -8,9 +8,12 @@ Each frame is one or more OSC bundles (each under :data:`MAX_BUNDLE` bytes) hold
 - the same for the ARKit blendshapes that one motor gives cleanly (:data:`ARKIT_OUT`): the motor's
   way from the face's neutral to one end of its range as a score 0..1 (``jawOpen`` is MB's way
   open, ``eyeBlinkLeft`` ELU's way shut, ``eyeWideLeft`` its way up);
+- the parameters beyond the 21 where a frame has them, by their codes (``HT``...), and as the
+  ARKit scores that stand for them (:func:`extra_scores`: ``cheekPuff``, ``jawLeft``/``jawRight``,
+  ``noseSneerLeft``/``Right``);
 - ``/VMC/Ext/Bone/Pos "Head" 0 0 0 (qx qy qz qw)``: HH and HV as the head's turn, in Unity's
   left-handed axes as a VMC receiver reads it, :data:`HEAD_DEGREES` a motor unit from neutral
-  (as the mapping presets read the head);
+  (as the mapping presets read the head), and HT as its roll, :data:`TILT_DEGREES` a unit;
 - ``/VMC/Ext/Blend/Apply``, last: the set is complete.
 """
 
@@ -26,6 +29,8 @@ from toon import MOTOR_CODES
 
 #: Degrees of head turn per motor unit of HH and HV from neutral (the presets' ``scale``).
 HEAD_DEGREES = 60.0
+#: Degrees of head roll per unit of HT from its rest (the presets' ``scale``).
+TILT_DEGREES = 50.0
 #: The largest bundle sent (a typical Ethernet datagram's payload, less headers).
 MAX_BUNDLE = 1400
 #: ARKit blendshapes one motor gives: (name, motor, way) with way +1 toward the motor's 1, -1 toward 0.
@@ -60,16 +65,36 @@ def arkit_scores(values: np.ndarray, neutral: np.ndarray) -> dict[str, float]:
     return out
 
 
-def head_quaternion(values: np.ndarray, neutral: np.ndarray, degrees: float = HEAD_DEGREES
+def extra_scores(extra: Mapping[str, float]) -> dict[str, float]:
+    """The ARKit scores that stand for the standard parameters beyond the 21 in ``extra``, as the
+    arkit preset reads them back: CP is ``cheekPuff``; JS the ``jawLeft`` or ``jawRight`` of its
+    way from 0.5; UL both ``noseSneer`` scores."""
+    out = {}
+    if "CP" in extra:
+        out["cheekPuff"] = float(extra["CP"])
+    if "JS" in extra:
+        side = 2.0 * (float(extra["JS"]) - 0.5)
+        out["jawLeft"], out["jawRight"] = max(side, 0.0), max(-side, 0.0)
+    if "UL" in extra:
+        out["noseSneerLeft"] = out["noseSneerRight"] = float(extra["UL"])
+    return out
+
+
+def head_quaternion(values: np.ndarray, neutral: np.ndarray, degrees: float = HEAD_DEGREES, tilt: float = 0.5
                     ) -> tuple[float, float, float, float]:
     """The head's turn (x, y, z, w) in Unity's left-handed axes: yaw toward the performer's
-    left is a turn about -y there, a raised chin a turn about -x."""
+    left is a turn about -y there, a raised chin a turn about -x, and ``tilt`` (HT, 0.5
+    upright) a roll about z, counter-clockwise as the camera sees it toward 1."""
     yaw = math.radians((values[_INDEX["HH"]] - neutral[_INDEX["HH"]]) * degrees)
     pitch = math.radians((values[_INDEX["HV"]] - neutral[_INDEX["HV"]]) * degrees)
-    # Unity's R = Ry(-yaw) Rx(-pitch): the quaternion product q_y * q_x
-    ay, ax = -yaw / 2, -pitch / 2
-    return (math.cos(ay) * math.sin(ax), math.sin(ay) * math.cos(ax), -math.sin(ay) * math.sin(ax),
-            math.cos(ay) * math.cos(ax))
+    roll = math.radians((tilt - 0.5) * TILT_DEGREES)
+    # Unity's R = Ry(-yaw) Rx(-pitch) Rz(-roll): the quaternion product q_y * q_x * q_z
+    ay, ax, az = -yaw / 2, -pitch / 2, -roll / 2
+    qx = (math.cos(ay) * math.sin(ax), math.sin(ay) * math.cos(ax), -math.sin(ay) * math.sin(ax),
+          math.cos(ay) * math.cos(ax))
+    x, y, z, w = qx
+    cz, sz = math.cos(az), math.sin(az)  # times (0, 0, sin, cos)
+    return (x * cz + y * sz, y * cz - x * sz, z * cz + w * sz, w * cz - z * sz)
 
 
 class VmcOut:
@@ -89,8 +114,8 @@ class VmcOut:
         self.bytes = 0
         self._sock = socket.socket(socket.AF_INET6 if ":" in address[0] else socket.AF_INET, socket.SOCK_DGRAM)
 
-    def datagrams(self, values: np.ndarray) -> list[bytes]:
-        """One frame's bundles, in order, the Apply last."""
+    def datagrams(self, values: np.ndarray, extra: Mapping[str, float] | None = None) -> list[bytes]:
+        """One frame's bundles, in order, the Apply last (``extra``: its parameters beyond the 21)."""
         from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
         from pythonosc.osc_message import OscMessage
         from pythonosc.osc_message_builder import OscMessageBuilder
@@ -104,8 +129,11 @@ class VmcOut:
         messages = [message("/VMC/Ext/Blend/Val", code, float(values[i])) for i, code in enumerate(MOTOR_CODES)]
         messages += [message("/VMC/Ext/Blend/Val", name, score)
                      for name, score in arkit_scores(values, self.neutral).items()]
+        extra = dict(extra or {})
+        messages += [message("/VMC/Ext/Blend/Val", code, float(v)) for code, v in extra.items()]
+        messages += [message("/VMC/Ext/Blend/Val", name, score) for name, score in extra_scores(extra).items()]
         messages.append(message("/VMC/Ext/Bone/Pos", "Head", 0.0, 0.0, 0.0,
-                                *head_quaternion(values, self.neutral)))
+                                *head_quaternion(values, self.neutral, tilt=extra.get("HT", 0.5))))
         messages.append(message("/VMC/Ext/Blend/Apply"))
         out, bundle, size = [], OscBundleBuilder(IMMEDIATELY), 16
         for m in messages:
@@ -119,10 +147,9 @@ class VmcOut:
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
               confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None:
-        """Send one frame (a receiver that is not there costs nothing: UDP); ``extra`` (the
-        parameters beyond the 21) is not sent: VMC out carries the 21 (a parameter has no VRM
-        name of its own)."""
-        for datagram in self.datagrams(np.clip(np.asarray(values, dtype=float), 0.0, 1.0)):
+        """Send one frame and its parameters beyond the 21 (a receiver that is not there costs
+        nothing: UDP)."""
+        for datagram in self.datagrams(np.clip(np.asarray(values, dtype=float), 0.0, 1.0), extra):
             try:
                 self._sock.sendto(datagram, self.address)
             except OSError:  # nobody listening (ICMP refused on loopback): the next frame tries again

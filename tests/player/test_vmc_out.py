@@ -9,7 +9,7 @@ import pytest
 from pythonosc.osc_packet import OscPacket
 
 from capture.vmc import VmcState
-from player.vmc_out import MAX_BUNDLE, VmcOut, arkit_scores, head_quaternion
+from player.vmc_out import MAX_BUNDLE, VmcOut, arkit_scores, extra_scores, head_quaternion
 from toon import MOTOR_CODES, load_face, motor_index
 
 
@@ -104,3 +104,33 @@ def test_toonfaces_vmc_out_read_by_its_vmc_in_gives_the_motors_back(receiver):
     for code in ("MB", "ERU", "ELU", "MRV", "MLV", "PRV", "PLV"):
         assert back[motor_index(code)] == pytest.approx(shown[motor_index(code)], abs=0.01), code
     assert back[motor_index("HH")] == pytest.approx(shown[motor_index("HH")], abs=0.01)  # after the head filter
+
+
+def test_the_parameters_beyond_the_21_go_out_and_come_back_through_vmc_in(receiver):
+    """HT as the head bone's roll, CP, JS and UL as the ARKit scores the arkit preset reads: a
+    round trip through both bridges gives them back; PERK, which no score stands for, goes out
+    under its code only."""
+    from itertools import count
+
+    from capture.sources import open_source
+    from toonface.send import build_mapper
+
+    face = load_face("round")
+    n = face.neutral()
+    ticks = count()
+    source = open_source("vmc:127.0.0.1:0", clock=lambda: next(ticks) / 60)
+    host, port = source.meta["address"].rsplit(":", 1)
+    out = VmcOut((host, int(port)), n)
+    mapper = build_mapper(source, target_neutral=n)
+    sent = {"HT": 0.8, "UL": 0.6, "CP": 0.7, "JS": 0.2, "PERK": 0.9}
+    for frame in range(120):  # a second of rest, then the parameters
+        out.write(frame / 60, n, extra=None if frame < 60 else sent)
+        received = next(source.frames)
+        mapper.step(received.positions, received.t, received.channels)
+    out.close()
+    source.close()
+    back = mapper.extra_values()
+    for code in ("HT", "UL", "CP", "JS"):
+        assert back[code] == pytest.approx(sent[code], abs=0.01), code
+    assert back["PERK"] == 0.0
+    assert extra_scores({"JS": 0.75}) == {"jawLeft": 0.5, "jawRight": 0.0}

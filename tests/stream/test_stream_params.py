@@ -10,7 +10,7 @@ from stream.playout import Playout
 from stream.reader import StreamReader
 from stream.receiver import StreamReceiver
 from stream.relay import NetworkFaults, Relay
-from stream.wire import NAMED, PARAMS, HEADER, open_packet
+from stream.wire import HEADER, NAMED, PARAMS, open_packet
 from toon import load_face, load_track
 from toon.params import DrawnExtras
 from toon.recording import MotorRecorder
@@ -94,7 +94,10 @@ def test_send_through_a_lossy_relay_to_receive_carries_the_parameters(tmp_path):
     playout = Playout(face.neutral(), declared=face.extra_neutral())
     with StreamReceiver(("127.0.0.1", 0), playout) as receiver, \
             Relay(("127.0.0.1", 0), receiver.address, NetworkFaults(loss=0.1), seed=3) as relay:
-        playout.shown = lambda t, row: recorded.write(t, row[:21], extra=dict(zip(playout.codes, row[21:])))
+        def keep(t, row):
+            recorded.write(t, row[:21], extra=dict(zip(playout.codes, row[21:], strict=True)))
+
+        playout.shown = keep
         host, port = relay.address
         assert main(["send", "synthetic", "--to", f"{host}:{port}", "--seconds", "3",
                      "--record", str(tmp_path / "sent.csv")]) == 0
