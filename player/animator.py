@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from toon import MOTOR_CODES, N_MOTORS, motor_index
+from toon import MOTOR_CODES, motor_index
 
 #: ToonFace used 100 ms; ours defaults to 40 ms (25 frames per second).
 DEFAULT_LOOP_TIME = 0.040
@@ -46,18 +46,25 @@ class Animator:
 
     Parameters
     ----------
-    start : ndarray, shape (21,)
+    start : ndarray, shape (len(codes),)
         Values at the start (a face's neutral).
     loop_time : float
         Seconds per loop: the length of one slice.
+    codes : tuple of str
+        What it moves: the 21 motors by default, or a face's parameters beyond them (``HT``...).
     """
 
-    def __init__(self, start: np.ndarray, loop_time: float = DEFAULT_LOOP_TIME) -> None:
+    def __init__(self, start: np.ndarray, loop_time: float = DEFAULT_LOOP_TIME,
+                 codes: tuple[str, ...] = MOTOR_CODES) -> None:
         if loop_time <= 0:
             raise ValueError(f"loop_time must be > 0, got {loop_time}")
         self.loop_time = loop_time
+        self.codes = tuple(codes)
+        self._index = {code: i for i, code in enumerate(self.codes)}
         self._values = np.array(start, dtype=np.float64, copy=True)
-        self._steps: list[list[float]] = [[] for _ in range(N_MOTORS)]  # per motor, slices still to run
+        if self._values.shape != (len(self.codes),):
+            raise ValueError(f"expected {len(self.codes)} start values, got shape {self._values.shape}")
+        self._steps: list[list[float]] = [[] for _ in self.codes]  # per motor, slices still to run
         self._later: list[tuple[float, int, tuple[Move, ...]]] = []  # (time, order, moves) heap
         self._order = 0
         self._lock = threading.Lock()
@@ -85,7 +92,7 @@ class Animator:
                            if (rest := tuple(m for m in scheduled if m.code not in codes))]
             heapq.heapify(self._later)
             for code, value in targets.items():
-                i = motor_index(code)
+                i = self.index(code)
                 self._steps[i] = []
                 self._values[i] = min(max(float(value), 0.0), 1.0)
 
@@ -99,7 +106,7 @@ class Animator:
         """Jump to ``values`` ``(21,)`` now, dropping every pending slice and scheduled move."""
         with self._lock:
             self._values[:] = np.clip(values, 0.0, 1.0)
-            self._steps = [[] for _ in range(N_MOTORS)]
+            self._steps = [[] for _ in self.codes]
             self._later.clear()
 
     def tick(self, now: float = math.inf) -> np.ndarray:
@@ -122,7 +129,7 @@ class Animator:
         """Slices still to run, for one motor or all."""
         with self._lock:
             if code is not None:
-                return len(self._steps[motor_index(code)])
+                return len(self._steps[self.index(code)])
             return sum(len(s) for s in self._steps)
 
     def busy(self) -> bool:
@@ -136,12 +143,18 @@ class Animator:
             out = np.array([bool(steps) for steps in self._steps])
             for _at, _order, moves in self._later:
                 for move in moves:
-                    out[motor_index(move.code)] = True
+                    out[self.index(move.code)] = True
             return out
+
+    def index(self, code: str) -> int:
+        """The column of ``code`` in :meth:`values`; a ``KeyError`` naming it where it moves none."""
+        if code not in self._index:
+            raise KeyError(f'unknown motor code "{code}" (expected one of {" ".join(self.codes)})')
+        return self._index[code]
 
     def _start(self, moves: tuple[Move, ...]) -> None:
         for move in moves:
-            i = motor_index(move.code)
+            i = self.index(move.code)
             count = max(1, math.ceil(round(move.seconds / self.loop_time, 9)))
             start = self._values[i]
             target = min(max(move.target, 0.0), 1.0)
@@ -169,8 +182,9 @@ class Loop:
     """
 
     def __init__(self, animator: Animator, clock: Callable[[], float] = time.perf_counter,
-                 sleep: Callable[[float], None] = time.sleep) -> None:
+                 sleep: Callable[[float], None] = time.sleep, beside: tuple[Animator, ...] = ()) -> None:
         self.animator, self.clock, self.sleep = animator, clock, sleep
+        self.beside = beside  # animators ticked in step with it (a face's parameters beyond the 21)
         self.started = clock()
         self.lateness: list[float] = []  # seconds each drawn loop started after it was due
         self.dropped = 0  # loop slots that passed without a frame
@@ -190,6 +204,8 @@ class Loop:
             if loops is not None:
                 behind = min(behind, loops - slot - 1)  # the last slot is drawn
             for _ in range(behind):  # slots already past: their slices run, nothing is drawn
+                for other in self.beside:
+                    other.tick(origin + slot * step)
                 self.animator.tick(origin + slot * step)
                 slot += 1
             if behind:
@@ -197,6 +213,8 @@ class Loop:
                 skip(behind)
             due = origin + slot * step
             self.lateness.append(max(0.0, self.clock() - self.started - due))
+            for other in self.beside:
+                other.tick(due)
             frame(self.animator.tick(due), due)
             self.drawn += 1
             slot += 1

@@ -2,13 +2,14 @@
 
 ::
 
-    ELU 0 500 ERU 0 500      move motors: code, target 0..1, milliseconds (repeat for several)
+    ELU 0 500 ERU 0 500      move motors: code, target 0..1, milliseconds (repeat for several);
+                             a face's parameters beyond the 21 too (HT 0.8 300 tilts the head)
     frame V1 ... V21 [MS]    set all 21 motors, in ToonFace order (over MS milliseconds)
     play NAME [MS]           a standard motion or expression (smile, blink, nod, happiness, ...)
     hold CODE VALUE [...]    override motors over everything else until released
     release [CODE ...]       let them go (all, without codes)
     state                    the 21 current values, and which provider moves each
-                             (idle, tracking, motions or manual)
+                             (idle, tracking, motions or manual), then the parameters
     motions                  the names play accepts
     help                     this list
 
@@ -51,12 +52,17 @@ class Commands:
     mixer : Mixer, optional
         The providers the face's values come from: ``state`` reports what it shows and who
         moves each motor, ``hold`` and ``release`` set its overrides.
+    extras : Animator, optional
+        Moves the face's parameters beyond the 21 (its ``codes``): a move names them as it
+        names motors.
     """
 
     def __init__(self, animator: Animator, neutral: np.ndarray, expressions: dict[str, Expression],
-                 clock, mixer: Mixer | None = None) -> None:
+                 clock, mixer: Mixer | None = None, extras: Animator | None = None) -> None:
         self.animator, self.neutral, self.expressions, self.clock = animator, neutral, expressions, clock
         self.mixer = mixer
+        self.extras = extras
+        self.movable = (*MOTOR_CODES, *(extras.codes if extras is not None else ()))
 
     def handle(self, line: str) -> str:
         """Carry out one line; returns its reply (never raises for bad input)."""
@@ -85,12 +91,14 @@ class Commands:
         return self._moves(words)
 
     def _state(self) -> str:
+        more = "" if self.extras is None else " " + " ".join(
+            f"{c}={v:.3f}" for c, v in zip(self.extras.codes, self.extras.values(), strict=True))
         if self.mixer is None:
-            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values(), strict=True))
+            return " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.animator.values(), strict=True)) + more
         values = " ".join(f"{c}={v:.3f}" for c, v in zip(MOTOR_CODES, self.mixer.shown, strict=True))
         who = self.mixer.who()
         groups = {name: [c for c, w in zip(MOTOR_CODES, who, strict=True) if w == name] for name in dict.fromkeys(who)}
-        return f"{values} by " + " ".join(f"{name}={','.join(codes)}" for name, codes in groups.items())
+        return f"{values} by " + " ".join(f"{name}={','.join(codes)}" for name, codes in groups.items()) + more
 
     def _override(self, head: str, words: list[str]) -> str:
         if self.mixer is None:
@@ -114,19 +122,24 @@ class Commands:
         return word.upper()
 
     def _moves(self, words: list[str]) -> str:
-        if words[0].upper() not in MOTOR_CODES and not (len(words) % 3 == 0 and _is_number(words[1])):
+        if words[0].upper() not in self.movable and not (len(words) % 3 == 0 and _is_number(words[1])):
             raise CommandError(f"{words[0]!r} is not a command; {HELP}")  # such as quit: not a move either
         if len(words) % 3:
             raise CommandError(f"expected CODE TARGET MS triples, got {len(words)} words")
         moves: list[Move] = []
         for k in range(0, len(words), 3):
             code = words[k].upper()
-            if code not in MOTOR_CODES:
-                raise CommandError(f"unknown motor {words[k]!r} (motors: {' '.join(MOTOR_CODES)})")
+            if code not in self.movable:
+                extra = f"; parameters: {' '.join(self.movable[len(MOTOR_CODES):])}" if self.extras else ""
+                raise CommandError(f"unknown motor {words[k]!r} (motors: {' '.join(MOTOR_CODES)}{extra})")
             if any(m.code == code for m in moves):  # "ELU 0 500 ELU 1 500" answered "moving 2"
                 raise CommandError(f"{code} is named twice; give each motor one target per command")
             moves.append(Move(code, _number(words[k + 1], "target", 0.0, 1.0), _ms(words[k + 2])))
-        self.animator.command(moves)
+        motors = [m for m in moves if m.code in MOTOR_CODES]
+        if motors or self.extras is None:
+            self.animator.command(motors)
+        if self.extras is not None and len(motors) < len(moves):
+            self.extras.command([m for m in moves if m.code not in MOTOR_CODES])
         return f"moving {len(moves)}"
 
     def _frame(self, words: list[str]) -> str:

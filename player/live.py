@@ -91,14 +91,16 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     neutral = face.neutral()
     extras = DrawnExtras(face.extra_codes, face.name, settings.say)
     animator = Animator(neutral, settings.loop_time)
-    loop = Loop(animator, clock, sleep)
+    rests = face.extra_neutral()  # the parameters beyond the 21 the command socket moves (HT 0.8 300)
+    moved = Animator(np.array([rests[c] for c in face.extra_codes]), settings.loop_time, face.extra_codes)
+    loop = Loop(animator, clock, sleep, beside=(moved,))
     track_values = settings.source or _track_player(settings.track, settings.repeat)
     extra_at = settings.extra or (None if settings.source else _track_extra(settings.track, settings.repeat))
     latest = [neutral]  # a track's or a stream's values at the loop's time, fully sure
     sure = np.ones(len(neutral))
     tracking = settings.tracking or (None if track_values is None else (lambda: (latest[0], sure, 0.0)))
     mixer = Mixer(neutral, settings.providers, tracking, lambda: (animator.values(), animator.active()))
-    commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started, mixer)
+    commands = Commands(animator, neutral, load_expressions(), lambda: clock() - loop.started, mixer, moved)
     servers: list[socketserver.TCPServer | socketserver.UDPServer] = []
     sinks = list(settings.sinks)  # the preview joins them here, not in the caller's settings
     ready: dict[str, str] = {}
@@ -121,7 +123,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                 if track_values is not None:
                     latest[0] = track_values(t)
                 values = mixer.step(t)  # idle, tracking, motions and overrides (player/providers.py)
-                extra = extras.drawn(extra_at(t)) if extra_at is not None else None
+                extra = extras.drawn(_with_commanded(extra_at(t) if extra_at is not None else None, moved))
                 for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
                     tell(t, values, extra=extra or None)
                 drawn = settings.scene(t) if settings.scene is not None else None
@@ -187,6 +189,15 @@ def _track_player(track: MotorTrack | None, repeat: bool, extra: bool = False
         when = t % max(track.duration, 1e-9) if repeat else min(t, times[-1])
         return np.array([np.interp(when, times, values[:, c]) for c in range(values.shape[1])])
     return at
+
+
+def _with_commanded(given: dict[str, float] | None, moved: Animator) -> dict[str, float]:
+    """The parameters beyond the 21 to draw: ``given`` (a stream's, a track's) where there are
+    any, and those the command socket moves (all of them where nothing gives any)."""
+    active = moved.active()
+    values = moved.values()
+    return {**(given or {}), **{code: float(values[k]) for k, code in enumerate(moved.codes)
+                                if given is None or active[k] or code not in given}}
 
 
 def _track_extra(track: MotorTrack | None, repeat: bool) -> Callable[[float], dict[str, float]] | None:
