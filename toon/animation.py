@@ -9,12 +9,16 @@ single knots are inserted, moved and deleted; whole animations concatenate, with
 cross-fade; a motor track becomes knots within a tolerance (:func:`from_track`).
 
 Files: TOML, ``format = "toonface.animation/1"``, ``duration`` in seconds and a ``[knots]`` table
-of ``CODE = [[time, value], ...]``.
+of ``CODE = [[time, value], ...]``. A code beyond the 21 is a face's parameter (``HT``...): it
+rests at its standard neutral (:func:`toon.motors.extra_rest`) where it has no knots, and a
+sampled track carries it as an extra column.
 """
 
 from __future__ import annotations
 
 import os
+import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
@@ -22,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from common import InputError, atomic_path, read_versioned
-from toon.motors import MOTOR_CODES, MOTOR_INDEX, standard_neutral
+from toon.motors import ALL_CODES, EXTRA_CODE, MOTOR_CODES, MOTOR_INDEX, extra_rest, standard_neutral
 from toon.track import MotorTrack
 
 FORMAT = "toonface.animation/1"
@@ -38,7 +42,7 @@ class Animation:
     Attributes
     ----------
     knots : dict of str to tuple of (time, value)
-        Per motor code, sorted by time; values in [0, 1].
+        Per motor code (or parameter beyond the 21), sorted by time; values in [0, 1].
     duration : float
         Seconds.
     """
@@ -46,21 +50,40 @@ class Animation:
     knots: dict[str, Knots] = field(default_factory=dict)
     duration: float = 0.0
 
-    def value(self, code: str, t: np.ndarray | float, neutral: np.ndarray | None = None) -> np.ndarray:
-        """Motor ``code`` at times ``t`` (linear between knots)."""
+    def value(self, code: str, t: np.ndarray | float, neutral: np.ndarray | None = None,
+              declared: Mapping[str, float] | None = None) -> np.ndarray:
+        """Motor or parameter ``code`` at times ``t`` (linear between knots); without knots, its
+        ``neutral`` (a parameter's: as ``declared`` by the face, else its standard rest)."""
         knots = self.knots.get(code)
         if not knots:
+            if code not in MOTOR_INDEX:
+                return np.full(np.shape(t), extra_rest(code, declared), dtype=float)
             rest = standard_neutral() if neutral is None else neutral
             return np.full(np.shape(t), rest[MOTOR_INDEX[code]], dtype=float)
         times, values = zip(*knots, strict=True)
         return np.interp(t, times, values)
 
-    def sample(self, rate: float, neutral: np.ndarray | None = None) -> MotorTrack:
-        """The animation as a motor track at ``rate`` frames per second (the movie script)."""
+    @property
+    def extra_codes(self) -> tuple[str, ...]:
+        """The parameters beyond the 21 that have knots: the standard ones in their order, then others."""
+        return tuple(sorted((c for c in self.knots if c not in MOTOR_INDEX), key=code_order))
+
+    def sample(self, rate: float, neutral: np.ndarray | None = None,
+               declared: Mapping[str, float] | None = None) -> MotorTrack:
+        """The animation as a motor track at ``rate`` frames per second (the movie script), its
+        parameters beyond the 21 as extra columns."""
         frames = max(1, int(round(self.duration * rate)))  # a track of this duration (frames / rate)
         t = np.arange(frames) / rate
         values = np.column_stack([self.value(code, t, neutral) for code in MOTOR_CODES])
-        return MotorTrack(values, rate, meta={"source": "animation"})
+        codes = self.extra_codes
+        extra = np.column_stack([self.value(code, t, declared=declared) for code in codes]) if codes else None
+        return MotorTrack(values, rate, meta={"source": "animation"}, extra_codes=codes, extra=extra)
+
+
+def code_order(code: str) -> tuple[int, str]:
+    """Where ``code`` goes among an animation's: the 21 motors in order, the standard parameters
+    beyond them in theirs, then any other by name."""
+    return (ALL_CODES.index(code) if code in ALL_CODES else len(ALL_CODES), code)
 
 
 def from_track(track: MotorTrack, tolerance: float = 0.01) -> Animation:
@@ -73,10 +96,11 @@ def from_track(track: MotorTrack, tolerance: float = 0.01) -> Animation:
     if not tolerance > 0:
         raise ValueError(f"the tolerance must be > 0, got {tolerance}")
     times = np.arange(track.frames) / track.rate
-    rest = standard_neutral()
+    rest = np.concatenate([standard_neutral(), [extra_rest(c) for c in track.extra_codes]])
+    table = track.table()
     knots = {}
-    for i, code in enumerate(MOTOR_CODES):
-        values = np.clip(np.asarray(track.values[:, i], dtype=np.float64), 0.0, 1.0)
+    for i, code in enumerate((*MOTOR_CODES, *track.extra_codes)):
+        values = np.clip(np.asarray(table[:, i], dtype=np.float64), 0.0, 1.0)
         if not np.isfinite(values).all():
             raise ValueError(f"motor {code} has unset values: fill or map the track first")
         if np.all(np.abs(values - rest[i]) <= 1e-12):
@@ -239,7 +263,7 @@ def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, en
     rest = standard_neutral() if neutral is None else neutral
 
     def change_for(code: str):
-        pivot = rest[MOTOR_INDEX[code]]
+        pivot = rest[MOTOR_INDEX[code]] if code in MOTOR_INDEX else extra_rest(code)
         return lambda knots: _in_slice(knots, start, end, anim.duration, lambda inside: [
             (t, float(np.clip(pivot + (v - pivot) * factor, 0, 1))) for t, v in inside])
     out = anim
@@ -277,7 +301,7 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
     if fade < 0 or fade > min(first.duration, second.duration):
         raise ValueError(f"fade must be 0..{min(first.duration, second.duration):g} s, got {fade}")
     offset = first.duration - fade
-    codes = sorted(set(first.knots) | set(second.knots), key=MOTOR_INDEX.__getitem__)
+    codes = sorted(set(first.knots) | set(second.knots), key=code_order)
     knots = {}
     for code in codes:
         a = [(t, v) for t, v in first.knots.get(code, ()) if t < offset]
@@ -300,7 +324,7 @@ def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
         raise InputError(f"the animation would last {anim.duration:g} s; an animation lasts 0..{MAX_DURATION:g} s",
                          path)
     lines = [f'format = "{FORMAT}"', f"duration = {float(anim.duration)!r}", "", "[knots]"]
-    for code in MOTOR_CODES:
+    for code in (*MOTOR_CODES, *anim.extra_codes):
         if code not in anim.knots:
             continue
         pairs = [f"[{float(t)!r}, {float(v)!r}]" for t, v in anim.knots[code]]
@@ -329,8 +353,9 @@ def load_animation(path: str | os.PathLike) -> Animation:
     knots = {}
     for code, points in table.items():
         where = f"knots.{code}"
-        if code not in MOTOR_INDEX:
-            raise InputError(f"unknown motor {code!r}", path, where)
+        if code not in MOTOR_INDEX and not re.fullmatch(EXTRA_CODE, code):
+            raise InputError(f"unknown motor {code!r} (a motor such as MB, or a face's parameter such as HT)",
+                             path, where)
         if not (isinstance(points, list) and all(isinstance(p, list) and len(p) == 2
                                                   and all(isinstance(x, (int, float)) for x in p) for p in points)):
             raise InputError("expected [[time, value], ...]", path, where)

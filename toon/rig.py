@@ -217,7 +217,7 @@ class FaceRig:
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
         if self.face.head_tilt:
-            self._tilt(out, values[self._columns["HT"]])
+            out[:] = self.tilted(out, values[self._columns["HT"]])
         decides = self.shown_values(values, pts) if self._switched else values
         hidden = {key for key, shown in self._switched
                   if not shown.low <= decides[self._columns[shown.motor]] <= shown.high}
@@ -225,15 +225,14 @@ class FaceRig:
                       in enumerate(zip(self.templates, plan.slices, strict=True)) if key not in hidden)
         return Geometry(items, self.face.viewbox, self.face.background)
 
-    def _tilt(self, out: np.ndarray, tilt: float) -> None:
-        """Roll every vertex about the head pivot by ``HT`` (0.5 upright, 1 the face's full tilt
-        counter-clockwise as seen), in place."""
+    def tilted(self, points: np.ndarray, tilt: float) -> np.ndarray:
+        """``points`` ``(N, 2)`` rolled about the head pivot by ``tilt`` (HT: 0.5 upright, 1 the
+        face's full tilt counter-clockwise as seen, 0 clockwise); ``points`` itself at 0.5."""
         if tilt == 0.5:
-            return
+            return points
         angle = np.radians((2.0 * float(tilt) - 1.0) * self.face.head_tilt)
         c, s = np.cos(angle), np.sin(angle)
-        moved = out - self._pivot
-        out[:] = self._pivot + moved @ np.array([[c, s], [-s, c]])
+        return self._pivot + (points - self._pivot) @ np.array([[c, s], [-s, c]])
 
     def _outline_inputs(self, pts: np.ndarray) -> np.ndarray:
         """Every component's defining points (its body, for a skeleton) at control points ``pts``."""

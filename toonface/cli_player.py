@@ -291,10 +291,8 @@ def anim_from_track(track: str, output: str, tolerance: float) -> None:
     """Turn a motor track (.csv, .npz) into knots to edit: as few as keep every value within the tolerance."""
     from toon import animation as an
     from toon import load_track
-    from toonface.cli_options import warn_unused_extras
 
-    motors = load_track(track)
-    warn_unused_extras(motors, track, "anim from-track")
+    motors = load_track(track)  # its parameters beyond the 21 (HT...) become knots too
     try:
         out = an.from_track(motors, tolerance)
     except ValueError as exc:

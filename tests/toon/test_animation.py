@@ -11,6 +11,7 @@ from toon.animation import (
     copy,
     cut,
     flip,
+    from_track,
     load_animation,
     paste,
     save_animation,
@@ -77,8 +78,8 @@ def test_files_round_trip_and_bad_files_name_the_field(tmp_path):
     bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nELU = [[1, 0.5], [0, 0.6]]\n')
     with pytest.raises(InputError, match="bad.toml: knots.ELU: knot times must increase"):
         load_animation(bad)
-    bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nXX = [[0, 0.5]]\n')
-    with pytest.raises(InputError, match="knots.XX: unknown motor"):
+    bad.write_text('format = "toonface.animation/1"\nduration = 2\n[knots]\nmb = [[0, 0.5]]\n')
+    with pytest.raises(InputError, match="knots.mb: unknown motor 'mb' \\(a motor such as MB, or a face's parameter"):
         load_animation(bad)
     assert motor_index("ELU") == 8
 
@@ -149,3 +150,21 @@ def test_a_track_becomes_the_fewest_knots_within_the_tolerance():
     assert len(MOTOR_CODES) == 21
     with pytest.raises(ValueError, match="tolerance"):
         from_track(MotorTrack(values, rate), tolerance=0.0)
+
+
+def test_a_face_s_parameters_are_knots_too_and_sample_into_extra_columns(tmp_path):
+    """HT (a standard parameter) and EARS (a face's own) keep knots as motors do; the track
+    sampled from them carries them after the 21, a parameter without knots rests."""
+    anim = Animation({"MB": ((0.0, 0.1), (1.0, 0.9)), "EARS": ((0.0, 1.0), (1.0, 0.0)),
+                      "HT": ((0.0, 0.5), (1.0, 1.0))}, 1.0)
+    assert anim.extra_codes == ("HT", "EARS")  # the standard ones first
+    back = load_animation(save_animation(anim, tmp_path / "p.toml"))
+    assert back == anim
+    track = anim.sample(4.0)
+    assert track.extra_codes == ("HT", "EARS")
+    np.testing.assert_allclose(track.extra[:, 0], [0.5, 0.625, 0.75, 0.875])
+    np.testing.assert_allclose(track.extra[:, 1], [1.0, 0.75, 0.5, 0.25])
+    assert float(anim.value("UL", 0.5)) == 0.0 and float(anim.value("JS", 0.5)) == 0.5  # their rests
+    assert float(anim.value("EARS2", 0.5, declared={"EARS2": 0.3})) == 0.3
+    again = from_track(track, 0.001)
+    assert set(again.knots) == {"MB", "HT", "EARS"}

@@ -99,7 +99,10 @@ def test_commands_that_use_only_the_21_say_so(tmp_path, capsys):
     assert main(["anim", "from-track", str(tmp_path / "t.csv"), "-o", str(tmp_path / "a.toml")]) == 0
     err = capsys.readouterr().err
     assert "score uses the 21 motors; its HT column is not used here yet" in err
-    assert "anim from-track uses the 21 motors" in err
+    assert "anim from-track" not in err  # its knots carry HT
+    from toon.animation import load_animation
+
+    assert load_animation(tmp_path / "a.toml").knots["HT"][0][1] == pytest.approx(0.8)
 
 
 def _turned_clip(clip, path, degrees: float = 15.0) -> np.ndarray:

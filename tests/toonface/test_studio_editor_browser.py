@@ -14,7 +14,8 @@ from toonface.cli import main
 from toonface.studio.session import StudioSession
 
 pytestmark = pytest.mark.slow
-READY = "window.editor && window.editor.state && document.querySelectorAll('#staves svg').length === 21"
+# the 21 and classic's HT UL JS CP
+READY = "window.editor && window.editor.state && document.querySelectorAll('#staves svg').length === 21 + 4"
 
 
 @pytest.fixture(scope="module")

@@ -40,8 +40,11 @@ class AnimationEditor:
         The file it came from, where :meth:`save` writes unless told otherwise.
     """
 
-    def __init__(self, neutral: np.ndarray, animation: Animation | None = None, path: Path | None = None) -> None:
+    def __init__(self, neutral: np.ndarray, animation: Animation | None = None, path: Path | None = None,
+                 declared: dict[str, float] | None = None) -> None:
         self.neutral = np.asarray(neutral, dtype=np.float64)
+        #: The face's parameters beyond the 21 and their rests: staves the page may edit too.
+        self.declared: dict[str, float] = dict(declared or {})
         self.animation = animation if animation is not None else Animation({}, NEW_SECONDS)
         self.path = path
         self.cursor = 0.0
@@ -61,33 +64,35 @@ class AnimationEditor:
         self.cursor = min(self.cursor, new.duration)
 
     def add_knot(self, code: str, time: float, value: float) -> None:
-        self._change(an.insert_knot(self.animation, _code(code), time, value))
+        self._change(an.insert_knot(self.animation, self._code(code), time, value))
 
     def move_knot(self, code: str, index: int, time: float, value: float) -> None:
-        self._change(an.move_knot(self.animation, _code(code), index, time, value))
+        self._change(an.move_knot(self.animation, self._code(code), index, time, value))
 
     def delete_knot(self, code: str, index: int) -> None:
-        self._change(an.delete_knot(self.animation, _code(code), index))
+        self._change(an.delete_knot(self.animation, self._code(code), index))
 
     def cut(self, codes: list[str], start: float, end: float) -> None:
         """Cut the slice of ``codes`` into the clipboard (what follows moves earlier)."""
-        edited, clip = an.cut(self.animation, _codes(codes) or tuple(self.animation.knots), *self._span(start, end))
+        edited, clip = an.cut(self.animation, self._codes(codes) or tuple(self.animation.knots),
+                              *self._span(start, end))
         self.clipboard = clip
         self._change(edited)
 
     def copy(self, codes: list[str], start: float, end: float) -> None:
         """Copy the slice of ``codes`` into the clipboard (not an edit: nothing to undo)."""
-        self.clipboard = an.copy(self.animation, _codes(codes) or tuple(self.animation.knots), *self._span(start, end))
+        self.clipboard = an.copy(self.animation, self._codes(codes) or tuple(self.animation.knots),
+                                 *self._span(start, end))
 
     def paste(self, at: float, onto: list[str] | None = None) -> None:
         """The clipboard at ``at``; ``onto``: the motors receiving the clip's, paired in the motors'
         order (the right brow's lateral, central, medial onto the left's), else the clip's own."""
         if self.clipboard is None:
             raise ValueError("nothing to paste: cut or copy a slice first")
-        clip_codes = sorted(self.clipboard.knots, key=MOTOR_CODES.index)
+        clip_codes = sorted(self.clipboard.knots, key=an.code_order)
         pairs = None
         if onto:
-            targets = sorted(_codes(onto), key=MOTOR_CODES.index)
+            targets = sorted(self._codes(onto), key=an.code_order)
             if len(targets) != len(clip_codes):
                 raise ValueError(f"the clip holds {len(clip_codes)} motors ({', '.join(clip_codes)}); "
                                  f"choose as many to paste onto, not {len(targets)}")
@@ -95,14 +100,15 @@ class AnimationEditor:
         self._change(an.paste(self.animation, self.clipboard, max(0.0, float(at)), pairs))
 
     def scale_time(self, codes: list[str], start: float, end: float, factor: float) -> None:
-        self._change(an.scale_time(self.animation, _codes(codes) or None, *self._span(start, end), float(factor)))
+        self._change(an.scale_time(self.animation, self._codes(codes) or None, *self._span(start, end),
+                                   float(factor)))
 
     def scale_value(self, codes: list[str], start: float, end: float, factor: float) -> None:
-        self._change(an.scale_value(self.animation, _codes(codes) or None, *self._span(start, end), float(factor),
-                                    self.neutral))
+        self._change(an.scale_value(self.animation, self._codes(codes) or None, *self._span(start, end),
+                                    float(factor), self.neutral))
 
     def flip(self, codes: list[str], start: float, end: float) -> None:
-        self._change(an.flip(self.animation, _codes(codes) or None, *self._span(start, end)))
+        self._change(an.flip(self.animation, self._codes(codes) or None, *self._span(start, end)))
 
     def set_duration(self, seconds: float) -> None:
         """A new length; knots beyond it are dropped (undoable)."""
@@ -159,7 +165,7 @@ class AnimationEditor:
 
     def sample(self, path: str, rate: float) -> int:
         """The movie script: the animation sampled at ``rate`` into a motor track file; frames."""
-        track = self.animation.sample(float(rate), self.neutral)
+        track = self.animation.sample(float(rate), self.neutral, self.declared)
         save_track(track, path)
         return track.frames
 
@@ -199,15 +205,29 @@ class AnimationEditor:
         """The motors at the cursor, ``(21,)``."""
         return np.array([float(self.animation.value(code, self.cursor, self.neutral)) for code in MOTOR_CODES])
 
+    def extra_values(self) -> dict[str, float]:
+        """The face's parameters beyond the 21 at the cursor, by code."""
+        return {code: float(self.animation.value(code, self.cursor, declared=self.declared)) for code in self.declared}
+
     def describe(self) -> dict:
         """What the page's staves show."""
         clip = self.clipboard
         return {"duration": self.animation.duration, "cursor": self.cursor, "playing": self.playing,
                 "knots": {code: [list(k) for k in knots] for code, knots in self.animation.knots.items()},
-                "neutral": {code: float(v) for code, v in zip(MOTOR_CODES, self.neutral, strict=True)},
+                "neutral": {**{code: float(v) for code, v in zip(MOTOR_CODES, self.neutral, strict=True)},
+                            **self.declared},
                 **self.history.counts(), "path": str(self.path) if self.path else None,
                 "clipboard": None if clip is None else {"duration": clip.duration,
-                                                        "motors": sorted(clip.knots, key=MOTOR_CODES.index)}}
+                                                        "motors": sorted(clip.knots, key=an.code_order)}}
+
+    def _code(self, code: str) -> str:
+        if code not in MOTOR_CODES and code not in self.declared:
+            declared = f"; the face's parameters: {', '.join(self.declared)}" if self.declared else ""
+            raise ValueError(f"unknown motor {code!r}{declared}")
+        return code
+
+    def _codes(self, codes: list[str] | None) -> tuple[str, ...]:
+        return tuple(self._code(str(c)) for c in codes or ())
 
     def _span(self, start: float | None, end: float | None) -> tuple[float, float]:
         first = 0.0 if start is None else float(start)
@@ -225,8 +245,7 @@ def _track(path: Path) -> tuple[MotorTrack, str]:
     if path.suffix.lower() in (".csv", ".npz"):
         try:
             track = load_track(path)
-            unused = f" (its {', '.join(track.extra_codes)} not edited here yet)" if track.extra_codes else ""
-            return track, f"a motor track{unused}"
+            return track, "a motor track" + (f" with {', '.join(track.extra_codes)}" if track.extra_codes else "")
         except InputError as not_a_track:
             try:
                 take = load_take(path)
@@ -236,11 +255,4 @@ def _track(path: Path) -> tuple[MotorTrack, str]:
     return map_onto_face(load_take(path)), "a take, mapped"
 
 
-def _code(code: str) -> str:
-    if code not in MOTOR_CODES:
-        raise ValueError(f"unknown motor {code!r}")
-    return code
 
-
-def _codes(codes: list[str] | None) -> tuple[str, ...]:
-    return tuple(_code(str(c)) for c in codes or ())

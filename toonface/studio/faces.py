@@ -20,6 +20,7 @@ from common import InputError, builtin_names
 from common.data import names_builtin
 from toon import Face, load_face, save_face
 from toon.face import KINDS, face_from_dict
+from toon.motors import STANDARD_EXTRAS
 from toonface.studio import component_edits as parts
 from toonface.studio.face_items import (
     LISTS,
@@ -308,6 +309,36 @@ class FaceEditor:
             doc["name"] = name
             if description is not None:
                 doc["description"] = description
+        return self._edit(change)
+
+    def set_param(self, code: str, neutral: float | None = None, description: str | None = None,
+                  point: str | None = None, dx: float = 0.0, dy: float = 0.0) -> Face:
+        """Declare parameter ``code`` beyond the 21 (or change it): where it rests, what it means,
+        and with ``point``, that control point moved by ``(dx, dy)`` face units (y up) at the
+        parameter's 1 from where it rests (at its 0 for one that rests at 1); a move of (0, 0)
+        lets the point go. A standard one (UL...) rests where the standard says."""
+        def change(doc: dict) -> None:
+            params = doc.setdefault("params", {})
+            body = params.setdefault(code, {})
+            if neutral is not None:
+                body["neutral"] = finite(neutral)
+            if description is not None:
+                body["description"] = description
+            if point is not None:
+                rest = body.get("neutral", STANDARD_EXTRAS[code].neutral if code in STANDARD_EXTRAS else 0.0)
+                moves = body.setdefault("points", {})
+                step = np.array([finite(dx), finite(dy)]) / (1.0 - rest if rest < 1 else -1.0)
+                if step.any():
+                    moves[point] = {"at0": list(-rest * step), "at1": list((1 - rest) * step)}
+                else:
+                    moves.pop(point, None)
+        return self._edit(change)
+
+    def delete_param(self, code: str) -> Face:
+        """Remove parameter ``code`` (a component or polygon it drives makes that an error, named)."""
+        def change(doc: dict) -> None:
+            _known(doc.get("params", {}), code, "parameter")
+            del doc["params"][code]
         return self._edit(change)
 
     # -- files ---------------------------------------------------------------------------------------

@@ -37,7 +37,9 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     if op in EDITOR_OPS:
         return "animation", _edit(session, op, message, now)
     if op == "faceedit":
-        return "face", _edit_face(session, message)
+        codes = session.face.extra_codes
+        said = _edit_face(session, message)  # a parameter more or less: new sliders and staves
+        return ("face" if session.face.extra_codes == codes else "described"), said
     if op == "tune":
         return "tune", _tune(session, message, now)
     if op == "sound":
@@ -152,7 +154,9 @@ FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "
                 "group": ("indices", "name?"), "ungroup": ("index",),
                 "insert_from_library": ("library", "use", "controls?", "dx?", "dy?"),
                 "list_library": ("library",),
-                "set_background": ("color",), "rename": ("name",)}
+                "set_background": ("color",), "rename": ("name",),
+                "set_param": ("code", "neutral?", "description?", "point?", "dx?", "dy?"),
+                "delete_param": ("code",)}
 #: What the face editor does to a polygon or a component as a unit: ``VERB_polygon`` or ``VERB_component``.
 UNIT_ACTIONS = {"move": ("dx", "dy"), "scale": ("factor",), "flip": ("axis",), "duplicate": ("dx", "dy"),
                 "delete": ()}
@@ -277,7 +281,8 @@ def _argument(key: str, value: object) -> object:
         if not isinstance(value, dict):
             raise TypeError('controls: expected an object like {"M": "BLM"}')
         return {str(k): str(v) for k, v in value.items()}
-    if key in ("name", "code", "end", "axis", "color", "part", "kind", "master", "library", "use"):
+    if key in ("name", "code", "end", "axis", "color", "part", "kind", "master", "library", "use", "point",
+               "description"):
         return str(value)
     return number(value, key)
 

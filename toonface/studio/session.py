@@ -24,7 +24,7 @@ from toon import MOTOR_CODES, Face, FaceRig, load_face
 from toon.expressions import Expression, load_expressions
 from toon.face import ANGLE_MOTORS
 from toon.formulas import head_turn
-from toon.motors import MOTORS, motor_index
+from toon.motors import MOTORS, STANDARD_EXTRAS, motor_index
 from toon.svg import geometry_svg
 from toonface.studio.editor import AnimationEditor
 from toonface.studio.faces import FaceEditor
@@ -91,7 +91,7 @@ class StudioSession:
         self._load(face)
         self.faces = FaceEditor(self.face)  # the face being designed (ToonFace's Editor)
         self.follow = False  # head and gaze follow the pointer
-        self.editor = AnimationEditor(self.neutral)
+        self.editor = AnimationEditor(self.neutral, declared=self.face.extra_neutral())
         if animation is not None:
             self.editor.open(animation)
         self.showing = "test"  # what the face shows (see the class docstring)
@@ -110,19 +110,24 @@ class StudioSession:
         self.rig = FaceRig(self.face)
         self.neutral = self.face.neutral()
         self.animator = Animator(self.neutral, self.loop_time)
+        rests = self.face.extra_neutral()  # the face's parameters beyond the 21, moved as the motors are
+        self.moved = Animator(np.array([rests[c] for c in self.face.extra_codes]), self.loop_time,
+                              self.face.extra_codes)
         self.handles = tuple(Handle(p, tuple((m.code, m.axis) for m in MOTORS if m.point == p))
                              for p in self.face.points if any(m.point == p for m in MOTORS))
 
     def set_face(self, face: str | Face) -> None:
         """Show another face (a name or file, which the face editor starts from, or the face
         editor's latest) with the same motor values."""
-        values = self.animator.values()
+        values, extra = self.animator.values(), self.extra_values()
         self._load(face)
         if isinstance(face, str):
             self.face_name = face
             self.faces = FaceEditor(self.face)
         self.animator.set_values(values)
+        self.moved.jump({code: v for code, v in extra.items() if code in self.face.extra_codes})
         self.editor.neutral = self.neutral
+        self.editor.declared = self.face.extra_neutral()
         if self.tuner is not None:
             self.tuner.retarget(self.neutral)
 
@@ -135,6 +140,15 @@ class StudioSession:
         if self.showing == "tune" and self.tuner is not None:
             return self.tuner.values_at(self.tune_time)
         return self.editor.values() if self.showing == "animation" else self.animator.values()
+
+    def extra_values(self) -> dict[str, float]:
+        """The face's parameters beyond the 21 shown now, by code: the animation's at the cursor, or
+        as moved in test mode (a live stream and a tuned take show them at rest)."""
+        if self.showing == "animation":
+            return self.editor.extra_values()
+        if self.showing in ("live", "tune"):
+            return self.face.extra_neutral()
+        return {code: float(v) for code, v in zip(self.moved.codes, self.moved.values(), strict=True)}
 
     def show_live(self, on: bool) -> None:
         """The face shows the live stream (with ``on``), or goes back to test mode from where it was."""
@@ -155,13 +169,15 @@ class StudioSession:
         if self.showing != "test":
             self.editor.pause()
             self.animator.set_values(self.values)
+            self.moved.jump(self.extra_values())
             self.showing = "test"
 
     def set_motor(self, code: str, value: float) -> None:
-        """A slider: ``code`` to ``value`` (clipped to [0, 1]) at once; what was moving it lets go."""
+        """A slider: ``code`` (a motor or a parameter of the face) to ``value`` (clipped to [0, 1])
+        at once; what was moving it lets go."""
         self._test_mode()
         self.looping = None
-        self.animator.jump({code: value})
+        (self.moved if code in self.moved.codes else self.animator).jump({code: value})
 
     def drag(self, point: str, x: float, y: float) -> None:
         """A control point dragged to ``(x, y)`` (SVG coordinates): its motors follow within their
@@ -171,7 +187,8 @@ class StudioSession:
             raise KeyError(f"no control point {point!r} moves a motor")
         self._test_mode()
         values = self.animator.values()
-        fx, fy = self._unturned(np.array([x, -y]), values)
+        upright = self.rig.tilted(np.array([[x, -y]]), 1.0 - self.extra_values().get("HT", 0.5))[0]  # tilted back
+        fx, fy = self._unturned(upright, values)
         for code, axis in handle.motors:
             lo, hi = self.face.ranges[code]
             if code in ANGLE_MOTORS:  # a pupil: its offset from rest is the eye's radius times sin(angle)
@@ -217,6 +234,8 @@ class StudioSession:
         self._test_mode()
         self.looping = None
         self.animator.set_values(self.neutral)
+        rests = self.face.extra_neutral()
+        self.moved.set_values(np.array([rests[c] for c in self.moved.codes]))
 
     def tick(self, now: float) -> bool:
         """One Animator loop (the looping expression's next move started when the last is done) and
@@ -228,6 +247,7 @@ class StudioSession:
                 self.animator.schedule(now + LOOP_PAUSE + offset, moves)
             self._back = not self._back
         self.animator.tick(now)
+        self.moved.tick(now)
         self.editor.advance(now)
         self._now = now
         return self.busy()
@@ -237,7 +257,8 @@ class StudioSession:
         stream is shown or a tuned take plays."""
         tuning = self.showing == "tune" and self._tune_paused is None
         looping = self.looping is not None and self.showing == "test"
-        return self.animator.busy() or self.editor.playing or self.showing == "live" or tuning or looping
+        return (self.animator.busy() or self.moved.busy() or self.editor.playing or self.showing == "live" or tuning
+                or looping)
 
     def tune(self, tuner: MappingTuner, now: float) -> None:
         """Show ``tuner``'s take, mapped, playing in a loop from ``now``."""
@@ -266,22 +287,27 @@ class StudioSession:
     def frame(self, size: tuple[int, int] = (512, 512)) -> dict:
         """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
         (code to value) and ``points`` (name to SVG coordinates of the draggable control points)."""
-        values = self.values
-        points = self.rig.control_points(values)
+        values, extra = self.values, self.extra_values()
+        points = self.rig.control_points(values, extra)
         names = list(self.face.points)
         at = np.array([points[names.index(h.point)] for h in self.handles])
-        turned = self._turned(at, values)
-        return {"svg": geometry_svg(self.rig.geometry(values), size), "showing": self.showing,
+        turned = self.rig.tilted(self._turned(at, values), extra.get("HT", 0.5))  # where the page draws them
+        return {"svg": geometry_svg(self.rig.geometry(values, extra), size), "showing": self.showing,
                 "cursor": self.editor.cursor, "playing": self.editor.playing, "tune_time": self.tune_time,
-                "values": {code: round(float(v), 6) for code, v in zip(MOTOR_CODES, values, strict=True)},
+                "values": {**{code: round(float(v), 6) for code, v in zip(MOTOR_CODES, values, strict=True)},
+                           **{code: round(v, 6) for code, v in extra.items()}},
                 "points": {h.point: [round(float(x), 4), round(float(-y), 4)]
                            for h, (x, y) in zip(self.handles, turned, strict=True)}}
 
     def describe(self) -> dict:
         """The page's fixed parts: motors (code, description, group), groups, expressions and motions."""
         descriptions = {m.code: m.description for m in MOTORS}
-        return {"groups": [{"title": title, "motors": [{"code": c, "description": descriptions[c]} for c in codes]}
-                           for title, codes in GROUPS],
+        descriptions |= {code: STANDARD_EXTRAS[code].description for code in self.face.extra_codes
+                         if code in STANDARD_EXTRAS}
+        descriptions |= {p.code: p.description for p in self.face.params if p.description}
+        groups = [*GROUPS, *([("Parameters", self.face.extra_codes)] if self.face.extra_codes else [])]
+        return {"groups": [{"title": title, "motors": [{"code": c, "description": descriptions.get(c, c)}
+                                                       for c in codes]} for title, codes in groups],
                 "expressions": [n for n in motion_names(self.expressions) if n not in GESTURES],
                 "motions": list(GESTURES),
                 "face": self.face_name, "viewbox": list(self.face.viewbox),

@@ -31,7 +31,9 @@
     options(el("library-entry"), listed.names || [], el("library-entry").value);
     const points = Object.keys(faces.doc.points);
     options(el("point-master"), ["", ...points], el("point-master").value, ["(nearest)", ...points]);
-    options(el("param-motor"), Object.keys(faces.doc.motors), el("param-motor").value || "MB");
+    const drivers = [...Object.keys(faces.doc.motors), ...(faces.doc.head && faces.doc.head.tilt ? ["HT"] : []),
+      ...Object.keys(faces.doc.params || {})];  // the 21 and the face's parameters
+    options(el("param-motor"), drivers, el("param-motor").value || "MB");
     const spec = chosen();
     const basic = spec && spec.kind !== "composite";
     for (const id of ["outline-fields", "animate-fields"]) el(id).hidden = !basic;

@@ -95,8 +95,10 @@
       }
       const knots = state.knots[code] || [];
       if (knots.length === 0) {
-        const y = yOf(state.neutral[code]);
-        parts.push(svgNode("line", {class: "rest", x1: 0, x2: width, y1: y, y2: y}));
+        if (state.neutral[code] !== undefined) {  // a staff just made for a new parameter: its rest comes next
+          const y = yOf(state.neutral[code]);
+          parts.push(svgNode("line", {class: "rest", x1: 0, x2: width, y1: y, y2: y}));
+        }
       } else {
         const points = [[0, knots[0][1]], ...knots, [state.duration, knots[knots.length - 1][1]]];
         parts.push(svgNode("polyline", {class: "curve", points: points.map(([t, v]) => `${xOf(t)},${yOf(v)}`).join(" ")}));
