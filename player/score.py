@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from player.sheet import save_image
-from toon import MOTOR_CODES, MotorTrack, motor_index
+from toon import MOTOR_CODES, MotorTrack
 
 STAVE_PX = 48
 MARGIN_LEFT, MARGIN_RIGHT, MARGIN_BOTTOM = 70, 90, 36
@@ -34,16 +34,16 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
     other : MotorTrack, optional
         Drawn over ``track``; its own times are used (its rate may differ).
     codes : tuple of str, optional
-        Motors to draw, in order; default all 21.
+        Motors to draw, in order; default all 21 and then the track's parameters beyond them.
     width : int
         Pixels.
     sound : tuple of ndarray, optional
         ``(times, loudness in [0, 1])`` drawn as a last stave, ``sound``, filled (to check a
         mouth against the voice; :func:`common.sound.sound_envelope`).
     """
-    codes = tuple(codes or MOTOR_CODES)
+    codes = tuple(codes or (*MOTOR_CODES, *track.extra_codes))
     for code in codes:
-        motor_index(code)  # unknown codes raise, naming the code
+        track.column(code)  # unknown codes raise, naming the code
     duration = max(track.duration, other.duration if other is not None else 0.0, 1e-6)
     plot_w = width - MARGIN_LEFT - MARGIN_RIGHT
     rows = len(codes) + (sound is not None)
@@ -60,12 +60,14 @@ def score_image(track: MotorTrack, other: MotorTrack | None = None, codes: tuple
         for source, colour in ((track, FIRST), (other, SECOND)):
             if source is None:
                 continue
+            if code not in MOTOR_CODES and code not in source.extra_codes:
+                continue  # the other track has no such parameter
             values = source.column(code)
             xs = MARGIN_LEFT + source.times / duration * plot_w
             ys = top + span * (1 - np.clip(values, 0, 1))
             points = np.round(np.column_stack([xs, ys]) * 16).astype(np.int32)  # 4 fractional bits
             cv2.polylines(image, [points[:, None, :]], False, colour, 1, cv2.LINE_AA, shift=4)
-        if other is not None:
+        if other is not None and (code in MOTOR_CODES or code in other.extra_codes):
             theirs = np.interp(track.times, other.times, other.column(code))
             rms = float(np.sqrt(np.mean((track.column(code) - theirs) ** 2)))
             cv2.putText(image, f"{100 * rms:.1f}%", (width - MARGIN_RIGHT + 8, top + span // 2 + 5),
@@ -101,7 +103,7 @@ def score_text(track: MotorTrack, codes: tuple[str, ...] | None = None, columns:
     slice of time, 0 blank to 1 full), then its range."""
     lines = []
     edges = np.linspace(0, track.frames, columns + 1).astype(int)
-    for code in codes or MOTOR_CODES:
+    for code in codes or (*MOTOR_CODES, *track.extra_codes):
         values = track.column(code)
         means = [values[a:max(b, a + 1)].mean() for a, b in pairwise(edges)]
         bar = "".join(_BLOCKS[int(round(np.clip(v, 0, 1) * (len(_BLOCKS) - 1)))] for v in means)

@@ -118,5 +118,7 @@ class MotorTrack:
         return self.frames / self.rate
 
     def column(self, code: str) -> np.ndarray:
-        """One motor's values, shape ``(frames,)``."""
+        """One motor's values, or a parameter's beyond the 21 (:attr:`extra_codes`), ``(frames,)``."""
+        if code in self.extra_codes and self.extra is not None:
+            return self.extra[:, self.extra_codes.index(code)]
         return self.values[:, motor_index(code)]

@@ -364,15 +364,12 @@ def score(motors: str, output: str, compare: str | None, codes: str | None, widt
     from player.sheet import check_image_suffix
     from toon import load_track
 
-    picked = parse_codes(codes)
     as_text = output.lower().endswith(".txt")
     if not as_text:
         check_image_suffix(output)
     track = load_track(motors)
+    picked = parse_codes(codes, also=track.extra_codes)  # the 21, then the track's parameters (HT...)
     other = load_track(compare) if compare else None
-    from toonface.cli_options import warn_unused_extras
-
-    warn_unused_extras(track, motors, "score")
     sound = None
     if sound_path:
         from common.sound import sound_envelope

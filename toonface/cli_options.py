@@ -80,17 +80,24 @@ def check_output(path: str | None, option: str) -> None:
         raise click.BadParameter(f"{path}: no such folder {Path(path).parent}", param_hint=option)
 
 
-def parse_codes(value: str | None, option: str = "--motors") -> tuple[str, ...] | None:
-    """Motor codes from ``CODE,CODE,...`` (any case); None for no value. Unknown codes are refused."""
-    from toon import MOTOR_CODES
+def parse_codes(value: str | None, option: str = "--motors", also: tuple[str, ...] = (),
+                any_parameter: bool = False) -> tuple[str, ...] | None:
+    """Motor codes from ``CODE,CODE,...`` (any case); None for no value. Known: the 21, the
+    standard parameters beyond them (HT...), ``also`` (those of the file at hand), and with
+    ``any_parameter`` any code shaped like a parameter (a knot that starts a face's own); others
+    are refused."""
+    import re
+
+    from toon.motors import ALL_CODES, EXTRA_CODE
 
     if not value:
         return None
     codes = tuple(c.strip().upper() for c in value.split(",") if c.strip())
-    unknown = [c for c in codes if c not in MOTOR_CODES]
+    known = (*ALL_CODES, *(c for c in also if c not in ALL_CODES))
+    unknown = [c for c in codes if c not in known and not (any_parameter and re.fullmatch(EXTRA_CODE, c))]
     if unknown or not codes:
         raise click.BadParameter(f"unknown motor code(s) {', '.join(unknown) or repr(value)} (known: "
-                                 f"{' '.join(MOTOR_CODES)})", param_hint=option)
+                                 f"{' '.join(known)})", param_hint=option)
     return codes
 
 
@@ -218,14 +225,6 @@ BACKGROUND = click.option(
     "--background", default=None, metavar="none|#RRGGBB[AA]",
     help="The picture's background instead of the face's own: 'none' for transparent (kept by .webm, .mov, "
          ".apng, .webp and PNG folders; antialiased edges without a dark fringe), or a colour.")
-
-
-def warn_unused_extras(track: Any, path: str, by: str) -> None:
-    """Say on stderr that ``by`` (a command) uses the 21 motors of ``track`` (a
-    :class:`toon.MotorTrack` read from ``path``) and not its extra columns, where it has any."""
-    if track.extra_codes:
-        click.echo(f"warning: {path}: {by} uses the 21 motors; its {', '.join(track.extra_codes)} "
-                   f"column{'s are' if len(track.extra_codes) > 1 else ' is'} not used here yet", err=True)
 
 
 def with_background(face: Any, value: str | None) -> Any:

@@ -202,7 +202,7 @@ def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | N
     from toon import animation as an
 
     source = an.load_animation(animation)
-    codes = parse_codes(motors) or tuple(source.knots)
+    codes = parse_codes(motors, also=tuple(source.knots)) or tuple(source.knots)
     edited, clip = an.cut(source, codes, *_span(source, start, end))
     an.save_animation(edited, output)
     if clip_path:
@@ -219,7 +219,8 @@ def anim_copy(animation: str, output: str, motors: str | None, start: float, end
     from toon import animation as an
 
     source = an.load_animation(animation)
-    an.save_animation(an.copy(source, parse_codes(motors) or tuple(source.knots), *_span(source, start, end)), output)
+    codes = parse_codes(motors, also=tuple(source.knots)) or tuple(source.knots)
+    an.save_animation(an.copy(source, codes, *_span(source, start, end)), output)
     click.echo(f"wrote {output}")
 
 
@@ -235,13 +236,14 @@ def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | No
     from toon import animation as an
 
     pairs = None
+    target, source = an.load_animation(animation), an.load_animation(clip)
     if onto:
         try:
             pairs = dict(p.split("=") for p in onto.upper().split(","))
         except ValueError:
             raise click.BadParameter(f"expected FROM=TO pairs, got {onto!r}", param_hint="--onto") from None
-        parse_codes(",".join([*pairs, *pairs.values()]), "--onto")
-    an.save_animation(an.paste(an.load_animation(animation), an.load_animation(clip), at, pairs), output)
+        parse_codes(",".join([*pairs, *pairs.values()]), "--onto", also=(*target.knots, *source.knots))
+    an.save_animation(an.paste(target, source, at, pairs), output)
     click.echo(f"wrote {output}")
 
 
@@ -260,7 +262,7 @@ def anim_scale(animation: str, output: str, time_factor: float, value_factor: fl
 
     out = an.load_animation(animation)
     span = _span(out, start, end)
-    codes = parse_codes(motors)
+    codes = parse_codes(motors, also=tuple(out.knots))
     if value_factor != 1.0:
         out = an.scale_value(out, codes, *span, value_factor)
     if time_factor != 1.0:
@@ -278,7 +280,8 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
     from toon import animation as an
 
     source = an.load_animation(animation)
-    an.save_animation(an.flip(source, parse_codes(motors), *_span(source, start, end)), output)
+    an.save_animation(an.flip(source, parse_codes(motors, also=tuple(source.knots)), *_span(source, start, end)),
+                      output)
     click.echo(f"wrote {output}")
 
 
@@ -315,7 +318,7 @@ def anim_knot(animation: str, output: str, motor: str, add: str | None, move: st
 
     if sum(x is not None for x in (add, move, delete)) != 1:
         raise click.UsageError("give one of --add, --move and --delete")
-    codes = parse_codes(motor, "--motor")
+    codes = parse_codes(motor, "--motor", any_parameter=True)
     if not codes or len(codes) != 1:
         raise click.BadParameter(f"expected one motor code, got {motor!r}", param_hint="--motor")
     code = codes[0]

@@ -90,7 +90,7 @@ def test_render_draws_the_tilt_and_refuses_an_undeclared_column(tmp_path, capsys
     assert "face classic has no parameter TAIL" in capsys.readouterr().err
 
 
-def test_commands_that_use_only_the_21_say_so(tmp_path, capsys):
+def test_score_and_anim_from_track_keep_the_parameters(tmp_path, capsys):
     from toonface.cli import main
 
     values = np.repeat(load_face("classic").neutral()[None], 4, 0)
@@ -98,8 +98,11 @@ def test_commands_that_use_only_the_21_say_so(tmp_path, capsys):
     assert main(["score", str(tmp_path / "t.csv"), "-o", str(tmp_path / "s.png")]) == 0
     assert main(["anim", "from-track", str(tmp_path / "t.csv"), "-o", str(tmp_path / "a.toml")]) == 0
     err = capsys.readouterr().err
-    assert "score uses the 21 motors; its HT column is not used here yet" in err
-    assert "anim from-track" not in err  # its knots carry HT
+    assert "not used" not in err  # score draws HT's stave; from-track makes its knots
+    from PIL import Image
+
+    with Image.open(tmp_path / "s.png") as score:
+        assert score.size[1] == 48 * 22 + 36  # a stave for each of the 21, and HT's
     from toon.animation import load_animation
 
     assert load_animation(tmp_path / "a.toml").knots["HT"][0][1] == pytest.approx(0.8)
