@@ -187,7 +187,9 @@ def _cue(check: Validator, entry: object, where: str) -> Cue:
 
 
 def load_poses() -> dict[str, dict[str, float]]:
-    """The built-in expression repertoire's poses: name -> {motor code: value}.
+    """The built-in expression repertoire's poses: name -> {motor code: value}, the 21 motors'
+    (a face's parameters beyond them, UL or PERK, are no marker's motion: the performer leaves
+    them out).
 
     ``capture`` may not import ``toon``, whose ``load_expressions`` validates the file fully;
     callers above both layers (the ``synth`` command) pass its poses to :func:`perform` instead.
@@ -198,8 +200,9 @@ def load_poses() -> dict[str, dict[str, float]]:
     check = Validator(path)
     for name, motors in poses.items():
         for code in motors:
-            check.choice(code, CODES, f"expressions.{name}.motors.{code}")
-    return poses
+            if not (code.isascii() and code.isupper()):  # a parameter's code is capitals, as a motor's
+                check.choice(code, CODES, f"expressions.{name}.motors.{code}")
+    return {name: {c: v for c, v in motors.items() if c in CODES} for name, motors in poses.items()}
 
 
 def perform(performance: Performance, times: np.ndarray,

@@ -238,6 +238,16 @@ class FakeClock:
         self.now += max(0.0, seconds)
 
 
+def schedule(animators: tuple[Animator, ...], at: float, moves: Iterable[Move]) -> None:
+    """Start ``moves`` at ``at`` on whichever of ``animators`` moves each code (the 21 motors'
+    and a face's parameters' animators); a code none moves is left out."""
+    moves = tuple(moves)
+    for animator in animators:
+        mine = tuple(m for m in moves if m.code in animator.codes)
+        if mine:
+            animator.schedule(at, mine)
+
+
 def moves_to(values: np.ndarray, seconds: float, codes: Iterable[str] = MOTOR_CODES) -> tuple[Move, ...]:
     """Moves taking ``codes`` to ``values`` ``(21,)`` over ``seconds``."""
     return tuple(Move(code, float(values[motor_index(code)]), seconds) for code in codes)

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from player.animator import Animator, Move, moves_to
+from player.animator import Animator, Move, moves_to, schedule
 from player.motions import motion_names, standard_motion
 from player.providers import Mixer
 from toon import MOTOR_CODES, Expression
@@ -62,6 +62,7 @@ class Commands:
         self.animator, self.neutral, self.expressions, self.clock = animator, neutral, expressions, clock
         self.mixer = mixer
         self.extras = extras
+        self.rests = {} if extras is None else dict(zip(extras.codes, extras.values().tolist(), strict=True))
         self.movable = (*MOTOR_CODES, *(extras.codes if extras is not None else ()))
 
     def handle(self, line: str) -> str:
@@ -156,12 +157,13 @@ class Commands:
         name = words[0].lower()
         seconds = _ms(words[1]) if len(words) == 2 else None
         try:
-            motion = standard_motion(name, seconds, self.animator.values(), self.neutral, self.expressions)
+            motion = standard_motion(name, seconds, self.animator.values(), self.neutral, self.expressions,
+                                     self.rests)
         except KeyError:
             raise CommandError(f"unknown motion {words[0]!r} (try: motions)") from None
         now = self.clock()
         for offset, moves in motion.steps:
-            self.animator.schedule(now + offset, moves)
+            schedule((self.animator, *([self.extras] if self.extras else [])), now + offset, moves)
         return f"playing {name}"
 
 

@@ -12,6 +12,7 @@ motors it leaves alone), so the face shows that expression whatever it showed be
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,9 +44,10 @@ def motion_names(expressions: dict[str, Expression]) -> list[str]:
 
 
 def standard_motion(name: str, seconds: float | None, current: np.ndarray, neutral: np.ndarray,
-                    expressions: dict[str, Expression]) -> Motion:
+                    expressions: dict[str, Expression], extras: Mapping[str, float] | None = None) -> Motion:
     """The motion ``name`` lasting ``seconds`` (its default when None), from the ``current``
-    values ``(21,)`` on a face whose rest pose is ``neutral`` ``(21,)``.
+    values ``(21,)`` on a face whose rest pose is ``neutral`` ``(21,)`` and whose parameters
+    beyond the 21 rest at ``extras`` (code: value; an expression moves them too).
 
     Raises
     ------
@@ -76,4 +78,5 @@ def standard_motion(name: str, seconds: float | None, current: np.ndarray, neutr
             steps.append((k * step + step / 2, (Move("MB", float(neutral[motor_index("MB")]), step / 2),)))
         return Motion(name, tuple(steps))
     expression = expressions[POSE_ALIASES.get(name, name)]
-    return Motion(name, ((0.0, moves_to(expression.pose(neutral), d, _FACE_MOTORS)),))
+    beyond = tuple(Move(code, value, d) for code, value in expression.extra_pose(extras or {}).items())
+    return Motion(name, ((0.0, moves_to(expression.pose(neutral), d, _FACE_MOTORS) + beyond),))

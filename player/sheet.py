@@ -40,7 +40,9 @@ def expression_sheet(rig: FaceRig, expressions: dict[str, Expression], cell: tup
         RGB; each picture has its expression's name written under it.
     """
     neutral = rig.face.neutral()
-    poses: list[Pose] = [(name, expression.pose(neutral), {}) for name, expression in expressions.items()]
+    declared = rig.face.extra_neutral()
+    poses: list[Pose] = [(name, expression.pose(neutral), expression.extra_pose(declared))
+                         for name, expression in expressions.items()]
     return labelled_grid(rig, [*poses, *parameter_poses(rig)], cell, columns, samples)
 
 

@@ -1,21 +1,24 @@
 """The expression repertoire (CharToon 4.1): named motor poses that every built-in face shares.
 
 ``data/expressions.toml`` (``format = "toonface.expressions/1"``) holds, for each expression, a
-``description`` and ``motors``: values in ``[0, 1]`` for the motors the expression moves. The
-others stay at the face's neutral, so one repertoire drives every face whose motors follow the
-same conventions (CharToon: "expressions from the expression repertoire can be re-used").
+``description`` and ``motors``: values in ``[0, 1]`` for the motors the expression moves, and
+for the standard parameters beyond the 21 it moves (``UL``, ``PERK``...; a face without one
+shows the expression without it). The others stay at the face's neutral, so one repertoire
+drives every face whose motors follow the same conventions (CharToon: "expressions from the
+expression repertoire can be re-used").
 """
 
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from types import MappingProxyType
 
 import numpy as np
 
 from common import read_document, resolve_builtin
-from toon.motors import MOTOR_CODES, MOTOR_INDEX
+from toon.motors import ALL_CODES, MOTOR_INDEX, extra_rest
 from toon.validate import ShapeValidator
 
 FORMAT = "toonface.expressions/1"
@@ -31,6 +34,7 @@ class Expression:
     name: str
     motors: MappingProxyType
     description: str = ""
+    extra: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))  # the standard extras it moves
 
     def pose(self, neutral: np.ndarray) -> np.ndarray:
         """Motor values ``(21,)``: ``neutral`` with this expression's motors set."""
@@ -38,6 +42,12 @@ class Expression:
         for code, value in self.motors.items():
             out[MOTOR_INDEX[code]] = value
         return out
+
+    def extra_pose(self, declared: Mapping[str, float]) -> dict[str, float]:
+        """The parameters beyond the 21 of a face that ``declared`` them (code: rest): this
+        expression's where it moves them, the rest elsewhere; HT (the head's) only where set."""
+        return {code: float(self.extra.get(code, extra_rest(code, declared))) for code in declared
+                if code != "HT" or code in self.extra}
 
 
 def load_expressions(name_or_path: str | os.PathLike = "expressions") -> dict[str, Expression]:
@@ -65,9 +75,11 @@ def load_expressions(name_or_path: str | os.PathLike = "expressions") -> dict[st
         v.require(isinstance(motors, dict), "must be a table of motor = value", f"{where}.motors")
         values = {}
         for code, value in motors.items():
-            v.choice(code, MOTOR_CODES, f"{where}.motors.{code}")
+            v.choice(code, ALL_CODES, f"{where}.motors.{code}")
             values[code] = v.number(value, f"{where}.motors.{code}", 0.0, 1.0)
-        out[name] = Expression(name, MappingProxyType(values), str(entry.get("description", "")))
+        out[name] = Expression(name, MappingProxyType({c: x for c, x in values.items() if c in MOTOR_INDEX}),
+                               str(entry.get("description", "")),
+                               MappingProxyType({c: x for c, x in values.items() if c not in MOTOR_INDEX}))
     missing = [n for n in REQUIRED if n not in out]
     v.require(not missing, f"missing expression(s): {', '.join(missing)}", "expressions")
     return out

@@ -291,7 +291,8 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         extremes = f" and {len(loaded.extra_codes)} parameters at their extremes" if loaded.extra_codes else ""
         click.echo(f"wrote {sheet_path} ({len(expressions)} expressions{extremes} on {loaded.name})")
     if svg_path:
-        save_svg(rig.geometry(expressions[expression].pose(loaded.neutral())), svg_path, cell)
+        shown = expressions[expression]
+        save_svg(rig.geometry(shown.pose(loaded.neutral()), shown.extra_pose(loaded.extra_neutral())), svg_path, cell)
         click.echo(f"wrote {svg_path} ({expression} on {loaded.name})")
     if not sheet_path and not svg_path:
         counts = f"{len(loaded.polygons)} polygons, {len(loaded.basic_components())} components"

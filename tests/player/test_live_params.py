@@ -49,3 +49,19 @@ def test_a_track_s_parameters_are_drawn_and_told_loop_by_loop():
     run_live(face, settings, clock=clock, sleep=clock.sleep)
     assert [round(x["HT"], 3) for x in told[:6]] == [0.5, 0.55, 0.6, 0.65, 0.7, 0.75]
     assert all(x["PERK"] == 0.0 and x["JS"] == 0.5 for x in told)  # the rest: nothing moves them
+
+
+def test_an_expression_moves_the_parameters_it_names_and_rests_the_others(commands):
+    cmd, animator, extras = commands
+    assert load_expressions()["disgust"].extra == {"UL": 0.8}
+    assert cmd.handle("play surprise 200") == "ok playing surprise"
+    for k in range(4):
+        extras.tick(k * 0.1)
+        animator.tick(k * 0.1)
+    now = dict(zip(extras.codes, extras.values(), strict=True))
+    assert now == {"HT": 0.5, "UL": 0.0, "JS": 0.5, "PERK": 1.0}  # the wizard's hat jumps; the head is left alone
+    cmd.handle("play disgust 100")
+    for k in range(4, 8):
+        extras.tick(k * 0.1)
+    now = dict(zip(extras.codes, extras.values(), strict=True))
+    assert now["UL"] == pytest.approx(0.8) and now["PERK"] == 0.0

@@ -18,7 +18,7 @@ from typing import Protocol
 
 import numpy as np
 
-from player.animator import Animator
+from player.animator import Animator, schedule
 from player.motions import GESTURES, motion_names, standard_motion
 from toon import MOTOR_CODES, Face, FaceRig, load_face
 from toon.expressions import Expression, load_expressions
@@ -225,9 +225,10 @@ class StudioSession:
         """
         self._test_mode()
         self.looping, self._back = (name, True) if loop else (None, False)
-        motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
+        motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions,
+                                 self.face.extra_neutral())
         for offset, moves in motion.steps:
-            self.animator.schedule(now + offset, moves)
+            schedule((self.animator, self.moved), now + offset, moves)
 
     def reset(self) -> None:
         """Every motor back to the face's neutral, every pending move dropped."""
@@ -242,9 +243,10 @@ class StudioSession:
         the animation's playback at ``now``; whether anything still moves."""
         if self.looping is not None and self.showing == "test" and not self.animator.busy():
             name = "neutral" if self._back else self.looping
-            motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions)
+            motion = standard_motion(name, None, self.animator.values(), self.neutral, self.expressions,
+                                     self.face.extra_neutral())
             for offset, moves in motion.steps:  # a breath's pause at each end
-                self.animator.schedule(now + LOOP_PAUSE + offset, moves)
+                schedule((self.animator, self.moved), now + LOOP_PAUSE + offset, moves)
             self._back = not self._back
         self.animator.tick(now)
         self.moved.tick(now)
