@@ -13,6 +13,7 @@ receiver's face. One performer alone, with no seats given, is drawn exactly as a
 
 from __future__ import annotations
 
+import logging
 import os
 from dataclasses import dataclass, field
 
@@ -22,7 +23,10 @@ from common import read_versioned
 from common.validate import Validator, at
 from player.providers import Mixer, Providers
 from toon import Face, FaceRig, Geometry, load_face
+from toon.params import DrawnExtras
 from toon.stage import grid, stage
+
+log = logging.getLogger(__name__)
 
 FORMAT = "toonface.performers/1"
 
@@ -63,13 +67,16 @@ def load_seats(path: str | os.PathLike) -> list[Seat]:
 
 @dataclass
 class Member:
-    """A performer being shown: its face, its mix, its newest values and their age."""
+    """A performer being shown: its face, its mix, its newest values and their age, and its
+    parameters beyond the 21 (those its face draws)."""
 
     stream: int
     rig: FaceRig
     mixer: Mixer
     values: np.ndarray
     age: float = 0.0
+    extra: dict[str, float] = field(default_factory=dict)
+    drawn: DrawnExtras | None = None
 
 
 @dataclass
@@ -107,15 +114,17 @@ class Ensemble:
             if seat.face not in self._faces:  # each seated face read once, however often its performer comes back
                 self._faces[seat.face] = load_face(seat.face)
             face = self._faces[seat.face]
-        member = Member(stream, FaceRig(face), Mixer(face.neutral(), self.providers), face.neutral())
+        member = Member(stream, FaceRig(face), Mixer(face.neutral(), self.providers), face.neutral(),
+                        drawn=DrawnExtras(face.extra_codes, face.name, lambda text: log.warning("%s", text)))
         sure = np.ones(len(member.values))
         member.mixer.tracking = lambda: (member.values, sure, member.age)
         return member
 
-    def frame(self, performers: list[tuple[int, np.ndarray, float]], t: float) -> Geometry | None:
+    def frame(self, performers: list[tuple], t: float) -> Geometry | None:
         """The picture at ``t`` of ``performers`` (stream id, newest values ``(21,)``, seconds
-        since their last packet); None when nobody is there to show."""
-        for stream, values, age in performers:
+        since their last packet, and, where the stream has any, its parameters beyond the 21 by
+        code); None when nobody is there to show."""
+        for stream, values, age, *more in performers:
             if self._seats and stream not in self._seats:
                 continue
             if stream not in self.members and age < self.gone_after:
@@ -123,6 +132,8 @@ class Ensemble:
             if stream in self.members:
                 member = self.members[stream]
                 member.values, member.age = values, age
+                if more and member.drawn is not None:
+                    member.extra = member.drawn.drawn(more[0])
         shown = []
         for stream, member in list(self.members.items()):
             opacity = 1.0 - max(member.age - self.gone_after, 0.0) / self.fade_out if self.fade_out > 0 else \
@@ -130,7 +141,7 @@ class Ensemble:
             if opacity <= 0.0:
                 del self.members[stream]  # gone: its place is given up
                 continue
-            shown.append((member, min(opacity, 1.0), member.rig.geometry(member.mixer.step(t))))
+            shown.append((member, min(opacity, 1.0), member.rig.geometry(member.mixer.step(t), member.extra)))
         if not shown:
             return None
         if len(shown) == 1 and not self._seats and shown[0][1] == 1.0:

@@ -124,14 +124,18 @@ class StreamReceiver:
                 return {}
             return dict(zip(codes, self._shown[N_MOTORS:].tolist(), strict=True))
 
-    def performers(self, now: float | None = None) -> list[tuple[int, np.ndarray, float]]:
-        """Each performer's stream id, the face to show now ``(21,)`` and the seconds since its
-        last packet, in the order they first came (the parameters beyond the 21 are not drawn on
-        a stage of several yet)."""
+    def performers(self, now: float | None = None) -> list[tuple[int, np.ndarray, float, dict[str, float]]]:
+        """Each performer's stream id, the face to show now ``(21,)``, the seconds since its last
+        packet and its parameters beyond the 21 by code, in the order they first came."""
         with self._lock:
             now = self.clock() if now is None else now
-            return [(stream, lane.playout.values_at(now)[0][:N_MOTORS], now - lane.arrived)
-                    for stream, lane in self.lanes.items()]
+            out = []
+            for stream, lane in self.lanes.items():
+                row = lane.playout.values_at(now)[0]
+                codes = lane.playout.codes if len(row) == N_MOTORS + len(lane.playout.codes) else ()
+                out.append((stream, row[:N_MOTORS], now - lane.arrived,
+                            dict(zip(codes, row[N_MOTORS:].tolist(), strict=True))))
+            return out
 
     def _lane(self, stream: int | None) -> Lane | None:
         """The lane of ``stream``, or a new one while there is room (kept by :meth:`feed` only once

@@ -169,3 +169,19 @@ def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_p
         assert track.frames >= 25  # every frame shown, at stream time
         tail = track.values[5:25]
         np.testing.assert_allclose(tail, np.tile(poses[stream], (len(tail), 1)), atol=0.006)  # within a wire step
+
+
+def test_each_performer_s_parameters_are_drawn_on_its_own_face():
+    """Two performers on the stage: one tilts its head (HT), the other asks for a cheek puff the
+    cat has not got, which its face leaves out (said once)."""
+    ensemble = Ensemble(load_face("cat"), (256, 128))
+    neutral = load_face("cat").neutral()
+    upright = ensemble.frame([(1, neutral, 0.0, {}), (2, neutral, 0.0, {})], 0.0)
+    tilted = ensemble.frame([(1, neutral, 0.0, {"HT": 1.0}), (2, neutral, 0.0, {"CP": 1.0})], 0.1)
+    assert ensemble.members[1].extra == {"HT": 1.0} and ensemble.members[2].extra == {}
+    first = [item.vertices for item in upright.items][:len(upright.items) // 2]
+    moved = [item.vertices for item in tilted.items][:len(tilted.items) // 2]
+    assert max(np.abs(a - b).max() for a, b in zip(first, moved, strict=True)) > 10  # the first one's head turned
+    second = [item.vertices for item in upright.items][len(upright.items) // 2:]
+    still = [item.vertices for item in tilted.items][len(tilted.items) // 2:]
+    assert max(np.abs(a - b).max() for a, b in zip(second, still, strict=True)) < 1e-9
