@@ -216,7 +216,7 @@ class FaceRig:
         yaw, pitch = self.head_degrees(values)
         if (yaw or pitch) and len(plan.moving_at):
             out[plan.moving_at] = head_turn(out[plan.moving_at], plan.moving_depth, self._pivot, yaw, pitch)
-        if self.face.head_tilt:
+        if self.face.head_tilt and values[self._columns["HT"]] != 0.5:
             out[:] = self.tilted(out, values[self._columns["HT"]])
         decides = self.shown_values(values, pts) if self._switched else values
         hidden = {key for key, shown in self._switched

@@ -200,7 +200,7 @@ def mapping_cmd(layout: str, output: str, take_path: str | None, reading: TakeRe
     click.echo(f"wrote {output}: {len(found.doc['motor']) - len(extras)} motors"
                f"{' and ' + ', '.join(extras) if extras else ''} after the {found.template} preset"
                + (f"; left out: {', '.join(found.unmapped)}" if found.unmapped else ""))
-    face = [code for code in found.doc["motor"] if code not in ("HH", "HV", "HT")]
+    face = [code for code in found.doc["motor"] if code in MOTOR_CODES and code not in ("HH", "HV")]
     if len(face) < MIN_DRAFTED_MOTORS or "MB" not in face:  # 3 motors mapped, then a still face in silence
         missing = [code for code in ("MB", "MLH", "MRH", "BLC", "BRC", "ELU", "ERU") if code not in face]
         why = ("a jaw and the mouth corners show no brows or lids, and the corners' heights (MLV, MRV) move with "

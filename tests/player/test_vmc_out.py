@@ -79,20 +79,25 @@ def test_the_head_quaternion_is_a_unit_turn_of_yaw_then_pitch():
     assert arkit_scores(n, n) == {name: 0.0 for name in arkit_scores(n, n)}  # neutral: every score 0
 
 
-def test_toonfaces_vmc_out_read_by_its_vmc_in_gives_the_motors_back(receiver):
-    """A round trip through both bridges and the arkit mapping: what has a score each way comes back."""
+def _round_trip(face):
+    """VMC out sending to this machine's VMC in, whose frames the arkit mapping maps onto ``face``
+    (a clock of 60 frames a second): the sink, the source and the live mapper."""
     from itertools import count
 
     from capture.sources import open_source
     from toonface.send import build_mapper
 
-    face = load_face("round")
-    n = face.neutral()
     ticks = count()
     source = open_source("vmc:127.0.0.1:0", clock=lambda: next(ticks) / 60)
     host, port = source.meta["address"].rsplit(":", 1)
-    out = VmcOut((host, int(port)), n)
-    mapper = build_mapper(source, target_neutral=n)
+    return VmcOut((host, int(port)), face.neutral()), source, build_mapper(source, target_neutral=face.neutral())
+
+
+def test_toonfaces_vmc_out_read_by_its_vmc_in_gives_the_motors_back(receiver):
+    """A round trip through both bridges and the arkit mapping: what has a score each way comes back."""
+    face = load_face("round")
+    n = face.neutral()
+    out, source, mapper = _round_trip(face)
     shown = _pose(face, MB=0.7, ERU=0.2, ELU=0.2, MRV=0.9, MLV=0.3, PRV=0.8, PLV=0.8, HH=n[motor_index("HH")] + 0.2)
     back = None
     for frame in range(90):  # a second of rest, then the pose
@@ -110,18 +115,9 @@ def test_the_parameters_beyond_the_21_go_out_and_come_back_through_vmc_in(receiv
     """HT as the head bone's roll, CP, JS and UL as the ARKit scores the arkit preset reads: a
     round trip through both bridges gives them back; PERK, which no score stands for, goes out
     under its code only."""
-    from itertools import count
-
-    from capture.sources import open_source
-    from toonface.send import build_mapper
-
     face = load_face("round")
     n = face.neutral()
-    ticks = count()
-    source = open_source("vmc:127.0.0.1:0", clock=lambda: next(ticks) / 60)
-    host, port = source.meta["address"].rsplit(":", 1)
-    out = VmcOut((host, int(port)), n)
-    mapper = build_mapper(source, target_neutral=n)
+    out, source, mapper = _round_trip(face)
     sent = {"HT": 0.8, "UL": 0.6, "CP": 0.7, "JS": 0.2, "PERK": 0.9}
     for frame in range(120):  # a second of rest, then the parameters
         out.write(frame / 60, n, extra=None if frame < 60 else sent)

@@ -235,7 +235,7 @@ def test_a_drafted_layout_maps_as_well_as_the_hand_made_preset(realdata, tmp_pat
                  "--up", names["ForeHead_M"], *reading]) == 0
     assert main(["markerset", "mapping", str(tmp_path / "mine.toml"), "-o", str(tmp_path / "mine-mapping.toml")]) == 0
     out = capsys.readouterr().out
-    assert "17 motors and HT after the animface41 preset" in out and "left out" not in out
+    assert "17 motors and HT, UL, JS, PERK, CP after the animface41 preset" in out and "left out" not in out
     assert main(["map", str(tmp_path / "stranger.csv"), "--mapping", str(tmp_path / "mine-mapping.toml"),
                  "-o", str(tmp_path / "mine.csv"), *reading]) == 0
     mine = load_track(tmp_path / "mine.csv")
