@@ -172,6 +172,7 @@ def test_preview_serves_the_newest_frame_and_an_mjpeg_stream():
         server.stop()
 
 
+@pytest.mark.slow  # a few seconds; make test runs it (make test-fast stays under a minute)
 def test_render_writes_raw_rgb_to_standard_output(tmp_path):
     track = tmp_path / "m.csv"
     rows = ["time," + ",".join(__import__("toon").MOTOR_CODES)] + [

@@ -182,6 +182,7 @@ def test_a_receiver_says_why_nothing_was_shown(sender_key, receiver_key, fragmen
         assert right.diagnosis() is None
 
 
+@pytest.mark.slow  # a few seconds; make test runs it (make test-fast stays under a minute)
 def test_a_take_without_a_typical_profile_is_sent_with_its_own(realdata):
     """`send` on an AnimFace take stopped at 'no typical profile for marker set animface41'."""
     take = load_take(realdata / "facial" / "animface" / "JawMoCap.csv", units="cm")
@@ -202,6 +203,7 @@ def _play_through(receiver: StreamReceiver, frames: int) -> None:
         receiver.values_at(start + k / (2 * RATE) + 1e-6)
 
 
+@pytest.mark.slow  # a few seconds; make test runs it (make test-fast stays under a minute)
 def test_send_to_receive_over_loopback_records_what_the_sender_mapped(tmp_path):
     """`toonface send` (real time, a real UDP socket) to the receiving end's socket, playout and
     recording, as `receive --record` assembles them: with no loss the recording is the sender's

@@ -151,6 +151,7 @@ def _winking(realdata, path):
     return write_video(images[:41] + [wink] * 8 + [images[40]] * 10, path, 25.0)
 
 
+@pytest.mark.slow  # a few seconds; make test runs it (make test-fast stays under a minute)
 def test_a_wink_closes_one_eye_and_leaves_the_other_open(realdata, tmp_path):
     """The tracker sees a pair of eyes as one: on a wink it drags the open eye part of the way
     shut and closes the winking one only part of the way. The face preset's [eyes] pair shuts

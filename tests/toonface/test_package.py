@@ -35,6 +35,7 @@ def wheel(tmp_path_factory) -> Path:
     return found
 
 
+@pytest.mark.slow  # a few seconds; make test runs it (make test-fast stays under a minute)
 def test_the_wheel_carries_every_built_in_file(wheel):
     names = set(zipfile.ZipFile(wheel).namelist())
     for path in sorted((ROOT / "data").rglob("*")):
