@@ -21,6 +21,7 @@ from common import InputError
 from player.animator import DEFAULT_LOOP_TIME, Animator, Loop
 from player.commands import Commands
 from player.gl import create_context
+from player.motion import SecondaryMotion
 from player.preview import PreviewSink
 from player.providers import Mixer, Providers, Tracked
 from player.renderer import Renderer
@@ -54,6 +55,7 @@ class LiveSettings:
     scene: Callable[[float], Geometry | None] | None = None  # what is drawn instead of the face (several faces)
     extra: Callable[[float], dict[str, float]] | None = None  # the parameters beyond the 21 (HT...) at a loop time
     say: Callable[[str], None] = lambda _: None  # a warning for the user (a parameter the face cannot draw)
+    physics: bool = True  # the face's drivers swing what they move (--no-physics: not)
 
 
 @dataclass
@@ -96,6 +98,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
     loop = Loop(animator, clock, sleep, beside=(moved,))
     track_values = settings.source or _track_player(settings.track, settings.repeat)
     extra_at = settings.extra or (None if settings.source else _track_extra(settings.track, settings.repeat))
+    played = settings.track if settings.source is None and settings.tracking is None else None
+    motion = SecondaryMotion(face, played) if settings.physics and face.physics else None  # hair that swings
     latest = [neutral]  # a track's or a stream's values at the loop's time, fully sure
     sure = np.ones(len(neutral))
     tracking = settings.tracking or (None if track_values is None else (lambda: (latest[0], sure, 0.0)))
@@ -124,6 +128,8 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
                     latest[0] = track_values(t)
                 values = mixer.step(t)  # idle, tracking, motions and overrides (player/providers.py)
                 extra = extras.drawn(_with_commanded(extra_at(t) if extra_at is not None else None, moved))
+                if motion is not None:  # on the track's own clock where a track plays, as render draws it
+                    extra = motion.extra_at(_track_time(played, settings.repeat, t), values, extra)
                 for tell in settings.shown:  # a motor stream of what is shown (play --stream-to)
                     tell(t, values, extra=extra or None)
                 drawn = settings.scene(t) if settings.scene is not None else None
@@ -186,7 +192,7 @@ def _track_player(track: MotorTrack | None, repeat: bool, extra: bool = False
     values = track.extra if extra and track.extra is not None else track.values
 
     def at(t: float) -> np.ndarray:
-        when = t % max(track.duration, 1e-9) if repeat else min(t, times[-1])
+        when = _track_time(track, repeat, t)
         return np.array([np.interp(when, times, values[:, c]) for c in range(values.shape[1])])
     return at
 
@@ -198,6 +204,14 @@ def _with_commanded(given: dict[str, float] | None, moved: Animator) -> dict[str
     values = moved.values()
     return {**(given or {}), **{code: float(values[k]) for k, code in enumerate(moved.codes)
                                 if given is None or active[k] or code not in given}}
+
+
+def _track_time(track: MotorTrack | None, repeat: bool, t: float) -> float:
+    """Where a played track is at loop time ``t`` (as :func:`_track_player` reads it); ``t`` itself
+    without a track."""
+    if track is None:
+        return t
+    return t % max(track.duration, 1e-9) if repeat else min(t, float(track.times[-1]))
 
 
 def _track_extra(track: MotorTrack | None, repeat: bool) -> Callable[[float], dict[str, float]] | None:

@@ -20,7 +20,7 @@ import numpy as np
 
 from common import InputError, atomic_path
 from player.backends import open_renderer
-from player.offline import frame_count, render_track, resampled
+from player.offline import frame_count, render_track
 from player.sinks import H264Encoder
 from toon import FaceRig, MotorTrack
 
@@ -49,14 +49,13 @@ def render_part(track: MotorTrack, rig: FaceRig, start: int, stop: int, fps: flo
     One x264 thread and no B-frames, so parts from many processes can be joined by
     :func:`join_parts`. Returns the MP4 file's bytes.
     """
-    part = resampled(track, fps, start, stop)
-    if not part.frames:
+    if not 0 <= start < min(stop, frame_count(track, fps)):
         raise ValueError(f"frames {start}:{stop} are outside the video's {frame_count(track, fps)} frames")
     buffer = io.BytesIO()
     with open_renderer(size, samples) as renderer:
         encoder = H264Encoder(buffer, fps, size, crf, bframes="0", threads="1")
-        try:
-            render_track(part, rig, renderer, encoder)
+        try:  # the whole track, from frame start: the face's physics runs from its start, as one render's
+            render_track(track, rig, renderer, encoder, fps, start=start, stop=stop)
         finally:
             encoder.finish()
     return buffer.getvalue()

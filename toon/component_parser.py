@@ -62,7 +62,7 @@ class ComponentParser:
         shape = {"skeleton": {"coupling", "skeleton", "body", "skeleton_closed", "closed"},
                  "polyline": {"points", "closed"}}.get(kind, {"points"})
         common = {"kind", "name", "layer", "fill", "stroke", "width", "smooth", "hidden", "clip", "hole", "depth",
-                  "visible", "translate", "scale"}
+                  "visible", "translate", "scale", "rotate"}
         v.fields(c, common | shape, where, f"a {kind} component")
         spec: dict[str, Any] = {"kind": kind, "name": str(c.get("name", ""))}
         spec["layer"] = v.integer(c.get("layer", 1), f"{where}.layer", -10, 10)
@@ -110,9 +110,9 @@ class ComponentParser:
             low, high = v.numbers(raw.get("range"), 2, f"{where}.visible.range")
             spec["visible"] = Visibility(v.choice(raw.get("motor"), self.drivers, f"{where}.visible.motor"),
                                          low, high)
-        for key, extra in (("translate", set()), ("scale", {"origin"})):
+        for key, extra in (("translate", set()), ("scale", {"origin"}), ("rotate", {"origin"})):
             if key in c:
-                spec[key] = self._param(c[key], v, f"{where}.{key}", extra)
+                spec[key] = self._param(c[key], v, f"{where}.{key}", extra, 1 if key == "rotate" else 2)
         component = Component(**spec)
         if component.layer < 0:
             v.require(not component.animated, "background layers (-10..-1) hold only components that never move: "
@@ -220,10 +220,10 @@ class ComponentParser:
                   "smoothing all the way round leaves no other range", where)
         return tuple(ranges)
 
-    def _param(self, raw: Any, v: ShapeValidator, where: str, extra: set[str]) -> MotorParam:
+    def _param(self, raw: Any, v: ShapeValidator, where: str, extra: set[str], size: int = 2) -> MotorParam:
         v.fields(raw, {"motor", "at0", "at1"} | extra, where, where.rsplit(".", 1)[-1])
         motor = v.choice(raw.get("motor"), self.drivers, f"{where}.motor")
-        at0 = tuple(v.numbers(raw.get("at0"), 2, f"{where}.at0"))
-        at1 = tuple(v.numbers(raw.get("at1"), 2, f"{where}.at1"))
+        at0 = tuple(v.numbers(raw.get("at0"), size, f"{where}.at0"))
+        at1 = tuple(v.numbers(raw.get("at1"), size, f"{where}.at1"))
         origin = tuple(v.numbers(raw.get("origin", [0.0, 0.0]), 2, f"{where}.origin"))
         return MotorParam(motor, at0, at1, origin)  # type: ignore[arg-type]

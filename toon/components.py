@@ -28,9 +28,11 @@ eye's or the mouth's holes), ``hole`` (the component's fill opens that feature's
 ToonFace hole polygon, for the pupils and clipped components drawn after it), ``depth``
 (head-turn parallax), and the animatable parameters
 ``visible`` (``{"motor": "MB", "range": [0.3, 1]}``), ``translate``
-(``{"motor": "HH", "at0": [dx, dy], "at1": [dx, dy]}``) and ``scale``
-(``{"motor": "ERU", "at0": [sx, sy], "at1": [sx, sy], "origin": [x, y]}``), each linear in its
-motor's value like A1.5-A1.6.
+(``{"motor": "HH", "at0": [dx, dy], "at1": [dx, dy]}``), ``scale``
+(``{"motor": "ERU", "at0": [sx, sy], "at1": [sx, sy], "origin": [x, y]}``) and ``rotate``
+(``{"motor": "FRINGE", "at0": [-8], "at1": [8], "origin": [x, y]}``: degrees counter-clockwise
+about the origin; scaled first, then turned, then moved), each linear in its motor's (or
+parameter's) value like A1.5-A1.6.
 
 Parsing and checking live in :mod:`toon.component_parser`.
 """
@@ -111,6 +113,7 @@ class Component:
     visible: Visibility | None = None
     translate: MotorParam | None = None
     scale: MotorParam | None = None
+    rotate: MotorParam | None = None
     children: tuple[Component, ...] = ()
     use: str = ""
     library: str = ""
@@ -123,7 +126,7 @@ class Component:
         if self.kind == "composite":
             return any(c.animated for c in self.children)
         return (any(p.animated for p in self.points) or self.visible is not None
-                or self.translate is not None or self.scale is not None)
+                or self.translate is not None or self.scale is not None or self.rotate is not None)
 
     def to_dict(self) -> dict[str, Any]:
         """The component as written in a face file."""
@@ -171,9 +174,11 @@ class Component:
         if self.translate:
             d["translate"] = {"motor": self.translate.motor, "at0": list(self.translate.at0),
                               "at1": list(self.translate.at1)}
-        if self.scale:
-            d["scale"] = {"motor": self.scale.motor, "at0": list(self.scale.at0), "at1": list(self.scale.at1),
-                          "origin": list(self.scale.origin)}
+        for key in ("scale", "rotate"):
+            param = getattr(self, key)
+            if param:
+                d[key] = {"motor": param.motor, "at0": list(param.at0), "at1": list(param.at1),
+                          "origin": list(param.origin)}
         return d
 
 
@@ -209,4 +214,8 @@ def _transformed(c: Component, transform: tuple[float, float, float, float]) -> 
         changes["translate"] = replace(t, at0=(t.at0[0] * sx, t.at0[1] * sy), at1=(t.at1[0] * sx, t.at1[1] * sy))
     if c.scale:
         changes["scale"] = replace(c.scale, origin=place(c.scale.origin))
+    if c.rotate:  # a mirrored composite turns the other way
+        way = 1.0 if sx * sy > 0 else -1.0
+        changes["rotate"] = replace(c.rotate, origin=place(c.rotate.origin), at0=(way * c.rotate.at0[0],),
+                                    at1=(way * c.rotate.at1[0],))
     return replace(c, **changes)

@@ -16,6 +16,8 @@ A face (``"format": "toonface.face/1"``) holds:
   ``eyes``: ``radius`` of the eyeballs;
 - ``params``: parameters beyond the 21 motors (:mod:`toon.params`): each moves control points,
   and drives components and point polygons as a motor does;
+- ``physics``: drivers, damped springs that move parameters after the motors (:mod:`toon.physics`):
+  hair that swings, a hat that bounces;
 - ``polygons``: ToonFace's filled polygons, each with a ``kind`` that fixes how it moves and when
   it is drawn (A1.2.2) and what ``attach`` names: ``hole`` (a feature: an eye or the mouth),
   ``pupil`` (its control point, PR or PL; clipped to its eye's holes), ``face`` (at most one,
@@ -40,6 +42,7 @@ from toon.component_parser import ComponentParser
 from toon.components import Component, flatten
 from toon.motors import MOTOR_CODES, MOTORS
 from toon.params import ParamSpec, parse_params
+from toon.physics import Driver, parse_physics
 from toon.validate import Color, ShapeValidator, Vertices, format_color
 
 FORMAT = "toonface.face/1"
@@ -92,6 +95,7 @@ class Face:
     eye_radius: float = 0.0
     head_tilt: float = 0.0
     params: tuple[ParamSpec, ...] = ()
+    physics: tuple[Driver, ...] = ()
     components: tuple[Component, ...] = ()
     description: str = ""
     meta: dict = field(default_factory=dict, compare=False)
@@ -148,6 +152,8 @@ class Face:
         }
         if self.params:
             doc["params"] = {p.code: p.to_dict() for p in self.params}
+        if self.physics:
+            doc["physics"] = [d.to_dict() for d in self.physics]
         if self.components:
             doc["components"] = [c.to_dict() for c in self.components]
         return doc
@@ -180,7 +186,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     v.require(doc.get("format") == FORMAT, f'unsupported format {doc.get("format")!r} (expected "{FORMAT}")',
               "format")
     v.fields(doc, {"format", "name", "description", "viewbox", "background", "head", "eyes", "points", "motors",
-                   "params", "polygons", "components"}, "", "a face")
+                   "params", "physics", "polygons", "components"}, "", "a face")
     v.require(isinstance(doc.get("points"), dict), "missing object", "points")
     for name in CONTROL_POINTS:
         v.require(name in doc["points"], "missing control point", f"points.{name}")
@@ -212,6 +218,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
     v.fields(eyes, {"radius"}, "eyes", "eyes")
     params = parse_params(doc.get("params"), v, CONTROL_POINTS)
     drivers = (*MOTOR_CODES, *(("HT",) if head.get("tilt") else ()), *(p.code for p in params))
+    physics = parse_physics(doc.get("physics"), v, drivers, drivers[len(MOTOR_CODES):])
     raw_polys = doc.get("polygons", [])
     v.require(isinstance(raw_polys, list), "must be a list", "polygons")
     polygons = tuple(_polygon(v, p, f"polygons[{i}]", drivers) for i, p in enumerate(raw_polys))
@@ -229,7 +236,7 @@ def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:
         points=points, ranges=ranges, polygons=polygons,
         head_pivot=tuple(v.numbers(head.get("pivot", [0, 0]), 2, "head.pivot")),  # type: ignore[arg-type]
         feature_depth=v.number(head.get("feature_depth", 0.0), "head.feature_depth"),
-        head_tilt=v.number(head.get("tilt", 0.0), "head.tilt", 0.0, 90.0), params=params,
+        head_tilt=v.number(head.get("tilt", 0.0), "head.tilt", 0.0, 90.0), params=params, physics=physics,
         eye_radius=v.number(eyes.get("radius", 0.0), "eyes.radius", 0.0),
         components=components,
         description=str(doc.get("description", "")),

@@ -111,7 +111,8 @@ class FaceRig:
         self._switched = [(key, prep.spec.visible) for key, prep in enumerate(self._order)
                           if isinstance(prep, ComponentPrep) and prep.spec.visible is not None]
         self._animated = [(self._plan.slices[key], prep.spec) for key, prep in enumerate(self._order)
-                          if isinstance(prep, ComponentPrep) and (prep.spec.scale or prep.spec.translate)]
+                          if isinstance(prep, ComponentPrep)
+                          and (prep.spec.scale or prep.spec.translate or prep.spec.rotate)]
         # Per eye: the rows of its lid points, the upper lid's motor and range, the lower lid's rest height.
         self._lids = [(self._index[up], self._index[low], motor_index(up), face.ranges[up], face.points[low][1])
                       for up, low in LIDS]
@@ -210,6 +211,12 @@ class FaceRig:
                 factor = np.add(spec.scale.at0, values[self._columns[spec.scale.motor]] * np.subtract(
                     spec.scale.at1, spec.scale.at0))
                 out[where] = np.asarray(spec.scale.origin) + (out[where] - spec.scale.origin) * factor
+            if spec.rotate is not None:
+                turn = np.radians(spec.rotate.at0[0] + values[self._columns[spec.rotate.motor]] * (
+                    spec.rotate.at1[0] - spec.rotate.at0[0]))
+                c, s = np.cos(turn), np.sin(turn)
+                out[where] = np.asarray(spec.rotate.origin) + (out[where] - spec.rotate.origin) @ np.array(
+                    [[c, s], [-s, c]])
             if spec.translate is not None:
                 out[where] += np.add(spec.translate.at0, values[self._columns[spec.translate.motor]] * np.subtract(
                     spec.translate.at1, spec.translate.at0))

@@ -14,6 +14,7 @@ from toonface.cli_options import (
     BACKGROUND,
     FACE,
     MIRROR,
+    NO_PHYSICS,
     SIZE,
     FiniteFloat,
     TakeReading,
@@ -25,6 +26,7 @@ from toonface.cli_options import (
     read_take,
     take_options,
     with_background,
+    without_physics,
 )
 
 if TYPE_CHECKING:
@@ -285,6 +287,7 @@ def _report(track, take: str, as_json: bool) -> None:
 @MIRROR
 @click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")
 @BACKGROUND
+@NO_PHYSICS
 @click.option("--voice-fill/--no-voice-fill", default=True, show_default=True,
               help="A video TAKE with sound: where the face's mouth is lost (turned away, covered, out of the "
                    "frame), the voice moves the mouth (the voice mapping, crossfaded over 0.1 s).")
@@ -292,7 +295,7 @@ def _report(track, take: str, as_json: bool) -> None:
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             side_by_side: bool, background: str | None, voice_fill: bool, as_json: bool,
+             side_by_side: bool, background: str | None, no_physics: bool, voice_fill: bool, as_json: bool,
              reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
@@ -306,7 +309,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     from toonface.pipeline import map_onto_face, render, render_with_sound
 
     window, dims = parse_window(neutral, words=_WORDS), parse_size(size)
-    face_obj = with_background(load_face(face), background)
+    face_obj = without_physics(with_background(load_face(face), background), no_physics)
     video = Path(take).suffix.lower() in VIDEO_SUFFIXES
     if side_by_side and not video:
         raise click.BadParameter("needs a video TAKE to show beside the cartoon", param_hint="--side-by-side")

@@ -245,6 +245,18 @@ def with_background(face: Any, value: str | None) -> Any:
                                                  int(rgb[4:6], 16) / 255, int(alpha, 16) / 255 if alpha else 1.0))
 
 
+NO_PHYSICS = click.option(
+    "--no-physics", is_flag=True,
+    help="Draw without the face's physics: nothing swings or settles after the motors (hair, beard, hat).")
+
+
+def without_physics(face: Any, off: bool) -> Any:
+    """``face`` (a :class:`toon.Face`) without its physics drivers where ``off`` (``--no-physics``)."""
+    import dataclasses
+
+    return dataclasses.replace(face, physics=()) if off else face
+
+
 FACE = click.option("--face", default="classic", show_default=True, metavar="NAME|FILE",
                     help="A built-in face (see `toonface faces`) or a face JSON file.")
 SIZE = click.option("--size", default="512", show_default=True, metavar="N|WxH", help="Frame size in pixels.")

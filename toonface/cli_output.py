@@ -5,7 +5,17 @@ from __future__ import annotations
 
 import click
 
-from toonface.cli_options import BACKGROUND, FACE, SIZE, FiniteFloat, parse_size, progress, with_background
+from toonface.cli_options import (
+    BACKGROUND,
+    FACE,
+    NO_PHYSICS,
+    SIZE,
+    FiniteFloat,
+    parse_size,
+    progress,
+    with_background,
+    without_physics,
+)
 
 
 @click.command("render")
@@ -19,11 +29,12 @@ from toonface.cli_options import BACKGROUND, FACE, SIZE, FiniteFloat, parse_size
 @click.option("--fps", default=None, type=FiniteFloat(min=1.0, max=240.0),
               help="Output rate [default: the track's].")
 @BACKGROUND
+@NO_PHYSICS
 @click.option("--format", "fmt", default=None, type=click.Choice(("png", "svg", "lottie")),
               help="A folder OUTPUT: PNG frames (the default) or SVG frames, one file per frame; lottie: a .json "
                    "OUTPUT is a Lottie animation (what a .json OUTPUT is anyway).")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None,
-               fmt: str | None) -> None:
+               no_physics: bool, fmt: str | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face.
 
     With --background none (or a face whose background is transparent) the picture keeps its
@@ -37,7 +48,7 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     from toonface.pipeline import render
 
     dims = parse_size(size)
-    face_obj = with_background(load_face(face), background)
+    face_obj = without_physics(with_background(load_face(face), background), no_physics)
     if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
         track = load_animation(motors).sample(fps or 30.0, face_obj.neutral())
     else:
@@ -63,8 +74,9 @@ def export() -> None:
 @click.option("--transparent", is_flag=True,
               help="No background and no controls: the face alone, looping (OBS's browser source).")
 @click.option("--paused", is_flag=True, help="Open paused at the start.")
+@NO_PHYSICS
 def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, sound: str | None, transparent: bool,
-                   paused: bool) -> None:
+                   paused: bool, no_physics: bool) -> None:
     """MOTORS (.csv/.npz, or a knot-point animation .toml) on a face as one self-contained HTML
     file: it plays in any browser with no server, with play/pause and a time slider, and the
     sound in step where one is given. The face is an animated SVG, the studio's own drawing."""
@@ -76,7 +88,7 @@ def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, s
 
     if Path(output).suffix.lower() not in (".html", ".htm"):
         raise click.BadParameter(f"{output}: expected a .html page", param_hint="--output")
-    face_obj = load_face(face)
+    face_obj = without_physics(load_face(face), no_physics)
     track = (load_animation(motors).sample(fps, face_obj.neutral()) if motors.lower().endswith(".toml")
              else load_track(motors))
     path = export_web(track, face_obj, output, size=parse_size(size), fps=fps, sound=sound, transparent=transparent,

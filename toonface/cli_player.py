@@ -10,6 +10,7 @@ import click
 from player.animator import DEFAULT_LOOP_TIME
 from toonface.cli_options import (
     FACE,
+    NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
     VMC,
@@ -18,6 +19,7 @@ from toonface.cli_options import (
     bridge_spec,
     parse_codes,
     parse_size,
+    without_physics,
 )
 
 if TYPE_CHECKING:
@@ -70,10 +72,11 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
+@NO_PHYSICS
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
          vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
-         seconds: float | None, stream_to: str | None) -> None:
+         seconds: float | None, stream_to: str | None, no_physics: bool) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -101,7 +104,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
                             udp=_address(udp, "--udp", 7708), preview=_address(preview, "--preview", 8080),
                             track=played, repeat=not once, seconds=seconds,
                             providers=load_providers(providers_path))
-    face_obj = load_face(face)
+    face_obj = without_physics(load_face(face), no_physics)
     outputs = Outputs()
     if output is not None:
         settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims, live=True))

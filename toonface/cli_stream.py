@@ -14,6 +14,7 @@ import click
 
 from toonface.cli_options import (
     FACE,
+    NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
     VMC,
@@ -25,6 +26,7 @@ from toonface.cli_options import (
     parse_size,
     read_take,
     take_options,
+    without_physics,
 )
 from toonface.cli_player import _address, _required_address
 
@@ -156,9 +158,11 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
                    "sender that comes takes the next cell of a grid, on --face].")
 @click.option("--max-performers", default=8, show_default=True, type=click.IntRange(1, 64),
               help="Senders shown at once (each with its own stream id); 1: the first only.")
+@NO_PHYSICS
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
-            stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int) -> None:
+            stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int,
+            no_physics: bool) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -177,7 +181,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     from toonface.outputs import Outputs, PerformerRecordings
 
     check_output(record, "--record")
-    face_obj = load_face(face)
+    face_obj = without_physics(load_face(face), no_physics)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     seats = load_seats(performers_path) if performers_path else []

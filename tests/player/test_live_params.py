@@ -13,7 +13,7 @@ from toon import MotorTrack, load_expressions, load_face, motor_index
 
 @pytest.fixture
 def commands():
-    face = load_face("wizard")  # HT, UL, JS, PERK
+    face = load_face("wizard")  # HT, UL, JS, PERK, BEARD
     rests = face.extra_neutral()
     extras = Animator(np.array([rests[c] for c in face.extra_codes]), 0.1, face.extra_codes)
     animator = Animator(face.neutral(), loop_time=0.1)
@@ -30,9 +30,9 @@ def test_a_parameter_moves_as_a_motor_does_by_its_code(commands):
     assert animator.values()[motor_index("MB")] == pytest.approx(1.0)
     assert not extras.busy()  # the slices ran out on the third loop
     state = cmd.handle("state")
-    assert state.startswith("ok BRL=") and state.endswith("HT=0.800 UL=0.000 JS=0.500 PERK=0.000")
+    assert state.startswith("ok BRL=") and state.endswith("HT=0.800 UL=0.000 JS=0.500 PERK=0.000 BEARD=0.500")
     error = cmd.handle("TAIL 1 100")
-    assert error.startswith("error: unknown motor 'TAIL'") and "parameters: HT UL JS PERK" in error
+    assert error.startswith("error: unknown motor 'TAIL'") and "parameters: HT UL JS PERK BEARD" in error
     assert cmd.handle("CP 1 100").startswith("error: unknown motor 'CP'")  # the wizard has no cheeks to puff
 
 
@@ -59,7 +59,8 @@ def test_an_expression_moves_the_parameters_it_names_and_rests_the_others(comman
         extras.tick(k * 0.1)
         animator.tick(k * 0.1)
     now = dict(zip(extras.codes, extras.values(), strict=True))
-    assert now == {"HT": 0.5, "UL": 0.0, "JS": 0.5, "PERK": 1.0}  # the wizard's hat jumps; the head is left alone
+    # the wizard's hat jumps; the head is left alone, and the beard (its physics' own) rests
+    assert now == {"HT": 0.5, "UL": 0.0, "JS": 0.5, "PERK": 1.0, "BEARD": 0.5}
     cmd.handle("play disgust 100")
     for k in range(4, 8):
         extras.tick(k * 0.1)

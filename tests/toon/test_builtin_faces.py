@@ -134,7 +134,8 @@ def test_face_command_sheet_svg_and_bad_file(tmp_path, capsys):
     import cv2
 
     image = cv2.imread(str(sheet))
-    assert image.shape == (4 * (64 + 28), 4 * 64, 3)  # 9 expressions, HT 0 and 1, UL 1, JS 0 and 1, PERK 1
+    # 9 expressions, HT 0 and 1, UL 1, JS 0 and 1, PERK 1, EARS 1, WHISK 0 and 1: 18 in 5 columns
+    assert image.shape == (4 * (64 + 28), 5 * 64, 3)
     assert svg.read_text().startswith("<svg")
     bad = tmp_path / "bad.json"
     bad.write_text('{"format": "toonface.face/1"}')

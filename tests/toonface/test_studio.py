@@ -89,8 +89,8 @@ def test_the_server_serves_its_page_and_applies_messages():
     status, replies, session = _talk([{"op": "motor", "code": "MB", "value": 0.8}, {"op": "play", "name": "nope"},
                                       {"op": "jump"}, "not json", {"op": "drag", "point": "MB"}])
     assert status == 200
-    assert replies[0]["type"] == "hello" and len([m for g in replies[0]["groups"] for m in g["motors"]]) == 21 + 4
-    assert replies[0]["groups"][-1]["title"] == "Parameters"  # classic: HT UL JS CP
+    assert replies[0]["type"] == "hello" and len([m for g in replies[0]["groups"] for m in g["motors"]]) == 21 + 5
+    assert replies[0]["groups"][-1]["title"] == "Parameters"  # classic: HT UL JS CP HAIR
     assert replies[1]["type"] == "animation" and replies[1]["knots"] == {} and replies[1]["duration"] == 5.0
     assert replies[2]["type"] == "face" and replies[2]["doc"]["format"] == "toonface.face/1"
     assert replies[3]["type"] == "frame" and replies[3]["svg"].startswith("<svg")

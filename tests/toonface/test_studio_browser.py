@@ -50,7 +50,8 @@ def test_the_page_loads_with_every_motor_and_no_console_errors(fresh):
     driver, _ = fresh
     driver.refresh()
     wait_for(driver, READY)
-    assert driver.execute_script("return document.querySelectorAll('#sliders input[type=range]').length") == 21 + 4
+    # the 21 and classic's HT UL JS CP HAIR
+    assert driver.execute_script("return document.querySelectorAll('#sliders input[type=range]').length") == 21 + 5
     assert driver.execute_script("return document.querySelectorAll('#handles circle').length") >= 15
     errors = [entry for entry in driver.get_log("browser") if entry["level"] == "SEVERE"]
     assert errors == []

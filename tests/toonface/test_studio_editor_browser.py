@@ -14,8 +14,8 @@ from toonface.cli import main
 from toonface.studio.session import StudioSession
 
 pytestmark = pytest.mark.slow
-# the 21 and classic's HT UL JS CP
-READY = "window.editor && window.editor.state && document.querySelectorAll('#staves svg').length === 21 + 4"
+# the 21 and classic's HT UL JS CP HAIR
+READY = "window.editor && window.editor.state && document.querySelectorAll('#staves svg').length === 21 + 5"
 
 
 @pytest.fixture(scope="module")

@@ -38,7 +38,7 @@ def test_face_editor_messages_declare_a_parameter_and_the_page_is_described_agai
     assert changed == "face" and session.face.params[-1].points[0].at1 == (0.0, 4.0)
     apply(session, {"op": "knot", "action": "add", "code": "EARS", "t": 1.0, "v": 1.0}, 0.0)
     assert session.editor.animation.knots["EARS"] == ((1.0, 1.0),)
-    with pytest.raises(ValueError, match="unknown motor 'TAIL'; the face's parameters: HT, UL, JS, CP, EARS"):
+    with pytest.raises(ValueError, match="unknown motor 'TAIL'; the face's parameters: HT, UL, JS, CP, FRINGE, EARS"):
         apply(session, {"op": "knot", "action": "add", "code": "TAIL", "t": 1.0, "v": 1.0}, 0.0)
     with pytest.raises(Exception, match="neutral is 0.0"):
         apply(session, {"op": "faceedit", "action": "set_param", "code": "UL", "neutral": 0.3}, 0.0)

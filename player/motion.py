@@ -1,0 +1,85 @@
+"""Secondary motion while a face is drawn: its physics drivers (:mod:`toon.physics`) run on what
+moves the face, and what they move is added to the parameters drawn.
+
+One rule for every way a face is drawn. Over a track (``render``, ``retarget``, the parts of a
+batch, ``play --motors``) the drivers run on the track's own samples, whatever the frame rate:
+frames drawn at 30 or at 60 a second, or a part that starts half-way (its drivers run from the
+track's start to it), show the same motion at the same instants. Over a live source (a stream, a
+followed camera) they run on the frames as they come.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from toon import Face, MotorTrack
+from toon.motors import MOTOR_CODES, N_MOTORS
+from toon.physics import Physics, physics_for
+
+
+class SecondaryMotion:
+    """A face's drivers over a track's samples (``track``) or over live frames (none).
+
+    Parameters
+    ----------
+    face : Face
+    track : MotorTrack, optional
+        The track whose samples drive the physics; without it, each frame asked about does.
+    """
+
+    def __init__(self, face: Face, track: MotorTrack | None = None) -> None:
+        self.codes = (*MOTOR_CODES, *face.extra_codes)
+        rests = face.extra_neutral()
+        self.rests = {**{c: float(v) for c, v in zip(MOTOR_CODES, face.neutral(), strict=True)}, **rests}
+        self.physics: Physics | None = physics_for(face.physics, self.codes, self.rests)
+        self.track = track
+        self._rows = self._track_rows(track) if track is not None and self.physics is not None else None
+        self._next = 0  # the next track sample to take
+        self._last: float | None = None
+
+    @property
+    def active(self) -> bool:
+        """Whether the face has drivers."""
+        return self.physics is not None
+
+    def row(self, values: np.ndarray, extra: Mapping[str, float] | None) -> np.ndarray:
+        """The drivers' input row ``(len(codes),)``: the 21 motors, then the face's parameters
+        (``extra``'s where given, else at rest)."""
+        given = extra or {}
+        return np.concatenate([np.asarray(values, dtype=float)[:N_MOTORS],
+                               [given.get(c, self.rests[c]) for c in self.codes[N_MOTORS:]]])
+
+    def extra_at(self, t: float, values: np.ndarray, extra: Mapping[str, float] | None) -> dict[str, float]:
+        """The parameters to draw at ``t`` seconds for the motors ``values`` ``(21,)`` and the
+        parameters ``extra`` (by code) the frame has: those, with what the drivers move added
+        (kept within [0, 1]). Times go forward; a time before the last (a looping track
+        starting again) starts the drivers afresh."""
+        out = dict(extra or {})
+        if self.physics is None:
+            return out
+        if self._last is not None and t < self._last - 1e-9:
+            self.physics.reset()
+            self._next = 0
+        self._last = t
+        row = self.row(values, extra)
+        if self._rows is not None and self.track is not None:
+            times = self.track.times
+            while self._next < len(times) and times[self._next] <= t + 1e-9:
+                self.physics.advance(float(times[self._next]), self._rows[self._next])
+                self._next += 1
+            # the track's own values at t (what a frame drawn there shows, before any mixing)
+            row = np.array([np.interp(t, times, column) for column in self._rows.T])
+        else:
+            self.physics.advance(t, row)
+        for param, moved in self.physics.outputs(t, row).items():
+            out[param] = float(np.clip(out.get(param, self.rests[param]) + moved, 0.0, 1.0))
+        return out
+
+    def _track_rows(self, track: MotorTrack) -> np.ndarray:
+        """The track's samples as input rows ``(frames, len(codes))`` (a parameter it lacks at rest)."""
+        table = track.table()
+        columns = [table[:, N_MOTORS + track.extra_codes.index(c)] if c in track.extra_codes
+                   else np.full(track.frames, self.rests[c]) for c in self.codes[N_MOTORS:]]
+        return np.column_stack([table[:, :N_MOTORS], *columns]) if columns else table[:, :N_MOTORS]
