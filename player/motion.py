@@ -69,13 +69,25 @@ class SecondaryMotion:
             while self._next < len(times) and times[self._next] <= t + 1e-9:
                 self.physics.advance(float(times[self._next]), self._rows[self._next])
                 self._next += 1
-            # the track's own values at t (what a frame drawn there shows, before any mixing)
-            row = np.array([np.interp(t, times, column) for column in self._rows.T])
+            row = self._track_row(t)  # the track's own values at t (what a frame there shows, before mixing)
         else:
             self.physics.advance(t, row)
         for param, moved in self.physics.outputs(t, row).items():
             out[param] = float(np.clip(out.get(param, self.rests[param]) + moved, 0.0, 1.0))
         return out
+
+    def _track_row(self, t: float) -> np.ndarray:
+        """The track's input row at ``t``, linear between its samples (held beyond its ends), as
+        ``np.interp`` gives it column by column."""
+        assert self._rows is not None and self.track is not None
+        times = self.track.times
+        k = int(np.searchsorted(times, t, side="right"))
+        if k <= 0:
+            return self._rows[0]
+        if k >= len(times):
+            return self._rows[-1]
+        share = (t - times[k - 1]) / (times[k] - times[k - 1])
+        return self._rows[k - 1] + (self._rows[k] - self._rows[k - 1]) * share
 
     def _track_rows(self, track: MotorTrack) -> np.ndarray:
         """The track's samples as input rows ``(frames, len(codes))`` (a parameter it lacks at rest)."""
