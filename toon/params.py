@@ -67,8 +67,9 @@ def drawable(codes: tuple[str, ...] | list[str], declared: tuple[str, ...]) -> t
 
 class DrawnExtras:
     """The parameters beyond the 21 a live source sends (a stream, a performer), kept to those a
-    face declares; each one left out is said once through ``say``: a standard one the face lacks
-    is drawn without, any other is refused (it means something only to a face that has it)."""
+    face declares: a standard one the face lacks is drawn without (every preset sends all of
+    them; few faces draw all), any other is refused and said once through ``say`` (it means
+    something only to a face that has it)."""
 
     def __init__(self, declared: tuple[str, ...], face_name: str, say: Callable[[str], None]) -> None:
         self.declared, self.face_name, self.say = declared, face_name, say
@@ -78,14 +79,11 @@ class DrawnExtras:
         """``extra`` without the codes the face lacks."""
         if not extra:
             return {}
-        kept, standard, other = drawable(list(extra), self.declared)
-        if fresh := [c for c in standard if c not in self._said]:
-            self.say(f"face {self.face_name} does not declare {', '.join(fresh)}: drawn without "
-                     f"{'them' if len(fresh) > 1 else 'it'}")
+        kept, _standard, other = drawable(list(extra), self.declared)
         if odd := [c for c in other if c not in self._said]:
             self.say(f"refused parameter{'s' if len(odd) > 1 else ''} {', '.join(odd)}: not standard and not "
                      f"declared by face {self.face_name} (declared: {', '.join(self.declared) or 'none'})")
-        self._said.update(standard + other)
+        self._said.update(other)
         return {code: float(extra[code]) for code in kept}
 
 

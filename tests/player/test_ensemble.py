@@ -173,7 +173,7 @@ def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_p
 
 def test_each_performer_s_parameters_are_drawn_on_its_own_face():
     """Two performers on the stage: one tilts its head (HT), the other asks for a cheek puff the
-    cat has not got, which its face leaves out (said once)."""
+    cat has not got, which its face leaves out (every preset sends it: not said)."""
     ensemble = Ensemble(load_face("cat"), (256, 128))
     neutral = load_face("cat").neutral()
     upright = ensemble.frame([(1, neutral, 0.0, {}), (2, neutral, 0.0, {})], 0.0)

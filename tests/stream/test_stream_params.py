@@ -75,13 +75,13 @@ def test_a_playout_eases_the_parameters_to_the_face_s_own_rest():
     np.testing.assert_allclose(shown[21:], [0.0, 0.5], atol=1e-6)  # UL's own rest; an unknown one's middle
 
 
-def test_what_a_face_cannot_draw_is_left_out_and_said_once():
+def test_what_a_face_cannot_draw_is_left_out_and_what_it_refuses_is_said_once():
     said: list[str] = []
     drawn = DrawnExtras(load_face("cat").extra_codes, "cat", said.append)
     assert drawn.drawn({"HT": 0.7, "CP": 1.0, "TAIL": 0.2}) == {"HT": 0.7}
     assert drawn.drawn({"HT": 0.6, "CP": 1.0, "TAIL": 0.2}) == {"HT": 0.6}
-    assert said == ["face cat does not declare CP: drawn without it",
-                    "refused parameter TAIL: not standard and not declared by face cat (declared: HT, UL, JS, PERK)"]
+    assert said == ["refused parameter TAIL: not standard and not declared by face cat "
+                    "(declared: HT, UL, JS, PERK, EARS, WHISK)"]  # CP: drawn without, unsaid (every preset sends it)
 
 
 @pytest.mark.slow

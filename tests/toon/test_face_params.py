@@ -141,7 +141,7 @@ def test_a_standard_extra_the_face_lacks_is_left_out_and_said(caplog):
     face = load_face("cat")  # no cheeks to puff
     values = np.repeat(face.neutral()[None], 2, 0)
     track = MotorTrack(values, 10.0, extra_codes=("CP", "UL"), extra=np.array([[1.0, 0.0], [1.0, 1.0]]))
-    with caplog.at_level(logging.WARNING):
+    with caplog.at_level(logging.INFO):
         frames = list(geometries(track, FaceRig(face), 10.0))
     assert "face cat does not declare CP: that column is not drawn" in caplog.text
     rig = FaceRig(face)
