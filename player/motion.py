@@ -18,6 +18,10 @@ from toon import Face, MotorTrack
 from toon.motors import MOTOR_CODES, N_MOTORS
 from toon.physics import Physics, physics_for
 
+#: Live frames further apart than this are a pause, not a motion: the inputs held through it move
+#: in the last GAP seconds before the new frame (a frame period's ramp, about).
+GAP = 1 / 30
+
 
 class SecondaryMotion:
     """A face's drivers over a track's samples (``track``) or over live frames (none).
@@ -38,11 +42,17 @@ class SecondaryMotion:
         self._rows = self._track_rows(track) if track is not None and self.physics is not None else None
         self._next = 0  # the next track sample to take
         self._last: float | None = None
+        self._held: np.ndarray | None = None  # live: the last frame's inputs, and when they came
+        self._held_at: float | None = None
 
     @property
     def active(self) -> bool:
         """Whether the face has drivers."""
         return self.physics is not None
+
+    def moving(self) -> bool:
+        """Whether something the drivers move is still swinging (a live view keeps drawing)."""
+        return self.physics is not None and self.physics.moving()
 
     def row(self, values: np.ndarray, extra: Mapping[str, float] | None) -> np.ndarray:
         """The drivers' input row ``(len(codes),)``: the 21 motors, then the face's parameters
@@ -61,7 +71,7 @@ class SecondaryMotion:
             return out
         if self._last is not None and t < self._last - 1e-9:
             self.physics.reset()
-            self._next = 0
+            self._next, self._held, self._held_at = 0, None, None
         self._last = t
         row = self.row(values, extra)
         if self._rows is not None and self.track is not None:
@@ -70,8 +80,11 @@ class SecondaryMotion:
                 self.physics.advance(float(times[self._next]), self._rows[self._next])
                 self._next += 1
             row = self._track_row(t)  # the track's own values at t (what a frame there shows, before mixing)
-        else:
+        else:  # live: linear from the last frame, or after a pause (a face idle in the studio) held till just before
+            if self._held is not None and self._held_at is not None and t - self._held_at > GAP:
+                self.physics.advance(t - GAP, self._held)
             self.physics.advance(t, row)
+            self._held, self._held_at = row, t
         for param, moved in self.physics.outputs(t, row).items():
             out[param] = float(np.clip(out.get(param, self.rests[param]) + moved, 0.0, 1.0))
         return out

@@ -186,6 +186,17 @@ class Physics:
         self._state = self._at(t, row)
         self._time, self._row = float(t), np.asarray(row, dtype=float)[self._used].copy()
 
+    def moving(self, tolerance: float = 1e-3) -> bool:
+        """Whether a spring is still away from its target or still moving (at the last row taken), by
+        more than ``tolerance`` (a thousandth of a parameter: less than a pixel)."""
+        if self._time is None:
+            return False
+        n = len(self.drivers)
+        x, w = self._state[:2 * n], self._state[2 * n:2 * n + 2 * len(self._used)]
+        targets = self._target @ np.concatenate([x, w])
+        omegas = np.array([2 * np.pi * d.frequency for d in self.drivers])  # a speed as the swing it carries
+        return bool(np.any(np.abs(x[0::2] - targets) > tolerance) or np.any(np.abs(x[1::2]) / omegas > tolerance))
+
     def outputs(self, t: float, row: np.ndarray) -> dict[str, float]:
         """How far each moved parameter is displaced at ``t`` (not before the last row taken)
         for inputs ``row`` there, as if they changed linearly from the last row; the state is
@@ -210,8 +221,10 @@ class Physics:
         h = float(t) - self._time
         if h < -1e-9:
             raise ValueError(f"physics goes forward: {t:g} s after {self._time:g} s")
-        h = max(h, 0.0)  # the same instant, reached by another sum of steps
-        slope = (values - self._row) / h if h > 0 else np.zeros(m)
+        if h <= 0:  # the same instant (or reached by another sum of steps): the inputs jump, the springs not yet
+            return np.concatenate([self._state[:2 * n], values - rest, self._state[2 * n + m:2 * n + 2 * m],
+                                   np.zeros(m)])
+        slope = (values - self._row) / h
         start = np.concatenate([self._state[:2 * n], self._row - rest, slope, slope])
         return self._transition(h) @ start
 

@@ -45,3 +45,25 @@ def test_face_editor_messages_declare_a_parameter_and_the_page_is_described_agai
     assert "UL" in session.face.extra_codes  # refused: the face as it was
     changed, _ = apply(session, {"op": "faceedit", "action": "delete_param", "code": "EARS"}, 0.0)
     assert changed == "described" and "EARS" not in session.face.extra_codes
+
+
+def test_a_head_turned_by_a_slider_swings_the_hair_which_settles_and_the_driver_is_tuned_live():
+    session = StudioSession("classic", folder=temp_folder())
+    session.tick(0.0)
+    assert session.frame()["values"]["HAIR"] == 0.5 and not session.busy()
+    session.set_motor("HH", 0.9)  # a quick turn
+    swings = []
+    for k in range(1, 181):
+        session.tick(k / 30)
+        swings.append(session.frame()["values"]["HAIR"] - 0.5)
+    assert max(np.abs(swings[:30])) > 0.1  # the hair swings behind the turn
+    assert abs(swings[-1]) < 0.005 and not session.busy()  # and settles; nothing moves, the page rests
+    changed, _ = apply(session, {"op": "faceedit", "action": "set_driver", "name": "hair", "param": "HAIR",
+                                 "inputs": "HH:2 MB':0.05", "frequency": 3, "damping": 0.1, "swing": 1}, 0.0)
+    (driver,) = session.face.physics
+    assert changed == "face" and driver.frequency == 3 and driver.inputs[1].of == "velocity"
+    with pytest.raises(Exception, match="expected one of"):
+        apply(session, {"op": "faceedit", "action": "set_driver", "name": "x", "param": "NOPE", "inputs": "HH:1",
+                        "frequency": 1, "damping": 0.2}, 0.0)
+    apply(session, {"op": "faceedit", "action": "delete_driver", "name": "hair"}, 0.0)
+    assert session.face.physics == ()

@@ -67,3 +67,24 @@ def test_the_face_editor_declares_a_parameter_its_slider_and_staff_move_the_face
         assert "SNARL" not in session.face.extra_codes
         errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
         assert errors == []
+
+
+def test_the_face_editor_tunes_a_driver_and_the_hair_swings_and_settles_live():
+    session = StudioSession("classic", folder=temp_folder())
+    with studio_page(session, READY, 1400, 1000) as driver:
+        driver.execute_script("document.getElementById('face-panel').open = true;")
+        driver.find_element("css selector", '#driver-list .driver[data-name="hair"]').click()
+        assert driver.find_element("id", "driver-inputs").get_attribute("value") == "HH:1.2 HT:-0.6"
+        frequency = driver.find_element("id", "driver-frequency")
+        frequency.clear()
+        frequency.send_keys("2.5")
+        driver.find_element("id", "driver-set").click()
+        wait_for(driver, "window.faces.doc.physics[0].frequency === 2.5")
+        assert session.face.physics[0].frequency == 2.5
+        assert "hair: HAIR swings HH:1.2 HT:-0.6 at 2.5 Hz" in driver.find_element("id", "driver-list").text
+        driver.execute_script("const s = document.getElementById('motor-HH'); s.value = 0.9;"
+                              "s.dispatchEvent(new Event('input'))")  # a quick turn of the head
+        wait_for(driver, "Math.abs(window.studio.last.values.HAIR - 0.5) > 0.05")  # the hair swings
+        wait_for(driver, "Math.abs(window.studio.last.values.HAIR - 0.5) < 0.005", timeout=30)  # and settles
+        errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
+        assert errors == []

@@ -20,8 +20,8 @@ from common import InputError, builtin_names
 from common.data import names_builtin
 from toon import Face, load_face, save_face
 from toon.face import KINDS, face_from_dict
-from toon.motors import STANDARD_EXTRAS
 from toonface.studio import component_edits as parts
+from toonface.studio import face_params
 from toonface.studio.face_items import (
     LISTS,
     component_part,
@@ -313,33 +313,22 @@ class FaceEditor:
 
     def set_param(self, code: str, neutral: float | None = None, description: str | None = None,
                   point: str | None = None, dx: float = 0.0, dy: float = 0.0) -> Face:
-        """Declare parameter ``code`` beyond the 21 (or change it): where it rests, what it means,
-        and with ``point``, that control point moved by ``(dx, dy)`` face units (y up) at the
-        parameter's 1 from where it rests (at its 0 for one that rests at 1); a move of (0, 0)
-        lets the point go. A standard one (UL...) rests where the standard says."""
-        def change(doc: dict) -> None:
-            params = doc.setdefault("params", {})
-            body = params.setdefault(code, {})
-            if neutral is not None:
-                body["neutral"] = finite(neutral)
-            if description is not None:
-                body["description"] = description
-            if point is not None:
-                rest = body.get("neutral", STANDARD_EXTRAS[code].neutral if code in STANDARD_EXTRAS else 0.0)
-                moves = body.setdefault("points", {})
-                step = np.array([finite(dx), finite(dy)]) / (1.0 - rest if rest < 1 else -1.0)
-                if step.any():
-                    moves[point] = {"at0": list(-rest * step), "at1": list((1 - rest) * step)}
-                else:
-                    moves.pop(point, None)
-        return self._edit(change)
+        """Declare parameter ``code`` beyond the 21 or change it (:func:`face_params.set_param`)."""
+        return self._edit(lambda doc: face_params.set_param(doc, code, neutral, description, point, dx, dy))
 
     def delete_param(self, code: str) -> Face:
         """Remove parameter ``code`` (a component or polygon it drives makes that an error, named)."""
-        def change(doc: dict) -> None:
-            _known(doc.get("params", {}), code, "parameter")
-            del doc["params"][code]
-        return self._edit(change)
+        return self._edit(lambda doc: face_params.delete_param(doc, code))
+
+    def set_driver(self, name: str, param: str, inputs: str, frequency: float, damping: float,
+                   swing: float = 1.0, gain: float = 1.0) -> Face:
+        """Add physics driver ``name`` or change it (:func:`face_params.set_driver`)."""
+        return self._edit(lambda doc: face_params.set_driver(doc, name, param, inputs, frequency, damping,
+                                                             bool(swing), gain))
+
+    def delete_driver(self, name: str) -> Face:
+        """Remove physics driver ``name``."""
+        return self._edit(lambda doc: face_params.delete_driver(doc, name))
 
     # -- files ---------------------------------------------------------------------------------------
     def open(self, name_or_path: str) -> Face:

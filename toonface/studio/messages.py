@@ -34,6 +34,7 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
     if not isinstance(message, dict):
         raise TypeError("a message is a JSON object")
     op = message.get("op")
+    session.clock_to(now)  # what the message changes happens now (the face's physics runs on this clock)
     if op in EDITOR_OPS:
         return "animation", _edit(session, op, message, now)
     if op == "faceedit":
@@ -156,7 +157,9 @@ FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "
                 "list_library": ("library",),
                 "set_background": ("color",), "rename": ("name",),
                 "set_param": ("code", "neutral?", "description?", "point?", "dx?", "dy?"),
-                "delete_param": ("code",)}
+                "delete_param": ("code",),
+                "set_driver": ("name", "param", "inputs", "frequency", "damping", "swing?", "gain?"),
+                "delete_driver": ("name",)}
 #: What the face editor does to a polygon or a component as a unit: ``VERB_polygon`` or ``VERB_component``.
 UNIT_ACTIONS = {"move": ("dx", "dy"), "scale": ("factor",), "flip": ("axis",), "duplicate": ("dx", "dy"),
                 "delete": ()}
@@ -282,7 +285,7 @@ def _argument(key: str, value: object) -> object:
             raise TypeError('controls: expected an object like {"M": "BLM"}')
         return {str(k): str(v) for k, v in value.items()}
     if key in ("name", "code", "end", "axis", "color", "part", "kind", "master", "library", "use", "point",
-               "description"):
+               "description", "param", "inputs"):
         return str(value)
     return number(value, key)
 

@@ -19,6 +19,7 @@ from typing import Protocol
 import numpy as np
 
 from player.animator import Animator, schedule
+from player.motion import SecondaryMotion
 from player.motions import GESTURES, motion_names, standard_motion
 from toon import MOTOR_CODES, Face, FaceRig, load_face
 from toon.expressions import Expression, load_expressions
@@ -113,6 +114,7 @@ class StudioSession:
         rests = self.face.extra_neutral()  # the face's parameters beyond the 21, moved as the motors are
         self.moved = Animator(np.array([rests[c] for c in self.face.extra_codes]), self.loop_time,
                               self.face.extra_codes)
+        self.motion = SecondaryMotion(self.face)  # the face's physics, live: drag the head, the hair swings
         self.handles = tuple(Handle(p, tuple((m.code, m.axis) for m in MOTORS if m.point == p))
                              for p in self.face.points if any(m.point == p for m in MOTORS))
 
@@ -254,13 +256,17 @@ class StudioSession:
         self._now = now
         return self.busy()
 
+    def clock_to(self, now: float) -> None:
+        """The server's clock is at ``now`` (a message came): what changes now swings from now."""
+        self._now = max(self._now, now)
+
     def busy(self) -> bool:
         """Whether the Animator has moves left or an expression loops, the animation is playing, a
         stream is shown or a tuned take plays."""
         tuning = self.showing == "tune" and self._tune_paused is None
         looping = self.looping is not None and self.showing == "test"
         return (self.animator.busy() or self.moved.busy() or self.editor.playing or self.showing == "live" or tuning
-                or looping)
+                or looping or self.motion.moving())
 
     def tune(self, tuner: MappingTuner, now: float) -> None:
         """Show ``tuner``'s take, mapped, playing in a loop from ``now``."""
@@ -290,6 +296,8 @@ class StudioSession:
         """What the page draws now: ``svg`` (the face, as :mod:`toon.svg` exports it), ``values``
         (code to value) and ``points`` (name to SVG coordinates of the draggable control points)."""
         values, extra = self.values, self.extra_values()
+        if self.showing in ("test", "live"):  # physics on what moves live (the animation's cursor jumps about)
+            extra = self.motion.extra_at(self._now, values, extra)
         points = self.rig.control_points(values, extra)
         names = list(self.face.points)
         at = np.array([points[names.index(h.point)] for h in self.handles])

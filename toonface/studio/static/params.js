@@ -26,6 +26,36 @@
     }));
   }
 
+  function drivers(doc) {
+    const params = [...(doc.head && doc.head.tilt ? ["HT"] : []), ...Object.keys(doc.params || {})];
+    const param = el("driver-param");
+    const keep = param.value;
+    param.replaceChildren(...params.map((code) => new Option(code, code, false, code === keep)));
+    el("driver-list").replaceChildren(...(doc.physics || []).map((d) => {
+      const row = document.createElement("div");
+      row.className = "driver";
+      row.dataset.name = d.name;
+      const inputs = d.inputs.map((i) => i.driver ? `${i.driver}>:${i.gain}` : `${i.code}${i.of === "velocity" ? "'" : ""}:${i.gain}`);
+      row.textContent = `${d.name}: ${d.output.param} ${d.output.swing ? "swings" : "follows"} ${inputs.join(" ")}`
+        + ` at ${d.frequency} Hz, damping ${d.damping}`;
+      row.addEventListener("click", () => {  // chosen to tune: its fields filled in
+        el("driver-name").value = d.name;
+        el("driver-param").value = d.output.param;
+        el("driver-inputs").value = inputs.join(" ");
+        el("driver-frequency").value = d.frequency;
+        el("driver-damping").value = d.damping;
+        el("driver-swing").checked = d.output.swing;
+      });
+      return row;
+    }));
+  }
+
+  el("driver-set").addEventListener("click", () => faces.edit({
+    action: "set_driver", name: el("driver-name").value.trim(), param: el("driver-param").value,
+    inputs: el("driver-inputs").value, frequency: Number(el("driver-frequency").value),
+    damping: Number(el("driver-damping").value), swing: el("driver-swing").checked ? 1 : 0}));
+  el("driver-delete").addEventListener("click", () => faces.edit({action: "delete_driver", name: el("driver-name").value.trim()}));
+
   el("fparam-set").addEventListener("click", () => {
     const code = el("fparam-code").value.trim().toUpperCase();
     const message = {action: "set_param", code, point: el("fparam-point").value,
@@ -40,5 +70,6 @@
   studio.handlers.face = (message) => {
     shown(message);
     list(message.doc);
+    drivers(message.doc);
   };
 })();
