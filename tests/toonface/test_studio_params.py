@@ -67,3 +67,15 @@ def test_a_head_turned_by_a_slider_swings_the_hair_which_settles_and_the_driver_
                         "frequency": 1, "damping": 0.2}, 0.0)
     apply(session, {"op": "faceedit", "action": "delete_driver", "name": "hair"}, 0.0)
     assert session.face.physics == ()
+
+
+def test_the_staves_get_the_curve_the_physics_draws_from_the_animation():
+    session = StudioSession("classic", folder=temp_folder())
+    apply(session, {"op": "knot", "action": "add", "code": "HH", "t": 1.0, "v": 0.5}, 0.0)
+    apply(session, {"op": "knot", "action": "add", "code": "HH", "t": 1.2, "v": 0.9}, 0.0)  # a quick turn
+    curves = session.driven()
+    (times, hair) = np.array(curves["HAIR"]).T
+    assert times[1] - times[0] == pytest.approx(1 / 30, abs=1e-4) and times[-1] == pytest.approx(5.0 - 1 / 30, abs=1e-3)
+    assert np.abs(hair[times < 1.0] - 0.5).max() < 1e-6  # still before the turn
+    assert np.abs(hair[(times > 1.2) & (times < 2.2)] - 0.5).max() > 0.1  # it swings after it
+    assert StudioSession("classic", folder=temp_folder()).driven()["HAIR"][0] == [0.0, 0.5]

@@ -183,8 +183,8 @@ def _state(session: StudioSession, changed: str) -> list[dict]:
     out = []
     if every:
         out.append({"type": "hello", "faces": builtin_faces(), **session.describe()})
-    if every or changed == "animation":
-        out.append({"type": "animation", **session.editor.describe()})
+    if every or changed in ("animation", "face"):  # a face's drivers change what its physics draws
+        out.append({"type": "animation", **session.editor.describe(), "driven": session.driven()})
     if every or changed == "face":
         out.append({"type": "face", **session.faces.describe()})
     if (every or changed == "tune") and session.tuner is not None:

@@ -256,6 +256,21 @@ class StudioSession:
         self._now = now
         return self.busy()
 
+    def driven(self, rate: float = 30.0) -> dict[str, list[list[float]]]:
+        """What the face's physics does to the parameters it moves over the animation, sampled at
+        ``rate``: per parameter, ``[[time, value], ...]`` (the staves show it, read-only)."""
+        if not self.face.physics or self.editor.animation.duration <= 0:
+            return {}
+        track = self.editor.animation.sample(rate, self.neutral, self.editor.declared)
+        motion = SecondaryMotion(self.face, track)
+        table = track.table()
+        curves: dict[str, list[list[float]]] = {}
+        for k in range(track.frames):
+            extra = motion.extra_at(k / rate, track.values[k], track.extra_at(table[k]))
+            for param in motion.physics.params if motion.physics is not None else ():
+                curves.setdefault(param, []).append([round(k / rate, 4), round(extra[param], 4)])
+        return curves
+
     def clock_to(self, now: float) -> None:
         """The server's clock is at ``now`` (a message came): what changes now swings from now."""
         self._now = max(self._now, now)

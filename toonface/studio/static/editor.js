@@ -108,6 +108,10 @@
                                         "data-index": index}));
         });
       }
+      const driven = (state.driven || {})[code];  // what the face's physics makes of it: shown, not edited
+      if (driven && driven.length > 1) {
+        parts.push(svgNode("polyline", {class: "driven", points: driven.map(([t, v]) => `${xOf(t)},${yOf(v)}`).join(" ")}));
+      }
       parts.push(svgNode("line", {class: "cursor", x1: xOf(state.cursor), x2: xOf(state.cursor), y1: 0, y2: STAFF_HEIGHT}));
       svg.replaceChildren(...parts);
     }
