@@ -85,6 +85,8 @@ class SecondaryMotion:
                 self.physics.advance(t - GAP, self._held)
             self.physics.advance(t, row)
             self._held, self._held_at = row, t
+            if not self.physics.moving():  # all but stopped: at rest exactly (a still face is drawn as still)
+                self.physics.settle()
         for param, moved in self.physics.outputs(t, row).items():
             out[param] = float(np.clip(out.get(param, self.rests[param]) + moved, 0.0, 1.0))
         return out

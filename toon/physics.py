@@ -197,6 +197,18 @@ class Physics:
         omegas = np.array([2 * np.pi * d.frequency for d in self.drivers])  # a speed as the swing it carries
         return bool(np.any(np.abs(x[0::2] - targets) > tolerance) or np.any(np.abs(x[1::2]) / omegas > tolerance))
 
+    def settle(self) -> None:
+        """Every spring at its target and still (the state only: a live view's springs that have
+        all but stopped come to rest exactly, so that a still face is drawn as still)."""
+        if self._time is None:
+            return
+        n = len(self.drivers)
+        w = self._state[2 * n:2 * n + 2 * len(self._used)]
+        x = np.zeros(2 * n)
+        for k in range(n):
+            x[2 * k] = self._target[k] @ np.concatenate([x, w])
+        self._state = np.concatenate([x, self._state[2 * n:]])
+
     def outputs(self, t: float, row: np.ndarray) -> dict[str, float]:
         """How far each moved parameter is displaced at ``t`` (not before the last row taken)
         for inputs ``row`` there, as if they changed linearly from the last row; the state is

@@ -106,18 +106,22 @@ def design_off(driver) -> None:
 
 def page_against_offscreen(driver, session):
     """How far the face the page shows (a screenshot of ``#view``) is from the offscreen renderer's
-    picture of the session's face at its values: absolute differences ``(512, 512, 3)``."""
+    picture of the session's face at the values of the frame the page shows (its physics' swing
+    included): absolute differences ``(512, 512, 3)``."""
     import io
 
     import numpy as np
     from PIL import Image
 
     from player.backends import open_renderer
-    from toon import FaceRig
+    from toon import MOTOR_CODES, FaceRig
 
     png = driver.find_element("id", "view").screenshot_as_png
+    values = driver.execute_script("return window.studio.last.values")
     shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+    motors = np.array([values[code] for code in MOTOR_CODES])
+    extra = {code: values[code] for code in session.face.extra_codes if code in values}
     with open_renderer((512, 512)) as renderer:
-        drawn = renderer.render(FaceRig(session.face).geometry(session.values)).astype(int)
+        drawn = renderer.render(FaceRig(session.face).geometry(motors, extra)).astype(int)
     assert shown.shape == drawn.shape == (512, 512, 3)
     return np.abs(shown - drawn)

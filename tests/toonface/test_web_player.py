@@ -13,7 +13,7 @@ from sounds import write_tone
 
 from capture import synthesize
 from player.backends import open_renderer
-from player.offline import resample
+from player.offline import geometries
 from toon import FaceRig, MotorTrack, load_face, save_track
 from toonface.cli import main
 from toonface.pipeline import truth_track
@@ -52,7 +52,7 @@ def test_the_player_shows_the_renderers_frames_and_plays_its_sound(face_name, tr
     face = load_face(face_name)
     if transparent:  # the page has no background: the browser's white shows through
         face = dataclasses.replace(face, background=(1.0, 1.0, 1.0, 1.0))
-    rig, values = FaceRig(face), resample(track, 30.0)
+    frames = list(geometries(track, FaceRig(face), 30.0))  # the player's own frames, the face's physics too
     with chromium(800, 900) as driver, open_renderer((512, 512)) as renderer:
         driver.get((tmp_path / "p.html").as_uri())
         wait_for(driver, "window.player && document.getElementById('sound').readyState >= 1")
@@ -63,7 +63,7 @@ def test_the_player_shows_the_renderers_frames_and_plays_its_sound(face_name, tr
             driver.execute_script(f"player.seek({t});")
             png = driver.find_element("css selector", "#stage svg").screenshot_as_png
             shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
-            drawn = renderer.render(rig.geometry(values[int(round(t * 30))])).astype(int)
+            drawn = renderer.render(frames[int(round(t * 30))]).astype(int)
             assert shown.shape == drawn.shape and np.abs(shown - drawn).mean() <= 1.5, (t, np.abs(shown - drawn).mean())
         if transparent:  # what OBS's browser source composites: the page's own alpha
             driver.execute_cdp_cmd("Emulation.setDefaultBackgroundColorOverride", {"color": {"r": 0, "g": 0, "b": 0,
