@@ -21,6 +21,7 @@ import numpy as np
 
 from common import read_versioned
 from common.validate import Validator, at
+from player.motion import SecondaryMotion
 from player.providers import Mixer, Providers
 from toon import Face, FaceRig, Geometry, load_face
 from toon.params import DrawnExtras
@@ -77,6 +78,7 @@ class Member:
     age: float = 0.0
     extra: dict[str, float] = field(default_factory=dict)
     drawn: DrawnExtras | None = None
+    motion: SecondaryMotion | None = None  # its face's physics, on its own frames
 
 
 @dataclass
@@ -115,7 +117,8 @@ class Ensemble:
                 self._faces[seat.face] = load_face(seat.face)
             face = self._faces[seat.face]
         member = Member(stream, FaceRig(face), Mixer(face.neutral(), self.providers), face.neutral(),
-                        drawn=DrawnExtras(face.extra_codes, face.name, lambda text: log.warning("%s", text)))
+                        drawn=DrawnExtras(face.extra_codes, face.name, lambda text: log.warning("%s", text)),
+                        motion=SecondaryMotion(face) if face.physics else None)
         sure = np.ones(len(member.values))
         member.mixer.tracking = lambda: (member.values, sure, member.age)
         return member
@@ -141,7 +144,9 @@ class Ensemble:
             if opacity <= 0.0:
                 del self.members[stream]  # gone: its place is given up
                 continue
-            shown.append((member, min(opacity, 1.0), member.rig.geometry(member.mixer.step(t), member.extra)))
+            values = member.mixer.step(t)
+            extra = member.motion.extra_at(t, values, member.extra) if member.motion is not None else member.extra
+            shown.append((member, min(opacity, 1.0), member.rig.geometry(values, extra)))
         if not shown:
             return None
         if len(shown) == 1 and not self._seats and shown[0][1] == 1.0:

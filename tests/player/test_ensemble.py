@@ -185,3 +185,17 @@ def test_each_performer_s_parameters_are_drawn_on_its_own_face():
     second = [item.vertices for item in upright.items][len(upright.items) // 2:]
     still = [item.vertices for item in tilted.items][len(tilted.items) // 2:]
     assert max(np.abs(a - b).max() for a, b in zip(second, still, strict=True)) < 1e-9
+
+
+def test_each_performer_s_face_swings_on_its_own_frames():
+    """Two performers on the stage, the first turning its head quickly: its hair swings behind the
+    turn (the classic's physics, on its own frames) and the still one's does not."""
+    ensemble = Ensemble(load_face("classic"), (256, 128))
+    neutral = load_face("classic").neutral()
+    turned = neutral.copy()
+    turned[motor_index("HH")] = 0.9
+    ensemble.frame([(1, neutral, 0.0, {}), (2, neutral, 0.0, {})], 0.0)
+    for k in range(1, 4):
+        ensemble.frame([(1, turned, 0.0, {}), (2, neutral, 0.0, {})], k / 30)
+    first, second = ensemble.members[1].motion, ensemble.members[2].motion
+    assert first is not None and first.moving() and second is not None and not second.moving()
