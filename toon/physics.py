@@ -8,9 +8,11 @@ swings) that follows a target made of its inputs, and moves one of the face's pa
      "frequency": 1.4, "damping": 0.25, "output": {"param": "BEARD", "gain": 1.0, "swing": true}}
 
 - ``inputs``: motors or parameters (``code``), their value (``of = "value"``, counted from
-  their rest) or their velocity (``"velocity"``, units a second), or an earlier driver's
-  output (``driver``: its name; drivers feeding drivers make chains), each times its ``gain``.
-  The target ``T`` is their sum.
+  their rest), their velocity (``"velocity"``, units a second) or their acceleration
+  (``"acceleration"``), or an earlier driver's output (``driver``: its name; drivers feeding
+  drivers make chains), each times its ``gain``. The target ``T`` is their sum. Values change
+  linearly between samples, so an acceleration is a kick where a velocity changes, at a
+  sample: the spring's speed jumps by ``w^2`` times the gain times the change.
 - ``frequency`` (Hz) and ``damping`` (a fraction of critical): the spring ``z`` obeys
   ``z'' = w^2 (T - z) - 2 d w z'`` with ``w = 2 pi frequency``, the standard second-order
   system: a step in ``T`` overshoots by ``exp(-pi d / sqrt(1 - d^2))`` and rings with the period
@@ -42,7 +44,7 @@ from scipy.linalg import expm
 
 from toon.validate import ShapeValidator
 
-INPUT_KINDS = ("value", "velocity")
+INPUT_KINDS = ("value", "velocity", "acceleration")
 
 
 @dataclass(frozen=True)
@@ -149,17 +151,20 @@ class Physics:
         # each driver's target and output as rows over (x (2n), w (2m))
         target = np.zeros((n, 2 * n + 2 * m))
         output = np.zeros((n, 2 * n + 2 * m))
+        kick = np.zeros((2 * n, m))  # a change of velocity at a sample: the springs' speeds jump
         names = {d.name: k for k, d in enumerate(self.drivers)}
         for k, d in enumerate(self.drivers):
             for i in d.inputs:
                 if i.driver:
                     target[k] += i.gain * output[names[i.driver]]
+                elif i.of == "acceleration":
+                    kick[2 * k + 1, used.index(self.codes.index(i.code))] += (2 * np.pi * d.frequency) ** 2 * i.gain
                 else:
                     column = used.index(self.codes.index(i.code)) + (m if i.of == "velocity" else 0)
                     target[k, 2 * n + column] += i.gain
             output[k] = -target[k] if d.swing else 0.0
             output[k, 2 * k] += 1.0  # z (less T for a swing)
-        self._target, self._output = target, output
+        self._target, self._output, self._kick = target, output, kick
         size = 2 * n + 2 * m + m  # x, w and the values' slope (the velocities' slope is 0)
         a = np.zeros((size, size))
         for k, d in enumerate(self.drivers):
@@ -237,7 +242,8 @@ class Physics:
             return np.concatenate([self._state[:2 * n], values - rest, self._state[2 * n + m:2 * n + 2 * m],
                                    np.zeros(m)])
         slope = (values - self._row) / h
-        start = np.concatenate([self._state[:2 * n], self._row - rest, slope, slope])
+        x = self._state[:2 * n] + self._kick @ (slope - self._state[2 * n + m:2 * n + 2 * m])  # velocities changed
+        start = np.concatenate([x, self._row - rest, slope, slope])
         return self._transition(h) @ start
 
     def _transition(self, h: float) -> np.ndarray:

@@ -91,3 +91,21 @@ def test_two_frame_rates_reach_the_same_state_at_shared_instants():
         for param in ("X", "Y"):
             assert values[param] == pytest.approx(fast[t][param], abs=1e-9)
     assert max(abs(v["Y"]) for v in fast.values()) > 1e-3  # the chain's end moved
+
+
+@pytest.mark.parametrize("step", [1 / 30, 1 / 60, 0.0037])
+def test_an_acceleration_input_kicks_the_spring_with_the_analytic_impulse_response(step):
+    """A ramp that starts at 0 changes its velocity there: an acceleration impulse of that size,
+    whose response is w^2 g I / wd exp(-d w t) sin(wd t), whatever the step."""
+    f, d, g, speed = 1.5, 0.2, 0.3, 0.6
+    physics = _spring(f, d, inputs=(DriverInput(g, "MB", of="acceleration"),))
+    physics.advance(0.0, np.array([0.1, 0.5]))
+    times = np.arange(1, int(2.0 / step)) * step
+    shown = []
+    for t in times:
+        row = np.array([0.1 + speed * t, 0.5])
+        physics.advance(t, row)
+        shown.append(physics.outputs(t, row)["X"])
+    w = 2 * np.pi * f
+    wd = w * np.sqrt(1 - d ** 2)
+    np.testing.assert_allclose(shown, w ** 2 * g * speed / wd * np.exp(-d * w * times) * np.sin(wd * times), atol=1e-9)

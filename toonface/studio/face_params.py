@@ -41,13 +41,14 @@ def set_driver(doc: dict, name: str, param: str, inputs: str, frequency: float, 
                swing: bool = True, gain: float = 1.0) -> None:
     """Add driver ``name`` (or change it): a spring of ``frequency`` Hz and ``damping`` moving
     parameter ``param`` by its swing (``swing``) or its follow, times ``gain``, from ``inputs``
-    written ``"HH:1.2 MB':0.04"`` (a code, ``'`` for its velocity, and a gain; see
-    :mod:`toon.physics`)."""
+    written ``"HH:1.2 MB':0.04 HH'':0.001"`` (a code, ``'`` for its velocity, ``''`` for its
+    acceleration, and a gain; see :mod:`toon.physics`)."""
     parsed = []
     for word in inputs.split():
         code, _, gain_text = word.partition(":")
-        parsed.append({"code": code.rstrip("'").upper(), "gain": finite(float(gain_text or 1.0)),
-                       **({"of": "velocity"} if code.endswith("'") else {})})
+        primes = len(code) - len(code.rstrip("'"))
+        kind = {1: {"of": "velocity"}, 2: {"of": "acceleration"}}.get(primes, {})
+        parsed.append({"code": code.rstrip("'").upper(), "gain": finite(float(gain_text or 1.0)), **kind})
     body = {"name": name, "inputs": parsed, "frequency": finite(frequency), "damping": finite(damping),
             "output": {"param": param, "gain": finite(gain), "swing": bool(swing)}}
     drivers = doc.setdefault("physics", [])

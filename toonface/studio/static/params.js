@@ -35,7 +35,8 @@
       const row = document.createElement("div");
       row.className = "driver";
       row.dataset.name = d.name;
-      const inputs = d.inputs.map((i) => i.driver ? `${i.driver}>:${i.gain}` : `${i.code}${i.of === "velocity" ? "'" : ""}:${i.gain}`);
+      const primes = {velocity: "'", acceleration: "''"};
+      const inputs = d.inputs.map((i) => i.driver ? `${i.driver}>:${i.gain}` : `${i.code}${primes[i.of] || ""}:${i.gain}`);
       row.textContent = `${d.name}: ${d.output.param} ${d.output.swing ? "swings" : "follows"} ${inputs.join(" ")}`
         + ` at ${d.frequency} Hz, damping ${d.damping}`;
       row.addEventListener("click", () => {  // chosen to tune: its fields filled in
