@@ -21,6 +21,7 @@ from __future__ import annotations
 import asyncio
 import hmac
 import ipaddress
+import re
 import secrets
 from collections.abc import Awaitable, Callable
 from importlib import resources
@@ -123,7 +124,17 @@ async def _sound(request: web.Request) -> web.Response:
     sound = request.app[SESSION].sound
     if sound is None:
         raise web.HTTPNotFound(text="no sound is open")
-    return web.Response(body=sound.wav(), content_type="audio/wav", headers={"Cache-Control": "no-store"})
+    body = sound.wav()
+    headers = {"Cache-Control": "no-store", "Accept-Ranges": "bytes"}
+    wanted = re.fullmatch(r"bytes=(\d*)-(\d*)", request.headers.get("Range", "").strip())
+    if wanted and (wanted.group(1) or wanted.group(2)):  # a part: what a browser asks for to seek in the sound
+        first = int(wanted.group(1)) if wanted.group(1) else max(len(body) - int(wanted.group(2)), 0)
+        last = min(int(wanted.group(2)), len(body) - 1) if wanted.group(1) and wanted.group(2) else len(body) - 1
+        if first >= len(body) or first > last:
+            raise web.HTTPRequestRangeNotSatisfiable(headers={"Content-Range": f"bytes */{len(body)}"})
+        return web.Response(status=206, body=body[first:last + 1], content_type="audio/wav",
+                            headers={**headers, "Content-Range": f"bytes {first}-{last}/{len(body)}"})
+    return web.Response(body=body, content_type="audio/wav", headers=headers)
 
 
 async def _socket(request: web.Request) -> web.WebSocketResponse:

@@ -281,7 +281,7 @@ class StudioSession:
         tuning = self.showing == "tune" and self._tune_paused is None
         looping = self.looping is not None and self.showing == "test"
         return (self.animator.busy() or self.moved.busy() or self.editor.playing or self.showing == "live" or tuning
-                or looping or self.motion.moving())
+                or looping or (self.showing in ("test", "live") and self.motion.moving()))  # physics runs there
 
     def tune(self, tuner: MappingTuner, now: float) -> None:
         """Show ``tuner``'s take, mapped, playing in a loop from ``now``."""
