@@ -18,8 +18,8 @@ from toon import Face, MotorTrack
 from toon.motors import MOTOR_CODES, N_MOTORS
 from toon.physics import Physics, physics_for
 
-#: Live frames further apart than this are a pause, not a motion: the inputs held through it move
-#: in the last GAP seconds before the new frame (a frame period's ramp, about).
+#: Live frames further apart than this (seconds) are a pause, not a motion: the inputs held
+#: through it move only in the last GAP before the new frame (about a frame period's ramp).
 GAP = 1 / 30
 
 
@@ -44,11 +44,6 @@ class SecondaryMotion:
         self._last: float | None = None
         self._held: np.ndarray | None = None  # live: the last frame's inputs, and when they came
         self._held_at: float | None = None
-
-    @property
-    def active(self) -> bool:
-        """Whether the face has drivers."""
-        return self.physics is not None
 
     def moving(self) -> bool:
         """Whether something the drivers move is still swinging (a live view keeps drawing)."""
