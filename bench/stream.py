@@ -3,6 +3,8 @@
 The content is the synthetic performer (default noise, 0.2 mm) mapped live by the toon32 preset
 at 60 Hz, as ``toonface send synthetic`` sends it.
 
+``stream.extras_payload_ratio``: the same stream carrying the mapping's parameters beyond the 21
+(HT, UL, CP, JS, PERK) over the 21 alone, acknowledged (goal 1.1; unacknowledged in the detail).
 ``stream.payload_kbps``: coded motor frames (keyframes included; no headers, no tags) per
 second of a loss-free stream, 2 frames a packet (goal 2.5); ``stream.payload_kbps_0.3mm``: the
 same with 0.3 mm of marker noise (goal 2.5). The detail has the payload of two real facial takes
@@ -59,15 +61,17 @@ LOSSY = NetworkFaults(loss=0.10, burst_seconds=0.05, bursts_per_second=0.5, jitt
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``stream.*`` figures."""
     seconds = 30.0 if quick else 60.0
-    values, fps = _live_values(seconds)
-    noisier, _ = _live_values(seconds, noise_mm=0.3)
+    values, fps, extras = _live_values(seconds)
+    noisier, _, _ = _live_values(seconds, noise_mm=0.3)
     real = _real_motors()
-    return [*_rates(values, noisier, real), _latency(4.0 if quick else 10.0), *_concealment(values, real, quick),
+    return [*_rates(values, noisier, real), _extras_ratio(values, *extras), _latency(4.0 if quick else 10.0),
+            *_concealment(values, real, quick),
             Figure("stream.sender_fps", fps, "frames/s", 60.0, True, {"one_core": hasattr(os, "sched_setaffinity")})]
 
 
-def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, float]:
-    """The motors the sender sends, and its frames per second (mapping and coding) on one core."""
+def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, float, tuple[np.ndarray, tuple]]:
+    """The motors the sender sends, its frames per second (mapping and coding) on one core, and
+    the parameters beyond the 21 the mapping drives beside them (values, codes)."""
     source = synthetic_source(seconds=seconds, rate=RATE, noise_mm=noise_mm)
     mapper = build_mapper(source)
     writer = StreamWriter(RATE)
@@ -75,26 +79,43 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
     if cpus is not None:
         os.sched_setaffinity(0, {min(cpus)})
     try:
-        out, start = [], time.perf_counter()
+        out, beyond, start = [], [], time.perf_counter()
         for frame in source.frames:
             values, _ = mapper.step(frame.positions, frame.t)
             writer.push(values, frame.t)
             out.append(values)
+            beyond.append(mapper.extra.copy())
         elapsed = time.perf_counter() - start
     finally:
         if cpus is not None:
             os.sched_setaffinity(0, cpus)
-    return np.array(out), len(out) / elapsed
+    return np.array(out), len(out) / elapsed, (np.array(beyond), mapper.extra_codes)
 
 
 def _payload_kbps(values: np.ndarray) -> float:
     return _loss_free(values)[0].payload_bytes * 8 / (len(values) / RATE) / 1000
 
 
-def _loss_free(values: np.ndarray) -> tuple[StreamWriter, list[np.ndarray]]:
-    """A loss-free stream, each acknowledgement back before the next packet (a short round
-    trip: with a long one the sender predicts from further back)."""
-    writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
+def _extras_ratio(values: np.ndarray, extra: np.ndarray, codes: tuple[str, ...]) -> Figure:
+    """``stream.extras_payload_ratio``: the payload of the same stream carrying the mapping's
+    parameters beyond the 21 (HT, UL, CP, JS, PERK) over the 21 alone's, acknowledged (goal 1.1);
+    the detail has the same without acknowledgements (keyframes every half second)."""
+    both = np.hstack([values, extra])
+    acked = _loss_free(both, codes)[0].payload_bytes / _loss_free(values)[0].payload_bytes
+    plain = [StreamWriter(RATE, first_sequence=0, codes=c) for c in ((), codes)]
+    for index in range(len(values)):
+        plain[0].push(values[index], index / RATE)
+        plain[1].push(both[index], index / RATE)
+    return Figure("stream.extras_payload_ratio", acked, "ratio", 1.1, False,
+                  {"codes": list(codes), "unacknowledged_ratio": round(plain[1].payload_bytes / plain[0].payload_bytes,
+                                                                       4)})
+
+
+def _loss_free(values: np.ndarray, codes: tuple[str, ...] = ()) -> tuple[StreamWriter, list[np.ndarray]]:
+    """A loss-free stream (``codes``: its parameters after the 21), each acknowledgement back
+    before the next packet (a short round trip: with a long one the sender predicts from further
+    back)."""
+    writer, reader = StreamWriter(RATE, first_sequence=0, codes=codes), StreamReader()
     decoded = []
     for index, row in enumerate(values):
         datagram = writer.push(row, index / RATE)

@@ -67,12 +67,12 @@ def geometries(track: MotorTrack, rig: FaceRig, fps: float, start: int = 0, stop
     """Frames ``[start, stop)`` of a ``fps`` video of ``track`` on ``rig``'s face, its extra
     parameters (HT...) too: a standard one the face does not declare is left out (logged once,
     for ``-v``: every preset writes all of them and few faces draw all); any other the face
-    lacks is an error naming it. With ``physics``, the face's
-    drivers move what they move (:mod:`player.motion`), run on the track from its start."""
+    lacks is an error naming it. With ``physics``, the face's drivers move what they move
+    (:mod:`player.motion`), run on the track from its start."""
     skipped = undrawn_extras(track, rig.face)
     if skipped:
         log.info("face %s does not declare %s: %s column%s not drawn", rig.face.name, ", ".join(skipped),
-                    "those" if len(skipped) > 1 else "that", "s are" if len(skipped) > 1 else " is")
+                 "those" if len(skipped) > 1 else "that", "s are" if len(skipped) > 1 else " is")
     drawn = [(N_MOTORS + k, code) for k, code in enumerate(track.extra_codes) if code not in skipped]
     motion = SecondaryMotion(rig.face, track) if physics and rig.face.physics else None
     for k, row in enumerate(resample(track, fps, start, stop), start=start):
