@@ -1,6 +1,6 @@
 """stream: motor values over a thin network link.
 
-The wire format (quantised, predicted, range-coded frames with a CRC or HMAC), the packet writer
+The wire format (quantised, predicted, range-coded frames with a CRC, or sealed with a key), the packet writer
 and defensive reader, the receiver's jitter buffer and concealment, and a fault-injecting relay.
 Imports ``toon`` and ``common`` only: what makes the values (mapping) and what shows them
 (player) sit on either side of it.

@@ -102,7 +102,7 @@ class StreamWriter:
     steps : int
         Quantisation steps (see :mod:`stream.wire`).
     key : bytes, optional
-        Shared secret: packets carry an HMAC instead of a CRC.
+        Shared secret: packets are sealed (encrypted and authenticated) instead of carrying a CRC.
     first_sequence : int, optional
         The first packet's number (random by default, so a restarted sender is not a replay).
     repeat : int

@@ -27,6 +27,8 @@ from toon import N_MOTORS
 
 #: Packets this far behind the newest are too old to be anything but a replay.
 REPLAY_WINDOW = 64
+#: Earlier runs of a stream whose sequence numbers a reader remembers, to refuse their replay.
+SESSIONS_KEPT = 32
 
 
 @dataclass(frozen=True)
@@ -60,7 +62,9 @@ class StreamReader:
         Out-of-order packets kept while their reference may still come.
     idle_reset : float
         Seconds without a valid packet after which a new sequence numbering is accepted (a
-        restarted sender).
+        restarted sender), unless it falls among the numbers of an earlier run (of the last
+        :data:`SESSIONS_KEPT`): a replay of captured packets is refused (``replay``) whenever it
+        comes. A sender starts its numbering at random, so a restart does not collide.
     """
 
     def __init__(self, key: bytes | None = None, max_waiting: int = 16, idle_reset: float = 2.0) -> None:
@@ -75,6 +79,8 @@ class StreamReader:
         self._unnamed = False  # a keyframe of parameters this end does not know came: one naming them is wanted
         self._models: dict[int, Models] = {}
         self._newest: int | None = None  # highest sequence seen
+        self._first_sequence = 0  # where the present run's numbering began
+        self._runs: list[tuple[int, int]] = []  # earlier runs' first and newest sequence numbers
         self._seen = 0  # bit i: sequence newest - i seen
         self._last_valid = -np.inf
         self._held = FrameStore()
@@ -136,7 +142,11 @@ class StreamReader:
     def _fresh(self, sequence: int, arrival: float) -> bool:
         """Record ``sequence``; False if it was seen before or is too old to tell."""
         if self._newest is None or arrival - self._last_valid > self.idle_reset:
-            self._newest, self._seen = sequence, 1
+            runs = self._runs + ([(self._first_sequence, self._newest)] if self._newest is not None else [])
+            if any((sequence - first) % WRAP <= (newest - first) % WRAP for first, newest in runs):
+                return False  # a packet of an earlier run: replayed
+            self._runs = runs[-SESSIONS_KEPT:]
+            self._newest, self._seen, self._first_sequence = sequence, 1, sequence
             self._held, self._ack, self._waiting = FrameStore(), None, {}  # maybe a restarted sender: its frames anew
             return True
         ahead = (sequence - self._newest) % WRAP

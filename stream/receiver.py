@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from stream.health import REFUSED_SECONDS, Trouble
 from stream.packets import key_request
 from stream.playout import Playout
 from stream.reader import StreamReader
@@ -53,23 +54,37 @@ class StreamReceiver:
     ----------
     playout : Playout
     key : bytes, optional
-        Shared secret: only packets with its HMAC are read.
+        Shared secret: only packets sealed with it are read.
     clock : callable
         Seconds; ``time.perf_counter`` (the same clock a sender on this machine stamps with).
     more : callable, optional
         Makes the jitter buffer of each further performer (None: one performer only).
     max_streams : int
         Performers at most.
+    say : callable, optional
+        Takes a warning when packets come and none opens for
+        :data:`~stream.health.REFUSED_SECONDS` (another key, or a key at one end only), and a
+        note when they open again.
+    newcomer_seconds : float
+        Without a key, a new performer is taken at most once in this many seconds (its packets
+        before then are counted in :attr:`refused_newcomers`): anyone on the path can make
+        packets under fresh stream ids, and they must not crowd the stage. With a key, only
+        the key's holders can.
     """
 
     def __init__(self, address: tuple[str, int], playout: Playout, key: bytes | None = None,
                  clock: Callable[[], float] = time.perf_counter, request_interval: float = 0.05,
-                 more: Callable[[], Playout] | None = None, max_streams: int = 16) -> None:
+                 more: Callable[[], Playout] | None = None, max_streams: int = 16,
+                 say: Callable[[str], None] | None = None, newcomer_seconds: float = 1.0) -> None:
         self.playout, self.clock, self.key = playout, clock, key
         self.reader = StreamReader(key)
         self.lanes: dict[int, Lane] = {}
         self.more, self.max_streams = more, max_streams
         self.other_streams = 0
+        self.newcomer_seconds = newcomer_seconds
+        self.refused_newcomers = 0
+        self._last_newcomer = -math.inf
+        self.refusing = Trouble(say or (lambda line: None), REFUSED_SECONDS)
         self.request_interval = request_interval
         self.requests = 0
         self.acks = 0
@@ -160,13 +175,21 @@ class StreamReceiver:
             lane = self._lane(stream)
             if lane is None:
                 return
-            before = lane.reader.packets
+            before, refused = lane.reader.packets, lane.reader.dropped.get("tag", 0)
+            newcomer = stream is not None and stream not in self.lanes and bool(self.lanes)
+            if newcomer and self.key is None and arrival - self._last_newcomer < self.newcomer_seconds:
+                self.refused_newcomers += 1  # unkeyed: one new performer a newcomer_seconds at most
+                return
             for frames in lane.reader.read(datagram, arrival):  # an oversized datagram is dropped here
                 lane.playout.add(frames)
             if lane.reader.packets > before:
                 lane.arrived, lane.sender = arrival, sender
                 if stream is not None and stream not in self.lanes:
                     self.lanes[stream] = lane  # a newcomer, now that a packet of it read well
+                    self._last_newcomer = arrival
+                self.refusing.update(False, arrival, "", "packets open again: the stream flows")
+            elif lane.reader.dropped.get("tag", 0) > refused:
+                self.refusing.update(True, arrival, self._refused_line, "")
             self._arrived.notify_all()
             wanted = lane.reader.want_keyframe and arrival - lane.last_request >= self.request_interval
             ack = lane.reader.take_ack(self.acks) if sender is not None else None
@@ -215,11 +238,12 @@ class StreamReceiver:
             tagged = self.reader.dropped.get("tag", 0)
             if self.reader.packets or not tagged:
                 return None
-        if self.key is None:
-            return (f"every packet ({tagged}) carried an authentication tag and this end has no key: give the "
-                    "sender's --key-file (or TOONFACE_STREAM_KEY)")
-        return (f"every packet ({tagged}) failed authentication: this end's key is not the sender's (check "
-                "--key-file or TOONFACE_STREAM_KEY at both ends), or the sender sends without one")
+        return _refusal(tagged, self.key is not None, "every packet")
+
+    def _refused_line(self) -> str:
+        """The live warning: packets come and none opens (called holding the lock)."""
+        return _refusal(self.reader.dropped.get("tag", 0), self.key is not None,
+                        f"packets have not opened for {self.refusing.after:g} s")
 
     def summary(self) -> dict:
         """Counters for ``--stats``: packets, bytes, lost, dropped by reason, frames by state,
@@ -228,11 +252,21 @@ class StreamReceiver:
         streams turned away for want of room (``other_streams``)."""
         with self._lock:
             out = {**_counters(self.reader, self.playout), "keyframe_requests": self.requests, "acks": self.acks}
+            if self.refused_newcomers:
+                out["refused_newcomers"] = self.refused_newcomers
             if len(self.lanes) > 1 or self.other_streams:
                 out["performers"] = {stream: _counters(lane.reader, lane.playout)
                                      for stream, lane in self.lanes.items()}
                 out["other_streams"] = self.other_streams
             return out
+
+
+def _refusal(count: int, keyed: bool, what: str) -> str:
+    if not keyed:
+        return (f"{what} ({count}) came sealed with a key and this end has none: give the sender's "
+                "--key-file (or TOONFACE_STREAM_KEY)")
+    return (f"{what} ({count}) failed authentication: this end's key is not the sender's (check --key-file or "
+            "TOONFACE_STREAM_KEY at both ends), or the sender sends without one")
 
 
 def _counters(reader: StreamReader, playout: Playout) -> dict:

@@ -14,6 +14,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from stream.health import SILENT_SECONDS, Trouble
 from stream.packets import StreamWriter, is_key_request, read_ack
 from toon.motors import extra_rest
 
@@ -30,14 +31,18 @@ class StreamSender:
     writer : StreamWriter
         Packs the frames (its rate, frames per packet, keyframe interval and key).
     clock : callable
-        Stamps frames whose capture time is not given.
+        Stamps frames whose capture time is not given, and times the silence below.
+    say : callable, optional
+        Takes a warning when nothing has answered for :data:`~stream.health.SILENT_SECONDS`
+        (nobody receives, or the receiver's key differs), and a note when answers come again.
     """
 
     def __init__(self, target: tuple[str, int], writer: StreamWriter,
-                 clock: Callable[[], float] = time.perf_counter) -> None:
+                 clock: Callable[[], float] = time.perf_counter, say: Callable[[str], None] | None = None) -> None:
         self.target, self.writer, self.clock = target, writer, clock
         self.key_requests = 0
         self.acks = 0
+        self.silence = Trouble(say or (lambda line: None), SILENT_SECONDS)
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.sock.setblocking(False)
 
@@ -47,7 +52,12 @@ class StreamSender:
         the packet it completes. The stream carries the parameters its first frame had (the
         writer's ``codes`` where they were given): one a later frame lacks goes at its standard
         neutral (0.5 for a parameter of the performer's own), one it adds is not sent."""
-        self._take_requests()
+        heard = self._take_requests()
+        host, port = self.target
+        self.silence.update(not heard, self.clock(),
+                            f"nobody is receiving on {host}:{port}, or the key differs: no answer for "
+                            f"{SILENT_SECONDS:g} s (frames are still sent)",
+                            f"the receiver on {host}:{port} answers: the stream flows")
         w = self.writer
         if extra and not w.codes and not w.started:
             w.codes = tuple(extra)  # the stream's parameters, from its first frame
@@ -90,16 +100,20 @@ class StreamSender:
         except OSError:
             pass  # nobody listening (ICMP refused) or a full buffer: the stream goes on
 
-    def _take_requests(self) -> None:
+    def _take_requests(self) -> int:
+        """Take the acknowledgements and keyframe requests waiting; returns how many there were."""
+        heard = 0
         while True:
             try:
                 data = self.sock.recv(256)
             except (BlockingIOError, OSError):
-                return
+                return heard
             acked = read_ack(data, self.writer.key)
             if acked is not None:
                 self.writer.acknowledge(*acked)
                 self.acks += 1
+                heard += 1
             elif is_key_request(data, self.writer.key):
                 self.writer.request_keyframe()
                 self.key_requests += 1
+                heard += 1

@@ -4,8 +4,8 @@ One UDP datagram is one packet::
 
     offset size field
     0      2    magic b"TF"
-    2      1    version (4)
-    3      1    flags: 1 = the first frame is a keyframe, 2 = the tag is an HMAC,
+    2      1    version (5)
+    3      1    flags: 1 = the first frame is a keyframe, 2 = sealed with a key (below),
                        4 = a keyframe request (receiver to sender; no frames),
                        8 = an acknowledgement (receiver to sender; no frames),
                        16 = the frames carry parameters beyond the 21 (see below),
@@ -29,8 +29,19 @@ One UDP datagram is one packet::
                 of its CRC-32); any other packet sets flag 16 and carries the list of the
                 keyframe its chain began with
     ...    ...  the coded frames
-    end-T  T    tag: CRC-32 of all before it (T = 4), or HMAC-SHA256 truncated to 10 bytes
-                with a shared key (T = 10)
+    end-T  T    tag: CRC-32 of all before it (T = 4); or, sealed with a shared key (flag 2),
+                the AEAD's tag (T = 16) and everything after the header is encrypted
+
+With a key (a shared secret of at least 16 bytes), a packet is sealed with AES-256-GCM-SIV
+(RFC 8452) under a key derived from the secret by HKDF-SHA256: the header travels in clear (a
+relay and a receiver of several performers sort packets by its stream id) but is authenticated
+as associated data, so a packet whose stream id, sequence or frame index was changed is refused;
+the parameters and coded frames are encrypted. The nonce is the header's flags, stream id,
+sequence, first frame and the low byte of its time, which differ from packet to packet of one
+sender and between the two directions (flags); GCM-SIV is chosen over ChaCha20-Poly1305 or
+AES-GCM because a repeated nonce (two senders started with the same stream id and sequence, a
+chance of about one in 2^48 per pair) then reveals only that two packets were identical, not the
+key stream. Replays of whole packets are refused by the reader (:mod:`stream.reader`).
 
 All integers are little-endian. The default S = 100 makes the quantisation error at most 0.5 %
 of a motor's range (log2(101) = 6.66 bits a value before coding).
@@ -72,20 +83,23 @@ every ``key_seconds`` (0.5 s by default) and whenever the receiver asks (flag 4)
 
 from __future__ import annotations
 
-import hashlib
 import hmac
 import struct
 import zlib
 from dataclasses import dataclass
 
 import numpy as np
+from cryptography.exceptions import InvalidTag
+from cryptography.hazmat.primitives import hashes
+from cryptography.hazmat.primitives.ciphers.aead import AESGCMSIV
+from cryptography.hazmat.primitives.kdf.hkdf import HKDF
 
 from stream.rangecode import Decoder, Encoder, Model
 from toon import N_MOTORS
 from toon.motors import extra_rest
 
 MAGIC = b"TF"
-VERSION = 4
+VERSION = 5
 KEYFRAME, AUTHENTICATED, KEY_REQUEST, ACK, PARAMS, NAMED = 1, 2, 4, 8, 16, 32
 #: The most parameters beyond the 21 a stream carries.
 MAX_EXTRA = 32
@@ -94,9 +108,11 @@ HEADER = struct.Struct("<2sBBHIIIBBHB")
 STREAM_ID = struct.Struct("<H")
 STREAM_ID_OFFSET = 4
 MAX_FRAMES = 32
-CRC_SIZE, HMAC_SIZE = 4, 10
+CRC_SIZE, SEAL_SIZE = 4, 16
+#: Header bytes that make a sealed packet's nonce: flags, stream id, sequence, first frame, time's low byte.
+NONCE = slice(3, 15)
 #: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
-MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + HMAC_SIZE + 64 + MAX_EXTRA * (MAX_FRAMES * 2 + 17)
+MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + SEAL_SIZE + 64 + MAX_EXTRA * (MAX_FRAMES * 2 + 17)
 DEFAULT_STEPS = 100
 #: Per-step decay of the residual model for each activity context (0..5 steps), fitted by maximum
 #: likelihood on 60 s of the synthetic performer's live-mapped motors (0.2 mm noise).
@@ -197,7 +213,9 @@ def seal(header: Header, body: bytes, key: bytes | None) -> bytes:
                        header.first_frame & 0xFFFFFFFF,
                        header.time_us & 0xFFFFFFFF, header.count, header.steps, int(round(header.rate * 100)),
                        0 if header.flags & KEYFRAME else header.back)
-    return head + body + _tag(head + body, key)
+    if key:
+        return head + _aead(key).encrypt(head[NONCE], body, head)
+    return head + body + _crc(head + body)
 
 
 def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
@@ -206,8 +224,8 @@ def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
     Raises
     ------
     WireError
-        Saying what is wrong; with a ``key``, a packet without a valid HMAC is refused, and
-        without one, an HMAC-tagged packet is too (it cannot be checked).
+        Saying what is wrong; with a ``key``, a packet not sealed with it is refused (reason
+        ``tag``), and without one, a sealed packet is too (it cannot be read).
     """
     if len(data) > MAX_PACKET or len(data) < HEADER.size + CRC_SIZE:
         raise WireError("size", f"a packet of {len(data)} bytes (must be {HEADER.size + CRC_SIZE}..{MAX_PACKET})")
@@ -217,17 +235,25 @@ def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
     if version != VERSION:
         raise WireError("version", f"stream version {version} (this reads {VERSION})")
     if bool(flags & AUTHENTICATED) != bool(key):
-        raise WireError("tag", "an unauthenticated packet" if key else "an authenticated packet and no key to check it")
-    size = HMAC_SIZE if key else CRC_SIZE
+        raise WireError("tag", "an unsealed packet" if key else "a sealed packet and no key to open it")
+    size = SEAL_SIZE if key else CRC_SIZE
     if len(data) < HEADER.size + size:
         raise WireError("size", f"a packet of {len(data)} bytes has no room for its tag")
-    signed, tag = data[:-size], data[-size:]
-    if not hmac.compare_digest(tag, _tag(signed, key)):
-        raise WireError("tag", "the packet's tag does not match (corrupted or forged)")
+    head = data[:HEADER.size]
+    if key:
+        try:
+            body = _aead(key).decrypt(head[NONCE], data[HEADER.size:], head)
+        except InvalidTag:
+            raise WireError("tag", "the packet does not open with this key (another key, corrupted or forged)") \
+                from None
+    elif not hmac.compare_digest(data[-size:], _crc(data[:-size])):
+        raise WireError("tag", "the packet's CRC does not match (corrupted)")
+    else:
+        body = data[HEADER.size:-size]
     if count > MAX_FRAMES or steps < 1 or rate == 0 or (count and not flags & KEYFRAME and back == 0):
         raise WireError("malformed", f"a header with {count} frames, {steps} steps, rate {rate / 100:g}, "
                                      f"reference {back}")
-    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0, back, stream), signed[HEADER.size:]
+    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0, back, stream), body
 
 
 def peek_stream(data: bytes) -> int | None:
@@ -238,10 +264,14 @@ def peek_stream(data: bytes) -> int | None:
     return int(STREAM_ID.unpack_from(data, STREAM_ID_OFFSET)[0])
 
 
-def _tag(data: bytes, key: bytes | None) -> bytes:
-    if key:
-        return hmac.new(key, data, hashlib.sha256).digest()[:HMAC_SIZE]
+def _crc(data: bytes) -> bytes:
     return struct.pack("<I", zlib.crc32(data))
+
+
+def _aead(secret: bytes) -> AESGCMSIV:
+    """The cipher of a shared secret: AES-256-GCM-SIV under HKDF-SHA256 of it."""
+    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=b"toonface stream 5").derive(secret)
+    return AESGCMSIV(derived)
 
 
 def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, models: Models,

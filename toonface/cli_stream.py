@@ -34,8 +34,14 @@ if TYPE_CHECKING:
     from stream.receiver import StreamReceiver
 
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
-                   help="Shared secret (the file's bytes): every packet carries an HMAC, others are dropped. "
-                        "Or set TOONFACE_STREAM_KEY.")
+                   help="Shared secret (the file's bytes, 16 or more): packets are encrypted and authenticated "
+                        "(AES-256-GCM-SIV), others and replays are dropped. Or set TOONFACE_STREAM_KEY.")
+OPEN_STREAM = ("toonface: note: the stream is not encrypted: anyone on the path can read it and send as a "
+               "performer; give both ends the same --key-file (or TOONFACE_STREAM_KEY) to seal it")
+
+
+def _warn(text: str) -> None:
+    click.echo(f"toonface: warning: {text}", err=True)
 
 
 def _key(path: str | None) -> bytes | None:
@@ -102,12 +108,15 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
     mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes)
     for note in notes:
         click.echo(f"note: {note}", err=True)
+    key = _key(key_file)
+    if key is None:
+        click.echo(OPEN_STREAM, err=True)
     with Outputs() as outputs:
         if stream_id is None:
             stream_id = secrets.randbelow(0x10000)
-        stream = outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=_key(key_file),
+        stream = outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=key,
                                frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds,
-                               stream=stream_id)
+                               stream=stream_id, say=_warn)
         recording = outputs.motor(record, rate=src.rate) if record else None
         click.echo(f"sending {src.name} at {src.rate:g} Hz to {host}:{port} as stream {stream_id} (Ctrl-C stops)")
         try:
@@ -167,9 +176,10 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
     back a motor catches up no faster than --max-jump per frame or its own recent fastest step.
-    Bad packets (oversized, malformed, replayed, or without the --key-file's HMAC) are dropped
-    and counted. Several senders (each `send --id`) are shown together, each on its own face;
-    one that goes quiet passes to an idle face, then fades out, and the others go on. --vmc-out
+    Bad packets (oversized, malformed, replayed, or not sealed with --key-file's key) are dropped
+    and counted; packets that do not open for a second are said at once. Several senders (each
+    `send --id`) are shown together, each on its own face; one that goes quiet passes to an idle
+    face, then fades out, and the others go on. --vmc-out
     carries the first performer's motors (a VMC receiver drives one avatar).
     """
     from player.ensemble import Ensemble, load_seats
@@ -199,9 +209,13 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         return made
 
     playout = fresh()
+    key = _key(key_file)
+    if key is None:
+        click.echo(OPEN_STREAM, err=True)
     try:
-        receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, _key(key_file),
-                                  more=playout_for if max_performers > 1 else None, max_streams=max_performers)
+        receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, key,
+                                  more=playout_for if max_performers > 1 else None, max_streams=max_performers,
+                                  say=_warn)
     except OSError as exc:
         raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
     with receiver, Outputs() as outputs:

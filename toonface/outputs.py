@@ -102,8 +102,10 @@ def open_recording(spec: str, rate: float = 60.0, **_: Any) -> Any:
 
 
 def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_per_packet: int = 2,
-                keyframe_seconds: float = 0.5, stream: int = 0, **_: Any) -> Any:
-    """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay)."""
+                keyframe_seconds: float = 0.5, stream: int = 0, say: Callable[[str], None] | None = None,
+                **_: Any) -> Any:
+    """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay); ``say`` takes its live
+    warnings (:class:`stream.sender.StreamSender`)."""
     from stream.packets import StreamWriter
     from stream.sender import StreamSender
 
@@ -111,7 +113,7 @@ def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_
     if not host or not port.isdigit() or not 0 < int(port) < 65536:
         raise InputError("expected udp://HOST:PORT for a motor stream", spec)
     return StreamSender((host, int(port)), StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key,
-                                                        stream=stream))
+                                                        stream=stream), say=say)
 
 
 def open_vmc(spec: str, neutral: np.ndarray | None = None, **_: Any) -> Any:

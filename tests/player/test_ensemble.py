@@ -97,7 +97,7 @@ def test_two_senders_through_the_relay_appear_as_two_faces_in_one_recorded_frame
     def playout():
         return Playout(face.neutral())
 
-    with StreamReceiver(("127.0.0.1", 0), playout(), more=playout) as receiver, \
+    with StreamReceiver(("127.0.0.1", 0), playout(), more=playout, newcomer_seconds=0) as receiver, \
             Relay(("127.0.0.1", 0), receiver.address, NetworkFaults(), seed=1) as relay:
         senders = [StreamSender(relay.address, StreamWriter(60.0, stream=stream)) for stream in (11, 22)]
         for k in range(30):  # half a second of each performer, frame by frame
@@ -143,7 +143,7 @@ def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_p
 
         first = Playout(face.neutral())
         recordings.attach(first, first=True)
-        with StreamReceiver(("127.0.0.1", 0), first, more=playout) as receiver:
+        with StreamReceiver(("127.0.0.1", 0), first, more=playout, newcomer_seconds=0) as receiver:
             senders = [StreamSender(receiver.address, StreamWriter(60.0, stream=s)) for s in poses]
             for k in range(30):
                 for sender, values in zip(senders, poses.values(), strict=True):

@@ -12,7 +12,7 @@ from motor_streams import RATE, packets, smooth_motion
 from stream.packets import LOSS_SECONDS, StreamWriter, is_key_request, key_request, read_ack
 from stream.rangecode import Decoder, Encoder, Model
 from stream.reader import StreamReader
-from stream.wire import HEADER, MAX_PACKET, bridge, peek_stream, quantise
+from stream.wire import CRC_SIZE, HEADER, MAX_PACKET, SEAL_SIZE, bridge, peek_stream, quantise
 from toon import standard_neutral
 
 
@@ -49,7 +49,7 @@ def test_header_is_little_endian_as_documented():
     magic, version, flags, stream, sequence, first, time_us, count, steps, rate, back = \
         HEADER.unpack_from(datagrams[1])
     assert (magic, version, flags & 1, stream, sequence, first, count, steps, rate, back) == (
-        b"TF", 4, 0, 0, 1, 2, 2, 100, 6000, 1)
+        b"TF", 5, 0, 0, 1, 2, 2, 100, 6000, 1)
     assert datagrams[1][6:10] == struct.pack("<I", 1) and time_us == round(2 / RATE * 1e6)
     assert HEADER.unpack_from(datagrams[0])[2] & 1  # the first packet is a keyframe
 
@@ -90,10 +90,19 @@ def test_reader_drops_corrupt_oversized_replayed_and_unauthenticated_packets():
     assert dict(reader.dropped) == {"tag": 1, "replay": 1, "size": 2} and dict(keyed.dropped) == {"tag": 1}
 
 
-def test_hmac_authenticates_and_a_wrong_key_is_refused():
+def test_a_key_seals_packets_and_a_wrong_key_is_refused():
     key = b"a shared secret of enough length"
     _, datagrams = packets(smooth_motion(6), key=key)
+    _, plain = packets(smooth_motion(6))
+    header = HEADER.size
+    assert len(datagrams[0]) == len(plain[0]) - CRC_SIZE + SEAL_SIZE  # the same body, encrypted, and a 16-byte tag
+    assert datagrams[0][header:header + 8] != plain[0][header:header + 8]  # the coded frames do not travel in clear
     assert len(StreamReader(key).read(datagrams[0], 0.0)) == 1
+    for offset in (4, 6, 10, header + 1, len(datagrams[1]) - 1):  # stream id, sequence, frame, body, tag
+        forged = bytearray(datagrams[1])
+        forged[offset] ^= 1
+        reader = StreamReader(key)
+        assert reader.read(bytes(forged), 0.0) == [] and dict(reader.dropped) == {"tag": 1}
     wrong = StreamReader(b"another secret of enough length!")
     assert wrong.read(datagrams[0], 0.0) == [] and wrong.dropped["tag"] == 1
     assert StreamReader().read(datagrams[0], 0.0) == []  # no key to check it with
@@ -258,7 +267,7 @@ def test_a_receiver_keeps_a_performer_only_once_a_packet_of_it_reads_well():
     from stream.receiver import StreamReceiver
 
     with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), more=lambda: Playout(standard_neutral()),
-                        max_streams=2) as receiver:
+                        max_streams=2, newcomer_seconds=0) as receiver:
         junk = bytearray(StreamWriter(RATE, first_sequence=0, stream=5, frames_per_packet=1).push(
             standard_neutral(), 0.0))
         junk[-1] ^= 0xFF  # a bad tag

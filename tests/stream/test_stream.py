@@ -166,7 +166,7 @@ def test_concealment_and_recovery_never_leave_the_motor_range():
 
 @pytest.mark.parametrize("sender_key, receiver_key, fragment", [
     (b"0123456789abcdef", b"fedcba9876543210", "failed authentication: this end's key is not the sender's"),
-    (b"0123456789abcdef", None, "carried an authentication tag and this end has no key"),
+    (b"0123456789abcdef", None, "came sealed with a key and this end has none"),
     (None, b"fedcba9876543210", "failed authentication"),
 ])
 def test_a_receiver_says_why_nothing_was_shown(sender_key, receiver_key, fragment):
