@@ -210,14 +210,14 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
 
     playout = fresh()
     key = _key(key_file)
-    if key is None:
-        click.echo(OPEN_STREAM, err=True)
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, key,
                                   more=playout_for if max_performers > 1 else None, max_streams=max_performers,
                                   say=_warn)
     except OSError as exc:
         raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
+    if key is None:
+        click.echo(OPEN_STREAM, err=True)
     with receiver, Outputs() as outputs:
         settings = LiveSettings(loop_time=1 / fps, size=dims, tcp=None, preview=_address(preview, "--preview", 8080),
                                 seconds=seconds)
