@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import logging
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -92,9 +93,13 @@ class Ensemble:
     size : (width, height)
     providers : Providers
     seats : list of Seat
-        With seats, only seated performers are shown, where and as the seats say.
+        With seats, only seated performers are shown, where and as the seats say; a performer
+        with no seat is not drawn (a stage laid out by hand has no cell to spare), and each is
+        said once (``say``) and kept in :attr:`hidden`.
     gone_after, fade_out : float
         Seconds of silence before a performer fades out, and how long fading takes.
+    say : callable
+        Takes a line for each performer that came and has no seat.
     """
 
     face: Face
@@ -104,6 +109,8 @@ class Ensemble:
     gone_after: float = 5.0
     fade_out: float = 1.0
     members: dict[int, Member] = field(default_factory=dict)
+    say: Callable[[str], None] = log.warning
+    hidden: set[int] = field(default_factory=set)
 
     def __post_init__(self) -> None:
         self._seats = {seat.stream: seat for seat in self.seats}
@@ -129,6 +136,10 @@ class Ensemble:
         code); None when nobody is there to show."""
         for stream, values, age, *more in performers:
             if self._seats and stream not in self._seats:
+                if stream not in self.hidden:
+                    self.hidden.add(stream)
+                    self.say(f"stream {stream} has no seat in the performers file: it is not shown (seat it by its "
+                             "id to show it)")
                 continue
             if stream not in self.members and age < self.gone_after:
                 self.members[stream] = self._member(stream)

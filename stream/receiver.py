@@ -246,12 +246,21 @@ class StreamReceiver:
                         f"packets have not opened for {self.refusing.after:g} s")
 
     def summary(self) -> dict:
-        """Counters for ``--stats``: packets, bytes, lost, dropped by reason, frames by state,
-        delay and the error of concealment where the truth came too late (the first performer's);
-        with several performers, each one's under ``performers`` by stream id too, and the
-        streams turned away for want of room (``other_streams``)."""
+        """Counters for ``--stats``: packets, bytes, lost, dropped by reason and frames by state
+        over every performer, and the first performer's delay and error of concealment where the
+        truth came too late; with several performers, each one's under ``performers`` by stream
+        id too, and the streams turned away for want of room (``other_streams``) or, without a
+        key, for coming too soon after another (``refused_newcomers``)."""
         with self._lock:
             out = {**_counters(self.reader, self.playout), "keyframe_requests": self.requests, "acks": self.acks}
+            others = [lane for lane in self.lanes.values() if lane.reader is not self.reader]
+            for lane in others:
+                more = _counters(lane.reader, lane.playout)
+                for name in ("packets", "bytes", "lost"):
+                    out[name] += more[name]
+                for group in ("dropped", "frames"):
+                    for reason, count in more[group].items():
+                        out[group][reason] = out[group].get(reason, 0) + count
             if self.refused_newcomers:
                 out["refused_newcomers"] = self.refused_newcomers
             if len(self.lanes) > 1 or self.other_streams:

@@ -7,8 +7,8 @@ import os
 import secrets
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import click
 
@@ -29,9 +29,6 @@ from toonface.cli_options import (
     without_physics,
 )
 from toonface.cli_player import _address, _required_address
-
-if TYPE_CHECKING:
-    from stream.receiver import StreamReceiver
 
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
                    help="Shared secret (the file's bytes, 16 or more): packets are encrypted and authenticated "
@@ -58,7 +55,9 @@ def _key(path: str | None) -> bytes | None:
 @click.argument("source", required=False)
 @VMC
 @OPENSEEFACE
-@click.option("--to", "target", required=True, metavar="HOST:PORT", help="Where the receiver (or a relay) listens.")
+@click.option("--to", "targets", required=True, multiple=True, metavar="HOST:PORT",
+              help="Where the receiver (or a relay) listens; give it again to send to several (each its own stream "
+                   "of the same frames).")
 @click.option("--mapping", default=None, metavar="NAME|FILE",
               help="Mapping [default: the preset matching the markers].")
 @click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
@@ -79,7 +78,7 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
               help="This performer's stream id, for a receiver showing several [default: a random one].")
 @take_options
-def send(source: str | None, vmc: str | None, openseeface: str | None, target: str, mapping: str | None,
+def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
          stats: bool, stream_id: int | None, reading: TakeReading) -> None:
@@ -95,9 +94,11 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
     from mapping import load_profile
     from mapping import save_profile as write_profile
     from toonface.outputs import Outputs
-    from toonface.send import build_mapper, run_sender
+    from toonface.send import SendReport, build_mapper, run_sender
 
-    host, port = _required_address(target, "--to", 7710)
+    addresses = [_required_address(target, "--to", 7710) for target in targets]
+    if len(set(addresses)) < len(addresses):
+        raise click.BadParameter("the same address twice", param_hint="--to")
     check_output(record, "--record")
     check_output(save_profile, "--save-profile")
     spec = bridge_spec(source, vmc, openseeface)
@@ -114,15 +115,17 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
     with Outputs() as outputs:
         if stream_id is None:
             stream_id = secrets.randbelow(0x10000)
-        stream = outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=key,
-                               frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds,
-                               stream=stream_id, say=_warn)
+        streams = [outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=key, frames_per_packet=frames_per_packet,
+                                 keyframe_seconds=keyframe_seconds, stream=stream_id, say=_warn)
+                   for host, port in addresses]
         recording = outputs.motor(record, rate=src.rate) if record else None
-        click.echo(f"sending {src.name} at {src.rate:g} Hz to {host}:{port} as stream {stream_id} (Ctrl-C stops)")
+        where = ", ".join(f"{host}:{port}" for host, port in addresses)
+        click.echo(f"sending {src.name} at {src.rate:g} Hz to {where} as stream {stream_id} (Ctrl-C stops)")
+        report = SendReport()
         try:
-            report = run_sender(src, mapper, outputs.motors, seconds)
+            run_sender(src, mapper, outputs.motors, seconds, report=report)
         except KeyboardInterrupt:
-            report = None
+            click.echo("stopped", err=True)
     if recording is not None and recording.written is not None:
         click.echo(f"wrote {recording.written}")
     if save_profile and mapper.ready:
@@ -130,10 +133,10 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, target: s
     elif save_profile:
         click.echo(f"toonface: warning: no profile written to {save_profile}: the stream ended during its rest",
                    err=True)
-    if report is not None:
+    for (host, port), stream in zip(addresses, streams, strict=True):
         rates = stream.rates(report.frames)
-        click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets: payload {rates['payload_kbps']} "
-                   f"kbit/s, wire {rates['wire_kbps']} kbit/s")
+        click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets to {host}:{port}: payload "
+                   f"{rates['payload_kbps']} kbit/s, wire {rates['wire_kbps']} kbit/s")
         if stats:
             click.echo(json.dumps({**rates, **report.cost()}))
 
@@ -231,12 +234,19 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         settings.source = lambda t: receiver.values_at()[0][:N_MOTORS]
         settings.extra = lambda t: receiver.extra_shown()  # of the row the line above just took
         settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)
+        ensemble: Ensemble | None = None
         if max_performers > 1:
-            ensemble = Ensemble(face_obj, dims, settings.providers, seats)
+            ensemble = Ensemble(face_obj, dims, settings.providers, seats, say=_warn)
             settings.scene = lambda t: ensemble.frame(receiver.performers(), t)
         done = threading.Event()
+
+        def summary() -> dict:
+            counters = receiver.summary()
+            if ensemble is not None and ensemble.hidden:
+                counters["hidden"] = sorted(ensemble.hidden)  # came, and have no seat
+            return counters
         if stats:
-            threading.Thread(target=_print_stats, args=(receiver, done, say), daemon=True).start()
+            threading.Thread(target=_print_stats, args=(summary, done, say), daemon=True).start()
 
         def ready(addresses: dict[str, str]) -> None:
             host, port = receiver.address
@@ -255,12 +265,12 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         say(dropped)
     if (why := receiver.diagnosis()) is not None:
         click.echo(f"toonface: warning: {why}", err=True)
-    say(json.dumps(receiver.summary()))
+    say(json.dumps(summary()))
 
 
-def _print_stats(receiver: StreamReceiver, done: threading.Event, say) -> None:
+def _print_stats(summary: Callable[[], dict], done: threading.Event, say: Callable[[str], None]) -> None:
     while not done.wait(1.0):
-        say(json.dumps(receiver.summary()))
+        say(json.dumps(summary()))
 
 
 @click.command()

@@ -96,12 +96,30 @@ class SendReport:
 
 def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], seconds: float | None = None,
                clock: Callable[[], float] = time.perf_counter, sleep: Callable[[float], None] = time.sleep,
-               stop: Callable[[], bool] = lambda: False) -> SendReport:
+               stop: Callable[[], bool] = lambda: False, report: SendReport | None = None) -> SendReport:
     """Play ``source`` in real time, map each frame and write it to every sink; returns what was
-    done. The mapper sees the source's own times; the sinks see stream time (frame n at
-    n / rate), so that a recording lines up with the stream frame for frame. The sinks stay open
-    (the caller closes them)."""
-    report = SendReport()
+    done (in ``report`` where given, so that a caller interrupted has what was done so far). The
+    mapper sees the source's own times; the sinks see stream time (frame n at n / rate), so that
+    a recording lines up with the stream frame for frame. A live source is halted after
+    ``seconds`` of wall time even when no frame comes (a network bridge nobody sends to). The
+    sinks stay open (the caller closes them)."""
+    report = SendReport() if report is None else report
+    timer = None
+    if seconds is not None and source.live:
+        timer = threading.Timer(seconds, source.halt.set)
+        timer.daemon = True
+        timer.start()
+    try:
+        _send_frames(source, mapper, sinks, seconds, clock, sleep, stop, report)
+    finally:
+        if timer is not None:
+            timer.cancel()
+    return report
+
+
+def _send_frames(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], seconds: float | None,
+                 clock: Callable[[], float], sleep: Callable[[float], None], stop: Callable[[], bool],
+                 report: SendReport) -> None:
     for frame in paced(source, clock, sleep):
         if (seconds is not None and frame.t >= seconds - 0.5 / source.rate) or stop():
             break
@@ -112,7 +130,6 @@ def run_sender(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink], s
         for sink in sinks:  # stream time: frame n at n / rate, as the wire carries it (a camera's stamps jitter)
             sink.write(report.frames / source.rate, values, captured, confidence, extra=extra)
         report.frames += 1
-    return report
 
 
 class Follower:

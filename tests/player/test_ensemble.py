@@ -79,10 +79,13 @@ def test_seats_set_each_performers_face_and_place(tmp_path):
     loaded = load_seats(seats)
     assert [s.stream for s in loaded] == [3, 4] and loaded[0].face == "wizard"
     face = load_face("classic")
-    ensemble = Ensemble(face, (512, 256), STILL, loaded)
-    drawn = ensemble.frame([(3, face.neutral(), 0.0), (4, face.neutral(), 0.0), (5, face.neutral(), 0.0)], 0.0)
+    said: list[str] = []
+    ensemble = Ensemble(face, (512, 256), STILL, loaded, say=said.append)
+    for t in (0.0, 0.1):
+        drawn = ensemble.frame([(3, face.neutral(), 0.0), (4, face.neutral(), 0.0), (5, face.neutral(), 0.0)], t)
     hat = [i for i in drawn.items if i.name == "hat"]  # the wizard's, on the right
     assert hat and hat[0].vertices[:, 0].min() >= 256 and 5 not in ensemble.members  # 5 has no seat
+    assert ensemble.hidden == {5} and len(said) == 1 and "stream 5 has no seat" in said[0]  # said, once
     seats.write_text('format = "toonface.performers/1"\n[[performer]]\nid = 3\ncell = [0.5, 0.0, 0.2, 1.0]\n')
     with pytest.raises(InputError, match=r"performer\[0\]\.cell"):
         load_seats(seats)
@@ -161,7 +164,8 @@ def test_each_performer_is_recorded_to_its_own_file_in_the_order_they_came(tmp_p
     assert sorted(summary["performers"]) == [11, 22] and summary["other_streams"] == 0
     for stream, counters in summary["performers"].items():  # each performer's own counters
         assert counters["packets"] == 15 and counters["lost"] == 0 and counters["frames"]["live"] > 0, stream
-    assert summary["packets"] == summary["performers"][order[0]]["packets"]  # the first performer's, as before
+    assert summary["packets"] == 30 and summary["frames"]["live"] == sum(  # every performer's
+        c["frames"]["live"] for c in summary["performers"].values())
     assert recordings.written() == [str(tmp_path / "take.csv"), str(tmp_path / "take-2.csv")]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["take-2.csv", "take.csv"]
     for path, stream in zip(recordings.written(), order, strict=True):

@@ -1,0 +1,63 @@
+"""`toonface send` as a person runs it: to several receivers, stopped by --seconds when nothing
+arrives, and Ctrl-C ending as a normal end does (issue 44)."""
+
+import json
+import time
+
+import pytest
+
+from stream.playout import Playout
+from stream.receiver import StreamReceiver
+from toon import standard_neutral
+from toonface.cli import main
+
+
+def test_send_to_two_receivers_reaches_both_and_the_same_one_twice_is_refused(capsys):
+    """`send --to A --to B` sent to B alone (click kept the last --to)."""
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as a, \
+            StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as b:
+        where = [f"{host}:{port}" for host, port in (a.address, b.address)]
+        assert main(["send", "synthetic", "--to", where[0], "--to", where[1], "--seconds", "0.5"]) == 0
+        assert a.wait_for_packets(10, timeout=10) and b.wait_for_packets(10, timeout=10)
+    out = capsys.readouterr().out
+    assert f"to {where[0]}:" in out and f"to {where[1]}:" in out
+    assert main(["send", "synthetic", "--to", where[0], "--to", where[0]]) == 2
+    assert "the same address twice" in capsys.readouterr().err
+
+
+def test_send_from_a_bridge_nobody_sends_to_stops_after_its_seconds(capsys):
+    """`send --vmc PORT --seconds 3` waited for a VMC message for ever."""
+    start = time.monotonic()
+    assert main(["send", "--vmc", "127.0.0.1:0", "--to", "127.0.0.1:9", "--seconds", "0.5", "--stats"]) == 0
+    assert time.monotonic() - start < 5.0
+    stats = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert stats["frames"] == 0
+
+
+def test_ctrl_c_ends_send_with_its_summary_and_stats(monkeypatch, capsys):
+    """Ctrl-C printed nothing of --stats."""
+    import capture.sources
+
+    real = capture.sources.paced
+
+    def interrupted(source, clock, sleep):
+        for k, frame in enumerate(real(source, clock, lambda s: None)):
+            if k == 30:
+                raise KeyboardInterrupt
+            yield frame
+
+    monkeypatch.setattr("toonface.send.paced", interrupted)
+    assert main(["send", "synthetic", "--to", "127.0.0.1:9", "--stats"]) == 0
+    captured = capsys.readouterr()
+    assert "stopped" in captured.err and "sent 30 frames in 15 packets to 127.0.0.1:9" in captured.out
+    assert json.loads(captured.out.strip().splitlines()[-1])["frames"] == 30
+
+
+@pytest.mark.parametrize("keyed", [False, True])
+def test_send_says_whether_the_stream_is_sealed(monkeypatch, capsys, tmp_path, keyed):
+    if keyed:
+        key = tmp_path / "key"
+        key.write_bytes(b"a shared secret of enough length")
+        monkeypatch.setenv("TOONFACE_STREAM_KEY", key.read_text())
+    assert main(["send", "synthetic", "--to", "127.0.0.1:9", "--seconds", "0.2"]) == 0
+    assert ("the stream is not encrypted" in capsys.readouterr().err) != keyed
