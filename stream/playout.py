@@ -39,6 +39,9 @@ from stream.reader import Frames
 from toon.motors import N_MOTORS, extra_rest
 
 CONCEALMENT = ("hold", "linear", "sindy")
+#: A stream whose first frame received lies within this many seconds of its sender's start is
+#: recorded from the sender's frame 0 (the frames before it were lost), one joined later from its first frame received.
+FROM_START_SECONDS = 2.0
 #: Per stream frame, the factor a motor's remembered fastest step decays by (half in ~2.3 s at 60 Hz).
 SPEED_DECAY = 0.995
 #: A forecaster: (values (k, 21), times (k,), seconds ahead) -> values (21,).
@@ -111,8 +114,10 @@ class Playout:
         self._index = 0  # the frame shown last (the first received, before any is shown)
         self.speed = np.zeros_like(self.neutral)  # each motor's fastest recent step, units per stream frame
         self.shown: Callable[[float, np.ndarray], None] | None = None  # see values_at
-        self._shown_from: int | None = None  # the first stream frame passed to ``shown``
-        self._shown_last: int | None = None  # the last one
+        self._told_offset: int | None = None  # a told row's number less its stream frame's (see values_at)
+        self._told: int = -1  # the last row told to ``shown``
+        self._newest = (-1, 0.0)  # the newest frame index received and its arrival
+        self._run = 0  # the sender's run the frames held belong to (see Frames)
 
     def add(self, frames: Frames) -> None:
         """Take a packet's frames (arrival on the caller's clock)."""
@@ -120,7 +125,13 @@ class Playout:
         if frames.codes != self.codes:  # the stream's parameters beyond the 21 came or changed: start anew
             self._carry(frames.codes)
         count = len(frames.values)
-        if self._anchor is not None and frames.first < self._anchor[0] - 5 * self.rate:  # a restarted sender
+        restarted = frames.run != self._run or frames.first < self._anchor[0] - 5 * self.rate if self._anchor else False
+        self._run = frames.run
+        if restarted:  # a restarted sender
+            if self._told_offset is not None:  # its rows go on after the gap, as long as it lasted here
+                gap = max(1, int(round((frames.arrival - self._newest[1]) * frames.rate)))
+                self._told_offset = max(self._told + 1, self._newest[0] + self._told_offset + gap) - frames.first
+            self._newest = (-1, 0.0)
             self._frames.clear()
             self.speed[:] = 0.0
             self._concealed.clear()
@@ -131,6 +142,8 @@ class Playout:
         if self._anchor is None or frames.first > self._anchor[0]:
             self._anchor = (frames.first, frames.time_s)
         self._first = min(self._first, frames.first)
+        if frames.first + count - 1 > self._newest[0]:
+            self._newest = (frames.first + count - 1, frames.arrival)
         for i in range(count):
             index = frames.first + i
             captured = frames.time_s + i / frames.rate
@@ -189,9 +202,12 @@ class Playout:
         ``recovering`` or ``waiting`` (nothing received yet).
 
         With :attr:`shown` set (``shown(t, values)``), every stream frame the playout passes is
-        told once, in order, at its stream time ``t`` (seconds from the first frame shown): the
-        frame as it arrived where it was shown live, else what was shown in its place. A
-        recording made so keeps stream time, frame for frame, whatever the drawing rate.
+        told once, in order, at its stream time ``t``: the frame as it arrived where it was shown
+        live, else what was shown in its place. A recording made so keeps stream time, frame for
+        frame, whatever the drawing rate: row k is the sender's frame k when the first frame
+        received lies within :data:`FROM_START_SECONDS` of its start (the rows of frames lost
+        before it hold what was shown while waiting), else row 0 is the first frame received; a
+        restarted sender's frames go on after the rows of the gap, as long as it lasted here.
         """
         if self._anchor is None or self.delay is None:
             self.stats.waiting += 1
@@ -230,12 +246,15 @@ class Playout:
     def _tell_shown(self, index: int, value: np.ndarray, live: bool) -> None:
         """Pass the stream frames up to ``index`` not yet told to :attr:`shown`."""
         assert self.shown is not None
-        if self._shown_from is None or self._shown_last is None:
-            self._shown_from = self._shown_last = index - 1
-        for k in range(self._shown_last + 1, index + 1):
+        if self._told_offset is None:
+            self._told_offset = 0 if self._first <= FROM_START_SECONDS * self.rate else -self._first
+        waiting = self._frames.get(self._first, self.neutral)  # what is shown before the first frame
+        for row in range(self._told + 1, index + self._told_offset + 1):
+            k = row - self._told_offset
             frame = self._frames.get(k)
-            self.shown((k - self._shown_from - 1) / self.rate, frame if live and frame is not None else value)
-        self._shown_last = max(self._shown_last, index)
+            told = waiting if k < self._first else (frame if live and frame is not None else value)
+            self.shown(row / self.rate, told)
+        self._told = max(self._told, index + self._told_offset)
 
     def _stream_at(self, index: int, fraction: float) -> np.ndarray | None:
         here = self._frames.get(index)

@@ -35,7 +35,9 @@ SESSIONS_KEPT = 32
 class Frames:
     """Frames decoded from one packet: their first index, capture time (sender's clock, s, of
     the first), rate, values ``(n, 21 + len(codes))``, the packet's arrival (receiver's clock,
-    s) and the codes of the parameters after the 21 (none for a stream of the 21)."""
+    s), the codes of the parameters after the 21 (none for a stream of the 21) and which run of
+    its sender they belong to (a count the reader moves on when a new numbering begins: a
+    restarted sender)."""
 
     first: int
     time_s: float
@@ -43,6 +45,7 @@ class Frames:
     values: np.ndarray
     arrival: float
     codes: tuple[str, ...] = ()
+    run: int = 0
 
 
 class StreamReader:
@@ -80,6 +83,7 @@ class StreamReader:
         self._models: dict[int, Models] = {}
         self._newest: int | None = None  # highest sequence seen
         self._first_sequence = 0  # where the present run's numbering began
+        self.run = -1  # the present run's number (0 the first)
         self._runs: list[tuple[int, int]] = []  # earlier runs' first and newest sequence numbers
         self._seen = 0  # bit i: sequence newest - i seen
         self._last_valid = -np.inf
@@ -147,6 +151,7 @@ class StreamReader:
                 return False  # a packet of an earlier run: replayed
             self._runs = runs[-SESSIONS_KEPT:]
             self._newest, self._seen, self._first_sequence = sequence, 1, sequence
+            self.run += 1
             self._held, self._ack, self._waiting = FrameStore(), None, {}  # maybe a restarted sender: its frames anew
             return True
         ahead = (sequence - self._newest) % WRAP
@@ -212,7 +217,7 @@ class StreamReader:
         self._frame_mark = _unwrap(header.first_frame, self._frame_mark)
         self._time_mark = _unwrap(header.time_us, self._time_mark)
         return [Frames(self._frame_mark[1] + i, self._time_mark[1] / 1e6 + i / header.rate, header.rate,
-                       np.array(rows) / header.steps, arrival, self.codes) for i, rows in runs]
+                       np.array(rows) / header.steps, arrival, self.codes, self.run) for i, rows in runs]
 
 
 def _reference(header: Header) -> int:

@@ -80,6 +80,24 @@ def check_output(path: str | None, option: str) -> None:
         raise click.BadParameter(f"{path}: no such folder {Path(path).parent}", param_hint=option)
 
 
+def fresh_recording(path: str | None, force: bool, say: Callable[[str], None]) -> str | None:
+    """Where a live command's ``--record`` goes: ``path``, unless a file is there and not
+    ``force``: then the first free ``STEM_2.EXT``, ``STEM_3.EXT``..., said (a live take cannot be
+    made again, so an earlier recording is never overwritten by a new run's)."""
+    if path is None or force or not Path(path).exists():
+        return path
+    given = Path(path)
+    number = 2
+    while (free := given.with_name(f"{given.stem}_{number}{given.suffix}")).exists():
+        number += 1
+    say(f"{path} exists (an earlier recording): recording to {free} (--force overwrites)")
+    return str(free)
+
+
+FORCE_RECORD = click.option("--force", is_flag=True, help="--record overwrites a file of that name "
+                                                          "[default: a new name beside it].")
+
+
 def parse_codes(value: str | None, option: str = "--motors", also: tuple[str, ...] = (),
                 any_parameter: bool = False) -> tuple[str, ...] | None:
     """Motor codes from ``CODE,CODE,...`` (any case); None for no value. Known: the 21, the

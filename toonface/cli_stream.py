@@ -14,6 +14,7 @@ import click
 
 from toonface.cli_options import (
     FACE,
+    FORCE_RECORD,
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
@@ -23,6 +24,7 @@ from toonface.cli_options import (
     TakeReading,
     bridge_spec,
     check_output,
+    fresh_recording,
     parse_size,
     read_take,
     take_options,
@@ -71,6 +73,7 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--colour", default="blue", show_default=True, help="A video: the dot markers' colour.")
 @KEY
 @click.option("--record", default=None, type=click.Path(dir_okay=False), help="Also write the motors sent (.csv/.npz).")
+@FORCE_RECORD
 @click.option("--save-profile", default=None, type=click.Path(dir_okay=False),
               help="At the end, write the profile used (with ranges learned live, for a camera) to reuse with "
                    "--profile next time (.toml).")
@@ -81,7 +84,7 @@ def _key(path: str | None) -> bytes | None:
 def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
-         stats: bool, stream_id: int | None, reading: TakeReading) -> None:
+         stats: bool, stream_id: int | None, force: bool, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
     performer), or instead --vmc HOST:PORT (a face-tracking app over the VMC protocol) or
@@ -101,6 +104,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
         raise click.BadParameter("the same address twice", param_hint="--to")
     check_output(record, "--record")
     check_output(save_profile, "--save-profile")
+    record = fresh_recording(record, force, lambda text: click.echo(f"toonface: note: {text}", err=True))
     spec = bridge_spec(source, vmc, openseeface)
     assert spec is not None
     src = open_source(spec, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
@@ -161,8 +165,10 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @KEY
 @click.option("--record", default=None, type=click.Path(dir_okay=False),
-              help="Also write the motors shown (.csv/.npz); each later performer's beside it, as "
-                   "STEM-2.EXT, STEM-3.EXT... in the order they came.")
+              help="Also write the motors shown (.csv/.npz), at stream time: row k is the sender's frame k "
+                   "(from its start, when this end saw it); each later performer's beside it, as STEM-2.EXT, "
+                   "STEM-3.EXT... in the order they came.")
+@FORCE_RECORD
 @click.option("--stats", is_flag=True, help="Print packets, loss, drops, concealment and latency each second.")
 @VMC_OUT
 @click.option("--performers", "performers_path", default=None, type=click.Path(dir_okay=False),
@@ -174,7 +180,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
             stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int,
-            no_physics: bool) -> None:
+            no_physics: bool, force: bool) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -197,6 +203,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     face_obj = without_physics(load_face(face), no_physics)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
+    record = fresh_recording(record, force, lambda text: click.echo(f"toonface: note: {text}", err=True))
     seats = load_seats(performers_path) if performers_path else []
 
     recordings: PerformerRecordings | None = None
