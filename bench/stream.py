@@ -28,7 +28,8 @@ error is in the detail. ``stream.out_of_range``: shown values outside [0, 1], al
 concealing or recovering, over the larger of 0.05 and that motor's largest step in the values
 sent (as quantised; goal 1: the face never moves faster than it does on its own).
 ``stream.sender_fps``: the sender's live cleaning, mapping and coding, frames per second on one
-core (goal 60).
+core (goal 60). ``stream.wire_both_kbps`` and ``stream.wire_both_lossy_kbps``: the stream's cost
+on the wire both ways at 30 fps (:mod:`bench.stream_wire`).
 """
 
 from __future__ import annotations
@@ -40,16 +41,18 @@ import time
 
 import numpy as np
 
+from bench import stream_wire
 from bench.core import REALDATA, Figure
 from capture import load_take
 from capture.sources import synthetic_source, take_source
 from mapping.predict import MotionModel, trailing_line
+from stream.framing import UDP_IP_HEADER
 from stream.packets import StreamWriter, read_ack
 from stream.playout import Playout
 from stream.reader import StreamReader
 from stream.receiver import StreamReceiver
 from stream.relay import FaultPlan, NetworkFaults
-from stream.sender import UDP_IP_HEADER, StreamSender
+from stream.sender import StreamSender
 from stream.wire import quantise
 from toon import standard_neutral
 from toonface.send import build_mapper, run_sender
@@ -66,7 +69,8 @@ def run(quick: bool = False) -> list[Figure]:
     real = _real_motors()
     return [*_rates(values, noisier, real), _extras_ratio(values, *extras), _latency(4.0 if quick else 10.0),
             *_concealment(values, real, quick),
-            Figure("stream.sender_fps", fps, "frames/s", 60.0, True, {"one_core": hasattr(os, "sched_setaffinity")})]
+            Figure("stream.sender_fps", fps, "frames/s", 60.0, True, {"one_core": hasattr(os, "sched_setaffinity")}),
+            *stream_wire.run(quick)]
 
 
 def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, float, tuple[np.ndarray, tuple]]:
@@ -123,7 +127,7 @@ def _loss_free(values: np.ndarray, codes: tuple[str, ...] = ()) -> tuple[StreamW
             decoded += [f.values for f in reader.read(datagram, index / RATE)]
             ack = reader.take_ack()
             if ack is not None:
-                writer.acknowledge(*(read_ack(ack, None) or (0, 0)))
+                writer.acknowledge(*(read_ack(ack, None, writer.frame) or (0, 0)))
     return writer, decoded
 
 
@@ -236,7 +240,7 @@ def _simulate(values: np.ndarray, method: str, forecaster) -> dict:
     playout = Playout(standard_neutral(), method, forecaster)
     arrivals: list[tuple[float, int, bytes]] = []
     requests: list[float] = []
-    acks: list[tuple[float, tuple[int, int]]] = []
+    acks: list[tuple[float, tuple[int, int, bool] | tuple[int, int]]] = []
     states: dict[str, int] = {}
     received: set[int] = set()  # frames that arrived (in time or not)
     order, errors, jumps, longest, run, outside, delays = 0, [], [0.0], 0, 0, 0, []
@@ -252,7 +256,8 @@ def _simulate(values: np.ndarray, method: str, forecaster) -> dict:
                 received.update(range(frames.first, frames.first + len(frames.values)))
             ack = reader.take_ack()
             if ack is not None:
-                acks += [(back_when, read_ack(ack, None) or (0, 0)) for back_when, _ in backward.decide(ack, when)]
+                acks += [(back_when, read_ack(ack, None, writer.frame) or (0, 0))
+                         for back_when, _ in backward.decide(ack, when)]
             if reader.want_keyframe and not requests and backward.decide(b"k", when):
                 requests.append(when + LOSSY.delay)
         for back_when, frame in sorted(acks):

@@ -1,11 +1,12 @@
 """Type stub: the names the package loads lazily on first use (``lazy_loader``)."""
 
+from .framing import WireError
 from .packets import StreamWriter, is_key_request, key_request, read_ack
 from .playout import Playout, PlayoutStats
 from .reader import Frames, StreamReader
 from .receiver import StreamReceiver
 from .relay import FaultPlan, NetworkFaults, Relay
-from .wire import WireError, quantise
+from .wire import quantise
 
 __all__ = [
     "FaultPlan",

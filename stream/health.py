@@ -13,8 +13,9 @@ from collections.abc import Callable
 
 #: Seconds a sender goes unanswered before it says so (a receiver answers several times a second).
 SILENT_SECONDS = 3.0
-#: Seconds of packets that do not open, none read, before a receiver says so.
-REFUSED_SECONDS = 1.0
+#: Seconds of packets that do not open, none read, before a receiver says so (a sender's long
+#: header comes at least once a second, so a receiver that joins late opens one within it).
+REFUSED_SECONDS = 1.5
 
 
 class Trouble:

@@ -10,35 +10,42 @@ from collections import deque
 
 import numpy as np
 
-from stream.wire import (
-    DEFAULT_STEPS,
+from stream.framing import (
     KEY_REQUEST,
     KEYFRAME,
+    LONG_SECONDS,
+    LOSS_SEEN,
     MAX_EXTRA,
     MAX_FRAMES,
     NAMED,
     PARAMS,
+    Anchor,
     Header,
-    Models,
     WireError,
-    bridge,
-    encode_frames,
     open_packet,
-    pack_params,
-    quantise,
     seal,
 )
+from stream.wire import DEFAULT_STEPS, Models, bridge, encode_frames, pack_params, quantise
 from toon import N_MOTORS
 
 WRAP = 1 << 32
 #: Frames each end keeps to predict from: a reference lies at most this far back (the header's
 #: reference is one byte).
 KEEP = 255
-#: Acknowledgements are relied on while one has come within this many seconds of stream.
-ACK_SECONDS = 0.5
-#: Frames are sent one a packet, each repeating the unacknowledged frame before it, for this
+#: Acknowledgements are relied on while one has come within this many seconds of stream (a
+#: receiver acknowledges at least once a second, see :mod:`stream.reader`).
+ACK_SECONDS = 2.5
+#: Packets are predicted from the acknowledged frame, repeating unacknowledged frames, for this
 #: many seconds of stream after an acknowledgement last showed a frame missing.
 LOSS_SECONDS = 2.0
+#: Above this rate (Hz), frames go one a packet while loss is seen: a lost frame's repeat then
+#: comes one frame period later, so the receiver's jitter buffer stays short. At this rate and
+#: below, packets keep their frames under loss, so that a 30 fps stream stays within 12 kbit/s
+#: both ways (one frame a packet there costs 20, half of it in acknowledgements).
+ALONE_ABOVE_HZ = 40.0
+#: A short header's time is the one its frame predicts from the last long header (see
+#: :mod:`stream.framing`): a packet captured further than this (ms) from it goes long.
+TIME_STRAY_MS = 12
 #: Frames before the acknowledged one whose receipt an acknowledgement reports.
 ACK_BITS = 32
 
@@ -82,21 +89,24 @@ class FrameStore:
 class StreamWriter:
     """Turn motor frames into packets of ``frames_per_packet`` frames.
 
-    While the receiver acknowledges (:meth:`acknowledge`), each packet is predicted from the
-    newest frame it acknowledged, so a lost packet costs only its own frames. Once an
-    acknowledgement shows a frame missing, and for :data:`LOSS_SECONDS` after the last that
-    did, each frame is sent at once in a packet that repeats up to ``repeat`` unacknowledged
-    frames before it: a frame lost alone then arrives a frame period later, in time to be shown
-    by a receiver whose jitter buffer has grown by that much. Without acknowledgements each
-    packet continues from the one before and a keyframe comes at least every ``key_seconds``
-    (see :mod:`stream.wire`).
+    Each packet continues from the one before (its first frame is predicted from the frame just
+    before it). While nothing is lost the receiver acknowledges about once a second, which only
+    says that it is there; a packet lost breaks the chain, the receiver acknowledges at once
+    (and then every packet while loss goes on), and once an acknowledgement shows a frame
+    missing, for :data:`LOSS_SECONDS` after the last that did, each packet is predicted from the
+    newest frame the receiver acknowledged (so a lost packet costs only its own frames) and
+    repeats up to ``repeat`` unacknowledged frames before its own; above
+    :data:`ALONE_ABOVE_HZ` frames then go one a packet. Without acknowledgements (a
+    one-way link) a keyframe comes at least every ``key_seconds``; a keyframe also comes whenever
+    the receiver asks.
 
     Parameters
     ----------
     rate : float
         Frames per second.
     frames_per_packet : int
-        1..32, while no loss is seen; more frames per packet means fewer headers and more delay.
+        1..32; more frames per packet means fewer headers and more delay (the first frame of a
+        packet waits for the others: 2 at 30 fps add 33 ms).
     key_seconds : float
         Without acknowledgements, a packet starts with a keyframe at least this often.
     steps : int
@@ -105,9 +115,9 @@ class StreamWriter:
         Shared secret: packets are sealed (encrypted and authenticated) instead of carrying a CRC.
     first_sequence : int, optional
         The first packet's number (random by default, so a restarted sender is not a replay).
-    repeat : int
-        Unacknowledged frames a packet repeats while loss is seen (0: none, frames still go
-        one a packet).
+    repeat : int, optional
+        Unacknowledged frames a packet repeats while loss is seen (0: none) [default: its frames
+        per packet: a packet lost alone comes again in the next].
     stream : int
         This performer's stream id, 0..65535 (a receiver tells several apart by it).
     codes : tuple of str
@@ -116,8 +126,9 @@ class StreamWriter:
     """
 
     def __init__(self, rate: float, frames_per_packet: int = 2, key_seconds: float = 0.5, steps: int = DEFAULT_STEPS,
-                 key: bytes | None = None, first_sequence: int | None = None, repeat: int = 1,
+                 key: bytes | None = None, first_sequence: int | None = None, repeat: int | None = None,
                  stream: int = 0, codes: tuple[str, ...] = ()) -> None:
+        repeat = frames_per_packet if repeat is None else repeat
         if not 1 <= frames_per_packet <= MAX_FRAMES:
             raise ValueError(f"frames per packet must be 1..{MAX_FRAMES}, got {frames_per_packet}")
         if not 1 <= steps <= 255:
@@ -148,7 +159,9 @@ class StreamWriter:
         self._newest_have: int | None = None  # the frame that acknowledgement named
         self._last_missing: int | None = None  # the newest frame an acknowledgement showed missing
         self._pending: list[np.ndarray] = []
-        self._first_time_us = 0
+        self._first_time_ms = 0
+        self._since_long = np.inf  # frames since the last packet with the long header went
+        self._long: Header | None = None  # the last packet with the long header
         self.payload_bytes = 0  # coded frames only (no header, no tag)
         self.packet_bytes = 0
         self.packets = 0
@@ -167,7 +180,7 @@ class StreamWriter:
         self._since_key = None
         self._name = True
 
-    def acknowledge(self, frame: int, held: int = (1 << ACK_BITS) - 1) -> None:
+    def acknowledge(self, frame: int, held: int = (1 << ACK_BITS) - 1, loss: bool = False) -> None:
         """The receiver holds ``frame`` (u32 index, the newest it holds) and of the
         :data:`ACK_BITS` frames before it those whose bit is set in ``held`` (bit i: the frame
         i + 1 before). From now on predict from the newest of them whose history it holds too
@@ -185,12 +198,14 @@ class StreamWriter:
         missing = [f for f in window if f in self._sent and f not in have]
         if missing and (self._last_missing is None or not behind(missing[0], self._last_missing)):
             self._since_loss, self._last_missing = 0, missing[0]  # a loss not seen before
+        elif loss and not self.lossy:
+            self._since_loss = 0  # the receiver saw one (frames after the newest it holds wait for it)
         if self._newest_have is None or behind(self._newest_have, frame):
             self._newest_have, self._have = frame, have
 
     @property
     def lossy(self) -> bool:
-        """Whether loss was seen lately (frames go one a packet, repeating)."""
+        """Whether loss was seen lately (packets predicted from acknowledged frames, repeating)."""
         return self._since_loss < LOSS_SECONDS * self.rate
 
     def push(self, values: np.ndarray, time_s: float) -> bytes | None:
@@ -199,9 +214,9 @@ class StreamWriter:
         if len(values) != N_MOTORS + len(self.codes):
             raise ValueError(f"a frame of {len(values)} values; this stream carries {N_MOTORS + len(self.codes)}")
         if not self._pending:
-            self._first_time_us = int(round(time_s * 1e6))
+            self._first_time_ms = int(round(time_s * 1e3))
         self._pending.append(quantise(values, self.steps))
-        full = 1 if self.lossy else self.frames_per_packet
+        full = 1 if self.lossy and self.rate > ALONE_ABOVE_HZ else self.frames_per_packet
         return self.flush() if len(self._pending) >= full else None
 
     def flush(self) -> bytes | None:
@@ -223,11 +238,17 @@ class StreamWriter:
         named = keyframe and self._name and bool(self.codes)
         coded = encode_frames(levels, history, keyframe, self.models, self.codes)
         body = pack_params(self.codes, keyframe, named) + coded
-        time_us = self._first_time_us - int(round(len(again) * 1e6 / self.rate))
+        time_ms = self._first_time_ms - int(round(len(again) * 1e3 / self.rate))
         flags = (KEYFRAME if keyframe else 0) | (PARAMS if self.codes else 0) | (NAMED if named else 0)
-        header = Header(flags, self.sequence, first, time_us, len(levels), self.steps, self.rate, back, self.stream)
+        header = Header(flags, self.sequence, first, time_ms, len(levels), self.steps, self.rate, back, self.stream,
+                        self.frames_per_packet)
         self._name = self._name and not named
-        datagram = seal(header, body, self.key)
+        short = self._short(header)
+        datagram = seal(header, body, self.key, short)
+        if short and header.fits_short():
+            self._since_long += len(self._pending)
+        else:
+            self._since_long, self._long = 0, header
         depth = 0 if reference is None else self._sent.depth(reference) + back
         for i, row in enumerate(levels):
             index = (first + i) % WRAP
@@ -267,6 +288,17 @@ class StreamWriter:
             return []  # near a keyframe: the receiver would cut a history where this end did not
         return [self._sent.row(f) for f in window]
 
+    def _short(self, header: Header) -> bool:
+        """Whether ``header`` may go in the short form: the long one went within
+        :data:`~stream.framing.LONG_SECONDS`, and its time is within :data:`TIME_STRAY_MS` of the
+        one its frame predicts from that long one (what a reader takes for it)."""
+        last = self._long
+        if last is None or self._since_long + header.count > LONG_SECONDS * self.rate:
+            return False
+        predicted = last.time_ms + ((header.first_frame - last.first_frame + WRAP // 2) % WRAP - WRAP // 2) \
+            * 1e3 / self.rate
+        return abs(header.time_ms - predicted) <= TIME_STRAY_MS
+
     def _relying(self) -> bool:
         """Whether packets are predicted from the acknowledged frame now."""
         return (self._acked is not None and self._since_ack <= ACK_SECONDS * self.rate
@@ -277,10 +309,11 @@ class StreamWriter:
         keyframe."""
         if self._since_key is None:
             return None
-        if self._relying():
+        if self.lossy and self._relying():
             return self._acked
         previous = (first - 1) % WRAP
-        if self._since_key + count > self.key_every or self._sent.history(previous) is None:
+        heard = self._since_ack <= ACK_SECONDS * self.rate  # a receiver answers: no keyframes needed unasked
+        if (not heard and self._since_key + count > self.key_every) or self._sent.history(previous) is None:
             return None
         return previous
 
@@ -299,14 +332,15 @@ def is_key_request(datagram: bytes, key: bytes | None) -> bool:
     return header.key_request
 
 
-def read_ack(datagram: bytes, key: bytes | None) -> tuple[int, int] | None:
-    """A valid acknowledgement's frame and its bits of frames held before it (see
+def read_ack(datagram: bytes, key: bytes | None, frame: int = 0) -> tuple[int, int, bool] | None:
+    """A valid acknowledgement's frame (restored nearest to ``frame``: the sender's next), its
+    bits of frames held before it and whether the receiver saw a loss lately (see
     :meth:`StreamWriter.acknowledge`); None for anything else."""
     try:
-        header, _ = open_packet(datagram, key)
+        header, _ = open_packet(datagram, key, Anchor(0, frame))
     except WireError:
         return None
-    return (header.first_frame, header.time_us) if header.ack else None
+    return (header.first_frame, header.time_ms, bool(header.flags & LOSS_SEEN)) if header.ack else None
 
 
 def behind(index: int, reference: int) -> bool:

@@ -147,7 +147,8 @@ class Playout:
         for i in range(count):
             index = frames.first + i
             captured = frames.time_s + i / frames.rate
-            self._transit.append((frames.arrival, frames.arrival - captured))
+            if i >= frames.filled:  # a frame that fills a hole came late by design, not by the network's jitter
+                self._transit.append((frames.arrival, frames.arrival - captured))
             self._note_speed(index, frames.values[i])
             if index in self._concealed:  # too late to show: how wrong was what was shown instead
                 self.stats.late_frames += 1
@@ -157,9 +158,10 @@ class Playout:
                 self._frames[index] = frames.values[i]
         while self._transit and self._transit[0][0] < frames.arrival - self.window:
             self._transit.popleft()
-        self._needed = self._needed_delay()
-        if self.delay is None or self._needed > self.delay:
-            self.delay = self._needed
+        if self._transit:  # (a packet of frames that all filled holes says nothing of the network)
+            self._needed = self._needed_delay()
+            if self.delay is None or self._needed > self.delay:
+                self.delay = self._needed
         self._forget()
 
     def _carry(self, codes: tuple[str, ...]) -> None:
@@ -190,10 +192,10 @@ class Playout:
 
     def latency(self) -> float | None:
         """Seconds from a frame's capture to its showing, when the sender's clock is this
-        clock (one machine; its stamps wrap every 2**32 microseconds); else None."""
+        clock (one machine; its stamps wrap every 2**32 milliseconds); else None."""
         if self.delay is None:
             return None
-        wrap = 2.0 ** 32 / 1e6
+        wrap = 2.0 ** 32 / 1e3
         shown = (self.delay + wrap / 2) % wrap - wrap / 2
         return shown if abs(shown) < 10.0 else None
 

@@ -3,9 +3,10 @@
 A daemon thread reads the UDP socket (packets larger than the format allows are cut short by
 the read and dropped as oversized), checks and decodes them (:class:`~stream.reader.StreamReader`)
 and hands the frames to the jitter buffer (:class:`~stream.playout.Playout`). It acknowledges
-what it holds after each packet (the sender then predicts from frames known to be here, so a
-lost packet costs only its own frames); when a packet's reference is missing it asks the sender
-for a keyframe, at most once per ``request_interval``.
+what it holds when the reader says one is due (once a second while nothing is lost, after every
+packet while loss goes on: the sender then predicts from frames known to be here, so a lost
+packet costs only its own frames); when a packet has waited for a missing reference it asks the
+sender for a keyframe, at most once per ``request_interval``.
 The loop that draws the face calls :meth:`StreamReceiver.values_at`. Memory stays bounded
 whatever arrives: one datagram is read at a time, out-of-order packets wait in a bounded table,
 and the jitter buffer forgets what is behind it.
@@ -22,11 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from stream.framing import MAX_PACKET, peek_stream
 from stream.health import REFUSED_SECONDS, Trouble
 from stream.packets import key_request
 from stream.playout import Playout
 from stream.reader import StreamReader
-from stream.wire import MAX_PACKET, peek_stream
 from toon.motors import N_MOTORS
 
 
@@ -175,7 +176,7 @@ class StreamReceiver:
             lane = self._lane(stream)
             if lane is None:
                 return
-            before, refused = lane.reader.packets, lane.reader.dropped.get("tag", 0)
+            before, refused = lane.reader.packets, _unopened(lane.reader)
             newcomer = stream is not None and stream not in self.lanes and bool(self.lanes)
             if newcomer and self.key is None and arrival - self._last_newcomer < self.newcomer_seconds:
                 self.refused_newcomers += 1  # unkeyed: one new performer a newcomer_seconds at most
@@ -188,7 +189,7 @@ class StreamReceiver:
                     self.lanes[stream] = lane  # a newcomer, now that a packet of it read well
                     self._last_newcomer = arrival
                 self.refusing.update(False, arrival, "", "packets open again: the stream flows")
-            elif lane.reader.dropped.get("tag", 0) > refused:
+            elif _unopened(lane.reader) > refused:
                 self.refusing.update(True, arrival, self._refused_line, "")
             self._arrived.notify_all()
             wanted = lane.reader.want_keyframe and arrival - lane.last_request >= self.request_interval
@@ -268,6 +269,12 @@ class StreamReceiver:
                                      for stream, lane in self.lanes.items()}
                 out["other_streams"] = self.other_streams
             return out
+
+
+def _unopened(reader: StreamReader) -> int:
+    """Packets a reader could not open: not sealed with its key (or its check failed), or short
+    headers with no packet read to restore them against (another key's, once its long ones failed)."""
+    return reader.dropped.get("tag", 0) + reader.dropped.get("unanchored", 0)
 
 
 def _refusal(count: int, keyed: bool, what: str) -> str:

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stream.wire import peek_stream
+from stream.framing import UDP_IP_HEADER, peek_stream
 
 #: Senders a relay remembers by stream id.
 MAX_CLIENTS = 256
@@ -60,12 +60,17 @@ class FaultPlan:
         self.faults, self.rng = faults, np.random.default_rng(seed)
         self._burst_until = -np.inf
         self._last: float | None = None
-        self.counts = {"in": 0, "lost": 0, "duplicated": 0, "corrupted": 0, "reordered": 0}
+        self.counts = {"in": 0, "lost": 0, "duplicated": 0, "corrupted": 0, "reordered": 0, "bytes_in": 0,
+                       "wire_bytes_in": 0}
 
     def decide(self, datagram: bytes, now: float) -> list[tuple[float, bytes]]:
-        """``(send time, datagram)`` pairs (none if lost)."""
+        """``(send time, datagram)`` pairs (none if lost). The counts keep the datagrams' bytes
+        that came (``bytes_in``) and what they cost on the wire with IPv4/UDP's 28 bytes each
+        (``wire_bytes_in``)."""
         f, rng = self.faults, self.rng
         self.counts["in"] += 1
+        self.counts["bytes_in"] += len(datagram)
+        self.counts["wire_bytes_in"] += len(datagram) + UDP_IP_HEADER
         if f.burst_seconds > 0 and self._last is not None:
             if rng.random() < 1 - np.exp(-f.bursts_per_second * max(now - self._last, 0.0)):
                 self._burst_until = now + f.burst_seconds

@@ -14,11 +14,10 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from stream.framing import UDP_IP_HEADER
 from stream.health import SILENT_SECONDS, Trouble
 from stream.packets import StreamWriter, is_key_request, read_ack
 from toon.motors import extra_rest
-
-UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
 
 
 class StreamSender:
@@ -108,7 +107,7 @@ class StreamSender:
                 data = self.sock.recv(256)
             except (BlockingIOError, OSError):
                 return heard
-            acked = read_ack(data, self.writer.key)
+            acked = read_ack(data, self.writer.key, self.writer.frame)
             if acked is not None:
                 self.writer.acknowledge(*acked)
                 self.acks += 1

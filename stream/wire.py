@@ -1,50 +1,9 @@
 """The motor stream's wire format: packets of quantised, predicted, arithmetic-coded motor frames.
 
-One UDP datagram is one packet::
-
-    offset size field
-    0      2    magic b"TF"
-    2      1    version (5)
-    3      1    flags: 1 = the first frame is a keyframe, 2 = sealed with a key (below),
-                       4 = a keyframe request (receiver to sender; no frames),
-                       8 = an acknowledgement (receiver to sender; no frames),
-                       16 = the frames carry parameters beyond the 21 (see below),
-                       32 = this keyframe packet names them
-    4      2    stream id (u16): the sender's, so that one receiver tells several performers
-                apart (through a relay too); a receiver's replies carry the id they answer
-    6      4    sequence number of the packet (u32, wraps)
-    10     4    index of the packet's first frame (u32, wraps); in an acknowledgement, the
-                newest frame the receiver holds with its whole history
-    14     4    capture time of the first frame, sender's clock, microseconds (u32, wraps); in
-                an acknowledgement, which of the 32 frames before that frame the receiver
-                holds (bit i: the frame i + 1 before it)
-    18     1    frames in the packet, 0..32
-    19     1    quantisation steps S (motor value v is sent as round(v * S), 0..S)
-    20     2    frame rate, 1/100 Hz (u16)
-    22     1    reference: how many frames before the first frame the frame it is predicted
-                from lies (1: the frame just before; 0 in a keyframe)
-    23     ...  with flags 16 and 32 (a keyframe packet), the parameters' list (1 byte: its
-                length L; L bytes: the codes in ASCII, one space between, ``HT UL``); with
-                flag 16 alone in a keyframe packet, the list's check (1 byte: the low byte
-                of its CRC-32); any other packet sets flag 16 and carries the list of the
-                keyframe its chain began with
-    ...    ...  the coded frames
-    end-T  T    tag: CRC-32 of all before it (T = 4); or, sealed with a shared key (flag 2),
-                the AEAD's tag (T = 16) and everything after the header is encrypted
-
-With a key (a shared secret of at least 16 bytes), a packet is sealed with AES-256-GCM-SIV
-(RFC 8452) under a key derived from the secret by HKDF-SHA256: the header travels in clear (a
-relay and a receiver of several performers sort packets by its stream id) but is authenticated
-as associated data, so a packet whose stream id, sequence or frame index was changed is refused;
-the parameters and coded frames are encrypted. The nonce is the header's flags, stream id,
-sequence, first frame and the low byte of its time, which differ from packet to packet of one
-sender and between the two directions (flags); GCM-SIV is chosen over ChaCha20-Poly1305 or
-AES-GCM because a repeated nonce (two senders started with the same stream id and sequence, a
-chance of about one in 2^48 per pair) then reveals only that two packets were identical, not the
-key stream. Replays of whole packets are refused by the reader (:mod:`stream.reader`).
-
-All integers are little-endian. The default S = 100 makes the quantisation error at most 0.5 %
-of a motor's range (log2(101) = 6.66 bits a value before coding).
+The header of each packet, its check and its seal are :mod:`stream.framing`'s; this module is
+what a packet's body holds: the parameters' list (or its check) in a keyframe packet, then the
+coded frames. The default S = 100 makes the quantisation error at most 0.5 % of a motor's range
+(log2(101) = 6.66 bits a value before coding).
 
 Parameters beyond the 21 (a face's own, :data:`toon.motors.STANDARD_EXTRAS`: HT, UL...) are
 columns after the 21, quantised and coded exactly as motors are. A stream of the 21 alone sets
@@ -72,93 +31,28 @@ damping and the models were fitted on the synthetic performer's live-mapped moto
 facial takes mapped live (AnimFace) the residuals' entropy under them is 20 % below version 2's
 (a continuation always).
 
-Loss (see :mod:`stream.packets`): a receiver acknowledges the newest frame it holds and which
-of the 32 before it it holds; the sender predicts from the newest of them held with its whole
-history, and once acknowledgements show loss it sends each frame at once, repeating in each
-packet the frame before it if that is not yet acknowledged. A packet's frames are consecutive;
-a receiver keeps the first copy of a frame it already holds. Without acknowledgements a packet
-continues the chain of the packet before: the sender starts a packet with a keyframe at least
-every ``key_seconds`` (0.5 s by default) and whenever the receiver asks (flag 4).
+Loss is :mod:`stream.packets`' (which frame a packet is predicted from, what it repeats, when
+a keyframe comes): a packet's frames are consecutive, and a receiver keeps the first copy of a
+frame it already holds.
 """
 
 from __future__ import annotations
 
-import hmac
-import struct
 import zlib
-from dataclasses import dataclass
 
 import numpy as np
-from cryptography.exceptions import InvalidTag
-from cryptography.hazmat.primitives import hashes
-from cryptography.hazmat.primitives.ciphers.aead import AESGCMSIV
-from cryptography.hazmat.primitives.kdf.hkdf import HKDF
 
+from stream.framing import MAX_EXTRA, NAMED, Header, WireError
 from stream.rangecode import Decoder, Encoder, Model
 from toon import N_MOTORS
 from toon.motors import extra_rest
 
-MAGIC = b"TF"
-VERSION = 5
-KEYFRAME, AUTHENTICATED, KEY_REQUEST, ACK, PARAMS, NAMED = 1, 2, 4, 8, 16, 32
-#: The most parameters beyond the 21 a stream carries.
-MAX_EXTRA = 32
-HEADER = struct.Struct("<2sBBHIIIBBHB")
-#: Where the stream id lies, for a relay or a receiver that sorts packets by it before reading them.
-STREAM_ID = struct.Struct("<H")
-STREAM_ID_OFFSET = 4
-MAX_FRAMES = 32
-CRC_SIZE, SEAL_SIZE = 4, 16
-#: Header bytes that make a sealed packet's nonce: flags, stream id, sequence, first frame, time's low byte.
-NONCE = slice(3, 15)
-#: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.
-MAX_PACKET = HEADER.size + MAX_FRAMES * N_MOTORS * 2 + SEAL_SIZE + 64 + MAX_EXTRA * (MAX_FRAMES * 2 + 17)
 DEFAULT_STEPS = 100
 #: Per-step decay of the residual model for each activity context (0..5 steps), fitted by maximum
 #: likelihood on 60 s of the synthetic performer's live-mapped motors (0.2 mm noise).
 CONTEXT_DECAY = (0.09, 0.21, 0.30, 0.45, 0.53, 0.66)
 #: A motor whose last two steps add up to fewer levels than this is predicted to stay put.
 HOLD_BELOW = 3
-
-
-class WireError(ValueError):
-    """A packet that cannot be read; ``reason`` is one word for the counters
-    (``size``, ``magic``, ``version``, ``tag``, ``malformed``)."""
-
-    def __init__(self, reason: str, message: str) -> None:
-        super().__init__(message)
-        self.reason = reason
-
-
-@dataclass(frozen=True)
-class Header:
-    """A packet's fixed fields (see the module's table)."""
-
-    flags: int
-    sequence: int
-    first_frame: int
-    time_us: int
-    count: int
-    steps: int
-    rate: float
-    back: int = 1
-    stream: int = 0
-
-    @property
-    def keyframe(self) -> bool:
-        return bool(self.flags & KEYFRAME)
-
-    @property
-    def key_request(self) -> bool:
-        return bool(self.flags & KEY_REQUEST)
-
-    @property
-    def ack(self) -> bool:
-        return bool(self.flags & ACK)
-
-    @property
-    def params(self) -> bool:
-        return bool(self.flags & PARAMS)
 
 
 def pack_params(codes: tuple[str, ...], keyframe: bool, named: bool) -> bytes:
@@ -204,74 +98,6 @@ class Models:
         self.steps = steps
         self.flat = Model([1] * (steps + 1))
         self.residual = [Model.laplace(2 * steps + 1, steps, decay) for decay in CONTEXT_DECAY]
-
-
-def seal(header: Header, body: bytes, key: bytes | None) -> bytes:
-    """Header, body and tag as one datagram."""
-    flags = header.flags | (AUTHENTICATED if key else 0)
-    head = HEADER.pack(MAGIC, VERSION, flags, header.stream & 0xFFFF, header.sequence & 0xFFFFFFFF,
-                       header.first_frame & 0xFFFFFFFF,
-                       header.time_us & 0xFFFFFFFF, header.count, header.steps, int(round(header.rate * 100)),
-                       0 if header.flags & KEYFRAME else header.back)
-    if key:
-        return head + _aead(key).encrypt(head[NONCE], body, head)
-    return head + body + _crc(head + body)
-
-
-def open_packet(data: bytes, key: bytes | None) -> tuple[Header, bytes]:
-    """Check a datagram's size, magic, version and tag; returns its header and coded body.
-
-    Raises
-    ------
-    WireError
-        Saying what is wrong; with a ``key``, a packet not sealed with it is refused (reason
-        ``tag``), and without one, a sealed packet is too (it cannot be read).
-    """
-    if len(data) > MAX_PACKET or len(data) < HEADER.size + CRC_SIZE:
-        raise WireError("size", f"a packet of {len(data)} bytes (must be {HEADER.size + CRC_SIZE}..{MAX_PACKET})")
-    magic, version, flags, stream, sequence, first, time_us, count, steps, rate, back = HEADER.unpack_from(data)
-    if magic != MAGIC:
-        raise WireError("magic", f"not a toonface stream packet (magic {magic!r})")
-    if version != VERSION:
-        raise WireError("version", f"stream version {version} (this reads {VERSION})")
-    if bool(flags & AUTHENTICATED) != bool(key):
-        raise WireError("tag", "an unsealed packet" if key else "a sealed packet and no key to open it")
-    size = SEAL_SIZE if key else CRC_SIZE
-    if len(data) < HEADER.size + size:
-        raise WireError("size", f"a packet of {len(data)} bytes has no room for its tag")
-    head = data[:HEADER.size]
-    if key:
-        try:
-            body = _aead(key).decrypt(head[NONCE], data[HEADER.size:], head)
-        except InvalidTag:
-            raise WireError("tag", "the packet does not open with this key (another key, corrupted or forged)") \
-                from None
-    elif not hmac.compare_digest(data[-size:], _crc(data[:-size])):
-        raise WireError("tag", "the packet's CRC does not match (corrupted)")
-    else:
-        body = data[HEADER.size:-size]
-    if count > MAX_FRAMES or steps < 1 or rate == 0 or (count and not flags & KEYFRAME and back == 0):
-        raise WireError("malformed", f"a header with {count} frames, {steps} steps, rate {rate / 100:g}, "
-                                     f"reference {back}")
-    return Header(flags, sequence, first, time_us, count, steps, rate / 100.0, back, stream), body
-
-
-def peek_stream(data: bytes) -> int | None:
-    """The stream id of what looks like a packet of this version (None otherwise), unchecked:
-    for sorting packets by performer before each stream's reader checks them."""
-    if len(data) < HEADER.size or data[:2] != MAGIC or data[2] != VERSION:
-        return None
-    return int(STREAM_ID.unpack_from(data, STREAM_ID_OFFSET)[0])
-
-
-def _crc(data: bytes) -> bytes:
-    return struct.pack("<I", zlib.crc32(data))
-
-
-def _aead(secret: bytes) -> AESGCMSIV:
-    """The cipher of a shared secret: AES-256-GCM-SIV under HKDF-SHA256 of it."""
-    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=b"toonface stream 5").derive(secret)
-    return AESGCMSIV(derived)
 
 
 def encode_frames(levels: np.ndarray, history: np.ndarray, keyframe: bool, models: Models,

@@ -314,13 +314,18 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
     with proxy:
         host, port = proxy.address
         click.echo(f"relaying {host}:{port} -> {target} (Ctrl-C stops)", err=False)
-        end = None if seconds is None else time.monotonic() + seconds
+        start = time.monotonic()
+        end = None if seconds is None else start + seconds
         try:
             while end is None or time.monotonic() < end:
                 time.sleep(0.2 if end is None else max(0.0, min(0.2, end - time.monotonic())))
         except KeyboardInterrupt:
             pass
-    click.echo(json.dumps({"forward": proxy.forward.counts, "back": proxy.backward.counts}))
+        elapsed = max(time.monotonic() - start, 1e-9)
+    counts = {side: {**plan.counts, "wire_kbps": round(plan.counts["wire_bytes_in"] * 8 / elapsed / 1000, 3)}
+              for side, plan in (("forward", proxy.forward), ("back", proxy.backward))}
+    both = round(sum(c["wire_kbps"] for c in counts.values()), 3)
+    click.echo(json.dumps({**counts, "wire_kbps_both": both, "seconds": round(elapsed, 2)}))
 
 
 STREAM_COMMANDS = (send, receive, relay)

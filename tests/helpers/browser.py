@@ -116,8 +116,12 @@ def page_against_offscreen(driver, session):
     from player.backends import open_renderer
     from toon import MOTOR_CODES, FaceRig
 
-    png = driver.find_element("id", "view").screenshot_as_png
-    values = driver.execute_script("return window.studio.last.values")
+    for _ in range(20):  # a frame that stayed while the screenshot was taken (a swinging face moves on)
+        before = driver.execute_script("return window.studio.last.values")
+        png = driver.find_element("id", "view").screenshot_as_png
+        values = driver.execute_script("return window.studio.last.values")
+        if values == before:
+            break
     shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
     motors = np.array([values[code] for code in MOTOR_CODES])
     extra = {code: values[code] for code in session.face.extra_codes if code in values}

@@ -9,10 +9,23 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from motor_streams import RATE, packets, smooth_motion
 
+from stream.framing import (
+    CHECK_SIZE,
+    LONG,
+    LONG_HEADER,
+    MAX_PACKET,
+    REGULAR,
+    SEAL_SIZE,
+    SHORT_HEADER,
+    Anchor,
+    WireError,
+    open_packet,
+    peek_stream,
+)
 from stream.packets import LOSS_SECONDS, StreamWriter, is_key_request, key_request, read_ack
 from stream.rangecode import Decoder, Encoder, Model
 from stream.reader import StreamReader
-from stream.wire import CRC_SIZE, HEADER, MAX_PACKET, SEAL_SIZE, bridge, peek_stream, quantise
+from stream.wire import bridge, quantise
 from toon import standard_neutral
 
 
@@ -44,24 +57,51 @@ def test_stream_round_trip_is_exact_to_the_quantisation(per_packet, steps, seed)
     assert [f.first for f in frames] == list(range(0, 90, per_packet))
 
 
-def test_header_is_little_endian_as_documented():
-    _, datagrams = packets(smooth_motion(4), frames_per_packet=2)
-    magic, version, flags, stream, sequence, first, time_us, count, steps, rate, back = \
-        HEADER.unpack_from(datagrams[1])
-    assert (magic, version, flags & 1, stream, sequence, first, count, steps, rate, back) == (
-        b"TF", 5, 0, 0, 1, 2, 2, 100, 6000, 1)
-    assert datagrams[1][6:10] == struct.pack("<I", 1) and time_us == round(2 / RATE * 1e6)
-    assert HEADER.unpack_from(datagrams[0])[2] & 1  # the first packet is a keyframe
+def headers(datagrams: list[bytes]) -> list:
+    """Each datagram's full header, a short one restored against the one before, as a reader does."""
+    out, anchor = [], None
+    for datagram in datagrams:
+        header, _ = open_packet(datagram, None, anchor)
+        anchor = (anchor or Anchor(0, 0)).after(header)
+        out.append(header)
+    return out
+
+
+def test_headers_are_little_endian_as_documented_the_first_long_the_next_short():
+    _, datagrams = packets(smooth_motion(6), frames_per_packet=2, stream=513)
+    flags, stream, version, sequence, first, time_ms, count, usual, steps, rate, back = \
+        LONG_HEADER.unpack_from(datagrams[0])
+    assert (flags & (LONG | 1), stream, version, sequence, first, time_ms, count, usual, steps, rate, back) == (
+        LONG | 1, 513, 5, 0, 0, 0, 2, 2, 100, 6000, 0)  # a keyframe, in the long form
+    flags, stream, sequence, frame = SHORT_HEADER.unpack_from(datagrams[2])
+    assert (flags & (LONG | REGULAR), stream, sequence, frame) == (REGULAR, 513, 2, 4)  # the time is not sent
+    assert datagrams[2][1:3] == struct.pack("<H", 513) and LONG_HEADER.size == 22 and SHORT_HEADER.size == 5
+    restored = headers(datagrams)[2]
+    assert (restored.sequence, restored.first_frame, restored.time_ms, restored.count, restored.back) == (
+        2, 4, 67, 2, 1)
+
+
+def test_a_short_header_needs_a_packet_before_it_and_a_wrong_restoring_fails_its_check():
+    values = smooth_motion(40)
+    _, datagrams = packets(values)
+    assert len(datagrams[1]) < len(datagrams[0]) - 15  # 5 header bytes and a 2-byte check, against 22 and 2
+    reader = StreamReader()
+    assert reader.read(datagrams[1], 0.0) == [] and reader.dropped["unanchored"] == 1
+    far = Anchor(300, 600, 600, 10_000, 100, RATE, 2)  # restored against the wrong packet: other numbers
+    with pytest.raises(WireError, match="check"):
+        open_packet(datagrams[1], None, far)
+    assert [h.flags & LONG for h in headers(datagrams)][:3] == [LONG, 0, 0]
+    assert sum(h.flags & LONG != 0 for h in headers(datagrams)) >= 1 + 40 // 60  # and at least once a second
 
 
 def test_the_stream_id_goes_out_with_every_packet_and_comes_back_in_the_replies():
     writer, reader = StreamWriter(RATE, first_sequence=0, stream=513), StreamReader()
     datagrams = [d for i in range(6) if (d := writer.push(standard_neutral(), i / RATE)) is not None]
-    assert [peek_stream(d) for d in datagrams] == [513] * 3 and datagrams[0][4:6] == struct.pack("<H", 513)
+    assert [peek_stream(d) for d in datagrams] == [513] * 3 and datagrams[0][1:3] == struct.pack("<H", 513)
     for datagram in datagrams:
         reader.read(datagram, 0.0)
     assert peek_stream(reader.take_ack()) == 513 and peek_stream(key_request(1, None, 513)) == 513
-    assert peek_stream(b"TF\x03" + bytes(30)) is None and peek_stream(b"xx") is None  # another version, or none
+    assert peek_stream(b"xx") is None  # too short to be one
     with pytest.raises(ValueError, match="0..65535"):
         StreamWriter(RATE, stream=70000)
 
@@ -80,7 +120,7 @@ def test_reader_drops_corrupt_oversized_replayed_and_unauthenticated_packets():
     reader = StreamReader()
     assert reader.read(datagrams[0], 0.0)
     flipped = bytearray(datagrams[1])
-    flipped[25] ^= 4
+    flipped[SHORT_HEADER.size + 1] ^= 4
     assert reader.read(bytes(flipped), 0.0) == []
     assert reader.read(datagrams[0], 0.0) == []  # the same packet again
     assert reader.read(b"x" * (MAX_PACKET + 1), 0.0) == []
@@ -94,12 +134,12 @@ def test_a_key_seals_packets_and_a_wrong_key_is_refused():
     key = b"a shared secret of enough length"
     _, datagrams = packets(smooth_motion(6), key=key)
     _, plain = packets(smooth_motion(6))
-    header = HEADER.size
-    assert len(datagrams[0]) == len(plain[0]) - CRC_SIZE + SEAL_SIZE  # the same body, encrypted, and a 16-byte tag
+    header = LONG_HEADER.size
+    assert len(datagrams[0]) == len(plain[0]) - CHECK_SIZE + SEAL_SIZE  # the same body, encrypted; a 16-byte tag
     assert datagrams[0][header:header + 8] != plain[0][header:header + 8]  # the coded frames do not travel in clear
     assert len(StreamReader(key).read(datagrams[0], 0.0)) == 1
-    for offset in (4, 6, 10, header + 1, len(datagrams[1]) - 1):  # stream id, sequence, frame, body, tag
-        forged = bytearray(datagrams[1])
+    for offset in (1, 4, 8, 12, header + 1, len(datagrams[0]) - 1):  # stream id, sequence, frame, time, body, tag
+        forged = bytearray(datagrams[0])
         forged[offset] ^= 1
         reader = StreamReader(key)
         assert reader.read(bytes(forged), 0.0) == [] and dict(reader.dropped) == {"tag": 1}
@@ -130,22 +170,23 @@ def test_a_lost_packet_asks_for_a_keyframe_and_the_keyframe_resumes_the_chain():
         if reader.want_keyframe:
             writer.request_keyframe()
     firsts = [f.first for f in decoded]
-    assert 4 not in firsts and 6 not in firsts and 8 in firsts  # frames 6-7 wait in vain; 8 is a keyframe
-    assert reader.lost == 1 and not reader.want_keyframe
+    assert firsts == [0, 2] + list(range(22, 40, 2))  # frames 6-21 wait in vain; asked after 0.2 s, 22 is a keyframe
+    assert writer.keyframes == 2 and reader.lost == 1 and not reader.want_keyframe
 
 
 def _acked_stream(values: np.ndarray, lose: set[int], delay_packets: int = 0):
-    """Send ``values`` (2 frames a packet while no loss is seen), dropping the packets numbered
-    in ``lose``; each acknowledgement reaches the sender ``delay_packets`` packets later (0:
-    before the next). Also returns the frames each packet carried, ``[(first, count)]``."""
+    """Send ``values`` (2 frames a packet), dropping the packets numbered in ``lose``; each
+    acknowledgement reaches the sender ``delay_packets`` packets later (0: before the next).
+    Also returns the frames each packet carried, ``[(first, count)]``, and the acknowledgements
+    sent."""
     writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
-    decoded, in_flight, keyframes_asked, carried = {}, [], 0, []
+    decoded, in_flight, keyframes_asked, carried, sent = {}, [], 0, [], []
     for i, row in enumerate(values):
         datagram = writer.push(row, i / RATE)
         if datagram is None:
             continue
         packet = writer.packets - 1
-        carried.append(HEADER.unpack_from(datagram)[5:8:2])  # (first frame, count)
+        carried.append(datagram)
         if packet not in lose:
             for frames in reader.read(datagram, i / RATE):
                 for k, v in enumerate(frames.values):
@@ -153,54 +194,60 @@ def _acked_stream(values: np.ndarray, lose: set[int], delay_packets: int = 0):
                     decoded[frames.first + k] = v
             ack = reader.take_ack()
             if ack is not None:
-                in_flight.append((packet + delay_packets, read_ack(ack, None)))
+                in_flight.append((packet + delay_packets, read_ack(ack, None, writer.frame)))
+                sent.append((i, in_flight[-1][1]))
         keyframes_asked += reader.want_keyframe
         for _, acked in [a for a in in_flight if a[0] <= packet]:
             writer.acknowledge(*acked)
         in_flight = [a for a in in_flight if a[0] > packet]
-    return writer, reader, decoded, keyframes_asked, carried
+    return writer, reader, decoded, keyframes_asked, [(h.first_frame, h.count) for h in headers(carried)], sent
 
 
-def test_without_loss_packets_carry_two_frames_and_repeat_none():
-    values = smooth_motion(240, seed=4)
-    writer, _, decoded, asked, carried = _acked_stream(values, set())
+def test_without_loss_packets_chain_and_a_receiver_acknowledges_once_a_second():
+    """Acknowledgements after every packet cost more than the stream itself (5.5 kbit/s back for
+    1.6 forward): while nothing is lost one a second says the receiver is there."""
+    values = smooth_motion(240, seed=4)  # 4 s
+    writer, _, decoded, asked, carried, acks = _acked_stream(values, set())
     assert sorted(decoded) == list(range(240)) and asked == 0
     assert all(count == 2 for _, count in carried) and writer.repeated_frames == 0 and not writer.lossy
-    assert writer.acked_packets == len(carried) - 1  # all but the keyframe predicted from an acknowledged frame
+    times = [i for i, _ in acks]
+    assert times[0] == 1 and len(times) == 4 and all(60 <= b - a <= 62 for a, b in zip(times, times[1:], strict=False))
+    assert writer.keyframes == 1  # heard: no keyframe unasked
+    assert writer.acked_packets <= len(acks)  # each continues from the one before (an acknowledged one by chance)
 
 
 @pytest.mark.parametrize("delay_packets", [0, 3])
-def test_after_a_loss_frames_go_at_once_and_repeat_the_unacknowledged(delay_packets):
-    """Acknowledged, each packet is predicted from a frame the receiver holds, so every packet
-    that arrives decodes at once, exactly, and nobody asks for a keyframe. The first loss (a
-    2-frame packet) costs its frames; after it each frame goes alone and the next packet
-    repeats it unless acknowledged by then, so a packet lost alone costs nothing and a run of
-    three lost costs two frames."""
+def test_after_a_loss_packets_are_predicted_from_acknowledged_frames_and_repeat_the_unacknowledged(delay_packets):
+    """The first loss breaks the chain: the receiver acknowledges at once, and from then on each
+    packet is predicted from a frame the receiver holds, so every packet that arrives decodes at
+    once, exactly, and nobody asks for a keyframe; a packet repeats the unacknowledged frames
+    before its own, so a packet lost alone costs nothing."""
     values = smooth_motion(400, seed=4)
     lose = {5, 30, 61, 62, 63, 120}
-    writer, reader, decoded, asked, carried = _acked_stream(values, lose, delay_packets)
+    writer, reader, decoded, asked, carried, _ = _acked_stream(values, lose, delay_packets)
     got = np.array([decoded[f] for f in sorted(decoded)])
     assert np.array_equal(np.rint(got * 100), quantise(values[sorted(decoded)]))
     assert asked == 0 and writer.keyframes == 1
     sent = {first + k for first, count in carried for k in range(count)}
-    delivered = {first + k for p, (first, count) in enumerate(carried) if p not in lose for k in range(count)}
     missing = sorted(sent - set(decoded))
-    assert missing == sorted(sent - delivered)
-    assert missing[:2] == [10, 11]  # the 2-frame packet lost before any loss was seen
-    assert all(count <= 2 for _, count in carried[6:]) and writer.repeated_frames > 0
-    assert len(missing) == 4  # 10, 11 and two of the three lost in a row
-    if delay_packets:  # acknowledgements come after the next packet: every frame is repeated while lossy
-        assert writer.repeated_frames > len(carried) // 2
+    # the packet lost before any loss was seen, and those chained to it until the acknowledgement came
+    assert missing[:2 + 2 * delay_packets] == list(range(10, 12 + 2 * delay_packets))
+    assert writer.repeated_frames > 0 and writer.acked_packets > 150
+    assert not {60, 61} & set(missing)  # a packet lost alone: repeated in the next
+    assert len(missing) == 2 + 2 * delay_packets + 1  # three lost in a row (a frame each, at 60 Hz): two repeated
 
 
-def test_with_no_loss_for_a_while_packets_carry_two_frames_again():
+def test_with_no_loss_for_a_while_packets_chain_again_and_acknowledgements_thin_out():
     frames = int(3 * LOSS_SECONDS * RATE)
-    writer, _, decoded, _, carried = _acked_stream(smooth_motion(frames, seed=6), {3})
+    writer, _, decoded, _, carried, acks = _acked_stream(smooth_motion(frames, seed=6), {3})
     counts = [count for _, count in carried]
-    lossy = int(LOSS_SECONDS * RATE)  # frames sent one a packet after the acknowledgement that showed the loss
-    assert counts[:5] == [2] * 5 and counts[5:5 + lossy] == [1] * lossy and set(counts[5 + lossy:]) == {2}
-    assert writer.lossy is False and writer.repeated_frames == 0  # acknowledged before the next packet
-    assert sorted(decoded) == [f for f in range(sum(counts)) if f not in (6, 7)]
+    lossy = int(LOSS_SECONDS * RATE)  # frames go one a packet (at 60 Hz) after the acknowledgement that showed it
+    assert counts[:5] == [2] * 5 and set(counts[6:6 + lossy - 4]) == {1} and set(counts[-30:]) == {2}
+    assert writer.lossy is False and writer.repeated_frames <= 4  # the frames that waited for the lost ones
+    assert sorted(decoded) == [f for f in range(frames - 1) if f not in (6, 7)]  # the last frame's packet is not full
+    late = [i for i, _ in acks if i > 9 + (LOSS_SECONDS + 0.1) * RATE]
+    assert late and all(b - a >= RATE for a, b in zip(late, late[1:], strict=False))  # once a second again
+    assert len([i for i, _ in acks if 9 <= i <= 9 + LOSS_SECONDS * RATE]) >= LOSS_SECONDS * RATE / 2 - 1
 
 
 def test_a_restarted_sender_is_acknowledged_with_its_own_frames():
@@ -219,25 +266,30 @@ def test_a_restarted_sender_is_acknowledged_with_its_own_frames():
                 for frames in reader.read(datagram, start + i / RATE):
                     base = frames.first if base is None else base
                     got.update({frames.first - base + k: v for k, v in enumerate(frames.values)})
-                ack = read_ack(reader.take_ack(), None)
-                writer.acknowledge(*ack)
+                ack = reader.take_ack()
+                if ack is not None:
+                    writer.acknowledge(*read_ack(ack, None, writer.frame))
         assert len(got) == 60 and np.array_equal(np.rint(np.array([got[k] for k in range(60)]) * 100),
                                                   quantise(values))
-        assert writer.keyframes == 1 and writer.acked_packets == 29
+        assert writer.keyframes == 1 and writer._acked is not None  # acknowledged with its own frames
 
 
 def test_an_acknowledgement_names_the_newest_frame_and_those_held_before_it():
     writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
     acks = []
-    for i, row in enumerate(smooth_motion(12)):
+    for i, row in enumerate(smooth_motion(14)):
         datagram = writer.push(row, i / RATE)
         if datagram is not None and writer.packets != 4:  # the fourth packet, frames 6 and 7, is lost
             reader.read(datagram, i / RATE)
-            acks.append(read_ack(reader.take_ack(), None))
-            writer.acknowledge(*acks[-1])
-    assert [frame for frame, _ in acks] == [1, 3, 5, 9, 10, 11]  # after the loss is seen, a frame a packet
-    frame, held = acks[-1]
-    assert [held >> i & 1 for i in range(12)] == [1, 1, 1, 0, 0, 1, 1, 1, 1, 1, 1, 0]  # 10 back to 0; -1 never was
+            ack = reader.take_ack()
+            if ack is not None:
+                acks.append(read_ack(ack, None, writer.frame))
+                writer.acknowledge(*acks[-1])
+    # the first packet's, then the loss's at once (8-9 wait for 7) and every packet's after it
+    assert [frame for frame, _, _ in acks] == [1, 5, 10, 11, 12, 13]  # then a frame a packet (60 Hz)
+    assert [loss for *_, loss in acks] == [False] + [True] * 5
+    frame, held, _ = acks[-1]
+    assert [held >> i & 1 for i in range(14)] == [1, 1, 1, 1, 1, 0, 0, 1, 1, 1, 1, 1, 1, 0]  # 12 to 8 (8-9 repeated)
     assert reader.take_ack() is None  # nothing came since
 
 

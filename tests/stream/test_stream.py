@@ -8,7 +8,7 @@ from motor_streams import RATE, packets, smooth_motion
 from capture import load_take, synthesize
 from capture.performance import default_performance
 from capture.sources import take_source
-from stream.packets import StreamWriter
+from stream.packets import StreamWriter, read_ack
 from stream.playout import Playout
 from stream.reader import StreamReader
 from stream.receiver import StreamReceiver
@@ -23,8 +23,9 @@ from toonface.send import build_mapper, run_sender
 
 
 def feed_stream(playout: Playout, values: np.ndarray, lose: set[int] = frozenset(), transit: float = 0.002):
-    """Stream ``values`` into ``playout`` (losing packet numbers in ``lose``) and show a frame at
-    every frame time; returns the shown values and states."""
+    """Stream ``values`` into ``playout`` (losing packet numbers in ``lose``; acknowledgements and
+    keyframe requests reach the sender before its next packet) and show a frame at every frame
+    time; returns the shown values and states."""
     writer, reader = StreamWriter(RATE, first_sequence=0), StreamReader()
     shown, states, positions = [], [], []
     for i, row in enumerate(values):
@@ -33,6 +34,8 @@ def feed_stream(playout: Playout, values: np.ndarray, lose: set[int] = frozenset
         if datagram is not None and writer.packets - 1 not in lose:
             for frames in reader.read(datagram, now + transit):
                 playout.add(frames)
+            if (ack := reader.take_ack()) is not None:
+                writer.acknowledge(*read_ack(ack, None, writer.frame))
             if reader.want_keyframe:
                 writer.request_keyframe()
         value, state = playout.values_at(now + transit)
@@ -45,7 +48,7 @@ def feed_stream(playout: Playout, values: np.ndarray, lose: set[int] = frozenset
 def test_jitter_buffer_delay_is_the_packetisation_plus_the_margin():
     playout = Playout(standard_neutral(), margin=0.004)
     feed_stream(playout, smooth_motion(120))
-    assert playout.delay == pytest.approx(0.002 + 1 / RATE + 0.004, abs=1e-6)  # stamps are whole microseconds
+    assert playout.delay == pytest.approx(0.002 + 1 / RATE + 0.004, abs=1e-3)  # stamps are whole milliseconds
     assert playout.latency() == pytest.approx(playout.delay)
 
 
@@ -58,7 +61,7 @@ def test_concealment_never_moves_a_motor_faster_than_it_moves_itself(method):
     shown, states, positions = feed_stream(playout, values, lose={30, 31, 32, 60})
     concealed = [i for i, s in enumerate(states) if s == "concealed"]
     recovering = [i for i, s in enumerate(states) if s == "recovering"]
-    assert len(concealed) >= 8 and recovering and states[-1] == "live"
+    assert len(concealed) >= 4 and recovering and states[-1] == "live"
     moves = [i for i in concealed + recovering + [recovering[-1] + 1] if states[i - 1] != "waiting"]
     steps = np.abs(shown[moves] - shown[[i - 1 for i in moves]])
     own = np.maximum(np.abs(np.diff(quantise(values), axis=0)).max(axis=0) / 100, 0.02)
