@@ -16,6 +16,7 @@ A new kind is one module with its function and one line in :data:`KINDS`.
 from __future__ import annotations
 
 import importlib
+import itertools
 import os
 import threading
 import time
@@ -139,7 +140,8 @@ KINDS: dict[str, SourceKind] = {
     "openseeface": SourceKind("capture.openseeface:openseeface_source"),  # openseeface:HOST:PORT, its tracker
     "voice": SourceKind("capture.voice_live:voice_source",  # voice:mic, voice:mic:DEVICE, or a sound file
                         lambda spec: Path(spec).suffix.lower() in SOUND_SUFFIXES),
-    "video": SourceKind("capture.sources:video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
+    # video:VIDEO is dot markers; a video named without a kind is looked at (any_video_source)
+    "video": SourceKind("capture.sources:any_video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
     "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
 }
 
@@ -151,6 +153,7 @@ def open_source(spec: str, kinds: dict[str, SourceKind] | None = None, **options
     kind, _, rest = spec.partition(":")
     if rest and kind in kinds and not Path(spec).exists():
         chosen, target = kinds[kind], rest
+        options = {**options, "named": True}  # the user named the kind: no guessing (see any_video_source)
     else:
         found = next((k for k in kinds.values() if k.claims(spec)), None)
         if found is None:
@@ -214,13 +217,44 @@ def synthetic_source(target: str = "synthetic", seconds: float | None = None, ra
                   "synthetic performer", recording=take)
 
 
+def any_video_source(path: str | os.PathLike, colour: str = "blue", markerset: str = "toon32", start_frame: int = 0,
+                     named: bool = False, repeat: bool = False, **options: Any) -> Source:
+    """A video: dot markers (:func:`video_source`) where its kind was named (``video:VIDEO``) or
+    its first frame shows at least half the marker set's dots in ``colour``; else the face in it
+    tracked without markers (``face:VIDEO``), the choice and why in ``meta["note"]``."""
+    from capture.dots import DotStyle, find_dots, sticker_labels
+    from capture.markerset import load_markerset
+    from capture.videoio import frames, probe
+
+    info = probe(path)
+    if named:
+        return video_source(path, colour, markerset, start_frame, info=info, repeat=repeat)
+    wanted = len(sticker_labels(load_markerset(markerset).labels))
+    first = next(itertools.islice(frames(info), start_frame, None), None)
+    try:
+        found = 0 if first is None else len(find_dots(first, DotStyle.named(colour)))
+    except ValueError as exc:
+        raise InputError(str(exc), path) from None
+    if found >= wanted // 2:
+        return video_source(path, colour, markerset, start_frame, info=info, repeat=repeat)
+    from capture.face_sources import face_source
+
+    source = face_source(path, info=info, repeat=repeat)
+    name = Path(path).name
+    source.meta["note"] = (f"{name}: {found} {colour} dots on frame {start_frame}, not the {wanted} of marker set "
+                           f"{markerset}: the face is tracked without markers (face:{name}); video:{name} takes "
+                           "it as dot markers")
+    return source
+
+
 def video_source(path: str | os.PathLike, colour: str = "blue", markerset: str = "toon32", start_frame: int = 0,
-                 info: VideoInfo | None = None, **_: Any) -> Source:
+                 info: VideoInfo | None = None, repeat: bool = False, **_: Any) -> Source:
     """Dot markers tracked frame by frame as the video plays (:func:`capture.dots.follow_dots`,
     the loop ``toonface track`` runs too); ``start_frame`` must show the face neutral with
     every dot. Positions are mm in the marker set's front view (``dims`` 2), placed by fitting
-    its layout on that frame (``meta["mm_per_pixel"]``). ``info``: the video's :func:`probe`,
-    where the caller has it."""
+    its layout on that frame (``meta["mm_per_pixel"]``); ``repeat``: from ``start_frame`` again
+    at the end, the dots identified anew. ``info``: the video's :func:`probe`, where the caller
+    has it."""
     from capture.dots import DotStyle, DotTracker, follow_dots, front_layout, pixels_to_mm, sticker_labels
     from capture.markerset import load_markerset
     from capture.videoio import frames, probe
@@ -242,7 +276,10 @@ def video_source(path: str | os.PathLike, colour: str = "blue", markerset: str =
             try:
                 pixels = next(tracked)
             except StopIteration:
-                return
+                if not repeat or not index:
+                    return
+                tracked = follow_dots(frames(info), tracker, style, start_frame)  # again, the dots found anew
+                continue
             except ValueError as exc:
                 raise InputError(f"cannot identify the {ms.name} dots on frame {start_frame}: {exc}; start on a "
                                  "frame where the face is neutral and every dot shows (track: --init)", path) from None

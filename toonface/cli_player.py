@@ -57,7 +57,8 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @SIZE
 @click.option("--motors", "--track", "track_path", default=None, type=click.Path(dir_okay=False),
               help="Play a motor track (.csv movie script or .npz) at its own rate instead of commands.")
-@click.option("--once", is_flag=True, help="With --motors: play it once and stop (default: loop).")
+@click.option("--once", is_flag=True, help="With --motors, or a video or take file as --source: play it once "
+                                          "(default: loop).")
 @click.option("--source", "source_spec", default=None, metavar="SPEC",
               help="Drive the face from a performer, mapped live: camera:N, camera:VIDEO, face:VIDEO, a take "
                    "file or synthetic (as toonface send takes them).")
@@ -125,7 +126,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
             raise click.BadParameter("give --motors or --source, not both", param_hint="--source")
         from toonface.send import Follower
 
-        follower = Follower.open(source_spec, face_obj.neutral(), say)
+        follower = Follower.open(source_spec, face_obj.neutral(), say, repeat=not once)
         settings.tracking = follower.latest.newest
         settings.extra = lambda t: follower.latest.extra() if follower is not None else {}
     settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)

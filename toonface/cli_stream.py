@@ -65,7 +65,8 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
               help="Performer profile [default: the marker set's typical one, rest from the first second].")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
-@click.option("--repeat", is_flag=True, help="A take file: play it again and again.")
+@click.option("--loop", "--repeat", "repeat", is_flag=True,
+              help="A take file or a video (also played as a camera): play it again and again.")
 @click.option("--frames-per-packet", default=2, show_default=True, type=click.IntRange(1, 32),
               help="More: fewer packets and headers, more delay.")
 @click.option("--keyframe-seconds", default=0.5, show_default=True, type=FiniteFloat(0.02, 0.5),

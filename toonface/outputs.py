@@ -112,8 +112,11 @@ def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_
     host, _sep, port = spec.removeprefix("udp://").rpartition(":")
     if not host or not port.isdigit() or not 0 < int(port) < 65536:
         raise InputError("expected udp://HOST:PORT for a motor stream", spec)
-    return StreamSender((host, int(port)), StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key,
-                                                        stream=stream), say=say)
+    try:
+        writer = StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key, stream=stream)
+    except ValueError as exc:  # a source's rate the wire cannot carry (a 1000 Hz take)
+        raise InputError(f"cannot stream it: {exc}", spec) from None
+    return StreamSender((host, int(port)), writer, say=say)
 
 
 def open_vmc(spec: str, neutral: np.ndarray | None = None, **_: Any) -> Any:

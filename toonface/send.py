@@ -39,6 +39,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     its labels match), and the given profile or the marker set's typical one, with the rest taken
     from the first ``rest_seconds``. Where the marker set has no typical profile, a take's own first
     :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
+    if notes is not None and source.meta.get("note"):
+        notes.append(source.meta["note"])  # how the source read what it was given
     mapping = mapping or source.meta.get("mapping")  # a bridge names the mapping its data needs
     rest_seconds = source.meta.get("rest_seconds", rest_seconds)  # a voice knows its rest: silence
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate,
@@ -145,12 +147,14 @@ class Follower:
         self._thread = threading.Thread(target=self._run, daemon=True)
 
     @classmethod
-    def open(cls, spec: str, neutral: np.ndarray, say: Callable[[str], None] = lambda _: None) -> Follower:
-        """The follower of the source ``spec`` names (as ``send`` takes it), mapped onto a face
-        whose neutral is ``neutral``; the choices made are said through ``say``."""
+    def open(cls, spec: str, neutral: np.ndarray, say: Callable[[str], None] = lambda _: None,
+             repeat: bool = False) -> Follower:
+        """The follower of the source ``spec`` names (as ``send`` takes it; a file played again and
+        again with ``repeat``), mapped onto a face whose neutral is ``neutral``; the choices made are
+        said through ``say``."""
         from capture.sources import open_source
 
-        source = open_source(spec)
+        source = open_source(spec, repeat=repeat)
         notes: list[str] = []
         mapper = build_mapper(source, target_neutral=neutral, notes=notes)
         for note in notes:
