@@ -9,6 +9,7 @@ import click
 
 from player.animator import DEFAULT_LOOP_TIME
 from toonface.cli_options import (
+    BACKGROUND,
     FACE,
     NO_PHYSICS,
     OPENSEEFACE,
@@ -19,6 +20,7 @@ from toonface.cli_options import (
     bridge_spec,
     parse_codes,
     parse_size,
+    with_background,
     without_physics,
 )
 
@@ -55,6 +57,7 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--loop-ms", default=DEFAULT_LOOP_TIME * 1000, show_default=True, type=FiniteFloat(5, 1000),
               help="Loop time: one frame and one slice per moving motor per loop (ToonFace used 100).")
 @SIZE
+@BACKGROUND
 @click.option("--motors", "--track", "track_path", default=None, type=click.Path(dir_okay=False),
               help="Play a motor track (.csv movie script or .npz) at its own rate instead of commands.")
 @click.option("--once", is_flag=True, help="With --motors, or a video or take file as --source: play it once "
@@ -77,7 +80,7 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
          vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
-         seconds: float | None, stream_to: str | None, no_physics: bool) -> None:
+         seconds: float | None, stream_to: str | None, no_physics: bool, background: str | None) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -105,7 +108,7 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
                             udp=_address(udp, "--udp", 7708), preview=_address(preview, "--preview", 8080),
                             track=played, repeat=not once, seconds=seconds,
                             providers=load_providers(providers_path))
-    face_obj = without_physics(load_face(face), no_physics)
+    face_obj = with_background(without_physics(load_face(face), no_physics), background)
     outputs = Outputs()
     if output is not None:
         settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims, live=True))

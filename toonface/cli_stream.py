@@ -13,6 +13,7 @@ from pathlib import Path
 import click
 
 from toonface.cli_options import (
+    BACKGROUND,
     FACE,
     FORCE_RECORD,
     NO_PHYSICS,
@@ -28,6 +29,7 @@ from toonface.cli_options import (
     parse_size,
     read_take,
     take_options,
+    with_background,
     without_physics,
 )
 from toonface.cli_player import _address, _required_address
@@ -151,6 +153,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
               help="UDP address to receive on (0.0.0.0 to accept other machines).")
 @FACE
 @SIZE
+@BACKGROUND
 @click.option("-o", "--output", default=None, type=click.Path(),
               help="Record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
 @click.option("--preview", default=None, metavar="HOST:PORT", help="Serve a live MJPEG preview, e.g. 127.0.0.1:8080.")
@@ -181,7 +184,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
             stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int,
-            no_physics: bool, force: bool) -> None:
+            no_physics: bool, force: bool, background: str | None) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -201,7 +204,7 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
     from toonface.outputs import Outputs, PerformerRecordings
 
     check_output(record, "--record")
-    face_obj = without_physics(load_face(face), no_physics)
+    face_obj = with_background(without_physics(load_face(face), no_physics), background)
     dims = parse_size(size)
     say = (lambda text: click.echo(text, err=True)) if output == "-" else click.echo
     record = fresh_recording(record, force, lambda text: click.echo(f"toonface: note: {text}", err=True))
