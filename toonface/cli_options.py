@@ -245,6 +245,13 @@ BACKGROUND = click.option(
          ".apng, .webp and PNG folders; antialiased edges without a dark fringe), or a colour.")
 
 
+VIRTUAL_CAMERA = click.option(
+    "--virtual-camera", is_flag=True,
+    help="Also send the face to a virtual webcam (Zoom, Meet, Teams, OBS take it as a camera): the first "
+         "device found; -o vcam:/dev/videoN names one. Needs pyvirtualcam (pip install 'toonface[vcam]') and a "
+         "v4l2loopback device on Linux, OBS's virtual camera on Windows and macOS.")
+
+
 def with_background(face: Any, value: str | None) -> Any:
     """``face`` (a :class:`toon.Face`) with the ``--background`` given (``none``: transparent)."""
     import dataclasses

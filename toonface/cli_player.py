@@ -14,6 +14,7 @@ from toonface.cli_options import (
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
+    VIRTUAL_CAMERA,
     VMC,
     VMC_OUT,
     FiniteFloat,
@@ -53,11 +54,13 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--preview", default=None, metavar="HOST:PORT",
               help="Serve a live MJPEG preview for a browser, e.g. 127.0.0.1:8080.")
 @click.option("-o", "--output", default=None, type=click.Path(),
-              help="Also record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
+              help="Also record: a .mp4 file, a folder for PNG frames, - for raw RGB on standard output, or "
+                   "vcam:[DEVICE] for a virtual webcam.")
 @click.option("--loop-ms", default=DEFAULT_LOOP_TIME * 1000, show_default=True, type=FiniteFloat(5, 1000),
               help="Loop time: one frame and one slice per moving motor per loop (ToonFace used 100).")
 @SIZE
 @BACKGROUND
+@VIRTUAL_CAMERA
 @click.option("--motors", "--track", "track_path", default=None, type=click.Path(dir_okay=False),
               help="Play a motor track (.csv movie script or .npz) at its own rate instead of commands.")
 @click.option("--once", is_flag=True, help="With --motors, or a video or take file as --source: play it once "
@@ -80,7 +83,8 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
          vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
-         seconds: float | None, stream_to: str | None, no_physics: bool, background: str | None) -> None:
+         seconds: float | None, stream_to: str | None, no_physics: bool, background: str | None,
+         virtual_camera: bool) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -111,7 +115,10 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     face_obj = with_background(without_physics(load_face(face), no_physics), background)
     outputs = Outputs()
     if output is not None:
-        settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims, live=True))
+        settings.sinks.append(outputs.picture(output, rate=1 / loop_time, size=dims, live=True,
+                                              background=face_obj.background))
+    if virtual_camera:
+        settings.sinks.append(outputs.picture("vcam:", rate=1 / loop_time, size=dims, background=face_obj.background))
     if stream_to is not None:
         host, port = _required_address(stream_to, "--stream-to", 7710)
         settings.shown.append(outputs.motor(f"udp://{host}:{port}", rate=1 / loop_time).write)

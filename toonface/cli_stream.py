@@ -19,6 +19,7 @@ from toonface.cli_options import (
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
+    VIRTUAL_CAMERA,
     VMC,
     VMC_OUT,
     FiniteFloat,
@@ -154,6 +155,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 @FACE
 @SIZE
 @BACKGROUND
+@VIRTUAL_CAMERA
 @click.option("-o", "--output", default=None, type=click.Path(),
               help="Record: a .mp4 file, a folder for PNG frames, or - for raw RGB on standard output.")
 @click.option("--preview", default=None, metavar="HOST:PORT", help="Serve a live MJPEG preview, e.g. 127.0.0.1:8080.")
@@ -184,7 +186,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
             jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
             stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int,
-            no_physics: bool, force: bool, background: str | None) -> None:
+            no_physics: bool, force: bool, background: str | None, virtual_camera: bool) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -236,7 +238,10 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
         settings = LiveSettings(loop_time=1 / fps, size=dims, tcp=None, preview=_address(preview, "--preview", 8080),
                                 seconds=seconds)
         if output is not None:
-            settings.sinks.append(outputs.picture(output, rate=fps, size=dims, live=True))
+            settings.sinks.append(outputs.picture(output, rate=fps, size=dims, live=True,
+                                                  background=face_obj.background))
+        if virtual_camera:
+            settings.sinks.append(outputs.picture("vcam:", rate=fps, size=dims, background=face_obj.background))
         if record:  # each performer's stream frames at stream time, as shown
             recordings = PerformerRecordings(outputs, record)
             recordings.attach(playout, first=True)

@@ -43,6 +43,7 @@ class SinkKind:
 #: Picture sinks, tried in order.
 PICTURE_SINKS: dict[str, SinkKind] = {
     "preview": SinkKind("toonface.outputs:open_preview", lambda spec: spec.startswith("http://")),
+    "vcam": SinkKind("player.vcam:open_virtual_camera", lambda spec: spec.startswith("vcam:")),  # a virtual webcam
     "raw": SinkKind("toonface.outputs:open_pictures", lambda spec: spec == "-"),
     "mp4": SinkKind("toonface.outputs:open_pictures", lambda spec: Path(spec).suffix.lower() == ".mp4"),
     "alpha": SinkKind("toonface.outputs:open_pictures",  # moving pictures with alpha (player.alpha_sinks)
