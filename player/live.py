@@ -120,6 +120,7 @@ def run_live(face: Face, settings: LiveSettings, on_ready: Callable[[dict[str, s
             preview = _listen("preview", settings.preview, PreviewSink)
             sinks.append(preview)
             ready["preview"] = preview.url
+            ready["OBS browser source"] = f"{preview.url}obs (only the face; --background none keeps it clear)"
         for server in servers:
             start(server)
         with Renderer(ctx, settings.size, settings.samples) as renderer:
