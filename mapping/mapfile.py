@@ -125,6 +125,16 @@ class Mapping:
     description: str = ""
     source: str = ""  # the file it was read from, for messages
     eyes: Eyes = Eyes()
+    #: Motors whose rules were left out because the take lacks their markers (see
+    #: :func:`mapping.workflow.choose_mapping`): they stay at the face's neutral.
+    left_out: tuple[str, ...] = ()
+
+    def left_out_note(self) -> str | None:
+        """What a user is told of :attr:`left_out` (None where nothing was)."""
+        if not self.left_out:
+            return None
+        return (f"the take has no marker for {', '.join(self.left_out)} (dot markers cannot sit on the pupils): "
+                "they stay at the face's neutral")
 
     @property
     def extra_codes(self) -> tuple[str, ...]:

@@ -72,8 +72,25 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
         mapping = found.name
     chosen = load_mapping(mapping) if isinstance(mapping, str) else mapping
     markerset = found if found is not None and found.name == chosen.markerset else load_markerset(chosen.markerset)
+    chosen = _without_absent_independents(chosen, markerset, take)
     check_markers(chosen, markerset, take)
     return chosen, markerset
+
+
+def _without_absent_independents(mapping: Mapping, markerset: MarkerSet, take: Take) -> Mapping:
+    """``mapping`` without the rules that read only independent markers the take lacks (a
+    dot-marker video has no pupils), their motors named in ``left_out``; any other missing
+    marker is still an error (:func:`check_markers`)."""
+    found = markerset.match(take.labels)
+    absent = {m for m in markerset.independent if m not in found}
+    if not absent:
+        return mapping
+    reads = [(rule, {m for s in rule.sources for m in s.markers}) for rule in mapping.rules]
+    out = [rule.code for rule, markers in reads if markers and markers <= absent]
+    if not out:
+        return mapping
+    return replace(mapping, rules=tuple(rule for rule in mapping.rules if rule.code not in out),
+                   left_out=(*mapping.left_out, *out))
 
 
 def check_markers(mapping: Mapping, markerset: MarkerSet, take: Take | None = None) -> None:
@@ -233,6 +250,8 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
         chosen = replace(chosen, mirror=True)
     prepared = prepare(take, markerset, settings)
     notes = stabilisation_notes(prepared)
+    if (left_out := chosen.left_out_note()) is not None:
+        notes.append(left_out)
     rest_from_take = neutral_window is not None
     typical = typical_profile(markerset.name) if profile is None else None
     if typical is not None:

@@ -46,6 +46,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
     probe_take = Take(np.zeros((1, len(source.labels), 3)), source.labels, source.rate,
                       channels=np.zeros((1, len(source.channel_names))), channel_names=source.channel_names)
     chosen, markerset = choose_mapping(probe_take, mapping)
+    if notes is not None and (left_out := chosen.left_out_note()) is not None:
+        notes.append(left_out)
     profile = profile or typical_profile(markerset.name)
     learn = 0.0
     if profile is None and not any(rule.normalise == "profile" for rule in chosen.rules):
