@@ -61,10 +61,11 @@ class StreamReader:
     A packet is decoded when its reference frame and that frame's history are held (a keyframe
     needs none). A packet that arrives before its reference waits (up to ``max_waiting``
     packets) and is decoded when the reference is; once one has waited :data:`KEY_WAIT`,
-    :attr:`want_keyframe` asks the caller to request a keyframe. :meth:`take_ack` gives the acknowledgement to send back
-    when one is due (the newest frame held and which of those before it are): at once after a
-    loss and after every packet for :data:`~stream.packets.LOSS_SECONDS` after the last, else at
-    most every :data:`ACK_INTERVAL` seconds.
+    :attr:`want_keyframe` asks the caller to request a keyframe. :meth:`take_ack` gives the
+    acknowledgement to send back when one is due (the newest frame held and which of those
+    before it are): at once after a loss and after every packet for
+    :data:`~stream.packets.LOSS_SECONDS` after the last, else at most every
+    :data:`ACK_INTERVAL` seconds.
 
     Parameters
     ----------
@@ -264,6 +265,7 @@ class StreamReader:
                 del self._waiting[first]  # older than the keyframe: nothing to show them for
         self._frame_mark = _unwrap(header.first_frame, self._frame_mark)
         self._time_mark = _unwrap(header.time_ms, self._time_mark)
+
         def filled(i: int, count: int) -> int:
             return 0 if seen is None else sum(behind((header.first_frame + i + k) % WRAP, seen) for k in range(count))
 
