@@ -40,6 +40,7 @@ def test_an_impossible_frame_rate_is_read_from_the_frames_times(tmp_path):
         video_rate(tmp_path / "missing.mkv", 0.0)
 
 
+@pytest.mark.slow  # the face tracker starts: make test runs it
 def test_send_takes_a_video_with_an_impossible_rate_as_a_camera(tmp_path, capsys):
     pytest.importorskip("mediapipe")
     video = broken_rate_video(tmp_path / "broken.mkv")

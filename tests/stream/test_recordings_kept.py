@@ -2,6 +2,7 @@
 first, a lost first keyframe does not shift the rows, a restarted sender keeps its gap."""
 
 import numpy as np
+import pytest
 from motor_streams import RATE, smooth_motion
 
 from stream.packets import StreamWriter
@@ -59,6 +60,7 @@ def test_a_restarted_senders_frames_keep_the_gap():
     assert abs(found - start) <= 3 and np.abs(rows[found + 15:found + 100] - sent[15:100]).max() < 1e-9
 
 
+@pytest.mark.slow  # three sends: make test runs it (make test-fast stays under a minute)
 def test_a_second_run_with_the_same_record_does_not_overwrite_the_first(tmp_path, capsys):
     take = tmp_path / "take.csv"
     for _ in range(2):

@@ -14,7 +14,8 @@ def first_frame(folder) -> np.ndarray:
     return np.asarray(Image.open(sorted(folder.glob("*.png"))[0]))
 
 
-@pytest.mark.parametrize("command", [["play", "--listen", "off"], ["receive", "--listen", "127.0.0.1:0"]])
+@pytest.mark.parametrize("command", [["play", "--listen", "off"],
+                                     pytest.param(["receive", "--listen", "127.0.0.1:0"], marks=pytest.mark.slow)])
 def test_live_pictures_take_a_background_none_or_a_colour(tmp_path, command):
     common = [*command, "--face", "round", "--size", "96x96", "--seconds", "0.3"]
     assert main([*common, "--background", "none", "-o", str(tmp_path / "clear")]) == 0
