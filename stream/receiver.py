@@ -20,6 +20,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -66,6 +67,8 @@ class StreamReceiver:
         Takes a warning when packets come and none opens for
         :data:`~stream.health.REFUSED_SECONDS` (another key, or a key at one end only), and a
         note when they open again.
+    link : WebSocketLink, optional
+        Receive from a room server (:mod:`stream.websocket`) instead of a UDP socket at ``address``.
     newcomer_seconds : float
         Without a key, a new performer is taken at most once in this many seconds (its packets
         before then are counted in :attr:`refused_newcomers`): anyone on the path can make
@@ -76,7 +79,7 @@ class StreamReceiver:
     def __init__(self, address: tuple[str, int], playout: Playout, key: bytes | None = None,
                  clock: Callable[[], float] = time.perf_counter, request_interval: float = 0.05,
                  more: Callable[[], Playout] | None = None, max_streams: int = 16,
-                 say: Callable[[str], None] | None = None, newcomer_seconds: float = 1.0) -> None:
+                 say: Callable[[str], None] | None = None, newcomer_seconds: float = 1.0, link: Any = None) -> None:
         self.playout, self.clock, self.key = playout, clock, key
         self.reader = StreamReader(key)
         self.lanes: dict[int, Lane] = {}
@@ -89,13 +92,16 @@ class StreamReceiver:
         self.request_interval = request_interval
         self.requests = 0
         self.acks = 0
-        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        try:
-            self.sock.bind(address)
-        except OSError:
-            self.sock.close()
-            raise
-        self.sock.settimeout(0.1)
+        if link is not None:  # a room server's WebSocket (stream.websocket.WebSocketLink) instead of UDP
+            self.sock = link
+        else:
+            self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            try:
+                self.sock.bind(address)
+            except OSError:
+                self.sock.close()
+                raise
+            self.sock.settimeout(0.1)
         self._lock = threading.Lock()
         self._shown: np.ndarray | None = None  # the row values_at gave last
         self._arrived = threading.Condition(self._lock)
@@ -228,7 +234,7 @@ class StreamReceiver:
             except TimeoutError:
                 continue
             except OSError:
-                if self._stop.is_set():
+                if self._stop.wait(0.05):  # (a closed link says so at once: no busy loop)
                     return
                 continue
             self.feed(datagram, sender)

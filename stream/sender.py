@@ -11,6 +11,7 @@ from __future__ import annotations
 import socket
 import time
 from collections.abc import Callable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -34,16 +35,22 @@ class StreamSender:
     say : callable, optional
         Takes a warning when nothing has answered for :data:`~stream.health.SILENT_SECONDS`
         (nobody receives, or the receiver's key differs), and a note when answers come again.
+    link : WebSocketLink, optional
+        Send through a room server (:mod:`stream.websocket`) instead of a UDP socket.
     """
 
     def __init__(self, target: tuple[str, int], writer: StreamWriter,
-                 clock: Callable[[], float] = time.perf_counter, say: Callable[[str], None] | None = None) -> None:
+                 clock: Callable[[], float] = time.perf_counter, say: Callable[[str], None] | None = None,
+                 link: Any = None) -> None:
         self.target, self.writer, self.clock = target, writer, clock
         self.key_requests = 0
         self.acks = 0
         self.silence = Trouble(say or (lambda line: None), SILENT_SECONDS)
-        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.sock.setblocking(False)
+        if link is not None:  # a room server's WebSocket (stream.websocket.WebSocketLink) instead of UDP
+            self.sock = link
+        else:
+            self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            self.sock.setblocking(False)
 
     def write(self, t: float, values: np.ndarray, captured: float | None = None,
               confidence: np.ndarray | None = None, extra: Mapping[str, float] | None = None) -> None:

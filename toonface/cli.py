@@ -33,6 +33,7 @@ from toonface.cli_options import (
 )
 from toonface.cli_output import OUTPUT_COMMANDS
 from toonface.cli_player import PLAYER_COMMANDS
+from toonface.cli_room import ROOM_COMMANDS
 from toonface.cli_stream import STREAM_COMMANDS
 from toonface.cli_studio import STUDIO_COMMANDS
 from toonface.cli_voice import VOICE_COMMANDS
@@ -302,7 +303,7 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
 
 
 for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS, *LAYOUT_COMMANDS,
-                 *STUDIO_COMMANDS, *VOICE_COMMANDS, *OUTPUT_COMMANDS):
+                 *STUDIO_COMMANDS, *VOICE_COMMANDS, *OUTPUT_COMMANDS, *ROOM_COMMANDS):
     cli.add_command(_command)
 
 

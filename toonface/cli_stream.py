@@ -38,6 +38,9 @@ from toonface.cli_player import _address, _required_address
 KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
                    help="Shared secret (the file's bytes, 16 or more): packets are encrypted and authenticated "
                         "(AES-256-GCM-SIV), others and replays are dropped. Or set TOONFACE_STREAM_KEY.")
+ROOM_TOKEN = click.option("--token", default=None, envvar="TOONFACE_ROOM_TOKEN",
+                          help="A room's token (to perform, for send; to watch, for receive), as toonface room "
+                               "prints it. Or set TOONFACE_ROOM_TOKEN.")
 OPEN_STREAM = ("toonface: note: the stream is not encrypted: anyone on the path can read it and send as a "
                "performer; give both ends the same --key-file (or TOONFACE_STREAM_KEY) to seal it")
 
@@ -60,9 +63,10 @@ def _key(path: str | None) -> bytes | None:
 @click.argument("source", required=False)
 @VMC
 @OPENSEEFACE
-@click.option("--to", "targets", required=True, multiple=True, metavar="HOST:PORT",
-              help="Where the receiver (or a relay) listens; give it again to send to several (each its own stream "
-                   "of the same frames).")
+@click.option("--to", "targets", required=True, multiple=True, metavar="HOST:PORT|ws://HOST:PORT/r/ROOM",
+              help="Where the receiver (or a relay) listens, or a room server's room (with --token); give it again "
+                   "to send to several (each its own stream of the same frames).")
+@ROOM_TOKEN
 @click.option("--mapping", default=None, metavar="NAME|FILE",
               help="Mapping [default: the preset matching the markers].")
 @click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
@@ -85,7 +89,8 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
               help="This performer's stream id, for a receiver showing several [default: a random one].")
 @take_options
-def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], mapping: str | None,
+def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], token: str | None,
+         mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
          stats: bool, stream_id: int | None, force: bool, reading: TakeReading) -> None:
@@ -103,7 +108,8 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
     from toonface.outputs import Outputs
     from toonface.send import SendReport, build_mapper, run_sender
 
-    addresses = [_required_address(target, "--to", 7710) for target in targets]
+    addresses = [(target, 0) if target.startswith(("ws://", "wss://")) else _required_address(target, "--to", 7710)
+                 for target in targets]
     if len(set(addresses)) < len(addresses):
         raise click.BadParameter("the same address twice", param_hint="--to")
     check_output(record, "--record")
@@ -123,11 +129,12 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
     with Outputs() as outputs:
         if stream_id is None:
             stream_id = secrets.randbelow(0x10000)
-        streams = [outputs.motor(f"udp://{host}:{port}", rate=src.rate, key=key, frames_per_packet=frames_per_packet,
-                                 keyframe_seconds=keyframe_seconds, stream=stream_id, say=_warn)
+        streams = [outputs.motor(host if port == 0 else f"udp://{host}:{port}", rate=src.rate, key=key,
+                                 frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds,
+                                 stream=stream_id, say=_warn, token=token or "")
                    for host, port in addresses]
         recording = outputs.motor(record, rate=src.rate) if record else None
-        where = ", ".join(f"{host}:{port}" for host, port in addresses)
+        where = ", ".join(host if port == 0 else f"{host}:{port}" for host, port in addresses)
         click.echo(f"sending {src.name} at {src.rate:g} Hz to {where} as stream {stream_id} (Ctrl-C stops)")
         report = SendReport()
         try:
@@ -143,7 +150,8 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
                    err=True)
     for (host, port), stream in zip(addresses, streams, strict=True):
         rates = stream.rates(report.frames)
-        click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets to {host}:{port}: payload "
+        click.echo(f"sent {rates['frames']} frames in {rates['packets']} packets to "
+                   f"{host if port == 0 else f'{host}:{port}'}: payload "
                    f"{rates['payload_kbps']} kbit/s, wire {rates['wire_kbps']} kbit/s")
         if stats:
             click.echo(json.dumps({**rates, **report.cost()}))
@@ -152,6 +160,10 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 @click.command()
 @click.option("--listen", default="127.0.0.1:7710", show_default=True, metavar="HOST:PORT",
               help="UDP address to receive on (0.0.0.0 to accept other machines).")
+@click.option("--from", "room_url", default=None, metavar="ws://HOST:PORT/r/ROOM",
+              help="Watch a room on a room server (toonface room) instead of listening for UDP: the connection goes "
+                   "out, through NAT and firewalls. With --token.")
+@ROOM_TOKEN
 @FACE
 @SIZE
 @BACKGROUND
@@ -183,10 +195,10 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 @click.option("--max-performers", default=8, show_default=True, type=click.IntRange(1, 64),
               help="Senders shown at once (each with its own stream id); 1: the first only.")
 @NO_PHYSICS
-def receive(listen: str, face: str, size: str, output: str | None, preview: str | None, fps: float, conceal: str,
-            jitter_ms: float, max_jump: float, seconds: float | None, key_file: str | None, record: str | None,
-            stats: bool, vmc_out: str | None, performers_path: str | None, max_performers: int,
-            no_physics: bool, force: bool, background: str | None, virtual_camera: bool) -> None:
+def receive(listen: str, room_url: str | None, token: str | None, face: str, size: str, output: str | None,
+            preview: str | None, fps: float, conceal: str, jitter_ms: float, max_jump: float, seconds: float | None,
+            key_file: str | None, record: str | None, stats: bool, vmc_out: str | None, performers_path: str | None,
+            max_performers: int, no_physics: bool, force: bool, background: str | None, virtual_camera: bool) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -226,10 +238,18 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
 
     playout = fresh()
     key = _key(key_file)
+    link = None
+    if room_url is not None:
+        from stream.websocket import LinkError, WebSocketLink
+
+        try:
+            link = WebSocketLink(room_url, token or "", "watch")
+        except LinkError as exc:
+            raise click.BadParameter(str(exc), param_hint="--from") from None
     try:
         receiver = StreamReceiver(_required_address(listen, "--listen", 7710), playout, key,
                                   more=playout_for if max_performers > 1 else None, max_streams=max_performers,
-                                  say=_warn)
+                                  say=_warn, link=link)
     except OSError as exc:
         raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") from None
     if key is None:
@@ -266,7 +286,8 @@ def receive(listen: str, face: str, size: str, output: str | None, preview: str 
 
         def ready(addresses: dict[str, str]) -> None:
             host, port = receiver.address
-            say(f"receiving on {host}:{port}, showing {face_obj.name} at {fps:g} fps (Ctrl-C stops)")
+            where = f"room {room_url}" if link is not None else f"{host}:{port}"
+            say(f"receiving on {where}, showing {face_obj.name} at {fps:g} fps (Ctrl-C stops)")
             for kind, where in addresses.items():
                 say(f"{kind} {where}")
         try:

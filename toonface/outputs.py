@@ -55,7 +55,7 @@ PICTURE_SINKS: dict[str, SinkKind] = {
 
 #: Motor sinks, tried in order.
 MOTOR_SINKS: dict[str, SinkKind] = {
-    "stream": SinkKind("toonface.outputs:open_stream", lambda spec: spec.startswith("udp://")),
+    "stream": SinkKind("toonface.outputs:open_stream", lambda spec: spec.startswith(("udp://", "ws://", "wss://"))),
     "vmc": SinkKind("toonface.outputs:open_vmc", lambda spec: spec.startswith("vmc://")),
     "recording": SinkKind("toonface.outputs:open_recording",
                           lambda spec: Path(spec).suffix.lower() in (".csv", ".npz")),
@@ -104,19 +104,27 @@ def open_recording(spec: str, rate: float = 60.0, **_: Any) -> Any:
 
 def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_per_packet: int = 2,
                 keyframe_seconds: float = 0.5, stream: int = 0, say: Callable[[str], None] | None = None,
-                **_: Any) -> Any:
-    """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay); ``say`` takes its live
+                token: str = "", **_: Any) -> Any:
+    """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay), or through a room server
+    at ``ws[s]://HOST:PORT/r/ROOM`` with the room's performer ``token``; ``say`` takes its live
     warnings (:class:`stream.sender.StreamSender`)."""
     from stream.packets import StreamWriter
     from stream.sender import StreamSender
+    from stream.websocket import LinkError, WebSocketLink
 
-    host, _sep, port = spec.removeprefix("udp://").rpartition(":")
-    if not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise InputError("expected udp://HOST:PORT for a motor stream", spec)
     try:
         writer = StreamWriter(rate, frames_per_packet, keyframe_seconds, key=key, stream=stream)
     except ValueError as exc:  # a source's rate the wire cannot carry (a 1000 Hz take)
         raise InputError(f"cannot stream it: {exc}", spec) from None
+    if spec.startswith(("ws://", "wss://")):
+        try:
+            link = WebSocketLink(spec, token, "perform")
+        except LinkError as exc:
+            raise InputError(str(exc), spec) from None
+        return StreamSender((link.where, 0), writer, say=say, link=link)
+    host, _sep, port = spec.removeprefix("udp://").rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise InputError("expected udp://HOST:PORT for a motor stream", spec)
     return StreamSender((host, int(port)), writer, say=say)
 
 

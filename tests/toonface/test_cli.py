@@ -22,7 +22,7 @@ from toonface.pipeline import map_onto_face
 
 SUBCOMMANDS = ["demo", "synth", "info", "track", "clean", "calibrate", "map", "render", "retarget", "score", "play",
                "anim", "send", "receive", "relay", "batch", "markerset", "studio", "lipsync", "export",
-               "faces", "face"]
+               "faces", "face", "room"]
 
 
 def test_every_console_script_entry_point_imports():

@@ -1,0 +1,147 @@
+"""A stream's packets over a WebSocket to a room server (``ws://`` or ``wss://HOST/r/ROOM``):
+the path through NAT and firewalls, for a sender or a receiver that cannot be reached by UDP.
+
+:class:`WebSocketLink` is a blocking facade over aiohttp's client, run in its own thread with
+its own event loop: :meth:`send` queues a packet, :meth:`receive` waits for one. Each WebSocket
+message is one packet, as each datagram is over UDP; TCP delivers them in order and whole, so the
+stream's loss handling simply sees no loss (a slow link shows as late packets instead).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import queue
+import threading
+from urllib.parse import urlencode, urlsplit, urlunsplit
+
+import aiohttp
+
+from stream.framing import MAX_PACKET
+
+
+class LinkError(OSError):
+    """The room server could not be reached or refused the connection (the message says which)."""
+
+
+class WebSocketLink:
+    """A connection to ``url`` (``ws[s]://HOST[:PORT]/r/ROOM``) as ``role`` (``perform`` or
+    ``watch``) with the room's ``token``; connected when made (:class:`LinkError` if not), until
+    :meth:`close`.
+
+    Parameters
+    ----------
+    timeout : float
+        Seconds to wait for the connection.
+    """
+
+    def __init__(self, url: str, token: str, role: str, timeout: float = 10.0) -> None:
+        parts = urlsplit(url)
+        if parts.scheme not in ("ws", "wss") or not parts.netloc or not parts.path.startswith("/r/"):
+            raise LinkError(f"expected ws://HOST:PORT/r/ROOM or wss://HOST/r/ROOM, got {url}")
+        path = parts.path.rstrip("/") + "/ws"
+        self.url = urlunsplit((parts.scheme, parts.netloc, path, urlencode({"role": role}), ""))
+        self.where = f"{parts.netloc}{parts.path}"
+        self._token, self.role = token, role
+        self._incoming: queue.Queue[bytes] = queue.Queue(maxsize=1024)
+        self._loop = asyncio.new_event_loop()
+        self._outgoing: asyncio.Queue[bytes | None] | None = None
+        self._ready = threading.Event()
+        self._error: str | None = None
+        self.closed = threading.Event()
+        self.dropped = 0  # packets that came while nobody took them (the incoming queue full)
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+        if not self._ready.wait(timeout):
+            self.close()
+            raise LinkError(f"no answer from {self.where} within {timeout:g} s")
+        if self._error is not None:
+            self.close()
+            raise LinkError(self._error)
+
+    def send(self, data: bytes) -> None:
+        """Queue one packet for the server (dropped once the link has closed)."""
+        if not self.closed.is_set() and self._outgoing is not None:
+            self._loop.call_soon_threadsafe(self._outgoing.put_nowait, data)
+
+    def receive(self, timeout: float = 0.0) -> bytes | None:
+        """The next packet from the server, waiting up to ``timeout`` seconds (None if none came)."""
+        try:
+            return self._incoming.get(timeout=timeout) if timeout > 0 else self._incoming.get_nowait()
+        except queue.Empty:
+            return None
+
+    # The few socket methods the stream's sender and receiver use, so either takes a link for its socket.
+
+    def sendto(self, data: bytes, _address: object = None) -> int:
+        self.send(data)
+        return len(data)
+
+    def recv(self, _size: int = 0) -> bytes:
+        """A packet waiting, or BlockingIOError (a non-blocking socket's way of saying none)."""
+        data = self.receive(0.0)
+        if data is None:
+            raise BlockingIOError("no packet waiting")
+        return data
+
+    def recvfrom(self, _size: int = 0) -> tuple[bytes, tuple[str, int]]:
+        """The next packet within a tenth of a second, and where it came from (the room), or
+        TimeoutError (a socket with a timeout's way of saying none); OSError once the link closed."""
+        data = self.receive(0.1)
+        if data is None:
+            if self.closed.is_set():
+                raise OSError("the room server closed the connection")
+            raise TimeoutError
+        return data, (self.where, 0)
+
+    def getsockname(self) -> tuple[str, int]:
+        return self.where, 0
+
+    def fileno(self) -> int:
+        return -1 if self.closed.is_set() else 0
+
+    def close(self) -> None:
+        """End the connection and its thread."""
+        if self._outgoing is not None and not self.closed.is_set():
+            self._loop.call_soon_threadsafe(self._outgoing.put_nowait, None)
+        self._thread.join(timeout=5.0)
+
+    def _run(self) -> None:
+        try:
+            self._loop.run_until_complete(self._connect())
+        finally:
+            self.closed.set()
+            self._ready.set()
+            self._loop.close()
+
+    async def _connect(self) -> None:
+        self._outgoing = asyncio.Queue()
+        headers = {"Authorization": f"Bearer {self._token}"}
+        try:
+            async with aiohttp.ClientSession() as session, \
+                    session.ws_connect(self.url, headers=headers, max_msg_size=MAX_PACKET, heartbeat=20.0) as ws:
+                self._ready.set()
+                await asyncio.gather(self._pump_out(ws), self._pump_in(ws))
+        except aiohttp.WSServerHandshakeError as exc:
+            self._error = (f"{self.where} refused the connection ({exc.status}): "
+                           + ("no such room, or not with that token" if exc.status == 403 else exc.message))
+        except (aiohttp.ClientError, OSError) as exc:
+            self._error = f"cannot reach {self.where}: {exc}"
+
+    async def _pump_out(self, ws: aiohttp.ClientWebSocketResponse) -> None:
+        assert self._outgoing is not None
+        while True:
+            data = await self._outgoing.get()
+            if data is None or ws.closed:
+                await ws.close()
+                return
+            await ws.send_bytes(data)
+
+    async def _pump_in(self, ws: aiohttp.ClientWebSocketResponse) -> None:
+        async for message in ws:
+            if message.type == aiohttp.WSMsgType.BINARY:
+                try:
+                    self._incoming.put_nowait(message.data)
+                except queue.Full:
+                    self.dropped += 1
+        if self._outgoing is not None:
+            self._outgoing.put_nowait(None)  # the server ended it: stop sending too

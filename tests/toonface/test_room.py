@@ -1,0 +1,119 @@
+"""The room server, a first step of issue 45: a performer and a viewer both connect out to it over
+WebSocket (no port opened at either end), the stream's own packets pass through untouched, and
+wrong tokens, foreign pages, oversized and flooding messages are refused and counted."""
+
+import asyncio
+import threading
+from contextlib import contextmanager
+
+import aiohttp
+import numpy as np
+import pytest
+
+from stream.framing import MAX_PACKET
+from stream.packets import StreamWriter
+from stream.playout import Playout
+from stream.receiver import StreamReceiver
+from stream.websocket import LinkError, WebSocketLink
+from toon import standard_neutral
+from toonface.cli import main
+from toonface.room.server import Rooms, make_app
+
+TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
+
+
+@contextmanager
+def room_server(rooms: Rooms):
+    """The room server on a free loopback port, in its own thread; yields its ws:// base."""
+    from aiohttp import web
+
+    loop = asyncio.new_event_loop()
+    started = threading.Event()
+    box: dict = {}
+
+    async def run() -> None:
+        runner = web.AppRunner(make_app(rooms), access_log=None)
+        await runner.setup()
+        site = web.TCPSite(runner, "127.0.0.1", 0)
+        await site.start()
+        box["port"], box["runner"], box["stop"] = runner.addresses[0][1], runner, asyncio.Event()
+        started.set()
+        await box["stop"].wait()
+        await runner.cleanup()
+
+    thread = threading.Thread(target=lambda: loop.run_until_complete(run()), daemon=True)
+    thread.start()
+    assert started.wait(10)
+    try:
+        yield f"ws://127.0.0.1:{box['port']}"
+    finally:
+        loop.call_soon_threadsafe(box["stop"].set)
+        thread.join(10)
+        loop.close()
+
+
+def test_a_performer_reaches_a_viewer_through_the_room_and_acknowledgements_come_back(capsys):
+    rooms = Rooms(TOKENS)
+    with room_server(rooms) as base:
+        url = f"{base}/r/demo"
+        link = WebSocketLink(url, TOKENS["demo"][1], "watch")  # a viewer behind NAT: it binds nothing, connects out
+        with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), link=link) as receiver:
+            assert receiver.sock is link
+            assert main(["send", "synthetic", "--to", url, "--token", TOKENS["demo"][0], "--seconds", "1.5",
+                         "--stats"]) == 0
+            assert receiver.wait_for_packets(40, timeout=10)
+        out = capsys.readouterr().out
+    assert f"packets to {url}: payload" in out  # send's summary names the room
+    stats = [line for line in out.splitlines() if line.startswith("{")][-1]
+    assert '"acks": 0' not in stats  # the viewer's acknowledgements came back through the room
+    assert receiver.reader.lost == 0 and rooms.rooms["demo"].forwarded >= 40
+    values, state = receiver.values_at()
+    assert state in ("live", "concealed", "recovering") and np.all((values >= 0) & (values <= 1))
+
+
+def test_wrong_tokens_foreign_pages_oversized_and_flooding_messages_are_refused_and_counted(capsys):
+    rooms = Rooms(TOKENS, rate_limit=50)
+    with room_server(rooms) as base:
+        with pytest.raises(LinkError, match="no such room, or not with that token"):
+            WebSocketLink(f"{base}/r/demo", "guess", "watch")
+        with pytest.raises(LinkError, match="403"):
+            WebSocketLink(f"{base}/r/other", TOKENS["demo"][1], "watch")
+        assert main(["send", "synthetic", "--to", f"{base}/r/demo", "--token", "wrong", "--seconds", "0.2"]) == 2
+        assert "no such room, or not with that token" in capsys.readouterr().err
+
+        async def attempts() -> tuple[int, bool]:
+            async with aiohttp.ClientSession() as session:
+                try:  # a page of another site opening a socket to the room
+                    await session.ws_connect(f"{base}/r/demo/ws?role=watch&token={TOKENS['demo'][1]}",
+                                             headers={"Origin": "https://elsewhere.example"})
+                    foreign = 0
+                except aiohttp.WSServerHandshakeError as exc:
+                    foreign = exc.status
+                headers = {"Authorization": f"Bearer {TOKENS['demo'][0]}"}
+                async with session.ws_connect(f"{base}/r/demo/ws?role=perform", headers=headers) as ws:
+                    packet = StreamWriter(60.0, stream=9, frames_per_packet=1).push(standard_neutral(), 0.0)
+                    for _ in range(120):  # a flood: over 50 a second
+                        await ws.send_bytes(packet)
+                    await ws.send_bytes(b"\\0" * (MAX_PACKET + 10))  # too large: the server ends the socket
+                    message = await ws.receive(timeout=5)
+                    closed = message.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSED)
+            return foreign, closed
+
+        foreign, closed = asyncio.run(attempts())
+    assert foreign == 403 and rooms.refused["origin"] == 1 and rooms.refused["token"] >= 2
+    assert rooms.refused["room"] == 1 and closed
+    refused = rooms.rooms["demo"].refused
+    assert refused["flood"] >= 60 and refused["size"] == 1
+
+
+def test_the_room_command_makes_tokens_once_and_keeps_them(tmp_path, capsys):
+    tokens = tmp_path / "rooms.toml"
+    assert main(["room", "--listen", "127.0.0.1:0", "--room", "demo", "--tokens", str(tokens), "--seconds", "0.1"]) == 0
+    first = capsys.readouterr().out
+    assert "perform  toonface send SOURCE --to ws://127.0.0.1:" in first and "/r/demo --token" in first
+    assert oct(tokens.stat().st_mode & 0o777) == "0o600"
+    assert main(["room", "--listen", "127.0.0.1:0", "--tokens", str(tokens), "--seconds", "0.1"]) == 0
+    again = capsys.readouterr().out
+    assert [line.split("--token ")[1] for line in first.splitlines() if "--token" in line] == \
+        [line.split("--token ")[1] for line in again.splitlines() if "--token" in line]  # kept across restarts
+    assert main(["room", "--listen", "127.0.0.1:0", "--tokens", str(tmp_path / "none.toml")]) == 2

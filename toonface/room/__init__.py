@@ -1,0 +1,1 @@
+"""The room server: performers and viewers meet in a named room over WebSocket (issue 45's first step)."""

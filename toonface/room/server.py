@@ -1,0 +1,177 @@
+"""The room server (aiohttp): performers and viewers meet in a named room over WebSocket.
+
+Both ends connect *out* to the server (``ws://HOST:PORT/r/ROOM/ws?role=perform|watch`` with the
+room's token for that role), which passes any NAT or firewall that lets a web page through. The
+motors travel as the stream's own packets (:mod:`stream.framing`: their prediction, coding,
+concealment and seal stay end to end; the server reads nothing but the stream id of each): every
+binary message of a performer goes to every viewer of the room, and a viewer's replies
+(acknowledgements, keyframe requests) go to the performer of the stream id they name.
+
+Safety, each counted in :attr:`Room.refused` (or the server's, before a room is known):
+
+- tokens compared in constant time (``hmac.compare_digest``); a wrong one is refused with 403,
+  and tokens are never logged (the access log is off: a token may ride in the query);
+- rooms exist only as declared (:class:`Rooms`); performers and viewers per room are capped;
+- a message larger than a stream packet is refused and the connection closed; more than
+  ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
+  silent for ``idle_seconds`` is closed;
+- a WebSocket opened from a web page must come from the server's own pages (``Origin``); native
+  clients send none.
+"""
+
+from __future__ import annotations
+
+import hmac
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+
+from aiohttp import WSMsgType, web
+
+from stream.framing import MAX_PACKET, peek_stream
+
+
+@dataclass
+class Room:
+    """One room: its tokens, who is in it, and what was refused."""
+
+    name: str
+    perform_token: str
+    watch_token: str
+    performers: dict[int, web.WebSocketResponse] = field(default_factory=dict)  # by stream id
+    viewers: set[web.WebSocketResponse] = field(default_factory=set)
+    refused: Counter[str] = field(default_factory=Counter)
+    forwarded: int = 0
+
+
+class Rooms:
+    """The rooms a server holds, and its limits.
+
+    Parameters
+    ----------
+    tokens : dict
+        ``{name: (perform token, watch token)}``: the rooms declared.
+    max_performers, max_viewers : int
+        Per room.
+    rate_limit : float
+        Messages a second one connection may send (a performer at 60 Hz sends 30; replies fewer).
+    idle_seconds : float
+        A connection that sends nothing this long is closed.
+    """
+
+    def __init__(self, tokens: dict[str, tuple[str, str]], max_performers: int = 16, max_viewers: int = 1000,
+                 rate_limit: float = 200.0, idle_seconds: float = 60.0) -> None:
+        self.rooms = {name: Room(name, perform, watch) for name, (perform, watch) in tokens.items()}
+        self.max_performers, self.max_viewers = max_performers, max_viewers
+        self.rate_limit, self.idle_seconds = rate_limit, idle_seconds
+        self.refused: Counter[str] = Counter()  # before a room is known
+
+    def admit(self, name: str, role: str, token: str) -> Room | str:
+        """The room a connection may enter, or the word for why not."""
+        room = self.rooms.get(name)
+        if room is None:
+            return "room"
+        if role not in ("perform", "watch"):
+            return "role"
+        wanted = room.perform_token if role == "perform" else room.watch_token
+        if not hmac.compare_digest(token.encode(), wanted.encode()):
+            return "token"
+        if role == "watch" and len(room.viewers) >= self.max_viewers:
+            return "full"
+        return room
+
+
+ROOMS = web.AppKey("rooms", Rooms)
+
+
+def make_app(rooms: Rooms) -> web.Application:
+    """The room server's application."""
+    app = web.Application(client_max_size=4096)
+    app[ROOMS] = rooms
+    app.router.add_get("/r/{room}/ws", _socket)
+    return app
+
+
+async def _socket(request: web.Request) -> web.StreamResponse:
+    rooms = request.app[ROOMS]
+    origin = request.headers.get("Origin")
+    if origin is not None and origin not in (f"http://{request.host}", f"https://{request.host}"):
+        rooms.refused["origin"] += 1
+        raise web.HTTPForbidden(text="a WebSocket from another site's page\n")
+    token = request.query.get("token", "") or request.headers.get("Authorization", "").removeprefix("Bearer ")
+    role = request.query.get("role", "watch")
+    admitted = rooms.admit(request.match_info["room"], role, token)
+    if isinstance(admitted, str):
+        rooms.refused[admitted] += 1
+        if admitted == "full":
+            raise web.HTTPServiceUnavailable(text="the room is full\n")
+        raise web.HTTPForbidden(text="no such room, or not with that token\n")
+    room = admitted
+    ws = web.WebSocketResponse(max_msg_size=MAX_PACKET, heartbeat=rooms.idle_seconds / 2)
+    await ws.prepare(request)
+    if role == "watch":
+        room.viewers.add(ws)
+    try:
+        await _serve(ws, room, rooms, role)
+    finally:
+        room.viewers.discard(ws)
+        for stream in [s for s, w in room.performers.items() if w is ws]:
+            del room.performers[stream]
+    return ws
+
+
+async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str) -> None:
+    """Pass a connection's packets on until it closes, idles or breaks the rules."""
+    window, count = time.monotonic(), 0
+    while True:
+        try:
+            message = await ws.receive(timeout=rooms.idle_seconds)
+        except TimeoutError:
+            room.refused["idle"] += 1
+            await ws.close(message=b"idle")
+            return
+        if message.type == WSMsgType.ERROR or message.type in (WSMsgType.CLOSE, WSMsgType.CLOSING,
+                                                               WSMsgType.CLOSED):
+            if message.type == WSMsgType.ERROR:
+                room.refused["size"] += 1  # aiohttp ends a socket whose message is over max_msg_size
+            return
+        if message.type != WSMsgType.BINARY:
+            room.refused["text"] += 1
+            continue
+        now = time.monotonic()
+        if now - window >= 1.0:
+            window, count = now, 0
+        count += 1
+        if count > rooms.rate_limit:
+            room.refused["flood"] += 1
+            continue
+        data: bytes = message.data
+        stream = peek_stream(data)
+        if stream is None:
+            room.refused["malformed"] += 1
+            continue
+        if role == "perform":
+            owner = room.performers.get(stream)
+            if owner is None and len(room.performers) >= rooms.max_performers:
+                room.refused["full"] += 1
+                continue
+            if owner is not None and owner is not ws:
+                room.refused["stream taken"] += 1
+                continue
+            room.performers[stream] = ws
+            await _to_all(room.viewers, data)
+            room.forwarded += 1
+        else:
+            performer = room.performers.get(stream)
+            if performer is not None:
+                await _to_all({performer}, data)
+
+
+async def _to_all(sockets: set[web.WebSocketResponse], data: bytes) -> None:
+    """Send ``data`` to each socket still open; one that fails is left to its own handler."""
+    for ws in list(sockets):
+        if not ws.closed:
+            try:
+                await ws.send_bytes(data)
+            except ConnectionError:
+                pass
