@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import queue
+import ssl
 import threading
 from urllib.parse import urlencode, urlsplit, urlunsplit
 
@@ -32,9 +33,12 @@ class WebSocketLink:
     ----------
     timeout : float
         Seconds to wait for the connection.
+    ca_file : str, optional
+        A certificate (PEM) to trust for ``wss://`` beside the system's: a room server's own,
+        self-signed one.
     """
 
-    def __init__(self, url: str, token: str, role: str, timeout: float = 10.0) -> None:
+    def __init__(self, url: str, token: str, role: str, timeout: float = 10.0, ca_file: str | None = None) -> None:
         parts = urlsplit(url)
         if parts.scheme not in ("ws", "wss") or not parts.netloc or not parts.path.startswith("/r/"):
             raise LinkError(f"expected ws://HOST:PORT/r/ROOM or wss://HOST/r/ROOM, got {url}")
@@ -42,6 +46,12 @@ class WebSocketLink:
         self.url = urlunsplit((parts.scheme, parts.netloc, path, urlencode({"role": role}), ""))
         self.where = f"{parts.netloc}{parts.path}"
         self._token, self.role = token, role
+        self._ssl: ssl.SSLContext | bool = True
+        if ca_file is not None:
+            try:
+                self._ssl = ssl.create_default_context(cafile=ca_file)
+            except (ssl.SSLError, OSError) as exc:
+                raise LinkError(f"cannot use {ca_file} as a certificate to trust: {exc}") from None
         self._incoming: queue.Queue[bytes] = queue.Queue(maxsize=1024)
         self._loop = asyncio.new_event_loop()
         self._outgoing: asyncio.Queue[bytes | None] | None = None
@@ -118,7 +128,8 @@ class WebSocketLink:
         headers = {"Authorization": f"Bearer {self._token}"}
         try:
             async with aiohttp.ClientSession() as session, \
-                    session.ws_connect(self.url, headers=headers, max_msg_size=MAX_PACKET, heartbeat=20.0) as ws:
+                    session.ws_connect(self.url, headers=headers, max_msg_size=MAX_PACKET, heartbeat=20.0,
+                                       ssl=self._ssl) as ws:
                 self._ready.set()
                 await asyncio.gather(self._pump_out(ws), self._pump_in(ws))
         except aiohttp.WSServerHandshakeError as exc:

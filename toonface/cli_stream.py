@@ -41,6 +41,10 @@ KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, e
 ROOM_TOKEN = click.option("--token", default=None, envvar="TOONFACE_ROOM_TOKEN",
                           help="A room's token (to perform, for send; to watch, for receive), as toonface room "
                                "prints it. Or set TOONFACE_ROOM_TOKEN.")
+ROOM_CA = click.option("--ca-file", default=None, type=click.Path(dir_okay=False, exists=True),
+                       envvar="TOONFACE_ROOM_CA",
+                       help="For a wss:// room server with its own (self-signed) certificate: that certificate (PEM), "
+                            "trusted beside the system's.")
 OPEN_STREAM = ("toonface: note: the stream is not encrypted: anyone on the path can read it and send as a "
                "performer; give both ends the same --key-file (or TOONFACE_STREAM_KEY) to seal it")
 
@@ -67,6 +71,7 @@ def _key(path: str | None) -> bytes | None:
               help="Where the receiver (or a relay) listens, or a room server's room (with --token); give it again "
                    "to send to several (each its own stream of the same frames).")
 @ROOM_TOKEN
+@ROOM_CA
 @click.option("--mapping", default=None, metavar="NAME|FILE",
               help="Mapping [default: the preset matching the markers].")
 @click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
@@ -90,7 +95,7 @@ def _key(path: str | None) -> bytes | None:
               help="This performer's stream id, for a receiver showing several [default: a random one].")
 @take_options
 def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], token: str | None,
-         mapping: str | None,
+         ca_file: str | None, mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
          stats: bool, stream_id: int | None, force: bool, reading: TakeReading) -> None:
@@ -131,7 +136,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
             stream_id = secrets.randbelow(0x10000)
         streams = [outputs.motor(host if port == 0 else f"udp://{host}:{port}", rate=src.rate, key=key,
                                  frames_per_packet=frames_per_packet, keyframe_seconds=keyframe_seconds,
-                                 stream=stream_id, say=_warn, token=token or "")
+                                 stream=stream_id, say=_warn, token=token or "", ca_file=ca_file)
                    for host, port in addresses]
         recording = outputs.motor(record, rate=src.rate) if record else None
         where = ", ".join(host if port == 0 else f"{host}:{port}" for host, port in addresses)
@@ -164,6 +169,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
               help="Watch a room on a room server (toonface room) instead of listening for UDP: the connection goes "
                    "out, through NAT and firewalls. With --token.")
 @ROOM_TOKEN
+@ROOM_CA
 @FACE
 @SIZE
 @BACKGROUND
@@ -195,10 +201,11 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
 @click.option("--max-performers", default=8, show_default=True, type=click.IntRange(1, 64),
               help="Senders shown at once (each with its own stream id); 1: the first only.")
 @NO_PHYSICS
-def receive(listen: str, room_url: str | None, token: str | None, face: str, size: str, output: str | None,
-            preview: str | None, fps: float, conceal: str, jitter_ms: float, max_jump: float, seconds: float | None,
-            key_file: str | None, record: str | None, stats: bool, vmc_out: str | None, performers_path: str | None,
-            max_performers: int, no_physics: bool, force: bool, background: str | None, virtual_camera: bool) -> None:
+def receive(listen: str, room_url: str | None, token: str | None, ca_file: str | None, face: str, size: str,
+            output: str | None, preview: str | None, fps: float, conceal: str, jitter_ms: float, max_jump: float,
+            seconds: float | None, key_file: str | None, record: str | None, stats: bool, vmc_out: str | None,
+            performers_path: str | None, max_performers: int, no_physics: bool, force: bool, background: str | None,
+            virtual_camera: bool) -> None:
     """Show a motor stream from `toonface send` on a face of this end's choosing.
 
     A jitter buffer absorbs late packets; lost ones are concealed, and when the stream comes
@@ -243,7 +250,7 @@ def receive(listen: str, room_url: str | None, token: str | None, face: str, siz
         from stream.websocket import LinkError, WebSocketLink
 
         try:
-            link = WebSocketLink(room_url, token or "", "watch")
+            link = WebSocketLink(room_url, token or "", "watch", ca_file=ca_file)
         except LinkError as exc:
             raise click.BadParameter(str(exc), param_hint="--from") from None
     try:

@@ -104,7 +104,7 @@ def open_recording(spec: str, rate: float = 60.0, **_: Any) -> Any:
 
 def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_per_packet: int = 2,
                 keyframe_seconds: float = 0.5, stream: int = 0, say: Callable[[str], None] | None = None,
-                token: str = "", **_: Any) -> Any:
+                token: str = "", ca_file: str | None = None, **_: Any) -> Any:
     """The motor stream to ``udp://HOST:PORT`` (a receiver or a relay), or through a room server
     at ``ws[s]://HOST:PORT/r/ROOM`` with the room's performer ``token``; ``say`` takes its live
     warnings (:class:`stream.sender.StreamSender`)."""
@@ -118,7 +118,7 @@ def open_stream(spec: str, rate: float = 60.0, key: bytes | None = None, frames_
         raise InputError(f"cannot stream it: {exc}", spec) from None
     if spec.startswith(("ws://", "wss://")):
         try:
-            link = WebSocketLink(spec, token, "perform")
+            link = WebSocketLink(spec, token, "perform", ca_file=ca_file)
         except LinkError as exc:
             raise InputError(str(exc), spec) from None
         return StreamSender((link.where, 0), writer, say=say, link=link)

@@ -23,8 +23,9 @@ TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
 
 
 @contextmanager
-def room_server(rooms: Rooms):
-    """The room server on a free loopback port, in its own thread; yields its ws:// base."""
+def room_server(rooms: Rooms, ssl_context=None):
+    """The room server on a free loopback port, in its own thread; yields its ws:// (or, with
+    ``ssl_context``, wss://) base."""
     from aiohttp import web
 
     loop = asyncio.new_event_loop()
@@ -34,7 +35,7 @@ def room_server(rooms: Rooms):
     async def run() -> None:
         runner = web.AppRunner(make_app(rooms), access_log=None)
         await runner.setup()
-        site = web.TCPSite(runner, "127.0.0.1", 0)
+        site = web.TCPSite(runner, "127.0.0.1", 0, ssl_context=ssl_context)
         await site.start()
         box["port"], box["runner"], box["stop"] = runner.addresses[0][1], runner, asyncio.Event()
         started.set()
@@ -45,7 +46,7 @@ def room_server(rooms: Rooms):
     thread.start()
     assert started.wait(10)
     try:
-        yield f"ws://127.0.0.1:{box['port']}"
+        yield f"{'wss' if ssl_context else 'ws'}://127.0.0.1:{box['port']}"
     finally:
         loop.call_soon_threadsafe(box["stop"].set)
         thread.join(10)
@@ -117,3 +118,44 @@ def test_the_room_command_makes_tokens_once_and_keeps_them(tmp_path, capsys):
     assert [line.split("--token ")[1] for line in first.splitlines() if "--token" in line] == \
         [line.split("--token ")[1] for line in again.splitlines() if "--token" in line]  # kept across restarts
     assert main(["room", "--listen", "127.0.0.1:0", "--tokens", str(tmp_path / "none.toml")]) == 2
+
+
+def self_signed(folder):
+    """A certificate and key for 127.0.0.1, signed by themselves (PEM files)."""
+    import datetime
+    import ipaddress
+
+    from cryptography import x509
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import ec
+    from cryptography.x509.oid import NameOID
+
+    key = ec.generate_private_key(ec.SECP256R1())
+    name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "toonface room test")])
+    now = datetime.datetime.now(datetime.UTC)
+    cert = (x509.CertificateBuilder().subject_name(name).issuer_name(name).public_key(key.public_key())
+            .serial_number(x509.random_serial_number()).not_valid_before(now - datetime.timedelta(minutes=1))
+            .not_valid_after(now + datetime.timedelta(days=1))
+            .add_extension(x509.SubjectAlternativeName([x509.IPAddress(ipaddress.ip_address("127.0.0.1"))]), False)
+            .add_extension(x509.BasicConstraints(ca=True, path_length=None), True)
+            .sign(key, hashes.SHA256()))
+    (folder / "room.pem").write_bytes(cert.public_bytes(serialization.Encoding.PEM))
+    (folder / "room.key").write_bytes(key.private_bytes(serialization.Encoding.PEM,
+                                                        serialization.PrivateFormat.PKCS8,
+                                                        serialization.NoEncryption()))
+    return folder / "room.pem", folder / "room.key"
+
+
+def test_wss_with_a_self_signed_certificate_is_trusted_only_when_given(tmp_path):
+    import ssl
+
+    cert, key = self_signed(tmp_path)
+    context = ssl.create_default_context(ssl.Purpose.CLIENT_AUTH)
+    context.load_cert_chain(cert, key)
+    with room_server(Rooms(TOKENS), context) as base:
+        url = f"{base}/r/demo"
+        with pytest.raises(LinkError, match="certificate"):
+            WebSocketLink(url, TOKENS["demo"][1], "watch")  # not trusted by the system
+        link = WebSocketLink(url, TOKENS["demo"][1], "watch", ca_file=str(cert))
+        link.close()
+        assert link.closed.is_set()
