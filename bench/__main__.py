@@ -7,7 +7,7 @@ import importlib
 import sys
 
 GROUPS = ("cli", "render", "retarget", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream",
-          "batch", "bridge", "lipsync", "physics")
+          "batch", "bridge", "lipsync", "physics", "room")
 #: Groups run only when named: they take minutes.
 LONG = ("soak",)
 
