@@ -10,6 +10,7 @@ stream's loss handling simply sees no loss (a slow link shows as late packets in
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import queue
 import ssl
 import threading
@@ -71,7 +72,8 @@ class WebSocketLink:
     def send(self, data: bytes) -> None:
         """Queue one packet for the server (dropped once the link has closed)."""
         if not self.closed.is_set() and self._outgoing is not None:
-            self._loop.call_soon_threadsafe(self._outgoing.put_nowait, data)
+            with contextlib.suppress(RuntimeError):  # the loop ended between the check and the call
+                self._loop.call_soon_threadsafe(self._outgoing.put_nowait, data)
 
     def receive(self, timeout: float = 0.0) -> bytes | None:
         """The next packet from the server, waiting up to ``timeout`` seconds (None if none came)."""
@@ -112,7 +114,8 @@ class WebSocketLink:
     def close(self) -> None:
         """End the connection and its thread."""
         if self._outgoing is not None and not self.closed.is_set():
-            self._loop.call_soon_threadsafe(self._outgoing.put_nowait, None)
+            with contextlib.suppress(RuntimeError):  # the loop ended between the check and the call
+                self._loop.call_soon_threadsafe(self._outgoing.put_nowait, None)
         self._thread.join(timeout=5.0)
 
     def _run(self) -> None:

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from toonface.cli_options import FiniteFloat
 from toonface.cli_player import _required_address
 
 
@@ -51,7 +52,7 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
 @click.option("--tls-key", default=None, type=click.Path(dir_okay=False, exists=True), help="...and its key.")
 @click.option("--max-viewers", default=1000, show_default=True, type=click.IntRange(1, 100_000),
               help="Viewers a room holds at once.")
-@click.option("--seconds", default=None, type=float, help="Stop after this long.")
+@click.option("--seconds", default=None, type=FiniteFloat(min=0.01), help="Stop after this long.")
 def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | None, tls_key: str | None,
          max_viewers: int, seconds: float | None) -> None:
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
