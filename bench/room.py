@@ -26,16 +26,16 @@ import socket
 import struct
 import threading
 import time
+from collections.abc import Iterator
 from contextlib import contextmanager
 
 import aiohttp
 import numpy as np
-from aiohttp import web
 
 from bench.core import Figure
 from stream.packets import StreamWriter
 from toon import standard_neutral
-from toonface.room.server import Rooms, make_app
+from toonface.room.server import Rooms, in_thread
 
 TOKENS = {"bench": ("perform-bench-token-0123", "watch-bench-token-0123")}
 VIEWERS = 200
@@ -64,29 +64,10 @@ def run(quick: bool = False) -> list[Figure]:
 
 
 @contextmanager
-def _server():
-    """A room server on a free loopback port in its own thread; yields its ws:// base."""
-    loop = asyncio.new_event_loop()
-    started, box = threading.Event(), {}
-
-    async def serve() -> None:
-        runner = web.AppRunner(make_app(Rooms(TOKENS, rate_limit=1000.0)), access_log=None)
-        await runner.setup()
-        await web.TCPSite(runner, "127.0.0.1", 0).start()
-        box["port"], box["stop"] = runner.addresses[0][1], asyncio.Event()
-        started.set()
-        await box["stop"].wait()
-        await runner.cleanup()
-
-    thread = threading.Thread(target=lambda: loop.run_until_complete(serve()), daemon=True)
-    thread.start()
-    started.wait(10)
-    try:
-        yield f"ws://127.0.0.1:{box['port']}/r/bench/ws"
-    finally:
-        loop.call_soon_threadsafe(box["stop"].set)
-        thread.join(10)
-        loop.close()
+def _server() -> Iterator[str]:
+    """A room server on a free loopback port; yields its room's socket address."""
+    with in_thread(Rooms(TOKENS, rate_limit=1000.0)) as base:
+        yield f"{base}/r/bench/ws"
 
 
 def _packets(count: int, rate: float = 60.0) -> list[bytes]:

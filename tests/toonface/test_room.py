@@ -3,8 +3,6 @@ WebSocket (no port opened at either end), the stream's own packets pass through 
 wrong tokens, foreign pages, oversized and flooding messages are refused and counted."""
 
 import asyncio
-import threading
-from contextlib import contextmanager
 
 import aiohttp
 import numpy as np
@@ -17,40 +15,14 @@ from stream.receiver import StreamReceiver
 from stream.websocket import LinkError, WebSocketLink
 from toon import standard_neutral
 from toonface.cli import main
-from toonface.room.server import Rooms, make_app
+from toonface.room.server import Rooms, in_thread
 
 TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
 
 
-@contextmanager
 def room_server(rooms: Rooms, ssl_context=None):
-    """The room server on a free loopback port, in its own thread; yields its ws:// (or, with
-    ``ssl_context``, wss://) base."""
-    from aiohttp import web
-
-    loop = asyncio.new_event_loop()
-    started = threading.Event()
-    box: dict = {}
-
-    async def run() -> None:
-        runner = web.AppRunner(make_app(rooms), access_log=None)
-        await runner.setup()
-        site = web.TCPSite(runner, "127.0.0.1", 0, ssl_context=ssl_context)
-        await site.start()
-        box["port"], box["runner"], box["stop"] = runner.addresses[0][1], runner, asyncio.Event()
-        started.set()
-        await box["stop"].wait()
-        await runner.cleanup()
-
-    thread = threading.Thread(target=lambda: loop.run_until_complete(run()), daemon=True)
-    thread.start()
-    assert started.wait(10)
-    try:
-        yield f"{'wss' if ssl_context else 'ws'}://127.0.0.1:{box['port']}"
-    finally:
-        loop.call_soon_threadsafe(box["stop"].set)
-        thread.join(10)
-        loop.close()
+    """The room server on a free loopback port, in its own thread; its ws:// (wss://) base."""
+    return in_thread(rooms, ssl_context=ssl_context)
 
 
 def test_a_performer_reaches_a_viewer_through_the_room_and_acknowledgements_come_back(capsys):

@@ -21,9 +21,14 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
 
 from __future__ import annotations
 
+import asyncio
 import hmac
+import ssl
+import threading
 import time
 from collections import Counter
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from aiohttp import WSMsgType, web
@@ -90,6 +95,36 @@ def make_app(rooms: Rooms) -> web.Application:
     app[ROOMS] = rooms
     app.router.add_get("/r/{room}/ws", _socket)
     return app
+
+
+@contextmanager
+def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0,
+              ssl_context: ssl.SSLContext | None = None) -> Iterator[str]:
+    """A room server for ``rooms`` in a thread of its own (port 0: a free one), for tests and
+    benchmarks; yields its ``ws://HOST:PORT`` (``wss://`` with ``ssl_context``) and stops on exit."""
+    loop = asyncio.new_event_loop()
+    started = threading.Event()
+    box: dict = {}
+
+    async def serve() -> None:
+        runner = web.AppRunner(make_app(rooms), access_log=None)
+        await runner.setup()
+        await web.TCPSite(runner, host, port, ssl_context=ssl_context).start()
+        box["port"], box["stop"] = runner.addresses[0][1], asyncio.Event()
+        started.set()
+        await box["stop"].wait()
+        await runner.cleanup()
+
+    thread = threading.Thread(target=lambda: loop.run_until_complete(serve()), daemon=True)
+    thread.start()
+    if not started.wait(10):
+        raise OSError(f"the room server did not start on {host}:{port}")
+    try:
+        yield f"{'wss' if ssl_context else 'ws'}://{host}:{box['port']}"
+    finally:
+        loop.call_soon_threadsafe(box["stop"].set)
+        thread.join(10)
+        loop.close()
 
 
 async def _socket(request: web.Request) -> web.StreamResponse:
