@@ -48,6 +48,7 @@ def test_send_takes_a_video_with_an_impossible_rate_as_a_camera(tmp_path, capsys
     assert "at 25 Hz" in capsys.readouterr().out
 
 
+@pytest.mark.slow  # the face tracker over 35 frames: make test runs it
 def test_a_video_played_as_a_camera_loops_when_asked(tmp_path):
     pytest.importorskip("mediapipe")
     video = broken_rate_video(tmp_path / "short.mkv", frames=10)

@@ -36,8 +36,10 @@ def test_the_newest_frame_comes_as_a_png_with_its_alpha_and_the_page_asks_its_si
         assert b'width="64" height="48"' in fetch(sink.url + "obs")[0]  # the frame's own size by default
         jpeg, _ = fetch(sink.url + "frame.jpg")  # the MJPEG side lays the clear part over black
         assert np.asarray(Image.open(io.BytesIO(jpeg)))[2, 2].max() < 16
-        with pytest.raises(urllib.error.HTTPError):
+        with pytest.raises(urllib.error.HTTPError) as refused:
             fetch(sink.url + "obs?width=99999")
+        assert refused.value.code == 400
+        refused.value.close()  # the error holds the answer's socket
     finally:
         sink.close()
 

@@ -12,6 +12,7 @@ from toon import standard_neutral
 from toonface.cli import main
 
 
+@pytest.mark.slow  # two sends: make test runs it (make test-fast stays under a minute)
 def test_send_to_two_receivers_reaches_both_and_the_same_one_twice_is_refused(capsys):
     """`send --to A --to B` sent to B alone (click kept the last --to)."""
     with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral())) as a, \

@@ -25,6 +25,7 @@ def room_server(rooms: Rooms, ssl_context=None):
     return in_thread(rooms, ssl_context=ssl_context)
 
 
+@pytest.mark.slow  # a second and a half of send: make test runs it (make test-fast stays under a minute)
 def test_a_performer_reaches_a_viewer_through_the_room_and_acknowledgements_come_back(capsys):
     rooms = Rooms(TOKENS)
     with room_server(rooms) as base:
@@ -44,6 +45,7 @@ def test_a_performer_reaches_a_viewer_through_the_room_and_acknowledgements_come
     assert state in ("live", "concealed", "recovering") and np.all((values >= 0) & (values <= 1))
 
 
+@pytest.mark.slow  # a send that is refused, and a flood: make test runs it
 def test_wrong_tokens_foreign_pages_oversized_and_flooding_messages_are_refused_and_counted(capsys):
     rooms = Rooms(TOKENS, rate_limit=50)
     with room_server(rooms) as base:
