@@ -22,6 +22,14 @@ def straight(premultiplied: np.ndarray) -> np.ndarray:
     return out
 
 
+def over(rgba: np.ndarray, colour: np.ndarray | tuple[float, float, float]) -> np.ndarray:
+    """Straight RGBA ``uint8`` ``(height, width, 4)`` laid over an opaque ``colour`` (0..255 each):
+    RGB ``uint8`` ``(height, width, 3)``, for outputs that keep no alpha (a JPEG, a camera)."""
+    alpha = rgba[..., 3:4].astype(np.float32) / 255.0
+    background = np.asarray(colour, dtype=np.float32)
+    return np.rint(rgba[..., :3] * alpha + background * (1.0 - alpha)).astype(np.uint8)
+
+
 def premultiplied_clear(background: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
     """A background colour ``(r, g, b, a)`` (0..1, straight) as a renderer clears to it."""
     r, g, b, a = background

@@ -19,6 +19,8 @@ from urllib.parse import parse_qs
 import cv2
 import numpy as np
 
+from player.alpha import over
+
 _PAGE = (b"<!doctype html><title>toonface</title><body style='margin:0;background:#222'>"
          b"<img src='/stream' style='display:block;margin:auto;max-height:100vh'></body>")
 _BOUNDARY = "toonfaceframe"
@@ -73,9 +75,7 @@ class FrameBoard:
             return number, None
         if cached is not None and cached[0] == number:
             return cached
-        rgb = frame[:, :, :3]
-        if frame.shape[2] == 4:  # a JPEG has no alpha: over black
-            rgb = (rgb.astype(np.uint16) * frame[:, :, 3:4] // 255).astype(np.uint8)
+        rgb = over(frame, (0, 0, 0)) if frame.shape[2] == 4 else frame  # a JPEG has no alpha: over black
         ok, data = cv2.imencode(".jpg", np.ascontiguousarray(rgb[:, :, ::-1]), [cv2.IMWRITE_JPEG_QUALITY, self.quality])
         encoded = (number, data.tobytes() if ok else None)
         with self._cond:

@@ -20,6 +20,7 @@ import cv2
 import numpy as np
 
 from common import InputError
+from player.alpha import over
 
 #: What to tell a user with no virtual camera to send to.
 HOW_TO_GET_ONE = ("a virtual camera needs pyvirtualcam (pip install 'toonface[vcam]'; GPL-2.0) and a device: on "
@@ -101,9 +102,8 @@ class VirtualCamera:
         picture = np.asarray(frame)
         if picture.ndim != 3 or picture.shape[2] not in (3, 4):
             raise ValueError(f"a frame of shape {picture.shape}; expected (H, W, 3) or (H, W, 4)")
-        if picture.shape[2] == 4:  # straight alpha over the background colour
-            alpha = picture[..., 3:4].astype(np.float32) / 255.0
-            picture = np.rint(picture[..., :3] * alpha + self.background * (1.0 - alpha)).astype(np.uint8)
+        if picture.shape[2] == 4:  # the renderers' straight alpha, over the background colour
+            picture = over(picture, self.background)
         width, height = self.size
         if picture.shape[:2] != (height, width):
             picture = cv2.resize(picture, (width, height), interpolation=cv2.INTER_AREA)
