@@ -14,11 +14,13 @@ from common.errors import InputError
 
 
 @contextlib.contextmanager
-def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
+def atomic_path(target: str | os.PathLike, mode: int | None = None) -> Iterator[Path]:
     """Yield a temporary path beside ``target``; rename it onto ``target`` if the block succeeds.
 
     The temporary file keeps ``target``'s suffix (so writers that choose a format by suffix
     still work). On an exception the temporary file is removed and ``target`` is untouched.
+    ``mode``: the output's permissions (``0o600`` for a secret; it is never readable by others on
+    the way); by default the usual ones under the umask.
     """
     target = Path(target)
     check_folder(target)
@@ -29,7 +31,7 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
     tmp_path = Path(tmp)
     try:
         yield tmp_path
-        os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp makes it owner-only; outputs get the usual mode
+        os.chmod(tmp_path, 0o666 & ~_umask() if mode is None else mode)  # mkstemp makes it owner-only
         os.replace(tmp_path, target)
     finally:
         tmp_path.unlink(missing_ok=True)

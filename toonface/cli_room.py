@@ -9,6 +9,8 @@ from pathlib import Path
 
 import click
 
+from common import InputError
+from common.atomic import atomic_path
 from toonface.cli_options import FiniteFloat
 from toonface.cli_player import _required_address
 
@@ -32,10 +34,12 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
     for name in fresh:
         rooms[name] = (secrets.token_urlsafe(18), secrets.token_urlsafe(18))
     if fresh or not path.exists():
-        temporary = path.with_name(path.name + ".tmp")
-        temporary.write_text(tomli_w.dumps({"rooms": {n: {"perform": p, "watch": w} for n, (p, w) in rooms.items()}}))
-        temporary.chmod(0o600)
-        temporary.replace(path)
+        try:
+            with atomic_path(path, mode=0o600) as temporary:  # owner-only from the start: it holds secrets
+                temporary.write_text(tomli_w.dumps({"rooms": {n: {"perform": p, "watch": w}
+                                                              for n, (p, w) in rooms.items()}}))
+        except InputError as exc:
+            raise click.BadParameter(str(exc), param_hint="--tokens") from None
     return rooms
 
 
