@@ -172,7 +172,22 @@ class Anchor:
         return replace(self, sequence=header.sequence, first_frame=header.first_frame)
 
 
-def seal(header: Header, body: bytes, key: bytes | None, short: bool = False) -> bytes:
+class StreamKey:
+    """A shared secret and the cipher derived from it (AES-256-GCM-SIV under HKDF-SHA256), derived
+    once: each end keeps one rather than deriving it again for every packet."""
+
+    def __init__(self, secret: bytes) -> None:
+        self.secret = secret
+        derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=b"toonface stream 5").derive(secret)
+        self.aead = AESGCMSIV(derived)
+
+
+def stream_key(key: bytes | StreamKey | None) -> StreamKey | None:
+    """``key`` as a :class:`StreamKey` (None stays None)."""
+    return key if key is None or isinstance(key, StreamKey) else StreamKey(key)
+
+
+def seal(header: Header, body: bytes, key: bytes | StreamKey | None, short: bool = False) -> bytes:
     """The datagram of ``header`` (in the short form where asked and it fits; a reply in its own
     form), ``body`` and the check, or sealed with ``key``."""
     flags = header.flags & ~(SEALED | LONG | REGULAR) | (SEALED if key else 0)
@@ -196,7 +211,7 @@ def seal(header: Header, body: bytes, key: bytes | None, short: bool = False) ->
     return head + body + _check(full + body)
 
 
-def open_packet(data: bytes, key: bytes | None, anchor: Anchor | None = None) -> tuple[Header, bytes]:
+def open_packet(data: bytes, key: bytes | StreamKey | None, anchor: Anchor | None = None) -> tuple[Header, bytes]:
     """Check a datagram's form, size, version and check (or seal); returns its full header and
     body. A short header is restored against ``anchor`` (for a reply: the sender's own).
 
@@ -310,10 +325,9 @@ def _check(data: bytes) -> bytes:
     return struct.pack("<H", zlib.crc32(data) & 0xFFFF)
 
 
-def _aead(secret: bytes) -> AESGCMSIV:
-    """The cipher of a shared secret: AES-256-GCM-SIV under HKDF-SHA256 of it."""
-    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=b"toonface stream 5").derive(secret)
-    return AESGCMSIV(derived)
+def _aead(key: bytes | StreamKey) -> AESGCMSIV:
+    """The cipher of a key (derived here only for a secret given as bytes)."""
+    return key.aead if isinstance(key, StreamKey) else StreamKey(key).aead
 
 
 #: The largest packet either end accepts: a full packet of keyframe-sized frames, with room.

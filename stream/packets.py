@@ -21,9 +21,11 @@ from stream.framing import (
     PARAMS,
     Anchor,
     Header,
+    StreamKey,
     WireError,
     open_packet,
     seal,
+    stream_key,
 )
 from stream.wire import DEFAULT_STEPS, Models, bridge, encode_frames, pack_params, quantise
 from toon import N_MOTORS
@@ -126,7 +128,7 @@ class StreamWriter:
     """
 
     def __init__(self, rate: float, frames_per_packet: int = 2, key_seconds: float = 0.5, steps: int = DEFAULT_STEPS,
-                 key: bytes | None = None, first_sequence: int | None = None, repeat: int | None = None,
+                 key: bytes | StreamKey | None = None, first_sequence: int | None = None, repeat: int | None = None,
                  stream: int = 0, codes: tuple[str, ...] = ()) -> None:
         repeat = frames_per_packet if repeat is None else repeat
         if not 1 <= frames_per_packet <= MAX_FRAMES:
@@ -137,7 +139,7 @@ class StreamWriter:
             raise ValueError(f"the frame rate must be between 0 and 655 Hz, got {rate:g}")
         if not 0 <= repeat < MAX_FRAMES:
             raise ValueError(f"repeated frames must be 0..{MAX_FRAMES - 1}, got {repeat}")
-        self.rate, self.frames_per_packet, self.steps, self.key = rate, frames_per_packet, steps, key
+        self.rate, self.frames_per_packet, self.steps, self.key = rate, frames_per_packet, steps, stream_key(key)
         if not 0 <= stream <= 0xFFFF:
             raise ValueError(f"a stream id is 0..65535, got {stream}")
         self.stream = stream
@@ -318,12 +320,12 @@ class StreamWriter:
         return previous
 
 
-def key_request(sequence: int, key: bytes | None, stream: int = 0) -> bytes:
+def key_request(sequence: int, key: bytes | StreamKey | None, stream: int = 0) -> bytes:
     """The datagram a receiver sends back to stream ``stream``'s sender to ask for a keyframe."""
     return seal(Header(KEY_REQUEST, sequence, 0, 0, 0, DEFAULT_STEPS, 1.0, stream=stream), b"", key)
 
 
-def is_key_request(datagram: bytes, key: bytes | None) -> bool:
+def is_key_request(datagram: bytes, key: bytes | StreamKey | None) -> bool:
     """Whether ``datagram`` is a valid keyframe request (checked like any packet)."""
     try:
         header, _ = open_packet(datagram, key)
@@ -332,7 +334,7 @@ def is_key_request(datagram: bytes, key: bytes | None) -> bool:
     return header.key_request
 
 
-def read_ack(datagram: bytes, key: bytes | None, frame: int = 0) -> tuple[int, int, bool] | None:
+def read_ack(datagram: bytes, key: bytes | StreamKey | None, frame: int = 0) -> tuple[int, int, bool] | None:
     """A valid acknowledgement's frame (restored nearest to ``frame``: the sender's next), its
     bits of frames held before it and whether the receiver saw a loss lately (see
     :meth:`StreamWriter.acknowledge`); None for anything else."""

@@ -16,9 +16,11 @@ from stream.framing import (
     LOSS_SEEN,
     Anchor,
     Header,
+    StreamKey,
     WireError,
     open_packet,
     seal,
+    stream_key,
 )
 from stream.packets import ACK_BITS, LOSS_SECONDS, WRAP, FrameStore, behind
 from stream.wire import DEFAULT_STEPS, Models, bridge, decode_frames, params_check, unpack_params
@@ -80,8 +82,8 @@ class StreamReader:
         comes. A sender starts its numbering at random, so a restart does not collide.
     """
 
-    def __init__(self, key: bytes | None = None, max_waiting: int = 16, idle_reset: float = 2.0) -> None:
-        self.key, self.max_waiting, self.idle_reset = key, max_waiting, idle_reset
+    def __init__(self, key: bytes | StreamKey | None = None, max_waiting: int = 16, idle_reset: float = 2.0) -> None:
+        self.key, self.max_waiting, self.idle_reset = stream_key(key), max_waiting, idle_reset
         self.dropped: Counter[str] = Counter()
         self.packets = 0
         self.bytes = 0

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from stream.framing import MAX_PACKET, peek_stream
+from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from stream.health import REFUSED_SECONDS, Trouble
 from stream.packets import key_request
 from stream.playout import Playout
@@ -76,11 +76,11 @@ class StreamReceiver:
         the key's holders can.
     """
 
-    def __init__(self, address: tuple[str, int], playout: Playout, key: bytes | None = None,
+    def __init__(self, address: tuple[str, int], playout: Playout, key: bytes | StreamKey | None = None,
                  clock: Callable[[], float] = time.perf_counter, request_interval: float = 0.05,
                  more: Callable[[], Playout] | None = None, max_streams: int = 16,
                  say: Callable[[str], None] | None = None, newcomer_seconds: float = 1.0, link: Any = None) -> None:
-        self.playout, self.clock, self.key = playout, clock, key
+        self.playout, self.clock, self.key = playout, clock, stream_key(key)
         self.reader = StreamReader(key)
         self.lanes: dict[int, Lane] = {}
         self.more, self.max_streams = more, max_streams
