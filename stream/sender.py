@@ -46,6 +46,10 @@ class StreamSender:
         self.key_requests = 0
         self.acks = 0
         self.silence = Trouble(say or (lambda line: None), SILENT_SECONDS)
+        host, port = target
+        self._silent = (f"nobody is receiving on {host}:{port}, or the key differs: no answer for "
+                        f"{SILENT_SECONDS:g} s (frames are still sent)",
+                        f"the receiver on {host}:{port} answers: the stream flows")  # said at most once each
         if link is not None:  # a room server's WebSocket (stream.websocket.WebSocketLink) instead of UDP
             self.sock = link
         else:
@@ -59,11 +63,7 @@ class StreamSender:
         writer's ``codes`` where they were given): one a later frame lacks goes at its standard
         neutral (0.5 for a parameter of the performer's own), one it adds is not sent."""
         heard = self._take_requests()
-        host, port = self.target
-        self.silence.update(not heard, self.clock(),
-                            f"nobody is receiving on {host}:{port}, or the key differs: no answer for "
-                            f"{SILENT_SECONDS:g} s (frames are still sent)",
-                            f"the receiver on {host}:{port} answers: the stream flows")
+        self.silence.update(not heard, self.clock(), *self._silent)
         w = self.writer
         if extra and not w.codes and not w.started:
             w.codes = tuple(extra)  # the stream's parameters, from its first frame
