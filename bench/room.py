@@ -17,6 +17,12 @@ codes them) at 60 Hz; each packet carries its send time, taken on this machine's
     framing and TCP/IPv4 headers included (40 bytes a segment, one segment a message, and a
     bare TCP acknowledgement for every second segment received), acknowledgements once a second
     (no goal: the issue asks for the figure).
+``room.browser_kbps`` and ``room.stage_ms``
+    A browser viewer (``/r/ROOM``): what it is sent at 30 fps, the stage's deflated changes of
+    the drawing (:mod:`toonface.room.stage`), WebSocket and TCP/IPv4 headers included, median
+    over two faces (classic, cat) and two motions (a talking mouth alone; every motor moving);
+    and the server's time to decode and draw one frame of one performer. No goal: the price of
+    a page that needs no rig of its own, beside ``room.wire_both_kbps`` for a native viewer.
 """
 
 from __future__ import annotations
@@ -60,7 +66,7 @@ def run(quick: bool = False) -> list[Figure]:
             Figure("room.fanout_p95_ms", float(np.percentile(every, 95)), "ms", 50.0, False,
                    {"viewers": viewers, "server_processes": 1, "packets_each": packets}),
             Figure("room.fanout_lost", float(lost), "packets", 0.0, False, {"viewers": viewers}),
-            _wire()]
+            _wire(), *_browser(quick)]
 
 
 @contextmanager
@@ -165,3 +171,37 @@ def _wire() -> Figure:
     return Figure("room.wire_both_kbps", kbps, "kbit/s", None, False,
                   {"down_kbps": round(down * 8 / seconds / 1000, 3), "up_kbps": round(up * 8 / seconds / 1000, 3),
                    "rate_hz": rate, "frames_per_packet": 2, "estimate": "one TCP segment a message"})
+
+
+def _browser(quick: bool) -> list[Figure]:
+    """``room.browser_kbps`` and ``room.stage_ms`` (see the module docstring)."""
+    from toon import MOTOR_CODES, load_face
+    from toonface.room.stage import Stage, packed
+
+    rate, seconds = 30.0, 3.0 if quick else 10.0
+    mouth = [MOTOR_CODES.index(code) for code in ("MB", "MLH", "MRH", "MLV", "MRV")]
+    kbps: dict[str, float] = {}
+    took: list[float] = []
+    clock = [0.0]
+    for face in ("classic", "cat"):
+        for motion, moving in (("talking", mouth), ("everything", list(range(21)))):
+            stage = Stage(load_face(face), lambda *_: None, clock=lambda: clock[0])
+            writer = StreamWriter(rate, stream=5)
+            sent = 0
+            for k in range(int(seconds * rate)):
+                clock[0] = k / rate
+                values = standard_neutral().copy()
+                values[moving] = 0.5 + 0.4 * np.sin(2 * np.pi * (0.7 + 0.3 * np.arange(len(moving))) * k / rate)
+                packet = writer.push(np.clip(values, 0, 1), k / rate)
+                start = time.perf_counter()
+                if packet is not None:
+                    stage.feed(packet, 5)
+                message = packed(stage.frame()[0])
+                took.append((time.perf_counter() - start) * 1000)
+                sent += len(message) + 4 + TCP_IP  # a server's frame: 4 bytes of header past 125 bytes
+            stage.close()
+            kbps[f"{face}_{motion}"] = round(sent * 8 / seconds / 1000, 1)
+    return [Figure("room.browser_kbps", float(np.median(list(kbps.values()))), "kbit/s", None, False,
+                   {**kbps, "fps": rate}),
+            Figure("room.stage_ms", float(np.median(took)), "ms", None, False,
+                   {"p95_ms": round(float(np.percentile(took, 95)), 2), "per": "performer frame"})]

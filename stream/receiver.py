@@ -159,6 +159,11 @@ class StreamReceiver:
                             dict(zip(codes, row[N_MOTORS:].tolist(), strict=True))))
             return out
 
+    def counters_by_stream(self) -> dict[int, dict]:
+        """Each performer's counters (:func:`counters`), by stream id."""
+        with self._lock:
+            return {stream: _counters(lane.reader, lane.playout) for stream, lane in self.lanes.items()}
+
     def _lane(self, stream: int | None) -> Lane | None:
         """The lane of ``stream``, or a new one while there is room (kept by :meth:`feed` only once
         a packet of it reads well, so that junk cannot take a performer's place); the first
@@ -275,6 +280,20 @@ class StreamReceiver:
                                      for stream, lane in self.lanes.items()}
                 out["other_streams"] = self.other_streams
             return out
+
+
+def readout(counters: dict, diagnosis: str | None = None) -> dict:
+    """What a viewer shows of a stream's health, from its counters (:meth:`StreamReceiver.summary`,
+    or one performer's there): packets, the share lost (%), the share of shown frames concealed or
+    recovering (%), the median delay from capture to showing (ms), the frames by state, the
+    packets dropped by reason, and the receiver's ``diagnosis`` where it has one."""
+    frames = counters["frames"]
+    shown = sum(frames.values())
+    packets, lost = counters["packets"], counters["lost"]
+    return {"packets": packets, "loss_pct": round(100 * lost / (packets + lost), 2) if packets + lost else 0.0,
+            "concealed_pct": round(100 * (frames["concealed"] + frames["recovering"]) / shown, 2) if shown else 0.0,
+            "latency_ms": counters["latency_ms"], "frames": frames, "dropped": counters["dropped"],
+            "diagnosis": diagnosis}
 
 
 def _unopened(reader: StreamReader) -> int:

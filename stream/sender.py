@@ -47,9 +47,10 @@ class StreamSender:
         self.acks = 0
         self.silence = Trouble(say or (lambda line: None), SILENT_SECONDS)
         host, port = target
-        self._silent = (f"nobody is receiving on {host}:{port}, or the key differs: no answer for "
+        where = f"{host}:{port}" if link is None else str(host)  # a room: its address alone
+        self._silent = (f"nobody is receiving on {where}, or the key differs: no answer for "
                         f"{SILENT_SECONDS:g} s (frames are still sent)",
-                        f"the receiver on {host}:{port} answers: the stream flows")  # said at most once each
+                        f"the receiver on {where} answers: the stream flows")  # said at most once each
         if link is not None:  # a room server's WebSocket (stream.websocket.WebSocketLink) instead of UDP
             self.sock = link
         else:

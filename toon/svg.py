@@ -20,13 +20,14 @@ from toon.geometry import DrawItem, Geometry
 from toon.validate import Color
 
 
-def _fmt(x: float) -> str:
-    text = f"{x:.3f}".rstrip("0").rstrip(".")
-    return "0" if text == "-0" else text
+def _fmt(x: float, decimals: int = 3) -> str:
+    text = f"{x:.{decimals}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
 
 
-def _coords(points: np.ndarray) -> str:
-    return " ".join(f"{_fmt(x)},{_fmt(-y)}" for x, y in points)  # y up in face units, down in SVG
+def _coords(points: np.ndarray, decimals: int = 3) -> str:
+    # y up in face units, down in SVG
+    return " ".join(f"{_fmt(x, decimals)},{_fmt(-y, decimals)}" for x, y in points)
 
 
 def _paint(color: Color | None) -> str:
@@ -39,7 +40,7 @@ def _opacity(attr: str, color: Color | None) -> str:
     return f' {attr}="{_fmt(color[3])}"' if color is not None and color[3] < 1.0 else ""
 
 
-def _stroke_paths(item: DrawItem) -> list[str]:
+def _stroke_paths(item: DrawItem, decimals: int = 3) -> list[str]:
     pts = item.vertices
     n = len(pts)
     edges = n if item.closed else n - 1
@@ -47,15 +48,17 @@ def _stroke_paths(item: DrawItem) -> list[str]:
     paths = []
     for first, last in visible_runs(visible, item.closed):
         if item.closed and visible.all():
-            paths.append(f"M{_coords(pts)}Z")
+            paths.append(f"M{_coords(pts, decimals)}Z")
             continue
         idx = np.arange(first, first + ((last - first) % n if item.closed else last - first) + 1) % n
-        paths.append(f"M{_coords(pts[idx])}")
+        paths.append(f"M{_coords(pts[idx], decimals)}")
     return paths
 
 
-def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512)) -> str:
-    """The frame as an SVG document (a string).
+def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512), decimals: int = 3) -> str:
+    """The frame as an SVG document (a string): the opening tag, the definitions (where there are
+    any), the background and each drawn item on lines of their own, so that two frames differ
+    only in the lines of what moved (the room's browser viewers are sent just those).
 
     Parameters
     ----------
@@ -63,6 +66,9 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512)) -> str:
         One frame, as from :meth:`toon.FaceRig.geometry`.
     size : (width, height)
         The drawing's size in pixels; the viewbox is fitted centred, aspect kept, as on screen.
+    decimals : int
+        Coordinates' decimals (face units: a face is some 500 across, so 1 is a fifth of a pixel
+        of a 512-pixel drawing).
     """
     xmin, ymin, xmax, ymax = geometry.viewbox
     w, h = xmax - xmin, ymax - ymin
@@ -70,7 +76,7 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512)) -> str:
     holes: dict[int, list[str]] = {}
     for item in geometry.items:
         if item.mask_write:
-            holes.setdefault(item.mask_write, []).append(f'<polygon points="{_coords(item.vertices)}"/>')
+            holes.setdefault(item.mask_write, []).append(f'<polygon points="{_coords(item.vertices, decimals)}"/>')
     big = f'x="{_fmt(xmin - 10 * w)}" y="{_fmt(-ymax - 10 * h)}" width="{_fmt(21 * w)}" height="{_fmt(21 * h)}"'
     defs = []
     if holes:
@@ -94,10 +100,10 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512)) -> str:
             wrap = ""
         parts = []
         if item.fill is not None and item.closed:
-            parts.append(f'<polygon points="{_coords(item.vertices)}" fill="{_paint(item.fill)}"'
+            parts.append(f'<polygon points="{_coords(item.vertices, decimals)}" fill="{_paint(item.fill)}"'
                          f'{_opacity("fill-opacity", item.fill)} fill-rule="evenodd"/>')
         if item.stroke is not None and item.width > 0:
-            for d in _stroke_paths(item):
+            for d in _stroke_paths(item, decimals):
                 parts.append(f'<path d="{d}" fill="none" stroke="{_paint(item.stroke)}"'
                              f'{_opacity("stroke-opacity", item.stroke)} stroke-width="{_fmt(item.width)}" '
                              'stroke-linejoin="miter" stroke-miterlimit="4" stroke-linecap="butt"/>')

@@ -11,8 +11,9 @@ import click
 
 from common import InputError
 from common.atomic import atomic_path
-from toonface.cli_options import FiniteFloat
+from toonface.cli_options import FACE, FiniteFloat
 from toonface.cli_player import _required_address
+from toonface.cli_stream import KEY, _key
 
 
 def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]]:
@@ -56,17 +57,24 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
 @click.option("--tls-key", default=None, type=click.Path(dir_okay=False, exists=True), help="...and its key.")
 @click.option("--max-viewers", default=1000, show_default=True, type=click.IntRange(1, 100_000),
               help="Viewers a room holds at once.")
+@FACE
+@KEY
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.01), help="Stop after this long.")
 def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | None, tls_key: str | None,
-         max_viewers: int, seconds: float | None) -> None:
+         max_viewers: int, face: str, key_file: str | None, seconds: float | None) -> None:
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
     and viewers (`toonface receive --from ws://HOST:PORT/r/NAME --token W`) both connect out to
     it over WebSocket, which passes NAT and firewalls; the stream's packets pass through it as
     they are (sealed end to end with --key-file). Each room has a token to perform and one to
     watch; they are printed once made and kept in --tokens.
+
+    A browser watches at http(s)://HOST:PORT/r/NAME#watch=TOKEN (add ?obs before the # for a
+    clear page for OBS's browser source): the server decodes the streams and draws the faces on
+    --face for it, so it must hold the key of sealed streams (--key-file).
     """
     from aiohttp import web
 
+    from toon import load_face
     from toonface.room.server import Rooms, make_app
 
     host, port = _required_address(listen, "--listen", 7730)
@@ -74,6 +82,8 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
     if not names and not path.exists():
         raise click.BadParameter("name a room (--room NAME), or give a tokens file that has some", param_hint="--room")
     tokens = load_tokens(path, names)
+    face_obj = load_face(face)
+    key = _key(key_file)
     if bool(tls_cert) != bool(tls_key):
         raise click.BadParameter("give both --tls-cert and --tls-key, or neither", param_hint="--tls-cert")
     context = None
@@ -86,7 +96,8 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
     scheme = "wss" if context else "ws"
 
     async def serve() -> None:
-        runner = web.AppRunner(make_app(Rooms(tokens, max_viewers=max_viewers)), access_log=None)  # tokens unlogged
+        rooms = Rooms(tokens, max_viewers=max_viewers, face=face_obj, key=key)
+        runner = web.AppRunner(make_app(rooms), access_log=None)  # tokens unlogged
         await runner.setup()
         site = web.TCPSite(runner, host, port, ssl_context=context, reuse_address=True)
         try:
@@ -102,6 +113,8 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
             where = f"{scheme}://{shown}:{bound}/r/{name}"
             click.echo(f"  room {name}: perform  toonface send SOURCE --to {where} --token {perform}")
             click.echo(f"  room {name}: watch    toonface receive --from {where} --token {watch}")
+            page = f"{'https' if context else 'http'}://{shown}:{bound}/r/{name}#watch={watch}"
+            click.echo(f"  room {name}: browser  {page}")
         try:
             await (asyncio.sleep(seconds) if seconds is not None else asyncio.Event().wait())
         finally:

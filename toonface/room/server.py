@@ -16,7 +16,12 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
   ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
   silent for ``idle_seconds`` is closed;
 - a WebSocket opened from a web page must come from the server's own pages (``Origin``); native
-  clients send none.
+  clients send none;
+- a viewer whose connection has more than :data:`~toonface.room.browsers.LAG_BYTES` waiting
+  misses packets (counted in :attr:`Room.skipped`; the stream conceals them) rather than holding
+  the other viewers back.
+
+Browsers watch through the room's stage (:mod:`toonface.room.browsers`): ``/r/ROOM`` is their page.
 """
 
 from __future__ import annotations
@@ -33,7 +38,9 @@ from dataclasses import dataclass, field
 
 from aiohttp import WSMsgType, web
 
-from stream.framing import MAX_PACKET, peek_stream
+from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
+from toon import Face, load_face
+from toonface.room.browsers import LAG_BYTES, Viewers, add_pages, serve_viewer
 
 
 @dataclass
@@ -44,9 +51,15 @@ class Room:
     perform_token: str
     watch_token: str
     performers: dict[int, web.WebSocketResponse] = field(default_factory=dict)  # by stream id
-    viewers: set[web.WebSocketResponse] = field(default_factory=set)
+    viewers: dict[web.WebSocketResponse, asyncio.BaseTransport | None] = field(default_factory=dict)
+    browsers: Viewers | None = None  # the browser viewers, once one came
     refused: Counter[str] = field(default_factory=Counter)
     forwarded: int = 0
+    skipped: int = 0  # packets not sent to a viewer that lagged
+
+    def watching(self) -> int:
+        """Viewers here now, native and browser."""
+        return len(self.viewers) + (len(self.browsers.sockets) if self.browsers is not None else 0)
 
 
 class Rooms:
@@ -62,11 +75,19 @@ class Rooms:
         Messages a second one connection may send (a performer at 60 Hz sends 30; replies fewer).
     idle_seconds : float
         A connection that sends nothing this long is closed.
+    face : Face or str
+        The face browser viewers see the performers on.
+    key : bytes or StreamKey, optional
+        The streams' shared secret, where performers seal them, for browser viewers: without it
+        the server can pass sealed packets on but not draw them.
     """
 
     def __init__(self, tokens: dict[str, tuple[str, str]], max_performers: int = 16, max_viewers: int = 1000,
-                 rate_limit: float = 200.0, idle_seconds: float = 60.0) -> None:
+                 rate_limit: float = 200.0, idle_seconds: float = 60.0, face: Face | str = "classic",
+                 key: bytes | StreamKey | None = None) -> None:
         self.rooms = {name: Room(name, perform, watch) for name, (perform, watch) in tokens.items()}
+        self.face = load_face(face) if isinstance(face, str) else face
+        self.key = stream_key(key)
         self.max_performers, self.max_viewers = max_performers, max_viewers
         self.rate_limit, self.idle_seconds = rate_limit, idle_seconds
         self.refused: Counter[str] = Counter()  # before a room is known
@@ -81,7 +102,7 @@ class Rooms:
         wanted = room.perform_token if role == "perform" else room.watch_token
         if not hmac.compare_digest(token.encode(), wanted.encode()):
             return "token"
-        if role == "watch" and len(room.viewers) >= self.max_viewers:
+        if role == "watch" and room.watching() >= self.max_viewers:
             return "full"
         return room
 
@@ -94,6 +115,7 @@ def make_app(rooms: Rooms) -> web.Application:
     app = web.Application(client_max_size=4096)
     app[ROOMS] = rooms
     app.router.add_get("/r/{room}/ws", _socket)
+    add_pages(app)
     return app
 
 
@@ -144,12 +166,17 @@ async def _socket(request: web.Request) -> web.StreamResponse:
     room = admitted
     ws = web.WebSocketResponse(max_msg_size=MAX_PACKET, heartbeat=rooms.idle_seconds / 2)
     await ws.prepare(request)
+    if role == "watch" and request.query.get("format") == "drawn":
+        if room.browsers is None:
+            room.browsers = Viewers(room, rooms)
+        await serve_viewer(ws, room.browsers, request.transport)
+        return ws
     if role == "watch":
-        room.viewers.add(ws)
+        room.viewers[ws] = request.transport
     try:
         await _serve(ws, room, rooms, role)
     finally:
-        room.viewers.discard(ws)
+        room.viewers.pop(ws, None)
         for stream in [s for s, w in room.performers.items() if w is ws]:
             del room.performers[stream]
     return ws
@@ -194,19 +221,29 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str)
                 room.refused["stream taken"] += 1
                 continue
             room.performers[stream] = ws
-            await _to_all(room.viewers, data)
+            room.skipped += await _to_all(room.viewers, data)
+            if room.browsers is not None:
+                room.browsers.feed(data, stream)
             room.forwarded += 1
         else:
             performer = room.performers.get(stream)
             if performer is not None:
-                await _to_all({performer}, data)
+                await _to_all({performer: None}, data)
 
 
-async def _to_all(sockets: set[web.WebSocketResponse], data: bytes) -> None:
-    """Send ``data`` to each socket still open; one that fails is left to its own handler."""
-    for ws in list(sockets):
-        if not ws.closed:
-            try:
-                await ws.send_bytes(data)
-            except ConnectionError:
-                pass
+async def _to_all(sockets: dict[web.WebSocketResponse, asyncio.BaseTransport | None], data: bytes) -> int:
+    """Send ``data`` to each socket still open, but not to one whose transport has more than
+    :data:`~toonface.room.browsers.LAG_BYTES` waiting; one that fails is left to its own handler.
+    Returns how many were skipped."""
+    skipped = 0
+    for ws, transport in list(sockets.items()):
+        if ws.closed:
+            continue
+        if isinstance(transport, asyncio.WriteTransport) and transport.get_write_buffer_size() > LAG_BYTES:
+            skipped += 1
+            continue
+        try:
+            await ws.send_bytes(data)
+        except ConnectionError:
+            pass
+    return skipped

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from stream.playout import Playout
-from stream.receiver import StreamReceiver
+from stream.receiver import StreamReceiver, readout
 
 
 class ReceivedStream:
@@ -40,14 +40,7 @@ class ReceivedStream:
     def quality(self) -> dict:
         """The readout: packets, the share lost, frames live, concealed and recovering, the median
         delay from capture to showing (ms), and the receiver's diagnosis where it has one."""
-        summary = self.receiver.summary()
-        frames = summary["frames"]
-        shown = sum(frames.values())
-        packets, lost = summary["packets"], summary["lost"]
-        return {"packets": packets, "loss_pct": round(100 * lost / (packets + lost), 2) if packets + lost else 0.0,
-                "concealed_pct": round(100 * (frames["concealed"] + frames["recovering"]) / shown, 2) if shown else 0.0,
-                "latency_ms": summary["latency_ms"], "frames": frames, "dropped": summary["dropped"],
-                "diagnosis": self.receiver.diagnosis()}
+        return readout(self.receiver.summary(), self.receiver.diagnosis())
 
     def __enter__(self) -> ReceivedStream:
         self.receiver.start()

@@ -14,6 +14,7 @@
   studio.handlers = {};  // more message types, by the other scripts
 
   const $ = (id) => document.getElementById(id);
+  const drawing = new toonDraw.Drawing($("view"));
   const SVG = "http://www.w3.org/2000/svg";
 
   studio.svg = (name, attrs = {}) => {
@@ -112,8 +113,7 @@
   }
 
   function draw(frame) {
-    $("view").innerHTML = frame.svg;
-    const face = $("view").firstElementChild;
+    const face = drawing.show(frame);
     const handles = $("handles");
     handles.setAttribute("viewBox", face.getAttribute("viewBox"));
     handles.setAttribute("preserveAspectRatio", face.getAttribute("preserveAspectRatio"));

@@ -1,0 +1,200 @@
+"""The room's browser viewers (issue 45): the server decodes the room's streams once and draws each
+performer as the studio draws (toon.svg), sending only the lines that changed; a lagging viewer is
+skipped rather than holding the others back; the page in Chromium shows what the offscreen renderer
+draws for the same motors, and a clear page for OBS."""
+
+import asyncio
+import dataclasses
+import io
+import json
+import threading
+import zlib
+
+import numpy as np
+import pytest
+
+from player.motion import SecondaryMotion
+from stream.packets import StreamWriter
+from toon import FaceRig, load_face, motor_index, standard_neutral
+from toon.svg import geometry_svg
+from toonface.room.server import Rooms, _to_all, in_thread
+from toonface.room.stage import DECIMALS, Stage, packed
+
+TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
+KEY = b"a shared secret of the room 0123"
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def _pose() -> np.ndarray:
+    values = standard_neutral().copy()
+    values[motor_index("MB")] = 0.9  # the mouth wide open
+    values[motor_index("BLM")] = 0.85
+    return values
+
+
+def _feed(stage: Stage, clock: Clock, values, seconds: float, writer: StreamWriter) -> None:
+    """``writer``'s performer at 30 Hz holding ``values`` for ``seconds``, its packets fed as they are made."""
+    for _ in range(round(seconds * 30)):
+        clock.now += 1 / 30
+        packet = writer.push(np.asarray(values, float), clock.now)
+        if packet is not None:
+            stage.feed(packet, writer.stream)
+
+
+def _patched(lines: list[str], frame: dict) -> list[str]:
+    """draw.js's rule in Python: a whole drawing replaces, changed lines patch."""
+    if "svg" in frame:
+        return frame["svg"].split("\n")
+    out = list(lines)
+    for index, line in frame["lines"].items():
+        out[int(index)] = line
+    return out
+
+
+def test_the_stage_draws_a_performer_as_the_studio_does_and_then_sends_only_what_changed():
+    face, clock, replies = dataclasses.replace(load_face("cat"), physics=()), Clock(), []  # (swings: the page test)
+    stage = Stage(face, lambda stream, data: replies.append(stream), clock=clock)
+    writer = StreamWriter(30.0, frames_per_packet=1, stream=7)
+    try:
+        _feed(stage, clock, standard_neutral(), 1.0, writer)
+        first, whole = stage.frame()
+        [performer] = first["performers"]
+        assert performer["id"] == 7 and "svg" in performer and first["said"] is None
+        lines = performer["svg"].split("\n")
+        held = []
+        for _ in range(10):  # the mouth opens: only what it moves is sent
+            _feed(stage, clock, _pose(), 1 / 10, writer)
+            changed, whole = stage.frame()
+            frame = changed["performers"][0]
+            assert "lines" in frame
+            held.append(len(frame["lines"]))
+            lines = _patched(lines, frame)
+            assert "\n".join(lines) == whole["performers"][0]["svg"]  # patched = the whole drawing
+        assert 0 < max(held) < len(lines) / 2
+        _feed(stage, clock, _pose(), 3.0, writer)  # held still: nothing to send
+        stage.frame()
+        changed, whole = stage.frame()
+        assert changed["performers"][0]["lines"] == {}
+        assert len(packed(changed)) < 400 and len(packed(whole)) > 2000
+        assert changed["performers"][0]["quality"]["loss_pct"] == 0
+        assert json.loads(zlib.decompress(packed(whole))) == whole
+        # what it drew is the studio's drawing of the motors sent (quantised by the wire)
+        [(_, values, _, extra)] = stage.receiver.performers(clock.now)
+        assert np.abs(values - _pose()).max() < 0.01
+        expected = geometry_svg(FaceRig(face).geometry(values, extra), (512, 512), DECIMALS)
+        assert "\n".join(lines) == expected
+        assert replies and set(replies) == {7}  # the stage answers the performer
+    finally:
+        stage.close()
+
+
+def test_a_sealed_stream_is_drawn_only_where_the_room_holds_its_key():
+    clock = Clock()
+    blind = Stage(load_face("cat"), lambda *_: None, clock=clock)
+    keyed = Stage(load_face("cat"), lambda *_: None, key=KEY, clock=clock)
+    try:
+        for stage in (blind, keyed):
+            _feed(stage, clock, _pose(), 1.0, StreamWriter(30.0, frames_per_packet=1, key=KEY, stream=7))
+        message, _ = blind.frame()
+        assert message["performers"] == [] and "--key-file" in message["said"]
+        message, _ = keyed.frame()
+        assert [p["id"] for p in message["performers"]] == [7] and message["said"] is None
+    finally:
+        blind.close()
+        keyed.close()
+
+
+class _Socket:
+    closed = False
+
+    def __init__(self) -> None:
+        self.sent: list[bytes] = []
+
+    async def send_bytes(self, data: bytes) -> None:
+        self.sent.append(data)
+
+
+class _Transport(asyncio.WriteTransport):
+    def __init__(self, waiting: int) -> None:
+        super().__init__()
+        self.waiting = waiting
+
+    def get_write_buffer_size(self) -> int:
+        return self.waiting
+
+
+def test_a_viewer_that_lags_misses_packets_and_the_others_get_them():
+    quick, slow = _Socket(), _Socket()
+    skipped = asyncio.run(_to_all({quick: _Transport(0), slow: _Transport(10 * 1024 * 1024)}, b"packet"))
+    assert skipped == 1 and quick.sent == [b"packet"] and slow.sent == []
+
+
+def _face_png(driver) -> np.ndarray:
+    from PIL import Image
+
+    png = driver.find_element("css selector", "figure .face").screenshot_as_png
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+
+@pytest.mark.slow  # Chromium and two seconds of stream: make test runs it
+def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_and_a_clear_page_for_obs():
+    from browser import chromium, wait_for
+
+    from player.backends import open_renderer
+    from stream.sender import StreamSender
+    from stream.websocket import WebSocketLink
+
+    face = load_face("cat")
+    rooms = Rooms(TOKENS, face=face)
+    stop = threading.Event()
+
+    def perform(sender: StreamSender) -> None:  # a live performer holding the open mouth, at 30 Hz
+        frame = 0
+        while not stop.wait(1 / 30):
+            sender.write(frame / 30, _pose())
+            frame += 1
+
+    with in_thread(rooms) as base, chromium(900, 900) as driver:
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
+        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2A), link=link)
+        thread = threading.Thread(target=perform, args=(sender,))
+        page = f"{base.replace('ws://', 'http://')}/r/demo"
+        driver.get(f"{page}#watch={TOKENS['demo'][1]}")
+        thread.start()
+        try:
+            # the ears settled: a frame with no line changed
+            wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 20 && "
+                     "Object.keys(window.viewer.last.performers[0].lines || {x: 1}).length === 0", timeout=30)
+            caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+            shown = _face_png(driver)
+            driver.get(f"{page}?obs#watch={TOKENS['demo'][1]}")
+            wait_for(driver, "window.viewer.performers.size === 1")
+            clear = driver.execute_script(
+                "const r = document.querySelector('.face svg > rect');"
+                "return [getComputedStyle(r).display, getComputedStyle(document.body).backgroundColor,"
+                " getComputedStyle(document.querySelector('header')).display]")
+        finally:
+            stop.set()
+            thread.join()
+            sender.close()
+    assert caption.startswith("performer 2a · latency") and "loss 0 %" in caption
+    assert clear == ["none", "rgba(0, 0, 0, 0)", "none"]
+    motion = SecondaryMotion(face)
+    extra = {}
+    for k in range(200):  # the ears settled, as the stage's have after three seconds held
+        extra = motion.extra_at(k / 30, _pose(), {})
+    with open_renderer((512, 512)) as renderer:
+        drawn = renderer.render(FaceRig(face).geometry(_pose(), extra)).astype(int)
+        neutral = renderer.render(FaceRig(face).geometry(standard_neutral(), {})).astype(int)
+    assert shown.shape == drawn.shape
+    difference = np.abs(shown - drawn)
+    assert difference.mean() < 0.6  # antialiasing differs along edges only (0.13 when written)
+    assert np.mean(difference.max(axis=2) > 64) < 0.01
+    assert np.abs(shown - neutral).mean() > 3 * difference.mean()  # the open mouth is what is shown

@@ -1,0 +1,147 @@
+"""A room's stage for browser viewers: its streams decoded once, on the server, and each
+performer's face drawn once a frame for every browser viewer.
+
+A browser has no decoder of the stream's wire and no rig, so the server is the room's one receiver
+for its pages: a :class:`~stream.receiver.StreamReceiver` fed the performers' packets (its jitter
+buffer and concealment, as ``toonface receive`` has) whose faces are drawn as
+:func:`toon.svg.geometry_svg` draws them for the studio (the same SVG; the page shows it with the
+studio's own drawing module, ``draw.js``). A drawing is some 20 kB, so a viewer is sent only its
+lines that changed since the frame before (a talking mouth: 1.5 to 2 kB deflated), deflated once
+for all viewers; a viewer that joins, or falls behind and skips frames, is sent whole drawings.
+
+The stage acknowledges the packets it reads to their performer (a performer seen only by
+browsers is still answered). A stream sealed with a key the room does not hold cannot be drawn:
+the page is told so.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from player.motion import SecondaryMotion
+from stream.framing import StreamKey
+from stream.playout import Playout
+from stream.receiver import StreamReceiver, readout
+from toon import Face, FaceRig
+from toon.svg import geometry_svg
+
+#: Frames a second drawn for browser viewers.
+VIEW_FPS = 30.0
+#: A performer unheard this long leaves the stage.
+GONE_SECONDS = 10.0
+#: Coordinates' decimals in the drawings (face units).
+DECIMALS = 1
+#: Jitter margin of the stage's buffers (ms), as ``receive``'s default.
+JITTER_MS = 4.0
+
+
+class _Replies:
+    """The stage receiver's "socket": its acknowledgements and keyframe requests go to the
+    performer of the stream they name (``sender`` is ``("room", stream id)``)."""
+
+    def __init__(self, reply: Callable[[int, bytes], None]) -> None:
+        self.reply = reply
+
+    def sendto(self, data: bytes, sender: tuple[str, int]) -> None:
+        self.reply(sender[1], data)
+
+    def getsockname(self) -> tuple[str, int]:
+        return ("room", 0)
+
+    def close(self) -> None:
+        pass
+
+
+@dataclass
+class _Drawn:
+    """One performer's last drawing, as lines."""
+
+    lines: list[str] = field(default_factory=list)
+    motion: SecondaryMotion | None = None  # the face's swinging parts, as a native viewer swings them
+
+
+class Stage:
+    """The room's performers drawn for browser viewers (see the module docstring).
+
+    Parameters
+    ----------
+    face : Face
+        The face every performer is drawn on.
+    reply : callable
+        ``reply(stream id, bytes)`` sends an acknowledgement or request to that stream's performer.
+    key : bytes or StreamKey, optional
+        The streams' shared secret, where they are sealed and the room holds it.
+    size : (width, height)
+        The drawings' size in pixels.
+    clock : callable
+        Seconds, the clock the performers stamp with on this machine.
+    """
+
+    def __init__(self, face: Face, reply: Callable[[int, bytes], None], key: bytes | StreamKey | None = None,
+                 size: tuple[int, int] = (512, 512), clock: Callable[[], float] = time.perf_counter) -> None:
+        self.rig = FaceRig(face)
+        neutral = face.neutral()
+        self.receiver = StreamReceiver(("room", 0), self._playout(neutral), key, clock=clock,
+                                       more=lambda: self._playout(neutral), link=_Replies(reply))
+        self.size, self.clock = size, clock
+        self.drawn: dict[int, _Drawn] = {}
+        self.frames = 0
+
+    @staticmethod
+    def _playout(neutral: Any) -> Playout:
+        return Playout(neutral, "linear", margin=JITTER_MS / 1000)
+
+    def feed(self, datagram: bytes, stream: int) -> None:
+        """A performer's packet, as it came."""
+        self.receiver.feed(datagram, ("room", stream))
+
+    def frame(self) -> tuple[dict, dict]:
+        """This frame for the viewers who had the last (only the lines that changed) and for those
+        who did not (whole drawings): two messages ``{"type": "stage", "performers": [...],
+        "gone": [...]}``, each performer ``{"id", "lines": {index: line}}`` or ``{"id", "svg"}``,
+        with its ``quality`` (:func:`stream.receiver.readout`) and ``said``, a line where its
+        packets do not open."""
+        now = self.clock()
+        changed, whole = [], []
+        here = set()
+        stats = self.receiver.counters_by_stream()
+        for stream, values, silent, extra in self.receiver.performers(now):
+            if silent > GONE_SECONDS:
+                continue
+            here.add(stream)
+            face = self.rig.face
+            drawn = self.drawn.setdefault(stream, _Drawn(motion=SecondaryMotion(face) if face.physics else None))
+            extra = {code: value for code, value in extra.items() if code in face.extra_codes}
+            if drawn.motion is not None:
+                extra = drawn.motion.extra_at(now, values, extra)
+            lines = geometry_svg(self.rig.geometry(values, extra), self.size, DECIMALS).split("\n")
+            quality = readout(stats[stream])
+            if len(lines) == len(drawn.lines):
+                delta = {i: line for i, (old, line) in enumerate(zip(drawn.lines, lines, strict=True)) if old != line}
+                changed.append({"id": stream, "lines": delta, "quality": quality})
+            else:
+                changed.append({"id": stream, "svg": "\n".join(lines), "quality": quality})
+            whole.append({"id": stream, "svg": "\n".join(lines), "quality": quality})
+            drawn.lines = lines
+        gone = sorted(set(self.drawn) - here)
+        for stream in gone:
+            del self.drawn[stream]
+        said = self.receiver.diagnosis()
+        self.frames += 1
+        return ({"type": "stage", "performers": changed, "gone": gone, "said": said},
+                {"type": "stage", "performers": whole, "gone": gone, "said": said, "whole": True})
+
+    def close(self) -> None:
+        """Release the receiver."""
+        self.receiver.close()
+
+
+def packed(message: dict) -> bytes:
+    """A stage message as the page reads it: JSON, deflated (zlib; the page's
+    ``DecompressionStream("deflate")``)."""
+    return zlib.compress(json.dumps(message, separators=(",", ":")).encode(), 6)
