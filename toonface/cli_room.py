@@ -115,6 +115,8 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
             click.echo(f"  room {name}: watch    toonface receive --from {where} --token {watch}")
             page = f"{'https' if context else 'http'}://{shown}:{bound}/r/{name}#watch={watch}"
             click.echo(f"  room {name}: browser  {page}")
+            performer_page = f"{'https' if context else 'http'}://{shown}:{bound}/r/{name}/perform#perform={perform}"
+            click.echo(f"  room {name}: camera   {performer_page}")
         try:
             await (asyncio.sleep(seconds) if seconds is not None else asyncio.Event().wait())
         finally:

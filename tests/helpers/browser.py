@@ -53,8 +53,9 @@ def studio_server(session, host: str = "127.0.0.1") -> Iterator[str]:
 
 
 @contextmanager
-def chromium(width: int = 1280, height: int = 900) -> Iterator:
-    """Headless Chromium at device scale 1 with its console log kept; skips where it is missing."""
+def chromium(width: int = 1280, height: int = 900, flags: tuple[str, ...] = ()) -> Iterator:
+    """Headless Chromium at device scale 1 with its console log kept, and ``flags`` besides; skips
+    where it is missing."""
     browser, driver_path = shutil.which("chromium") or shutil.which("chromium-browser"), shutil.which("chromedriver")
     if browser is None or driver_path is None:
         pytest.skip("Chromium or chromedriver is missing (make test installs Debian's chromium and chromium-driver)")
@@ -65,7 +66,7 @@ def chromium(width: int = 1280, height: int = 900) -> Iterator:
     options.binary_location = browser
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--hide-scrollbars",
                  "--force-device-scale-factor=1", f"--window-size={width},{height}", "--no-first-run",
-                 "--disable-extensions", "--disable-background-networking"):
+                 "--disable-extensions", "--disable-background-networking", *flags):
         options.add_argument(flag)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     driver = webdriver.Chrome(options=options, service=Service(executable_path=driver_path))

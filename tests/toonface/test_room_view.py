@@ -9,6 +9,7 @@ import io
 import json
 import threading
 import zlib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -198,3 +199,68 @@ def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_
     assert difference.mean() < 0.6  # antialiasing differs along edges only (0.13 when written)
     assert np.mean(difference.max(axis=2) > 64) < 0.01
     assert np.abs(shown - neutral).mean() > 3 * difference.mean()  # the open mouth is what is shown
+
+
+GRID_CLIP = Path(__file__).resolve().parents[3] / "shared" / "realdata" / "video" / "grid" / "bbaf2n.mpg"
+FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream",
+               "--autoplay-policy=no-user-gesture-required")
+
+
+def _performer_page_needs() -> None:
+    from capture.face_landmarks import model_path
+    from common import InputError
+    from toonface.room.browsers import web_modules
+
+    if not GRID_CLIP.is_file():
+        pytest.skip(f"the shared GRID clip is absent ({GRID_CLIP})")
+    if not (web_modules() / "@mediapipe" / "tasks-vision" / "vision_bundle.mjs").is_file():
+        pytest.skip("@mediapipe/tasks-vision is not installed (make browser installs it with npm)")
+    try:
+        model_path()
+    except InputError as exc:
+        pytest.skip(str(exc))
+
+
+@pytest.mark.slow  # two Chromiums, MediaPipe in one, eight seconds of a clip: make test runs it
+def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_opens_when_the_clip_speaks(tmp_path):
+    from browser import chromium, wait_for
+    from fake_camera import y4m_from
+
+    from player.backends import open_renderer
+    from toon import MOTOR_CODES
+
+    _performer_page_needs()
+    clip = y4m_from(GRID_CLIP, tmp_path / "clip.y4m")  # "bin blue at f two now", 3 s, the camera loops it
+    face = load_face("cat")
+    rooms = Rooms(TOKENS, face=face)
+    flags = (*FAKE_CAMERA, f"--use-file-for-fake-video-capture={clip}")
+    with in_thread(rooms) as base, chromium(900, 900, flags) as camera, chromium(900, 900) as viewer:
+        page = f"{base.replace('ws://', 'http://')}/r/demo"
+        camera.get(f"{page}/perform#perform={TOKENS['demo'][0]}")
+        wait_for(camera, "window.performer.ready || window.performer.error", timeout=60)
+        assert camera.execute_script("return window.performer.error") is None
+        viewer.get(f"{page}#watch={TOKENS['demo'][1]}")
+        wait_for(viewer, "window.viewer.performers.size === 1", timeout=30)
+        openings, frame = [], 0
+        while len(openings) < 80:  # some eight seconds: the clip's sentence two or three times
+            frame = wait_for(viewer, f"window.viewer.frames > {frame + 2} && window.viewer.frames")
+            openings.append(viewer.execute_script("return window.viewer.last.performers[0].quality.values.MB"))
+        rest = float(np.median(openings))  # the clip is closed-mouthed (at rest) more than open
+        wait_for(viewer, f"window.viewer.last.performers[0].quality.values.MB > {rest + 0.15}", timeout=30)
+        viewer.find_element("id", "hold").click()  # the picture held while it is compared
+        held = viewer.execute_script("const [p] = window.viewer.performers.values(); return p.quality.values")
+        shown = _face_png(viewer)
+        sent = camera.execute_script("return [window.performer.sent, window.performer.faces, window.performer.frames]")
+    assert sent[0] > 100 and sent[1] > 0.9 * sent[2]  # the face was found in (nearly) every frame
+    assert max(openings) > rest + 0.15 and min(openings) < rest + 0.05  # it opens and shuts as the clip speaks
+    motors = np.array([held[code] for code in MOTOR_CODES])
+    extra = {code: held[code] for code in face.extra_codes}
+    with open_renderer((512, 512)) as renderer:
+        drawn = renderer.render(FaceRig(face).geometry(motors, extra)).astype(int)
+        closed = motors.copy()
+        closed[motor_index("MB")] = rest
+        shut = renderer.render(FaceRig(face).geometry(closed, extra)).astype(int)
+    difference = np.abs(shown - drawn)
+    assert difference.mean() < 0.6 and np.mean(difference.max(axis=2) > 64) < 0.01
+    mouth = np.abs(drawn - shut).max(axis=2) > 64  # where the open mouth differs from the shut one
+    assert mouth.sum() > 100 and np.mean(difference.max(axis=2)[mouth] < 64) > 0.9  # the page shows it open

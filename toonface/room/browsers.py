@@ -8,6 +8,11 @@ and deflated once for all browser viewers. A viewer whose connection has more th
 :data:`LAG_BYTES` waiting is skipped (its frames are dropped, not queued) and is sent whole
 drawings once it has caught up, so a slow viewer never holds the others back.
 
+``/r/ROOM/perform`` is the performer page (``static/perform.html``, see
+:mod:`toonface.room.performers`); its face tracker's files are served under ``/web/``: MediaPipe's
+``@mediapipe/tasks-vision`` from the ``node_modules`` folder ``make browser`` fills (or
+``$TOONFACE_WEB_MODULES``), and the ``face_landmarker.task`` model from the ``faces`` extra.
+
 The pages' scripts and styles come from this package and the studio's (``draw.js``, the one
 module that shows a drawing on every page); no page can reach any other file.
 """
@@ -15,7 +20,10 @@ module that shows a drawing on every page); no page can reach any other file.
 from __future__ import annotations
 
 import asyncio
+import os
+from collections.abc import Awaitable, Callable
 from importlib import resources
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from aiohttp import WSMsgType, web
@@ -28,27 +36,70 @@ if TYPE_CHECKING:
 #: A browser viewer with more than this waiting to be sent skips frames until it drains.
 LAG_BYTES = 256 * 1024
 #: The files pages may load, and the package each comes from.
-STATIC = {"view.js": "toonface.room", "room.css": "toonface.room", "draw.js": "toonface.studio"}
-_TYPES = {".js": "text/javascript", ".css": "text/css", ".html": "text/html"}
+STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
+          "draw.js": "toonface.studio"}
+#: The files of @mediapipe/tasks-vision the performer page loads (its SIMD and non-SIMD wasm).
+TASKS_VISION = ("vision_bundle.mjs", *(f"wasm/vision_wasm{kind}_internal.{ext}" for kind in ("", "_nosimd", "_module")
+                                       for ext in ("js", "wasm")))
+#: Where the npm packages are, where not in the checkout's node_modules.
+WEB_MODULES_ENV = "TOONFACE_WEB_MODULES"
+_TYPES = {".js": "text/javascript", ".mjs": "text/javascript", ".css": "text/css", ".html": "text/html",
+          ".wasm": "application/wasm", ".task": "application/octet-stream"}
 
 
 def add_pages(app: web.Application) -> None:
-    """The viewer page and the files it loads."""
-    app.router.add_get("/r/{room}", _view_page)
+    """The viewer and performer pages and the files they load."""
+    app.router.add_get("/r/{room}", _page("view.html"))
+    app.router.add_get("/r/{room}/perform", _page("perform.html"))
     app.router.add_get("/static/{name}", _static)
+    app.router.add_get("/web/tasks-vision/{name:.+}", _tasks_vision)
+    app.router.add_get("/web/face_landmarker.task", _model)
+
+
+def web_modules() -> Path:
+    """The ``node_modules`` folder the pages' npm packages are in: ``$TOONFACE_WEB_MODULES``, else
+    the checkout's (``make browser`` installs them there)."""
+    if env := os.environ.get(WEB_MODULES_ENV):
+        return Path(env)
+    return Path(__file__).resolve().parents[2] / "node_modules"
+
+
+async def _tasks_vision(request: web.Request) -> web.StreamResponse:
+    name = request.match_info["name"]
+    if name not in TASKS_VISION:
+        raise web.HTTPNotFound()
+    path = web_modules() / "@mediapipe" / "tasks-vision" / name
+    if not path.is_file():
+        raise web.HTTPNotFound(text=f"@mediapipe/tasks-vision is not installed in {web_modules()} (make browser, "
+                                    f"or set {WEB_MODULES_ENV})\n")
+    return web.FileResponse(path, headers={"Content-Type": _TYPES[path.suffix], "Cache-Control": "max-age=86400"})
+
+
+async def _model(request: web.Request) -> web.StreamResponse:
+    from capture.face_landmarks import model_path
+    from common import InputError
+
+    try:
+        path = model_path()
+    except InputError as exc:
+        raise web.HTTPNotFound(text=f"{exc}\n") from None
+    return web.FileResponse(path, headers={"Content-Type": _TYPES[".task"], "Cache-Control": "max-age=86400"})
 
 
 def _text(package: str, name: str) -> str:
     return resources.files(package).joinpath("static", name).read_text(encoding="utf-8")
 
 
-async def _view_page(request: web.Request) -> web.Response:
-    from toonface.room.server import ROOMS
+def _page(name: str) -> Callable[[web.Request], Awaitable[web.Response]]:
+    async def page(request: web.Request) -> web.Response:
+        from toonface.room.server import ROOMS
 
-    if request.match_info["room"] not in request.app[ROOMS].rooms:
-        raise web.HTTPNotFound(text="no such room\n")
-    return web.Response(text=_text("toonface.room", "view.html"), content_type="text/html",
-                        headers={"Cache-Control": "no-store", "Referrer-Policy": "no-referrer"})
+        if request.match_info["room"] not in request.app[ROOMS].rooms:
+            raise web.HTTPNotFound(text="no such room\n")
+        return web.Response(text=_text("toonface.room", name), content_type="text/html",
+                            headers={"Cache-Control": "no-store", "Referrer-Policy": "no-referrer"})
+
+    return page
 
 
 async def _static(request: web.Request) -> web.Response:

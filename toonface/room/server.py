@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import asyncio
 import hmac
+import secrets
 import ssl
 import threading
 import time
@@ -35,12 +36,14 @@ from collections import Counter
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from typing import Any
 
 from aiohttp import WSMsgType, web
 
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import LAG_BYTES, Viewers, add_pages, serve_viewer
+from toonface.room.performers import MAX_MESSAGE, PagePerformer
 
 
 @dataclass
@@ -50,7 +53,7 @@ class Room:
     name: str
     perform_token: str
     watch_token: str
-    performers: dict[int, web.WebSocketResponse] = field(default_factory=dict)  # by stream id
+    performers: dict[int, Any] = field(default_factory=dict)  # by stream id: a WebSocket, or a page's stand-in
     viewers: dict[web.WebSocketResponse, asyncio.BaseTransport | None] = field(default_factory=dict)
     browsers: Viewers | None = None  # the browser viewers, once one came
     refused: Counter[str] = field(default_factory=Counter)
@@ -164,8 +167,12 @@ async def _socket(request: web.Request) -> web.StreamResponse:
             raise web.HTTPServiceUnavailable(text="the room is full\n")
         raise web.HTTPForbidden(text="no such room, or not with that token\n")
     room = admitted
-    ws = web.WebSocketResponse(max_msg_size=MAX_PACKET, heartbeat=rooms.idle_seconds / 2)
+    page = role == "perform" and request.query.get("format") == "face"  # a performer page's tracked face
+    ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE if page else MAX_PACKET, heartbeat=rooms.idle_seconds / 2)
     await ws.prepare(request)
+    if page:
+        await _serve_page(ws, room, rooms)
+        return ws
     if role == "watch" and request.query.get("format") == "drawn":
         if room.browsers is None:
             room.browsers = Viewers(room, rooms)
@@ -182,9 +189,51 @@ async def _socket(request: web.Request) -> web.StreamResponse:
     return ws
 
 
-async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str) -> None:
-    """Pass a connection's packets on until it closes, idles or breaks the rules."""
+async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> None:
+    """A performer page: its frames mapped into a stream of its own, which enters the room as a
+    performer's (:mod:`toonface.room.performers`), until the page goes."""
+    if len(room.performers) >= rooms.max_performers:
+        room.refused["full"] += 1
+        await ws.close(message=b"the room is full")
+        return
+    loop = asyncio.get_running_loop()
+    stream = next(s for s in (secrets.randbelow(0x10000) for _ in range(1000)) if s not in room.performers)
+    stand_in = _PageSocket()
+
+    def deliver(data: bytes) -> None:  # from the performer's mapping thread
+        if not stand_in.closed:
+            asyncio.run_coroutine_threadsafe(_perform(room, rooms, stand_in, data, stream), loop)
+
+    performer = await loop.run_in_executor(None, lambda: PagePerformer(deliver, stream, rooms.key))
+    stand_in.performer = performer
+    room.performers[stream] = stand_in
+    try:
+        await _serve(ws, room, rooms, "perform", performer)
+    finally:
+        stand_in.closed = True
+        room.performers.pop(stream, None)
+        await loop.run_in_executor(None, performer.close)
+
+
+class _PageSocket:
+    """A performer page's place among the room's performers: the viewers' replies to its stream
+    go to its mapping thread's sender."""
+
+    def __init__(self) -> None:
+        self.closed = False
+        self.performer: PagePerformer | None = None
+
+    async def send_bytes(self, data: bytes) -> None:
+        if self.performer is not None:
+            self.performer.reply(data)
+
+
+async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
+                 page: PagePerformer | None = None) -> None:
+    """Pass a connection's packets on (a performer page's frames to its mapping) until it closes,
+    idles or breaks the rules."""
     window, count = time.monotonic(), 0
+    wanted = WSMsgType.TEXT if page is not None else WSMsgType.BINARY
     while True:
         try:
             message = await ws.receive(timeout=rooms.idle_seconds)
@@ -197,8 +246,8 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str)
             if message.type == WSMsgType.ERROR:
                 room.refused["size"] += 1  # aiohttp ends a socket whose message is over max_msg_size
             return
-        if message.type != WSMsgType.BINARY:
-            room.refused["text"] += 1
+        if message.type != wanted:
+            room.refused["text" if wanted is WSMsgType.BINARY else "binary"] += 1
             continue
         now = time.monotonic()
         if now - window >= 1.0:
@@ -207,28 +256,41 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str)
         if count > rooms.rate_limit:
             room.refused["flood"] += 1
             continue
+        if page is not None:
+            try:
+                page.take(message.data)
+            except ValueError:
+                room.refused["malformed"] += 1
+            continue
         data: bytes = message.data
         stream = peek_stream(data)
         if stream is None:
             room.refused["malformed"] += 1
             continue
         if role == "perform":
-            owner = room.performers.get(stream)
-            if owner is None and len(room.performers) >= rooms.max_performers:
-                room.refused["full"] += 1
-                continue
-            if owner is not None and owner is not ws:
-                room.refused["stream taken"] += 1
-                continue
-            room.performers[stream] = ws
-            room.skipped += await _to_all(room.viewers, data)
-            if room.browsers is not None:
-                room.browsers.feed(data, stream)
-            room.forwarded += 1
+            await _perform(room, rooms, ws, data, stream)
         else:
             performer = room.performers.get(stream)
             if performer is not None:
                 await _to_all({performer: None}, data)
+
+
+async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | _PageSocket, data: bytes,
+                   stream: int) -> None:
+    """A performer's packet of ``stream``: to every viewer, unless the stream is another's or the
+    room has its fill of performers."""
+    held = room.performers.get(stream)
+    if held is None and len(room.performers) >= rooms.max_performers:
+        room.refused["full"] += 1
+        return
+    if held is not None and held is not owner:
+        room.refused["stream taken"] += 1
+        return
+    room.performers[stream] = owner
+    room.skipped += await _to_all(room.viewers, data)
+    if room.browsers is not None:
+        room.browsers.feed(data, stream)
+    room.forwarded += 1
 
 
 async def _to_all(sockets: dict[web.WebSocketResponse, asyncio.BaseTransport | None], data: bytes) -> int:

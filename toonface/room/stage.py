@@ -27,7 +27,7 @@ from player.motion import SecondaryMotion
 from stream.framing import StreamKey
 from stream.playout import Playout
 from stream.receiver import StreamReceiver, readout
-from toon import Face, FaceRig
+from toon import MOTOR_CODES, Face, FaceRig
 from toon.svg import geometry_svg
 
 #: Frames a second drawn for browser viewers.
@@ -104,8 +104,8 @@ class Stage:
         """This frame for the viewers who had the last (only the lines that changed) and for those
         who did not (whole drawings): two messages ``{"type": "stage", "performers": [...],
         "gone": [...]}``, each performer ``{"id", "lines": {index: line}}`` or ``{"id", "svg"}``,
-        with its ``quality`` (:func:`stream.receiver.readout`) and ``said``, a line where its
-        packets do not open."""
+        with its ``quality`` (:func:`stream.receiver.readout`, and ``values``: the motors and
+        parameters drawn, by code), and ``said``, a line where packets do not open."""
         now = self.clock()
         changed, whole = [], []
         here = set()
@@ -120,7 +120,8 @@ class Stage:
             if drawn.motion is not None:
                 extra = drawn.motion.extra_at(now, values, extra)
             lines = geometry_svg(self.rig.geometry(values, extra), self.size, DECIMALS).split("\n")
-            quality = readout(stats[stream])
+            quality = {**readout(stats[stream]), "values": {**{c: round(float(v), 4) for c, v in zip(
+                MOTOR_CODES, values, strict=True)}, **{c: round(float(v), 4) for c, v in extra.items()}}}
             if len(lines) == len(drawn.lines):
                 delta = {i: line for i, (old, line) in enumerate(zip(drawn.lines, lines, strict=True)) if old != line}
                 changed.append({"id": stream, "lines": delta, "quality": quality})

@@ -8,9 +8,23 @@
   const fragment = new URLSearchParams(location.hash.slice(1));
   const token = fragment.get("watch") || fragment.get("token") || "";
   const query = new URLSearchParams(location.search);
-  const viewer = {frames: 0, performers: new Map(), last: null, connected: false};
+  const viewer = {frames: 0, performers: new Map(), last: null, connected: false, held: false};
   window.viewer = viewer;  // the tests read it
   if (query.has("obs")) document.body.classList.add("obs");
+  $("hold").addEventListener("click", () => hold(!viewer.held));
+  document.addEventListener("keydown", (event) => {
+    if (event.key === " " && event.target === document.body) {
+      hold(!viewer.held);
+      event.preventDefault();
+    }
+  });
+
+  function hold(on) {
+    // hold the picture (space): the stream goes on underneath, and shows again when let go
+    viewer.held = on;
+    $("hold").setAttribute("aria-pressed", String(on));
+    $("hold").textContent = on ? "Go on" : "Hold";
+  }
   $("room").textContent = room;
 
   function seat(id) {
@@ -44,8 +58,10 @@
     }
     for (const frame of message.performers) {
       const performer = seat(frame.id);
+      performer.drawing.held = viewer.held;
       performer.drawing.show(frame);
-      performer.quality = frame.quality;
+      if (viewer.held) continue;
+      performer.quality = frame.quality;  // what is shown: its values too
       performer.caption.textContent = `performer ${frame.id.toString(16)} · ${readout(frame.quality)}`;
     }
     $("said").hidden = !message.said;

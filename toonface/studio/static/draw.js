@@ -8,16 +8,22 @@
     constructor(container) {
       this.container = container;
       this.lines = [];
+      this.held = false;  // held: frames still patch the lines, the picture stays
+      this.stale = false;  // lines changed since the picture was last drawn
     }
 
     show(frame) {
       // draw a frame: {svg} replaces the drawing, {lines} patches the last one
+      let changed = true;
       if (frame.svg !== undefined) this.lines = frame.svg.split("\n");
       else {
-        const changed = Object.entries(frame.lines || {});
-        if (!changed.length && this.container.firstElementChild) return this.container.firstElementChild;
-        for (const [index, line] of changed) this.lines[Number(index)] = line;
+        const lines = Object.entries(frame.lines || {});
+        for (const [index, line] of lines) this.lines[Number(index)] = line;
+        changed = lines.length > 0;
       }
+      this.stale = this.stale || changed;
+      if (this.held || (!this.stale && this.container.firstElementChild)) return this.container.firstElementChild;
+      this.stale = false;
       this.container.innerHTML = this.lines.join("\n");
       return this.container.firstElementChild;
     }

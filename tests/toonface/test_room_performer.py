@@ -1,0 +1,94 @@
+"""The room's performer page, server side (issue 45): a page's frames (MediaPipe's blendshapes and
+transformation matrix, as JSON) become a head turn and ARKit scores, are mapped with the arkit
+mapping and enter the room as a stream any viewer receives; bad messages are refused and counted.
+The page itself runs in Chromium in test_room_view.py."""
+
+import asyncio
+import json
+import math
+
+import aiohttp
+import numpy as np
+import pytest
+
+from capture.blendshapes import BLENDSHAPES
+from capture.listening import head_references
+from stream.playout import Playout
+from stream.receiver import StreamReceiver
+from stream.websocket import WebSocketLink
+from toon import motor_index, standard_neutral
+from toonface.room.performers import head_turn, page_frame
+from toonface.room.server import Rooms, in_thread
+
+TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
+KEY = b"a shared secret of the room 0123"
+
+
+def _yaw(degrees: float) -> np.ndarray:
+    a = math.radians(degrees)
+    return np.array([[math.cos(a), 0, math.sin(a)], [0, 1, 0], [-math.sin(a), 0, math.cos(a)]])
+
+
+def test_the_head_turn_is_read_from_the_matrix_in_either_order_and_without_its_scale():
+    turn = _yaw(20) @ np.array([[1, 0, 0], [0, math.cos(0.3), -math.sin(0.3)], [0, math.sin(0.3), math.cos(0.3)]])
+    matrix = np.eye(4)
+    matrix[:3, :3] = 1.1 * turn  # MediaPipe's may carry a scale
+    matrix[:3, 3] = [1.5, -2.0, -45.0]  # the face 45 cm before the camera
+    assert np.allclose(head_turn(matrix.ravel()), turn)  # by rows
+    assert np.allclose(head_turn(matrix.T.ravel()), turn)  # by columns, as WebGL keeps them
+    for bad in ([0.0] * 15, [math.nan] * 16, np.arange(16.0), np.diag([-1.0, 1.0, 1.0, 1.0]).ravel()):
+        with pytest.raises(ValueError):
+            head_turn(bad)
+
+
+def test_a_page_frame_is_the_head_references_turned_and_the_arkit_scores():
+    _, rest = head_references()
+    matrix = np.eye(4)
+    matrix[:3, :3] = _yaw(30)
+    text = json.dumps({"t": 1500, "scores": {"jawOpen": 0.6, "_neutral": 0.9, "mouthSmileLeft": 1.7, "nonsense": 1},
+                       "matrix": matrix.T.ravel().tolist()})
+    frame = page_frame(text, rest)
+    assert frame.t == 1.5
+    assert frame.channels[BLENDSHAPES.index("jawOpen")] == 0.6
+    assert frame.channels[BLENDSHAPES.index("mouthSmileLeft")] == 1.0  # kept within 0..1
+    assert np.count_nonzero(frame.channels) == 2
+    assert np.allclose(frame.positions, rest @ _yaw(30).T)
+    lost = page_frame('{"t": 1600}', rest)  # no face in view
+    assert lost.t == 1.6 and np.isnan(lost.positions).all()
+    for bad in ("{", "[]", '{"t": "soon"}', '{"t": 1, "scores": [1, 2]}', '{"t": 1, "scores": {}, "matrix": [1]}'):
+        with pytest.raises(ValueError):
+            page_frame(bad, rest)
+
+
+def _frames(seconds: float, jaw: float, start: float = 0.0) -> list[str]:
+    """A page's messages at 25 frames a second, face front on, the jaw at ``jaw``."""
+    matrix = np.eye(4)
+    matrix[:3, 3] = [0, 0, -45]
+    return [json.dumps({"t": (start + k / 25) * 1000, "scores": {"jawOpen": jaw},
+                        "matrix": matrix.T.ravel().tolist()}) for k in range(round(seconds * 25))]
+
+
+@pytest.mark.parametrize("key", [None, pytest.param(KEY, marks=pytest.mark.slow)], ids=["open", "sealed"])
+def test_a_performer_page_enters_the_room_as_a_stream_a_native_viewer_receives(key):
+    """A second of rest, then the jaw wide open: the viewer's mouth opens. Malformed and binary
+    messages are refused and counted; with the room's key the stream is sealed with it."""
+    rooms = Rooms(TOKENS, key=key)
+    with in_thread(rooms) as base:
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][1], "watch")
+        with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), key=key, link=link) as receiver:
+
+            async def perform() -> None:
+                async with aiohttp.ClientSession() as session, session.ws_connect(
+                        f"{base}/r/demo/ws?role=perform&format=face&token={TOKENS['demo'][0]}") as ws:
+                    for text in _frames(1.0, 0.0) + _frames(1.0, 0.9, start=1.0):
+                        await ws.send_str(text)
+                    await ws.send_str("not json")
+                    await ws.send_bytes(b"\x00" * 8)
+                    await asyncio.to_thread(receiver.wait_for_packets, 20, 10.0)
+
+            asyncio.run(perform())
+            values, _ = receiver.values_at()
+    room = rooms.rooms["demo"]
+    assert room.refused["malformed"] == 1 and room.refused["binary"] == 1
+    assert receiver.reader.packets >= 20 and room.performers == {}  # gone with its page
+    assert values[motor_index("MB")] > standard_neutral()[motor_index("MB")] + 0.3

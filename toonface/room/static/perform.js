@@ -1,0 +1,91 @@
+// The room's performer page: the browser's camera, MediaPipe's face landmarker in the page (served by the
+// room server from its own copy of @mediapipe/tasks-vision and face_landmarker.task, never a CDN), and one
+// JSON message a camera frame to the room (toonface/room/performers.py maps it, as VMC's). The perform token
+// rides in the address's fragment (#perform=TOKEN), which the browser never sends to a server.
+import {FaceLandmarker, FilesetResolver} from "/web/tasks-vision/vision_bundle.mjs";
+
+const $ = (id) => document.getElementById(id);
+const room = decodeURIComponent(location.pathname.split("/")[2] || "");
+const token = new URLSearchParams(location.hash.slice(1)).get("perform") || "";
+const performer = {frames: 0, faces: 0, sent: 0, rate: 0, error: null, ready: false};
+window.performer = performer;  // the tests read it
+$("room").textContent = room;
+
+function fail(text) {
+  performer.error = text;
+  $("said").hidden = false;
+  $("said").textContent = text;
+  $("status").textContent = "stopped";
+}
+
+function message(result, ms) {
+  // one frame for the room: the blendshapes and the transformation matrix, or only the time
+  const shapes = result.faceBlendshapes && result.faceBlendshapes[0];
+  const matrix = result.facialTransformationMatrixes && result.facialTransformationMatrixes[0];
+  if (!shapes || !matrix) return {t: ms};
+  const scores = {};
+  for (const c of shapes.categories) if (c.categoryName !== "_neutral") scores[c.categoryName] = Math.round(c.score * 1e4) / 1e4;
+  return {t: ms, scores, matrix: Array.from(matrix.data, (x) => Math.round(x * 1e5) / 1e5)};
+}
+
+function connect() {
+  const scheme = location.protocol === "https:" ? "wss" : "ws";
+  const socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=perform`
+                               + `&format=face&token=${encodeURIComponent(token)}`);
+  socket.onclose = () => {
+    $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
+      : "no perform token: open the link the room server printed (it ends in #perform=…)";
+    setTimeout(() => { performer.socket = connect(); }, 2000);
+  };
+  return socket;
+}
+
+async function start() {
+  if (!token) return fail("no perform token: open the link the room server printed (it ends in #perform=…)");
+  let landmarker;
+  try {
+    const fileset = await FilesetResolver.forVisionTasks("/web/tasks-vision/wasm");
+    landmarker = await FaceLandmarker.createFromOptions(fileset, {
+      baseOptions: {modelAssetPath: "/web/face_landmarker.task", delegate: "CPU"}, runningMode: "VIDEO",
+      numFaces: 1, outputFaceBlendshapes: true, outputFacialTransformationMatrixes: true});
+  } catch (error) {
+    return fail(`the face tracker did not start (${error.message || error}): the room server may lack its files `
+                + "(make browser installs @mediapipe/tasks-vision; pip install 'toonface[faces]' the model)");
+  }
+  const video = $("camera");
+  try {
+    video.srcObject = await navigator.mediaDevices.getUserMedia({video: {width: 640, height: 480}, audio: false});
+    await video.play();
+  } catch (error) {
+    return fail(`no camera (${error.name || error}): allow this page to use it, and reload`);
+  }
+  performer.socket = connect();
+  performer.ready = true;
+  const started = performance.now();
+  const times = [];
+  let last = -1;
+  const step = () => {
+    const ms = performance.now() - started;
+    if (ms > last) {  // the landmarker needs increasing times
+      last = ms;
+      const frame = message(landmarker.detectForVideo(video, performance.now()), ms);
+      performer.frames += 1;
+      performer.faces += frame.scores ? 1 : 0;
+      performer.last = frame;
+      if (performer.socket.readyState === WebSocket.OPEN) {
+        performer.socket.send(JSON.stringify(frame));
+        performer.sent += 1;
+      }
+      const now = performance.now();
+      times.push(now);
+      while (times.length && times[0] < now - 1000) times.shift();
+      performer.rate = times.length;
+      $("status").textContent = `${frame.scores ? "face found" : "no face in view"} · ${performer.rate} frames/s`
+        + ` · ${performer.socket.readyState === WebSocket.OPEN ? "sending" : "connecting…"}`;
+    }
+    video.requestVideoFrameCallback(step);
+  };
+  video.requestVideoFrameCallback(step);
+}
+
+start();
