@@ -7,11 +7,10 @@ codes them) at 60 Hz; each packet carries its send time, taken on this machine's
     One viewer: the 95th percentile of the delay from the performer's send to the viewer's
     receipt through one room server (WebSocket both legs), less the same through a UDP socket
     pair (goal 20).
-``room.fanout_p95_ms`` and ``room.fanout_lost``
-    ``VIEWERS`` viewers of one room on one server process (``--quick``: 50): the 95th percentile
-    of every viewer's delay (goal 50) and the packets any viewer missed (goal 0). The issue's
-    thousand viewers over two processes and a publish/subscribe engine are not built yet; the
-    detail says how many viewers this run had.
+``room.fanout_p95_ms``, ``room.fanout_lost`` and ``room.server_rss_mb_per_h``
+    A thousand viewers over two server processes and NATS: :mod:`bench.room_shared`. Where
+    nats-server is missing, the first two are measured with ``VIEWERS`` viewers of one server
+    process in this one (``--quick``: 50), as the detail says.
 ``room.wire_both_kbps``
     One viewer at 30 fps, 2 frames a packet: what its connection costs both ways, WebSocket
     framing and TCP/IPv4 headers included (40 bytes a segment, one segment a message, and a
@@ -51,22 +50,30 @@ STAMP = struct.Struct("<d")
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``room.*`` figures."""
+    from bench import room_shared
+
     packets = 150 if quick else 600
     with _server() as base:
         through = asyncio.run(_fan_out(base, 1, packets))[0]
         direct = _udp(packets)
-        viewers = 50 if quick else VIEWERS
-        delays = asyncio.run(_fan_out(base, viewers, packets))
     added = float(np.percentile(through, 95) - np.percentile(direct, 95))
+    figures = [Figure("room.added_p95_ms", added, "ms", 20.0, False,
+                      {"through_p95_ms": round(float(np.percentile(through, 95)), 3),
+                       "direct_udp_p95_ms": round(float(np.percentile(direct, 95)), 3), "packets": packets}),
+               *(room_shared.run(quick) or _one_process(quick, packets)), _wire(), *_browser(quick)]
+    return figures
+
+
+def _one_process(quick: bool, packets: int) -> list[Figure]:
+    """The fan-out with one server process in this one (where nats-server is missing)."""
+    viewers = 50 if quick else VIEWERS
+    with _server() as base:
+        delays = asyncio.run(_fan_out(base, viewers, packets))
     every = np.concatenate([d for d in delays if len(d)]) if any(len(d) for d in delays) else np.zeros(1)
     lost = sum(packets - len(d) for d in delays)
-    return [Figure("room.added_p95_ms", added, "ms", 20.0, False,
-                   {"through_p95_ms": round(float(np.percentile(through, 95)), 3),
-                    "direct_udp_p95_ms": round(float(np.percentile(direct, 95)), 3), "packets": packets}),
-            Figure("room.fanout_p95_ms", float(np.percentile(every, 95)), "ms", 50.0, False,
-                   {"viewers": viewers, "server_processes": 1, "packets_each": packets}),
-            Figure("room.fanout_lost", float(lost), "packets", 0.0, False, {"viewers": viewers}),
-            _wire(), *_browser(quick)]
+    detail = {"viewers": viewers, "server_processes": 1, "packets_each": packets, "pubsub": None}
+    return [Figure("room.fanout_p95_ms", float(np.percentile(every, 95)), "ms", 50.0, False, detail),
+            Figure("room.fanout_lost", float(lost), "packets", 0.0, False, detail)]
 
 
 @contextmanager

@@ -2,7 +2,9 @@
 # Installs Mesa's EGL/OpenGL (software rasteriser llvmpipe included), Cairo and espeak-ng with
 # apt-get, only when they are missing. moderngl's offscreen context needs libEGL plus a Mesa driver;
 # the CPU renderer (cairocffi) needs libcairo2; espeak-ng (GPL-3, used by the tests and the bench
-# only, never linked into toonface) speaks sentences in other languages with their phoneme timings.
+# only, never linked into toonface) speaks sentences in other languages with their phoneme timings;
+# nats-server (Apache-2.0) is the publish/subscribe engine room servers share rooms through (the tests
+# and the bench start one on loopback).
 set -euo pipefail
 
 have_lib() { ldconfig -p 2>/dev/null | grep -q "$1"; }
@@ -18,6 +20,9 @@ if ! (have_lib 'libEGL.so.1' && have_lib 'libEGL_mesa.so.0' && have_lib 'libgbm.
 fi
 if ! have_lib 'libespeak-ng.so.1'; then
     packages+=(espeak-ng)
+fi
+if ! command -v nats-server >/dev/null 2>&1; then
+    packages+=(nats-server)
 fi
 if [ ${#packages[@]} -eq 0 ]; then
     exit 0

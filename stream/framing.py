@@ -88,6 +88,9 @@ MAX_FRAMES = 32
 MAX_EXTRA = 32
 CHECK_SIZE, SEAL_SIZE = 2, 16
 UDP_IP_HEADER = 28  # bytes a UDP datagram costs on the wire over IPv4 beyond its payload
+#: What a packet costs beyond itself sent as a client's WebSocket message over TCP/IPv4: TCP's and
+#: IPv4's 40 bytes (one segment a message) and the frame's 2-byte header and 4-byte mask.
+WEBSOCKET_TCP_HEADER = 46
 WRAP = 1 << 32
 #: The most frames and the furthest reference a short header holds.
 SHORT_MOST = 15

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from stream.framing import UDP_IP_HEADER
+from stream.framing import UDP_IP_HEADER, WEBSOCKET_TCP_HEADER
 from stream.health import SILENT_SECONDS, Trouble
 from stream.packets import StreamWriter, is_key_request, read_ack
 from toon.motors import extra_rest
@@ -51,6 +51,8 @@ class StreamSender:
         self._silent = (f"nobody is receiving on {where}, or the key differs: no answer for "
                         f"{SILENT_SECONDS:g} s (frames are still sent)",
                         f"the receiver on {where} answers: the stream flows")  # said at most once each
+        #: Bytes a packet costs on the wire beyond itself: a UDP datagram's, or a WebSocket message's over TCP.
+        self.overhead = UDP_IP_HEADER if link is None else WEBSOCKET_TCP_HEADER
         if link is not None:  # a room server's WebSocket (stream.websocket.WebSocketLink) instead of UDP
             self.sock = link
         else:
@@ -99,7 +101,7 @@ class StreamSender:
                 "acks": self.acks, "acked_packets": w.acked_packets, "repeated_frames": w.repeated_frames,
                 "payload_kbps": round(w.payload_bytes * 8 / seconds / 1000, 3),
                 "stream_kbps": round(w.packet_bytes * 8 / seconds / 1000, 3),
-                "wire_kbps": round((w.packet_bytes + UDP_IP_HEADER * w.packets) * 8 / seconds / 1000, 3)}
+                "wire_kbps": round((w.packet_bytes + self.overhead * w.packets) * 8 / seconds / 1000, 3)}
 
     def _send(self, datagram: bytes) -> None:
         try:

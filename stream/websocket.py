@@ -5,6 +5,11 @@ the path through NAT and firewalls, for a sender or a receiver that cannot be re
 its own event loop: :meth:`send` queues a packet, :meth:`receive` waits for one. Each WebSocket
 message is one packet, as each datagram is over UDP; TCP delivers them in order and whole, so the
 stream's loss handling simply sees no loss (a slow link shows as late packets instead).
+
+A connection that breaks after it was made (the server stopped, or one of several server
+processes on the address did) is made again every :data:`RETRY_SECONDS` until :meth:`close`:
+behind one address, another process takes it at once; packets sent while it is down are dropped,
+as a datagram to nobody would be.
 """
 
 from __future__ import annotations
@@ -19,6 +24,10 @@ from urllib.parse import urlencode, urlsplit, urlunsplit
 import aiohttp
 
 from stream.framing import MAX_PACKET
+
+#: Seconds between tries to connect again once a connection broke.
+RETRY_SECONDS = 0.25
+_ENDED = b""  # the server ended the connection (no packet is empty)
 
 
 class LinkError(OSError):
@@ -59,7 +68,9 @@ class WebSocketLink:
         self._ready = threading.Event()
         self._error: str | None = None
         self.closed = threading.Event()
+        self._stopping = False
         self.dropped = 0  # packets that came while nobody took them (the incoming queue full)
+        self.reconnects = 0  # connections made again after one broke
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
         if not self._ready.wait(timeout):
@@ -113,6 +124,7 @@ class WebSocketLink:
 
     def close(self) -> None:
         """End the connection and its thread."""
+        self._stopping = True
         if self._outgoing is not None and not self.closed.is_set():
             with contextlib.suppress(RuntimeError):  # the loop ended between the check and the call
                 self._loop.call_soon_threadsafe(self._outgoing.put_nowait, None)
@@ -129,26 +141,43 @@ class WebSocketLink:
     async def _connect(self) -> None:
         self._outgoing = asyncio.Queue()
         headers = {"Authorization": f"Bearer {self._token}"}
-        try:
-            async with aiohttp.ClientSession() as session, \
-                    session.ws_connect(self.url, headers=headers, max_msg_size=MAX_PACKET, heartbeat=20.0,
-                                       ssl=self._ssl) as ws:
-                self._ready.set()
-                await asyncio.gather(self._pump_out(ws), self._pump_in(ws))
-        except aiohttp.WSServerHandshakeError as exc:
-            self._error = (f"{self.where} refused the connection ({exc.status}): "
-                           + ("no such room, or not with that token" if exc.status == 403 else exc.message))
-        except (aiohttp.ClientError, OSError) as exc:
-            self._error = f"cannot reach {self.where}: {exc}"
+        connected = False
+        async with aiohttp.ClientSession() as session:
+            while not self._stopping:
+                try:
+                    async with session.ws_connect(self.url, headers=headers, max_msg_size=MAX_PACKET, heartbeat=20.0,
+                                                  ssl=self._ssl) as ws:
+                        self.reconnects += connected
+                        connected = True
+                        self._ready.set()
+                        await asyncio.gather(self._pump_out(ws), self._pump_in(ws))
+                except aiohttp.WSServerHandshakeError as exc:
+                    self._error = (f"{self.where} refused the connection ({exc.status}): "
+                                   + ("no such room, or not with that token" if exc.status == 403 else exc.message))
+                    return  # (refused after a reconnect too: the room is gone, or the token changed)
+                except (aiohttp.ClientError, OSError) as exc:
+                    if not connected:
+                        self._error = f"cannot reach {self.where}: {exc}"
+                        return
+                while not self._outgoing.empty():  # what was sent while it was down goes nowhere
+                    if self._outgoing.get_nowait() is None:
+                        return
+                await asyncio.sleep(RETRY_SECONDS)
 
     async def _pump_out(self, ws: aiohttp.ClientWebSocketResponse) -> None:
         assert self._outgoing is not None
         while True:
             data = await self._outgoing.get()
-            if data is None or ws.closed:
+            if data is None:  # closed by this end
+                self._stopping = True
                 await ws.close()
                 return
-            await ws.send_bytes(data)
+            if data == _ENDED or ws.closed:  # by the server
+                return
+            try:
+                await ws.send_bytes(data)
+            except ConnectionError:
+                return
 
     async def _pump_in(self, ws: aiohttp.ClientWebSocketResponse) -> None:
         async for message in ws:
@@ -158,4 +187,4 @@ class WebSocketLink:
                 except queue.Full:
                     self.dropped += 1
         if self._outgoing is not None:
-            self._outgoing.put_nowait(None)  # the server ended it: stop sending too
+            self._outgoing.put_nowait(_ENDED)  # the server ended it: stop sending too

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import asyncio
+import dataclasses
+import multiprocessing
 import secrets
 import ssl
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -59,9 +62,16 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
               help="Viewers a room holds at once.")
 @FACE
 @KEY
+@click.option("--pubsub", default=None, metavar="nats://HOST:PORT",
+              help="Share the rooms with every other room server connected to this NATS server (other processes, "
+                   "other machines): a viewer on any of them sees a performer on any.")
+@click.option("--workers", default=1, show_default=True, type=click.IntRange(1, 64),
+              help="Server processes on --listen's port (the system spreads connections over them; a viewer whose "
+                   "process stops reconnects to another): one per core. More than one needs --pubsub.")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.01), help="Stop after this long.")
 def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | None, tls_key: str | None,
-         max_viewers: int, face: str, key_file: str | None, seconds: float | None) -> None:
+         max_viewers: int, face: str, key_file: str | None, pubsub: str | None, workers: int,
+         seconds: float | None) -> None:
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
     and viewers (`toonface receive --from ws://HOST:PORT/r/NAME --token W`) both connect out to
     it over WebSocket, which passes NAT and firewalls; the stream's packets pass through it as
@@ -70,62 +80,135 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
 
     A browser watches at http(s)://HOST:PORT/r/NAME#watch=TOKEN (add ?obs before the # for a
     clear page for OBS's browser source): the server decodes the streams and draws the faces on
-    --face for it, so it must hold the key of sealed streams (--key-file).
+    --face for it, so it must hold the key of sealed streams (--key-file). A browser performs
+    from its camera at http(s)://HOST:PORT/r/NAME/perform#perform=TOKEN.
     """
-    from aiohttp import web
-
     from toon import load_face
-    from toonface.room.server import Rooms, make_app
 
     host, port = _required_address(listen, "--listen", 7730)
     path = Path(tokens_path)
     if not names and not path.exists():
         raise click.BadParameter("name a room (--room NAME), or give a tokens file that has some", param_hint="--room")
+    if workers > 1 and not pubsub:
+        raise click.BadParameter("several workers share their rooms through --pubsub nats://HOST:PORT",
+                                 param_hint="--workers")
+    if workers > 1 and port == 0:
+        raise click.BadParameter("several workers share one port: name it (not 0)", param_hint="--listen")
+    if pubsub is not None and not pubsub.startswith(("nats://", "tls://")):
+        raise click.BadParameter(f"{pubsub}: expected nats://HOST:PORT", param_hint="--pubsub")
     tokens = load_tokens(path, names)
-    face_obj = load_face(face)
-    key = _key(key_file)
+    load_face(face)  # (an error now, not in each worker)
     if bool(tls_cert) != bool(tls_key):
         raise click.BadParameter("give both --tls-cert and --tls-key, or neither", param_hint="--tls-cert")
-    context = None
     if tls_cert and tls_key:
-        context = ssl.create_default_context(ssl.Purpose.CLIENT_AUTH)
-        try:
-            context.load_cert_chain(tls_cert, tls_key)
-        except (ssl.SSLError, OSError) as exc:
-            raise click.BadParameter(f"cannot use the certificate: {exc}", param_hint="--tls-cert") from None
-    scheme = "wss" if context else "ws"
+        _tls(tls_cert, tls_key)
+    settings = Settings(host, port, tokens, max_viewers, face, _key(key_file), tls_cert, tls_key, pubsub,
+                        workers > 1, seconds)
+    spawn = multiprocessing.get_context("spawn")
+    readies = [spawn.Event() for _ in range(workers - 1)]
+    others = [spawn.Process(target=_worker, args=(settings, ready), daemon=True) for ready in readies]
+    try:
+        asyncio.run(_serve(settings, path, list(zip(others, readies, strict=True))))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for process in others:
+            if process.is_alive():
+                process.terminate()
+            process.join(5)
 
-    async def serve() -> None:
-        rooms = Rooms(tokens, max_viewers=max_viewers, face=face_obj, key=key)
-        runner = web.AppRunner(make_app(rooms), access_log=None)  # tokens unlogged
+
+@dataclasses.dataclass(frozen=True)
+class Settings:
+    """What each room server process is to serve (picklable: a worker process gets a copy)."""
+
+    host: str
+    port: int
+    tokens: dict[str, tuple[str, str]]
+    max_viewers: int
+    face: str
+    key: bytes | None
+    tls_cert: str | None
+    tls_key: str | None
+    pubsub: str | None
+    shared_port: bool
+    seconds: float | None
+
+
+def _tls(cert: str, key: str) -> ssl.SSLContext:
+    context = ssl.create_default_context(ssl.Purpose.CLIENT_AUTH)
+    try:
+        context.load_cert_chain(cert, key)
+    except (ssl.SSLError, OSError) as exc:
+        raise click.BadParameter(f"cannot use the certificate: {exc}", param_hint="--tls-cert") from None
+    return context
+
+
+def _worker(settings: Settings, ready: Any) -> None:
+    """A further server process (``--workers``): serves until stopped, ``ready`` (an Event) set
+    once it listens."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops it (Ctrl-C reaches the whole group)
+    try:
+        asyncio.run(_serve(settings, None, [], ready))
+    except click.ClickException as exc:
+        exc.show()
+        raise SystemExit(1) from None
+
+
+async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, Any]], ready: Any = None) -> None:
+    """Serve the rooms in this process (announcing them where ``path``, the tokens file, is given,
+    once ``others``, the further workers and their readiness events, are started and listening
+    too; ``ready`` is set once this one listens)."""
+    from aiohttp import web
+
+    from toon import load_face
+    from toonface.room.server import Rooms, make_app
+
+    s = settings
+    context = _tls(s.tls_cert, s.tls_key) if s.tls_cert and s.tls_key else None
+    scheme = "wss" if context else "ws"
+    rooms = Rooms(s.tokens, max_viewers=s.max_viewers, face=load_face(s.face), key=s.key, pubsub=s.pubsub)
+    runner = web.AppRunner(make_app(rooms), access_log=None)  # tokens unlogged
+    try:
         await runner.setup()
-        site = web.TCPSite(runner, host, port, ssl_context=context, reuse_address=True)
-        try:
-            await site.start()
-        except OSError as exc:
-            await runner.cleanup()
-            raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}", param_hint="--listen") \
-                from None
-        bound = runner.addresses[0][1] if runner.addresses else port
-        shown = "127.0.0.1" if host in ("0.0.0.0", "") else host
-        click.echo(f"room server on {scheme}://{shown}:{bound} (Ctrl-C stops); tokens in {path}")
-        for name, (perform, watch) in tokens.items():
+    except ConnectionError as exc:  # the NATS server
+        raise click.ClickException(str(exc)) from None
+    site = web.TCPSite(runner, s.host, s.port, ssl_context=context, reuse_address=True, reuse_port=s.shared_port)
+    try:
+        await site.start()
+    except OSError as exc:
+        await runner.cleanup()
+        raise click.BadParameter(f"cannot listen on {s.host}:{s.port}: {exc.strerror or exc}",
+                                 param_hint="--listen") from None
+    if ready is not None:
+        ready.set()
+    for process, _ in others:
+        process.start()
+    loop = asyncio.get_running_loop()
+    for process, started in others:
+        while not await loop.run_in_executor(None, started.wait, 0.5):
+            if process.exitcode is not None:
+                await runner.cleanup()
+                raise click.ClickException(f"a worker process stopped before it listened (exit {process.exitcode})")
+    if path is not None:
+        bound = runner.addresses[0][1] if runner.addresses else s.port
+        shown = "127.0.0.1" if s.host in ("0.0.0.0", "") else s.host
+        shared = f", {len(others) + 1} processes" if others else ""
+        shared += f", rooms shared through {s.pubsub}" if s.pubsub else ""
+        click.echo(f"room server on {scheme}://{shown}:{bound}{shared} (Ctrl-C stops); tokens in {path}")
+        web_scheme = "https" if context else "http"
+        for name, (perform, watch) in s.tokens.items():
             where = f"{scheme}://{shown}:{bound}/r/{name}"
             click.echo(f"  room {name}: perform  toonface send SOURCE --to {where} --token {perform}")
             click.echo(f"  room {name}: watch    toonface receive --from {where} --token {watch}")
-            page = f"{'https' if context else 'http'}://{shown}:{bound}/r/{name}#watch={watch}"
-            click.echo(f"  room {name}: browser  {page}")
-            performer_page = f"{'https' if context else 'http'}://{shown}:{bound}/r/{name}/perform#perform={perform}"
-            click.echo(f"  room {name}: camera   {performer_page}")
-        try:
-            await (asyncio.sleep(seconds) if seconds is not None else asyncio.Event().wait())
-        finally:
-            await runner.cleanup()
-
+            click.echo(f"  room {name}: browser  {web_scheme}://{shown}:{bound}/r/{name}#watch={watch}")
+            click.echo(f"  room {name}: camera   {web_scheme}://{shown}:{bound}/r/{name}/perform#perform={perform}")
     try:
-        asyncio.run(serve())
-    except KeyboardInterrupt:
-        pass
+        await (asyncio.sleep(s.seconds) if s.seconds is not None else asyncio.Event().wait())
+    finally:
+        await runner.cleanup()
 
 
 ROOM_COMMANDS = (room,)

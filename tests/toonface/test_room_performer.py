@@ -92,3 +92,24 @@ def test_a_performer_page_enters_the_room_as_a_stream_a_native_viewer_receives(k
     assert room.refused["malformed"] == 1 and room.refused["binary"] == 1
     assert receiver.reader.packets >= 20 and room.performers == {}  # gone with its page
     assert values[motor_index("MB")] > standard_neutral()[motor_index("MB")] + 0.3
+
+
+def test_the_wire_figure_counts_a_websocket_message_over_tcp_and_a_datagram_over_udp():
+    from stream.packets import StreamWriter
+    from stream.sender import StreamSender
+    from toonface.room.performers import _InRoom
+
+    sent: list[bytes] = []
+    room = StreamSender(("room", 0), StreamWriter(30.0, frames_per_packet=1), link=_InRoom(sent.append))
+    udp = StreamSender(("127.0.0.1", 9), StreamWriter(30.0, frames_per_packet=1))
+    try:
+        for k in range(30):  # one second
+            room.write(k / 30, standard_neutral())
+            udp.write(k / 30, standard_neutral())
+        payload = sum(len(packet) for packet in sent)
+        assert len(sent) == 30
+        assert room.rates(30)["wire_kbps"] == round((payload + 46 * 30) * 8 / 1000, 3)  # TCP/IP 40, frame 2 + mask 4
+        assert udp.rates(30)["wire_kbps"] == round((payload + 28 * 30) * 8 / 1000, 3)  # UDP/IP 28
+    finally:
+        room.close()
+        udp.close()

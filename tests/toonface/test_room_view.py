@@ -18,7 +18,8 @@ from player.motion import SecondaryMotion
 from stream.packets import StreamWriter
 from toon import FaceRig, load_face, motor_index, standard_neutral
 from toon.svg import geometry_svg
-from toonface.room.server import Rooms, _to_all, in_thread
+from toonface.room.fanout import send_all
+from toonface.room.server import Rooms, in_thread
 from toonface.room.stage import DECIMALS, Stage, packed
 
 TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
@@ -96,6 +97,27 @@ def test_the_stage_draws_a_performer_as_the_studio_does_and_then_sends_only_what
         stage.close()
 
 
+def test_the_stage_draws_each_performer_and_forgets_one_gone_silent():
+    clock = Clock()
+    stage = Stage(load_face("cat"), lambda *_: None, clock=clock)
+    first, second = (StreamWriter(30.0, frames_per_packet=1, stream=s) for s in (1, 2))
+    try:
+        _feed(stage, clock, standard_neutral(), 1.5, first)  # (a newcomer a second at most, without a key)
+        for _ in range(45):
+            clock.now += 1 / 30
+            for writer, values in ((first, standard_neutral()), (second, _pose())):
+                stage.feed(writer.push(values, clock.now) or b"", writer.stream)
+        _, whole = stage.frame()
+        drawn = {p["id"]: p for p in whole["performers"]}
+        assert set(drawn) == {1, 2} and drawn[1]["svg"] != drawn[2]["svg"]
+        assert abs(drawn[2]["quality"]["values"]["MB"] - 0.9) < 0.01
+        _feed(stage, clock, standard_neutral(), 11.0, first)  # the second says nothing for 11 s
+        changed, whole = stage.frame()
+        assert [p["id"] for p in whole["performers"]] == [1] and changed["gone"] == [2]
+    finally:
+        stage.close()
+
+
 def test_a_sealed_stream_is_drawn_only_where_the_room_holds_its_key():
     clock = Clock()
     blind = Stage(load_face("cat"), lambda *_: None, clock=clock)
@@ -125,16 +147,33 @@ class _Socket:
 class _Transport(asyncio.WriteTransport):
     def __init__(self, waiting: int) -> None:
         super().__init__()
-        self.waiting = waiting
+        self.waiting, self.written = waiting, b""
 
     def get_write_buffer_size(self) -> int:
         return self.waiting
 
+    def is_closing(self) -> bool:
+        return False
 
-def test_a_viewer_that_lags_misses_packets_and_the_others_get_them():
-    quick, slow = _Socket(), _Socket()
-    skipped = asyncio.run(_to_all({quick: _Transport(0), slow: _Transport(10 * 1024 * 1024)}, b"packet"))
-    assert skipped == 1 and quick.sent == [b"packet"] and slow.sent == []
+    def write(self, data) -> None:
+        self.written += data
+
+
+@pytest.mark.parametrize("size", [5, 125, 126, 65535, 65536])
+def test_a_packet_is_framed_once_as_rfc_6455_says_and_a_viewer_that_lags_misses_it(size):
+    data = bytes(range(256)) * (size // 256) + bytes(size % 256)
+    quick, slow, native = _Transport(0), _Transport(10 * 1024 * 1024), _Socket()
+    sockets = {_Socket(): quick, _Socket(): slow, native: None}
+    assert asyncio.run(send_all(sockets, data)) == 1
+    assert slow.written == b"" and native.sent == [data]  # (no transport known: aiohttp frames it)
+    frame = quick.written
+    assert frame[0] == 0x82 and frame[1] & 0x80 == 0  # FIN and binary; unmasked, from a server
+    length, start = frame[1], 2
+    if length == 126:
+        length, start = int.from_bytes(frame[2:4], "big"), 4
+    elif length == 127:
+        length, start = int.from_bytes(frame[2:10], "big"), 10
+    assert length == size and frame[start:] == data
 
 
 def _face_png(driver) -> np.ndarray:

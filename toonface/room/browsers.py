@@ -6,7 +6,8 @@
 (:mod:`toonface.room.stage`) at :data:`~toonface.room.stage.VIEW_FPS`: one message a frame, made
 and deflated once for all browser viewers. A viewer whose connection has more than
 :data:`LAG_BYTES` waiting is skipped (its frames are dropped, not queued) and is sent whole
-drawings once it has caught up, so a slow viewer never holds the others back.
+drawings once it has caught up, so a slow viewer never holds the others back (each message is
+framed once for all of them: :mod:`toonface.room.fanout`).
 
 ``/r/ROOM/perform`` is the performer page (``static/perform.html``, see
 :mod:`toonface.room.performers`); its face tracker's files are served under ``/web/``: MediaPipe's
@@ -28,13 +29,12 @@ from typing import TYPE_CHECKING
 
 from aiohttp import WSMsgType, web
 
+from toonface.room.fanout import LAG_BYTES, frame_of, send_all
 from toonface.room.stage import VIEW_FPS, Stage, packed
 
 if TYPE_CHECKING:
     from toonface.room.server import Room, Rooms
 
-#: A browser viewer with more than this waiting to be sent skips frames until it drains.
-LAG_BYTES = 256 * 1024
 #: The files pages may load, and the package each comes from.
 STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
           "draw.js": "toonface.studio"}
@@ -142,7 +142,9 @@ class Viewers:
     def _reply(self, stream: int, data: bytes) -> None:
         performer = self.room.performers.get(stream)
         if performer is not None and not performer.closed:
-            asyncio.get_running_loop().create_task(_send(performer, data))
+            asyncio.get_running_loop().create_task(send_all({performer: None}, data))
+        elif performer is None and self.rooms.bus is not None:  # a performer of another process's
+            asyncio.get_running_loop().create_task(self.rooms.bus.publish(self.room.name, "r", data))
 
     async def _run(self) -> None:
         loop = asyncio.get_running_loop()
@@ -150,16 +152,17 @@ class Viewers:
         due = loop.time()
         while self.stage is not None:
             changed, whole = self.stage.frame()
-            small = packed(changed)
-            full = small if all(v.current for v in self.sockets.values()) else packed(whole)
+            small = frame_of(packed(changed))
+            full = small if all(v.current for v in self.sockets.values()) else frame_of(packed(whole))
             for ws, viewer in list(self.sockets.items()):
-                if ws.closed:
+                transport = viewer.transport
+                if ws.closed or not isinstance(transport, asyncio.WriteTransport) or transport.is_closing():
                     continue
-                if viewer.waiting() > LAG_BYTES:
+                if transport.get_write_buffer_size() > LAG_BYTES:
                     viewer.current = False
                     self.skipped += 1
                     continue
-                await _send(ws, small if viewer.current else full)
+                transport.write(small if viewer.current else full)
                 viewer.current = True
             due += period
             await asyncio.sleep(max(0.0, due - loop.time()))
@@ -172,18 +175,6 @@ class _Viewer:
 
     def __init__(self, transport: asyncio.BaseTransport | None) -> None:
         self.transport, self.current = transport, False
-
-    def waiting(self) -> int:
-        """Bytes written to it and not yet sent."""
-        transport = self.transport
-        return transport.get_write_buffer_size() if isinstance(transport, asyncio.WriteTransport) else 0
-
-
-async def _send(ws: web.WebSocketResponse, data: bytes) -> None:
-    try:
-        await ws.send_bytes(data)
-    except ConnectionError:
-        pass
 
 
 async def serve_viewer(ws: web.WebSocketResponse, viewers: Viewers, transport: asyncio.BaseTransport | None) -> None:

@@ -17,9 +17,9 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
   silent for ``idle_seconds`` is closed;
 - a WebSocket opened from a web page must come from the server's own pages (``Origin``); native
   clients send none;
-- a viewer whose connection has more than :data:`~toonface.room.browsers.LAG_BYTES` waiting
+- a viewer whose connection has more than :data:`~toonface.room.fanout.LAG_BYTES` waiting
   misses packets (counted in :attr:`Room.skipped`; the stream conceals them) rather than holding
-  the other viewers back.
+  the other viewers back (:mod:`toonface.room.fanout`: each packet is framed once for all).
 
 Browsers watch through the room's stage (:mod:`toonface.room.browsers`): ``/r/ROOM`` is their page.
 """
@@ -42,8 +42,10 @@ from aiohttp import WSMsgType, web
 
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
-from toonface.room.browsers import LAG_BYTES, Viewers, add_pages, serve_viewer
+from toonface.room.browsers import Viewers, add_pages, serve_viewer
+from toonface.room.fanout import send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer
+from toonface.room.pubsub import Bus
 
 
 @dataclass
@@ -83,12 +85,18 @@ class Rooms:
     key : bytes or StreamKey, optional
         The streams' shared secret, where performers seal them, for browser viewers: without it
         the server can pass sealed packets on but not draw them.
+    pubsub : str, optional
+        ``nats://HOST:PORT``: share the rooms with the other processes connected to that NATS
+        server (:mod:`toonface.room.pubsub`).
     """
 
     def __init__(self, tokens: dict[str, tuple[str, str]], max_performers: int = 16, max_viewers: int = 1000,
                  rate_limit: float = 200.0, idle_seconds: float = 60.0, face: Face | str = "classic",
-                 key: bytes | StreamKey | None = None) -> None:
+                 key: bytes | StreamKey | None = None, pubsub: str | None = None) -> None:
         self.rooms = {name: Room(name, perform, watch) for name, (perform, watch) in tokens.items()}
+        self.pubsub = pubsub
+        self.bus: Bus | None = None
+        self.sockets: set[web.WebSocketResponse] = set()  # every connection, closed when the server stops
         self.face = load_face(face) if isinstance(face, str) else face
         self.key = stream_key(key)
         self.max_performers, self.max_viewers = max_performers, max_viewers
@@ -119,14 +127,52 @@ def make_app(rooms: Rooms) -> web.Application:
     app[ROOMS] = rooms
     app.router.add_get("/r/{room}/ws", _socket)
     add_pages(app)
+    app.on_shutdown.append(_going_away)
+    if rooms.pubsub:
+        app.on_startup.append(_join_bus)
+        app.on_cleanup.append(_leave_bus)
     return app
 
 
+async def _going_away(app: web.Application) -> None:
+    """Close every connection as the server stops (1001, going away): a client connects again,
+    to another server process where there is one."""
+    for ws in list(app[ROOMS].sockets):
+        await ws.close(code=1001, message=b"server going away")
+
+
+async def _join_bus(app: web.Application) -> None:
+    rooms = app[ROOMS]
+    assert rooms.pubsub is not None
+
+    async def packet(name: str, data: bytes) -> None:  # another process's performer
+        stream = peek_stream(data)
+        if stream is not None:
+            await _deliver(rooms.rooms[name], data, stream)
+
+    async def reply(name: str, data: bytes) -> None:  # another process's viewer, maybe to a performer here
+        stream = peek_stream(data)
+        performer = rooms.rooms[name].performers.get(stream) if stream is not None else None
+        if performer is not None:
+            await send_all({performer: None}, data)
+
+    rooms.bus = Bus(rooms.pubsub, packet, reply)
+    await rooms.bus.start(list(rooms.rooms))
+
+
+async def _leave_bus(app: web.Application) -> None:
+    rooms = app[ROOMS]
+    if rooms.bus is not None:
+        await rooms.bus.close()
+        rooms.bus = None
+
+
 @contextmanager
-def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0,
-              ssl_context: ssl.SSLContext | None = None) -> Iterator[str]:
-    """A room server for ``rooms`` in a thread of its own (port 0: a free one), for tests and
-    benchmarks; yields its ``ws://HOST:PORT`` (``wss://`` with ``ssl_context``) and stops on exit."""
+def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0, ssl_context: ssl.SSLContext | None = None,
+              reuse_port: bool = False) -> Iterator[str]:
+    """A room server for ``rooms`` in a thread of its own (port 0: a free one; ``reuse_port``: a
+    port other servers listen on too), for tests and benchmarks; yields its ``ws://HOST:PORT``
+    (``wss://`` with ``ssl_context``) and stops on exit, closing its connections."""
     loop = asyncio.new_event_loop()
     started = threading.Event()
     box: dict = {}
@@ -134,7 +180,7 @@ def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0,
     async def serve() -> None:
         runner = web.AppRunner(make_app(rooms), access_log=None)
         await runner.setup()
-        await web.TCPSite(runner, host, port, ssl_context=ssl_context).start()
+        await web.TCPSite(runner, host, port, ssl_context=ssl_context, reuse_port=reuse_port).start()
         box["port"], box["stop"] = runner.addresses[0][1], asyncio.Event()
         started.set()
         await box["stop"].wait()
@@ -168,24 +214,28 @@ async def _socket(request: web.Request) -> web.StreamResponse:
         raise web.HTTPForbidden(text="no such room, or not with that token\n")
     room = admitted
     page = role == "perform" and request.query.get("format") == "face"  # a performer page's tracked face
-    ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE if page else MAX_PACKET, heartbeat=rooms.idle_seconds / 2)
+    ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE if page else MAX_PACKET, heartbeat=rooms.idle_seconds / 2,
+                               compress=False)  # (packets do not shrink; the stage deflates its own)
     await ws.prepare(request)
-    if page:
-        await _serve_page(ws, room, rooms)
-        return ws
-    if role == "watch" and request.query.get("format") == "drawn":
-        if room.browsers is None:
-            room.browsers = Viewers(room, rooms)
-        await serve_viewer(ws, room.browsers, request.transport)
-        return ws
-    if role == "watch":
-        room.viewers[ws] = request.transport
+    rooms.sockets.add(ws)
     try:
-        await _serve(ws, room, rooms, role)
+        if page:
+            await _serve_page(ws, room, rooms)
+        elif role == "watch" and request.query.get("format") == "drawn":
+            if room.browsers is None:
+                room.browsers = Viewers(room, rooms)
+            await serve_viewer(ws, room.browsers, request.transport)
+        else:
+            if role == "watch":
+                room.viewers[ws] = request.transport
+            try:
+                await _serve(ws, room, rooms, role)
+            finally:
+                room.viewers.pop(ws, None)
+                for stream in [s for s, w in room.performers.items() if w is ws]:
+                    del room.performers[stream]
     finally:
-        room.viewers.pop(ws, None)
-        for stream in [s for s, w in room.performers.items() if w is ws]:
-            del room.performers[stream]
+        rooms.sockets.discard(ws)
     return ws
 
 
@@ -272,7 +322,9 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
         else:
             performer = room.performers.get(stream)
             if performer is not None:
-                await _to_all({performer: None}, data)
+                await send_all({performer: None}, data)
+            elif rooms.bus is not None:  # a performer of another process's
+                await rooms.bus.publish(room.name, "r", data)
 
 
 async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | _PageSocket, data: bytes,
@@ -287,25 +339,14 @@ async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | _Pag
         room.refused["stream taken"] += 1
         return
     room.performers[stream] = owner
-    room.skipped += await _to_all(room.viewers, data)
+    await _deliver(room, data, stream)
+    if rooms.bus is not None:
+        await rooms.bus.publish(room.name, "p", data)
+
+
+async def _deliver(room: Room, data: bytes, stream: int) -> None:
+    """A performer's packet (of this process's or another's) to this process's viewers."""
+    room.skipped += await send_all(room.viewers, data)
     if room.browsers is not None:
         room.browsers.feed(data, stream)
     room.forwarded += 1
-
-
-async def _to_all(sockets: dict[web.WebSocketResponse, asyncio.BaseTransport | None], data: bytes) -> int:
-    """Send ``data`` to each socket still open, but not to one whose transport has more than
-    :data:`~toonface.room.browsers.LAG_BYTES` waiting; one that fails is left to its own handler.
-    Returns how many were skipped."""
-    skipped = 0
-    for ws, transport in list(sockets.items()):
-        if ws.closed:
-            continue
-        if isinstance(transport, asyncio.WriteTransport) and transport.get_write_buffer_size() > LAG_BYTES:
-            skipped += 1
-            continue
-        try:
-            await ws.send_bytes(data)
-        except ConnectionError:
-            pass
-    return skipped

@@ -35,7 +35,7 @@ function connect() {
   socket.onclose = () => {
     $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
       : "no perform token: open the link the room server printed (it ends in #perform=…)";
-    setTimeout(() => { performer.socket = connect(); }, 2000);
+    setTimeout(() => { performer.socket = connect(); }, 500);
   };
   return socket;
 }

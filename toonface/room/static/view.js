@@ -86,7 +86,7 @@
       viewer.connected = false;
       $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
         : "no watch token: open the link the room server printed (it ends in #watch=…)";
-      setTimeout(connect, 2000);
+      setTimeout(connect, 500);  // another server process on the address takes it
     };
   }
   connect();

@@ -1,0 +1,173 @@
+"""Rooms shared by several room server processes through NATS (issue 45): a viewer on one server
+sees a performer on another, its acknowledgements find the performer, and a viewer whose server
+stops reconnects to another on the same address within two seconds."""
+
+import threading
+import time
+
+import numpy as np
+import pytest
+from pubsub import free_port, nats_server
+
+from stream.packets import StreamWriter
+from stream.playout import Playout
+from stream.receiver import StreamReceiver
+from stream.sender import StreamSender
+from stream.websocket import WebSocketLink
+from toon import standard_neutral
+from toonface.room.server import Rooms, in_thread
+
+TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
+
+
+def _performer(base: str) -> StreamSender:
+    link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
+    return StreamSender((link.where, 0), StreamWriter(30.0, frames_per_packet=1, stream=0x51), link=link)
+
+
+def test_a_viewer_on_one_server_sees_a_performer_on_another_and_answers_it():
+    with nats_server() as url:
+        one, two = Rooms(TOKENS, pubsub=url), Rooms(TOKENS, pubsub=url)
+        with in_thread(one) as first, in_thread(two) as second:
+            link = WebSocketLink(f"{second}/r/demo", TOKENS["demo"][1], "watch")
+            with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), link=link) as receiver:
+                sender = _performer(first)
+                try:
+                    for k in range(60):  # two seconds of frames, sent at once
+                        sender.write(k / 30, standard_neutral())
+                    assert receiver.wait_for_packets(60, timeout=10)
+                    deadline = time.monotonic() + 10
+                    while sender.acks == 0 and time.monotonic() < deadline:  # the viewer's answer, back through NATS
+                        sender.write(2.0, standard_neutral())
+                        receiver.wait_for_packets(10_000, timeout=0.1)
+                finally:
+                    sender.close()
+    assert one.rooms["demo"].viewers == {} and two.rooms["demo"].performers == {}  # each where it connected
+    assert two.bus is None and receiver.reader.lost == 0
+    assert sender.acks > 0
+
+
+@pytest.mark.slow  # servers stopped under a live stream: make test runs it
+def test_a_viewer_whose_server_stops_reconnects_to_another_on_the_same_address_within_two_seconds():
+    """Two servers listen on one port (as ``room --workers 2`` do); the one the viewer reached is
+    stopped mid-stream, and the viewer, connecting again to the same address, reaches the other."""
+    port = free_port()
+    with nats_server() as url:
+        rooms = [Rooms(TOKENS, pubsub=url) for _ in range(3)]
+        stops = [threading.Event() for _ in rooms]
+
+        def serve(index: int) -> None:
+            with in_thread(rooms[index], port=port if index else 0, reuse_port=True) as base:
+                bases[index] = base
+                started[index].set()
+                stops[index].wait()
+
+        bases: list[str] = ["", "", ""]
+        started = [threading.Event() for _ in rooms]
+        threads = [threading.Thread(target=serve, args=(i,)) for i in range(3)]
+        for thread in threads:
+            thread.start()
+        for event in started:
+            assert event.wait(10)
+        try:
+            link = WebSocketLink(f"ws://127.0.0.1:{port}/r/demo", TOKENS["demo"][1], "watch")
+            arrivals: list[float] = []
+            with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), link=link) as receiver:
+                sender = _performer(bases[0])  # the performer on a third server, of its own
+                try:
+                    held = next(i for i in (1, 2) if rooms[i].rooms["demo"].viewers)
+                    frame = 0
+                    for step in range(120):  # four seconds at 30 Hz; the viewer's server stops after one
+                        if step == 30:
+                            stops[held].set()
+                            threads[held].join(10)
+                        sender.write(frame / 30, standard_neutral())
+                        frame += 1
+                        before = receiver.reader.packets
+                        receiver.wait_for_packets(before + 1, timeout=1 / 30)
+                        if receiver.reader.packets > before:
+                            arrivals.append(time.monotonic())
+                finally:
+                    sender.close()
+        finally:
+            for event in stops:
+                event.set()
+            for thread in threads:
+                thread.join(10)
+    other = 3 - held
+    assert link.reconnects == 1 and rooms[other].rooms["demo"].forwarded > 0
+    gaps = np.diff(arrivals)
+    assert len(arrivals) > 80 and gaps.max() < 2.0  # back within two seconds
+
+
+@pytest.mark.slow  # three Python processes start: make test runs it
+def test_room_workers_share_one_port_a_killed_one_loses_its_viewers_to_the_other_and_all_stop_together(tmp_path):
+    import os
+    import signal
+    import socket
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    port = free_port()
+    with nats_server() as url:
+        server = subprocess.Popen([sys.executable, "-m", "toonface", "room", "--listen", f"127.0.0.1:{port}", "--room",
+                                   "demo", "--tokens", str(tmp_path / "rooms.toml"), "--workers", "2", "--pubsub", url,
+                                   "--seconds", "60"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            banner = server.stdout.readline()
+            assert f"room server on ws://127.0.0.1:{port}, 2 processes, rooms shared through {url}" in banner
+            lines = [server.stdout.readline() for _ in range(4)]
+            perform = lines[0].rsplit("--token ", 1)[1].strip()
+            watch = lines[1].rsplit("--token ", 1)[1].strip()
+            base = f"ws://127.0.0.1:{port}/r/demo"
+            links = [WebSocketLink(base, watch, "watch") for _ in range(12)]  # (all on one process: 1 in 4096)
+            receivers = [StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), link=link).start()
+                         for link in links]
+            link = WebSocketLink(base, perform, "perform")
+            sender = StreamSender((link.where, 0), StreamWriter(30.0, frames_per_packet=1, stream=7), link=link)
+            try:
+                for k in range(30):
+                    sender.write(k / 30, standard_neutral())
+                assert all(receiver.wait_for_packets(30, timeout=10) for receiver in receivers)
+                children = Path(f"/proc/{server.pid}/task/{server.pid}/children").read_text().split()
+                worker = next(int(pid) for pid in children  # the spawned worker (not multiprocessing's tracker)
+                              if "spawn_main" in Path(f"/proc/{pid}/cmdline").read_text())
+                os.kill(worker, signal.SIGKILL)  # a server killed mid-stream
+                killed = time.monotonic()
+                frame = 30
+                while time.monotonic() - killed < 2.0:  # two seconds of frames at 30 Hz
+                    sender.write(frame / 30, standard_neutral())
+                    frame += 1
+                    receivers[0].wait_for_packets(10**9, timeout=1 / 30)
+                assert all(receiver.reader.packets >= 45 for receiver in receivers)  # each back within the two
+                assert sum(link.reconnects for link in links) >= 1
+            finally:
+                sender.close()
+                for receiver in receivers:
+                    receiver.close()
+            server.send_signal(signal.SIGTERM)  # as Ctrl-C: the workers stop with it
+            assert server.wait(15) == 0
+        finally:
+            if server.poll() is None:
+                server.kill()
+                server.wait()
+            server.stdout.close()
+    with pytest.raises(OSError):  # nobody listens on the port any more
+        socket.create_connection(("127.0.0.1", port), timeout=1).close()
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--workers", "2"], "several workers share their rooms through --pubsub"),
+    (["--workers", "2", "--pubsub", "nats://127.0.0.1:9", "--listen", "127.0.0.1:0"], "name it (not 0)"),
+    (["--pubsub", "redis://127.0.0.1:6379"], "expected nats://HOST:PORT"),
+    pytest.param(["--pubsub", "nats://127.0.0.1:9"], "cannot reach the NATS server at nats://127.0.0.1:9",
+                 marks=pytest.mark.slow),  # (five seconds of trying)
+])
+def test_room_sharing_given_wrongly_is_one_line_and_a_failure(tmp_path, capsys, args, says):
+    from toonface.cli import main
+
+    code = main(["room", "--room", "demo", "--tokens", str(tmp_path / "rooms.toml"), "--seconds", "1",
+                 *(["--listen", "127.0.0.1:0"] if "--listen" not in args else []), *args])
+    err = capsys.readouterr().err
+    assert code != 0 and says in err and "Traceback" not in err and len(err.strip().splitlines()) == 1

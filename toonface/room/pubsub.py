@@ -1,0 +1,94 @@
+"""Rooms shared by several room server processes (or machines) through a NATS server.
+
+Why NATS rather than Redis pub/sub: both are on Debian and both fan a message out to every
+subscriber at once; NATS is Apache-2.0 throughout (server and ``nats-py``), where Redis from 7.4
+is no longer under an OSI licence (and 8 adds the AGPL this MIT project must not depend on), and
+NATS is built for this one job (no storage, a few hundred microseconds on loopback, clients that
+reconnect by themselves).
+
+Every process subscribes to the rooms it declares. A performer's packet that reaches one process
+goes to that process's viewers and is published on ``toonface.ROOM.p``; the others pass it to
+theirs. A viewer's reply (acknowledgement, keyframe request) for a stream no local performer sends
+is published on ``toonface.ROOM.r`` and reaches the process that has it. Each message is the
+sender process's 8-byte id and the packet, so a process skips its own; ``ROOM`` is the room's name
+in hexadecimal (a subject's tokens may not hold dots or spaces).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import secrets
+from collections.abc import Awaitable, Callable
+from typing import Any
+
+#: NATS's usual port.
+NATS_PORT = 4222
+
+
+def subject(room: str, kind: str) -> str:
+    """The subject of a room's packets (``kind`` ``p``) or replies (``r``)."""
+    return f"toonface.{room.encode().hex()}.{kind}"
+
+
+class Bus:
+    """This process's link to the others through a NATS server at ``url``.
+
+    Parameters
+    ----------
+    url : str
+        ``nats://HOST:PORT``.
+    on_packet, on_reply : callable
+        ``await on_packet(room, data)``: a performer's packet from another process;
+        ``await on_reply(room, data)``: a viewer's reply from another process.
+    """
+
+    def __init__(self, url: str, on_packet: Callable[[str, bytes], Awaitable[None]],
+                 on_reply: Callable[[str, bytes], Awaitable[None]]) -> None:
+        self.url, self.on_packet, self.on_reply = url, on_packet, on_reply
+        self.origin = secrets.token_bytes(8)
+        self.client: Any = None
+        self.published = self.received = 0
+        self.errors = 0  # connection troubles (nats-py reconnects by itself)
+        self.last_error = ""
+
+    async def start(self, rooms: list[str], timeout: float = 5.0) -> None:
+        """Connect (a ConnectionError naming the server where it cannot) and subscribe to ``rooms``."""
+        import nats
+        from nats.errors import NoServersError
+
+        async def trouble(exc: Exception) -> None:  # kept, not printed: nats-py tries again by itself
+            self.errors += 1
+            self.last_error = str(exc) or type(exc).__name__
+
+        try:
+            self.client = await asyncio.wait_for(nats.connect(
+                self.url, connect_timeout=timeout, max_reconnect_attempts=-1, reconnect_time_wait=0.25,
+                allow_reconnect=True, name="toonface room", error_cb=trouble), timeout)
+        except (NoServersError, OSError, TimeoutError) as exc:
+            why = self.last_error or str(exc) or "no answer"
+            raise ConnectionError(f"cannot reach the NATS server at {self.url} within {timeout:g} s: {why}") from None
+        for name in rooms:
+            await self.client.subscribe(subject(name, "p"), cb=self._handler(name, self.on_packet))
+            await self.client.subscribe(subject(name, "r"), cb=self._handler(name, self.on_reply))
+        await self.client.flush(timeout)
+
+    def _handler(self, room: str, deliver: Callable[[str, bytes], Awaitable[None]]) -> Callable[[Any], Awaitable[None]]:
+        async def handle(message: Any) -> None:
+            data: bytes = message.data
+            if data[:8] != self.origin:
+                self.received += 1
+                await deliver(room, data[8:])
+
+        return handle
+
+    async def publish(self, room: str, kind: str, data: bytes) -> None:
+        """Send a packet (``p``) or a reply (``r``) of ``room`` to the other processes."""
+        if self.client is not None and self.client.is_connected:
+            await self.client.publish(subject(room, kind), self.origin + data)
+            self.published += 1
+
+    async def close(self) -> None:
+        """Let what is pending go, and disconnect."""
+        if self.client is not None:
+            await self.client.drain()
+            self.client = None
