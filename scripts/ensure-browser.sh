@@ -4,12 +4,13 @@
 # fails the build: where they cannot be installed, the browser tests skip and say why.
 set -uo pipefail
 
-# The npm packages of package.json (lottie-web for a browser test; @mediapipe/tasks-vision, which
-# the room server serves to its performer page), from the lockfile, only when missing; without npm,
-# the tests that need them skip and the performer page says what is missing.
-if [ ! -f node_modules/lottie-web/build/player/lottie.min.js ] || [ ! -f node_modules/@mediapipe/tasks-vision/vision_bundle.mjs ]; then
+# The npm packages of package.json (lottie-web and axe-core for browser tests; @mediapipe/tasks-vision,
+# which the room server serves to its performer page), from the lockfile, only when missing; without
+# npm, the tests that need them skip and the performer page says what is missing.
+if [ ! -f node_modules/lottie-web/build/player/lottie.min.js ] || [ ! -f node_modules/axe-core/axe.min.js ] \
+        || [ ! -f node_modules/@mediapipe/tasks-vision/vision_bundle.mjs ]; then
     if command -v npm >/dev/null 2>&1; then
-        npm ci --no-audit --no-fund --silent >/dev/null 2>&1 || echo "toonface: npm ci failed: the Lottie and performer-page browser tests will skip" >&2
+        npm ci --no-audit --no-fund --silent >/dev/null 2>&1 || echo "toonface: npm ci failed: the Lottie, accessibility and performer-page browser tests will skip" >&2
     else
         echo "toonface: npm is missing: the Lottie and performer-page browser tests will skip" >&2
     fi

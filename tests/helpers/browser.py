@@ -106,9 +106,10 @@ def design_off(driver) -> None:
 
 
 def page_against_offscreen(driver, session):
-    """How far the face the page shows (a screenshot of ``#view``) is from the offscreen renderer's
-    picture of the session's face at the values of the frame the page shows (its physics' swing
-    included): absolute differences ``(512, 512, 3)``."""
+    """How far the face the page shows (a screenshot of ``#view``, whatever size the layout gives
+    it) is from the offscreen renderer's picture of the session's face at the values of the frame
+    the page shows (its physics' swing included), drawn at that size: absolute differences
+    ``(H, W, 3)``."""
     import io
 
     import numpy as np
@@ -126,7 +127,9 @@ def page_against_offscreen(driver, session):
     shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
     motors = np.array([values[code] for code in MOTOR_CODES])
     extra = {code: values[code] for code in session.face.extra_codes if code in values}
-    with open_renderer((512, 512)) as renderer:
+    height, width = shown.shape[:2]
+    assert min(width, height) >= 256, f"the face is shown only {width}x{height}"
+    with open_renderer((width, height)) as renderer:
         drawn = renderer.render(FaceRig(session.face).geometry(motors, extra)).astype(int)
-    assert shown.shape == drawn.shape == (512, 512, 3)
+    assert shown.shape == drawn.shape
     return np.abs(shown - drawn)

@@ -98,10 +98,11 @@ def test_the_head_and_eyes_follow_the_pointer_when_asked(fresh):
 
     driver, session = fresh
     stage = driver.find_element("id", "stage")
-    ActionChains(driver).move_to_element_with_offset(stage, 240, -240).perform()  # top right, not yet following
+    reach = int(0.47 * min(stage.size["width"], stage.size["height"]))  # the face's top right corner
+    ActionChains(driver).move_to_element_with_offset(stage, reach, -reach).perform()  # not yet following
     assert session.values[motor_index("HH")] == pytest.approx(session.neutral[motor_index("HH")])
     driver.find_element("id", "follow").click()
-    ActionChains(driver).move_to_element_with_offset(stage, 230, -230).perform()
+    ActionChains(driver).move_to_element_with_offset(stage, reach - 4, 4 - reach).perform()
     wait_for(driver, "window.studio.last.values.HH > 0.9 && window.studio.last.values.HV > 0.9")
     assert session.values[motor_index("PRH")] > 0.9 and session.values[motor_index("PLV")] > 0.9
     driver.find_element("id", "follow").click()

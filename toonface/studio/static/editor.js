@@ -258,9 +258,11 @@
   }
 
   editor.show = (state) => {
+    const fresh = !editor.state || editor.state.duration !== state.duration;  // opened, new, or made longer
     editor.state = state;
     if (editor.selection && editor.selection[1] > state.duration) editor.selection = null;
-    render();
+    if (fresh) fit();  // the whole animation across the score's width (it renders)
+    else render();
   };
 
   studio.onAnimation = editor.show;
@@ -334,17 +336,48 @@
     el("render-progress").hidden = true;
     studio.say(`wrote ${message.path} (${message.frames} frames)`, false);
   };
+  function fit() {
+    // zoom the staves so the whole animation fits the score's width
+    const room = el("score").clientWidth - 120;
+    if (editor.state && editor.state.duration > 0 && room > 0) {
+      editor.zoom = Math.max(10, Math.min(2000, room / editor.state.duration));
+    }
+    render();
+  }
+  editor.fit = fit;
+
   document.addEventListener("keydown", (event) => {
-    if (event.target.tagName === "INPUT") return;
+    // the studio's shortcuts (listed in its Keys panel)
+    const tag = event.target.tagName;
+    if (tag === "INPUT" || tag === "SELECT" || tag === "TEXTAREA") return;
+    const command = event.ctrlKey || event.metaKey;
+    const key = event.key.toLowerCase();
+    const faceOpen = el("face-panel").open;
     if ((event.key === "Delete" || event.key === "Backspace") && editor.picked) {
       const [code, index] = editor.picked;
       editor.picked = null;
       studio.send({op: "knot", action: "delete", code, index});
-    } else if (event.key === "z" && (event.ctrlKey || event.metaKey)) {
-      studio.send({op: event.shiftKey ? "redo" : "undo"});
+    } else if (command && (key === "z" || key === "y")) {
+      const redo = event.shiftKey || key === "y";
+      event.preventDefault();
+      if (faceOpen) el(redo ? "face-redo" : "face-undo").click();
+      else studio.send({op: redo ? "redo" : "undo"});
+    } else if (command && (key === "c" || key === "x" || key === "v") && !String(window.getSelection())) {
+      event.preventDefault();
+      el({c: "copy", x: "cut", v: "paste"}[key]).click();
+    } else if (command) {
+      return;
     } else if (event.key === " ") {
       event.preventDefault();
       el(editor.state && editor.state.playing ? "pause" : "play").click();
+    } else if (key === "f") {
+      fit();
+    } else if (event.key === "+" || event.key === "=") {
+      el("zoom-in").click();
+    } else if (event.key === "-") {
+      el("zoom-out").click();
+    } else if (event.key === "?") {
+      el("tab-help").click();
     }
   });
 })();

@@ -151,7 +151,8 @@
     drawnAt.push(now);
     while (drawnAt.length && drawnAt[0] < now - 1000) drawnAt.shift();
     studio.rate = drawnAt.length;
-    $("status").textContent = `${studio.rate} frames/s`;
+    // the server sends a frame when the face changes: a still face is not a slow one
+    $("status").textContent = studio.rate > 1 ? `moving · ${studio.rate} frames/s` : "still";
   }
 
   function toFace(event) {
@@ -183,12 +184,26 @@
   }
 
   function follow(event) {
-    if (!$("follow").checked || studio.dragging) return;
-    const box = $("stage").getBoundingClientRect();
-    const x = ((event.clientX - box.left) / box.width) * 2 - 1;
-    const y = ((event.clientY - box.top) / box.height) * 2 - 1;
+    // the pointer about the face (not the stage, which is wider or taller than the face it shows): -1..1
+    if (!$("follow").checked || studio.dragging || !$("handles").viewBox.baseVal) return;
+    const box = $("handles").viewBox.baseVal;
+    const [fx, fy] = toFace(event);
+    const x = Math.max(-1, Math.min(1, ((fx - box.x) / box.width) * 2 - 1));
+    const y = Math.max(-1, Math.min(1, ((fy - box.y) / box.height) * 2 - 1));
     send({op: "look", x, y});
   }
+
+  function showTab(tab) {
+    // one panel beside the face: Test (its sliders), the Face editor, the Mapping tuner or the Keys
+    for (const other of document.querySelectorAll("#tabs [role=tab]")) {
+      const chosen = other === tab;
+      other.setAttribute("aria-selected", String(chosen));
+      const panel = $(other.dataset.panel);
+      if (panel.tagName === "DETAILS") panel.open = chosen;
+      else panel.hidden = !chosen;
+    }
+  }
+  for (const tab of document.querySelectorAll("#tabs [role=tab]")) tab.addEventListener("click", () => showTab(tab));
 
   $("show-live").addEventListener("change", (event) => send({op: "live", on: event.target.checked}));
   $("face").addEventListener("change", (event) => send({op: "face", name: event.target.value}));

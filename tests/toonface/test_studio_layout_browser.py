@@ -1,0 +1,112 @@
+"""The studio's layout (issue 46, first step) in headless Chromium: at a laptop's 1366x768 and a
+large screen's 1920x1080 the face and the staves are on screen together with nothing to scroll;
+the panels are tabs beside the face; the keyboard's shortcuts do what the Keys panel says; and
+axe-core finds no serious or critical accessibility violation in any panel."""
+
+import pytest
+from browser import chromium, studio_server, wait_for
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.keys import Keys
+from studios import temp_folder
+
+from toonface.room.browsers import web_modules
+from toonface.studio.session import StudioSession
+
+pytestmark = pytest.mark.slow
+READY = ("window.studio && window.studio.frames > 0 && window.editor && window.editor.state && "
+         "document.querySelectorAll('#staves svg').length > 20")
+
+
+@pytest.fixture(scope="module")
+def served():
+    session = StudioSession("classic", folder=temp_folder())
+    with studio_server(session) as url:
+        yield url, session
+
+
+def _box(driver, selector: str) -> dict:
+    return driver.execute_script(f"return document.querySelector('{selector}').getBoundingClientRect().toJSON()")
+
+
+@pytest.mark.parametrize("width, height", [(1366, 768), (1920, 1080)])
+def test_the_face_and_the_staves_are_on_screen_together_with_nothing_to_scroll(served, width, height):
+    url, _ = served
+    with chromium(width, height) as driver:
+        driver.get(url)
+        wait_for(driver, READY)
+        inner = driver.execute_script("return [window.innerWidth, window.innerHeight]")
+        assert driver.execute_script("return document.documentElement.scrollHeight") <= inner[1]
+        face = _box(driver, "#view svg")
+        staff = _box(driver, "#staves svg")  # the first staff
+        panel = _box(driver, "#panel")
+        for box in (face, staff, panel):
+            assert box["top"] >= 0 and box["bottom"] <= inner[1] and box["left"] >= 0 and box["right"] <= inner[0]
+        assert min(face["width"], face["height"]) >= 300  # the face large, not a thumbnail
+        assert face["right"] <= panel["left"] and face["bottom"] <= staff["top"]  # beside the panels, over the staves
+        # the staves fit the whole animation across the score
+        duration, zoom = driver.execute_script("return [window.editor.state.duration, window.editor.zoom]")
+        score = _box(driver, "#score")
+        assert 0.6 * score["width"] < duration * zoom <= score["width"]
+
+
+def test_the_panels_are_tabs_and_the_keyboard_does_what_the_keys_panel_says(served):
+    url, session = served
+    with chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, READY)
+        shown = "[...document.querySelectorAll('#play-panel, #face-panel, #tuner-panel, #help-panel')]" \
+                ".filter(p => p.tagName === 'DETAILS' ? p.open : !p.hidden).map(p => p.id)"
+        assert driver.execute_script(f"return {shown}") == ["play-panel"]
+        body = driver.find_element("tag name", "body")
+        body.send_keys("?")
+        assert driver.execute_script(f"return {shown}") == ["help-panel"]
+        listed = driver.find_element("id", "keys").text
+        for words in ("Space", "Undo, redo", "Delete", "Copy, cut, paste", "Zoom the staves to fit"):
+            assert words in listed
+        # an animation edit, then a face edit: Ctrl-Z undoes the face's while the Face editor is open
+        driver.execute_script("studio.send({op: 'knot', action: 'add', code: 'MB', t: 1.0, v: 0.9})")
+        wait_for(driver, "(window.editor.state.knots.MB || []).length === 1")
+        driver.find_element("id", "tab-face").click()
+        assert driver.execute_script(f"return {shown}") == ["face-panel"]
+        before = session.face.to_dict()
+        driver.find_element("id", "flip-x").click()
+        wait_for(driver, "!document.getElementById('face-undo').disabled")
+        assert session.face.to_dict() != before
+        ActionChains(driver).key_down(Keys.CONTROL).send_keys("z").key_up(Keys.CONTROL).perform()
+        wait_for(driver, "document.getElementById('face-undo').disabled")
+        assert session.face.to_dict() == before and len(session.editor.animation.knots["MB"]) == 1
+        driver.find_element("id", "tab-play").click()  # elsewhere, Ctrl-Z is the animation's
+        ActionChains(driver).key_down(Keys.CONTROL).send_keys("z").key_up(Keys.CONTROL).perform()
+        wait_for(driver, "(window.editor.state.knots.MB || []).length === 0")
+        ActionChains(driver).key_down(Keys.CONTROL).key_down(Keys.SHIFT).send_keys("z").key_up(Keys.SHIFT) \
+            .key_up(Keys.CONTROL).perform()
+        wait_for(driver, "(window.editor.state.knots.MB || []).length === 1")
+        zoom = driver.execute_script("return window.editor.zoom")
+        body.send_keys("+")
+        wait_for(driver, f"window.editor.zoom > {zoom}")
+        body.send_keys("f")
+        wait_for(driver, f"Math.abs(window.editor.zoom - {zoom}) < 1e-6")  # fitted again, as it opened
+        body.send_keys(" ")
+        wait_for(driver, "window.editor.state.playing")
+        body.send_keys(" ")
+        wait_for(driver, "!window.editor.state.playing")
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []
+
+
+def test_axe_core_finds_no_serious_or_critical_violation_in_any_panel(served):
+    axe = web_modules() / "axe-core" / "axe.min.js"
+    if not axe.is_file():
+        pytest.skip("axe-core is not installed (make browser installs it with npm)")
+    url, _ = served
+    with chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, READY)
+        driver.execute_script(axe.read_text())
+        found = {}
+        for tab in ("tab-play", "tab-face", "tab-tuner", "tab-help"):
+            driver.find_element("id", tab).click()
+            found[tab] = driver.execute_async_script(
+                "const done = arguments[arguments.length - 1];"
+                "axe.run(document).then(r => done(r.violations.filter(v => ['serious', 'critical'].includes(v.impact))"
+                ".map(v => `${v.id}: ${v.nodes.map(n => n.target.join(' ')).slice(0, 3).join(', ')}`)))")
+    assert found == {tab: [] for tab in found}
