@@ -137,8 +137,9 @@ class AnimationEditor:
     def open(self, path: str, tolerance: float = TRACK_TOLERANCE) -> str:
         """Edit what ``path`` holds (undo starts afresh): an animation (``.toml``), a motor track
         (``.csv``, ``.npz``) as knots within ``tolerance`` (:func:`toon.animation.from_track`), or
-        a take (``.c3d``, ``.trc``, a marker ``.csv`` or ``.npz``) cleaned and mapped first with the
-        built-in mapping that matches it. Returns what was opened, in a line."""
+        a take (``.c3d``, ``.trc``, a marker ``.csv`` or ``.npz``; or a talking-head video, its face
+        tracked) cleaned and mapped first with the built-in mapping that matches it. Returns what
+        was opened, in a line."""
         source = Path(path)
         if source.suffix.lower() == ".toml":
             self.animation, self.path, said = an.load_animation(source), source, f"opened {source}"
@@ -238,9 +239,12 @@ class AnimationEditor:
 
 
 def _track(path: Path) -> tuple[MotorTrack, str]:
-    """A motor track file, or a take mapped on the fly; and which it was."""
+    """A motor track file, or a take (or a talking-head video, tracked) mapped on the fly; and
+    which it was."""
     from capture import load_take
+    from capture.sources import VIDEO_SUFFIXES
     from toonface.pipeline import map_onto_face
+    from toonface.studio.tuner import load_take_or_video
 
     if path.suffix.lower() in (".csv", ".npz"):
         try:
@@ -252,6 +256,8 @@ def _track(path: Path) -> tuple[MotorTrack, str]:
             except InputError:
                 raise not_a_track from None
             return map_onto_face(take), "a take, mapped"
+    if path.suffix.lower() in VIDEO_SUFFIXES:
+        return map_onto_face(load_take_or_video(path)), "a video, its face tracked and mapped"
     return map_onto_face(load_take(path)), "a take, mapped"
 
 

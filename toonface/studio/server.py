@@ -67,6 +67,7 @@ def make_app(session: StudioSession, hosts: set[str], token: str = "") -> web.Ap
     app.router.add_get("/", _index)
     app.router.add_get("/ws", _socket)
     app.router.add_get("/sound.wav", _sound)
+    app.router.add_post("/files/{name}", _upload)
     app.router.add_static("/static/", static_folder(), follow_symlinks=False)
     app.on_startup.append(_start_ticker)
     app.on_cleanup.append(_stop_ticker)
@@ -116,6 +117,14 @@ async def _index(request: web.Request) -> web.FileResponse:
     if request.app[TOKEN]:
         response.set_cookie(_cookie(request), request.app[TOKEN], httponly=True, samesite="Strict")
     return response
+
+
+async def _upload(request: web.Request) -> web.Response:
+    """A file from the page, kept in the working folder (:mod:`toonface.studio.files`)."""
+    from toonface.studio.files import receive_file
+
+    allowed = _has_token(request, request.cookies.get(_cookie(request)))
+    return await receive_file(request, request.app[SESSION].folder.root, allowed)
 
 
 async def _sound(request: web.Request) -> web.Response:

@@ -52,7 +52,7 @@ class MappingTuner:
     def __init__(self, take: str, neutral: np.ndarray, mapping: str | None = None, units: str | None = None) -> None:
         self.path = Path(take)
         self.neutral = np.asarray(neutral, dtype=np.float64)
-        self.ready: ReadyTake = ready_take(_load(self.path, units), mapping)
+        self.ready: ReadyTake = ready_take(load_take_or_video(self.path, units), mapping)
         source = self.ready.mapping.source
         if not source or not Path(source).is_file():
             raise InputError(f"the mapping {self.ready.mapping.name} has no file to tune")
@@ -172,8 +172,9 @@ def source_unit(source: Source) -> str:
     return {"angle": "°", "head": "°", "blendshape": "score"}.get(source.kind, "mm")
 
 
-def _load(path: Path, units: str | None) -> Take:
-    """A take file, or a video tracked without markers."""
+def load_take_or_video(path: Path, units: str | None = None) -> Take:
+    """A take file, or a video tracked without markers (the tuner and the Animation Editor open
+    the same files)."""
     from capture.sources import VIDEO_SUFFIXES
 
     if path.suffix.lower() not in VIDEO_SUFFIXES:

@@ -83,6 +83,7 @@
   function say(text, bad) {
     const line = $("message");
     line.textContent = text;
+    line.title = text;  // one line in the header; the whole of it on hover
     line.classList.toggle("bad", bad);
   }
   studio.say = say;

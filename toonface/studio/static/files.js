@@ -1,0 +1,55 @@
+// Files through the browser (toonface/studio/files.py): a file dropped anywhere on the page, or chosen
+// with "Open file…", is sent to the studio, kept in its working folder, and opened where it belongs.
+"use strict";
+(() => {
+  const el = (id) => document.getElementById(id);
+  const files = {sent: 0, last: null};
+  window.files = files;  // the tests read it
+
+  function open(name, kind) {
+    // the file, now in the working folder, opened by the studio's own commands
+    if (kind === "editor") {
+      el("path").value = name.endsWith(".toml") ? name : "";
+      studio.send({op: "open", path: name});
+    } else if (kind === "sound") studio.send({op: "sound", path: name});
+    else if (kind === "labels") studio.send({op: "labels", path: name});
+    else if (kind === "face") studio.send({op: "face", name});
+  }
+
+  async function send(file) {
+    studio.say(`sending ${file.name}…`, false);
+    const response = await fetch(`/files/${encodeURIComponent(file.name)}`, {method: "POST", body: file});
+    if (!response.ok) {
+      studio.say(`${file.name}: ${(await response.text()).trim()}`, true);
+      return;
+    }
+    const kept = await response.json();
+    files.sent += 1;
+    files.last = kept;
+    studio.say(`${file.name} is in the studio's folder as ${kept.name}: opening it…`, false);
+    open(kept.name, kept.kind);
+  }
+  files.send = send;
+
+  el("file-picker").addEventListener("change", (event) => {
+    for (const file of event.target.files) send(file);
+    event.target.value = "";
+  });
+  let depth = 0;  // dragenter and dragleave come for every element the drag crosses
+  document.addEventListener("dragenter", (event) => {
+    if (![...event.dataTransfer.types].includes("Files")) return;
+    depth += 1;
+    el("drop").hidden = false;
+  });
+  document.addEventListener("dragleave", () => {
+    depth = Math.max(0, depth - 1);
+    if (!depth) el("drop").hidden = true;
+  });
+  document.addEventListener("dragover", (event) => event.preventDefault());
+  document.addEventListener("drop", (event) => {
+    event.preventDefault();
+    depth = 0;
+    el("drop").hidden = true;
+    for (const file of event.dataTransfer.files) send(file);
+  });
+})();
