@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from toon.animation import MAX_DURATION, Animation
-from toonface.studio.editor import NEW_SECONDS, AnimationEditor
+from toonface.studio.editor import NEW_SECONDS, TRACK_TOLERANCE, AnimationEditor
 from toonface.studio.guard import Folder, index, number
 from toonface.studio.session import StudioSession
 from toonface.studio.sound import Label, Sound, heard_labels, load_labels, load_sound
@@ -128,7 +128,10 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
             raise ValueError(f"a duration is 0..{MAX_DURATION:g} s, got {seconds:g}")
         session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
     elif op == "open":
-        said = editor.open(str(session.folder.inside(message["path"])))
+        tolerance = number(message.get("tolerance", TRACK_TOLERANCE))
+        if not 0.001 <= tolerance <= 0.5:
+            raise ValueError(f"a take is simplified within 0.001..0.5 of each value, got {tolerance:g}")
+        said = editor.open(str(session.folder.inside(message["path"])), tolerance)
     elif op == "save":
         path = message.get("path")
         said = f"wrote {editor.save(str(session.folder.inside(path)) if path else None)}"

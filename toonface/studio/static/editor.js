@@ -67,7 +67,12 @@
     box.title = "Choose this staff for cut, copy, paste, scale and flip";
     const hide = Object.assign(document.createElement("button"), {type: "button", textContent: "×", title: "Hide"});
     hide.addEventListener("click", () => { editor.hidden.add(motor.code); row.classList.add("hidden"); });
-    label.append(box, motor.code, hide);
+    const axis = document.createElement("span");
+    axis.className = "axis";
+    axis.setAttribute("aria-hidden", "true");
+    axis.append(Object.assign(document.createElement("span"), {textContent: "1"}),
+                Object.assign(document.createElement("span"), {textContent: "0"}));
+    label.append(box, motor.code, hide, axis);
     const svg = svgNode("svg", {"data-code": motor.code});
     svg.addEventListener("dblclick", (event) => addKnot(event, motor.code, svg));
     svg.addEventListener("pointerdown", (event) => startDrag(event, motor.code, svg));
@@ -89,7 +94,7 @@
     for (const [code, svg] of editor.staves) {
       svg.setAttribute("width", width);
       svg.setAttribute("height", STAFF_HEIGHT);
-      const parts = [];
+      const parts = gridLines(seconds, width);
       if (start !== null && (chosen().length === 0 || chosen().includes(code))) {
         parts.push(svgNode("rect", {class: "chosen-span", x: xOf(start), y: 0, width: xOf(end - start), height: STAFF_HEIGHT}));
       }
@@ -122,6 +127,18 @@
     if (state.path && !el("path").value) el("path").value = state.path;
     el("selection").textContent = editor.selection
       ? `selection ${start.toFixed(2)}–${end.toFixed(2)} s` : `cursor ${state.cursor.toFixed(2)} s`;
+    if (editor.onRender) editor.onRender();
+  }
+
+  function gridLines(seconds, width) {
+    // a staff's grid: its values 0, 0.5 and 1 across, and the ruler's seconds down
+    const lines = [0, 0.5, 1].map((v) => svgNode("line", {class: v === 0.5 ? "grid half" : "grid", x1: 0, x2: width,
+                                                         y1: yOf(v), y2: yOf(v)}));
+    const step = editor.zoom >= 40 ? 1 : 5;
+    for (let t = step; t < seconds; t += step) {
+      lines.push(svgNode("line", {class: "grid", x1: xOf(t), x2: xOf(t), y1: 0, y2: STAFF_HEIGHT}));
+    }
+    return lines;
   }
 
   function drawSound(width) {
@@ -309,7 +326,16 @@
   el("redo").addEventListener("click", () => studio.send({op: "redo"}));
   el("duration").addEventListener("change", (event) => studio.send({op: "duration", seconds: Number(event.target.value)}));
   el("new").addEventListener("click", () => studio.send({op: "new", seconds: Number(el("duration").value) || 5}));
-  el("open").addEventListener("click", () => studio.send({op: "open", path: el("path").value}));
+  editor.open = (path) => {
+    // a file of the working folder into the staves; a take or track as knots within the tolerance
+    editor.opened = path;
+    studio.send({op: "open", path, tolerance: Number(el("tolerance").value) || 0.01});
+  };
+  el("open").addEventListener("click", () => editor.open(el("path").value));
+  el("simplify").addEventListener("click", () => {
+    if (editor.opened && !editor.opened.endsWith(".toml")) editor.open(editor.opened);
+    else studio.say("Simplify opens a take or a motor track again: open one first", true);
+  });
   el("save").addEventListener("click", () => studio.send({op: "save", path: el("path").value || null}));
   el("sample").addEventListener("click", () => studio.send({op: "sample", path: el("export").value,
                                                             rate: Number(el("rate").value)}));

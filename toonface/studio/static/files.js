@@ -10,7 +10,7 @@
     // the file, now in the working folder, opened by the studio's own commands
     if (kind === "editor") {
       el("path").value = name.endsWith(".toml") ? name : "";
-      studio.send({op: "open", path: name});
+      editor.open(name);
     } else if (kind === "sound") studio.send({op: "sound", path: name});
     else if (kind === "labels") studio.send({op: "labels", path: name});
     else if (kind === "face") studio.send({op: "face", name});

@@ -1,0 +1,53 @@
+"""The staves an animator can read (issue 46): a value axis and a grid on every staff, the knot
+picked shown with its time and value and moved by typing them, and a take opened as fewer knots
+the looser the "within" the user sets (Simplify opens it again)."""
+
+import shutil
+from pathlib import Path
+
+import pytest
+from browser import chromium, studio_server, wait_for
+from selenium.webdriver.common.action_chains import ActionChains
+
+from toonface.studio.guard import Folder
+from toonface.studio.session import StudioSession
+
+pytestmark = pytest.mark.slow
+TAKE = Path(__file__).resolve().parents[3] / "shared" / "realdata" / "facial" / "animface" / "JawMoCap.csv"
+
+
+def test_a_take_opens_simplified_and_a_picked_knot_is_typed_in(tmp_path):
+    if not TAKE.is_file():
+        pytest.skip(f"the shared take is absent ({TAKE})")
+    shutil.copy(TAKE, tmp_path)
+    session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
+    count = "Object.values(window.editor.state.knots).reduce((n, k) => n + k.length, 0)"
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state")
+        driver.execute_script("editor.open('JawMoCap.csv')")
+        tight = wait_for(driver, f"{count} > 0 && {count}", timeout=60)
+        staff = driver.find_element("css selector", '#staves svg[data-code="MB"]')
+        assert len(staff.find_elements("css selector", "line.grid")) >= 3 + 20  # 0, 0.5, 1 and 26 seconds
+        axis = driver.find_element("css selector", '.staff[data-code="MB"] .axis').text.split()
+        assert axis == ["1", "0"]
+        tolerance = driver.find_element("id", "tolerance")
+        tolerance.clear()
+        tolerance.send_keys("0.05")
+        driver.find_element("id", "simplify").click()
+        loose = wait_for(driver, f"{count} < {tight} && {count}", timeout=60)
+        seconds = session.editor.animation.duration
+        per_motor = loose / 21
+        assert per_motor < tight / 21 and per_motor < 2 * seconds  # a few dozen a motor, not hundreds
+        knot = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="1"]')
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", knot)
+        ActionChains(driver).click(knot).perform()
+        wait_for(driver, "!document.getElementById('knot-edit').hidden")
+        assert driver.find_element("id", "knot-name").text == "MB knot 2"
+        t, v = session.editor.animation.knots["MB"][1]
+        assert float(driver.find_element("id", "knot-t").get_attribute("value")) == pytest.approx(t, abs=1e-3)
+        value = driver.find_element("id", "knot-v")
+        value.clear()
+        value.send_keys("0.75\n")
+        wait_for(driver, "Math.abs(window.editor.state.knots.MB[1][1] - 0.75) < 1e-9")
+        assert session.editor.animation.knots["MB"][1] == pytest.approx((t, 0.75))
