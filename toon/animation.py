@@ -318,8 +318,17 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
 
 
 def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
-    """Write TOML (atomically), each motor's knots as inline ``[time, value]`` pairs: a short
-    curve on one line, a long one a few knots to a line, so the file reads like the curves."""
+    """Write :func:`animation_text` to ``path`` (atomically)."""
+    text = animation_text(anim, path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return Path(path)
+
+
+def animation_text(anim: Animation, path: str | os.PathLike | None = None) -> str:
+    """The animation as TOML, each motor's knots as inline ``[time, value]`` pairs: a short curve
+    on one line, a long one a few knots to a line, so the file reads like the curves (an error
+    naming ``path`` where it cannot be written)."""
     if not 0 <= anim.duration <= MAX_DURATION:  # anim scale --time 1e300 wrote a file the reader refused
         raise InputError(f"the animation would last {anim.duration:g} s; an animation lasts 0..{MAX_DURATION:g} s",
                          path)
@@ -335,9 +344,7 @@ def save_animation(anim: Animation, path: str | os.PathLike) -> Path:
             lines.append(f"{code} = [")
             lines += ["    " + ", ".join(pairs[i:i + 5]) + "," for i in range(0, len(pairs), 5)]
             lines.append("]")
-    with atomic_path(path) as tmp:
-        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return Path(path)
+    return "\n".join(lines) + "\n"
 
 
 def load_animation(path: str | os.PathLike) -> Animation:

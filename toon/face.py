@@ -175,8 +175,13 @@ def save_face(face: Face, path: str | os.PathLike) -> Path:
     """Write ``face`` as JSON, atomically."""
     path = Path(path)
     with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps(face.to_dict(), indent=1) + "\n", encoding="utf-8")
+        tmp.write_text(face_text(face), encoding="utf-8")
     return path
+
+
+def face_text(face: Face) -> str:
+    """``face`` as the JSON :func:`save_face` writes."""
+    return json.dumps(face.to_dict(), indent=1) + "\n"
 
 
 def face_from_dict(doc: Any, source: str | os.PathLike | None = None) -> Face:

@@ -85,5 +85,29 @@ def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_
         driver.find_element("tag name", "body").send_keys(" ")
         wait_for(driver, "window.editor.state.playing && window.editor.state.cursor > 0.5")
         wait_for(driver, f"Math.abs(window.studio.last.values.MB - {mouth}) > 0.02")  # the jaw moves the mouth
+        recent = driver.execute_script("return [...document.getElementById('recent').options].map(o => o.text)")
     assert (tmp_path / "JawMoCap.csv").read_bytes() == take.read_bytes()
     assert "JawMoCap.csv" in said and "knots" in said
+    assert recent == ["…", "JawMoCap.csv"]  # listed to open again
+
+
+def test_the_animation_and_the_face_download_as_the_files_save_writes(tmp_path):
+    import json
+
+    from toon import animation as an
+
+    session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
+    session.editor.animation = an.insert_knot(session.editor.animation, "MB", 1.0, 0.8)
+
+    async def get(url: str) -> tuple[int, str, str]:
+        async with aiohttp.ClientSession() as client, client.get(url) as response:
+            return response.status, response.headers.get("Content-Disposition", ""), await response.text()
+
+    with studio_server(session) as url:
+        status, disposition, text = asyncio.run(get(f"{url}download/animation.toml"))
+        assert status == 200 and 'filename="animation.toml"' in disposition
+        (tmp_path / "got.toml").write_text(text)
+        assert an.load_animation(tmp_path / "got.toml") == session.editor.animation
+        status, disposition, text = asyncio.run(get(f"{url}download/face.json"))
+        assert status == 200 and json.loads(text) == session.face.to_dict() and ".json" in disposition
+        assert asyncio.run(get(f"{url}download/rooms.toml"))[0] == 404

@@ -1,7 +1,8 @@
 """Files through the browser: a file dropped on the studio's page (or chosen with its picker) is
 sent here and kept in the studio's working folder, the only folder it may touch; the page then
-opens it where it belongs (:data:`KINDS`). A download is the page's own doing (it asks for what
-the session holds).
+opens it where it belongs (:data:`KINDS`). ``GET /download/animation.toml`` and
+``/download/face.json`` give the animation and the face being edited, for the browser to save
+wherever the user says.
 
 ``POST /files/NAME`` with the file's bytes as the body. The name is the file's own, made safe (no
 folder, no hidden or odd characters); where a file of that name is already in the folder the new
@@ -15,10 +16,11 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 from aiohttp import web
 
-from common import atomic_path
+from common import InputError, atomic_path
 
 #: The largest file the page may send (a talking-head video of some minutes).
 MAX_UPLOAD = 512 * 2**20
@@ -51,6 +53,29 @@ def free_name(folder: Path, name: str) -> Path:
         n += 1
         path = folder / f"{stem}-{n}{suffix}"
     return path
+
+
+async def send_file(request: web.Request, session: Any, allowed: bool) -> web.Response:
+    """The animation or the face the studio holds, as a download named after it."""
+    from toon.animation import animation_text
+    from toon.face import face_text
+
+    if not allowed:
+        raise web.HTTPForbidden(text="open the studio's page first")
+    what = request.match_info["what"]
+    if what == "animation.toml":
+        path = session.editor.path
+        try:
+            body = animation_text(session.editor.animation)
+        except InputError as exc:
+            raise web.HTTPBadRequest(text=f"{exc}\n") from None
+        name = path.name if path else "animation.toml"
+    elif what == "face.json":
+        name, body = f"{safe_name((session.face.name or 'face') + '.json')}", face_text(session.face)
+    else:
+        raise web.HTTPNotFound(text="the studio gives animation.toml or face.json\n")
+    return web.Response(text=body, content_type="application/toml" if what.endswith(".toml") else "application/json",
+                        headers={"Content-Disposition": f'attachment; filename="{name}"', "Cache-Control": "no-store"})
 
 
 async def receive_file(request: web.Request, folder: Path, allowed: bool) -> web.Response:

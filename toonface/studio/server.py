@@ -68,6 +68,7 @@ def make_app(session: StudioSession, hosts: set[str], token: str = "") -> web.Ap
     app.router.add_get("/ws", _socket)
     app.router.add_get("/sound.wav", _sound)
     app.router.add_post("/files/{name}", _upload)
+    app.router.add_get("/download/{what}", _download)
     app.router.add_static("/static/", static_folder(), follow_symlinks=False)
     app.on_startup.append(_start_ticker)
     app.on_cleanup.append(_stop_ticker)
@@ -125,6 +126,14 @@ async def _upload(request: web.Request) -> web.Response:
 
     allowed = _has_token(request, request.cookies.get(_cookie(request)))
     return await receive_file(request, request.app[SESSION].folder.root, allowed)
+
+
+async def _download(request: web.Request) -> web.Response:
+    """The animation or the face, for the browser to save (:mod:`toonface.studio.files`)."""
+    from toonface.studio.files import send_file
+
+    allowed = _has_token(request, request.cookies.get(_cookie(request)))
+    return await send_file(request, request.app[SESSION], allowed)
 
 
 async def _sound(request: web.Request) -> web.Response:

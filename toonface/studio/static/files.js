@@ -6,8 +6,30 @@
   const files = {sent: 0, last: null};
   window.files = files;  // the tests read it
 
+  const RECENT = "toonface.studio.recent";  // this browser's last files opened, newest first
+  const KEPT = 10;
+
+  function recent() {
+    try {
+      return JSON.parse(localStorage.getItem(RECENT) || "[]").filter((f) => f && f.name && f.kind);
+    } catch (error) {
+      return [];
+    }
+  }
+
+  function listRecent() {
+    el("recent").replaceChildren(new Option("…", ""), ...recent().map((f, i) => new Option(f.name, String(i))));
+  }
+
+  function remember(name, kind) {
+    const kept = [{name, kind}, ...recent().filter((f) => f.name !== name)].slice(0, KEPT);
+    localStorage.setItem(RECENT, JSON.stringify(kept));
+    listRecent();
+  }
+
   function open(name, kind) {
     // the file, now in the working folder, opened by the studio's own commands
+    remember(name, kind);
     if (kind === "editor") {
       el("path").value = name.endsWith(".toml") ? name : "";
       editor.open(name);
@@ -31,6 +53,16 @@
   }
   files.send = send;
 
+  files.open = open;
+  listRecent();
+  el("recent").addEventListener("change", (event) => {
+    const chosen = event.target.value === "" ? null : recent()[Number(event.target.value)];
+    event.target.value = "";
+    if (chosen) open(chosen.name, chosen.kind);
+  });
+  el("open").addEventListener("click", () => {  // a name typed and opened is recent too
+    if (el("path").value) remember(el("path").value, "editor");
+  });
   el("file-picker").addEventListener("change", (event) => {
     for (const file of event.target.files) send(file);
     event.target.value = "";
