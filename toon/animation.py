@@ -105,13 +105,14 @@ def from_track(track: MotorTrack, tolerance: float = 0.01) -> Animation:
             raise ValueError(f"motor {code} has unset values: fill or map the track first")
         if np.all(np.abs(values - rest[i]) <= 1e-12):
             continue
-        kept = _simplified(times, values, tolerance)
+        kept = simplified_knots(times, values, tolerance)
         knots[code] = tuple((float(times[k]), float(values[k])) for k in kept)
     return Animation(knots, float(track.frames / track.rate))
 
 
-def _simplified(times: np.ndarray, values: np.ndarray, tolerance: float) -> list[int]:
-    """Indices of the samples Douglas-Peucker keeps (vertical distance to each chord)."""
+def simplified_knots(times: np.ndarray, values: np.ndarray, tolerance: float) -> list[int]:
+    """Indices of the samples ``(N,)`` Douglas-Peucker keeps within ``tolerance`` (vertical
+    distance to each chord), the first and last included."""
     keep = {0, len(values) - 1}
     spans = [(0, len(values) - 1)]
     while spans:

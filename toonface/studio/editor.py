@@ -110,6 +110,11 @@ class AnimationEditor:
     def flip(self, codes: list[str], start: float, end: float) -> None:
         self._change(an.flip(self.animation, self._codes(codes) or None, *self._span(start, end)))
 
+    def insert(self, clip: Animation) -> None:
+        """``clip`` (a motion or an expression as knots) at the cursor, in place of what its motors
+        did for its length (:func:`toon.animation.paste`); undoable."""
+        self._change(an.paste(self.animation, clip, self.cursor))
+
     def set_duration(self, seconds: float) -> None:
         """A new length; knots beyond it are dropped (undoable)."""
         seconds = float(seconds)

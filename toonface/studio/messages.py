@@ -79,7 +79,7 @@ def apply(session: StudioSession, message: object, now: float) -> tuple[str, str
 
 #: Messages for the Animation Editor (:func:`_edit`).
 EDITOR_OPS = ("knot", "slice", "paste", "undo", "redo", "cursor", "playback", "duration", "new", "open", "save",
-              "sample")
+              "sample", "insert")
 
 
 def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | None:
@@ -127,6 +127,8 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
         if not 0 < seconds <= MAX_DURATION:
             raise ValueError(f"a duration is 0..{MAX_DURATION:g} s, got {seconds:g}")
         session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
+    elif op == "insert":
+        said = session.insert_motion(str(message["name"]))
     elif op == "open":
         tolerance = number(message.get("tolerance", TRACK_TOLERANCE))
         if not 0.001 <= tolerance <= 0.5:

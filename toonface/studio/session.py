@@ -22,6 +22,7 @@ from player.animator import Animator, schedule
 from player.motion import SecondaryMotion
 from player.motions import GESTURES, motion_names, standard_motion
 from toon import MOTOR_CODES, Face, FaceRig, load_face
+from toon.animation import Animation, simplified_knots
 from toon.expressions import Expression, load_expressions
 from toon.face import ANGLE_MOTORS
 from toon.formulas import head_turn
@@ -57,6 +58,10 @@ class LiveSource(Protocol):
 
 #: Seconds a looping expression rests at each end.
 LOOP_PAUSE = 0.4
+#: A motion inserted into the animation is kept within this of every value it takes (0..1).
+INSERT_TOLERANCE = 0.005
+#: Seconds a motion inserted may last at most.
+INSERT_LONGEST = 10.0
 
 
 @dataclass(frozen=True)
@@ -231,6 +236,40 @@ class StudioSession:
                                  self.face.extra_neutral())
         for offset, moves in motion.steps:
             schedule((self.animator, self.moved), now + offset, moves)
+
+    def insert_motion(self, name: str) -> str:
+        """The expression or standard motion ``name`` into the animation at its cursor, as knots on
+        the motors it moves: played by an Animator of this session's loop time from the values
+        the animation has there, as test mode would play it, and kept within
+        :data:`INSERT_TOLERANCE`. Returns what was done, in a line.
+
+        Raises
+        ------
+        KeyError
+            For a name that is neither.
+        """
+        editor = self.editor
+        at = editor.cursor
+        current = np.array([float(editor.animation.value(code, at, self.neutral)) for code in MOTOR_CODES])
+        motion = standard_motion(name, None, current, self.neutral, self.expressions, self.face.extra_neutral())
+        animator = Animator(current, self.loop_time)
+        for offset, moves in motion.steps:
+            schedule((animator,), offset, moves)
+        rows = [animator.tick(0.0)]
+        while animator.busy() and len(rows) * self.loop_time < INSERT_LONGEST:
+            rows.append(animator.tick(len(rows) * self.loop_time))
+        table = np.array([current, *rows])
+        times = np.arange(len(table)) * self.loop_time
+        knots = {}
+        for i, code in enumerate(MOTOR_CODES):
+            values = table[:, i]
+            if np.ptp(values) > 1e-9:
+                kept = simplified_knots(times, values, INSERT_TOLERANCE)
+                knots[code] = tuple((float(times[k]), float(values[k])) for k in kept)
+        if not knots:
+            return f"{name} moves nothing from here"
+        editor.insert(Animation(knots, float(times[-1])))
+        return f"inserted {name} at {at:.2f} s ({times[-1]:.2f} s on {', '.join(knots)})"
 
     def reset(self) -> None:
         """Every motor back to the face's neutral, every pending move dropped."""

@@ -1,5 +1,6 @@
 // The staves' knot panel: the knot picked on a staff, its time and value shown and typed in; every
-// change is the server's knot move (toonface/studio/editor.py), as a drag is.
+// change is the server's knot move (toonface/studio/editor.py), as a drag is. And Insert: a motion
+// or an expression put in at the cursor as knots (StudioSession.insert_motion).
 "use strict";
 (() => {
   const el = (id) => document.getElementById(id);
@@ -38,6 +39,14 @@
     if (!Number.isFinite(t) || !Number.isFinite(v)) return;
     studio.send({op: "knot", action: "move", code: knot[0], index: knot[1], t, v});
   }
+  const previousHello = studio.onHello;
+  studio.onHello = (hello) => {  // the motions and expressions to insert, as test mode lists them
+    if (previousHello) previousHello(hello);
+    const names = [...hello.motions, ...hello.expressions];
+    el("insert-name").replaceChildren(...names.map((name) => new Option(name, name)));
+  };
+  el("insert").addEventListener("click", () => studio.send({op: "insert", name: el("insert-name").value}));
+
   el("knot-t").addEventListener("change", typed);
   el("knot-v").addEventListener("change", typed);
 })();

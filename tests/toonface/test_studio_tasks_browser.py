@@ -1,0 +1,70 @@
+"""The issue's second first-time task, scripted in Chromium as a person clicks, in the number of page
+actions README states: add a blink and a raised brow to a motor track and render it (6 actions: drop
+the track, choose blink, Insert, double-click high on a brow's staff, type the video's name,
+Render MP4). The first task (drop a take and play it: 2) is in test_studio_files.py."""
+
+import numpy as np
+import pytest
+from browser import chromium, studio_server, wait_for
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.support.ui import Select
+
+from toon import MotorTrack, motor_index, save_track, standard_neutral
+from toonface.studio.guard import Folder
+from toonface.studio.session import StudioSession
+
+pytestmark = pytest.mark.slow
+
+
+def _drop(driver, path) -> None:
+    """A file dragged from the desktop onto the face (Selenium hands it to an input, then drops it)."""
+    driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
+                          "i.style.display = 'none'; document.body.append(i)")
+    driver.find_element("id", "carried").send_keys(str(path))
+    driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
+                          "document.getElementById('carried').remove();"
+                          "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
+                          "{dataTransfer: t, bubbles: true, cancelable: true}))")
+
+
+def test_a_blink_and_a_raised_brow_added_to_a_track_and_rendered_in_six_page_actions(tmp_path):
+    import av
+
+    rng = np.random.default_rng(3)
+    frames = 60  # two seconds of a talking mouth at 30 frames/s
+    values = np.tile(standard_neutral(), (frames, 1))
+    values[:, motor_index("MB")] = 0.2 + 0.3 * np.abs(np.sin(np.arange(frames) / 4)) + rng.normal(0, 0.005, frames)
+    track = tmp_path / "talk.csv"
+    save_track(MotorTrack(np.clip(values, 0, 1), 30.0), track)
+    folder = tmp_path / "studio"
+    folder.mkdir()
+    session = StudioSession("classic", folder=Folder(folder.resolve()))
+    actions = 0
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state && "
+                         "document.getElementById('insert-name').options.length > 3")
+        _drop(driver, track)
+        actions += 1
+        wait_for(driver, "(window.editor.state.knots.MB || []).length > 2", timeout=30)
+        Select(driver.find_element("id", "insert-name")).select_by_value("blink")
+        driver.find_element("id", "insert").click()
+        actions += 2
+        wait_for(driver, "(window.editor.state.knots.ERU || []).length >= 3")
+        brow = driver.find_element("css selector", '#staves svg[data-code="BLM"]')
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", brow)
+        ActionChains(driver).move_to_element_with_offset(brow, 60, -15).double_click().perform()  # high, past 1 s
+        actions += 1
+        wait_for(driver, "(window.editor.state.knots.BLM || []).length === 1")
+        name = driver.find_element("id", "export")
+        name.send_keys("mine.mp4")
+        driver.find_element("id", "render").click()
+        actions += 2
+        wait_for(driver, "document.getElementById('message').textContent.startsWith('wrote')", timeout=120)
+    assert actions == 6  # README: "add a blink and a raised brow to a track and render it: 6 page actions"
+    knots = session.editor.animation.knots
+    assert min(v for _, v in knots["ERU"]) < 0.1  # the lid comes down: a blink
+    assert knots["BLM"][0][1] > standard_neutral()[motor_index("BLM")] + 0.2  # the brow raised
+    with av.open(str(folder / "mine.mp4")) as video:
+        stream = video.streams.video[0]
+        assert stream.frames >= 55 or float(stream.duration * stream.time_base) >= 1.9
