@@ -68,3 +68,48 @@ def test_a_blink_and_a_raised_brow_added_to_a_track_and_rendered_in_six_page_act
     with av.open(str(folder / "mine.mp4")) as video:
         stream = video.streams.video[0]
         assert stream.frames >= 55 or float(stream.duration * stream.time_base) >= 1.9
+
+
+DRAWING = """<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200">
+  <ellipse id="cheeks" cx="100" cy="120" rx="70" ry="30" fill="#f6b0a0" opacity="0.6"/>
+  <path id="mouth" d="M70 150 Q100 175 130 150 Q100 162 70 150 Z" fill="#8a1c2c" stroke="#300" stroke-width="1.5"/>
+</svg>"""
+
+
+def test_an_svg_drawing_imported_and_its_mouth_attached_in_three_page_actions(tmp_path):
+    """The third first-time task: drop the drawing (1), choose its mouth in the component list (2),
+    Attach (to the mouth, the default) (3); then the drawn mouth opens with the face's."""
+    from toon import FaceRig
+
+    drawing = tmp_path / "mine.svg"
+    drawing.write_text(DRAWING)
+    folder = tmp_path / "studio"
+    folder.mkdir()
+    session = StudioSession("classic", folder=Folder(folder.resolve()))
+    actions = 0
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.faces && window.faces.doc && window.files")
+        _drop(driver, drawing)
+        actions += 1
+        wait_for(driver, "(window.faces.doc.components || []).some(c => c.name === 'mouth')", timeout=30)
+        assert driver.execute_script("return document.getElementById('face-panel').open")  # the Face editor shows
+        mouth = driver.execute_script("return window.faces.doc.components.findIndex(c => c.name === 'mouth')")
+        driver.find_element("css selector", f'#polygon option[value="{mouth}"]').click()  # a click, not ctrl-click
+        wait_for(driver, f"window.faces.selected === {mouth}")
+        driver.find_element("id", "attach-component").click()
+        actions += 2
+        wait_for(driver, f"typeof window.faces.doc.components[{mouth}].points[0] === 'object' && "
+                         f"!Array.isArray(window.faces.doc.components[{mouth}].points[0])")
+        said = driver.find_element("id", "message").text
+    assert actions == 3  # README: "import an SVG drawing and attach its mouth: 3 page actions"
+    assert (folder / "mine.svg").is_file()
+    face = session.faces.face
+    spec = next(c for c in face.components if c.name == "mouth")
+    assert {p.master for p in spec.points} >= {"ML", "MR"} and all(p.kind == "slave" for p in spec.points)
+    rig, shut = FaceRig(face), face.neutral()
+    wide = shut.copy()
+    wide[motor_index("MB")] = 1.0
+    drawn = [next(i.vertices for i in rig.geometry(v).items if i.name == "mouth") for v in (shut, wide)]
+    assert drawn[1][:, 1].min() < drawn[0][:, 1].min() - 5  # its lower lip comes down as the mouth opens
+    assert "imported" in said or "mouth" in said or said == ""

@@ -271,3 +271,40 @@ def _tidy(spec: dict) -> None:
     for key in ("hidden", "smooth"):
         if not spec.get(key):
             spec.pop(key, None)
+
+
+#: The control points of each feature a component may be attached to.
+FEATURES = {"mouth": ("ML", "MT", "MR", "MB"), "brow_right": ("BRM", "BRC", "BRL"),
+            "brow_left": ("BLM", "BLC", "BLL"), "eye_right": ("ERI", "ERU", "ERO", "ERL"),
+            "eye_left": ("ELI", "ELU", "ELO", "ELL")}
+
+
+def import_svg(doc: dict, text: str) -> list[int]:
+    """An SVG drawing's shapes as components drawn last, fitted into the face's viewbox
+    (:func:`toon.svg_import.svg_components`); returns their indices."""
+    from toon.svg_import import svg_components
+
+    viewbox = tuple(float(v) for v in doc.get("viewbox", (-256, -256, 256, 256)))
+    made = svg_components(text, (viewbox[0], viewbox[1], viewbox[2], viewbox[3]))
+    components = doc.setdefault("components", [])
+    for spec in made:
+        spec["name"] = unique_name(doc, "component", spec["name"])
+        components.append(spec)
+    return list(range(len(components) - len(made), len(components)))
+
+
+def attach(doc: dict, component: int, feature: str) -> None:
+    """Every point of a component made a slave of the nearest control point of ``feature`` (one of
+    :data:`FEATURES`, or a control point's name), where it rests: the component then moves as that
+    part of the face does."""
+    masters = FEATURES.get(feature) or ((feature,) if feature in doc["points"] else None)
+    if masters is None:
+        raise ValueError(f"attach to one of {', '.join(FEATURES)} or a control point, got {feature!r}")
+    spec = item(doc, "component", component)
+    if spec.get("kind") not in ("polyline", "polygon", "ellipse"):
+        raise ValueError(f"attach a polyline, polygon or ellipse (a {spec.get('kind')} moves by its own points)")
+    refs = component_part(spec, "points")
+    for i, ref in enumerate(refs):
+        x, y = (float(v) for v in rest_of(doc, ref))
+        nearest = min(masters, key=lambda name: float(np.hypot(doc["points"][name][0] - x, doc["points"][name][1] - y)))
+        refs[i] = {"slave": nearest, "at": [x, y]}

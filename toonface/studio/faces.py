@@ -165,6 +165,25 @@ class FaceEditor:
     def delete_component_point(self, component: int, part: str, index: int) -> Face:
         return self._edit(lambda doc: parts.delete_point(doc, component, part, index))
 
+    def import_svg(self, path: Path) -> list[int]:
+        """An SVG drawing's shapes as components drawn last (:func:`toon.svg_import.svg_components`);
+        their indices. An :class:`InputError` naming the file where it is not a drawing."""
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise InputError(f"cannot read it: {exc}", path) from None
+        made: list[int] = []
+        try:
+            self._edit(lambda doc: made.extend(parts.import_svg(doc, text)))
+        except ValueError as exc:
+            raise InputError(str(exc), path) from None
+        return made
+
+    def attach(self, component: int, feature: str) -> Face:
+        """A component's points made slaves of the nearest control points of ``feature`` (mouth,
+        a brow, an eye, or one control point)."""
+        return self._edit(lambda doc: parts.attach(doc, component, feature))
+
     def set_point_kind(self, component: int, part: str, index: int, kind: str, master: str | None = None) -> Face:
         """A component's point made master, slave, fixed or frozen (of ``master``, or the nearest control point)."""
         return self._edit(lambda doc: parts.set_point_kind(doc, component, part, index, kind, master))

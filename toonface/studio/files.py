@@ -25,13 +25,15 @@ from common import InputError, atomic_path
 #: The largest file the page may send (a talking-head video of some minutes).
 MAX_UPLOAD = 512 * 2**20
 #: Where a file goes once here, by its extension: ``editor`` (an animation, a motor track, a take
-#: or a video, as knots), ``face``, ``sound``, ``labels``.
+#: or a video, as knots), ``face``, ``sound``, ``labels``, ``artwork`` (an SVG drawing, into the face
+#: being edited as components).
 KINDS = {
     **dict.fromkeys((".toml", ".csv", ".npz", ".c3d", ".trc", ".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg",
                      ".mpeg", ".m4v"), "editor"),
     ".json": "face",
     **dict.fromkeys((".wav", ".mp3", ".ogg", ".oga", ".opus", ".flac", ".m4a", ".aac"), "sound"),
     ".txt": "labels",
+    ".svg": "artwork",
 }
 
 

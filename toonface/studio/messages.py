@@ -157,6 +157,7 @@ FACE_ACTIONS = {"move_point": ("name", "x", "y"), "set_range": ("code", "end", "
                 "add_component_point": ("component", "part", "after", "x", "y"),
                 "delete_component_point": ("component", "part", "index"),
                 "set_point_kind": ("component", "part", "index", "kind", "master?"),
+                "attach": ("component", "feature"),
                 "group": ("indices", "name?"), "ungroup": ("index",),
                 "insert_from_library": ("library", "use", "controls?", "dx?", "dy?"),
                 "list_library": ("library",),
@@ -200,6 +201,10 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         said = f"editing a copy of {message['name']}"
     elif action == "save":
         said = f"wrote {faces.save(session.folder.inside(message['path']))}"
+    elif action == "import_svg":
+        path = session.folder.inside(message["path"], "a drawing")
+        made = faces.import_svg(path)
+        said = f"imported {len(made)} components from {path.name}: attach each to the face's points (Attach)"
     elif action == "save_to_library":
         written = faces.save_to_library(index(message["index"]), session.folder.name_or_inside(message["library"]),
                                         str(message["name"]),
@@ -290,7 +295,7 @@ def _argument(key: str, value: object) -> object:
             raise TypeError('controls: expected an object like {"M": "BLM"}')
         return {str(k): str(v) for k, v in value.items()}
     if key in ("name", "code", "end", "axis", "color", "part", "kind", "master", "library", "use", "point",
-               "description", "param", "inputs"):
+               "description", "param", "inputs", "feature"):
         return str(value)
     return number(value, key)
 

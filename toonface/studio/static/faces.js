@@ -234,8 +234,10 @@
   el("kind").replaceChildren(...KINDS.map((k) => new Option(k, k)));
   el("design").addEventListener("change", (event) => setDesign(event.target.checked));
   el("polygon").addEventListener("change", (event) => {
-    faces.selected = Number(event.target.value);
-    faces.chosen = [...event.target.selectedOptions].map((option) => Number(option.value));
+    const chosen = [...event.target.selectedOptions].map((option) => Number(option.value));
+    const added = chosen.find((i) => !faces.chosen.includes(i));  // the one just clicked is the one edited
+    faces.selected = added !== undefined ? added : Number(event.target.value);
+    faces.chosen = chosen;
     panel();
     draw();
   });

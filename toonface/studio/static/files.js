@@ -36,6 +36,11 @@
     } else if (kind === "sound") studio.send({op: "sound", path: name});
     else if (kind === "labels") studio.send({op: "labels", path: name});
     else if (kind === "face") studio.send({op: "face", name});
+    else if (kind === "artwork") {  // your own drawing, into the face being edited
+      el("tab-face").click();
+      el("target-component").click();
+      faces.edit({action: "import_svg", path: name});
+    }
   }
 
   async function send(file) {
@@ -62,6 +67,13 @@
   });
   el("open").addEventListener("click", () => {  // a name typed and opened is recent too
     if (el("path").value) remember(el("path").value, "editor");
+  });
+  el("svg-picker").addEventListener("change", (event) => {
+    for (const file of event.target.files) send(file);
+    event.target.value = "";
+  });
+  el("attach-component").addEventListener("click", () => {
+    faces.edit({action: "attach", component: faces.selected, feature: el("attach-feature").value});
   });
   el("file-picker").addEventListener("change", (event) => {
     for (const file of event.target.files) send(file);

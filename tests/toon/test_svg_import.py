@@ -1,0 +1,65 @@
+"""An SVG drawing as a face's components: shapes in document order with their transforms, fills,
+strokes and widths, fitted into the face's viewbox with y turned up; curves as a few points,
+straight edges as their corners; bad drawings refused in a line. And attached to a feature, a
+component moves with the face's control points."""
+
+import numpy as np
+import pytest
+
+from toon import FaceRig, load_face, motor_index
+from toon.face import face_from_dict
+from toon.svg_import import svg_components
+from toonface.studio import component_edits as parts
+
+DRAWING = """<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200">
+  <g transform="translate(20, 0) scale(0.5)"><rect id="patch" x="0" y="0" width="40" height="20" fill="#336699"/></g>
+  <path id="mouth" d="M60 140 Q100 170 140 140 Q100 155 60 140 Z" fill="#b0303a" stroke="#000" stroke-width="2"/>
+  <polyline id="lash" points="10,10 20,5 30,10" fill="none" stroke="rgba(0,0,0,0.5)" stroke-width="4"/>
+  <circle cx="100" cy="100" r="3" fill="none" stroke="none"/>
+  <circle id="blush" cx="50" cy="100" r="10" fill="#ff0000" opacity="0.5"/>
+</svg>"""
+
+
+def test_shapes_become_components_in_order_fitted_into_the_face_with_y_up():
+    made = svg_components(DRAWING, (-256.0, -256.0, 256.0, 256.0))
+    assert [c["name"] for c in made] == ["patch", "mouth", "lash", "blush"]  # the invisible circle left out
+    patch, mouth, lash, blush = made
+    assert blush["fill"] == "#ff000080"  # its own opacity
+    scale = 512 / 200  # the 200-unit drawing fills the 512-unit face
+    # the rect, translated then scaled by its group: (20, 0)..(40, 10) in the drawing, four corners
+    expected = [((x - 100) * scale, -(y - 100) * scale) for x, y in ((20, 0), (40, 0), (40, 10), (20, 10))]
+    assert patch["kind"] == "polygon" and np.allclose(patch["points"], expected, atol=1e-3)
+    assert patch["fill"] == "#336699" and "stroke" not in patch
+    assert mouth["kind"] == "polygon" and mouth["fill"] == "#b0303a" and mouth["stroke"] == "#000000"
+    assert mouth["width"] == pytest.approx(2 * scale)
+    assert 4 <= len(mouth["points"]) <= 64
+    ys = np.array(mouth["points"])[:, 1]
+    assert ys.max() == pytest.approx(-(140 - 100) * scale, abs=1e-3)  # its top, the corners, below the centre
+    assert lash["kind"] == "polyline" and lash["stroke"] == "#00000080" and len(lash["points"]) == 3
+
+
+@pytest.mark.parametrize("text, says", [("<svg", "not an SVG drawing"), ("<html/>", "not an SVG drawing"),
+                                        ('<svg xmlns="http://www.w3.org/2000/svg"/>', "no shape"),
+                                        ('<svg xmlns="http://www.w3.org/2000/svg"><rect width="9" height="9" '
+                                         'fill="none"/></svg>', "empty, invisible or specks")])
+def test_a_drawing_that_draws_nothing_is_refused_in_a_line(text, says):
+    with pytest.raises(ValueError, match=says):
+        svg_components(text, (-256.0, -256.0, 256.0, 256.0))
+
+
+def test_a_component_attached_to_the_mouth_moves_with_it():
+    doc = load_face("classic").to_dict()
+    [_, mouth, *_] = parts.import_svg(doc, DRAWING)
+    parts.attach(doc, mouth, "mouth")
+    spec = doc["components"][mouth]
+    assert {ref["slave"] for ref in spec["points"]} <= {"ML", "MT", "MR", "MB"}
+    assert {ref["slave"] for ref in spec["points"]} >= {"ML", "MR"}  # the corners follow the corners
+    face = face_from_dict(doc)
+    rig = FaceRig(face)
+    shut, open_ = face.neutral(), face.neutral()
+    open_[motor_index("MB")] = 1.0
+    name = spec["name"]
+    shapes = [next(i.vertices for i in rig.geometry(v).items if i.name == name) for v in (shut, open_)]
+    assert not np.allclose(shapes[0], shapes[1])  # it moved as the mouth opened
+    with pytest.raises(ValueError, match="attach to one of mouth"):
+        parts.attach(doc, mouth, "nose")

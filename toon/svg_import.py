@@ -1,0 +1,148 @@
+"""An SVG drawing (Inkscape, Illustrator, Affinity export) as a face's components.
+
+Each visible shape (path, rect, circle, ellipse, line, polyline, polygon), with its group's and its
+own transforms applied (``svgelements``, MIT), becomes one component per subpath, in document
+order (the drawing's layer order) on the foreground layer: a closed subpath a ``polygon`` (filled
+with the shape's fill where it has one), an open one a ``polyline``. The stroke and its width are
+kept, the width scaled as the drawing is, and the shape's own ``opacity`` folds into their alpha
+(a group's opacity does not: it would need the group drawn as one; gradients are left out).
+Straight segments keep their end points; a curve becomes points about :data:`CURVE_STEP` face
+units apart (2 to 32 of them). The drawing is fitted into the face's viewbox, centred, its aspect
+kept (SVG's y runs down, a face's up). Every point is frozen where it lands, ready to be attached
+to control points (``toonface studio``: Attach).
+
+A component is named after its shape's ``id``, else its kind and number.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from typing import Any
+
+#: Face units between the points of a curve.
+CURVE_STEP = 6.0
+#: A subpath shorter than this (face units) is left out (a speck).
+SMALLEST = 1.0
+
+
+def svg_components(text: str, viewbox: tuple[float, float, float, float]) -> list[dict[str, Any]]:
+    """The drawing ``text`` (SVG) as component entries of a face file, fitted into ``viewbox``
+    ``(xmin, ymin, xmax, ymax)`` (see the module docstring); a ValueError naming what is wrong
+    where it is not an SVG drawing or draws nothing."""
+    import svgelements as se
+
+    try:
+        drawing = se.SVG.parse(io.StringIO(text))
+    except Exception as exc:  # noqa: BLE001 - the parser's own errors are many and unexported
+        raise ValueError(f"not an SVG drawing ({type(exc).__name__}: {exc})") from None
+    if not isinstance(drawing, se.SVG):
+        raise ValueError("not an SVG drawing (no <svg> element)")
+    shapes = [e for e in drawing.elements() if isinstance(e, se.Shape) and _visible(e)]
+    paths = [(e, se.Path(e)) for e in shapes]
+    if not paths:
+        raise ValueError("the drawing has no shape to import (path, rect, circle, ellipse, line, polyline, polygon)")
+    fit = _fit(drawing, [p for _, p in paths], viewbox)
+    out: list[dict[str, Any]] = []
+    for number, (shape, path) in enumerate(paths, start=1):
+        base = str(shape.id) if getattr(shape, "id", None) else f"{type(shape).__name__.lower()} {number}"
+        subpaths = list(path.as_subpaths())
+        for k, sub in enumerate(subpaths):
+            points, closed = _points(se, sub, fit)
+            if len(points) < 2 or _length(points) < SMALLEST:
+                continue
+            opacity = _opacity(shape)
+            fill = _colour(shape.fill, opacity) if closed else None
+            stroke = _colour(shape.stroke, opacity)
+            if fill is None and stroke is None:
+                continue
+            spec: dict[str, Any] = {"kind": "polygon" if closed and len(points) >= 3 else "polyline",
+                                    "name": base if len(subpaths) == 1 else f"{base} {k + 1}", "layer": 1,
+                                    "points": [[round(x, 3), round(y, 3)] for x, y in points]}
+            if fill is not None:
+                spec["fill"] = fill
+            if stroke is not None:
+                width = float(getattr(shape, "implicit_stroke_width", None) or shape.stroke_width or 1.0)
+                spec["stroke"], spec["width"] = stroke, round(max(width * fit[2], 0.1), 3)
+            out.append(spec)
+    if not out:
+        raise ValueError("the drawing's shapes are all empty, invisible or specks")
+    return out
+
+
+def _visible(shape: Any) -> bool:
+    values = getattr(shape, "values", {}) or {}
+    return values.get("visibility") != "hidden" and values.get("display") != "none"
+
+
+#: ``(svg centre x, svg centre y, scale, face centre x, face centre y)``.
+Fit = tuple[float, float, float, float, float]
+
+
+def _fit(drawing: Any, paths: list, viewbox: tuple[float, float, float, float]) -> Fit:
+    """``(svg centre x, svg centre y, scale, face centre x, face centre y)``: the drawing's viewBox
+    (else its shapes' bounds) fitted into the face's viewbox."""
+    box = drawing.viewbox
+    if box is not None and box.width and box.height:
+        left, top, width, height = float(box.x), float(box.y), float(box.width), float(box.height)
+    else:
+        bounds = [p.bbox() for p in paths if p.bbox() is not None]
+        left, top = min(b[0] for b in bounds), min(b[1] for b in bounds)
+        width, height = max(b[2] for b in bounds) - left, max(b[3] for b in bounds) - top
+    if not (width > 0 and height > 0):
+        raise ValueError("the drawing has no size (an empty viewBox or a single point)")
+    xmin, ymin, xmax, ymax = viewbox
+    scale = min((xmax - xmin) / width, (ymax - ymin) / height)
+    return left + width / 2, top + height / 2, scale, (xmin + xmax) / 2, (ymin + ymax) / 2
+
+
+def _points(se: Any, sub: Any, fit: Fit) -> tuple[list[tuple[float, float]], bool]:
+    """A subpath's points in face units, and whether it is closed."""
+    sx, sy, scale, fx, fy = fit
+
+    def face(p: Any) -> tuple[float, float]:
+        return fx + (float(p.x) - sx) * scale, fy - (float(p.y) - sy) * scale
+
+    points: list[tuple[float, float]] = []
+    closed = False
+    for segment in sub:
+        if isinstance(segment, se.Move):
+            points = [face(segment.end)]
+        elif isinstance(segment, se.Close):
+            closed = True
+        elif isinstance(segment, se.Line):
+            points.append(face(segment.end))
+        else:  # a curve: points about CURVE_STEP apart
+            steps = min(32, max(2, math.ceil(float(segment.length()) * scale / CURVE_STEP)))
+            points += [face(segment.point(i / steps)) for i in range(1, steps + 1)]
+    if len(points) > 2 and math.dist(points[0], points[-1]) < 1e-6:
+        points.pop()
+        closed = True
+    return points, closed
+
+
+def _length(points: list[tuple[float, float]]) -> float:
+    return sum(math.dist(a, b) for a, b in zip(points, points[1:], strict=False))
+
+
+def _opacity(shape: Any) -> float:
+    """The shape's own ``opacity`` (which its paints' alpha leaves out; a group's is not applied)."""
+    try:
+        return min(1.0, max(0.0, float((getattr(shape, "values", {}) or {}).get("opacity", 1.0))))
+    except (TypeError, ValueError):
+        return 1.0
+
+
+def _colour(value: Any, opacity: float = 1.0) -> str | None:
+    """An SVG paint as ``#rrggbb`` (``#rrggbbaa`` where not opaque), its alpha times ``opacity``;
+    None for none or a gradient."""
+    if value is None or getattr(value, "value", None) is None:
+        return None
+    try:
+        alpha = round(int(value.alpha) * opacity)
+        rgb = str(value.hex)[:7]
+    except (AttributeError, TypeError):
+        return None
+    if alpha == 0:
+        return None
+    return rgb if alpha >= 255 else f"{rgb}{alpha:02x}"
