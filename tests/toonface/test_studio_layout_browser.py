@@ -110,3 +110,47 @@ def test_axe_core_finds_no_serious_or_critical_violation_in_any_panel(served):
                 "axe.run(document).then(r => done(r.violations.filter(v => ['serious', 'critical'].includes(v.impact))"
                 ".map(v => `${v.id}: ${v.nodes.map(n => n.target.join(' ')).slice(0, 3).join(', ')}`)))")
     assert found == {tab: [] for tab in found}
+
+
+def test_the_nearest_handle_is_taken_and_the_face_zooms_about_the_pointer(served):
+    from selenium.webdriver.support.ui import Select
+
+    url, session = served
+    with chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, READY)
+        driver.find_element("id", "tab-face").click()
+        driver.find_element("id", "design").click()
+        wait_for(driver, "!document.getElementById('shape').classList.contains('off')")
+        nose = next(i for i, p in enumerate(session.faces.face.polygons) if p.name == "nose")
+        Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+        vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
+        size = vertex.size["width"]
+        # beside the vertex, not on it: the pointer is nearer it than any other handle
+        ActionChains(driver).move_to_element_with_offset(vertex, size / 2 + 5, 0).perform()
+        wait_for(driver, "document.querySelector('#shape rect.vertex[data-index=\"0\"]').classList.contains('near')"
+                         " && document.getElementById('shape').classList.contains('picking')")
+        before = list(session.faces.face.polygons[nose].vertices[0])
+        ActionChains(driver).click_and_hold().move_by_offset(10, 0).move_by_offset(10, 0).release().perform()
+        wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices[0][0] > {before[0] + 5}")
+        before = list(session.faces.face.polygons[nose].vertices[0])
+        # zoom: the wheel over the face, about the pointer; the handle under it stays under it
+        vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
+        centre = driver.execute_script("const b = arguments[0].getBoundingClientRect(); "
+                                       "return [b.left + b.width / 2, b.top + b.height / 2]", vertex)
+        driver.execute_script("document.getElementById('stage').dispatchEvent(new WheelEvent('wheel', "
+                              "{deltaY: -400, clientX: arguments[0], clientY: arguments[1], bubbles: true, "
+                              "cancelable: true}))", *centre)
+        scale = driver.execute_script("return window.stageView.scale")
+        after = driver.execute_script("const b = document.querySelector('#shape rect.vertex[data-index=\"0\"]')"
+                                      ".getBoundingClientRect(); return [b.left + b.width / 2, b.top + b.height / 2]")
+        assert scale == pytest.approx(2.718, abs=0.01)
+        assert abs(after[0] - centre[0]) < 1 and abs(after[1] - centre[1]) < 1
+        per_pixel = driver.execute_script("return 1 / document.getElementById('shape').getScreenCTM().a")
+        vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
+        ActionChains(driver).click_and_hold(vertex).move_by_offset(10, 0).move_by_offset(10, 0).release().perform()
+        wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices[0][0] > {before[0] + 5}")
+        moved = session.faces.face.polygons[nose].vertices[0][0] - before[0]
+        assert moved == pytest.approx(20 * per_pixel, abs=2 * per_pixel)  # finer steps, zoomed in
+        driver.find_element("tag name", "body").send_keys("0")
+        assert driver.execute_script("return window.stageView.scale") == 1

@@ -150,8 +150,31 @@
     return [p.x, -p.y];  // face units: y up
   }
 
+  const PICK_PIXELS = 14;  // a handle this near the pointer is taken, the nearest of several
+
+  function nearestHandle(event) {
+    // the handle (vertex, point, range end) nearest the pointer on screen, within PICK_PIXELS
+    let best = null;
+    let bestDistance = PICK_PIXELS;
+    for (const handle of el("shape").querySelectorAll("[data-drag]:not([data-drag=unit])")) {
+      const box = handle.getBoundingClientRect();
+      const d = Math.hypot(event.clientX - (box.left + box.width / 2), event.clientY - (box.top + box.height / 2));
+      if (d < bestDistance) [best, bestDistance] = [handle, d];
+    }
+    return best;
+  }
+
+  function hover(event) {
+    // the handle a press would take shows strong, the others faint
+    if (faces.dragging) return;
+    const near = nearestHandle(event);
+    for (const handle of el("shape").querySelectorAll(".near")) if (handle !== near) handle.classList.remove("near");
+    if (near) near.classList.add("near");
+    el("shape").classList.toggle("picking", near !== null);
+  }
+
   function down(event) {
-    const target = event.target;
+    const target = nearestHandle(event) || event.target;  // the nearest wins, not the one drawn on top
     if (!target.dataset || !target.dataset.drag || event.button !== 0) return;
     faces.dragging = {...target.dataset};
     if (target.dataset.drag === "cpoint" && faces.choosePoint) faces.choosePoint(target.dataset);
@@ -245,6 +268,7 @@
   el("shape").addEventListener("dblclick", addVertex);
   el("shape").addEventListener("contextmenu", deleteVertex);
   el("shape").addEventListener("pointermove", move);
+  el("shape").addEventListener("pointermove", hover);
   el("shape").addEventListener("pointerup", () => { faces.dragging = null; });
   el("apply-style").addEventListener("click", () => {
     const style = {stroke: el("stroke").value, width: Number(el("width").value)};
