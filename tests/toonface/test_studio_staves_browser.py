@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 from browser import chromium, studio_server, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.keys import Keys
 
 from toonface.studio.guard import Folder
 from toonface.studio.session import StudioSession
@@ -47,7 +48,27 @@ def test_a_take_opens_simplified_and_a_picked_knot_is_typed_in(tmp_path):
         t, v = session.editor.animation.knots["MB"][1]
         assert float(driver.find_element("id", "knot-t").get_attribute("value")) == pytest.approx(t, abs=1e-3)
         value = driver.find_element("id", "knot-v")
-        value.clear()
+        value.send_keys(Keys.CONTROL, "a")  # select what it shows, and type over it
         value.send_keys("0.75\n")
         wait_for(driver, "Math.abs(window.editor.state.knots.MB[1][1] - 0.75) < 1e-9")
         assert session.editor.animation.knots["MB"][1] == pytest.approx((t, 0.75))
+
+
+def test_a_box_drawn_across_staves_selects_its_time_on_the_staves_it_crosses(tmp_path):
+    session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
+    with studio_server(session) as url, chromium(1366, 900) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state && document.querySelectorAll('#staves svg').length > 20")
+        first = driver.find_element("css selector", '#staves svg[data-code="BRL"]')
+        third = driver.find_element("css selector", '#staves svg[data-code="BRM"]')
+        zoom, width = driver.execute_script("return [window.editor.zoom, arguments[0].getBoundingClientRect().width]",
+                                            first)
+        start = -width / 2 + 1.0 * zoom  # 1 s into the first staff
+        ActionChains(driver).move_to_element_with_offset(first, start, 0).key_down(Keys.SHIFT).click_and_hold() \
+            .move_to_element_with_offset(third, start + 1.5 * zoom, 0).release().key_up(Keys.SHIFT).perform()
+        wait_for(driver, "window.editor.selection !== null")
+        selection = driver.execute_script("return window.editor.selection")
+        chosen = driver.execute_script("return [...document.querySelectorAll('#staves input.choose:checked')]"
+                                       ".map(b => b.dataset.code)")
+    assert selection == pytest.approx([1.0, 2.5], abs=2 / zoom)
+    assert chosen == ["BRL", "BRC", "BRM"]  # the three it crossed, in order

@@ -221,6 +221,10 @@
 
   function startDrag(event, code, svg) {
     const index = knotAt(event);
+    if (event.button === 0 && event.shiftKey && index === null && editor.startBox) {
+      editor.startBox(event, svg);  // shift-drag on the staves: a box across them (staves.js)
+      return;
+    }
     if (index === null || event.button !== 0) return;
     editor.picked = [code, index];
     editor.dragging = [code, index];
@@ -371,6 +375,7 @@
     render();
   }
   editor.fit = fit;
+  editor.render = () => render();
 
   document.addEventListener("keydown", (event) => {
     // the studio's shortcuts (listed in its Keys panel)

@@ -28,6 +28,7 @@
 
   function read(id, exact) {
     const field = el(id);
+    if (field.value.trim() === "") return NaN;  // emptied: nothing to move to yet
     return field.value === field.dataset.shown ? exact : Number(field.value);
   }
 
@@ -46,6 +47,47 @@
     el("insert-name").replaceChildren(...names.map((name) => new Option(name, name)));
   };
   el("insert").addEventListener("click", () => studio.send({op: "insert", name: el("insert-name").value}));
+
+  // Shift-drag on the staves draws a box: its time span becomes the selection and the staves it
+  // crosses the chosen ones, for cut, copy, paste, scale and flip.
+  let box = null;
+  editor.startBox = (event, svg) => {
+    const origin = svg.getBoundingClientRect();
+    box = {x: event.clientX, y: event.clientY, left: origin.left, band: document.createElement("div")};
+    box.band.id = "box";
+    document.body.append(box.band);
+    drawBox(event);
+    event.preventDefault();
+  };
+
+  function drawBox(event) {
+    const [x0, x1] = [Math.min(box.x, event.clientX), Math.max(box.x, event.clientX)];
+    const [y0, y1] = [Math.min(box.y, event.clientY), Math.max(box.y, event.clientY)];
+    Object.assign(box.band.style, {left: `${x0}px`, top: `${y0}px`, width: `${x1 - x0}px`, height: `${y1 - y0}px`});
+    return [x0, x1, y0, y1];
+  }
+
+  document.addEventListener("pointermove", (event) => { if (box) drawBox(event); });
+  document.addEventListener("pointerup", (event) => {
+    if (!box) return;
+    const [x0, x1, y0, y1] = drawBox(event);
+    box.band.remove();
+    const duration = editor.state.duration;
+    const left = box.left;
+    const t = (x) => Math.max(0, Math.min(duration, (x - left) / editor.zoom));
+    box = null;
+    const crossed = [];
+    for (const [code, svg] of editor.staves) {
+      const row = svg.getBoundingClientRect();
+      if (row.height > 0 && row.bottom > y0 && row.top < y1) crossed.push(code);
+    }
+    if (t(x1) - t(x0) <= 0 || !crossed.length) return;
+    for (const choose of document.querySelectorAll("#staves input.choose")) {
+      choose.checked = crossed.includes(choose.dataset.code);
+    }
+    editor.selection = [t(x0), t(x1)];
+    editor.render();
+  });
 
   el("knot-t").addEventListener("change", typed);
   el("knot-v").addEventListener("change", typed);
