@@ -72,3 +72,42 @@ def test_a_box_drawn_across_staves_selects_its_time_on_the_staves_it_crosses(tmp
                                        ".map(b => b.dataset.code)")
     assert selection == pytest.approx([1.0, 2.5], abs=2 / zoom)
     assert chosen == ["BRL", "BRC", "BRM"]  # the three it crossed, in order
+
+
+def _webm(source: Path, out: Path, seconds: float) -> Path:
+    """The first ``seconds`` of ``source`` as VP8 in WebM, a video any browser plays."""
+    import av
+
+    with av.open(str(source)) as given, av.open(str(out), "w") as made:
+        stream = made.add_stream("libvpx", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 360, 288, "yuv420p"
+        for frame in given.decode(video=0):
+            if frame.time is not None and frame.time >= seconds:
+                break
+            for packet in stream.encode(frame.reformat(360, 288, "yuv420p")):
+                made.mux(packet)
+        for packet in stream.encode(None):
+            made.mux(packet)
+    return out
+
+
+def test_the_performers_video_plays_beside_the_face_in_step_with_the_cursor(tmp_path):
+    clip = TAKE.parents[2] / "video" / "grid" / "bbaf2n.mpg"
+    if not clip.is_file():
+        pytest.skip(f"the shared GRID clip is absent ({clip})")
+    _webm(clip, tmp_path / "me.webm", 2.0)
+    session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state")
+        assert driver.execute_script("return document.getElementById('performer-video').hidden")
+        driver.execute_script("editor.open('me.webm')")
+        wait_for(driver, "Object.keys(window.editor.state.knots).length > 0", timeout=90)  # its face tracked
+        wait_for(driver, "!document.getElementById('performer-video').hidden && "
+                         "document.getElementById('performer-video').readyState >= 1", timeout=30)
+        duration = driver.execute_script("return document.getElementById('performer-video').duration")
+        driver.execute_script("studio.send({op: 'cursor', t: 1.2})")
+        wait_for(driver, "Math.abs(document.getElementById('performer-video').currentTime - 1.2) < 0.05")
+        driver.execute_script("studio.send({op: 'new', seconds: 5})")  # not from a video: the view goes
+        wait_for(driver, "document.getElementById('performer-video').hidden")
+    assert duration == pytest.approx(2.0, abs=0.15)

@@ -47,6 +47,8 @@ class AnimationEditor:
         self.declared: dict[str, float] = dict(declared or {})
         self.animation = animation if animation is not None else Animation({}, NEW_SECONDS)
         self.path = path
+        #: The performer's video the animation was tracked from, shown beside the face in step.
+        self.video: Path | None = None
         self.cursor = 0.0
         self.clipboard: Animation | None = None
         self.history: History[Animation] = History(UNDO_LEVELS)
@@ -145,7 +147,10 @@ class AnimationEditor:
         a take (``.c3d``, ``.trc``, a marker ``.csv`` or ``.npz``; or a talking-head video, its face
         tracked) cleaned and mapped first with the built-in mapping that matches it. Returns what
         was opened, in a line."""
+        from capture.sources import VIDEO_SUFFIXES
+
         source = Path(path)
+        self.video = source if source.suffix.lower() in VIDEO_SUFFIXES else None
         if source.suffix.lower() == ".toml":
             self.animation, self.path, said = an.load_animation(source), source, f"opened {source}"
         else:
@@ -223,6 +228,7 @@ class AnimationEditor:
                 "neutral": {**{code: float(v) for code, v in zip(MOTOR_CODES, self.neutral, strict=True)},
                             **self.declared},
                 **self.history.counts(), "path": str(self.path) if self.path else None,
+                "video": self.video.name if self.video else None,
                 "clipboard": None if clip is None else {"duration": clip.duration,
                                                         "motors": sorted(clip.knots, key=an.code_order)}}
 

@@ -69,6 +69,7 @@ def make_app(session: StudioSession, hosts: set[str], token: str = "") -> web.Ap
     app.router.add_get("/sound.wav", _sound)
     app.router.add_post("/files/{name}", _upload)
     app.router.add_get("/download/{what}", _download)
+    app.router.add_get("/performer-video", _performer_video)
     app.router.add_static("/static/", static_folder(), follow_symlinks=False)
     app.on_startup.append(_start_ticker)
     app.on_cleanup.append(_stop_ticker)
@@ -134,6 +135,16 @@ async def _download(request: web.Request) -> web.Response:
 
     allowed = _has_token(request, request.cookies.get(_cookie(request)))
     return await send_file(request, request.app[SESSION], allowed)
+
+
+async def _performer_video(request: web.Request) -> web.StreamResponse:
+    """The video the animation was tracked from (only that file; ranges for seeking)."""
+    if not _has_token(request, request.cookies.get(_cookie(request))):
+        raise web.HTTPForbidden(text="open the studio's page first")
+    video = request.app[SESSION].editor.video
+    if video is None or not video.is_file():
+        raise web.HTTPNotFound(text="the animation was not tracked from a video\n")
+    return web.FileResponse(video, headers={"Cache-Control": "no-store"})
 
 
 async def _sound(request: web.Request) -> web.Response:

@@ -14,6 +14,7 @@
   }
 
   editor.onRender = () => {
+    if (editor.follow) editor.follow();
     const knot = picked();
     el("knot-edit").hidden = knot === null;
     if (!knot) return;
@@ -88,6 +89,35 @@
     editor.selection = [t(x0), t(x1)];
     editor.render();
   });
+
+  // The performer's video, where the animation was tracked from one: a small view in step with the cursor.
+  const video = el("performer-video");
+  let shown = null;
+  function follow() {
+    const state = editor.state;
+    const name = state && state.video;
+    if (name !== shown) {  // opened another take (or none)
+      shown = name;
+      video.hidden = !name;
+      if (name) video.src = `/performer-video?${encodeURIComponent(name)}&${Date.now()}`;
+      else video.removeAttribute("src");
+    }
+    if (!name || video.readyState < 1) return;
+    if (state.playing) {
+      if (video.paused) video.play().catch(() => {});
+      if (Math.abs(video.currentTime - state.cursor) > 0.15) video.currentTime = state.cursor;  // drifted
+    } else {
+      if (!video.paused) video.pause();
+      if (Math.abs(video.currentTime - state.cursor) > 0.02) video.currentTime = state.cursor;
+    }
+  }
+  editor.follow = follow;
+  const previousFrame = studio.onFrame;
+  studio.onFrame = (frame) => {
+    if (previousFrame) previousFrame(frame);
+    follow();
+  };
+  video.addEventListener("loadedmetadata", follow);
 
   el("knot-t").addEventListener("change", typed);
   el("knot-v").addEventListener("change", typed);
