@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps clean
+.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps docs clean
 
 all: test
 
@@ -22,7 +22,7 @@ $(STAMP): pyproject.toml requirements-faces.txt scripts/ensure-system-deps.sh
 	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "toonface needs Python >= 3.11, found " + sys.version.split()[0])'
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	@$(PY) -m pip install --quiet --disable-pip-version-check --upgrade pip
-	@$(PY) -m pip install --quiet --disable-pip-version-check -e '.[test,faces]'
+	@$(PY) -m pip install --quiet --disable-pip-version-check -e '.[test,faces,docs]'
 	@$(PY) -m pip install --quiet --disable-pip-version-check --no-deps -r requirements-faces.txt
 	@# Exactly one OpenCV, the headless contrib build: a GUI build installed by hand writes the same cv2/.
 	@others=$$($(PY) scripts/other-opencv.py); if [ -n "$$others" ]; then \
@@ -63,5 +63,10 @@ bench-deps: $(STAMP)
 bench: bench-deps
 	$(PY) -m bench
 
+# The documentation site (MkDocs) into site/; --strict: a broken link or a missing page fails it.
+# make test builds it too (tests/test_docs.py).
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
+
 clean:
-	rm -rf $(VENV) toonface-demo .pytest_cache *.egg-info
+	rm -rf $(VENV) toonface-demo .pytest_cache *.egg-info site
