@@ -304,3 +304,32 @@ def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_op
     assert difference.mean() < 0.6 and np.mean(difference.max(axis=2) > 64) < 0.01
     mouth = np.abs(drawn - shut).max(axis=2) > 64  # where the open mouth differs from the shut one
     assert mouth.sum() > 100 and np.mean(difference.max(axis=2)[mouth] < 64) > 0.9  # the page shows it open
+
+
+def test_a_frame_the_stage_cannot_draw_is_said_and_the_drawing_goes_on(monkeypatch):
+    from toonface.room import browsers
+
+    calls = {"n": 0}
+    real = Stage.frame
+
+    def flaky(self):
+        calls["n"] += 1
+        if calls["n"] == 1:
+            raise ValueError("a face without that parameter")
+        return real(self)
+
+    monkeypatch.setattr(Stage, "frame", flaky)
+    monkeypatch.setattr(browsers, "RETRY_SECONDS", 0.0)
+    rooms = Rooms(TOKENS, face="cat")
+
+    async def watch() -> bytes:
+        viewers = browsers.Viewers(rooms.rooms["demo"], rooms)
+        transport = _Transport(0)
+        viewers.join(_Socket(), transport)
+        while not transport.written:
+            await asyncio.sleep(0)
+        viewers.leave(next(iter(viewers.sockets)))
+        return viewers.error or ""
+
+    error = asyncio.run(watch())
+    assert calls["n"] >= 2 and "a face without that parameter" in error

@@ -21,6 +21,7 @@ module that shows a drawing on every page); no page can reach any other file.
 from __future__ import annotations
 
 import asyncio
+import logging
 import os
 from collections.abc import Awaitable, Callable
 from importlib import resources
@@ -35,6 +36,8 @@ from toonface.room.stage import VIEW_FPS, Stage, packed
 if TYPE_CHECKING:
     from toonface.room.server import Room, Rooms
 
+#: Seconds the stage waits after a frame it could not draw before it tries the next.
+RETRY_SECONDS = 1.0
 #: The files pages may load, and the package each comes from.
 STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
           "draw.js": "toonface.studio"}
@@ -119,6 +122,7 @@ class Viewers:
         self.stage: Stage | None = None
         self.task: asyncio.Task | None = None
         self.skipped = 0  # frames not sent to a viewer that lagged
+        self.error: str | None = None  # what stopped a frame being drawn, the last time one did
 
     def join(self, ws: web.WebSocketResponse, transport: asyncio.BaseTransport | None) -> None:
         self.sockets[ws] = _Viewer(transport)
@@ -151,7 +155,15 @@ class Viewers:
         period = 1.0 / VIEW_FPS
         due = loop.time()
         while self.stage is not None:
-            changed, whole = self.stage.frame()
+            try:
+                changed, whole = self.stage.frame()
+            except Exception as exc:  # noqa: BLE001 - one bad frame must not end the drawing for every viewer
+                self.error = f"{type(exc).__name__}: {exc}"
+                logging.getLogger(__name__).warning("the room %s could not draw a frame: %s", self.room.name,
+                                                    self.error)
+                await asyncio.sleep(RETRY_SECONDS)
+                due = loop.time()
+                continue
             small = frame_of(packed(changed))
             full = small if all(v.current for v in self.sockets.values()) else frame_of(packed(whole))
             for ws, viewer in list(self.sockets.items()):
