@@ -154,3 +154,36 @@ def test_the_nearest_handle_is_taken_and_the_face_zooms_about_the_pointer(served
         assert moved == pytest.approx(20 * per_pixel, abs=2 * per_pixel)  # finer steps, zoomed in
         driver.find_element("tag name", "body").send_keys("0")
         assert driver.execute_script("return window.stageView.scale") == 1
+
+
+def test_a_dragged_vertex_snaps_onto_a_control_point_near_it_and_not_with_ctrl(served):
+    from selenium.webdriver.support.ui import Select
+
+    url, session = served
+    with chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, READY)
+        driver.find_element("id", "tab-face").click()
+        driver.find_element("id", "design").click()
+        wait_for(driver, "!document.getElementById('shape').classList.contains('off')")
+        nose = next(i for i, p in enumerate(session.faces.face.polygons) if p.name == "nose")
+        Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+        point = session.faces.face.points["MT"]
+        for index, ctrl in ((0, False), (1, True)):  # (a second vertex: the first now sits on the point)
+            target = driver.find_element("css selector", '#shape circle.rest-point[data-name="MT"]')
+            vertex = driver.find_element("css selector", f'#shape rect.vertex[data-index="{index}"]')
+            v, t = vertex.rect, target.rect
+            dx = t["x"] + t["width"] / 2 + 5 - (v["x"] + v["width"] / 2)  # to 5 px beside the control point
+            dy = t["y"] + t["height"] / 2 - (v["y"] + v["height"] / 2)
+            chain = ActionChains(driver)
+            if ctrl:
+                chain = chain.key_down(Keys.CONTROL)
+            chain = chain.click_and_hold(vertex).move_by_offset(dx / 2, dy / 2).move_by_offset(dx / 2, dy / 2).release()
+            (chain.key_up(Keys.CONTROL) if ctrl else chain).perform()
+            wait_for(driver, "!window.faces.dragging")
+            wait_for(driver, f"Math.abs(window.faces.doc.polygons[{nose}].vertices[{index}][1] - {point[1]}) < 3")
+            landed = session.faces.face.polygons[nose].vertices[index]
+            if not ctrl:
+                assert landed == pytest.approx(point, abs=1e-3)  # on the control point exactly
+            else:
+                assert abs(landed[0] - point[0]) > 2  # where the pointer was, 5 px beside it

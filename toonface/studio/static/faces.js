@@ -186,10 +186,36 @@
     event.preventDefault();
   }
 
+  const SNAP_PIXELS = 8;  // a dragged point lands on another handle this near (Ctrl: no snapping)
+
+  function same(handle, drag) {
+    // whether a handle is the one being dragged (redrawn after every edit, so told by its data)
+    const d = handle.dataset;
+    return d.drag === drag.drag && d.index === drag.index && d.part === drag.part && d.name === drag.name;
+  }
+
+  function snapped(event, drag) {
+    // the pointer in face units, or the centre of the other handle (a control point, a vertex) it is near
+    const free = facePoint(event);
+    if (event.ctrlKey || event.metaKey) return [free, false];
+    let best = null;
+    let bestDistance = SNAP_PIXELS;
+    for (const handle of el("shape").querySelectorAll("[data-drag]:not([data-drag=unit]):not([data-drag=range])")) {
+      if (same(handle, drag)) continue;
+      const box = handle.getBoundingClientRect();
+      const [cx, cy] = [box.left + box.width / 2, box.top + box.height / 2];
+      const d = Math.hypot(event.clientX - cx, event.clientY - cy);
+      if (d < bestDistance) [best, bestDistance] = [{clientX: cx, clientY: cy}, d];
+    }
+    return best ? [facePoint(best), true] : [free, false];
+  }
+
   function move(event) {
     const drag = faces.dragging;
     if (!drag) return;
-    const [x, y] = facePoint(event);
+    const pointish = drag.drag === "vertex" || drag.drag === "cpoint" || drag.drag === "point";
+    const [[x, y], snap] = pointish ? snapped(event, drag) : [facePoint(event), false];
+    faces.snapped = snap;
     if (drag.drag === "polygon" || drag.drag === "component") {
       const [dx, dy] = [x - drag.from[0], y - drag.from[1]];
       drag.from = [x, y];
