@@ -141,7 +141,6 @@ class PagePerformer:
         labels, self.rest = head_references()
         self.halt = threading.Event()
         self.waiting: queue.Queue[Frame] = queue.Queue(WAITING)
-        self.frames = self.dropped = 0
         self.source = Source(labels, PAGE_RATE, self._frames(), "a performer page", live=True,
                              meta={"mapping": "arkit", "rest": self.rest}, channel_names=BLENDSHAPES, halt=self.halt)
         self.notes: list[str] = []
@@ -165,10 +164,8 @@ class PagePerformer:
             except queue.Full:
                 try:
                     self.waiting.get_nowait()
-                    self.dropped += 1
                 except queue.Empty:
                     pass
-        self.frames += 1
 
     def reply(self, data: bytes) -> None:
         """A viewer's acknowledgement or keyframe request for this stream."""

@@ -21,9 +21,6 @@ import secrets
 from collections.abc import Awaitable, Callable
 from typing import Any
 
-#: NATS's usual port.
-NATS_PORT = 4222
-
 
 def subject(room: str, kind: str) -> str:
     """The subject of a room's packets (``kind`` ``p``) or replies (``r``)."""

@@ -90,7 +90,6 @@ class Stage:
                                        more=lambda: self._playout(neutral), link=_Replies(reply))
         self.size, self.clock = size, clock
         self.drawn: dict[int, _Drawn] = {}
-        self.frames = 0
 
     @staticmethod
     def _playout(neutral: Any) -> Playout:
@@ -119,21 +118,21 @@ class Stage:
             extra = {code: value for code, value in extra.items() if code in face.extra_codes}
             if drawn.motion is not None:
                 extra = drawn.motion.extra_at(now, values, extra)
-            lines = geometry_svg(self.rig.geometry(values, extra), self.size, DECIMALS).split("\n")
+            svg = geometry_svg(self.rig.geometry(values, extra), self.size, DECIMALS)
+            lines = svg.split("\n")
             quality = {**readout(stats[stream]), "values": {**{c: round(float(v), 4) for c, v in zip(
                 MOTOR_CODES, values, strict=True)}, **{c: round(float(v), 4) for c, v in extra.items()}}}
             if len(lines) == len(drawn.lines):
                 delta = {i: line for i, (old, line) in enumerate(zip(drawn.lines, lines, strict=True)) if old != line}
                 changed.append({"id": stream, "lines": delta, "quality": quality})
             else:
-                changed.append({"id": stream, "svg": "\n".join(lines), "quality": quality})
-            whole.append({"id": stream, "svg": "\n".join(lines), "quality": quality})
+                changed.append({"id": stream, "svg": svg, "quality": quality})
+            whole.append({"id": stream, "svg": svg, "quality": quality})
             drawn.lines = lines
         gone = sorted(set(self.drawn) - here)
         for stream in gone:
             del self.drawn[stream]
         said = self.receiver.diagnosis()
-        self.frames += 1
         return ({"type": "stage", "performers": changed, "gone": gone, "said": said},
                 {"type": "stage", "performers": whole, "gone": gone, "said": said, "whole": True})
 

@@ -20,6 +20,7 @@ from typing import Any
 
 from aiohttp import web
 
+from capture.sources import SOUND_SUFFIXES, VIDEO_SUFFIXES
 from common import InputError, atomic_path
 
 #: The largest file the page may send (a talking-head video of some minutes).
@@ -28,10 +29,9 @@ MAX_UPLOAD = 512 * 2**20
 #: or a video, as knots), ``face``, ``sound``, ``labels``, ``artwork`` (an SVG drawing, into the face
 #: being edited as components).
 KINDS = {
-    **dict.fromkeys((".toml", ".csv", ".npz", ".c3d", ".trc", ".mp4", ".mov", ".avi", ".mkv", ".webm", ".mpg",
-                     ".mpeg", ".m4v"), "editor"),
+    **dict.fromkeys((".toml", ".csv", ".npz", ".c3d", ".trc", *VIDEO_SUFFIXES), "editor"),
     ".json": "face",
-    **dict.fromkeys((".wav", ".mp3", ".ogg", ".oga", ".opus", ".flac", ".m4a", ".aac"), "sound"),
+    **dict.fromkeys(SOUND_SUFFIXES, "sound"),
     ".txt": "labels",
     ".svg": "artwork",
 }
