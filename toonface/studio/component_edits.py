@@ -14,7 +14,7 @@ from __future__ import annotations
 import copy
 import json
 import os
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +25,7 @@ from common.data import names_builtin
 from toon import Face
 from toon.component_parser import LIBRARY_FORMAT
 from toon.components import Component, flatten
+from toon.face import FEATURES
 from toonface.studio.face_items import component_part, finite, item, rest_of, unique_name, vertex
 
 #: What "new component" makes.
@@ -60,10 +61,10 @@ def new_component(doc: dict, kind: str, x: float, y: float, size: float = 40.0) 
     return len(doc["components"]) - 1
 
 
-def nearest_point(doc: dict, x: float, y: float) -> str:
-    """The control point resting nearest ``(x, y)``."""
-    return min(doc["points"], key=lambda name: float(np.hypot(doc["points"][name][0] - x,
-                                                               doc["points"][name][1] - y)))
+def nearest_point(doc: dict, x: float, y: float, among: Iterable[str] | None = None) -> str:
+    """The control point resting nearest ``(x, y)`` (of ``among``, where given)."""
+    return min(doc["points"] if among is None else among,
+               key=lambda name: float(np.hypot(doc["points"][name][0] - x, doc["points"][name][1] - y)))
 
 
 def add_point(doc: dict, component: int, part: str, after: int, x: float, y: float) -> None:
@@ -273,19 +274,14 @@ def _tidy(spec: dict) -> None:
             spec.pop(key, None)
 
 
-#: The control points of each feature a component may be attached to.
-FEATURES = {"mouth": ("ML", "MT", "MR", "MB"), "brow_right": ("BRM", "BRC", "BRL"),
-            "brow_left": ("BLM", "BLC", "BLL"), "eye_right": ("ERI", "ERU", "ERO", "ERL"),
-            "eye_left": ("ELI", "ELU", "ELO", "ELL")}
-
 
 def import_svg(doc: dict, text: str) -> list[int]:
     """An SVG drawing's shapes as components drawn last, fitted into the face's viewbox
     (:func:`toon.svg_import.svg_components`); returns their indices."""
     from toon.svg_import import svg_components
 
-    viewbox = tuple(float(v) for v in doc.get("viewbox", (-256, -256, 256, 256)))
-    made = svg_components(text, (viewbox[0], viewbox[1], viewbox[2], viewbox[3]))
+    xmin, ymin, xmax, ymax = (float(v) for v in doc["viewbox"])
+    made = svg_components(text, (xmin, ymin, xmax, ymax))
     components = doc.setdefault("components", [])
     for spec in made:
         spec["name"] = unique_name(doc, "component", spec["name"])
@@ -295,9 +291,9 @@ def import_svg(doc: dict, text: str) -> list[int]:
 
 def attach(doc: dict, component: int, feature: str) -> None:
     """Every point of a component made a slave of the nearest control point of ``feature`` (one of
-    :data:`FEATURES`, or a control point's name), where it rests: the component then moves as that
-    part of the face does."""
-    masters = FEATURES.get(feature) or ((feature,) if feature in doc["points"] else None)
+    :data:`toon.face.FEATURES`, or a control point's name), where it rests: the component then
+    moves as that part of the face does."""
+    masters = FEATURES[feature][0] if feature in FEATURES else (feature,) if feature in doc["points"] else None
     if masters is None:
         raise ValueError(f"attach to one of {', '.join(FEATURES)} or a control point, got {feature!r}")
     spec = item(doc, "component", component)
@@ -306,5 +302,4 @@ def attach(doc: dict, component: int, feature: str) -> None:
     refs = component_part(spec, "points")
     for i, ref in enumerate(refs):
         x, y = (float(v) for v in rest_of(doc, ref))
-        nearest = min(masters, key=lambda name: float(np.hypot(doc["points"][name][0] - x, doc["points"][name][1] - y)))
-        refs[i] = {"slave": nearest, "at": [x, y]}
+        refs[i] = {"slave": nearest_point(doc, x, y, masters), "at": [x, y]}
