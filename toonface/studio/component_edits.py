@@ -295,7 +295,8 @@ def attach(doc: dict, component: int, feature: str) -> None:
     moves as that part of the face does."""
     masters = FEATURES[feature][0] if feature in FEATURES else (feature,) if feature in doc["points"] else None
     if masters is None:
-        raise ValueError(f"attach to one of {', '.join(FEATURES)} or a control point, got {feature!r}")
+        named = ", ".join(sorted(FEATURES, key=lambda f: f != "mouth"))  # the mouth first, as the page lists them
+        raise ValueError(f"attach to one of {named} or a control point, got {feature!r}")
     spec = item(doc, "component", component)
     if spec.get("kind") not in ("polyline", "polygon", "ellipse"):
         raise ValueError(f"attach a polyline, polygon or ellipse (a {spec.get('kind')} moves by its own points)")
