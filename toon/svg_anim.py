@@ -21,7 +21,7 @@ import numpy as np
 
 from common import atomic_path
 from toon.geometry import DrawItem, Geometry
-from toon.svg import _opacity, _paint, _stroke_paths
+from toon.svg import _coords, _fmt, _opacity, _paint, _stroke_paths
 
 #: Coordinates are written to this many decimals (face units: a face is some 500 across).
 DECIMALS = 1
@@ -37,8 +37,7 @@ class _Timeline:
 
 
 def _num(x: float) -> str:
-    text = f"{x:.{DECIMALS}f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+    return _fmt(x, DECIMALS)
 
 
 def _time(x: float) -> str:
@@ -48,7 +47,7 @@ def _time(x: float) -> str:
 
 
 def _points(points: np.ndarray) -> str:
-    return " ".join(f"{_num(x)},{_num(-y)}" for x, y in points)
+    return _coords(points, DECIMALS)
 
 
 def _paths_rounded(item: DrawItem) -> list[str]:
