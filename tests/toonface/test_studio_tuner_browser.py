@@ -21,8 +21,7 @@ def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
     take = save_take(synthesize(seconds=4.0, rate=60.0).take, tmp_path / "take.npz")
     session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, "window.tuner && window.studio.frames > 0", 1400, 1000) as driver:
-        driver.execute_script("document.getElementById('tuner-panel').open = true;"
-                              "document.getElementById('slider-panel').open = false")
+        driver.find_element("id", "tab-tuner").click()  # the tuner alone beside the face
         driver.find_element("id", "tune-take").send_keys(str(take))
         driver.find_element("id", "tune-open").click()
         wait_for(driver, "window.tuner.state && window.studio.last.showing === 'tune'")
@@ -51,6 +50,8 @@ def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
         assert set(units.values()) == {"mm"}
         key = next(iter(units))
         high = session.tuner.ready.profile.sources[key].high
+        line = driver.find_element("css selector", f'#tune-raw line.raw-range.high[data-key="{key}"]')
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", line)  # clear of the sticky tabs
         line = driver.find_element("css selector", f'#tune-raw line.raw-range.high[data-key="{key}"]')
         per_pixel = driver.execute_script(f"const r = window.tuner.rows['{key}']; return r.span / r.height")
         ActionChains(driver).click_and_hold(line).move_by_offset(0, -6).move_by_offset(0, -6).release().perform()
