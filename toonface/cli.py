@@ -267,16 +267,19 @@ def faces() -> None:
 @click.option("--expressions", "repertoire", default="expressions", show_default=True,
               help="Expression repertoire: built-in name or TOML file.")
 @click.option("--size", default="256", show_default=True, help="Pixels per face picture, N or WxH.")
+@click.option("--save", "save_path", type=click.Path(dir_okay=False),
+              help="Write the face as a face file (.json) to start your own from: edit it, or open it in the studio.")
 def face(name: str, sheet_path: str | None, svg_path: str | None, expression: str, repertoire: str,
-         size: str) -> None:
+         size: str, save_path: str | None) -> None:
     """Check a face (built-in NAME or a JSON file) and draw it.
 
     Without options, validates the face and prints a summary. With --sheet, renders every
     expression of the repertoire (neutral, the six basic ones, blink, wink) into one labelled PNG,
-    and then each of the face's parameters beyond the 21 (HT, UL...) at its extremes.
+    and then each of the face's parameters beyond the 21 (HT, UL...) at its extremes. With --save,
+    writes it as a face file of your own (a built-in face's component libraries stay built-in).
     """
     from player.sheet import check_image_suffix, expression_sheet, save_image
-    from toon import FaceRig, load_expressions, load_face, save_svg
+    from toon import FaceRig, load_expressions, load_face, save_face, save_svg
 
     if sheet_path:
         check_image_suffix(sheet_path)
@@ -295,7 +298,12 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         shown = expressions[expression]
         save_svg(rig.geometry(shown.pose(loaded.neutral()), shown.extra_pose(loaded.extra_neutral())), svg_path, cell)
         click.echo(f"wrote {svg_path} ({expression} on {loaded.name})")
-    if not sheet_path and not svg_path:
+    if save_path:
+        if not save_path.lower().endswith(".json"):
+            raise click.BadParameter(f"{save_path}: expected a .json face file", param_hint="--save")
+        save_face(loaded, save_path)
+        click.echo(f"wrote {save_path} ({loaded.name}: edit it, then --face {save_path})")
+    if not sheet_path and not svg_path and not save_path:
         counts = f"{len(loaded.polygons)} polygons, {len(loaded.basic_components())} components"
         if loaded.extra_codes:
             counts += f"; parameters beyond the 21: {' '.join(loaded.extra_codes)}"

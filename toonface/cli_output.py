@@ -33,8 +33,11 @@ from toonface.cli_options import (
 @click.option("--format", "fmt", default=None, type=click.Choice(("png", "svg", "lottie")),
               help="A folder OUTPUT: PNG frames (the default) or SVG frames, one file per frame; lottie: a .json "
                    "OUTPUT is a Lottie animation (what a .json OUTPUT is anyway).")
+@click.option("--sound", default=None, type=click.Path(dir_okay=False),
+              help="A voice (a sound file, or a video's sound) muxed in from its start: an .mp4, .mov or .webm "
+                   "OUTPUT only.")
 def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None, background: str | None,
-               no_physics: bool, fmt: str | None) -> None:
+               no_physics: bool, fmt: str | None, sound: str | None) -> None:
     """Draw a motor track (.csv movie script or .npz) or a knot-point animation (.toml) on a face.
 
     With --background none (or a face whose background is transparent) the picture keeps its
@@ -42,19 +45,40 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     is one animated SVG of the whole track that browsers play with no script (SMIL), keyed only
     where an outline strays more than a pixel (at 500 pixels) from its interpolation; a .json
     OUTPUT is a Lottie animation (Bodymovin JSON: shape layers with keyframed paths, layer masks
-    for the holes) for Lottie players, After Effects and mobile apps."""
+    for the holes) for Lottie players, After Effects and mobile apps.
+
+    With --sound, the voice a track was lip-synced from (or any sound) plays with it: the
+    picture's packets are written as drawn and the sound is encoded for the picture's length."""
+    from pathlib import Path
+
     from toon import load_face, load_track
     from toon.animation import load_animation
-    from toonface.pipeline import render
+    from toonface.pipeline import render, render_with_sound
 
     dims = parse_size(size)
+    if sound is not None:
+        from player.mux import SOUND_CONTAINERS, has_audio
+
+        if Path(output).suffix.lower() not in SOUND_CONTAINERS:
+            kinds = list(SOUND_CONTAINERS)
+            raise click.BadParameter(f"{output} carries no sound: give an {', '.join(kinds[:-1])} or {kinds[-1]} "
+                                     "output", param_hint="--sound")
+        if not Path(sound).is_file():
+            raise click.BadParameter(f"{sound}: no such file", param_hint="--sound")
+        if not has_audio(sound):
+            raise click.BadParameter(f"{sound}: no sound in it", param_hint="--sound")
     face_obj = without_physics(with_background(load_face(face), background), no_physics)
     if motors.lower().endswith(".toml"):  # a knot-point animation: sampled at the output rate
         track = load_animation(motors).sample(fps or 30.0, face_obj.neutral())
     else:
         track = load_track(motors)
-    frames = render(track, face_obj, output, dims, fps, progress=progress("render")(track.frames), fmt=fmt)
-    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]})", err=output == "-")
+    bar = progress("render")(track.frames)
+    if sound is not None:
+        frames = render_with_sound(track, face_obj, output, sound, 0.0, dims, fps, progress=bar)
+    else:
+        frames = render(track, face_obj, output, dims, fps, progress=bar, fmt=fmt)
+    said = f", with the sound of {Path(sound).name}" if sound else ""
+    click.echo(f"wrote {output} ({frames} frames, {dims[0]}x{dims[1]}{said})", err=output == "-")
 
 
 @click.group()

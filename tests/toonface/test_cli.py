@@ -323,3 +323,21 @@ def test_every_option_s_help_default_is_its_real_default():
 def test_map_without_a_profile_uses_the_typical_one_as_its_help_says(small_take):
     mapped = map_onto_face(load_take(small_take / "t.npz"))  # what `map` runs without --profile
     assert any("built-in typical profile for toon32" in note for note in mapped.meta["notes"])
+
+
+def test_face_save_writes_a_file_that_draws_as_the_built_in_face(tmp_path, capsys):
+    """`face NAME --save mine.json`: the animator's start for a face of their own."""
+    from toon import FaceRig, load_face
+
+    mine = tmp_path / "mine.json"
+    assert main(["face", "cat", "--save", str(mine)]) == 0
+    assert f"wrote {mine}" in capsys.readouterr().out
+    built_in, saved = load_face("cat"), load_face(mine)
+    pose = built_in.neutral() * 0.5 + 0.25
+    a = FaceRig(built_in).geometry(pose, built_in.extra_neutral())
+    b = FaceRig(saved).geometry(pose, saved.extra_neutral())
+    assert len(a.items) == len(b.items)
+    for x, y in zip(a.items, b.items, strict=True):
+        assert np.allclose(x.vertices, y.vertices) and x.fill == y.fill
+    assert main(["face", "cat", "--save", str(tmp_path / "mine.toml")]) == 2
+    assert "expected a .json face file" in capsys.readouterr().err

@@ -124,3 +124,26 @@ def test_the_words_given_are_aligned_and_are_for_a_voice_only(voice, tmp_path, c
     err = capsys.readouterr().err
     assert "not in the pronouncing dictionary: qqq" in err and "words (--text) are for a voice" in err
     assert not (tmp_path / "x.csv").exists() and not (tmp_path / "y.csv").exists()
+
+
+@pytest.mark.realdata
+def test_render_carries_the_voice_a_track_was_lip_synced_from(voice, tmp_path, capsys):
+    """The animator's route: cues, motors, then the motors rendered with their voice; a format
+    that cannot carry sound and a file with none are refused before anything is drawn."""
+    assert main(["lipsync", str(voice), "-o", str(tmp_path / "line.tsv")]) == 0
+    assert main(["map", str(tmp_path / "line.tsv"), "-o", str(tmp_path / "line.csv")]) == 0
+    capsys.readouterr()
+    out = tmp_path / "line.webm"
+    assert main(["render", str(tmp_path / "line.csv"), "-o", str(out), "--size", "64", "--fps", "25",
+                 "--sound", str(voice)]) == 0
+    assert "with the sound of line.wav" in capsys.readouterr().out
+    with av.open(str(out)) as movie:
+        audio, video = movie.streams.audio[0], movie.streams.video[0]
+        frames = sum(1 for _ in movie.decode(video=0))
+        assert audio.codec_context.name == "opus" and video.codec_context.name == "vp9"
+    assert abs(frames - 2.97 * 25) <= 2
+    for argv, said in (([str(tmp_path / "x.apng"), "--sound", str(voice)], "x.apng carries no sound"),
+                       ([str(tmp_path / "x.mp4"), "--sound", str(tmp_path / "line.csv")], "line.csv: no sound in it")):
+        assert main(["render", str(tmp_path / "line.csv"), "-o", *argv]) == 2
+        assert said in capsys.readouterr().err
+        assert not list(tmp_path.glob("x.*"))
