@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps docs clean
+.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps docs pictures clean
 
 all: test
 
@@ -67,6 +67,10 @@ bench: bench-deps
 # make test builds it too (tests/test_docs.py).
 docs: $(STAMP)
 	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
+
+# Every picture of the site (docs/images/), from the project's own commands on the shared recordings.
+pictures: $(STAMP) browser
+	$(PY) scripts/docs-pictures.py
 
 clean:
 	rm -rf $(VENV) toonface-demo .pytest_cache *.egg-info site

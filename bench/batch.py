@@ -6,7 +6,7 @@ already started and warmed by one run; the runs alternate between the two cluste
 ``batch.speedup_2w``: the median of the repeats' ratios (goal 1.7). ``batch.split_speedup_2w``:
 one long take's video on two workers, rendered in parts of 5 s against in one piece.
 ``batch.frame_cost_ms``: worker compute time per video frame on one worker, all outputs, with
-each task kind's share in the detail; the README's plan for 100 machines uses it.
+each task kind's share in the detail; the batch tutorial's plan for 100 machines uses it.
 """
 
 from __future__ import annotations

@@ -112,6 +112,8 @@ class Renderer:
     samples : int
         Multisamples for antialiasing (0 or 1 for none); capped at what the context supports.
 
+    Notes
+    -----
     The renderer owns its GL objects; :meth:`close` releases them and is safe to call twice.
     """
 

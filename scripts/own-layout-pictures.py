@@ -1,4 +1,4 @@
-"""Make the README's "A rig from another lab" pictures: the third synthetic performer (seed 4)
+"""Make the "A rig from another lab" pictures (docs/howto/own-layout.md): the third synthetic performer (seed 4)
 on bench/foreign_rig.py's layout, taken through the chapter's commands.
 
 Run from the project's root: ``.venv/bin/python scripts/own-layout-pictures.py``; it writes

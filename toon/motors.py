@@ -63,9 +63,15 @@ MOTORS: tuple[MotorSpec, ...] = (
     MotorSpec("HH", "HEAD", "x", +1, "head horizontal (turn), degrees [17-H]"),
     MotorSpec("HV", "HEAD", "y", +1, "head vertical (tilt, 1 = chin up), degrees [17-V]"),
 )
+"""The 21 motors of ToonFace's A1.2.1, in the movie script's column order: each one's code, the
+control point it moves, along which axis, which way 1 lies, and what it is."""
 
 MOTOR_CODES: tuple[str, ...] = tuple(m.code for m in MOTORS)
+"""The motors' codes in column order, ``BRL`` ... ``HV``."""
 N_MOTORS: int = len(MOTORS)
+"""21."""
+
+
 @dataclass(frozen=True)
 class ExtraSpec:
     """A standard parameter beyond the 21: what it means and the value a face rests at."""

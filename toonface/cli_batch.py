@@ -26,7 +26,7 @@ def batch(ctx: click.Context, job_file: str, scheduler: str | None, workers: int
 
     For each (take, face) pair it writes, under the job's output folder, TAKE/FACE.mp4, the
     motor track TAKE/FACE.csv, a score plot TAKE/FACE.score.png and a contact sheet
-    TAKE/FACE.sheet.png (see the README for the job file). Long videos are rendered in parts
+    TAKE/FACE.sheet.png (the job file: docs/tutorials/batch.md). Long videos are rendered in parts
     on several workers and joined. Outputs appear only when complete; a pair whose take, face,
     mapping, profile and settings are unchanged since its outputs were made is skipped, so an
     interrupted job picks up where it stopped. A take or face that cannot be used fails only its

@@ -16,7 +16,7 @@ _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 
 @click.group()
 def markerset() -> None:
-    """Marker sets for layouts toonface has not seen (see the README's "Your own marker layout")."""
+    """Marker sets for layouts toonface has not seen (docs/howto/own-layout.md)."""
 
 
 @markerset.command("draft")

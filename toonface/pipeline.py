@@ -152,7 +152,7 @@ def run_demo(out_dir: str | os.PathLike, seconds: float = 10.0, rate: float = 30
     """
     face_obj = load_face(face) if isinstance(face, str) else face  # a bad face fails before any work
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)  # the demo's own folder (one level, as the README says)
+    out.mkdir(parents=True, exist_ok=True)  # the demo's own folder
     times = StageTimes()
     with times.stage("synthesise"):
         synthetic = synthesize(seconds=seconds, rate=rate, seed=seed)

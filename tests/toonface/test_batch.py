@@ -312,7 +312,7 @@ def test_takes_from_other_folders_get_flat_output_folders(tmp_path):
 
 
 def test_dry_run_lists_what_a_changed_setting_remakes_as_the_readme_says(tmp_path, capsys):
-    """The README said a changed size remakes videos and sheets; --dry-run listed only the videos."""
+    """The batch page said a changed size remakes videos and sheets; --dry-run listed only the videos."""
     path = write_job(tmp_path, {"a": 1.0}, ["classic"])
     pair = plan(load_job(path))[0]
     for kind in pair.stale:  # pretend a run made them all
@@ -320,8 +320,8 @@ def test_dry_run_lists_what_a_changed_setting_remakes_as_the_readme_says(tmp_pat
         pair.output(kind).path.write_bytes(b"x")
     batch_pairs.write_stamp(pair, {kind: 1 for kind in pair.stale}, 30)
     assert plan(load_job(path))[0].stale == ()
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-    assert "changing `size` or `fps` remakes the videos only, `samples` the videos and contact sheets" in readme
+    page = (Path(__file__).resolve().parents[2] / "docs" / "tutorials" / "batch.md").read_text()
+    assert "changing `size` or `fps` remakes the videos only, `samples` the videos and contact sheets" in page
     for old, new, remade in ((f'size = "{SIZE}"', 'size = "48"', "makes video"),
                              ("samples = 0", "samples = 2", "makes video, sheet")):
         path.write_text(path.read_text().replace(old, new))

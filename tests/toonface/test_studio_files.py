@@ -61,7 +61,7 @@ def test_a_file_from_the_page_is_kept_in_the_folder_and_nothing_else_is_written(
 @pytest.mark.slow  # Chromium: make test runs it
 def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_page_actions(tmp_path):
     """The first of the issue's first-time tasks, as a person does it: drag a take onto the page
-    (1), press Space (2). README states the count."""
+    (1), press Space (2). The studio page (docs/howto/studio.md) states the count."""
     from browser import chromium, wait_for
 
     take = REALDATA / "facial" / "animface" / "JawMoCap.csv"

@@ -1,7 +1,8 @@
 """The issue's second first-time task, scripted in Chromium as a person clicks, in the number of page
-actions README states: add a blink and a raised brow to a motor track and render it (6 actions: drop
-the track, choose blink, Insert, double-click high on a brow's staff, type the video's name,
-Render MP4). The first task (drop a take and play it: 2) is in test_studio_files.py."""
+actions the studio page (docs/howto/studio.md) states: add a blink and a raised brow to a motor
+track and render it (6 actions: drop the track, choose blink, Insert, double-click high on a
+brow's staff, type the video's name, Render MP4). The first task (drop a take and play it: 2) is
+in test_studio_files.py."""
 
 import numpy as np
 import pytest
@@ -61,7 +62,7 @@ def test_a_blink_and_a_raised_brow_added_to_a_track_and_rendered_in_six_page_act
         driver.find_element("id", "render").click()
         actions += 2
         wait_for(driver, "document.getElementById('message').textContent.startsWith('wrote')", timeout=120)
-    assert actions == 6  # README: "add a blink and a raised brow to a track and render it: 6 page actions"
+    assert actions == 6  # docs/howto/studio.md: "add a blink and a raised brow to a track and render it: 6 ..."
     knots = session.editor.animation.knots
     assert min(v for _, v in knots["ERU"]) < 0.1  # the lid comes down: a blink
     assert knots["BLM"][0][1] > standard_neutral()[motor_index("BLM")] + 0.2  # the brow raised
@@ -103,7 +104,7 @@ def test_an_svg_drawing_imported_and_its_mouth_attached_in_three_page_actions(tm
         actions += 2
         wait_for(driver, f"typeof window.faces.doc.components[{mouth}].points[0] === 'object' && "
                          f"!Array.isArray(window.faces.doc.components[{mouth}].points[0])")
-    assert actions == 3  # README: "import an SVG drawing and attach its mouth: 3 page actions"
+    assert actions == 3  # docs/howto/studio.md: "import an SVG drawing and attach its mouth: 3 page actions"
     assert (folder / "mine.svg").is_file()
     face = session.faces.face
     spec = next(c for c in face.components if c.name == "mouth")
