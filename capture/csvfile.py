@@ -102,7 +102,7 @@ def _read_wide(path: Path, lines: list[str], first: int, sep: str | None, header
     if time_col is None and rate is None:
         what = (f'a "{header[frame_col]}" column but no time column' if frame_col is not None
                 else "no time or frame column")
-        raise InputError(f"{what}: give the frame rate (--rate)", path)
+        raise MissingRate(f"{what}: give the frame rate (--rate)", path)
     rows = _data_rows(lines, first + 1, sep, path)
     columns, names = ([clock], [header[clock]]) if clock is not None else ([], [])
     for a in markers.values():
@@ -147,7 +147,7 @@ def _read_headerless(path: Path, lines: list[str], sep: str | None, rate: float 
     from_set = _set_defaults(list(labels), rate is None, units is None, markerset)
     rate, units = from_set.get("rate", rate), from_set.get("units", units)
     if rate is None:
-        raise InputError("a table without a header needs the frame rate (--rate)", path)
+        raise MissingRate("a table without a header needs the frame rate (--rate)", path)
     rate = check_rate(rate, path)
     rows = _data_rows(lines, 0, sep, path)
     width = len(rows[0][1])
@@ -229,6 +229,11 @@ def _data_rows(lines: list[str], start: int, sep: str | None, path: Path,
     if not rows:
         raise InputError("no data rows (zero frames)", path)
     return rows
+
+
+class MissingRate(InputError):
+    """A table that does not say its frame rate, read without one: what a user can answer (the
+    studio asks for it)."""
 
 
 def units_meta(mm_per_unit: float, origin: str) -> dict[str, Any]:

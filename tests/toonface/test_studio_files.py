@@ -111,3 +111,90 @@ def test_the_animation_and_the_face_download_as_the_files_save_writes(tmp_path):
         status, disposition, text = asyncio.run(get(f"{url}download/face.json"))
         assert status == 200 and json.loads(text) == session.face.to_dict() and ".json" in disposition
         assert asyncio.run(get(f"{url}download/rooms.toml"))[0] == 404
+
+
+def test_a_take_that_does_not_say_its_rate_or_units_is_asked_about(tmp_path):
+    """A table without a time column opens nothing and asks for its rate; one in centimetres
+    that does not say so opens in the units its size suggests and says which, to be changed;
+    units the face's size refutes are refused naming the likely ones (issue 46)."""
+    import numpy as np
+
+    from common import InputError
+    from toonface.studio.messages import apply
+
+    take = REALDATA / "facial" / "animface" / "JawMoCap.csv"
+    if not take.is_file():
+        pytest.skip(f"the shared take is absent ({take})")
+    lines = take.read_text().splitlines()
+    header = lines[0].split(",")
+    drop = header.index("time_s")
+    (tmp_path / "frames.csv").write_text("\n".join(",".join(c for i, c in enumerate(line.split(",")) if i != drop)
+                                                   for line in lines) + "\n")
+    (tmp_path / "jaw.csv").write_text(take.read_text())
+    session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
+    before = session.editor.animation
+    _, said = apply(session, {"op": "open", "path": "frames.csv"}, 0.0)
+    asked = session.editor.describe()["take"]
+    assert said == "frames.csv does not say its frame rate: give it, then Open again"
+    assert asked["ask"] == ["rate"] and asked["path"] == "frames.csv" and "(--rate)" in asked["said"]
+    assert session.editor.animation is before  # nothing opened
+    _, said = apply(session, {"op": "open", "path": "frames.csv", "rate": 60}, 0.0)
+    asked = session.editor.describe()["take"]
+    assert asked["rate"] == 60 and asked["units"] == "cm" and asked["ask"] == ["units", "rate"]
+    assert session.editor.animation.duration == pytest.approx(1590 / 60)
+    _, said = apply(session, {"op": "open", "path": "jaw.csv"}, 0.0)
+    asked = session.editor.describe()["take"]
+    assert asked["units"] == "cm" and asked["ask"] == ["units"] and "inferred" in asked["said"]
+    assert "read in cm (the file does not say: inferred from the face's size)" in said
+    inferred = session.editor.animation
+    with pytest.raises(InputError, match="give --units cm"):
+        apply(session, {"op": "open", "path": "jaw.csv", "units": "m"}, 0.0)
+    _, said = apply(session, {"op": "open", "path": "jaw.csv", "units": "cm"}, 0.0)
+    assert session.editor.describe()["take"]["said"] == "as given"
+    given = session.editor.animation  # the same take, the same units: the same knots
+    assert given.knots.keys() == inferred.knots.keys()
+    assert all(np.allclose(given.knots[c], inferred.knots[c]) for c in given.knots)
+    apply(session, {"op": "save", "path": "jaw.toml"}, 0.0)
+    apply(session, {"op": "open", "path": "jaw.toml"}, 0.0)
+    assert session.editor.describe()["take"] is None  # an animation says all: nothing to ask
+
+
+def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_given(tmp_path):
+    """Dropped on the page, a table without a time column asks for its rate beside the staves;
+    typed in and opened again, it opens as knots, and the page says the units it was read in."""
+    from browser import chromium, wait_for
+
+    take = REALDATA / "facial" / "animface" / "JawMoCap.csv"
+    if not take.is_file():
+        pytest.skip(f"the shared take is absent ({take})")
+    lines = take.read_text().splitlines()
+    drop = lines[0].split(",").index("time_s")
+    frames = tmp_path / "source" / "frames.csv"
+    frames.parent.mkdir()
+    frames.write_text("\n".join(",".join(c for i, c in enumerate(line.split(",")) if i != drop) for line in lines))
+    work = tmp_path / "work"
+    work.mkdir()
+    session = StudioSession("classic", folder=Folder(work.resolve()))
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state && window.files")
+        assert not driver.find_element("id", "take-ask").is_displayed()
+        driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
+                              "document.body.append(i)")
+        driver.find_element("id", "carried").send_keys(str(frames))
+        driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
+                              "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
+                              "{dataTransfer: t, bubbles: true, cancelable: true}))")
+        wait_for(driver, "!document.getElementById('take-ask').hidden", timeout=60)
+        asked = driver.find_element("id", "take-said").text
+        assert driver.find_element("id", "take-rate").is_displayed()
+        assert driver.execute_script("return Object.keys(window.editor.state.knots).length") == 0
+        driver.find_element("id", "take-rate").send_keys("60")
+        driver.find_element("id", "take-reopen").click()
+        wait_for(driver, "Object.keys(window.editor.state.knots).length > 0", timeout=60)
+        said = driver.find_element("id", "take-said").text
+        units = driver.execute_script("return document.getElementById('take-units').value")
+        duration = driver.execute_script("return window.editor.state.duration")
+    assert asked == "frames.csv does not say its frame rate:"
+    assert said == "frames.csv read in cm at 60 Hz (the file does not say: inferred from the face's size):"
+    assert units == "cm" and duration == pytest.approx(1590 / 60)

@@ -49,6 +49,9 @@ class AnimationEditor:
         self.path = path
         #: The performer's video the animation was tracked from, shown beside the face in step.
         self.video: Path | None = None
+        #: The take behind the knots, where its file left its units or rate unsaid (:func:`asked`):
+        #: what was read, for the page to show and ask again; None for anything else.
+        self.take: dict | None = None
         self.cursor = 0.0
         self.clipboard: Animation | None = None
         self.history: History[Animation] = History(UNDO_LEVELS)
@@ -141,25 +144,42 @@ class AnimationEditor:
         return True
 
     # -- files -------------------------------------------------------------------------------------
-    def open(self, path: str, tolerance: float = TRACK_TOLERANCE) -> str:
+    def open(self, path: str, tolerance: float = TRACK_TOLERANCE, units: str | None = None,
+             rate: float | None = None, shown: str | None = None) -> str:
         """Edit what ``path`` holds (undo starts afresh): an animation (``.toml``), a motor track
         (``.csv``, ``.npz``) as knots within ``tolerance`` (:func:`toon.animation.from_track`), or
         a take (``.c3d``, ``.trc``, a marker ``.csv`` or ``.npz``; or a talking-head video, its face
-        tracked) cleaned and mapped first with the built-in mapping that matches it. Returns what
-        was opened, in a line."""
+        tracked) cleaned and mapped first with the built-in mapping that matches it, read in
+        ``units`` and at ``rate`` where given (``toonface map --units --rate``). Returns what was
+        opened, in a line.
+
+        A table that does not say its frame rate opens nothing: :attr:`take` then asks for it. One
+        that does not say its units opens in those its size suggests, and :attr:`take` says which,
+        for the page to offer others. ``shown`` is the path as the page gave it (to open it again).
+        """
+        from capture.csvfile import MissingRate
         from capture.sources import VIDEO_SUFFIXES
 
         source = Path(path)
-        self.video = source if source.suffix.lower() in VIDEO_SUFFIXES else None
         if source.suffix.lower() == ".toml":
             self.animation, self.path, said = an.load_animation(source), source, f"opened {source}"
+            self.video, self.take = None, None
         else:
-            track, what = _track(source)
+            try:
+                track, what = _track(source, units, rate)
+            except MissingRate as unsaid:
+                self.take = {"name": source.name, "path": shown or str(source), "ask": ["rate"], "units": units,
+                             "rate": None, "said": unsaid.message}
+                return f"{source.name} does not say its frame rate: give it, then Open again"
+            self.video = source if source.suffix.lower() in VIDEO_SUFFIXES else None
+            self.take = asked(track, source, shown, rate)
             self.animation = an.from_track(track, tolerance)
             self.path = None  # saved as a new .toml, not over the track
             knots = sum(len(k) for k in self.animation.knots.values())
             said = (f"opened {source} ({what}): {knots} knots for {track.frames} frames x 21 motors, "
                     f"within {tolerance:g} of every value")
+            if self.take is not None:
+                said += f"; read in {self.take['units']} ({self.take['said']})"
         self.history.clear()
         self.cursor = 0.0
         return said
@@ -228,7 +248,7 @@ class AnimationEditor:
                 "neutral": {**{code: float(v) for code, v in zip(MOTOR_CODES, self.neutral, strict=True)},
                             **self.declared},
                 **self.history.counts(), "path": str(self.path) if self.path else None,
-                "video": self.video.name if self.video else None,
+                "video": self.video.name if self.video else None, "take": self.take,
                 "clipboard": None if clip is None else {"duration": clip.duration,
                                                         "motors": sorted(clip.knots, key=an.code_order)}}
 
@@ -249,10 +269,26 @@ class AnimationEditor:
         return first, min(last, self.animation.duration)
 
 
-def _track(path: Path) -> tuple[MotorTrack, str]:
+def asked(track: MotorTrack, source: Path, shown: str | None, rate: float | None) -> dict | None:
+    """What the page may ask again about the take ``track`` was mapped from: its units where its
+    file did not say them (``from`` assumed, inferred or given), its rate where it was given; None
+    for a track, a video or a take whose file said both."""
+    units = track.meta.get("report", {}).get("units")
+    if not isinstance(units, dict) or (units.get("from") in ("file", None) and rate is None):
+        return None
+    why = {"assumed": "the file does not say: read as millimetres", "given": "as given",
+           "inferred": "the file does not say: inferred from the face's size"}.get(str(units["from"]),
+                                                                                 f"as its {units['from']} says")
+    ask = (["units"] if units["from"] != "file" else []) + (["rate"] if rate else [])
+    return {"name": source.name, "path": shown or str(source), "ask": ask,
+            "units": str(units["unit"]), "rate": track.rate, "said": why}
+
+
+def _track(path: Path, units: str | None = None, rate: float | None = None) -> tuple[MotorTrack, str]:
     """A motor track file, or a take (or a talking-head video, tracked) mapped on the fly; and
-    which it was."""
+    which it was. ``units`` and ``rate`` are a take's where its file does not say them."""
     from capture import load_take
+    from capture.csvfile import MissingRate
     from capture.sources import VIDEO_SUFFIXES
     from toonface.pipeline import map_onto_face
     from toonface.studio.tuner import load_take_or_video
@@ -263,13 +299,15 @@ def _track(path: Path) -> tuple[MotorTrack, str]:
             return track, "a motor track" + (f" with {', '.join(track.extra_codes)}" if track.extra_codes else "")
         except InputError as not_a_track:
             try:
-                take = load_take(path)
+                take = load_take(path, rate=rate, units=units)
+            except MissingRate:
+                raise
             except InputError:
                 raise not_a_track from None
             return map_onto_face(take), "a take, mapped"
     if path.suffix.lower() in VIDEO_SUFFIXES:
-        return map_onto_face(load_take_or_video(path)), "a video, its face tracked and mapped"
-    return map_onto_face(load_take(path)), "a take, mapped"
+        return map_onto_face(load_take_or_video(path, units)), "a video, its face tracked and mapped"
+    return map_onto_face(load_take(path, rate=rate, units=units)), "a take, mapped"
 
 
 

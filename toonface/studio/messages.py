@@ -133,7 +133,11 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
         tolerance = number(message.get("tolerance", TRACK_TOLERANCE))
         if not 0.001 <= tolerance <= 0.5:
             raise ValueError(f"a take is simplified within 0.001..0.5 of each value, got {tolerance:g}")
-        said = editor.open(str(session.folder.inside(message["path"])), tolerance)
+        units = str(message["units"]) if message.get("units") else None
+        rate = number(message["rate"]) if message.get("rate") not in (None, "") else None
+        if rate is not None and not 1 <= rate <= 10000:
+            raise ValueError(f"a take's frame rate is 1..10000 Hz, got {rate:g}")
+        said = editor.open(str(session.folder.inside(message["path"])), tolerance, units, rate, str(message["path"]))
     elif op == "save":
         path = message.get("path")
         said = f"wrote {editor.save(str(session.folder.inside(path)) if path else None)}"

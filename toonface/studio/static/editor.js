@@ -278,8 +278,22 @@
     }
   }
 
+  function showTake(take) {
+    // a take whose file left its rate or units unsaid: what was read, to be read otherwise
+    el("take-ask").hidden = !take;
+    if (!take) return;
+    const rate = take.ask.includes("rate");
+    el("take-said").textContent = rate && take.rate === null ? `${take.name} does not say its frame rate:`
+      : `${take.name} read in ${take.units}${rate ? ` at ${take.rate} Hz` : ""} (${take.said}):`;
+    el("take-rate-label").hidden = !rate;
+    if (take.rate !== null) el("take-rate").value = take.rate;
+    el("take-units").value = take.units && [...el("take-units").options].some((o) => o.value === take.units)
+      ? take.units : "";
+  }
+
   editor.show = (state) => {
     const fresh = !editor.state || editor.state.duration !== state.duration;  // opened, new, or made longer
+    showTake(state.take);
     editor.state = state;
     if (editor.selection && editor.selection[1] > state.duration) editor.selection = null;
     if (fresh) fit();  // the whole animation across the score's width (it renders)
@@ -330,14 +344,24 @@
   el("redo").addEventListener("click", () => studio.send({op: "redo"}));
   el("duration").addEventListener("change", (event) => studio.send({op: "duration", seconds: Number(event.target.value)}));
   el("new").addEventListener("click", () => studio.send({op: "new", seconds: Number(el("duration").value) || 5}));
-  editor.open = (path) => {
-    // a file of the working folder into the staves; a take or track as knots within the tolerance
+  editor.open = (path, reading = {}) => {
+    // a file of the working folder into the staves; a take or track as knots within the tolerance,
+    // a take read in the units and at the rate given where its file does not say them
     editor.opened = path;
-    studio.send({op: "open", path, tolerance: Number(el("tolerance").value) || 0.01});
+    editor.reading = reading;
+    studio.send({op: "open", path, tolerance: Number(el("tolerance").value) || 0.01, ...reading});
   };
+  el("take-reopen").addEventListener("click", () => {
+    const take = editor.state && editor.state.take;
+    if (!take) return;
+    const reading = {};
+    if (el("take-units").value) reading.units = el("take-units").value;
+    if (!el("take-rate-label").hidden && el("take-rate").value) reading.rate = Number(el("take-rate").value);
+    editor.open(take.path, reading);
+  });
   el("open").addEventListener("click", () => editor.open(el("path").value));
   el("simplify").addEventListener("click", () => {
-    if (editor.opened && !editor.opened.endsWith(".toml")) editor.open(editor.opened);
+    if (editor.opened && !editor.opened.endsWith(".toml")) editor.open(editor.opened, editor.reading);
     else studio.say("Simplify opens a take or a motor track again: open one first", true);
   });
   el("save").addEventListener("click", () => studio.send({op: "save", path: el("path").value || null}));
