@@ -38,30 +38,33 @@ class MotorSpec:
     axis: str  # "x" or "y"
     increasing: int
     description: str
+    #: What a designer calls it, for panels and staves, saying which way 1 lies ("Left eye looks
+    #: left"): left and right are the character's own, its right on the viewer's left.
+    name: str = ""
 
 
 MOTORS: tuple[MotorSpec, ...] = (
-    MotorSpec("BRL", "BRL", "y", +1, "brow right lateral [3]"),
-    MotorSpec("BRC", "BRC", "y", +1, "brow right central [2]"),
-    MotorSpec("BRM", "BRM", "y", +1, "brow right medial [1]"),
-    MotorSpec("BLL", "BLL", "y", +1, "brow left lateral [6]"),
-    MotorSpec("BLC", "BLC", "y", +1, "brow left central [5]"),
-    MotorSpec("BLM", "BLM", "y", +1, "brow left medial [4]"),
-    MotorSpec("ERU", "ERU", "y", +1, "eye right upper lid [7]"),
-    MotorSpec("ERL", "ERL", "y", +1, "eye right lower lid [9]"),
-    MotorSpec("ELU", "ELU", "y", +1, "eye left upper lid [8]"),
-    MotorSpec("ELL", "ELL", "y", +1, "eye left lower lid [10]"),
-    MotorSpec("PLH", "PL", "x", +1, "pupil left horizontal [15]"),
-    MotorSpec("PLV", "PL", "y", +1, "pupil left vertical [15]"),
-    MotorSpec("PRH", "PR", "x", +1, "pupil right horizontal [16-H]"),
-    MotorSpec("PRV", "PR", "y", +1, "pupil right vertical [16-V]"),
-    MotorSpec("MLH", "ML", "x", +1, "mouth left corner horizontal, outward [14-H]"),
-    MotorSpec("MLV", "ML", "y", +1, "mouth left corner vertical [14-V]"),
-    MotorSpec("MRH", "MR", "x", -1, "mouth right corner horizontal, outward [13-H]"),
-    MotorSpec("MRV", "MR", "y", +1, "mouth right corner vertical [13-V]"),
-    MotorSpec("MB", "MB", "y", -1, "mouth bottom, 1 = fully open [12]"),
-    MotorSpec("HH", "HEAD", "x", +1, "head horizontal (turn), degrees [17-H]"),
-    MotorSpec("HV", "HEAD", "y", +1, "head vertical (tilt, 1 = chin up), degrees [17-V]"),
+    MotorSpec("BRL", "BRL", "y", +1, "brow right lateral [3]", "Right brow, outer"),
+    MotorSpec("BRC", "BRC", "y", +1, "brow right central [2]", "Right brow, middle"),
+    MotorSpec("BRM", "BRM", "y", +1, "brow right medial [1]", "Right brow, inner"),
+    MotorSpec("BLL", "BLL", "y", +1, "brow left lateral [6]", "Left brow, outer"),
+    MotorSpec("BLC", "BLC", "y", +1, "brow left central [5]", "Left brow, middle"),
+    MotorSpec("BLM", "BLM", "y", +1, "brow left medial [4]", "Left brow, inner"),
+    MotorSpec("ERU", "ERU", "y", +1, "eye right upper lid [7]", "Right upper lid"),
+    MotorSpec("ERL", "ERL", "y", +1, "eye right lower lid [9]", "Right lower lid"),
+    MotorSpec("ELU", "ELU", "y", +1, "eye left upper lid [8]", "Left upper lid"),
+    MotorSpec("ELL", "ELL", "y", +1, "eye left lower lid [10]", "Left lower lid"),
+    MotorSpec("PLH", "PL", "x", +1, "pupil left horizontal [15]", "Left eye looks left"),
+    MotorSpec("PLV", "PL", "y", +1, "pupil left vertical [15]", "Left eye looks up"),
+    MotorSpec("PRH", "PR", "x", +1, "pupil right horizontal [16-H]", "Right eye looks left"),
+    MotorSpec("PRV", "PR", "y", +1, "pupil right vertical [16-V]", "Right eye looks up"),
+    MotorSpec("MLH", "ML", "x", +1, "mouth left corner horizontal, outward [14-H]", "Left corner out"),
+    MotorSpec("MLV", "ML", "y", +1, "mouth left corner vertical [14-V]", "Left corner up"),
+    MotorSpec("MRH", "MR", "x", -1, "mouth right corner horizontal, outward [13-H]", "Right corner out"),
+    MotorSpec("MRV", "MR", "y", +1, "mouth right corner vertical [13-V]", "Right corner up"),
+    MotorSpec("MB", "MB", "y", -1, "mouth bottom, 1 = fully open [12]", "Mouth open"),
+    MotorSpec("HH", "HEAD", "x", +1, "head horizontal (turn), degrees [17-H]", "Head turns left"),
+    MotorSpec("HV", "HEAD", "y", +1, "head vertical (tilt, 1 = chin up), degrees [17-V]", "Head tips back"),
 )
 """The 21 motors of ToonFace's A1.2.1, in the movie script's column order: each one's code, the
 control point it moves, along which axis, which way 1 lies, and what it is."""
@@ -78,6 +81,8 @@ class ExtraSpec:
 
     description: str
     neutral: float
+    #: What a designer calls it, for panels and staves.
+    name: str = ""
 
 
 #: Parameters beyond the 21 that a face may declare, each 0..1 like a motor; a track carries
@@ -85,13 +90,13 @@ class ExtraSpec:
 #: not declare one is drawn without it (the player says so once).
 STANDARD_EXTRAS: dict[str, ExtraSpec] = {
     "HT": ExtraSpec("head tilt (roll): 0.5 upright; towards 1 the head turns counter-clockwise as seen, towards 0 "
-                    "clockwise, by up to the face's head.tilt degrees, about its head pivot", 0.5),
-    "UL": ExtraSpec("upper lip raised, as in a sneer or a snarl: 0 at rest, 1 fully raised", 0.0),
-    "CP": ExtraSpec("cheeks puffed out with air: 0 at rest, 1 fully puffed", 0.0),
+                    "clockwise, by up to the face's head.tilt degrees, about its head pivot", 0.5, "Head tilts"),
+    "UL": ExtraSpec("upper lip raised, as in a sneer or a snarl: 0 at rest, 1 fully raised", 0.0, "Sneer (upper lip)"),
+    "CP": ExtraSpec("cheeks puffed out with air: 0 at rest, 1 fully puffed", 0.0, "Cheeks puffed"),
     "JS": ExtraSpec("jaw sideways: 0.5 centred; towards 1 the chin moves to the character's own left, towards 0 "
-                    "to its right", 0.5),
+                    "to its right", 0.5, "Jaw sideways"),
     "PERK": ExtraSpec("what stands on the head rises in surprise (ears prick up, a hat lifts): 0 at rest, "
-                      "1 fully up", 0.0),
+                      "1 fully up", 0.0, "Perks up (surprise)"),
 }
 #: What an extra parameter's code looks like (a motor's do too).
 EXTRA_CODE = r"[A-Z][A-Z0-9_]{0,15}"

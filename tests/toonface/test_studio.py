@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
-from toon import motor_index
+from toon import MOTOR_CODES, motor_index
 from toonface.cli import main
 from toonface.studio.server import HOSTS, make_app
 from toonface.studio.session import StudioSession
@@ -114,3 +114,16 @@ def test_studio_command_errors_are_one_line(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 4 and 'no built-in face "nope"' in err[0] and "--listen" in err[1]
     assert "cannot receive on 8.8.8.8:7710" in err[2] and "missing.toml" in err[3]
+
+
+def test_every_motor_and_standard_parameter_has_a_name_a_designer_reads():
+    """The panels' and staves' names (issue 46): each motor's and standard parameter's own, none
+    twice, each saying which way 1 lies where a motor turns or looks."""
+    described = StudioSession("classic").describe()
+    motors = [m for group in described["groups"] for m in group["motors"]]
+    names = {m["code"]: m["name"] for m in motors}
+    assert set(names) >= set(MOTOR_CODES) | {"HT", "UL", "JS", "CP"}
+    standard = [names[c] for c in (*MOTOR_CODES, "HT", "UL", "JS", "CP")]
+    assert len(set(standard)) == len(standard) and all(n and n not in MOTOR_CODES for n in standard)
+    assert names["PLH"] == "Left eye looks left" and names["HV"] == "Head tips back" and names["MB"] == "Mouth open"
+    assert names["HAIR"] == "HAIR"  # a face's own parameter keeps the name its designer gave

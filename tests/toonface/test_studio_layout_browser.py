@@ -47,6 +47,12 @@ def test_the_face_and_the_staves_are_on_screen_together_with_nothing_to_scroll(s
         duration, zoom = driver.execute_script("return [window.editor.state.duration, window.editor.zoom]")
         score = _box(driver, "#score")
         assert 0.6 * score["width"] < duration * zoom <= score["width"]
+        # names a designer reads, whole, beside the codes: on the staves and on the sliders
+        staff_label = driver.execute_script("const w = document.querySelector('.staff[data-code=\"BRL\"] .who span');"
+                                            "return [w.textContent, w.scrollHeight <= w.clientHeight + 1]")
+        assert staff_label == ["Right brow, outer", True]
+        slider = "return document.querySelector('#motor-PLH').parentElement.querySelector('.name').textContent"
+        assert driver.execute_script(slider) == "Left eye looks leftPLH"
 
 
 def test_the_panels_are_tabs_and_the_keyboard_does_what_the_keys_panel_says(served):

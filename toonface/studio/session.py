@@ -364,13 +364,16 @@ class StudioSession:
                            for h, (x, y) in zip(self.handles, turned, strict=True)}}
 
     def describe(self) -> dict:
-        """The page's fixed parts: motors (code, description, group), groups, expressions and motions."""
+        """The page's fixed parts: motors (code, the name a designer reads, description, group),
+        groups, expressions and motions."""
+        names = {m.code: m.name for m in MOTORS} | {code: spec.name for code, spec in STANDARD_EXTRAS.items()}
         descriptions = {m.code: m.description for m in MOTORS}
         descriptions |= {code: STANDARD_EXTRAS[code].description for code in self.face.extra_codes
                          if code in STANDARD_EXTRAS}
         descriptions |= {p.code: p.description for p in self.face.params if p.description}
         groups = [*GROUPS, *([("Parameters", self.face.extra_codes)] if self.face.extra_codes else [])]
-        return {"groups": [{"title": title, "motors": [{"code": c, "description": descriptions.get(c, c)}
+        return {"groups": [{"title": title, "motors": [{"code": c, "name": names.get(c) or c,
+                                                        "description": descriptions.get(c, c)}
                                                        for c in codes]} for title, codes in groups],
                 "expressions": [n for n in motion_names(self.expressions) if n not in GESTURES],
                 "motions": list(GESTURES),

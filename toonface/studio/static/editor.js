@@ -72,7 +72,11 @@
     axis.setAttribute("aria-hidden", "true");
     axis.append(Object.assign(document.createElement("span"), {textContent: "1"}),
                 Object.assign(document.createElement("span"), {textContent: "0"}));
-    label.append(box, motor.code, hide, axis);
+    const who = document.createElement("span");  // the code, and under it what a designer calls it
+    who.className = "who";
+    who.append(Object.assign(document.createElement("b"), {textContent: motor.code}));
+    if (motor.name && motor.name !== motor.code) who.append(Object.assign(document.createElement("span"), {textContent: motor.name}));
+    label.append(box, who, hide, axis);
     const svg = svgNode("svg", {"data-code": motor.code});
     svg.addEventListener("dblclick", (event) => addKnot(event, motor.code, svg));
     svg.addEventListener("pointerdown", (event) => startDrag(event, motor.code, svg));
@@ -392,7 +396,8 @@
   };
   function fit() {
     // zoom the staves so the whole animation fits the score's width
-    const room = el("score").clientWidth - 120;
+    const label = document.querySelector("#staves .staff .label") || document.querySelector("#score .staff .label");
+    const room = el("score").clientWidth - (label ? label.getBoundingClientRect().width : 180) - 30;
     if (editor.state && editor.state.duration > 0 && room > 0) {
       editor.zoom = Math.max(10, Math.min(2000, room / editor.state.duration));
     }

@@ -101,8 +101,10 @@
     const row = document.createElement("label");
     row.className = "motor";
     row.title = motor.description;
-    const code = document.createElement("span");
-    code.textContent = motor.code;
+    const code = document.createElement("span");  // what a designer calls it, and its code
+    code.className = "name";
+    code.append(motor.name || motor.code);
+    if (motor.name && motor.name !== motor.code) code.append(Object.assign(document.createElement("small"), {textContent: motor.code}));
     const input = document.createElement("input");
     Object.assign(input, {type: "range", min: 0, max: 1, step: 0.001, id: `motor-${motor.code}`});
     input.setAttribute("aria-label", motor.description);
