@@ -2,16 +2,20 @@
 
 Each motor's motion is a list of knots ``(time, value)`` with linear interpolation between them
 (before the first knot the motor holds its first value, after the last its last; a motor without
-knots rests at the neutral). An animation is sampled into a motor track at any rate. Editing
-works on a time slice ``[start, end)`` of chosen motors: cut, copy, paste (also onto other
-motors, such as one brow's motion onto the other), time scaling, value scaling and flipping;
-single knots are inserted, moved and deleted; whole animations concatenate, with or without a
-cross-fade; a motor track becomes knots within a tolerance (:func:`from_track`).
+knots rests at the neutral). CharToon's knots are linear, and so are these by default; a knot
+``(time, value, True)`` eases the segment that starts at it instead: slow out of the knot, slow
+into the next, the smoothstep ``3u^2 - 2u^3`` of the way along (:func:`set_ease`). An animation
+is sampled into a motor track at any rate. Editing works on a time slice ``[start, end)`` of
+chosen motors: cut, copy, paste (also onto other motors, such as one brow's motion onto the
+other), time scaling, value scaling and flipping; single knots are inserted, moved and deleted;
+whole animations concatenate, with or without a cross-fade; a motor track becomes knots within a
+tolerance (:func:`from_track`).
 
 Files: TOML, ``format = "toonface.animation/1"``, ``duration`` in seconds and a ``[knots]`` table
-of ``CODE = [[time, value], ...]``. A code beyond the 21 is a face's parameter (``HT``...): it
-rests at its standard neutral (:func:`toon.motors.extra_rest`) where it has no knots, and a
-sampled track carries it as an extra column.
+of ``CODE = [[time, value], ...]``, an eased knot written ``[time, value, "ease"]``. A code beyond
+the 21 is a face's parameter (``HT``...): it rests at its standard neutral
+(:func:`toon.motors.extra_rest`) where it has no knots, and a sampled track carries it as an
+extra column.
 """
 
 from __future__ import annotations
@@ -32,7 +36,30 @@ from toon.track import MotorTrack
 FORMAT = "toonface.animation/1"
 #: The longest animation, seconds (a day): what the reader takes and every edit may make.
 MAX_DURATION = 86400.0
-Knots = tuple[tuple[float, float], ...]
+#: A knot: ``(time, value)``, or ``(time, value, True)`` where the segment from it to the next eases.
+Knot = tuple[float, ...]
+Knots = tuple[Knot, ...]
+#: How an eased knot is written in a file (its third element).
+EASE = "ease"
+#: Linear pieces an eased segment becomes where an edit cuts it (each within 0.003 of the
+#: segment's change of the curve: a slice's edge must not move the motion outside it).
+BAKED_PIECES = 16
+
+
+def eased(knot: Knot) -> bool:
+    """Whether the segment that starts at ``knot`` eases."""
+    return len(knot) > 2 and bool(knot[2])
+
+
+def _at(knot: Knot, time: float, value: float | None = None) -> Knot:
+    """``knot`` moved to ``time`` (and ``value``), keeping its ease."""
+    v = knot[1] if value is None else value
+    return (time, v, True) if eased(knot) else (time, v)
+
+
+def smoothstep(u: np.ndarray) -> np.ndarray:
+    """The ease between two knots: ``3u^2 - 2u^3`` of the way at ``u`` in [0, 1] of the time."""
+    return u * u * (3.0 - 2.0 * u)
 
 
 @dataclass(frozen=True)
@@ -41,8 +68,9 @@ class Animation:
 
     Attributes
     ----------
-    knots : dict of str to tuple of (time, value)
-        Per motor code (or parameter beyond the 21), sorted by time; values in [0, 1].
+    knots : dict of str to tuple of (time, value) or (time, value, True)
+        Per motor code (or parameter beyond the 21), sorted by time; values in [0, 1]; a third
+        element True eases the segment from that knot to the next.
     duration : float
         Seconds.
     """
@@ -52,16 +80,29 @@ class Animation:
 
     def value(self, code: str, t: np.ndarray | float, neutral: np.ndarray | None = None,
               declared: Mapping[str, float] | None = None) -> np.ndarray:
-        """Motor or parameter ``code`` at times ``t`` (linear between knots); without knots, its
-        ``neutral`` (a parameter's: as ``declared`` by the face, else its standard rest)."""
+        """Motor or parameter ``code`` at times ``t`` (linear between knots, or eased where a knot
+        says); without knots, its ``neutral`` (a parameter's: as ``declared`` by the face, else its
+        standard rest)."""
         knots = self.knots.get(code)
         if not knots:
             if code not in MOTOR_INDEX:
                 return np.full(np.shape(t), extra_rest(code, declared), dtype=float)
             rest = standard_neutral() if neutral is None else neutral
             return np.full(np.shape(t), rest[MOTOR_INDEX[code]], dtype=float)
-        times, values = zip(*knots, strict=True)
-        return np.interp(t, times, values)
+        times = np.array([k[0] for k in knots])
+        values = np.array([k[1] for k in knots])
+        out = np.interp(t, times, values)
+        easing = [i for i, k in enumerate(knots[:-1]) if eased(k) and knots[i + 1][0] > k[0]]
+        if not easing:
+            return out
+        at = np.asarray(t, dtype=float)
+        shaped = np.array(out, dtype=float, ndmin=1)
+        flat = np.array(at, dtype=float, ndmin=1)
+        for i in easing:
+            inside = (flat >= times[i]) & (flat <= times[i + 1])
+            u = (flat[inside] - times[i]) / (times[i + 1] - times[i])
+            shaped[inside] = values[i] + (values[i + 1] - values[i]) * smoothstep(u)
+        return shaped.reshape(np.shape(at)) if np.ndim(at) else shaped[0]
 
     @property
     def extra_codes(self) -> tuple[str, ...]:
@@ -98,7 +139,7 @@ def from_track(track: MotorTrack, tolerance: float = 0.01) -> Animation:
     times = np.arange(track.frames) / track.rate
     rest = np.concatenate([standard_neutral(), [extra_rest(c) for c in track.extra_codes]])
     table = track.table()
-    knots = {}
+    knots: dict[str, Knots] = {}
     for i, code in enumerate((*MOTOR_CODES, *track.extra_codes)):
         values = np.clip(np.asarray(table[:, i], dtype=np.float64), 0.0, 1.0)
         if not np.isfinite(values).all():
@@ -152,10 +193,27 @@ def _edit(anim: Animation, codes: tuple[str, ...] | None, change, duration: floa
 
 
 def _with_edges(knots: list, start: float, end: float, value_at) -> list:
-    """``knots`` with a knot at ``start`` and at ``end`` (the values there) where there is none."""
-    times = {t for t, _ in knots}
+    """``knots`` with a knot at ``start`` and at ``end`` (the values there) where there is none
+    (an eased segment cut there becomes linear pieces along its curve first: :func:`_bake`)."""
+    knots = _bake(knots, (start, end))
+    times = {k[0] for k in knots}
     added = [(x, value_at(x)) for x in (start, end) if x not in times]
     return sorted(knots + added, key=lambda knot: knot[0])
+
+
+def _bake(knots: list, cuts: tuple[float, ...]) -> list:
+    """``knots`` with each eased segment that a time of ``cuts`` falls strictly inside made
+    :data:`BAKED_PIECES` linear pieces along its curve: a cut there leaves the motion as it was
+    (within 0.003 of the segment's change), which a new knot on an eased segment would not."""
+    out: list = []
+    for k, after in zip(knots, [*knots[1:], None], strict=True):
+        if after is not None and eased(k) and any(k[0] < c < after[0] for c in cuts):
+            u = np.arange(BAKED_PIECES) / BAKED_PIECES
+            out += [(float(k[0] + (after[0] - k[0]) * x), float(k[1] + (after[1] - k[1]) * s))
+                    for x, s in zip(u, smoothstep(u), strict=True)]
+        else:
+            out.append(k)
+    return out
 
 
 def _dedupe(knots: list) -> list:
@@ -175,16 +233,21 @@ def _dedupe(knots: list) -> list:
 
 def _slice(knots: list, start: float, end: float, value_at) -> list:
     """The knots inside ``[start, end]`` with knots added at both ends (the values there)."""
-    inside = [(t, v) for t, v in knots if start < t < end]
+    inside = [k for k in _bake(knots, (start, end)) if start < k[0] < end]
     return [(start, value_at(start)), *inside, (end, value_at(end))]
 
 
 def insert_knot(anim: Animation, code: str, time: float, value: float) -> Animation:
     """A knot for ``code`` at ``time`` (clipped to [0, duration]) with ``value`` (clipped to
-    [0, 1]); one already at that time takes the new value. The duration is kept."""
+    [0, 1]); one already at that time takes the new value (and keeps its ease). One put inside an
+    eased segment eases on to the next knot, as the segment did. The duration is kept."""
     t, v = _knot(anim, time, value)
-    knots = [k for k in anim.knots.get(code, ()) if k[0] != t]
-    return _edit(anim, (code,), lambda _: sorted([*knots, (t, v)]))
+    old = anim.knots.get(code, ())
+    same = [k for k in old if k[0] == t]
+    within = [k for k in old if k[0] < t]
+    ease = eased(same[-1]) if same else bool(within) and eased(within[-1]) and any(k[0] > t for k in old)
+    knots = [k for k in old if k[0] != t]
+    return _edit(anim, (code,), lambda _: sorted([*knots, (t, v, True) if ease else (t, v)]))
 
 
 def move_knot(anim: Animation, code: str, index: int, time: float, value: float) -> Animation:
@@ -196,7 +259,7 @@ def move_knot(anim: Animation, code: str, index: int, time: float, value: float)
     t, v = _knot(anim, time, value)
     low = knots[index - 1][0] if index > 0 else 0.0
     high = knots[index + 1][0] if index + 1 < len(knots) else anim.duration
-    knots[index] = (min(max(t, low), high), v)
+    knots[index] = _at(knots[index], min(max(t, low), high), v)
     if any(a[0] == b[0] == c[0] for a, b, c in zip(knots, knots[1:], knots[2:], strict=False)):
         raise ValueError(f"{code} would have three knots at {knots[index][0]:g} s (two make a step; three cannot)")
     return _edit(anim, (code,), lambda _: knots)
@@ -210,6 +273,19 @@ def delete_knot(anim: Animation, code: str, index: int) -> Animation:
     return _edit(anim, (code,), lambda _: knots[:index] + knots[index + 1:])
 
 
+def set_ease(anim: Animation, code: str, index: int, ease: bool) -> Animation:
+    """The segment from knot ``index`` of ``code`` to the next eased (slow out, slow in) or
+    linear again. The last knot starts no segment: a ValueError."""
+    knots = list(anim.knots.get(code, ()))
+    if not 0 <= index < len(knots):
+        raise IndexError(f"{code} has no knot {index} (it has {len(knots)})")
+    if index == len(knots) - 1:
+        raise ValueError(f"{code}'s last knot starts no segment to ease")
+    t, v = knots[index][:2]
+    knots[index] = (t, v, True) if ease else (t, v)
+    return _edit(anim, (code,), lambda _: knots)
+
+
 def _knot(anim: Animation, time: float, value: float) -> tuple[float, float]:
     if not (np.isfinite(time) and np.isfinite(value)):
         raise ValueError(f"a knot needs a finite time and value, got ({time}, {value})")
@@ -218,8 +294,8 @@ def _knot(anim: Animation, time: float, value: float) -> tuple[float, float]:
 
 def copy(anim: Animation, codes: tuple[str, ...], start: float, end: float) -> Animation:
     """The slice ``[start, end]`` of ``codes`` as a clip starting at time 0."""
-    clip = {c: tuple((t - start, v) for t, v in _slice(list(anim.knots.get(c, ())), start, end,
-                                                      lambda x, c=c: float(anim.value(c, x))))
+    clip = {c: tuple(_at(k, k[0] - start) for k in _slice(list(anim.knots.get(c, ())), start, end,
+                                                          lambda x, c=c: float(anim.value(c, x))))
             for c in codes}
     return Animation(clip, end - start)
 
@@ -230,8 +306,8 @@ def cut(anim: Animation, codes: tuple[str, ...], start: float, end: float) -> tu
     clip, span = copy(anim, codes, start, end), end - start
 
     def change(knots: list) -> list:
-        before = [(t, v) for t, v in knots if t < start]
-        after = [(t - span, v) for t, v in knots if t > end]
+        before = [k for k in knots if k[0] < start]
+        after = [_at(k, k[0] - span) for k in knots if k[0] > end]
         return before + after
     return _edit(anim, codes, change), clip
 
@@ -242,8 +318,8 @@ def paste(anim: Animation, clip: Animation, at: float, onto: dict[str, str] | No
     onto = onto or {c: c for c in clip.knots}
     knots = dict(anim.knots)
     for source, target in onto.items():
-        keep = [(t, v) for t, v in knots.get(target, ()) if t < at or t > at + clip.duration]
-        knots[target] = tuple(sorted(keep + [(at + t, v) for t, v in clip.knots.get(source, ())]))
+        keep = [k for k in knots.get(target, ()) if k[0] < at or k[0] > at + clip.duration]
+        knots[target] = tuple(sorted(keep + [_at(k, at + k[0]) for k in clip.knots.get(source, ())]))
     return Animation(knots, max(anim.duration, at + clip.duration))
 
 
@@ -254,7 +330,8 @@ def scale_time(anim: Animation, codes: tuple[str, ...] | None, start: float, end
     shift = (end - start) * (factor - 1)
 
     def change(knots: list) -> list:
-        return [(t if t <= start else start + (t - start) * factor if t <= end else t + shift, v) for t, v in knots]
+        return [_at(k, k[0] if k[0] <= start else start + (k[0] - start) * factor if k[0] <= end else k[0] + shift)
+                for k in knots]
     return _edit(anim, codes, change, anim.duration + shift, edges=(start, end))
 
 
@@ -266,7 +343,7 @@ def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, en
     def change_for(code: str):
         pivot = rest[MOTOR_INDEX[code]] if code in MOTOR_INDEX else extra_rest(code)
         return lambda knots: _in_slice(knots, start, end, anim.duration, lambda inside: [
-            (t, float(np.clip(pivot + (v - pivot) * factor, 0, 1))) for t, v in inside])
+            _at(k, k[0], float(np.clip(pivot + (k[1] - pivot) * factor, 0, 1))) for k in inside])
     out = anim
     for code in codes or tuple(anim.knots):
         out = _edit(out, (code,), change_for(code), edges=(start, end))
@@ -274,9 +351,16 @@ def scale_value(anim: Animation, codes: tuple[str, ...] | None, start: float, en
 
 
 def flip(anim: Animation, codes: tuple[str, ...] | None, start: float, end: float) -> Animation:
-    """Reverse the slice in time (the motion played backwards within it)."""
-    return _edit(anim, codes, lambda knots: _in_slice(knots, start, end, anim.duration, lambda inside: [
-        (start + end - t, v) for t, v in reversed(inside)]), edges=(start, end))
+    """Reverse the slice in time (the motion played backwards within it; an eased segment stays
+    eased, the ease being the same either way)."""
+    def backwards(inside: list) -> list:
+        out = []
+        for j, k in enumerate(reversed(inside)):  # segment j runs from this knot to the one before it
+            t = start + end - k[0]
+            out.append((t, k[1], True) if j + 1 < len(inside) and eased(inside[-j - 2]) else (t, k[1]))
+        return out
+    return _edit(anim, codes, lambda knots: _in_slice(knots, start, end, anim.duration, backwards),
+                 edges=(start, end))
 
 
 def _in_slice(knots: list, start: float, end: float, duration: float, change) -> list:
@@ -305,16 +389,17 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
     codes = sorted(set(first.knots) | set(second.knots), key=code_order)
     knots = {}
     for code in codes:
-        a = [(t, v) for t, v in first.knots.get(code, ()) if t < offset]
-        b = [(offset + t, v) for t, v in second.knots.get(code, ()) if t > fade or fade == 0]
+        a = [k for k in first.knots.get(code, ()) if k[0] < offset]
+        b = [_at(k, offset + k[0]) for k in second.knots.get(code, ()) if k[0] > fade or fade == 0]
         blend = []
         if fade > 0:
-            times = sorted({offset, first.duration} | {t for t, _ in first.knots.get(code, ()) if t >= offset}
-                           | {offset + t for t, _ in second.knots.get(code, ()) if t <= fade})
+            times = sorted({offset, first.duration} | {k[0] for k in first.knots.get(code, ()) if k[0] >= offset}
+                           | {offset + k[0] for k in second.knots.get(code, ()) if k[0] <= fade})
             for t in times:
                 w = (t - offset) / fade
                 blend.append((t, float((1 - w) * first.value(code, t) + w * second.value(code, t - offset))))
-        knots[code] = tuple(sorted(dict(a + blend + b).items()))
+        merged = {k[0]: k for k in a + blend + b}  # one knot a time: the later of two
+        knots[code] = tuple(merged[t] for t in sorted(merged))
     return Animation(knots, offset + second.duration)
 
 
@@ -337,7 +422,8 @@ def animation_text(anim: Animation, path: str | os.PathLike | None = None) -> st
     for code in (*MOTOR_CODES, *anim.extra_codes):
         if code not in anim.knots:
             continue
-        pairs = [f"[{float(t)!r}, {float(v)!r}]" for t, v in anim.knots[code]]
+        ease = f', "{EASE}"'
+        pairs = [f"[{float(k[0])!r}, {float(k[1])!r}{ease if eased(k) else ''}]" for k in anim.knots[code]]
         one_line = f"{code} = [{', '.join(pairs)}]"
         if len(one_line) <= 100:
             lines.append(one_line)
@@ -358,20 +444,22 @@ def load_animation(path: str | os.PathLike) -> Animation:
     table = doc.get("knots", {})
     if not isinstance(table, dict):
         raise InputError("expected a table CODE = [[time, value], ...]", path, "knots")
-    knots = {}
+    knots: dict[str, Knots] = {}
     for code, points in table.items():
         where = f"knots.{code}"
         if code not in MOTOR_INDEX and not re.fullmatch(EXTRA_CODE, code):
             raise InputError(f"unknown motor {code!r} (a motor such as MB, or a face's parameter such as HT)",
                              path, where)
-        if not (isinstance(points, list) and all(isinstance(p, list) and len(p) == 2
-                                                  and all(isinstance(x, (int, float)) for x in p) for p in points)):
-            raise InputError("expected [[time, value], ...]", path, where)
-        if any(not 0 <= v <= 1 for _, v in points):
+        if not (isinstance(points, list) and all(
+                isinstance(p, list) and len(p) in (2, 3) and all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                                                                 for x in p[:2]) and p[2:] in ([], [EASE])
+                for p in points)):
+            raise InputError(f'expected [[time, value], ...] (a knot that eases: [time, value, "{EASE}"])', path, where)
+        if any(not 0 <= p[1] <= 1 for p in points):
             raise InputError("values must be 0..1", path, where)
         if any(b[0] < a[0] for a, b in pairwise(points)) or any(
                 a[0] == b[0] == c[0] for a, b, c in zip(points, points[1:], points[2:], strict=False)):
             raise InputError("knot times must increase (two knots at one time make a step; three cannot)", path,
                              where)
-        knots[code] = tuple((float(t), float(v)) for t, v in points)
+        knots[code] = tuple((float(p[0]), float(p[1]), True) if p[2:] else (float(p[0]), float(p[1])) for p in points)
     return Animation(knots, float(duration))

@@ -326,12 +326,19 @@ def anim_from_track(track: str, output: str, tolerance: float) -> None:
 @click.option("--move", default=None, metavar="INDEX:TIME,VALUE",
               help="Move knot INDEX (0 is the first); it stays between its neighbours.")
 @click.option("--delete", default=None, type=click.IntRange(min=0), metavar="INDEX", help="Delete knot INDEX.")
-def anim_knot(animation: str, output: str, motor: str, add: str | None, move: str | None, delete: int | None) -> None:
-    """Insert, move or delete one knot of one motor (one of --add, --move, --delete)."""
+@click.option("--ease", default=None, type=click.IntRange(min=0), metavar="INDEX",
+              help="Ease the segment from knot INDEX to the next: slow out of it, slow into the next.")
+@click.option("--linear", default=None, type=click.IntRange(min=0), metavar="INDEX",
+              help="Make the segment from knot INDEX to the next linear again (the default).")
+def anim_knot(animation: str, output: str, motor: str, add: str | None, move: str | None, delete: int | None,
+              ease: int | None, linear: int | None) -> None:
+    """Insert, move or delete one knot of one motor, or ease the segment from it to the next or
+    make it linear again (one of --add, --move, --delete, --ease, --linear). Knots are joined by
+    straight lines unless eased, as CharToon's are."""
     from toon import animation as an
 
-    if sum(x is not None for x in (add, move, delete)) != 1:
-        raise click.UsageError("give one of --add, --move and --delete")
+    if sum(x is not None for x in (add, move, delete, ease, linear)) != 1:
+        raise click.UsageError("give one of --add, --move, --delete, --ease and --linear")
     codes = parse_codes(motor, "--motor", any_parameter=True)
     if not codes or len(codes) != 1:
         raise click.BadParameter(f"expected one motor code, got {motor!r}", param_hint="--motor")
@@ -345,11 +352,14 @@ def anim_knot(animation: str, output: str, motor: str, add: str | None, move: st
             if not index.isdigit():
                 raise click.BadParameter(f"expected INDEX:TIME,VALUE, got {move!r}", param_hint="--move")
             out = an.move_knot(source, code, int(index), *_pair(rest, "--move"))
-        else:
-            assert delete is not None
+        elif delete is not None:
             out = an.delete_knot(source, code, delete)
+        else:
+            which = ease if ease is not None else linear
+            assert which is not None
+            out = an.set_ease(source, code, which, ease is not None)
     except (IndexError, ValueError) as exc:
-        raise click.BadParameter(str(exc), param_hint="--add/--move/--delete") from None
+        raise click.BadParameter(str(exc), param_hint="--add/--move/--delete/--ease/--linear") from None
     an.save_animation(out, output)
     click.echo(f"wrote {output} ({len(out.knots.get(code, ()))} knots on {code})")
 

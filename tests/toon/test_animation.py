@@ -12,11 +12,13 @@ from toon.animation import (
     cut,
     flip,
     from_track,
+    insert_knot,
     load_animation,
     paste,
     save_animation,
     scale_time,
     scale_value,
+    set_ease,
 )
 
 A = Animation({"ELU": ((0.0, 0.8), (1.0, 0.0), (2.0, 0.8)), "MB": ((0.0, 0.1), (4.0, 0.5))}, 4.0)
@@ -168,3 +170,48 @@ def test_a_face_s_parameters_are_knots_too_and_sample_into_extra_columns(tmp_pat
     assert float(anim.value("EARS2", 0.5, declared={"EARS2": 0.3})) == 0.3
     again = from_track(track, 0.001)
     assert set(again.knots) == {"MB", "HT", "EARS"}
+
+
+EASED = Animation({"MB": ((0.0, 0.1), (1.0, 0.1, True), (3.0, 0.9), (4.0, 0.9))}, 4.0)
+
+
+def test_an_eased_segment_follows_the_smoothstep_and_the_others_stay_linear():
+    """Issue 46's ease per segment, against hand-computed values: 3u^2 - 2u^3 of the way."""
+    t = np.array([0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5])
+    u = (t - 1.0) / 2.0
+    hand = np.where((t >= 1) & (t <= 3), 0.1 + 0.8 * (3 * u**2 - 2 * u**3), np.where(t < 1, 0.1, 0.9))
+    np.testing.assert_allclose(EASED.value("MB", t), hand, atol=1e-12)
+    assert EASED.value("MB", 1.5) == pytest.approx(0.1 + 0.8 * 0.15625)  # slower out of the knot than linear
+    linear = set_ease(EASED, "MB", 1, False)
+    assert linear.value("MB", 1.5) == pytest.approx(0.3) and linear.knots["MB"][1] == (1.0, 0.1)
+    with pytest.raises(ValueError, match="last knot"):
+        set_ease(EASED, "MB", 3, True)
+    assert insert_knot(EASED, "MB", 2.0, 0.5).knots["MB"][2] == (2.0, 0.5, True)  # eases on, as the segment did
+    assert insert_knot(EASED, "MB", 3.5, 0.5).knots["MB"][3] == (3.5, 0.5)
+    track = EASED.sample(10.0)
+    np.testing.assert_allclose(track.values[10:31, motor_index("MB")],
+                               EASED.value("MB", np.arange(10, 31) / 10.0), atol=1e-12)
+
+
+def test_edits_keep_an_ease_where_the_motion_is_the_same_and_bake_it_where_a_slice_cuts_it(tmp_path):
+    t = np.linspace(0, 4, 81)
+    stretched = scale_time(EASED, ("MB",), 0.0, 4.0, 2.0)  # the whole: still eased, twice as long
+    np.testing.assert_allclose(stretched.value("MB", 2 * t), EASED.value("MB", t), atol=1e-12)
+    backwards = flip(EASED, ("MB",), 0.0, 4.0)  # the ease reads the same either way
+    np.testing.assert_allclose(backwards.value("MB", 4.0 - t), EASED.value("MB", t), atol=1e-12)
+    halved = scale_value(EASED, ("MB",), 0.0, 4.0, 0.5)  # about MB's neutral, still eased
+    rest = 0.1
+    np.testing.assert_allclose(halved.value("MB", t), rest + (EASED.value("MB", t) - rest) * 0.5, atol=1e-12)
+    moved = paste(Animation({}, 6.0), copy(EASED, ("MB",), 0.0, 4.0), 2.0)
+    np.testing.assert_allclose(moved.value("MB", t + 2.0), EASED.value("MB", t), atol=1e-12)
+    # a slice from 2 s cuts the eased segment: outside it the motion stays within 0.003 of its change
+    cut_here = scale_value(EASED, ("MB",), 2.0, 4.0, 0.0)
+    before = t[t < 2.0]
+    np.testing.assert_allclose(cut_here.value("MB", before), EASED.value("MB", before), atol=0.003 * 0.8)
+    assert cut_here.value("MB", 2.5) == pytest.approx(0.1)  # inside: to the neutral
+    path = save_animation(EASED, tmp_path / "eased.toml")
+    assert '[1.0, 0.1, "ease"]' in path.read_text()
+    assert load_animation(path) == EASED
+    path.write_text(path.read_text().replace('"ease"', '"bounce"'))
+    with pytest.raises(InputError, match=r'knots\.MB: expected .*"ease"'):
+        load_animation(path)

@@ -223,6 +223,15 @@ def test_anim_edits_files_and_renders_a_knot_point_animation(tmp_path, capsys):
     assert len(list((tmp_path / "frames").glob("*.png"))) == 10
     assert main(["anim", "paste", a, clip, "-o", b, "--at", "0", "--onto", "BRL=XX"]) == 2
     assert "Invalid value for --onto: unknown motor code(s) XX" in capsys.readouterr().err  # it said --motors
+    eased = str(tmp_path / "eased.toml")
+    assert main(["anim", "knot", a, "-o", eased, "--motor", "BRL", "--ease", "0"]) == 0
+    assert "BRL = [[0.0, 0.4, \"ease\"], [1.0, 1.0], [2.0, 0.4]]" in (tmp_path / "eased.toml").read_text()
+    assert main(["anim", "sample", eased, "-o", track, "--rate", "4"]) == 0
+    assert load_track(track).column("BRL")[1] == pytest.approx(0.4 + 0.6 * 0.15625)  # a quarter of the way: eased
+    assert main(["anim", "knot", eased, "-o", eased, "--motor", "BRL", "--linear", "0"]) == 0
+    assert "BRL = [[0.0, 0.4], [1.0, 1.0], [2.0, 0.4]]" in (tmp_path / "eased.toml").read_text()
+    assert main(["anim", "knot", a, "-o", eased, "--motor", "BRL", "--ease", "2"]) == 2
+    assert "last knot starts no segment" in capsys.readouterr().err
 
 
 def test_help_imports_no_heavy_library():

@@ -111,3 +111,36 @@ def test_the_performers_video_plays_beside_the_face_in_step_with_the_cursor(tmp_
         driver.execute_script("studio.send({op: 'new', seconds: 5})")  # not from a video: the view goes
         wait_for(driver, "document.getElementById('performer-video').hidden")
     assert duration == pytest.approx(2.0, abs=0.15)
+
+
+def test_a_knot_ticked_to_ease_curves_its_segment_on_the_staff_and_on_the_face(tmp_path):
+    """Knots stay linear by default; "ease to the next" on a picked knot eases its segment: the
+    staff draws the curve, the face shows the eased value, untick and it is linear again."""
+    from toon import animation as an
+
+    session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
+    session.editor.animation = an.Animation({"MB": ((0.0, 0.1), (1.0, 0.1), (3.0, 0.9), (4.0, 0.9))}, 4.0)
+    line = "document.querySelector('#staves svg[data-code=\"MB\"] polyline.curve').points.numberOfItems"
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state && window.editor.state.knots.MB")
+        straight = driver.execute_script(f"return {line}")
+        knot = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="1"]')
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", knot)
+        ActionChains(driver).click(knot).perform()
+        wait_for(driver, "!document.getElementById('knot-edit').hidden")
+        assert not driver.find_element("id", "knot-ease").is_selected()  # linear by default
+        driver.find_element("id", "knot-ease").click()
+        wait_for(driver, "window.editor.state.knots.MB[1][2] === true")
+        curved = driver.execute_script(f"return {line}")
+        driver.execute_script("window.studio.send({op: 'cursor', t: 1.5})")
+        wait_for(driver, "Math.abs(window.studio.last.values.MB - 0.225) < 1e-6")  # 0.1 + 0.8 * smoothstep(0.25)
+        driver.find_element("id", "knot-ease").click()
+        wait_for(driver, "window.editor.state.knots.MB[1].length === 2")
+        wait_for(driver, "Math.abs(window.studio.last.values.MB - 0.3) < 1e-6")  # linear again
+        last = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="3"]')
+        ActionChains(driver).click(last).perform()
+        wait_for(driver, "document.getElementById('knot-name').textContent === 'MB knot 4'")
+        assert not driver.find_element("id", "knot-ease").is_enabled()  # the last knot starts no segment
+    assert curved == straight + 15  # the eased segment drawn through 15 points between its knots
+    assert session.editor.animation.knots["MB"][1] == (1.0, 0.1)

@@ -77,6 +77,10 @@ class AnimationEditor:
     def delete_knot(self, code: str, index: int) -> None:
         self._change(an.delete_knot(self.animation, self._code(code), index))
 
+    def ease_knot(self, code: str, index: int, ease: bool) -> None:
+        """The segment from knot ``index`` to the next eased, or linear again (undoable)."""
+        self._change(an.set_ease(self.animation, self._code(code), index, ease))
+
     def cut(self, codes: list[str], start: float, end: float) -> None:
         """Cut the slice of ``codes`` into the clipboard (what follows moves earlier)."""
         edited, clip = an.cut(self.animation, self._codes(codes) or tuple(self.animation.knots),

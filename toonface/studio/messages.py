@@ -95,6 +95,8 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
             editor.move_knot(code, index(message["index"]), number(message["t"]), number(message["v"]))
         elif action == "delete":
             editor.delete_knot(code, index(message["index"]))
+        elif action == "ease":
+            editor.ease_knot(code, index(message["index"]), bool(message["ease"]))
         else:
             raise ValueError(f"unknown knot action {action!r}")
     elif op == "slice":

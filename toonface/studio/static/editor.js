@@ -109,11 +109,23 @@
           parts.push(svgNode("line", {class: "rest", x1: 0, x2: width, y1: y, y2: y}));
         }
       } else {
-        const points = [[0, knots[0][1]], ...knots, [state.duration, knots[knots.length - 1][1]]];
+        const points = [[0, knots[0][1]]];
+        knots.forEach((knot, i) => {
+          points.push(knot);
+          const next = knots[i + 1];
+          if (knot[2] && next && next[0] > knot[0]) {  // an eased segment: its curve (toon/animation.py's smoothstep)
+            for (let j = 1; j < 16; j += 1) {
+              const u = j / 16;
+              points.push([knot[0] + (next[0] - knot[0]) * u, knot[1] + (next[1] - knot[1]) * u * u * (3 - 2 * u)]);
+            }
+          }
+        });
+        points.push([state.duration, knots[knots.length - 1][1]]);
         parts.push(svgNode("polyline", {class: "curve", points: points.map(([t, v]) => `${xOf(t)},${yOf(v)}`).join(" ")}));
-        knots.forEach(([t, v], index) => {
+        knots.forEach(([t, v, ease], index) => {
           const picked = editor.picked && editor.picked[0] === code && editor.picked[1] === index;
-          parts.push(svgNode("circle", {class: picked ? "knot picked" : "knot", cx: xOf(t), cy: yOf(v), r: 4.5,
+          const kind = `knot${picked ? " picked" : ""}${ease ? " eased" : ""}`;
+          parts.push(svgNode("circle", {class: kind, cx: xOf(t), cy: yOf(v), r: 4.5,
                                         "data-index": index}));
         });
       }

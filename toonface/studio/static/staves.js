@@ -18,8 +18,13 @@
     const knot = picked();
     el("knot-edit").hidden = knot === null;
     if (!knot) return;
-    const [code, index, [t, v]] = knot;
+    const [code, index, [t, v, ease]] = knot;
     el("knot-name").textContent = `${code} knot ${index + 1}`;
+    const last = index === editor.state.knots[code].length - 1;
+    el("knot-ease").checked = Boolean(ease);
+    el("knot-ease").disabled = last;  // the last knot starts no segment
+    el("knot-ease-label").title = last ? "The last knot starts no segment to ease"
+      : "Ease the segment to the next knot: slow out of this one, slow into the next (linear when unticked)";
     for (const [id, value] of [["knot-t", t], ["knot-v", v]]) {
       if (document.activeElement === el(id)) continue;
       el(id).value = value.toFixed(3);
@@ -119,6 +124,10 @@
   };
   video.addEventListener("loadedmetadata", follow);
 
+  el("knot-ease").addEventListener("change", () => {
+    const knot = picked();
+    if (knot) studio.send({op: "knot", action: "ease", code: knot[0], index: knot[1], ease: el("knot-ease").checked});
+  });
   el("knot-t").addEventListener("change", typed);
   el("knot-v").addEventListener("change", typed);
 })();
