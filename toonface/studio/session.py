@@ -22,7 +22,7 @@ from player.animator import Animator, schedule
 from player.motion import SecondaryMotion
 from player.motions import GESTURES, motion_names, standard_motion
 from toon import MOTOR_CODES, Face, FaceRig, load_face
-from toon.animation import Animation, simplified_knots
+from toon.animation import Animation, Knots, simplified_knots
 from toon.expressions import Expression, load_expressions
 from toon.face import ANGLE_MOTORS
 from toon.formulas import head_turn
@@ -260,7 +260,7 @@ class StudioSession:
             rows.append(animator.tick(len(rows) * self.loop_time))
         table = np.array([current, *rows])
         times = np.arange(len(table)) * self.loop_time
-        knots = {}
+        knots: dict[str, Knots] = {}
         for i, code in enumerate(MOTOR_CODES):
             values = table[:, i]
             if np.ptp(values) > 1e-9:
