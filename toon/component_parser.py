@@ -183,8 +183,12 @@ class ComponentParser:
             ref = PointRef("frozen", at=v.point(p, where))
         elif isinstance(p, dict) and "slave" in p:
             v.fields(p, {"slave", "at"}, where, "a slave point")
-            ref = PointRef("slave", self._master(p["slave"], v, f"{where}.slave", rename), v.point(p.get("at"),
-                                                                                                  f"{where}.at"))
+            at = v.point(p.get("at"), f"{where}.at")
+            if isinstance(p["slave"], dict):  # a blend of masters
+                blend = self._blend(p["slave"], v, f"{where}.slave", rename)
+                ref = PointRef("slave", max(blend, key=lambda b: b[1])[0], at, blend)
+            else:
+                ref = PointRef("slave", self._master(p["slave"], v, f"{where}.slave", rename), at)
         elif isinstance(p, dict) and "fixed" in p:
             v.fields(p, {"fixed"}, where, "a fixed point")
             ref = PointRef("fixed", at=v.point(p["fixed"], f"{where}.fixed"))
@@ -194,6 +198,20 @@ class ComponentParser:
         v.require(ref.kind in allowed, f"a {ref.kind} point is not allowed here (allowed: {', '.join(allowed)})",
                   where)
         return ref
+
+    def _blend(self, raw: dict, v: ShapeValidator, where: str, rename: dict[str, str]) -> tuple[tuple[str, float], ...]:
+        v.require(len(raw) >= 1, 'expected {"CP": weight, ...}: at least one control point', where)
+        blend = []
+        for name, weight in raw.items():
+            v.require(isinstance(weight, (int, float)) and not isinstance(weight, bool) and 0 < weight <= 1,
+                      f"expected a weight in (0, 1], got {weight!r}", f"{where}.{name}")
+            blend.append((self._master(name, v, f"{where}.{name}", rename), float(weight)))
+        total = sum(w for _, w in blend)
+        v.require(abs(total - 1.0) <= 1e-6, f"the weights must sum to 1, got {total:g}", where)
+        merged: dict[str, float] = {}
+        for name, weight in blend:  # two names renamed onto one control point add up
+            merged[name] = merged.get(name, 0.0) + weight
+        return tuple(merged.items())
 
     def _master(self, name: Any, v: ShapeValidator, where: str, rename: dict[str, str]) -> str:
         target = rename.get(name, name) if isinstance(name, str) else name

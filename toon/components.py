@@ -16,7 +16,10 @@ A face's ``components`` list holds, besides ToonFace's polygons:
   (``{"M": "BRM", "E": "eye_right"}``).
 
 Points are written as: ``"BRC"``, a **master** control point (its position comes from the motors);
-``{"slave": "BRC", "at": [x, y]}``, a **slave** that moves as its master does; ``[x, y]``, a
+``{"slave": "BRC", "at": [x, y]}``, a **slave** that moves as its master does (or
+``{"slave": {"ML": 0.25, "MB": 0.75}, "at": [x, y]}``, as a blend of several move: each master's
+motion times its weight, the weights summing to 1, so a point between two control points bends
+smoothly with both); ``[x, y]``, a
 **frozen** point that never moves; ``{"fixed": [x, y]}``, a **fixed** point that moves only when a
 skeleton drives it (a fixed skeleton point is a joint that stays put).
 
@@ -50,12 +53,15 @@ class PointRef:
     """One defining point: ``kind`` is master, slave, fixed or frozen.
 
     ``master`` names the control point of a master or slave; ``at`` is the rest position of a
-    slave, fixed or frozen point (a master's comes from the face).
+    slave, fixed or frozen point (a master's comes from the face). A slave of several masters has
+    ``blend``, each ``(control point, weight)`` (weights summing to 1), and ``master`` is its
+    heaviest.
     """
 
     kind: str
     master: str = ""
     at: tuple[float, float] = (0.0, 0.0)
+    blend: tuple[tuple[str, float], ...] = ()
 
     @property
     def animated(self) -> bool:
@@ -67,7 +73,7 @@ class PointRef:
         if self.kind == "master":
             return self.master
         if self.kind == "slave":
-            return {"slave": self.master, "at": list(self.at)}
+            return {"slave": dict(self.blend) if self.blend else self.master, "at": list(self.at)}
         return {"fixed": list(self.at)} if self.kind == "fixed" else list(self.at)
 
 

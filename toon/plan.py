@@ -45,6 +45,9 @@ class ComponentPrep:
     spec: Component
     rows: np.ndarray  # (N,) control-point row per defining point; -1 for frozen and fixed points
     offset: np.ndarray  # (N, 2) added to that row's position (or to zero)
+    #: (N, C) weights on every control point's motion from rest, less the row's own one: what a
+    #: slave of several masters adds (None: none has several).
+    blend: np.ndarray | None
     depth: float
     mask_write: int
     mask_test: int | None
@@ -88,6 +91,8 @@ class VertexPlan:
     point_max: np.ndarray  # (T, 2)
     defining_row: np.ndarray  # (D,) control-point row of each component point (-1: the origin)
     defining_offset: np.ndarray  # (D, 2) added to that row
+    #: (D, C) what slaves of several masters add: weights on the control points' motion from rest
+    defining_blend: sparse.csr_array | None
     direct_from: np.ndarray  # (E,) component points that are outline inputs as they are ...
     direct_to: np.ndarray  # (E,) ... and where they go among the inputs
     skeletons: tuple[tuple[Skeleton, slice, slice], ...]  # skeleton points taken, body points given
@@ -116,6 +121,7 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, column
         "point_at", "point_motor", "point_min", "point_max", "defining_row", "defining_offset", "direct_from",
         "direct_to", "blocks", "component_at", "moving_at", "moving_depth")}
     skeletons: list[tuple[Skeleton, slice, slice]] = []
+    blends: list = []
     defined = given = 0
     for prep, where in zip(order, slices, strict=True):
         at = np.arange(where.start, where.stop)
@@ -148,6 +154,7 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, column
         inputs = len(prep.skeleton.body_rest) if prep.skeleton is not None else n
         parts["defining_row"].append(prep.rows)
         parts["defining_offset"].append(prep.offset)
+        blends.append(sparse.csr_array(prep.blend) if prep.blend is not None else sparse.csr_array((n, len(rest))))
         if prep.skeleton is not None:
             skeletons.append((prep.skeleton, slice(defined, defined + n), slice(given, given + inputs)))
         else:
@@ -167,8 +174,9 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, column
     merged_arcs = ArcBinding(*(np.concatenate([getattr(p, f) for p in arcs]) for f in (
         "a", "b", "m", "other", "upper", "vrl", "d", "gap"))) if arcs else None
     operator = sparse.csr_array(sparse.block_diag(blocks)) if blocks else None
+    blended = any(prep.blend is not None for prep in order if isinstance(prep, ComponentPrep))
     return VertexPlan(slices, int(bounds[-1]), lines=merged, arcs=merged_arcs, skeletons=tuple(skeletons),
-                       operator=operator,
+                       operator=operator, defining_blend=sparse.csr_array(sparse.vstack(blends)) if blended else None,
                        **arrays)
 
 

@@ -245,6 +245,8 @@ class FaceRig:
         """Every component's defining points (its body, for a skeleton) at control points ``pts``."""
         plan = self._plan
         moved = np.vstack([pts, np.zeros((1, 2))])[plan.defining_row] + plan.defining_offset  # row -1: origin
+        if plan.defining_blend is not None:  # slaves of several masters: each one's share of the motion
+            moved += plan.defining_blend @ (pts - self._rest)
         assert plan.operator is not None  # called only for faces with components
         inputs = np.empty((plan.operator.shape[1], 2))
         inputs[plan.direct_to] = moved[plan.direct_from]
@@ -293,6 +295,14 @@ class FaceRig:
         offset = np.where((rows >= 0)[:, None], np.where(np.array([p.kind == "slave" for p in refs])[:, None],
                                                           at - masters, 0.0), at)
         rest_pts = np.where((rows >= 0)[:, None], masters, 0.0) + offset
+        blend = None
+        if any(p.blend for p in refs):  # slaves of several masters: their weights, less the heaviest's own
+            blend = np.zeros((len(refs), len(self._rest)))
+            for i, p in enumerate(refs):
+                for name, weight in p.blend:
+                    blend[i, self._index[name]] += weight
+                if p.blend:
+                    blend[i, rows[i]] -= 1.0
         extra: dict = {}
         outline_rest = rest_pts
         if spec.kind == "skeleton":
@@ -321,4 +331,4 @@ class FaceRig:
                                             else (self.face.feature_depth if animated else 0.0))
         mask_write = MASK_GROUPS[spec.hole] if spec.hole else 0
         mask_test = MASK_GROUPS[spec.clip] if spec.clip else None
-        return ComponentPrep(spec, rows, offset, depth, mask_write, mask_test, operator, edge_visible, **extra)
+        return ComponentPrep(spec, rows, offset, blend, depth, mask_write, mask_test, operator, edge_visible, **extra)

@@ -6,6 +6,7 @@ component moves with the face's control points."""
 import numpy as np
 import pytest
 
+from common import InputError
 from toon import FaceRig, load_face, motor_index
 from toon.face import face_from_dict
 from toon.svg_import import svg_components
@@ -52,8 +53,10 @@ def test_a_component_attached_to_the_mouth_moves_with_it():
     [_, mouth, *_] = parts.import_svg(doc, DRAWING)
     parts.attach(doc, mouth, "mouth")
     spec = doc["components"][mouth]
-    assert {ref["slave"] for ref in spec["points"]} <= {"ML", "MT", "MR", "MB"}
-    assert {ref["slave"] for ref in spec["points"]} >= {"ML", "MR"}  # the corners follow the corners
+    follows = [ref["slave"] if isinstance(ref["slave"], dict) else {ref["slave"]: 1.0} for ref in spec["points"]]
+    assert set().union(*follows) <= {"ML", "MT", "MR", "MB"}
+    assert all(len(f) <= 2 and abs(sum(f.values()) - 1) < 1e-9 for f in follows)
+    assert any(len(f) == 2 for f in follows)  # points between two control points follow both
     face = face_from_dict(doc)
     rig = FaceRig(face)
     shut, open_ = face.neutral(), face.neutral()
@@ -63,3 +66,32 @@ def test_a_component_attached_to_the_mouth_moves_with_it():
     assert not np.allclose(shapes[0], shapes[1])  # it moved as the mouth opened
     with pytest.raises(ValueError, match="attach to one of mouth"):
         parts.attach(doc, mouth, "nose")
+
+
+def test_a_slave_of_two_masters_moves_by_its_share_of_each_and_reads_back():
+    """A point halfway between a mouth corner and the mouth's bottom, a slave of both at 0.5:
+    when the jaw drops it drops half as far (by hand), where a slave of the bottom alone drops as
+    far as the bottom does; the face file keeps the weights."""
+    face = load_face("classic")
+    doc = face.to_dict()
+    ml, mb = np.array(face.points["ML"]), np.array(face.points["MB"])
+    mid = (0.5 * ml + 0.5 * mb).tolist()
+    doc["components"] = [*doc.get("components", []),
+                         {"kind": "polyline", "name": "both", "stroke": "#000000", "width": 2,
+                          "points": ["ML", {"slave": {"ML": 0.5, "MB": 0.5}, "at": mid}, "MB"]},
+                         {"kind": "polyline", "name": "one", "stroke": "#000000", "width": 2,
+                          "points": ["ML", {"slave": "MB", "at": mid}, "MB"]}]
+    blended = face_from_dict(doc)
+    rig = FaceRig(blended)
+    shut, open_ = blended.neutral(), blended.neutral()
+    open_[motor_index("MB")] = 1.0
+    drop = rig.control_points(open_) - rig.control_points(shut)
+    names = list(blended.points)
+    for item, share in (("both", 0.5), ("one", 1.0)):
+        before, after = (next(i.vertices for i in rig.geometry(v).items if i.name == item) for v in (shut, open_))
+        expected = share * drop[names.index("MB")] + (0.5 if item == "both" else 0.0) * drop[names.index("ML")]
+        np.testing.assert_allclose(after[1] - before[1], expected, atol=1e-9)
+    assert blended.to_dict()["components"][-2]["points"][1] == {"slave": {"ML": 0.5, "MB": 0.5}, "at": mid}
+    doc["components"][-2]["points"][1]["slave"] = {"ML": 0.5, "MB": 0.4}
+    with pytest.raises(InputError, match="weights must sum to 1"):
+        face_from_dict(doc)

@@ -78,7 +78,8 @@ def add_point(doc: dict, component: int, part: str, after: int, x: float, y: flo
     if isinstance(before, str):
         new: object = {"slave": before, "at": xy}
     elif isinstance(before, dict):
-        new = {"slave": before["slave"], "at": xy} if "slave" in before else {"fixed": xy}
+        follows = before.get("slave")
+        new = {"slave": dict(follows) if isinstance(follows, dict) else follows, "at": xy} if follows else {"fixed": xy}
     else:
         new = xy
     ids: list[int | None] = list(range(len(refs)))
@@ -119,6 +120,8 @@ def set_point_kind(doc: dict, component: int, part: str, index: int, kind: str, 
     xy = rest_of(doc, ref)
     if master is None:
         follows = ref if isinstance(ref, str) else ref.get("slave") if isinstance(ref, dict) else None
+        if isinstance(follows, dict):  # a slave of several masters: its heaviest
+            follows = max(follows, key=follows.get)
         master = follows or nearest_point(doc, float(xy[0]), float(xy[1]))
     elif master not in doc["points"]:
         raise KeyError(f"no control point {master!r}")
@@ -290,9 +293,11 @@ def import_svg(doc: dict, text: str) -> list[int]:
 
 
 def attach(doc: dict, component: int, feature: str) -> None:
-    """Every point of a component made a slave of the nearest control point of ``feature`` (one of
-    :data:`toon.face.FEATURES`, or a control point's name), where it rests: the component then
-    moves as that part of the face does."""
+    """Every point of a component made a slave of ``feature`` (one of :data:`toon.face.FEATURES`,
+    or a control point's name) where it rests: of the feature's two control points nearest it,
+    each weighted by the other's distance (:func:`blend_of`), so a point between two of them bends
+    with both and one on a control point moves as it does. The component then moves as that part
+    of the face does, smoothly."""
     masters = FEATURES[feature][0] if feature in FEATURES else (feature,) if feature in doc["points"] else None
     if masters is None:
         named = ", ".join(sorted(FEATURES, key=lambda f: f != "mouth"))  # the mouth first, as the page lists them
@@ -303,4 +308,16 @@ def attach(doc: dict, component: int, feature: str) -> None:
     refs = component_part(spec, "points")
     for i, ref in enumerate(refs):
         x, y = (float(v) for v in rest_of(doc, ref))
-        refs[i] = {"slave": nearest_point(doc, x, y, masters), "at": [x, y]}
+        refs[i] = {"slave": blend_of(doc, x, y, masters), "at": [x, y]}
+
+
+def blend_of(doc: dict, x: float, y: float, among: Iterable[str]) -> str | dict[str, float]:
+    """What a point resting at ``(x, y)`` follows, of the control points ``among``: the nearest
+    alone where it is the only one or the point lies on it, else the two nearest, each weighted by
+    the other's distance (the nearer the heavier; weights to 3 decimals, summing to 1)."""
+    ranked = sorted(among, key=lambda name: float(np.hypot(doc["points"][name][0] - x, doc["points"][name][1] - y)))
+    if len(ranked) == 1:
+        return ranked[0]
+    near, far = ((n, float(np.hypot(doc["points"][n][0] - x, doc["points"][n][1] - y))) for n in ranked[:2])
+    weight = round(far[1] / (near[1] + far[1]), 3) if near[1] + far[1] > 0 else 1.0
+    return near[0] if weight >= 1.0 else {near[0]: weight, far[0]: round(1.0 - weight, 3)}

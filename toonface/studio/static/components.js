@@ -18,7 +18,11 @@
   function pointKind(ref) {
     if (typeof ref === "string") return ["master", ref];
     if (Array.isArray(ref)) return ["frozen", ""];
-    return "slave" in ref ? ["slave", ref.slave] : ["fixed", ""];
+    if (!("slave" in ref)) return ["fixed", ""];
+    if (typeof ref.slave === "string") return ["slave", ref.slave];
+    // a slave of several masters: its heaviest first, each with its share ("MB 75% ML 25%")
+    const shares = Object.entries(ref.slave).sort((a, b) => b[1] - a[1]);
+    return ["slave", shares[0][0], shares.map(([name, w]) => `${name} ${Math.round(w * 100)}%`).join(" ")];
   }
 
   function options(select, values, value, labels = values) {
@@ -44,7 +48,10 @@
     }
     const refs = PARTS.flatMap((part) => (spec[part] || []).map((ref, index) => [part, index, ref]));
     const values = refs.map(([part, index]) => `${part}:${index}`);
-    const labels = refs.map(([part, index, ref]) => `${part}[${index}] ${pointKind(ref).join(" ")}`.trim());
+    const labels = refs.map(([part, index, ref]) => {
+      const [kind, master, shares] = pointKind(ref);
+      return `${part}[${index}] ${kind} ${shares || master}`.trim();
+    });
     const current = tools.point ? `${tools.point.part}:${tools.point.index}` : values[0];
     options(el("cpoint"), values, values.includes(current) ? current : values[0], labels);
     pointFields();
