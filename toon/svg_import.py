@@ -4,8 +4,11 @@ Each visible shape (path, rect, circle, ellipse, line, polyline, polygon), with 
 own transforms applied (``svgelements``, MIT), becomes one component per subpath, in document
 order (the drawing's layer order) on the foreground layer: a closed subpath a ``polygon`` (filled
 with the shape's fill where it has one), an open one a ``polyline``. The stroke and its width are
-kept, the width scaled as the drawing is, and the shape's own ``opacity`` folds into their alpha
-(a group's opacity does not: it would need the group drawn as one; gradients are left out).
+kept, the width scaled as the drawing is, and the shape's ``opacity`` times its groups' folds
+into their alpha (a group drawn as one would differ where its shapes overlap: each shape is
+faded alone). A gradient paint becomes its mean colour (its stops weighted by the share of the
+gradient each spans, following ``href`` to the stops of another gradient, as Inkscape writes
+them), and the import says which shapes it did so for.
 Straight segments keep their end points; a curve becomes points about :data:`CURVE_STEP` face
 units apart (2 to 32 of them). The drawing is fitted into the face's viewbox, centred, its aspect
 kept (SVG's y runs down, a face's up). Every point is frozen where it lands, ready to be attached
@@ -26,10 +29,12 @@ CURVE_STEP = 6.0
 SMALLEST = 1.0
 
 
-def svg_components(text: str, viewbox: tuple[float, float, float, float]) -> list[dict[str, Any]]:
+def svg_components(text: str, viewbox: tuple[float, float, float, float],
+                   notes: list[str] | None = None) -> list[dict[str, Any]]:
     """The drawing ``text`` (SVG) as component entries of a face file, fitted into ``viewbox``
     ``(xmin, ymin, xmax, ymax)`` (see the module docstring); a ValueError naming what is wrong
-    where it is not an SVG drawing or draws nothing."""
+    where it is not an SVG drawing or draws nothing. What was approximated (a gradient as its
+    mean colour) is added to ``notes``, a line each."""
     import svgelements as se
 
     try:
@@ -38,8 +43,12 @@ def svg_components(text: str, viewbox: tuple[float, float, float, float]) -> lis
         raise ValueError(f"not an SVG drawing ({type(exc).__name__}: {exc})") from None
     if not isinstance(drawing, se.SVG):
         raise ValueError("not an SVG drawing (no <svg> element)")
-    shapes = [e for e in drawing.elements() if isinstance(e, se.Shape) and _visible(e)]
+    every = [e for e in drawing.elements() if isinstance(e, se.Shape)]
+    gradients, fades = _paint_servers(text, len(every))
+    faded = dict(zip(map(id, every), fades, strict=True)) if fades is not None else {}
+    shapes = [e for e in every if _visible(e)]
     paths = [(e, se.Path(e)) for e in shapes]
+    said = notes if notes is not None else []
     if not paths:
         raise ValueError("the drawing has no shape to import (path, rect, circle, ellipse, line, polyline, polygon)")
     fit = _fit(drawing, [p for _, p in paths], viewbox)
@@ -51,9 +60,9 @@ def svg_components(text: str, viewbox: tuple[float, float, float, float]) -> lis
             points, closed = _points(se, sub, fit)
             if len(points) < 2 or _length(points) < SMALLEST:
                 continue
-            opacity = _opacity(shape)
-            fill = _colour(shape.fill, opacity) if closed else None
-            stroke = _colour(shape.stroke, opacity)
+            opacity = faded.get(id(shape), _opacity(shape))
+            fill = _paint(se, shape, "fill", opacity, gradients, said, base) if closed else None
+            stroke = _paint(se, shape, "stroke", opacity, gradients, said, base)
             if fill is None and stroke is None:
                 continue
             spec: dict[str, Any] = {"kind": "polygon" if closed and len(points) >= 3 else "polyline",
@@ -123,6 +132,112 @@ def _points(se: Any, sub: Any, fit: Fit) -> tuple[list[tuple[float, float]], boo
 
 def _length(points: list[tuple[float, float]]) -> float:
     return sum(math.dist(a, b) for a, b in zip(points, points[1:], strict=False))
+
+
+def _paint(se: Any, shape: Any, which: str, opacity: float, gradients: dict[str, tuple[float, ...] | None],
+           said: list[str], name: str) -> str | None:
+    """The shape's fill or stroke as a colour (:func:`_colour`); a gradient as its mean colour,
+    said in ``said``."""
+    written = str((getattr(shape, "values", {}) or {}).get(which, "")).strip()
+    if not written.startswith("url("):
+        return _colour(getattr(shape, which), opacity)
+    ref = written[4:].split(")", 1)[0].strip().strip("'\"").lstrip("#")
+    mean = gradients.get(ref)
+    if mean is None:
+        line = f"{name}: its {which} ({written}) names no gradient with stops: left out"
+    else:
+        r, g, b, a = mean
+        colour = se.Color(f"#{round(r * 255):02x}{round(g * 255):02x}{round(b * 255):02x}")
+        colour.alpha = round(a * 255)
+        line = f"{name}: its gradient {which} became its mean colour {str(colour.hex)[:7]}"
+    if line not in said:
+        said.append(line)
+    return None if mean is None else _colour(colour, opacity)
+
+
+#: Elements whose shapes are not drawn where they stand.
+_UNDRAWN = {"defs", "clipPath", "mask", "symbol", "marker", "pattern", "linearGradient", "radialGradient"}
+_SHAPES = {"path", "rect", "circle", "ellipse", "line", "polyline", "polygon"}
+
+
+def _paint_servers(text: str, count: int) -> tuple[dict[str, tuple[float, ...] | None], list[float] | None]:
+    """The drawing's gradients by id, each as its mean RGBA in [0, 1] (None: no stops), and the
+    opacity of each drawn shape in document order, its own times its groups' (None where the
+    shapes found here are not the ``count`` the drawing draws: a ``<use>`` repeats some)."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError:
+        return {}, None
+    local = lambda tag: str(tag).rsplit("}", 1)[-1]  # noqa: E731 - the tag without its namespace
+    found = {e.get("id"): e for e in root.iter() if local(e.tag) in ("linearGradient", "radialGradient")}
+
+    def stops(element: Any, seen: set) -> list:
+        own = [s for s in element if local(s.tag) == "stop"]
+        href = element.get("{http://www.w3.org/1999/xlink}href") or element.get("href") or ""
+        if own or not href.startswith("#") or href in seen:
+            return own
+        target = found.get(href[1:])
+        return stops(target, seen | {href}) if target is not None else []
+
+    gradients = {name: _mean_stop(stops(element, set())) for name, element in found.items() if name}
+    fades: list[float] = []
+    if any(local(e.tag) == "use" for e in root.iter()):
+        return gradients, None
+
+    def walk(element: Any, fade: float) -> None:
+        if local(element.tag) in _UNDRAWN:
+            return
+        fade *= _number(_style(element, "opacity"), 1.0)
+        if local(element.tag) in _SHAPES:
+            fades.append(min(1.0, max(0.0, fade)))
+        for child in element:
+            walk(child, fade)
+    walk(root, 1.0)
+    return gradients, fades if len(fades) == count else None
+
+
+def _style(element: Any, name: str) -> str | None:
+    """A presentation property, from ``style`` first, then the attribute."""
+    for part in (element.get("style") or "").split(";"):
+        key, _, value = part.partition(":")
+        if key.strip() == name:
+            return value.strip()
+    return element.get(name)
+
+
+def _number(text: str | None, default: float) -> float:
+    if text is None:
+        return default
+    try:
+        return float(text[:-1]) / 100 if text.endswith("%") else float(text)
+    except ValueError:
+        return default
+
+
+def _mean_stop(stops: list) -> tuple[float, ...] | None:
+    """The mean RGBA of a gradient along its line from its ``<stop>`` elements (the colour
+    blends linearly between stops and holds beyond the ends): each stop weighted by half the gap
+    to each neighbour, the first and last also by the way to 0 and to 1."""
+    import svgelements as se
+
+    if not stops:
+        return None
+    offsets, colours = [], []
+    for stop in stops:
+        offsets.append(min(1.0, max(0.0, _number(stop.get("offset"), 0.0))))
+        colour = se.Color(_style(stop, "stop-color") or "black")
+        alpha = colour.alpha / 255 * min(1.0, max(0.0, _number(_style(stop, "stop-opacity"), 1.0)))
+        colours.append((colour.red / 255, colour.green / 255, colour.blue / 255, alpha))
+    for i in range(1, len(offsets)):  # offsets never go back (SVG's rule)
+        offsets[i] = max(offsets[i], offsets[i - 1])
+    edges = [0.0, *((a + b) / 2 for a, b in zip(offsets, offsets[1:], strict=False)), 1.0]
+    weights = [b - a for a, b in zip(edges, edges[1:], strict=False)]
+    total = sum(weights)
+    if total <= 0:
+        return colours[-1]
+    return tuple(sum(w * c[k] for w, c in zip(weights, colours, strict=True)) / total for k in range(4))
 
 
 def _opacity(shape: Any) -> float:

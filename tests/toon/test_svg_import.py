@@ -95,3 +95,25 @@ def test_a_slave_of_two_masters_moves_by_its_share_of_each_and_reads_back():
     doc["components"][-2]["points"][1]["slave"] = {"ML": 0.5, "MB": 0.4}
     with pytest.raises(InputError, match="weights must sum to 1"):
         face_from_dict(doc)
+
+
+def test_a_gradient_becomes_its_mean_colour_said_aloud_and_groups_fade_their_shapes():
+    """A gradient fill came in black and nothing said so; a group's opacity was lost on a shape
+    with its own. Red to half-clear blue (Inkscape's way: the stops in another gradient it
+    points to), in a group at half opacity: by hand, the mean (0.5, 0, 0.5) at 0.75 alpha, faded
+    by the group's half; the circle's own half times the group's."""
+    drawing = """<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+      viewBox="0 0 100 100"><defs>
+      <linearGradient id="stops"><stop offset="0" stop-color="#ff0000"/>
+        <stop offset="1" style="stop-color:#0000ff;stop-opacity:0.5"/></linearGradient>
+      <linearGradient id="g" xlink:href="#stops" x1="0" x2="1"/></defs>
+      <g opacity="0.5"><rect id="r" x="10" y="10" width="50" height="50" fill="url(#g)"/>
+        <circle id="c" cx="70" cy="70" r="10" fill="#00ff00" style="opacity:0.5"/>
+        <rect id="lost" x="0" y="0" width="9" height="9" fill="url(#nowhere)" stroke="#000000"/></g></svg>"""
+    notes: list[str] = []
+    made = {spec["name"]: spec for spec in svg_components(drawing, (-256.0, -256.0, 256.0, 256.0), notes)}
+    assert made["r"]["fill"] == f"#800080{round(255 * 0.75 * 0.5):02x}"
+    assert made["c"]["fill"] == f"#00ff00{round(255 * 0.25):02x}"
+    assert "fill" not in made["lost"] and made["lost"]["stroke"] == "#00000080"
+    assert notes == ["r: its gradient fill became its mean colour #800080",
+                     "lost: its fill (url(#nowhere)) names no gradient with stops: left out"]

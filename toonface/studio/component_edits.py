@@ -278,13 +278,13 @@ def _tidy(spec: dict) -> None:
 
 
 
-def import_svg(doc: dict, text: str) -> list[int]:
+def import_svg(doc: dict, text: str, notes: list[str] | None = None) -> list[int]:
     """An SVG drawing's shapes as components drawn last, fitted into the face's viewbox
     (:func:`toon.svg_import.svg_components`); returns their indices."""
     from toon.svg_import import svg_components
 
     xmin, ymin, xmax, ymax = (float(v) for v in doc["viewbox"])
-    made = svg_components(text, (xmin, ymin, xmax, ymax))
+    made = svg_components(text, (xmin, ymin, xmax, ymax), notes)
     components = doc.setdefault("components", [])
     for spec in made:
         spec["name"] = unique_name(doc, "component", spec["name"])

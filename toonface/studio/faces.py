@@ -165,16 +165,17 @@ class FaceEditor:
     def delete_component_point(self, component: int, part: str, index: int) -> Face:
         return self._edit(lambda doc: parts.delete_point(doc, component, part, index))
 
-    def import_svg(self, path: Path) -> list[int]:
+    def import_svg(self, path: Path, notes: list[str] | None = None) -> list[int]:
         """An SVG drawing's shapes as components drawn last (:func:`toon.svg_import.svg_components`);
-        their indices. An :class:`InputError` naming the file where it is not a drawing."""
+        their indices, and what was approximated in ``notes``. An :class:`InputError` naming the
+        file where it is not a drawing."""
         try:
             text = Path(path).read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:
             raise InputError(f"cannot read it: {exc}", path) from None
         made: list[int] = []
         try:
-            self._edit(lambda doc: made.extend(parts.import_svg(doc, text)))
+            self._edit(lambda doc: made.extend(parts.import_svg(doc, text, notes)))
         except ValueError as exc:
             raise InputError(str(exc), path) from None
         return made

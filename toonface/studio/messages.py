@@ -209,8 +209,11 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         said = f"wrote {faces.save(session.folder.inside(message['path']))}"
     elif action == "import_svg":
         path = session.folder.inside(message["path"], "a drawing")
-        made = faces.import_svg(path)
+        notes: list[str] = []
+        made = faces.import_svg(path, notes)
         said = f"imported {len(made)} components from {path.name}: attach each to the face's points (Attach)"
+        if notes:
+            said += "; " + "; ".join(notes)
     elif action == "save_to_library":
         written = faces.save_to_library(index(message["index"]), session.folder.name_or_inside(message["library"]),
                                         str(message["name"]),
