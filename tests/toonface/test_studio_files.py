@@ -59,6 +59,18 @@ def test_a_file_from_the_page_is_kept_in_the_folder_and_nothing_else_is_written(
 
 
 @pytest.mark.slow  # Chromium: make test runs it
+def _drop(driver, path: Path) -> None:
+    """Drop the file at ``path`` on the face (Selenium cannot drag from the desktop: the file is
+    given to an input, then dropped)."""
+    driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
+                          "document.body.append(i)")
+    driver.find_element("id", "carried").send_keys(str(path))
+    driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
+                          "document.getElementById('carried').remove();"
+                          "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
+                          "{dataTransfer: t, bubbles: true, cancelable: true}))")
+
+
 def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_page_actions(tmp_path):
     """The first of the issue's first-time tasks, as a person does it: drag a take onto the page
     (1), press Space (2). The studio page (docs/howto/studio.md) states the count."""
@@ -72,13 +84,8 @@ def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && window.files")
         mouth = driver.execute_script("return window.studio.last.values.MB")
-        # 1: the drop (Selenium cannot drag from the desktop: the file is given to an input, then dropped)
-        driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
-                              "document.body.append(i)")
-        driver.find_element("id", "carried").send_keys(str(take))
-        driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
-                              "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
-                              "{dataTransfer: t, bubbles: true, cancelable: true}))")
+        # 1: the drop
+        _drop(driver, take)
         wait_for(driver, "Object.keys(window.editor.state.knots).length > 0", timeout=60)
         said = driver.find_element("id", "message").text
         # 2: Space plays it
@@ -179,12 +186,7 @@ def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_gi
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && window.files")
         assert not driver.find_element("id", "take-ask").is_displayed()
-        driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
-                              "document.body.append(i)")
-        driver.find_element("id", "carried").send_keys(str(frames))
-        driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
-                              "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
-                              "{dataTransfer: t, bubbles: true, cancelable: true}))")
+        _drop(driver, frames)
         wait_for(driver, "!document.getElementById('take-ask').hidden", timeout=60)
         asked = driver.find_element("id", "take-said").text
         assert driver.find_element("id", "take-rate").is_displayed()
