@@ -232,9 +232,13 @@ def _dedupe(knots: list) -> list:
 
 
 def _slice(knots: list, start: float, end: float, value_at) -> list:
-    """The knots inside ``[start, end]`` with knots added at both ends (the values there)."""
-    inside = [k for k in _bake(knots, (start, end)) if start < k[0] < end]
-    return [(start, value_at(start)), *inside, (end, value_at(end))]
+    """The knots inside ``[start, end]`` with knots added at both ends (the values there; the
+    first keeps the ease of a knot already at ``start``)."""
+    baked = _bake(knots, (start, end))
+    inside = [k for k in baked if start < k[0] < end]
+    there = [k for k in baked if k[0] == start]
+    first = _at(there[-1], start, value_at(start)) if there else (start, value_at(start))
+    return [first, *inside, (end, value_at(end))]
 
 
 def insert_knot(anim: Animation, code: str, time: float, value: float) -> Animation:

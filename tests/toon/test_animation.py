@@ -204,6 +204,9 @@ def test_edits_keep_an_ease_where_the_motion_is_the_same_and_bake_it_where_a_sli
     np.testing.assert_allclose(halved.value("MB", t), rest + (EASED.value("MB", t) - rest) * 0.5, atol=1e-12)
     moved = paste(Animation({}, 6.0), copy(EASED, ("MB",), 0.0, 4.0), 2.0)
     np.testing.assert_allclose(moved.value("MB", t + 2.0), EASED.value("MB", t), atol=1e-12)
+    from_the_knot = copy(EASED, ("MB",), 1.0, 4.0)  # a slice starting on an eased knot keeps its ease
+    np.testing.assert_allclose(from_the_knot.value("MB", t[t <= 3.0]), EASED.value("MB", t[t <= 3.0] + 1.0),
+                               atol=1e-12)
     # a slice from 2 s cuts the eased segment: outside it the motion stays within 0.003 of its change
     cut_here = scale_value(EASED, ("MB",), 2.0, 4.0, 0.0)
     before = t[t < 2.0]
