@@ -9,7 +9,9 @@ with the same masking (A1.2.2) and the same strokes, into an image Cairo owns an
   :data:`toon.curves.MITER_LIMIT`, as :func:`toon.curves.stroke_triangles` builds them), each
   run of visible edges its own sub-path;
 - holes keep their outlines by mask group; pupils and clipped components are clipped to their
-  group's outlines, the face polygon to everything outside the holes drawn before it.
+  group's outlines, the face polygon to everything outside the holes drawn before it;
+- an image component's picture is painted through the matrix that takes it onto its corners,
+  filtered bilinearly, its edges padded and clipped to its outline (as the CPU oracle samples it).
 
 Outlines reach Cairo as ``cairo_path_data_t`` arrays (the C struct is Cairo's public interface)
 written by numpy, one array for the whole frame whose headers are kept from frame to frame, not
@@ -79,6 +81,7 @@ class CairoRenderer:
         self._path = self._ffi.new("cairo_path_t *")
         self._layout_key: tuple[tuple[int, bool], ...] | None = None
         self._layout: tuple[np.ndarray, np.ndarray, list[tuple[int, int]]] = (np.zeros((0, 2)), np.zeros(0, int), [])
+        self._pictures: dict[str, tuple[object, np.ndarray]] = {}  # a picture's data -> its surface, its pixels
         self._closed = False
 
     def render(self, geometry: Geometry, alpha: bool = False) -> np.ndarray:
@@ -128,6 +131,8 @@ class CairoRenderer:
                     lib.cairo_set_line_width(cr, item.width * scale)
                     lib.cairo_set_source_rgba(cr, *item.stroke)
                     lib.cairo_stroke(cr)
+            if item.picture is not None and len(item.vertices) == 4:
+                self._paint_picture(item, outline, scale, x0, y0)
             if clipped:
                 lib.cairo_restore(cr)
         lib.cairo_surface_flush(self._surface._pointer)
@@ -160,6 +165,46 @@ class CairoRenderer:
             data[rows, 0] = x0 + scale * points[:, 0]
             data[rows, 1] = y0 - scale * points[:, 1]
         return data, bounds
+
+    def _paint_picture(self, item, outline: np.ndarray, scale: float, x0: float, y0: float) -> None:
+        """Paint an image item's picture onto its corners, clipped to its outline."""
+        import cairocffi
+
+        from toon.images import pixel_affine
+
+        picture = item.picture
+        corners = np.column_stack([x0 + scale * item.vertices[:, 0], y0 - scale * item.vertices[:, 1]])
+        (xx, xy, tx), (yx, yy, ty) = pixel_affine(corners, picture.size)
+        if abs(xx * yy - xy * yx) < 1e-12:
+            return  # collapsed to a line: nothing shows (and Cairo refuses such a matrix)
+        surface = self._surface_of(picture)
+        context = self._context
+        context.save()
+        self._append(outline)
+        self._lib.cairo_set_fill_rule(self._cr, EVEN_ODD)
+        context.clip()
+        context.transform(cairocffi.Matrix(xx, yx, xy, yy, tx, ty))
+        context.set_source_surface(surface, 0, 0)
+        pattern = context.get_source()
+        pattern.set_filter(cairocffi.FILTER_BILINEAR)
+        pattern.set_extend(cairocffi.EXTEND_PAD)
+        context.paint_with_alpha(float(item.opacity))
+        context.restore()
+
+    def _surface_of(self, picture) -> object:
+        """The picture as a Cairo surface (premultiplied ARGB32), made once."""
+        import cairocffi
+
+        kept = self._pictures.get(picture.href)
+        if kept is None:
+            rgba = picture.pixels.astype(np.float32)
+            rgba[..., :3] *= rgba[..., 3:] / 255.0
+            bgra = np.ascontiguousarray(np.round(rgba[..., [2, 1, 0, 3]]).astype(np.uint8))
+            height, width = bgra.shape[:2]
+            surface = cairocffi.ImageSurface.create_for_data(bgra.reshape(-1).data, cairocffi.FORMAT_ARGB32,
+                                                             width, height, width * 4)
+            kept = self._pictures[picture.href] = (surface, bgra)  # the pixels live as long as the surface
+        return kept[0]
 
     def _append(self, data: np.ndarray) -> None:
         """Add ``data`` (see :func:`path_data`; rows of one array, contiguous) to the current path."""

@@ -36,6 +36,8 @@ ATTRIBUTES = 6
 CLEAR_DEPTH = 1.0
 #: Layouts kept per planner (one per structure seen: visibility switches change the structure).
 KEPT_LAYOUTS = 8
+#: A run's state that draws an image component's picture (``"picture K"``, K its item's index).
+PICTURE = "picture"
 
 
 def mask_depth(group: int) -> float:
@@ -99,7 +101,8 @@ def _triangle_cross(corners: np.ndarray) -> np.ndarray:
 def structure_of(geometry: Geometry) -> tuple:
     """What a layout depends on: every item's key, point count, colours, width, closure and masks."""
     return tuple((it.key, len(it.vertices), it.fill, it.stroke, it.width, it.closed, it.mask_write,
-                  it.mask_test, None if it.edge_visible is None else it.edge_visible.tobytes())
+                  it.mask_test, None if it.edge_visible is None else it.edge_visible.tobytes(),
+                  None if it.picture is None else id(it.picture))
                  for it in geometry.items)
 
 
@@ -228,6 +231,9 @@ def build_layout(geometry: Geometry, triangulator: Triangulator) -> DrawLayout:
             segments = _segments(len(item.vertices), item.closed, item.edge_visible) + begin
             if len(segments):
                 parts.append((segments, item.stroke, item.width / 2, True))
+        if item.picture is not None and len(item.vertices) == 4:  # a run of its own, drawn with its texture
+            rows.append(np.empty((0, CORNERS), dtype=np.int64))
+            modes.append((f"{PICTURE} {k}", True))
         for corners, color, half_width, stroke in parts:
             mode = _mode(item, stroke)
             group = item.mask_write if mode == "write" else (item.mask_test or 0)

@@ -21,10 +21,13 @@ import moderngl
 import numpy as np
 
 from player.alpha import premultiplied_clear, straight
-from player.layout import CLEAR_DEPTH, CORNERS, DrawLayout, FramePlanner
+from player.gl_pictures import PictureDrawer
+from player.layout import CLEAR_DEPTH, CORNERS, PICTURE, DrawLayout, FramePlanner, mask_depth
 from toon import Geometry, fit_viewbox
 from toon.curves import MITER_LIMIT
 
+#: Colour as before; coverage adds up in alpha, so the framebuffer holds premultiplied RGBA.
+BLEND = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA)
 _VERTEX_SHADER = """
 #version 330
 in vec2 in_pos;    // face units
@@ -133,6 +136,7 @@ class Renderer:
         self.vao = self._own(ctx.vertex_array(
             self.program, [(self.points, "2f", "in_pos"), (self.attributes, "4f 2f", "in_color", "in_extra")],
             index_buffer=self.indices, index_element_size=4))
+        self._pictures: PictureDrawer | None = None  # made with the first picture to draw
         self._layout: DrawLayout | None = None  # the layout whose indices and attributes are uploaded
         self._viewbox: tuple[float, float, float, float] | None = None  # the one u_map maps now
         color = self._own(ctx.renderbuffer(self.size, 4, samples=self.samples))
@@ -198,17 +202,27 @@ class Renderer:
         self.set_view(geometry.viewbox)
         self.fbo.use()
         self.fbo.clear(*premultiplied_clear(geometry.background), depth=CLEAR_DEPTH)
-        # colour as before; coverage adds up in alpha, so the framebuffer holds premultiplied RGBA
-        self.ctx.blend_func = (moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA,  # type: ignore[assignment]
-                               moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA)  # moderngl's stub knows 2 only
+        self.ctx.blend_func = BLEND  # type: ignore[assignment]  # moderngl's stub knows 2 only
         if layout.runs:
             self._upload(layout, points)
         for (mode, blend), first, count in layout.runs:
+            if mode.startswith(PICTURE):
+                self._picture(geometry.items[int(mode.split()[1])])
+                continue
             self._set_state(mode, blend)
             self.vao.render(moderngl.LINES_ADJACENCY, vertices=count * CORNERS, first=first * CORNERS)
         self.fbo.depth_mask = True
         self.ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
         return self.read(alpha)
+
+    def _picture(self, item) -> None:
+        """An image component's picture, masked as a clipped component is."""
+        if self._pictures is None:
+            self._pictures = PictureDrawer(self.ctx)
+        group = item.mask_test
+        self._set_state("none" if group is None else "test", True)
+        self._pictures.draw(item, tuple(self.program["u_map"].value), mask_depth(group) if group else CLEAR_DEPTH,
+                            BLEND)
 
     def _set_state(self, mode: str, blend: bool) -> None:
         """Depth as the mask of A1.2.2 (see the module docstring); blending only where needed.
@@ -252,6 +266,9 @@ class Renderer:
         # context on framebuffer 0 so it never re-binds one released here (GL_INVALID_OPERATION).
         if self.ctx.fbo is self.fbo or self.ctx.fbo is self.resolve_fbo:
             self.ctx.detect_framebuffer(0).use()
+        if self._pictures is not None:
+            self._pictures.release()
+            self._pictures = None
         for obj in reversed(self._objects):
             obj.release()
         self._objects.clear()

@@ -17,7 +17,7 @@ from toon.motors import MOTOR_CODES
 from toon.validate import ShapeValidator
 
 LIBRARY_FORMAT = "toonface.components/1"
-COMPONENT_KINDS: tuple[str, ...] = ("polyline", "polygon", "ellipse", "skeleton", "composite")
+COMPONENT_KINDS: tuple[str, ...] = ("polyline", "polygon", "ellipse", "skeleton", "image", "composite")
 COUPLINGS: tuple[str, ...] = ("point", "edge")
 MAX_NESTING = 16
 
@@ -63,6 +63,9 @@ class ComponentParser:
                  "polyline": {"points", "closed"}}.get(kind, {"points"})
         common = {"kind", "name", "layer", "fill", "stroke", "width", "smooth", "hidden", "clip", "hole", "depth",
                   "visible", "translate", "scale", "rotate"}
+        if kind == "image":
+            common = {"kind", "name", "layer", "clip", "depth", "visible", "translate", "scale", "rotate"}
+            shape = {"points", "src"}
         v.fields(c, common | shape, where, f"a {kind} component")
         spec: dict[str, Any] = {"kind": kind, "name": str(c.get("name", ""))}
         spec["layer"] = v.integer(c.get("layer", 1), f"{where}.layer", -10, 10)
@@ -83,13 +86,20 @@ class ComponentParser:
                                           ("master", "slave", "fixed", "frozen"))
             v.require(kind != "ellipse" or len(spec["points"]) == 4,
                       "an ellipse has exactly 4 contour points: left, top, right, bottom", f"{where}.points")
+            v.require(kind != "image" or len(spec["points"]) == 3,
+                      "an image has exactly 3 points: its top-left, top-right and bottom-left corners",
+                      f"{where}.points")
             spec["closed"] = kind != "polyline" or v.boolean(c.get("closed", False), f"{where}.closed")
             outline = spec["points"]
         spec["fill"] = v.optional_color(c.get("fill"), f"{where}.fill")
         spec["stroke"] = v.optional_color(c.get("stroke"), f"{where}.stroke")
         spec["width"] = v.number(c.get("width", 0.0), f"{where}.width", 0.0, 1e4)
-        v.require(spec["fill"] is not None or (spec["stroke"] is not None and spec["width"] > 0),
-                  "draws nothing: give it a fill, or a stroke with a width", where)
+        if kind == "image":
+            spec["closed"] = True
+            spec["src"], spec["picture"] = self._picture(c.get("src"), v, f"{where}.src")
+        else:
+            v.require(spec["fill"] is not None or (spec["stroke"] is not None and spec["width"] > 0),
+                      "draws nothing: give it a fill, or a stroke with a width", where)
         v.require(spec["fill"] is None or spec["closed"], "an open outline cannot be filled", f"{where}.fill")
         spec["smooth"] = self._smooth(c.get("smooth", False), len(outline), spec["closed"], v, f"{where}.smooth")
         segments = len(outline) if spec["closed"] else len(outline) - 1
@@ -198,6 +208,15 @@ class ComponentParser:
         v.require(ref.kind in allowed, f"a {ref.kind} point is not allowed here (allowed: {', '.join(allowed)})",
                   where)
         return ref
+
+    def _picture(self, raw: Any, v: ShapeValidator, where: str) -> tuple[str, Any]:
+        from toon.images import load_picture
+
+        v.require(isinstance(raw, str) and raw != "", "expected a .png file beside the face or a PNG data URI", where)
+        try:
+            return raw, load_picture(raw, self.base_dir)
+        except ValueError as exc:
+            v.fail(str(exc), where)
 
     def _blend(self, raw: dict, v: ShapeValidator, where: str, rename: dict[str, str]) -> tuple[tuple[str, float], ...]:
         v.require(len(raw) >= 1, 'expected {"CP": weight, ...}: at least one control point', where)

@@ -10,6 +10,10 @@ A face's ``components`` list holds, besides ToonFace's polygons:
   ``coupling = "point"`` keeps each fixed body point's vector from its nearest skeleton point;
   ``coupling = "edge"`` keeps, for its nearest skeleton edge, the ratio at which it projects on
   the edge and its distance from it.
+- ``image``: a PNG picture (CharToon's scanned backgrounds and hand-painted parts) stretched over
+  the parallelogram of its three ``points`` (top-left, top-right, bottom-left corner), from
+  ``src``: a ``.png`` file beside the face, or a ``data:image/png;base64,...`` URI in the face
+  file itself (:mod:`toon.images`); no fill or stroke.
 - ``composite``: a group of components, inline (``components``) or re-used from a library file
   (``use`` and ``library``), placed with a ``transform`` (``scale`` ``[sx, sy]``, negative to flip,
   then ``translate``) and with its control points, holes and clips renamed by ``controls``
@@ -42,10 +46,13 @@ Parsing and checking live in :mod:`toon.component_parser`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
 
 from toon.validate import Color, format_color
+
+if TYPE_CHECKING:
+    from toon.images import Picture
 
 
 @dataclass(frozen=True)
@@ -125,6 +132,8 @@ class Component:
     library: str = ""
     controls: tuple[tuple[str, str], ...] = ()
     transform: tuple[float, float, float, float] = (1.0, 1.0, 0.0, 0.0)  # sx, sy, tx, ty
+    src: str = ""  # an image's picture, as written: a PNG beside the face, or a PNG data URI
+    picture: Picture | None = field(default=None, compare=False, repr=False)  # an image's, read
 
     @property
     def animated(self) -> bool:
@@ -158,6 +167,8 @@ class Component:
             d["skeleton_closed"] = self.skeleton_closed
         else:
             d["points"] = [p.to_json() for p in self.points]
+        if self.kind == "image":
+            d["src"] = self.src
         if self.kind in ("polyline", "skeleton"):
             d["closed"] = self.closed
         for key in ("fill", "stroke"):

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from toon.validate import Color
+
+if TYPE_CHECKING:
+    from toon.images import Picture
 
 
 @dataclass(frozen=True)
@@ -35,6 +39,12 @@ class DrawItem:
     key : int
         The item's place in its face's drawing order, stable from frame to frame.
     name : str
+    picture : Picture or None
+        An image component's picture (:mod:`toon.images`), stretched over the parallelogram of
+        ``vertices`` (its four corners: top-left, top-right, bottom-right, bottom-left; ``kind``
+        ``image``, no fill or stroke).
+    opacity : float
+        The picture's opacity (a stage fades a performer who left).
     """
 
     vertices: np.ndarray
@@ -48,6 +58,8 @@ class DrawItem:
     mask_test: int | None = None
     key: int = 0
     name: str = ""
+    picture: Picture | None = field(default=None, compare=False)
+    opacity: float = 1.0
 
     def with_vertices(self, vertices: np.ndarray) -> DrawItem:
         """The same item at ``vertices`` (shape of :attr:`vertices`).

@@ -194,5 +194,8 @@ def template(prep: Polygon | ComponentPrep, key: int) -> DrawItem:
         return DrawItem(prep.rest, polygon.color, polygon.stroke, polygon.width, True, None, polygon.kind,
                         prep.mask_write, prep.mask_test, key, polygon.name)
     spec = prep.spec
+    if spec.kind == "image":
+        return DrawItem(np.empty((0, 2)), None, None, 0.0, True, None, "image", 0, prep.mask_test, key, spec.name,
+                        picture=spec.picture)
     return DrawItem(np.empty((0, 2)), spec.fill, spec.stroke, spec.width, spec.closed, prep.edge_visible,
                     "component", prep.mask_write, prep.mask_test, key, spec.name)

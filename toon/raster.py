@@ -121,7 +121,41 @@ def render_cpu(geometry: Geometry, size: tuple[int, int]) -> np.ndarray:
         if item.stroke is not None and item.width > 0:
             corners = stroke_triangles(pixels, item.width * scale, item.closed, item.edge_visible)
             _blend(image, rasterize_triangles(corners, (height, width)) & allowed, item.stroke)
+        if item.picture is not None and len(pixels) == 4:
+            _picture(image, item.picture.pixels, pixels, allowed, item.opacity)
     return np.clip(np.round(image * 255), 0, 255).astype(np.uint8)
+
+
+def _picture(image: np.ndarray, picture: np.ndarray, quad: np.ndarray, allowed: np.ndarray, opacity: float) -> None:
+    """Blend ``picture`` (straight RGBA ``uint8`` ``(h, w, 4)``) over ``image`` where it lies:
+    the parallelogram ``quad`` ``(4, 2)`` of output pixels (its corners: top-left, top-right,
+    bottom-right, bottom-left), sampled bilinearly at each pixel's centre, its edges clamped."""
+    from toon.images import pixel_affine
+
+    h, w = picture.shape[:2]
+    forward = np.vstack([pixel_affine(quad, (w, h)), [0.0, 0.0, 1.0]])
+    if abs(np.linalg.det(forward[:2, :2])) < 1e-12:
+        return  # the parallelogram has collapsed: nothing shows
+    back = np.linalg.inv(forward)
+    height, width = image.shape[:2]
+    x0, y0 = np.maximum(np.floor(quad.min(axis=0)).astype(int), 0)
+    x1, y1 = np.minimum(np.ceil(quad.max(axis=0)).astype(int), [width, height])
+    if x0 >= x1 or y0 >= y1:
+        return
+    ys, xs = np.mgrid[y0:y1, x0:x1] + 0.5
+    u = back[0, 0] * xs + back[0, 1] * ys + back[0, 2]
+    v = back[1, 0] * xs + back[1, 1] * ys + back[1, 2]
+    inside = (u >= 0) & (u < w) & (v >= 0) & (v < h) & allowed[y0:y1, x0:x1]
+    fx, fy = np.clip(u - 0.5, 0, w - 1), np.clip(v - 0.5, 0, h - 1)
+    ix, iy = np.minimum(fx.astype(int), w - 2 if w > 1 else 0), np.minimum(fy.astype(int), h - 2 if h > 1 else 0)
+    tx, ty = (fx - ix)[..., None], (fy - iy)[..., None]
+    rgba = picture.astype(float) / 255
+    rgba[..., :3] *= rgba[..., 3:]  # premultiplied, as filtering needs
+    right, down = np.minimum(ix + 1, w - 1), np.minimum(iy + 1, h - 1)
+    sample = ((rgba[iy, ix] * (1 - tx) + rgba[iy, right] * tx) * (1 - ty)
+              + (rgba[down, ix] * (1 - tx) + rgba[down, right] * tx) * ty) * opacity
+    region = image[y0:y1, x0:x1]
+    region[inside] = region[inside] * (1 - sample[inside][:, 3:]) + sample[inside][:, :3]
 
 
 def _blend(image: np.ndarray, where: np.ndarray, color: tuple[float, float, float, float]) -> None:

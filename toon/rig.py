@@ -60,6 +60,7 @@ from toon.formulas import (
     interpolate_states,
 )
 from toon.geometry import Geometry
+from toon.images import CORNERS as IMAGE_CORNERS
 from toon.motors import MOTOR_CODES, MOTORS, N_MOTORS, motor_index
 from toon.plan import ComponentPrep, Polygon, Skeleton, plan_vertices, template
 from toon.skeleton import EdgeCoupling, PointCoupling, bind_edge_skeleton, bind_point_skeleton
@@ -321,6 +322,8 @@ class FaceRig:
             ellipse = ellipse_operator()
             operator: np.ndarray | None = ellipse
             edges = np.zeros(len(ellipse), dtype=np.int64)
+        elif spec.kind == "image":  # its three points to its four corners
+            operator, edges = IMAGE_CORNERS, np.arange(4)
         else:
             operator, edges = outline_operator(outline_rest, spec.closed, spec.smooth)
             if not spec.smooth:

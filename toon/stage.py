@@ -59,5 +59,6 @@ def stage(frames: list[Geometry], cells: list[tuple[float, float, float, float]]
         for item in frame.items:
             items.append(replace(item, vertices=(item.vertices - centre) * scale + middle,
                                  fill=_faded(item.fill, opacity), stroke=_faded(item.stroke, opacity),
-                                 width=item.width * scale, key=base + item.key % KEYS_PER_CELL))
+                                 width=item.width * scale, key=base + item.key % KEYS_PER_CELL,
+                                 opacity=item.opacity * opacity))
     return Geometry(tuple(items), (0.0, 0.0, float(width), float(height)), background)

@@ -3,7 +3,9 @@
 The SVG draws exactly what the renderer draws, in the same order: the face polygon through a
 mask that removes every hole, pupils and clipped components through a clip path made of their
 group's holes, fills with the even-odd rule, strokes with miter joins (SVG's default limit of 4)
-and butt ends, and invisible segments left out of the stroke paths.
+and butt ends, and invisible segments left out of the stroke paths. An image component's picture
+is defined once, on a line of its own (a PNG data URI), and placed by a ``<use>`` whose matrix
+takes it onto its corners: a frame that moves it changes only that line.
 """
 
 from __future__ import annotations
@@ -78,6 +80,14 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512), decimal
         if item.mask_write:
             holes.setdefault(item.mask_write, []).append(f'<polygon points="{_coords(item.vertices, decimals)}"/>')
     big = f'x="{_fmt(xmin - 10 * w)}" y="{_fmt(-ymax - 10 * h)}" width="{_fmt(21 * w)}" height="{_fmt(21 * h)}"'
+    pictures: dict[str, int] = {}  # a picture's data -> its number: the same picture twice is defined once
+    shown = []
+    for item in geometry.items:
+        if item.picture is not None and item.picture.href not in pictures:
+            pictures[item.picture.href] = len(pictures)
+            pw, ph = item.picture.size
+            shown.append(f'<image id="picture-{pictures[item.picture.href]}" width="{pw}" height="{ph}" '
+                         f'preserveAspectRatio="none" href="{item.picture.href}"/>')
     defs = []
     if holes:
         black = "".join(p.replace("<polygon ", '<polygon fill="black" fill-rule="evenodd" ') for ps in holes.values()
@@ -107,12 +117,26 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512), decimal
                 parts.append(f'<path d="{d}" fill="none" stroke="{_paint(item.stroke)}"'
                              f'{_opacity("stroke-opacity", item.stroke)} stroke-width="{_fmt(item.width)}" '
                              'stroke-linejoin="miter" stroke-miterlimit="4" stroke-linecap="butt"/>')
+        if item.picture is not None and len(item.vertices) == 4:
+            parts.append(_placed(item, pictures[item.picture.href], decimals))
         if parts:
             body.append(f'<g class="{item.kind}"{name}{wrap}>' + "".join(parts) + "</g>")
     return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{size[0]}" height="{size[1]}" viewBox="{view}" '
             'preserveAspectRatio="xMidYMid meet">\n'
+            + (f"<defs>{''.join(shown)}</defs>\n" if shown else "")
             + (f"<defs>{''.join(defs)}</defs>\n" if defs else "")
             + "\n".join(body) + "\n</svg>\n")
+
+
+def _placed(item: DrawItem, number: int, decimals: int) -> str:
+    """A ``<use>`` of picture ``number`` taken onto the item's corners (SVG's y runs down)."""
+    from toon.images import pixel_affine
+
+    assert item.picture is not None
+    a, c, e, b, d, f = pixel_affine(item.vertices * [1.0, -1.0], item.picture.size).ravel()
+    matrix = " ".join(_fmt(x, decimals + 3) for x in (a, b, c, d, e, f))
+    fade = f' opacity="{_fmt(item.opacity)}"' if item.opacity < 1.0 else ""
+    return f'<use href="#picture-{number}" transform="matrix({matrix})"{fade}/>'
 
 
 def save_svg(geometry: Geometry, path: str | os.PathLike, size: tuple[int, int] = (512, 512)) -> Path:

@@ -1,0 +1,121 @@
+"""Pictures in a face: CharToon's scanned backgrounds and hand-painted parts as image components.
+
+A face's ``image`` component (:mod:`toon.components`) shows a PNG picture stretched over the
+parallelogram of its three points (top-left, top-right, bottom-left corner), on its layer, moved,
+scaled, turned and shown by its motors and parameters as any component is. The picture is read
+once, when the face is: from a PNG file beside the face (``"src": "scan.png"``) or from the face
+file itself (``"src": "data:image/png;base64,..."``, what the studio writes, so a face and its
+pictures travel as one file).
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+#: The largest picture side, pixels (a 4096x4096 RGBA picture is 64 MB).
+MAX_SIDE = 4096
+#: How a picture embedded in a face file starts.
+DATA_PNG = "data:image/png;base64,"
+
+
+@dataclass(frozen=True, eq=False)
+class Picture:
+    """A picture as drawn: ``pixels`` straight RGBA ``uint8`` ``(height, width, 4)``, row 0 at the
+    top; ``href``, the same picture as a PNG data URI (for SVG, the studio and files)."""
+
+    pixels: np.ndarray
+    href: str
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """``(width, height)`` in pixels."""
+        return int(self.pixels.shape[1]), int(self.pixels.shape[0])
+
+
+def decode_png(data: bytes, where: str) -> Picture:
+    """A PNG's bytes as a :class:`Picture`; a ValueError naming ``where`` for anything else."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(io.BytesIO(data)) as image:
+            if image.format != "PNG":
+                raise ValueError(f"{where}: expected a PNG picture, got {image.format or 'something else'}")
+            if max(image.size) > MAX_SIDE:
+                raise ValueError(f"{where}: the picture is {image.size[0]}x{image.size[1]} pixels; at most "
+                                 f"{MAX_SIDE} a side")
+            pixels = np.ascontiguousarray(np.asarray(image.convert("RGBA"), dtype=np.uint8))
+    except (UnidentifiedImageError, OSError, Image.DecompressionBombError) as exc:
+        raise ValueError(f"{where}: not a readable PNG picture ({exc})") from None
+    if pixels.size == 0:
+        raise ValueError(f"{where}: the picture has no pixels")
+    return Picture(pixels, DATA_PNG + base64.b64encode(data).decode("ascii"))
+
+
+def load_picture(src: str, base_dir: Path | None) -> Picture:
+    """The picture ``src`` names: a PNG data URI, or a PNG file (relative to ``base_dir``, the
+    face file's folder). A ValueError saying what is wrong."""
+    if src.startswith("data:"):
+        if not src.startswith(DATA_PNG):
+            raise ValueError(f"a picture in the face file is a PNG data URI ({DATA_PNG}...)")
+        try:
+            data = base64.b64decode(src[len(DATA_PNG):], validate=True)
+        except ValueError:
+            raise ValueError("the PNG data URI is not valid base64") from None
+        return decode_png(data, "the picture in the face file")
+    path = Path(src)
+    if not path.is_absolute() and base_dir is not None:
+        path = base_dir / path
+    if path.suffix.lower() != ".png":
+        raise ValueError(f"{src}: a picture is a .png file (or a PNG data URI)")
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise ValueError(f"{src}: cannot read it ({exc.strerror or exc})") from None
+    return decode_png(data, src)
+
+
+def png_bytes(pixels: np.ndarray) -> bytes:
+    """Straight RGBA ``(height, width, 4)`` ``uint8`` as PNG bytes."""
+    from PIL import Image
+
+    out = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(pixels, dtype=np.uint8), "RGBA").save(out, format="PNG")
+    return out.getvalue()
+
+
+#: What the animated outputs say of a face with pictures (they key outlines, not pictures, yet).
+UNANIMATED = ("image components are not in animated SVG, Lottie or the web page yet: render to .webm, .mov, "
+              ".apng, .webp, .mp4, PNG frames or SVG frames (--format svg)")
+
+
+def refuse_pictures(frame: object) -> None:
+    """A ValueError saying :data:`UNANIMATED` where ``frame`` (a :class:`toon.Geometry`) draws a
+    picture: for the outputs that animate outlines, before they draw a frame."""
+    if any(getattr(item, "picture", None) is not None for item in getattr(frame, "items", ())):
+        raise ValueError(UNANIMATED)
+
+
+def corners(points: np.ndarray) -> np.ndarray:
+    """The four corners ``(4, 2)`` (top-left, top-right, bottom-right, bottom-left) of the
+    parallelogram of three points ``(3, 2)``: top-left, top-right, bottom-left."""
+    tl, tr, bl = points
+    return np.array([tl, tr, tr + bl - tl, bl])
+
+
+#: The outline operator of an image: its three points to its four corners (:func:`corners`).
+CORNERS = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 1.0, 1.0], [0.0, 0.0, 1.0]])
+
+
+def pixel_affine(quad: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """The 2x3 affine that takes a picture's pixel coordinates ``(x, y)`` (``size`` ``(width,
+    height)``, row 0 on top) to where its corners ``quad`` ``(4, 2)`` (top-left, top-right,
+    bottom-right, bottom-left) lie: ``[[a, c, e], [b, d, f]]`` with ``x' = a x + c y + e``."""
+    width, height = size
+    tl, tr, _, bl = quad
+    across, down = (tr - tl) / width, (bl - tl) / height
+    return np.array([[across[0], down[0], tl[0]], [across[1], down[1], tl[1]]])
