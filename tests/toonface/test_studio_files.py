@@ -200,3 +200,43 @@ def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_gi
     assert asked == "frames.csv does not say its frame rate:"
     assert said == "frames.csv read in cm at 60 Hz (the file does not say: inferred from the face's size):"
     assert units == "cm" and duration == pytest.approx(1590 / 60)
+
+
+def test_a_png_dropped_on_the_page_becomes_a_picture_in_the_face_that_moves_once_attached(tmp_path):
+    """CharToon's scanned and hand-painted parts: a PNG dropped on the studio becomes an image
+    component kept in the face file, drawn in the page's face; attached to the mouth, it moves
+    as the mouth's corners do; saved, the face loads back with it."""
+    import numpy as np
+    from browser import chromium, wait_for
+
+    from toon import load_face
+    from toon.images import png_bytes
+
+    picture = np.zeros((40, 60, 4), np.uint8)
+    picture[..., 0], picture[..., 3] = 200, 255
+    source = tmp_path / "source"
+    source.mkdir()
+    (source / "moustache.png").write_bytes(png_bytes(picture))
+    work = tmp_path / "work"
+    work.mkdir()
+    session = StudioSession("classic", folder=Folder(work.resolve()))
+    with studio_server(session) as url, chromium(1366, 768) as driver:
+        driver.get(url)
+        wait_for(driver, "window.editor && window.editor.state && window.files && window.faces")
+        _drop(driver, source / "moustache.png")
+        wait_for(driver, "window.studio.last.svg.includes('picture-0')", timeout=30)
+        said = driver.find_element("id", "message").text
+        spec = session.faces.doc["components"][-1]
+        assert spec["kind"] == "image" and spec["src"].startswith("data:image/png;base64,")
+        driver.execute_script(f"window.faces.edit({{action: 'attach', component: "
+                              f"{len(session.faces.doc['components']) - 1}, feature: 'mouth'}})")
+        wait_for(driver, "window.faces.doc.components.at(-1).points.every(p => p.slave)")
+        placed = "window.studio.last.svg.split('\\n').find(l => l.includes('href=\"#picture-0\"'))"
+        before = driver.execute_script(f"return {placed}")
+        driver.execute_script("window.studio.send({op: 'motor', code: 'MRV', value: 1})")  # a corner up
+        wait_for(driver, f"{placed} !== {before!r}")
+        driver.execute_script("window.faces.edit({action: 'save', path: 'mine.json'})")
+        wait_for(driver, "document.getElementById('message').textContent.startsWith('wrote')")
+    assert "imported moustache.png as component" in said
+    saved = load_face(work / "mine.json")
+    assert np.array_equal(next(c for c in saved.components if c.kind == "image").picture.pixels, picture)

@@ -292,6 +292,25 @@ def import_svg(doc: dict, text: str, notes: list[str] | None = None) -> list[int
     return list(range(len(components) - len(made), len(components)))
 
 
+def import_picture(doc: dict, data: bytes, name: str) -> int:
+    """A PNG picture (its bytes) as an image component drawn last, kept in the face file itself
+    (a data URI: the face and its pictures travel as one file), its aspect kept, fitted into the
+    middle half of the face's viewbox; frozen where it lands, ready to be moved, attached or put
+    on a background layer. Returns its index. A ValueError where it is not a readable PNG."""
+    from toon.images import decode_png
+
+    picture = decode_png(data, name)
+    xmin, ymin, xmax, ymax = (float(v) for v in doc["viewbox"])
+    width, height = picture.size
+    scale = 0.5 * min((xmax - xmin) / width, (ymax - ymin) / height)
+    cx, cy, half_w, half_h = (xmin + xmax) / 2, (ymin + ymax) / 2, width * scale / 2, height * scale / 2
+    left, right, top, bottom = (round(v, 3) for v in (cx - half_w, cx + half_w, cy + half_h, cy - half_h))
+    components = doc.setdefault("components", [])
+    components.append({"kind": "image", "name": unique_name(doc, "component", Path(name).stem or "picture"),
+                       "src": picture.href, "points": [[left, top], [right, top], [left, bottom]]})
+    return len(components) - 1
+
+
 def attach(doc: dict, component: int, feature: str) -> None:
     """Every point of a component made a slave of ``feature`` (one of :data:`toon.face.FEATURES`,
     or a control point's name) where it rests: of the feature's two control points nearest it,
@@ -303,8 +322,8 @@ def attach(doc: dict, component: int, feature: str) -> None:
         named = ", ".join(sorted(FEATURES, key=lambda f: f != "mouth"))  # the mouth first, as the page lists them
         raise ValueError(f"attach to one of {named} or a control point, got {feature!r}")
     spec = item(doc, "component", component)
-    if spec.get("kind") not in ("polyline", "polygon", "ellipse"):
-        raise ValueError(f"attach a polyline, polygon or ellipse (a {spec.get('kind')} moves by its own points)")
+    if spec.get("kind") not in ("polyline", "polygon", "ellipse", "image"):
+        raise ValueError(f"attach a polyline, polygon, ellipse or image (a {spec.get('kind')} moves by its own points)")
     refs = component_part(spec, "points")
     for i, ref in enumerate(refs):
         x, y = (float(v) for v in rest_of(doc, ref))

@@ -180,6 +180,20 @@ class FaceEditor:
             raise InputError(str(exc), path) from None
         return made
 
+    def import_picture(self, path: Path) -> int:
+        """A PNG picture as an image component drawn last (:func:`component_edits.import_picture`);
+        its index. An :class:`InputError` naming the file where it is not a PNG."""
+        try:
+            data = Path(path).read_bytes()
+        except OSError as exc:
+            raise InputError(f"cannot read it: {exc.strerror or exc}", path) from None
+        made: list[int] = []
+        try:
+            self._edit(lambda doc: made.append(parts.import_picture(doc, data, Path(path).name)))
+        except ValueError as exc:
+            raise InputError(str(exc).removeprefix(f"{Path(path).name}: "), path) from None
+        return made[0]
+
     def attach(self, component: int, feature: str) -> Face:
         """A component's points made slaves of the nearest control points of ``feature`` (mouth,
         a brow, an eye, or one control point)."""

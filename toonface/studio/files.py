@@ -26,14 +26,15 @@ from common import InputError, atomic_path
 #: The largest file the page may send (a talking-head video of some minutes).
 MAX_UPLOAD = 512 * 2**20
 #: Where a file goes once here, by its extension: ``editor`` (an animation, a motor track, a take
-#: or a video, as knots), ``face``, ``sound``, ``labels``, ``artwork`` (an SVG drawing, into the face
-#: being edited as components).
+#: or a video, as knots), ``face``, ``sound``, ``labels``, ``artwork`` (an SVG drawing or a PNG
+#: picture, into the face being edited as components).
 KINDS = {
     **dict.fromkeys((".toml", ".csv", ".npz", ".c3d", ".trc", *VIDEO_SUFFIXES), "editor"),
     ".json": "face",
     **dict.fromkeys(SOUND_SUFFIXES, "sound"),
     ".txt": "labels",
     ".svg": "artwork",
+    ".png": "artwork",
 }
 
 

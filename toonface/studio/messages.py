@@ -207,6 +207,11 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         said = f"editing a copy of {message['name']}"
     elif action == "save":
         said = f"wrote {faces.save(session.folder.inside(message['path']))}"
+    elif action == "import_picture":
+        path = session.folder.inside(message["path"], "a picture")
+        picture = faces.import_picture(path)
+        said = (f"imported {path.name} as component {picture}: move its corners, attach it (Attach), or give it "
+                "a layer below 0 to put it behind the face")
     elif action == "import_svg":
         path = session.folder.inside(message["path"], "a drawing")
         notes: list[str] = []

@@ -9,7 +9,7 @@
   const tools = {point: null};  // the chosen point: {part, index}
   const chosen = () => (faces.doc.components || [])[faces.selected];
   const outlinePart = (spec) => (spec.kind === "skeleton" ? "body" : "points");
-  const closed = (spec) => spec.kind === "polygon" || spec.kind === "ellipse" || spec.closed
+  const closed = (spec) => spec.kind === "polygon" || spec.kind === "ellipse" || spec.kind === "image" || spec.closed
     || (spec.kind === "skeleton" && spec.closed !== false);
   const PARTS = ["points", "skeleton", "body"];
   // the mean of points [[x, y], ...]: a composite's handle, a scale's origin

@@ -39,7 +39,7 @@
     else if (kind === "artwork") {  // your own drawing, into the face being edited
       el("tab-face").click();
       el("target-component").click();
-      faces.edit({action: "import_svg", path: name});
+      faces.edit({action: name.toLowerCase().endsWith(".png") ? "import_picture" : "import_svg", path: name});
     }
   }
 
