@@ -38,8 +38,9 @@ class AnimatedSvgSink(_AtomicSink):
         self._frames: list[Geometry] = []
 
     def write_geometry(self, geometry: Geometry) -> None:
-        """Add one frame (a face with pictures is refused at the first: :data:`toon.images.UNANIMATED`)."""
-        if not self._frames:
+        """Add one frame (for Lottie, a face with pictures is refused at the first:
+        :data:`toon.images.UNANIMATED`)."""
+        if not self._frames and self.lottie:
             from common import InputError
             from toon.images import refuse_pictures
 

@@ -88,14 +88,14 @@ def png_bytes(pixels: np.ndarray) -> bytes:
     return out.getvalue()
 
 
-#: What the animated outputs say of a face with pictures (they key outlines, not pictures, yet).
-UNANIMATED = ("image components are not in animated SVG, Lottie or the web page yet: render to .webm, .mov, "
-              ".apng, .webp, .mp4, PNG frames or SVG frames (--format svg)")
+#: What a Lottie output says of a face with pictures (it keys outlines, not pictures, yet).
+UNANIMATED = ("image components are not in Lottie output yet: render to .svg (animated), .webm, .mov, .apng, "
+              ".webp, .mp4 or frames")
 
 
 def refuse_pictures(frame: object) -> None:
     """A ValueError saying :data:`UNANIMATED` where ``frame`` (a :class:`toon.Geometry`) draws a
-    picture: for the outputs that animate outlines, before they draw a frame."""
+    picture: for Lottie, before it draws a frame."""
     if any(getattr(item, "picture", None) is not None for item in getattr(frame, "items", ())):
         raise ValueError(UNANIMATED)
 

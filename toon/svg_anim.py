@@ -6,7 +6,9 @@ It stays small because only what moves is keyed, and only where it must be: an o
 frames are reduced to the fewest keyframes whose straight-line interpolation stays within
 ``tolerance`` (face units) of every frame, the other frames left to the browser's interpolation;
 an outline whose vertex count or stroke runs change, or that comes and goes, steps from key to
-key (``calcMode="discrete"``), keyed only where it changes.
+key (``calcMode="discrete"``), keyed only where it changes. An image component's picture is
+defined once and placed by four nested transforms (translate, rotate, skewX, scale: any affine
+map, SMIL having no animated matrix), keyed where its corners need it as an outline is.
 """
 
 from __future__ import annotations
@@ -161,6 +163,13 @@ def track_svg(frames: Sequence[Geometry], rate: float, size: tuple[int, int] = (
             defs.append(f'<clipPath id="group-{group}">{uses}</clipPath>')
     body = [f'<rect {big} fill="{_paint(first.background)}"{_opacity("fill-opacity", first.background)}/>']
     groups_with_holes = {items[k].mask_write for k in holes}
+    pictures: dict[str, int] = {}  # a picture's data -> its number
+    for key in order:
+        picture = items[key].picture
+        if picture is not None and picture.href not in pictures:
+            pictures[picture.href] = len(pictures)
+            defs.append(f'<image id="picture-{pictures[picture.href]}" width="{picture.size[0]}" '
+                        f'height="{picture.size[1]}" preserveAspectRatio="none" href="{picture.href}"/>')
     for key in order:
         item = items[key]
         if item.mask_test == 0:
@@ -180,6 +189,9 @@ def track_svg(frames: Sequence[Geometry], rate: float, size: tuple[int, int] = (
         whole = stroked and item.closed and all(t is None or a is not None for t, a in
                                                 zip(strokes[key].texts, strokes[key].arrays, strict=True))
         parts = []
+        if item.picture is not None:
+            parts.append(_placed(fills[key], pictures[item.picture.href], item.picture.size, dur, tolerance,
+                                 item.opacity))
         if item.fill is not None and item.closed:
             paint = f' fill="{_paint(item.fill)}"{_opacity("fill-opacity", item.fill)} fill-rule="evenodd"'
             paint += stroke if whole else ""
@@ -203,6 +215,46 @@ def track_svg(frames: Sequence[Geometry], rate: float, size: tuple[int, int] = (
             'preserveAspectRatio="xMidYMid meet">\n'
             + (f"<defs>{''.join(defs)}</defs>\n" if defs else "")
             + "\n".join(body) + "\n</svg>\n")
+
+
+def _placed(corners: _Timeline, number: int, size: tuple[int, int], dur: float, tolerance: float,
+            opacity: float) -> str:
+    """Picture ``number`` placed on its corners at every frame: ``translate rotate skewX scale``
+    (:func:`affine_parts`), each animated where it changes, keyed where the corners need it."""
+    from toon.images import pixel_affine
+
+    shown = next(a for a in corners.arrays if a is not None)
+    quads = np.stack([shown if a is None else a for a in corners.arrays])
+    keys = linear_keys(quads, tolerance) if len(quads) > 1 else [0]
+    parts = affine_parts(np.array([pixel_affine(quads[k] * [1.0, -1.0], size) for k in keys]))
+    last = max(len(quads) - 1, 1)
+    times = ";".join(_time(k / last) if k < last else "1" for k in keys)
+    nested = ""
+    for kind, values in zip(("translate", "rotate", "skewX", "scale"), parts, strict=True):
+        texts = [" ".join(_fmt(v, 4) for v in np.atleast_1d(row)) for row in values]
+        animate = "" if len(set(texts)) == 1 else (
+            f'<animateTransform attributeName="transform" type="{kind}" dur="{_time(dur)}s" repeatCount="indefinite" '
+            f'calcMode="linear" keyTimes="{times}" values="{";".join(texts)}"/>')
+        nested += f'<g transform="{kind}({texts[0]})">{animate}'
+    fade = f' opacity="{_fmt(opacity)}"' if opacity < 1.0 else ""
+    return nested + f'<use href="#picture-{number}"{fade}/>' + "</g>" * 4
+
+
+def affine_parts(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Affine maps ``(K, 2, 3)`` (``[[a, c, e], [b, d, f]]``) as SVG's ``translate(e f)
+    rotate(θ) skewX(φ) scale(sx sy)``: translations ``(K, 2)``, rotations and skews in degrees
+    ``(K,)`` (the rotation unwrapped, so that it turns the short way between keys) and scales
+    ``(K, 2)`` (``sy`` negative for a mirrored picture)."""
+    a, c, e = matrices[:, 0].T
+    b, d, f = matrices[:, 1].T
+    sx = np.hypot(a, b)
+    theta = np.unwrap(np.arctan2(b, a))
+    safe = np.where(sx > 1e-12, sx, 1.0)
+    sy = (a * d - b * c) / safe
+    shear = (a * c + b * d) / safe
+    phi = np.degrees(np.arctan2(shear, np.where(np.abs(sy) > 1e-12, sy, 1e-12)))
+    phi = np.where(phi > 90, phi - 180, np.where(phi < -90, phi + 180, phi))  # tan repeats every 180
+    return np.column_stack([e, f]), np.degrees(theta), phi, np.column_stack([sx, sy])
 
 
 def _first(present: list[bool]) -> int:

@@ -69,14 +69,7 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
     """
     if transparent:
         face = dataclasses.replace(face, background=(*face.background[:3], 0.0))
-    rig = FaceRig(face)
-    if any(c.kind == "image" for c in rig.face.basic_components()):
-        from common import InputError
-        from toon.images import UNANIMATED
-
-        raise InputError(UNANIMATED.replace(": render to", ": export the face without them, or render to"),
-                         face.meta.get("source"))
-    frames = list(geometries(track, rig, fps))
+    frames = list(geometries(track, FaceRig(face), fps))
     svg = track_svg(frames, fps, size)
     duration = max(len(frames) - 1, 1) / fps
     audio = ""

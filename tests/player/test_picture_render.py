@@ -70,9 +70,9 @@ def test_a_picture_keeps_its_alpha_on_a_transparent_background(backend, ctx):
     assert rgba[int(y0) - 3, x, 3] == 0  # outside it, nothing
 
 
-def test_the_outputs_that_animate_outlines_refuse_a_face_with_pictures_in_a_line(tmp_path, capsys, monkeypatch):
-    """Animated SVG, Lottie and the web page key outlines, not pictures: each refuses before it
-    draws, naming what does carry them; a video and SVG frames draw them."""
+def test_lottie_refuses_a_face_with_pictures_in_a_line_and_the_others_draw_them(tmp_path, capsys, monkeypatch):
+    """Lottie keys outlines, not pictures: it refuses before it draws, naming what does carry
+    them; a video, SVG frames, the animated SVG and the web page draw them."""
     import json
 
     from toon import save_track
@@ -84,12 +84,43 @@ def test_the_outputs_that_animate_outlines_refuse_a_face_with_pictures_in_a_line
     (tmp_path / "pic.json").write_text(json.dumps(face.to_dict()))
     values = np.tile(face.neutral(), (10, 1))
     save_track(MotorTrack(values, 10.0), tmp_path / "m.csv")
-    for argv in (["render", "m.csv", "-o", "x.svg"], ["render", "m.csv", "-o", "x.json"],
-                 ["export", "web", "m.csv", "-o", "x.html"]):
-        assert main([*argv, "--face", str(tmp_path / "pic.json"), "--size", "64"]) == 2, argv
-        err = capsys.readouterr().err
-        assert "image components are not in animated SVG" in err and err.count("\n") == 1, err
+    assert main(["render", "m.csv", "-o", "x.json", "--face", "pic.json", "--size", "64"]) == 2
+    err = capsys.readouterr().err
+    assert "x.json: image components are not in Lottie output yet" in err and err.count("\n") == 1, err
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(("x.", ".x"))]
+    assert main(["render", "m.csv", "-o", "x.svg", "--face", "pic.json", "--size", "64"]) == 0
+    assert main(["export", "web", "m.csv", "-o", "x.html", "--face", "pic.json", "--size", "64"]) == 0
+    assert 'id="picture-0"' in (tmp_path / "x.html").read_text()
     assert main(["render", "m.csv", "-o", "x.webm", "--face", "pic.json", "--size", "64", "--background", "none"]) == 0
     assert main(["render", "m.csv", "-o", "frames", "--format", "svg", "--face", "pic.json", "--size", "64"]) == 0
     assert "picture-0" in (tmp_path / "frames" / "frame_000000.svg").read_text()
+
+
+@pytest.mark.slow
+def test_the_animated_svg_places_pictures_as_the_renderer_does_in_a_browser(tmp_path):
+    """Pictures turning, sliding and hanging from the jaw, in an animated SVG paused at three
+    times in headless Chromium, against the offscreen renderer's frames."""
+    import io
+
+    from browser import chromium
+    from PIL import Image
+
+    from player.backends import open_renderer
+    from toon.svg_anim import save_track_svg
+
+    face = face_from_dict(picture_face(data_uri(QUAD), rotate={"motor": "MB", "at0": [-30], "at1": [60],
+                                                                "origin": [-150, 150]},
+                                       translate={"motor": "MB", "at0": [0, 0], "at1": [40, -20]}))
+    rig = FaceRig(face)
+    times = np.arange(60) / 30.0
+    rows = np.tile(face.neutral(), (len(times), 1))
+    rows[:, 18] = 0.5 + 0.5 * np.sin(2 * np.pi * times / 2.0)  # MB swings over the two seconds
+    path = save_track_svg([rig.geometry(row) for row in rows], 30.0, tmp_path / "pictures.svg")
+    with chromium(700, 800) as driver, open_renderer((512, 512), backend="cairo") as renderer:
+        driver.get(path.as_uri())
+        for t in (0.4, 1.0, 1.5):
+            driver.execute_script(f"const s = document.documentElement; s.pauseAnimations(); s.setCurrentTime({t});")
+            shown = np.asarray(Image.open(io.BytesIO(driver.get_screenshot_as_png())).convert("RGB"))[:512, :512]
+            drawn = renderer.render(rig.geometry(rows[int(round(t * 30))]))
+            diff = np.abs(shown.astype(int) - drawn.astype(int))
+            assert diff.mean() <= 1.5 and (diff.max(axis=2) > 48).mean() < 0.01, (t, diff.mean())
