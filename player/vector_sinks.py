@@ -38,16 +38,7 @@ class AnimatedSvgSink(_AtomicSink):
         self._frames: list[Geometry] = []
 
     def write_geometry(self, geometry: Geometry) -> None:
-        """Add one frame (for Lottie, a face with pictures is refused at the first:
-        :data:`toon.images.UNANIMATED`)."""
-        if not self._frames and self.lottie:
-            from common import InputError
-            from toon.images import refuse_pictures
-
-            try:
-                refuse_pictures(geometry)
-            except ValueError as exc:
-                raise InputError(str(exc), self._target) from None
+        """Add one frame."""
         self._frames.append(geometry)
         self.frames += 1
 

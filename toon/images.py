@@ -88,18 +88,6 @@ def png_bytes(pixels: np.ndarray) -> bytes:
     return out.getvalue()
 
 
-#: What a Lottie output says of a face with pictures (it keys outlines, not pictures, yet).
-UNANIMATED = ("image components are not in Lottie output yet: render to .svg (animated), .webm, .mov, .apng, "
-              ".webp, .mp4 or frames")
-
-
-def refuse_pictures(frame: object) -> None:
-    """A ValueError saying :data:`UNANIMATED` where ``frame`` (a :class:`toon.Geometry`) draws a
-    picture: for Lottie, before it draws a frame."""
-    if any(getattr(item, "picture", None) is not None for item in getattr(frame, "items", ())):
-        raise ValueError(UNANIMATED)
-
-
 def corners(points: np.ndarray) -> np.ndarray:
     """The four corners ``(4, 2)`` (top-left, top-right, bottom-right, bottom-left) of the
     parallelogram of three points ``(3, 2)``: top-left, top-right, bottom-left."""

@@ -10,7 +10,9 @@ subtract every hole, a pupil or a clipped component adds its group's holes. Outl
 as in :mod:`toon.svg_anim` (the fewest frames whose straight-line interpolation stays within the
 tolerance; an outline whose vertex count changes holds from key to key), and an item that comes
 and goes fades its layer's opacity in steps. Coordinates are the renderer's pixels at ``size``
-(the viewbox fitted centred, aspect kept), so a player shows what ``render`` draws.
+(the viewbox fitted centred, aspect kept), so a player shows what ``render`` draws. An image
+component is an image layer of its picture (an embedded asset), its transform's position,
+rotation, skew and scale keyed where its corners need it (:func:`toon.svg_anim.affine_parts`).
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ from common import atomic_path
 from toon.curves import visible_runs
 from toon.geometry import DrawItem, Geometry
 from toon.raster import fit_viewbox
-from toon.svg_anim import linear_keys
+from toon.svg_anim import affine_parts, linear_keys
 
 LOTTIE_VERSION = "5.7.4"
 _STATIC_TRANSFORM = {"o": {"a": 0, "k": 100}, "r": {"a": 0, "k": 0}, "p": {"a": 0, "k": [0, 0, 0]},
@@ -59,11 +61,11 @@ def _colour(color: tuple[float, float, float, float]) -> dict[str, Any]:
     return {"a": 0, "k": [round(c, 4) for c in color[:3]] + [1]}
 
 
-def _opacity(present: list[bool]) -> dict[str, Any]:
+def _opacity(present: list[bool], full: float = 100) -> dict[str, Any]:
     if all(present):
-        return {"a": 0, "k": 100}
+        return {"a": 0, "k": full}
     keys = [k for k in range(len(present)) if k == 0 or present[k] != present[k - 1]]
-    return {"a": 1, "k": [{"t": k, "s": [100 if present[k] else 0], "h": 1} for k in keys]}
+    return {"a": 1, "k": [{"t": k, "s": [full if present[k] else 0], "h": 1} for k in keys]}
 
 
 def track_lottie(frames: Sequence[Geometry], rate: float, size: tuple[int, int] = (512, 512),
@@ -103,10 +105,11 @@ def track_lottie(frames: Sequence[Geometry], rate: float, size: tuple[int, int] 
     holes = {key: items[key].mask_write for key in order if items[key].mask_write}
     hole_paths = {key: _keyed(outlines[key], True, tolerance) for key in holes}
     layers = []
+    assets: dict[str, dict[str, Any]] = {}  # a picture's data -> its asset
     for index, key in enumerate(order):
         item = items[key]
         shapes = _item_shapes(item, outlines[key], present[key], tolerance, scale)
-        if not shapes:
+        if not shapes and item.picture is None:
             continue
         masks = []
         if item.mask_test == 0:
@@ -121,13 +124,42 @@ def track_lottie(frames: Sequence[Geometry], rate: float, size: tuple[int, int] 
         layer = {"ddd": 0, "ind": index + 1, "ty": 4, "nm": item.name or f"{item.kind} {key}", "sr": 1,
                  "ks": {**_STATIC_TRANSFORM, "o": _opacity(present[key])}, "ao": 0, "shapes": shapes,
                  "ip": 0, "op": len(frames), "st": 0, "bm": 0}
+        if item.picture is not None:
+            picture = item.picture
+            asset = assets.setdefault(picture.href, {"id": f"picture_{len(assets)}", "w": picture.size[0],
+                                                     "h": picture.size[1], "u": "", "p": picture.href, "e": 1})
+            del layer["shapes"]
+            layer.update(ty=2, refId=asset["id"], ks={**_placed(outlines[key], picture.size, tolerance),
+                                                       "o": _opacity(present[key], 100 * item.opacity)})
         if masks:
             layer.update(hasMask=True, masksProperties=masks)
         layers.append(layer)
     if first.background[3] > 0:  # drawn first, so last in Lottie's list
         layers.insert(0, _background(first.background, size, len(order) + 1, len(frames)))
     return {"v": LOTTIE_VERSION, "fr": rate, "ip": 0, "op": len(frames), "w": size[0], "h": size[1], "nm": name,
-            "ddd": 0, "assets": [], "layers": list(reversed(layers))}
+            "ddd": 0, "assets": list(assets.values()), "layers": list(reversed(layers))}
+
+
+def _placed(corners: list[np.ndarray | None], size: tuple[int, int], tolerance: float) -> dict[str, Any]:
+    """An image layer's transform onto its corners (pixels) at every frame: Lottie applies the
+    scale, then the skew (along x: its ``sk`` is SVG's skewX negated), the rotation (clockwise on
+    screen, as SVG's) and the position, as :func:`toon.svg_anim.affine_parts` takes a map apart."""
+    from toon.images import pixel_affine
+
+    shown = next(c for c in corners if c is not None)
+    quads = np.stack([shown if c is None else c for c in corners])
+    keys = linear_keys(quads, tolerance) if len(quads) > 1 else [0]
+    moved, turned, skewed, scaled = affine_parts(np.array([pixel_affine(quads[k], size) for k in keys]))
+    values: dict[str, list] = {"p": [[float(x), float(y), 0.0] for x, y in moved], "r": [float(r) for r in turned],
+              "sk": [-float(s) for s in skewed], "s": [[100 * float(x), 100 * float(y), 100.0] for x, y in scaled]}
+
+    def keyed(series: list) -> dict[str, Any]:
+        if all(v == series[0] for v in series):
+            return {"a": 0, "k": series[0]}
+        return {"a": 1, "k": [{"t": k, "s": v if isinstance(v, list) else [v], **_LINEAR}
+                              for k, v in zip(keys, series, strict=True)]}
+    return {"a": {"a": 0, "k": [0, 0, 0]}, **{name: keyed(series) for name, series in values.items()},
+            "sa": {"a": 0, "k": 0}}
 
 
 def _background(color: tuple[float, float, float, float], size: tuple[int, int], index: int,

@@ -70,9 +70,9 @@ def test_a_picture_keeps_its_alpha_on_a_transparent_background(backend, ctx):
     assert rgba[int(y0) - 3, x, 3] == 0  # outside it, nothing
 
 
-def test_lottie_refuses_a_face_with_pictures_in_a_line_and_the_others_draw_them(tmp_path, capsys, monkeypatch):
-    """Lottie keys outlines, not pictures: it refuses before it draws, naming what does carry
-    them; a video, SVG frames, the animated SVG and the web page draw them."""
+def test_every_output_of_render_and_export_carries_a_face_s_pictures(tmp_path, monkeypatch):
+    """A video with alpha, SVG frames, the animated SVG, Lottie (an embedded asset) and the web
+    page, each from the command line."""
     import json
 
     from toon import save_track
@@ -84,10 +84,10 @@ def test_lottie_refuses_a_face_with_pictures_in_a_line_and_the_others_draw_them(
     (tmp_path / "pic.json").write_text(json.dumps(face.to_dict()))
     values = np.tile(face.neutral(), (10, 1))
     save_track(MotorTrack(values, 10.0), tmp_path / "m.csv")
-    assert main(["render", "m.csv", "-o", "x.json", "--face", "pic.json", "--size", "64"]) == 2
-    err = capsys.readouterr().err
-    assert "x.json: image components are not in Lottie output yet" in err and err.count("\n") == 1, err
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(("x.", ".x"))]
+    assert main(["render", "m.csv", "-o", "x.json", "--face", "pic.json", "--size", "64"]) == 0
+    lottie = json.loads((tmp_path / "x.json").read_text())
+    assert [a["p"][:22] for a in lottie["assets"]] == ["data:image/png;base64,"]  # one picture, used twice
+    assert sorted(layer["ty"] for layer in lottie["layers"]).count(2) == 2
     assert main(["render", "m.csv", "-o", "x.svg", "--face", "pic.json", "--size", "64"]) == 0
     assert main(["export", "web", "m.csv", "-o", "x.html", "--face", "pic.json", "--size", "64"]) == 0
     assert 'id="picture-0"' in (tmp_path / "x.html").read_text()
@@ -124,3 +124,43 @@ def test_the_animated_svg_places_pictures_as_the_renderer_does_in_a_browser(tmp_
             drawn = renderer.render(rig.geometry(rows[int(round(t * 30))]))
             diff = np.abs(shown.astype(int) - drawn.astype(int))
             assert diff.mean() <= 1.5 and (diff.max(axis=2) > 48).mean() < 0.01, (t, diff.mean())
+
+
+@pytest.mark.slow
+def test_lottie_web_places_pictures_as_the_renderer_does(tmp_path):
+    """The same turning, sliding, hanging pictures as a Lottie animation, played by lottie-web
+    (npm) in Chromium and stopped at three frames, against the offscreen renderer's."""
+    import io
+    import json
+
+    from browser import chromium, wait_for
+    from PIL import Image
+
+    from player.backends import open_renderer
+    from toon.lottie import track_lottie
+
+    lottie_web = Path(__file__).resolve().parents[2] / "node_modules/lottie-web/build/player/lottie.min.js"
+    if not lottie_web.is_file():
+        pytest.skip("lottie-web is missing (make browser installs it with npm)")
+    face = face_from_dict(picture_face(data_uri(QUAD), rotate={"motor": "MB", "at0": [-30], "at1": [60],
+                                                                "origin": [-150, 150]},
+                                       translate={"motor": "MB", "at0": [0, 0], "at1": [40, -20]}))
+    rig = FaceRig(face)
+    times = np.arange(60) / 30.0
+    rows = np.tile(face.neutral(), (len(times), 1))
+    rows[:, 18] = 0.5 + 0.5 * np.sin(2 * np.pi * times / 2.0)
+    document = json.dumps(track_lottie([rig.geometry(row) for row in rows], 30.0))
+    page = tmp_path / "pictures.html"
+    page.write_text(f"""<!DOCTYPE html><html><body style="margin:0">
+        <div id="box" style="width:512px;height:512px"></div><script src="{lottie_web.as_uri()}"></script>
+        <script>window.anim = lottie.loadAnimation({{container: document.getElementById("box"),
+        renderer: "svg", loop: false, autoplay: false, animationData: {document}}});</script></body></html>""")
+    with chromium(800, 900) as driver, open_renderer((512, 512), backend="cairo") as renderer:
+        driver.get(page.as_uri())
+        wait_for(driver, "window.anim && window.anim.isLoaded")
+        for frame in (12, 30, 45):
+            driver.execute_script(f"anim.goToAndStop({frame}, true);")
+            png = driver.find_element("id", "box").screenshot_as_png
+            shown = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"))
+            diff = np.abs(shown.astype(int) - renderer.render(rig.geometry(rows[frame])).astype(int))
+            assert diff.mean() <= 1.5 and (diff.max(axis=2) > 48).mean() < 0.01, (frame, diff.mean())
