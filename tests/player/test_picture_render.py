@@ -96,6 +96,18 @@ def test_every_output_of_render_and_export_carries_a_face_s_pictures(tmp_path, m
     assert "picture-0" in (tmp_path / "frames" / "frame_000000.svg").read_text()
 
 
+def _swinging():
+    """Pictures turning, sliding and hanging from the jaw as MB swings over two seconds at 30 fps:
+    the rig and the frames' motor values ``(60, 21)``."""
+    face = face_from_dict(picture_face(data_uri(QUAD), rotate={"motor": "MB", "at0": [-30], "at1": [60],
+                                                                "origin": [-150, 150]},
+                                       translate={"motor": "MB", "at0": [0, 0], "at1": [40, -20]}))
+    times = np.arange(60) / 30.0
+    rows = np.tile(face.neutral(), (len(times), 1))
+    rows[:, 18] = 0.5 + 0.5 * np.sin(2 * np.pi * times / 2.0)
+    return FaceRig(face), rows
+
+
 @pytest.mark.slow
 def test_the_animated_svg_places_pictures_as_the_renderer_does_in_a_browser(tmp_path):
     """Pictures turning, sliding and hanging from the jaw, in an animated SVG paused at three
@@ -108,13 +120,7 @@ def test_the_animated_svg_places_pictures_as_the_renderer_does_in_a_browser(tmp_
     from player.backends import open_renderer
     from toon.svg_anim import save_track_svg
 
-    face = face_from_dict(picture_face(data_uri(QUAD), rotate={"motor": "MB", "at0": [-30], "at1": [60],
-                                                                "origin": [-150, 150]},
-                                       translate={"motor": "MB", "at0": [0, 0], "at1": [40, -20]}))
-    rig = FaceRig(face)
-    times = np.arange(60) / 30.0
-    rows = np.tile(face.neutral(), (len(times), 1))
-    rows[:, 18] = 0.5 + 0.5 * np.sin(2 * np.pi * times / 2.0)  # MB swings over the two seconds
+    rig, rows = _swinging()
     path = save_track_svg([rig.geometry(row) for row in rows], 30.0, tmp_path / "pictures.svg")
     with chromium(700, 800) as driver, open_renderer((512, 512), backend="cairo") as renderer:
         driver.get(path.as_uri())
@@ -142,13 +148,7 @@ def test_lottie_web_places_pictures_as_the_renderer_does(tmp_path):
     lottie_web = Path(__file__).resolve().parents[2] / "node_modules/lottie-web/build/player/lottie.min.js"
     if not lottie_web.is_file():
         pytest.skip("lottie-web is missing (make browser installs it with npm)")
-    face = face_from_dict(picture_face(data_uri(QUAD), rotate={"motor": "MB", "at0": [-30], "at1": [60],
-                                                                "origin": [-150, 150]},
-                                       translate={"motor": "MB", "at0": [0, 0], "at1": [40, -20]}))
-    rig = FaceRig(face)
-    times = np.arange(60) / 30.0
-    rows = np.tile(face.neutral(), (len(times), 1))
-    rows[:, 18] = 0.5 + 0.5 * np.sin(2 * np.pi * times / 2.0)
+    rig, rows = _swinging()
     document = json.dumps(track_lottie([rig.geometry(row) for row in rows], 30.0))
     page = tmp_path / "pictures.html"
     page.write_text(f"""<!DOCTYPE html><html><body style="margin:0">

@@ -71,6 +71,14 @@ def _drop(driver, path: Path) -> None:
                           "{dataTransfer: t, bubbles: true, cancelable: true}))")
 
 
+def _working(tmp_path: Path) -> tuple[Path, StudioSession]:
+    """A studio on the classic face whose folder is ``tmp_path/work`` (apart from the files a
+    test drops on its page)."""
+    work = tmp_path / "work"
+    work.mkdir()
+    return work, StudioSession("classic", folder=Folder(work.resolve()))
+
+
 def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_page_actions(tmp_path):
     """The first of the issue's first-time tasks, as a person does it: drag a take onto the page
     (1), press Space (2). The studio page (docs/howto/studio.md) states the count."""
@@ -179,9 +187,7 @@ def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_gi
     frames = tmp_path / "source" / "frames.csv"
     frames.parent.mkdir()
     frames.write_text("\n".join(",".join(c for i, c in enumerate(line.split(",")) if i != drop) for line in lines))
-    work = tmp_path / "work"
-    work.mkdir()
-    session = StudioSession("classic", folder=Folder(work.resolve()))
+    work, session = _working(tmp_path)
     with studio_server(session) as url, chromium(1366, 768) as driver:
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && window.files")
@@ -217,9 +223,7 @@ def test_a_png_dropped_on_the_page_becomes_a_picture_in_the_face_that_moves_once
     source = tmp_path / "source"
     source.mkdir()
     (source / "moustache.png").write_bytes(png_bytes(picture))
-    work = tmp_path / "work"
-    work.mkdir()
-    session = StudioSession("classic", folder=Folder(work.resolve()))
+    work, session = _working(tmp_path)
     with studio_server(session) as url, chromium(1366, 768) as driver:
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && window.files && window.faces")
