@@ -174,6 +174,7 @@ def test_a_take_that_does_not_say_its_rate_or_units_is_asked_about(tmp_path):
     assert session.editor.describe()["take"] is None  # an animation says all: nothing to ask
 
 
+@pytest.mark.slow
 def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_given(tmp_path):
     """Dropped on the page, a table without a time column asks for its rate beside the staves;
     typed in and opened again, it opens as knots, and the page says the units it was read in."""
@@ -208,6 +209,7 @@ def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_gi
     assert units == "cm" and duration == pytest.approx(1590 / 60)
 
 
+@pytest.mark.slow
 def test_a_png_dropped_on_the_page_becomes_a_picture_in_the_face_that_moves_once_attached(tmp_path):
     """CharToon's scanned and hand-painted parts: a PNG dropped on the studio becomes an image
     component kept in the face file, drawn in the page's face; attached to the mouth, it moves
