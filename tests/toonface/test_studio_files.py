@@ -58,7 +58,6 @@ def test_a_file_from_the_page_is_kept_in_the_folder_and_nothing_else_is_written(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["take-2.csv", "take.csv", "voice.wav"]  # no partial left
 
 
-@pytest.mark.slow  # Chromium: make test runs it
 def _drop(driver, path: Path) -> None:
     """Drop the file at ``path`` on the face (Selenium cannot drag from the desktop: the file is
     given to an input, then dropped)."""
@@ -79,6 +78,7 @@ def _working(tmp_path: Path) -> tuple[Path, StudioSession]:
     return work, StudioSession("classic", folder=Folder(work.resolve()))
 
 
+@pytest.mark.slow  # Chromium: make test runs it
 def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_page_actions(tmp_path):
     """The first of the issue's first-time tasks, as a person does it: drag a take onto the page
     (1), press Space (2). The studio page (docs/howto/studio.md) states the count."""
