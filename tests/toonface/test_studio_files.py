@@ -128,6 +128,7 @@ def test_the_animation_and_the_face_download_as_the_files_save_writes(tmp_path):
         assert asyncio.run(get(f"{url}download/rooms.toml"))[0] == 404
 
 
+@pytest.mark.slow  # maps the shared 26 s take five times
 def test_a_take_that_does_not_say_its_rate_or_units_is_asked_about(tmp_path):
     """A table without a time column opens nothing and asks for its rate; one in centimetres
     that does not say so opens in the units its size suggests and says which, to be changed;
@@ -234,6 +235,8 @@ def test_a_png_dropped_on_the_page_becomes_a_picture_in_the_face_that_moves_once
         said = driver.find_element("id", "message").text
         spec = session.faces.doc["components"][-1]
         assert spec["kind"] == "image" and spec["src"].startswith("data:image/png;base64,")
+        newest = len(session.faces.doc["components"]) - 1
+        wait_for(driver, f"window.faces.selected === {newest}")  # chosen in the list, ready for Attach
         driver.execute_script(f"window.faces.edit({{action: 'attach', component: "
                               f"{len(session.faces.doc['components']) - 1}, feature: 'mouth'}})")
         wait_for(driver, "window.faces.doc.components.at(-1).points.every(p => p.slave)")

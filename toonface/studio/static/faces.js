@@ -40,7 +40,13 @@
 
   function show(message) {
     faces.last = message;
+    const before = faces.doc ? (faces.doc.components || []).length : null;
     faces.doc = message.doc;
+    const after = (faces.doc.components || []).length;
+    if (faces.target === "component" && before !== null && after === before + 1) {  // one made or imported: chosen
+      faces.selected = after - 1;
+      faces.chosen = [after - 1];
+    }
     el("face-error").textContent = "";
     panel();
     settled();
