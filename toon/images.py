@@ -79,15 +79,6 @@ def load_picture(src: str, base_dir: Path | None) -> Picture:
     return decode_png(data, src)
 
 
-def png_bytes(pixels: np.ndarray) -> bytes:
-    """Straight RGBA ``(height, width, 4)`` ``uint8`` as PNG bytes."""
-    from PIL import Image
-
-    out = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(pixels, dtype=np.uint8), "RGBA").save(out, format="PNG")
-    return out.getvalue()
-
-
 def corners(points: np.ndarray) -> np.ndarray:
     """The four corners ``(4, 2)`` (top-left, top-right, bottom-right, bottom-left) of the
     parallelogram of three points ``(3, 2)``: top-left, top-right, bottom-left."""

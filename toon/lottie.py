@@ -28,6 +28,7 @@ import numpy as np
 from common import atomic_path
 from toon.curves import visible_runs
 from toon.geometry import DrawItem, Geometry
+from toon.images import pixel_affine
 from toon.raster import fit_viewbox
 from toon.svg_anim import affine_parts, linear_keys
 
@@ -144,8 +145,6 @@ def _placed(corners: list[np.ndarray | None], size: tuple[int, int], tolerance: 
     """An image layer's transform onto its corners (pixels) at every frame: Lottie applies the
     scale, then the skew (along x: its ``sk`` is SVG's skewX negated), the rotation (clockwise on
     screen, as SVG's) and the position, as :func:`toon.svg_anim.affine_parts` takes a map apart."""
-    from toon.images import pixel_affine
-
     shown = next(c for c in corners if c is not None)
     quads = np.stack([shown if c is None else c for c in corners])
     keys = linear_keys(quads, tolerance) if len(quads) > 1 else [0]

@@ -154,7 +154,7 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, column
         inputs = len(prep.skeleton.body_rest) if prep.skeleton is not None else n
         parts["defining_row"].append(prep.rows)
         parts["defining_offset"].append(prep.offset)
-        blends.append(sparse.csr_array(prep.blend) if prep.blend is not None else sparse.csr_array((n, len(rest))))
+        blends.append((prep.blend, n))
         if prep.skeleton is not None:
             skeletons.append((prep.skeleton, slice(defined, defined + n), slice(given, given + inputs)))
         else:
@@ -174,10 +174,12 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, column
     merged_arcs = ArcBinding(*(np.concatenate([getattr(p, f) for p in arcs]) for f in (
         "a", "b", "m", "other", "upper", "vrl", "d", "gap"))) if arcs else None
     operator = sparse.csr_array(sparse.block_diag(blocks)) if blocks else None
-    blended = any(prep.blend is not None for prep in order if isinstance(prep, ComponentPrep))
+    blend = None  # made only for a face that has a slave of several masters
+    if any(b is not None for b, _ in blends):
+        blend = sparse.csr_array(sparse.vstack([sparse.csr_array(b if b is not None else (n, len(rest)))
+                                                for b, n in blends]))
     return VertexPlan(slices, int(bounds[-1]), lines=merged, arcs=merged_arcs, skeletons=tuple(skeletons),
-                       operator=operator, defining_blend=sparse.csr_array(sparse.vstack(blends)) if blended else None,
-                       **arrays)
+                       operator=operator, defining_blend=blend, **arrays)
 
 
 def _joined(parts: list[np.ndarray], columns: int) -> np.ndarray:

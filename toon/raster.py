@@ -6,6 +6,7 @@ import numpy as np
 
 from toon.curves import stroke_triangles
 from toon.geometry import Geometry
+from toon.images import pixel_affine
 
 
 def fit_viewbox(viewbox: tuple[float, float, float, float], size: tuple[int, int]) -> tuple[float, float, float]:
@@ -130,8 +131,6 @@ def _picture(image: np.ndarray, picture: np.ndarray, quad: np.ndarray, allowed: 
     """Blend ``picture`` (straight RGBA ``uint8`` ``(h, w, 4)``) over ``image`` where it lies:
     the parallelogram ``quad`` ``(4, 2)`` of output pixels (its corners: top-left, top-right,
     bottom-right, bottom-left), sampled bilinearly at each pixel's centre, its edges clamped."""
-    from toon.images import pixel_affine
-
     h, w = picture.shape[:2]
     forward = np.vstack([pixel_affine(quad, (w, h)), [0.0, 0.0, 1.0]])
     if abs(np.linalg.det(forward[:2, :2])) < 1e-12:

@@ -19,6 +19,7 @@ import numpy as np
 from common import atomic_path
 from toon.curves import visible_runs
 from toon.geometry import DrawItem, Geometry
+from toon.images import pixel_affine
 from toon.validate import Color
 
 
@@ -130,8 +131,6 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512), decimal
 
 def _placed(item: DrawItem, number: int, decimals: int) -> str:
     """A ``<use>`` of picture ``number`` taken onto the item's corners (SVG's y runs down)."""
-    from toon.images import pixel_affine
-
     assert item.picture is not None
     a, c, e, b, d, f = pixel_affine(item.vertices * [1.0, -1.0], item.picture.size).ravel()
     matrix = " ".join(_fmt(x, decimals + 3) for x in (a, b, c, d, e, f))

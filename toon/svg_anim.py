@@ -23,6 +23,7 @@ import numpy as np
 
 from common import atomic_path
 from toon.geometry import DrawItem, Geometry
+from toon.images import pixel_affine
 from toon.svg import _coords, _fmt, _opacity, _paint, _stroke_paths
 
 #: Coordinates are written to this many decimals (face units: a face is some 500 across).
@@ -221,8 +222,6 @@ def _placed(corners: _Timeline, number: int, size: tuple[int, int], dur: float, 
             opacity: float) -> str:
     """Picture ``number`` placed on its corners at every frame: ``translate rotate skewX scale``
     (:func:`affine_parts`), each animated where it changes, keyed where the corners need it."""
-    from toon.images import pixel_affine
-
     shown = next(a for a in corners.arrays if a is not None)
     quads = np.stack([shown if a is None else a for a in corners.arrays])
     keys = linear_keys(quads, tolerance) if len(quads) > 1 else [0]

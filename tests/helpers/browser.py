@@ -133,3 +133,15 @@ def page_against_offscreen(driver, session):
         drawn = renderer.render(FaceRig(session.face).geometry(motors, extra)).astype(int)
     assert shown.shape == drawn.shape
     return np.abs(shown - drawn)
+
+
+def drop_file(driver, path) -> None:
+    """The file at ``path`` dragged from the desktop onto the studio's face: Selenium cannot drag
+    from the desktop, so the file is handed to a hidden input, then dropped."""
+    driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
+                          "i.style.display = 'none'; document.body.append(i)")
+    driver.find_element("id", "carried").send_keys(str(path))
+    driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
+                          "document.getElementById('carried').remove();"
+                          "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
+                          "{dataTransfer: t, bubbles: true, cancelable: true}))")

@@ -1,5 +1,7 @@
 """Picture helpers the renderer tests share."""
 
+import io
+
 import numpy as np
 
 
@@ -13,3 +15,12 @@ def near_an_edge(image: np.ndarray) -> np.ndarray:
         for dx in (-1, 0, 1):
             out |= np.any(padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] != image, axis=2)
     return out
+
+
+def png_bytes(pixels: np.ndarray) -> bytes:
+    """Straight RGBA ``(height, width, 4)`` ``uint8`` as PNG bytes."""
+    from PIL import Image
+
+    out = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(pixels, dtype=np.uint8), "RGBA").save(out, format="PNG")
+    return out.getvalue()

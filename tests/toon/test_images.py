@@ -5,11 +5,12 @@ and (tests/player) Cairo and OpenGL."""
 
 import numpy as np
 import pytest
+from pictures import png_bytes
 
 from common import InputError
 from toon import FaceRig, load_face, motor_index, render_cpu
 from toon.face import face_from_dict
-from toon.images import DATA_PNG, corners, png_bytes
+from toon.images import DATA_PNG, corners
 from toon.svg import geometry_svg
 
 #: A 64x64 picture of four flat quarters: red, green / blue, half-clear white (flat, so that

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import aiohttp
 import pytest
-from browser import studio_server
+from browser import drop_file, studio_server
 
 from toonface.studio import files
 from toonface.studio.guard import Folder
@@ -58,18 +58,6 @@ def test_a_file_from_the_page_is_kept_in_the_folder_and_nothing_else_is_written(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["take-2.csv", "take.csv", "voice.wav"]  # no partial left
 
 
-def _drop(driver, path: Path) -> None:
-    """Drop the file at ``path`` on the face (Selenium cannot drag from the desktop: the file is
-    given to an input, then dropped)."""
-    driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
-                          "document.body.append(i)")
-    driver.find_element("id", "carried").send_keys(str(path))
-    driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
-                          "document.getElementById('carried').remove();"
-                          "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
-                          "{dataTransfer: t, bubbles: true, cancelable: true}))")
-
-
 def _working(tmp_path: Path) -> tuple[Path, StudioSession]:
     """A studio on the classic face whose folder is ``tmp_path/work`` (apart from the files a
     test drops on its page)."""
@@ -93,7 +81,7 @@ def test_a_take_dropped_on_the_page_opens_as_knots_and_plays_on_the_face_in_two_
         wait_for(driver, "window.editor && window.editor.state && window.files")
         mouth = driver.execute_script("return window.studio.last.values.MB")
         # 1: the drop
-        _drop(driver, take)
+        drop_file(driver, take)
         wait_for(driver, "Object.keys(window.editor.state.knots).length > 0", timeout=60)
         said = driver.find_element("id", "message").text
         # 2: Space plays it
@@ -194,7 +182,7 @@ def test_the_page_asks_for_the_rate_a_dropped_table_does_not_say_and_opens_it_gi
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && window.files")
         assert not driver.find_element("id", "take-ask").is_displayed()
-        _drop(driver, frames)
+        drop_file(driver, frames)
         wait_for(driver, "!document.getElementById('take-ask').hidden", timeout=60)
         asked = driver.find_element("id", "take-said").text
         assert driver.find_element("id", "take-rate").is_displayed()
@@ -217,9 +205,9 @@ def test_a_png_dropped_on_the_page_becomes_a_picture_in_the_face_that_moves_once
     as the mouth's corners do; saved, the face loads back with it."""
     import numpy as np
     from browser import chromium, wait_for
+    from pictures import png_bytes
 
     from toon import load_face
-    from toon.images import png_bytes
 
     picture = np.zeros((40, 60, 4), np.uint8)
     picture[..., 0], picture[..., 3] = 200, 255
@@ -230,7 +218,7 @@ def test_a_png_dropped_on_the_page_becomes_a_picture_in_the_face_that_moves_once
     with studio_server(session) as url, chromium(1366, 768) as driver:
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && window.files && window.faces")
-        _drop(driver, source / "moustache.png")
+        drop_file(driver, source / "moustache.png")
         wait_for(driver, "window.studio.last.svg.includes('picture-0')", timeout=30)
         said = driver.find_element("id", "message").text
         spec = session.faces.doc["components"][-1]

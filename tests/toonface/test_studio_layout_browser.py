@@ -118,18 +118,24 @@ def test_axe_core_finds_no_serious_or_critical_violation_in_any_panel(served):
     assert found == {tab: [] for tab in found}
 
 
-def test_the_nearest_handle_is_taken_and_the_face_zooms_about_the_pointer(served):
+def _nose_in_the_editor(driver, url: str, session) -> int:
+    """The page opened, its face editor editing shapes with the nose polygon chosen; its index."""
     from selenium.webdriver.support.ui import Select
 
+    driver.get(url)
+    wait_for(driver, READY)
+    driver.find_element("id", "tab-face").click()
+    driver.find_element("id", "design").click()
+    wait_for(driver, "!document.getElementById('shape').classList.contains('off')")
+    nose = next(i for i, p in enumerate(session.faces.face.polygons) if p.name == "nose")
+    Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+    return nose
+
+
+def test_the_nearest_handle_is_taken_and_the_face_zooms_about_the_pointer(served):
     url, session = served
     with chromium(1366, 768) as driver:
-        driver.get(url)
-        wait_for(driver, READY)
-        driver.find_element("id", "tab-face").click()
-        driver.find_element("id", "design").click()
-        wait_for(driver, "!document.getElementById('shape').classList.contains('off')")
-        nose = next(i for i, p in enumerate(session.faces.face.polygons) if p.name == "nose")
-        Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+        nose = _nose_in_the_editor(driver, url, session)
         vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
         size = vertex.size["width"]
         # beside the vertex, not on it: the pointer is nearer it than any other handle
@@ -163,17 +169,9 @@ def test_the_nearest_handle_is_taken_and_the_face_zooms_about_the_pointer(served
 
 
 def test_a_dragged_vertex_snaps_onto_a_control_point_near_it_and_not_with_ctrl(served):
-    from selenium.webdriver.support.ui import Select
-
     url, session = served
     with chromium(1366, 768) as driver:
-        driver.get(url)
-        wait_for(driver, READY)
-        driver.find_element("id", "tab-face").click()
-        driver.find_element("id", "design").click()
-        wait_for(driver, "!document.getElementById('shape').classList.contains('off')")
-        nose = next(i for i, p in enumerate(session.faces.face.polygons) if p.name == "nose")
-        Select(driver.find_element("id", "polygon")).select_by_value(str(nose))
+        nose = _nose_in_the_editor(driver, url, session)
         point = session.faces.face.points["MT"]
         for index, ctrl in ((0, False), (1, True)):  # (a second vertex: the first now sits on the point)
             target = driver.find_element("css selector", '#shape circle.rest-point[data-name="MT"]')

@@ -6,7 +6,7 @@ in test_studio_files.py."""
 
 import numpy as np
 import pytest
-from browser import chromium, studio_server, wait_for
+from browser import chromium, drop_file, studio_server, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.support.ui import Select
 
@@ -17,15 +17,12 @@ from toonface.studio.session import StudioSession
 pytestmark = pytest.mark.slow
 
 
-def _drop(driver, path) -> None:
-    """A file dragged from the desktop onto the face (Selenium hands it to an input, then drops it)."""
-    driver.execute_script("const i = document.createElement('input'); i.type = 'file'; i.id = 'carried';"
-                          "i.style.display = 'none'; document.body.append(i)")
-    driver.find_element("id", "carried").send_keys(str(path))
-    driver.execute_script("const t = new DataTransfer(); t.items.add(document.getElementById('carried').files[0]);"
-                          "document.getElementById('carried').remove();"
-                          "document.getElementById('stage').dispatchEvent(new DragEvent('drop', "
-                          "{dataTransfer: t, bubbles: true, cancelable: true}))")
+def _studio(tmp_path):
+    """A studio on the classic face whose folder is ``tmp_path/studio`` (the files a task drops
+    on its page come from elsewhere)."""
+    folder = tmp_path / "studio"
+    folder.mkdir()
+    return StudioSession("classic", folder=Folder(folder.resolve()))
 
 
 def test_a_blink_and_a_raised_brow_added_to_a_track_and_rendered_in_six_page_actions(tmp_path):
@@ -37,15 +34,13 @@ def test_a_blink_and_a_raised_brow_added_to_a_track_and_rendered_in_six_page_act
     values[:, motor_index("MB")] = 0.2 + 0.3 * np.abs(np.sin(np.arange(frames) / 4)) + rng.normal(0, 0.005, frames)
     track = tmp_path / "talk.csv"
     save_track(MotorTrack(np.clip(values, 0, 1), 30.0), track)
-    folder = tmp_path / "studio"
-    folder.mkdir()
-    session = StudioSession("classic", folder=Folder(folder.resolve()))
+    session = _studio(tmp_path)
     actions = 0
     with studio_server(session) as url, chromium(1366, 768) as driver:
         driver.get(url)
         wait_for(driver, "window.editor && window.editor.state && "
                          "document.getElementById('insert-name').options.length > 3")
-        _drop(driver, track)
+        drop_file(driver, track)
         actions += 1
         wait_for(driver, "(window.editor.state.knots.MB || []).length > 2", timeout=30)
         Select(driver.find_element("id", "insert-name")).select_by_value("blink")
@@ -66,7 +61,7 @@ def test_a_blink_and_a_raised_brow_added_to_a_track_and_rendered_in_six_page_act
     knots = session.editor.animation.knots
     assert min(v for _, v in knots["ERU"]) < 0.1  # the lid comes down: a blink
     assert knots["BLM"][0][1] > standard_neutral()[motor_index("BLM")] + 0.2  # the brow raised
-    with av.open(str(folder / "mine.mp4")) as video:
+    with av.open(str(tmp_path / "studio" / "mine.mp4")) as video:
         stream = video.streams.video[0]
         assert stream.frames >= 55 or float(stream.duration * stream.time_base) >= 1.9
 
@@ -84,14 +79,12 @@ def test_an_svg_drawing_imported_and_its_mouth_attached_in_three_page_actions(tm
 
     drawing = tmp_path / "mine.svg"
     drawing.write_text(DRAWING)
-    folder = tmp_path / "studio"
-    folder.mkdir()
-    session = StudioSession("classic", folder=Folder(folder.resolve()))
+    session = _studio(tmp_path)
     actions = 0
     with studio_server(session) as url, chromium(1366, 768) as driver:
         driver.get(url)
         wait_for(driver, "window.faces && window.faces.doc && window.files")
-        _drop(driver, drawing)
+        drop_file(driver, drawing)
         actions += 1
         wait_for(driver, "(window.faces.doc.components || []).some(c => c.name === 'mouth')", timeout=30)
         wait_for(driver, "document.getElementById('message').textContent.startsWith('imported')")
@@ -105,7 +98,7 @@ def test_an_svg_drawing_imported_and_its_mouth_attached_in_three_page_actions(tm
         wait_for(driver, f"typeof window.faces.doc.components[{mouth}].points[0] === 'object' && "
                          f"!Array.isArray(window.faces.doc.components[{mouth}].points[0])")
     assert actions == 3  # docs/howto/studio.md: "import an SVG drawing and attach its mouth: 3 page actions"
-    assert (folder / "mine.svg").is_file()
+    assert (tmp_path / "studio" / "mine.svg").is_file()
     face = session.faces.face
     spec = next(c for c in face.components if c.name == "mouth")
     assert {p.master for p in spec.points} >= {"ML", "MR"} and all(p.kind == "slave" for p in spec.points)

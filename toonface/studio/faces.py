@@ -165,38 +165,28 @@ class FaceEditor:
     def delete_component_point(self, component: int, part: str, index: int) -> Face:
         return self._edit(lambda doc: parts.delete_point(doc, component, part, index))
 
-    def import_svg(self, path: Path, notes: list[str] | None = None) -> list[int]:
-        """An SVG drawing's shapes as components drawn last (:func:`toon.svg_import.svg_components`);
-        their indices, and what was approximated in ``notes``. An :class:`InputError` naming the
-        file where it is not a drawing."""
+    def import_artwork(self, path: Path, notes: list[str] | None = None) -> list[int]:
+        """An SVG drawing's shapes (:func:`component_edits.import_svg`, what was approximated in
+        ``notes``) or a PNG picture (:func:`component_edits.import_picture`) as components drawn
+        last; their indices. An :class:`InputError` naming the file where it is neither."""
+        path = Path(path)
         try:
-            text = Path(path).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"cannot read it: {exc}", path) from None
-        made: list[int] = []
-        try:
-            self._edit(lambda doc: made.extend(parts.import_svg(doc, text, notes)))
-        except ValueError as exc:
-            raise InputError(str(exc), path) from None
-        return made
-
-    def import_picture(self, path: Path) -> int:
-        """A PNG picture as an image component drawn last (:func:`component_edits.import_picture`);
-        its index. An :class:`InputError` naming the file where it is not a PNG."""
-        try:
-            data = Path(path).read_bytes()
+            data = path.read_bytes()
+            made: list[int] = []
+            if path.suffix.lower() == ".png":
+                self._edit(lambda doc: made.append(parts.import_picture(doc, data, path.name)))
+            else:
+                text = data.decode("utf-8")
+                self._edit(lambda doc: made.extend(parts.import_svg(doc, text, notes)))
         except OSError as exc:
             raise InputError(f"cannot read it: {exc.strerror or exc}", path) from None
-        made: list[int] = []
-        try:
-            self._edit(lambda doc: made.append(parts.import_picture(doc, data, Path(path).name)))
-        except ValueError as exc:
-            raise InputError(str(exc).removeprefix(f"{Path(path).name}: "), path) from None
-        return made[0]
+        except ValueError as exc:  # (a UnicodeDecodeError too)
+            raise InputError(str(exc).removeprefix(f"{path.name}: "), path) from None
+        return made
 
     def attach(self, component: int, feature: str) -> Face:
-        """A component's points made slaves of the nearest control points of ``feature`` (mouth,
-        a brow, an eye, or one control point)."""
+        """A component's points made slaves of ``feature``'s two control points nearest each
+        (:func:`component_edits.attach`: mouth, a brow, an eye, or one control point)."""
         return self._edit(lambda doc: parts.attach(doc, component, feature))
 
     def set_point_kind(self, component: int, part: str, index: int, kind: str, master: str | None = None) -> Face:

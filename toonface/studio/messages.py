@@ -209,13 +209,13 @@ def _edit_face(session: StudioSession, message: dict) -> str | None:
         said = f"wrote {faces.save(session.folder.inside(message['path']))}"
     elif action == "import_picture":
         path = session.folder.inside(message["path"], "a picture")
-        picture = faces.import_picture(path)
+        picture = faces.import_artwork(path)[0]
         said = (f"imported {path.name} as component {picture}: move its corners, attach it (Attach), or give it "
                 "a layer below 0 to put it behind the face")
     elif action == "import_svg":
         path = session.folder.inside(message["path"], "a drawing")
         notes: list[str] = []
-        made = faces.import_svg(path, notes)
+        made = faces.import_artwork(path, notes)
         said = f"imported {len(made)} components from {path.name}: attach each to the face's points (Attach)"
         if notes:
             said += "; " + "; ".join(notes)
