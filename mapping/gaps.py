@@ -105,13 +105,17 @@ class GapFiller:
         rate = (frames - 1) / (times[-1] - times[0]) if frames > 1 and times[-1] > times[0] else 1.0
         max_frames = int(round(min(self.max_gap_seconds, 86400.0) * rate))  # 1e308 s overflowed: a day is all
         short, long_, lined = np.zeros_like(missing), np.zeros_like(missing), np.zeros_like(missing)
+        brief = np.zeros_like(missing)  # an apart marker's brief dropouts, bridged before its partners need it
+        for m in apart:
+            for start, end in gap_runs(missing[:, m]):
+                brief[start:end, m] = 0 < start and end < frames and end - start <= self.spline_frames
         for m in range(markers):
             for start, end in gap_runs(missing[:, m]):
                 if start == 0 or end == frames or end - start > max_frames:
                     continue  # nothing on one side, or too long: left unseen
                 if m in apart:
-                    partnered = any(k != m and not missing[start:end, k].any() for k in apart)
-                    (long_ if partnered else lined)[start:end, m] = True
+                    partnered = any(k != m and not (missing & ~brief)[start:end, k].any() for k in apart)
+                    (long_ if partnered and not brief[start, m] else lined)[start:end, m] = True
                     continue
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True
         out = pos.copy()
@@ -176,13 +180,13 @@ class GapFiller:
                 gap = np.isin(rows, np.arange(start, end))
                 bridge = _bridge(pos[own, m] - predicted[fit], own, start, end, times, edge)
                 regressed = predicted[gap] + bridge
-                if share < 1.0:
+                if share < 1.0:  # the marker's own line or spline about the centre, as _validate judged it
+                    relative = pos[own, m] - centre[fit]
                     if m in apart:
-                        spline = straight_line(pos[:, m], times, start, end)
+                        spline = _bridge(relative, own, start, end, times)
                     else:
-                        own_seen = np.flatnonzero(seen_all[:, m])
-                        spline = CubicSpline(times[own_seen], pos[own_seen, m], axis=0)(times[start:end])
-                    regressed = share * regressed + (1.0 - share) * spline
+                        spline = CubicSpline(times[own], relative, axis=0)(times[start:end])
+                    regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
                 pos[start:end, m] = regressed
                 seen_all[start:end, m] = True
 

@@ -157,6 +157,29 @@ def test_markers_apart_are_filled_from_each_other_or_straight_across():
     assert np.abs(from_lid - line).max() > 0.5
 
 
+def test_a_pupil_follows_the_other_through_a_saccade_and_its_brief_dropouts():
+    """Both pupils hold a gaze and jump together. One lost across a saccade is filled from the
+    other, whatever blend of regression and line the stand-in gaps chose (the line was judged
+    about the other pupil and then drawn across the lost one's own ends: a straight ramp through
+    the jump), and also where the other drops out for a frame inside the gap (that had made it
+    no partner at all)."""
+    t = np.arange(480) / 60.0
+    level = np.select([t < 2.5, t < 4.3], [0.0, 8.0], -5.0)
+    gaze = np.stack([np.convolve(np.r_[np.zeros(2), level], np.ones(3) / 3, "valid"), 0.3 * level, np.zeros(480)], -1)
+    lid = np.stack([np.zeros(480), 10 * np.sin(3 * t), np.zeros(480)], axis=-1)
+    right, left = gaze + [-30.0, 0.0, 5.0], gaze + [30.0, 0.0, 5.0]
+    cut = np.stack([lid, right, left], axis=1)
+    cut[140:170, 1] = np.nan  # across the first saccade (frame 150)
+    cut[155, 2] = np.nan  # the other pupil's one-frame dropout inside it
+    cut[245:275, 1] = np.nan  # across the second (frame 258), the other seen throughout
+    result = GapFiller().apply(cut, t, apart=[1, 2])
+    for start, end in ((140, 170), (245, 275)):
+        miss = np.abs(result.positions[start:end, 1] - right[start:end]).max()
+        straight = np.abs(_line(cut, t, start, end, 1) - right[start:end]).max()
+        assert miss < 0.3 < 2.0 < straight, (start, miss, straight)
+    assert abs(result.positions[155, 2, 0] - left[155, 0]) < 3.0  # the dropout itself: a line across
+
+
 def _line(cut, t, start, end, m):
     ends = cut[[start - 1, end], m]
     return ends[0] + (ends[1] - ends[0]) * ((t[start:end] - t[start - 1]) / (t[end] - t[start - 1]))[:, None]
