@@ -6,13 +6,17 @@ references expresses every marker in the head frame (the references' own spikes 
 before it, in the world, by :func:`~mapping.outliers.centred_spikes`: with few references seen,
 one spike turns the whole head). Spikes are then rejected there, by the live test and by the
 offline one that looks both ways (on the head references too), and the head is fitted again
-without them, with the performer's reference shape the first fit measured. Gaps are filled in the head
-frame (from both sides, and from the other markers for long ones; a marker set's independent
-markers, the pupils, only from each other or straight across), then everything is smoothed
-with a zero-phase low-pass, which has no lag because it may look ahead. The head pose is smoothed
-the same way. Samples left unseen (gaps too long to fill) stay NaN. A take's channels (a
-markerless tracker's blendshape scores) are filled across the same short gaps, straight from one
-side to the other, and smoothed by the same low-pass.
+without them, with the performer's reference shape the first fit measured. A frame with too few
+references seen, or only ones on a line, has no pose; a short stretch of them takes one carried
+across from the poses either side (:func:`~mapping.stabilise.bridge_lost_poses`). Gaps are filled
+in the head frame (from both sides, and from the other markers for long ones; a marker set's
+independent markers, the pupils, only from each other or straight across), then everything is
+smoothed with a zero-phase low-pass, which has no lag because it may look ahead, and more
+heavily where a marker holds still (:mod:`mapping.holds`: a held lid or gaze without its
+jitter, a blink as sharp as before). The head pose is smoothed with the low-pass alone. Samples
+left unseen (gaps too long to fill) stay NaN. A take's channels (a markerless tracker's
+blendshape scores) are filled across the same short gaps, straight from one side to the other,
+and smoothed by the same low-pass.
 
 A take whose markers match no known marker set (or lack the head references) is cleaned as it
 is, in world coordinates, and the report says so.
@@ -30,10 +34,12 @@ from common import Failure
 from common.rotations import rigid_fit
 from mapping.filters import Butterworth
 from mapping.gaps import GapFiller, gap_runs, straight_line
+from mapping.holds import HoldSmoother
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
     Stabilised,
+    bridge_lost_poses,
     express,
     fit_head,
     nearest_rotation,
@@ -46,19 +52,23 @@ from mapping.stabilise import (
 @dataclass(frozen=True, eq=False)
 class CleanReport:
     """What cleaning did: counts of marker-samples ``rejected``, ``filled`` and ``still_missing``,
-    frames without a head pose (``no_head_frames``) and how head motion was handled (``head``)."""
+    frames without a head pose (``no_head_frames``), frames whose pose was carried across from either side
+    (``bridged``, :func:`mapping.stabilise.bridge_lost_poses`) and how head motion was handled (``head``)."""
 
     rejected: int
     filled: int
     still_missing: int
     no_head_frames: int = 0
     head: str = "removed"
+    bridged: int = 0
 
     def summary(self) -> str:
         """One line for the CLI."""
         return (f"{self.rejected} spikes rejected, {self.filled} samples filled, {self.still_missing} still missing, "
                 f"head motion {self.head}" + (f" ({self.no_head_frames} frames without a head pose)"
-                                              if self.no_head_frames else ""))
+                                              if self.no_head_frames else "")
+                + (f"; the head pose carried across {self.bridged} frames with too few head references seen"
+                   if self.bridged else ""))
 
 
 def head_references(labels: tuple[str, ...], markerset: MarkerSet) -> tuple[list[int], np.ndarray] | Failure:
@@ -93,7 +103,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     fit = fit_head(positions, rows, neutral)
     if isinstance(fit, Failure):
         return fit
-    first = express(positions, rows, fit)
+    first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times)
     rejected = 0
     if settings.spikes:
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
@@ -105,7 +115,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         fit = refit_head(fit, positions, rows, new_references)
         if isinstance(fit, Failure):
             return fit
-        first = express(positions, rows, fit)
+        first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times)
     found = markerset.match(take.labels)
     apart = [take.index(found[m]) for m in markerset.independent if m in found]
     local, filled_mask = _fill_and_smooth(first.local, take, settings, apart)
@@ -115,7 +125,18 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     cleaned = Stabilised(local, rotation, translation, first.ok, first.reference, filled_mask,
                          clean_channels(take, settings))
     missing = int(np.isnan(local[..., 0]).sum())
-    return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()))
+    return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()), bridged=bridged)
+
+
+def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray) -> tuple[Stabilised, int]:
+    """``first`` with short stretches without a head pose given one (:func:`mapping.stabilise.bridge_lost_poses`)
+    and the markers seen there expressed in it; and how many frames were bridged."""
+    rotation, translation, bridged = bridge_lost_poses(first.rotation, first.translation, first.ok, times)
+    if not bridged.any():
+        return first, 0
+    local = first.local.copy()
+    local[bridged] = to_head_frame(positions[bridged], rotation[bridged], translation[bridged])
+    return Stabilised(local, rotation, translation, first.ok | bridged, first.reference), int(bridged.sum())
 
 
 def fixed_frame(take: Take, markerset: MarkerSet) -> tuple[np.ndarray, np.ndarray] | Failure:
@@ -188,7 +209,7 @@ def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset:
         else:
             pos = np.where(stable.ok[:, None, None], stable.world(), take.positions)
             report = CleanReport(report.rejected, report.filled, int(np.isnan(pos[..., 0]).sum()),
-                                 report.no_head_frames, "removed while cleaning, then restored")
+                                 report.no_head_frames, "removed while cleaning, then restored", report.bridged)
     meta["cleaned"].update(rejected=report.rejected, filled=report.filled, head=report.head)
     cleaned = Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta,
                    channels=np.column_stack([channels[n] for n in take.channel_names]) if channels else take.channels,
@@ -229,13 +250,17 @@ def _smoother(settings: CleanSettings, rate: float) -> Butterworth:
 def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings, apart: list[int] | None = None
                      ) -> tuple[np.ndarray, np.ndarray]:
     """Gap filling (``apart``: columns filled only from each other, see :mod:`mapping.gaps`) then zero-phase smoothing
-    of ``(F, M, 3)``; returns them and which samples were filled ``(F, M)``."""
+    of ``(F, M, 3)``, heavier where a marker holds (:mod:`mapping.holds`); returns them and which samples were filled
+    ``(F, M)``."""
     pos, filled = positions, np.zeros(positions.shape[:2], dtype=bool)
     if settings.max_gap_seconds > 0 and take.frames > 1:
         result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times, apart or ())
         pos, filled = result.positions, result.filled
     if settings.cutoff_hz > 0 and take.frames > 1:
-        pos = _smoother(settings, take.rate).smooth_offline(pos.reshape(take.frames, -1)).reshape(pos.shape)
+        smoother = _smoother(settings, take.rate)
+        pos = smoother.smooth_offline(pos.reshape(take.frames, -1)).reshape(pos.shape)
+        if settings.holds:
+            pos = HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions)
     return pos, filled
 
 

@@ -87,11 +87,47 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     worst = np.argmax(miss, axis=1)
     seen = (~np.isnan(target[..., 0])).sum(axis=1)
     redo = ok & (miss[np.arange(len(miss)), worst] > tolerance) & (seen > 3)
+    used = ~np.isnan(target[..., 0])
     if redo.any():
         trimmed = target[redo].copy()
         trimmed[np.arange(len(trimmed)), worst[redo]] = np.nan
         rot[redo], trans[redo], _ = rigid_fit(source, trimmed)
+        used[np.flatnonzero(redo), worst[redo]] = False
+    weak = ok & ~well_posed(np.asarray(source, dtype=np.float64), used)
+    if weak.any():
+        rot[weak], trans[weak], ok = np.nan, np.nan, ok & ~weak
     return rot, trans, ok
+
+
+#: A head fit stands where its seen references pin the worst-pinned rotation at least this share
+#: as well as all of them do (:func:`well_posed`).
+LEAST_POSED = 0.05
+
+
+def well_posed(shape: np.ndarray, seen: np.ndarray) -> np.ndarray:
+    """Whether the references seen in each frame ``(F, K)`` of ``shape`` ``(K, 3)`` pin the head's
+    rotation: the smallest principal moment of inertia of the seen ones about their centre, at
+    least :data:`LEAST_POSED` of all of theirs, ``(F,)``.
+
+    Three references seen are enough for a fit but may lie nearly on one line: ``toon32``'s
+    forehead, nose bridge and nose tip are all on the face's midline, and a turn about that
+    line moves them by so little that 0.3 mm of jitter swings the fitted head by degrees, and
+    every marker expressed in it by millimetres. Such a frame has no pose, as one with two
+    references seen has none (a short stretch of them is bridged offline, held live).
+
+    >>> shape = np.array([[0, 55, 8], [-66, 12, -28], [66, 12, -28], [0, -6, 14], [0, -44, 32]], float)
+    >>> well_posed(shape, np.array([[1, 1, 1, 1, 1], [1, 0, 0, 1, 1], [0, 1, 0, 1, 1]], bool)).tolist()
+    [True, False, True]
+    """
+    def least_moment(rows: np.ndarray) -> float:
+        points = shape[rows] - shape[rows].mean(axis=0)
+        inertia = np.sum(points ** 2) * np.eye(3) - points.T @ points
+        return float(np.linalg.eigvalsh(inertia)[0])
+
+    everything = least_moment(np.ones(len(shape), bool))
+    patterns, inverse = np.unique(seen, axis=0, return_inverse=True)
+    posed = np.array([row.sum() >= 3 and least_moment(row) >= LEAST_POSED * everything for row in patterns])
+    return posed[inverse.reshape(-1)] if len(patterns) else np.zeros(len(seen), bool)
 
 
 #: At most about this many frames, spread over the take, measure the performer's reference shape.
@@ -224,3 +260,65 @@ def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarra
         rot[start:end] = d_rot @ rotation[start:end]
         trans[start:end] = np.einsum("fij,fj->fi", d_rot, translation[start:end]) + d_trans
     return rot, trans
+
+
+#: The longest stretch without a head pose that :func:`bridge_lost_poses` bridges, seconds.
+LONGEST_LOST_POSE = 1.0
+#: Seconds of fitted poses either side of a lost stretch that the bridge is fitted to, at most
+#: (the stretch's own length, at least).
+POSE_CONTEXT = 0.3
+#: Shorter stretches are left to gap filling: each marker's own spline over a frame or two follows
+#: a quick head turn better than a pose fitted to the turn either side.
+SHORTEST_LOST_POSE = 6
+
+
+def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndarray, times: np.ndarray,
+                      longest: float = LONGEST_LOST_POSE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The head pose carried across short stretches of frames without one, and which frames
+    it was carried across ``(F,)``.
+
+    A frame with fewer than three head references seen has no pose, and without one every
+    marker seen in it is lost to the head frame: when two references' gaps overlap for half a
+    second, a whole face's worth of seen motion (a blink, a smile starting) would be left to gap
+    filling. A head turns slowly next to a face's motion, so across a stretch of at most
+    ``longest`` seconds (and at least :data:`SHORTEST_LOST_POSE` frames) with a fitted pose on
+    both sides, the pose is a quadratic in time fitted to the poses either side, as many frames
+    as the stretch is long, from 3 up to :data:`POSE_CONTEXT` seconds (the rotation as a rotation
+    vector from the last pose before it, which keeps the angles small), and the markers seen
+    there are expressed in it.
+
+    Parameters
+    ----------
+    rotation : ndarray, shape (F, 3, 3)
+    translation : ndarray, shape (F, 3)
+        Head frame to world, as fitted (anything where ``ok`` is False).
+    ok : ndarray of bool, shape (F,)
+        Frames with a fitted pose.
+    times : ndarray, shape (F,)
+        Seconds.
+    """
+    from scipy.spatial.transform import Rotation
+
+    from mapping.gaps import gap_runs
+
+    rot, trans, bridged = rotation.copy(), translation.copy(), np.zeros(len(ok), bool)
+    step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
+    most = max(3, int(round(POSE_CONTEXT / step))) if step > 0 else 3
+    for start, end in gap_runs(~ok):
+        if (start == 0 or end == len(ok) or end - start < SHORTEST_LOST_POSE
+                or times[end] - times[start - 1] > longest + 1.5 * step):
+            continue
+        reach = min(max(3, end - start), most)
+        around = np.r_[max(0, start - reach):start, end:min(len(ok), end + reach)]
+        around = around[ok[around]]
+        base = rotation[start - 1]
+        offsets = Rotation.from_matrix(np.einsum("ji,fjk->fik", base, rotation[around])).as_rotvec()
+        t = times[around] - times[start - 1]
+        degree = 2 if len(around) >= 6 else 1
+        design = np.vander(t, degree + 1)
+        coef, *_ = np.linalg.lstsq(design, np.hstack([offsets, translation[around]]), rcond=None)
+        inside = np.vander(times[start:end] - times[start - 1], degree + 1) @ coef
+        rot[start:end] = base @ Rotation.from_rotvec(inside[:, :3]).as_matrix()
+        trans[start:end] = inside[:, 3:]
+        bridged[start:end] = True
+    return rot, trans, bridged
