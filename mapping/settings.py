@@ -17,11 +17,15 @@ class CleanSettings:
         Fill gaps up to this long (0: fill none).
     cutoff_hz : float
         Zero-phase Butterworth low-pass (0: no smoothing); capped below half the frame rate.
+    holds : bool
+        Smooth more where a marker holds still than where it moves (:mod:`mapping.holds`);
+        off, every frame gets the ``cutoff_hz`` low-pass alike.
     """
 
     spikes: bool = True
     max_gap_seconds: float = 2.0
     cutoff_hz: float = 8.0
+    holds: bool = True
 
     def max_gap_frames(self, rate: float) -> int:
         """The longest gap filled, in frames at ``rate`` Hz (a huge ``max_gap_seconds``, which

@@ -62,6 +62,7 @@ class Cleaning:
     max_gap_seconds: float
     cutoff_hz: float
     cutoff_given: bool  # on the command line (the default is capped below a slow take's limit instead)
+    holds: bool = True
 
     def settings(self, rate: float) -> CleanSettings:
         """The settings for a take of ``rate`` Hz; a --cutoff it cannot hold is refused."""
@@ -75,7 +76,7 @@ class Cleaning:
             raise click.BadParameter(f"{self.cutoff_hz:g} Hz is not below half the take's {rate:g} Hz frame rate "
                                      f"(the fastest motion a {rate:g} Hz take holds is {rate / 2:g} Hz)",
                                      param_hint="--cutoff")
-        return CleanSettings(self.spikes, self.max_gap_seconds, self.cutoff_hz)
+        return CleanSettings(self.spikes, self.max_gap_seconds, self.cutoff_hz, self.holds)
 
 
 #: The lowest --cutoff taken (a blink or a word lasts a few tenths of a second).
@@ -87,13 +88,17 @@ def _clean_settings(fn):
     from mapping import CleanSettings
 
     @functools.wraps(fn)
-    def command(*args, no_spikes: bool, max_gap: float, cutoff: float, **kwargs):
+    def command(*args, no_spikes: bool, max_gap: float, cutoff: float, plain_smoothing: bool, **kwargs):
         given = click.get_current_context().get_parameter_source("cutoff") == ParameterSource.COMMANDLINE
-        return fn(*args, cleaning=Cleaning(not no_spikes, max_gap, cutoff, given), **kwargs)
+        return fn(*args, cleaning=Cleaning(not no_spikes, max_gap, cutoff, given, not plain_smoothing), **kwargs)
 
     default = CleanSettings()
     command = click.option("--cutoff", default=default.cutoff_hz, show_default=True, type=FiniteFloat(min=0.0),
                            help="Zero-phase low-pass, Hz (0: no smoothing); below half the take's rate.")(command)
+    command = click.option("--plain-smoothing", is_flag=True,
+                           help="Smooth every frame by the --cutoff low-pass alike; by default a marker holding "
+                                "still is smoothed more (judged against its own jitter), a moving one as --cutoff "
+                                "says.")(command)
     command = click.option("--max-gap", default=default.max_gap_seconds, show_default=True,
                            type=FiniteFloat(min=0.0),
                            help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(command)

@@ -29,6 +29,7 @@ Example, with every field and its default::
     cutoff = 8.0              # Hz, 0: no smoothing
     max_gap = 2.0             # seconds
     spikes = true
+    holds = true              # smooth a marker holding still more (false: the cutoff alone)
 
     [csv]                     # for CSV takes only, which may not say these
     rate = 0                  # Hz
@@ -217,11 +218,12 @@ def _render_settings(fields: _Fields) -> RenderSettings:
 
 
 def _clean_settings(fields: _Fields) -> CleanSettings:
-    fields.table("clean", {"cutoff", "max_gap", "spikes"})
+    fields.table("clean", {"cutoff", "max_gap", "spikes", "holds"})
     default = CleanSettings()
     return CleanSettings(spikes=fields.flag("clean.spikes", default.spikes),
                          max_gap_seconds=fields.number("clean.max_gap", default.max_gap_seconds, 0.0, 3600.0),
-                         cutoff_hz=fields.number("clean.cutoff", default.cutoff_hz, 0.0, 1000.0))
+                         cutoff_hz=fields.number("clean.cutoff", default.cutoff_hz, 0.0, 1000.0),
+                         holds=fields.flag("clean.holds", default.holds))
 
 
 def _take_options(fields: _Fields) -> TakeOptions:

@@ -1,0 +1,123 @@
+"""Offline smoothing that is heavier where a marker holds still than where it moves.
+
+A face spends most of a take holding a pose (a lid at rest, a gaze held, a smile kept) and
+a small part moving between poses (a blink, a saccade, a syllable). One low-pass for all of it
+must keep the fast moves, so it leaves the holds as noisy as the moves: on a lower lid that
+travels 3 mm, 0.3 mm of sensor jitter through the 8 Hz cleaning low-pass is still 5 % of the
+lid's range. :class:`HoldSmoother` keeps the take's low-pass where the marker moves and, where
+it holds, takes heavier zero-phase low-passes (:data:`LEVELS`, one after another).
+
+Whether a marker moves is judged against its own noise, measured on its raw samples (the
+median absolute second difference, which motion hardly reaches at a face's speeds), not
+against one threshold for every marker, take and sensor: at each level, where the heavier
+low-pass departs from the lighter one by more than that noise can explain (the expected spread
+of their difference follows from the two filters' responses), the lighter one is kept, and
+the switch is widened and eased over half a period of the heavier cut-off so that it leaves no
+step. A marker that moves all the time (lips through a speech) cannot claim its motion as
+noise: each marker's noise is capped at twice the take's median over its markers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage, signal
+
+from mapping.gaps import gap_runs
+
+#: The heavier low-passes, Hz, tried one after another where a marker holds (each used only
+#: below the take's own cut-off).
+LEVELS: tuple[float, ...] = (2.0, 0.7)
+#: A level is left where the two low-passes differ by more than this many times the spread their
+#: difference has on noise alone (RMS over the axes), and wholly from twice that.
+THRESHOLD = 1.8
+#: Each marker's noise is at most this many times the take's median over its markers.
+NOISE_CAP = 2.0
+#: Seen stretches shorter than this many frames keep the take's low-pass alone.
+MIN_RUN = 30
+
+
+class HoldSmoother:
+    """Smooth markers more where they hold still (see the module docstring).
+
+    Parameters
+    ----------
+    rate : float
+        Frame rate, Hz.
+    cutoff : float
+        The low-pass the input was smoothed by (Hz): the lightest level.
+    levels : tuple of float
+        Heavier cut-offs, Hz, highest first; those at or above ``cutoff`` are skipped.
+    threshold : float
+        See :data:`THRESHOLD`.
+    """
+
+    def __init__(self, rate: float, cutoff: float, levels: tuple[float, ...] = LEVELS,
+                 threshold: float = THRESHOLD) -> None:
+        if rate <= 0 or not 0 < cutoff < rate / 2:
+            raise ValueError(f"the cutoff must be between 0 and half the rate ({rate / 2:g} Hz), got {cutoff:g}")
+        self.rate, self.threshold = rate, threshold
+        kept = [fc for fc in levels if 0 < fc < cutoff]
+        self.levels = [(fc, signal.butter(2, fc, fs=rate, output="sos")) for fc in kept]
+        self.spreads = _spreads(signal.butter(2, cutoff, fs=rate, output="sos"), [sos for _, sos in self.levels])
+
+    def smooth(self, smoothed: np.ndarray, raw: np.ndarray) -> np.ndarray:
+        """Markers ``(F, M, D)`` smoothed by the take's low-pass (NaN where unseen), made
+        steadier where they hold; ``raw`` ``(F, M, D)``: the same markers before any smoothing
+        or gap filling (NaN where not seen), to measure each one's noise on."""
+        out = np.array(smoothed, dtype=np.float64, copy=True)
+        if not self.levels or len(out) < 2:
+            return out
+        noise = _noise(np.asarray(raw, dtype=np.float64))  # (M, D)
+        for m in range(out.shape[1]):
+            axes = np.flatnonzero(np.isfinite(noise[m]) & (noise[m] > 0))  # a flat axis (2-D depth) tells nothing
+            if not len(axes):
+                continue  # a marker never seen three times in a row, or without noise: nothing to judge by
+            for start, end in gap_runs(np.asarray(np.isfinite(out[:, m]).all(axis=1))):
+                if end - start >= MIN_RUN:
+                    out[start:end, m] = self._run(out[start:end, m], axes, noise[m, axes])
+        return out
+
+    def _run(self, x: np.ndarray, axes: np.ndarray, noise: np.ndarray) -> np.ndarray:
+        """One seen stretch ``(n, D)`` of one marker, judged on its ``axes`` whose noise is ``noise``."""
+        current = x
+        for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
+            heavy = signal.sosfiltfilt(sos, x, axis=0)
+            departure = np.sqrt(np.mean(((current - heavy)[:, axes] / (noise * spread)) ** 2, axis=1))
+            keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
+            width = max(3, int(round(0.5 * self.rate / fc)))
+            keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width), width)
+            current = heavy + keep[:, None] * (current - heavy)
+        return current
+
+
+def _noise(raw: np.ndarray) -> np.ndarray:
+    """Each marker's noise per axis ``(M, D)`` from raw positions ``(F, M, D)``: the median
+    absolute second difference (seen samples three in a row) as a standard deviation, capped
+    at :data:`NOISE_CAP` times the median over the markers."""
+    second = np.diff(raw, n=2, axis=0)
+    with np.errstate(all="ignore"):
+        counts = np.isfinite(second).sum(axis=0)
+        spread = 1.4826 * np.nanmedian(np.abs(second), axis=0) / np.sqrt(6.0) if len(second) else np.full(
+            raw.shape[1:], np.nan)
+    spread = np.where(counts >= 10, spread, np.nan)
+    if np.isfinite(spread).any():
+        spread = np.minimum(spread, NOISE_CAP * np.nanmedian(spread))
+    return spread
+
+
+def _spreads(light: np.ndarray, heavier: list[np.ndarray]) -> list[float]:
+    """For each heavier low-pass (second-order sections), the standard deviation of the
+    difference between it and the previous, lighter one, both forward-backward, on white noise
+    of unit standard deviation (from the filters' responses)."""
+    spreads, previous = [], _power(light)
+    for sos in heavier:
+        current = _power(sos)
+        spreads.append(float(np.sqrt(np.mean((previous - current) ** 2))))
+        previous = current
+    return spreads
+
+
+def _power(sos: np.ndarray) -> np.ndarray:
+    """The forward-backward response ``|H|^2`` of a low-pass over 4096 frequencies up to Nyquist."""
+    _, response = signal.sosfreqz(sos, worN=4096)
+    return np.abs(response) ** 2

@@ -1,0 +1,81 @@
+"""Smoothing heavier where a marker holds still (mapping.holds), against the take's low-pass alone."""
+
+import numpy as np
+
+from capture import Take, load_markerset, synthesize
+from capture.performance import default_performance
+from mapping.clean import CleanSettings, clean_stabilised
+from mapping.filters import Butterworth
+from mapping.holds import HoldSmoother
+
+RATE = 60.0
+
+
+def _blinking_lid(seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """A lid ``(F,)`` at rest with three blinks (3.5 mm shut in 0.12 s, open in 0.2 s) and a
+    held squint, and the same with 0.3 mm of jitter."""
+    t = np.arange(900) / RATE
+    lid = np.zeros_like(t)
+    for at in (3.0, 7.5, 11.0):
+        lid -= 3.5 * np.interp(t, [at, at + 0.12, at + 0.32], [0, 1, 0])
+    lid -= 1.2 * np.interp(t, [5.0, 5.4, 6.4, 6.8], [0, 1, 1, 0])
+    return lid, lid + np.random.default_rng(seed).normal(0.0, 0.3, lid.shape)
+
+
+def _smoothed(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``raw`` ``(F, M, 3)`` through the 8 Hz low-pass alone, and then made steadier at holds."""
+    plain = Butterworth(8.0, RATE).smooth_offline(raw.reshape(len(raw), -1)).reshape(raw.shape)
+    return plain, HoldSmoother(RATE, 8.0).smooth(plain, raw)
+
+
+def test_a_held_lid_loses_its_jitter_and_a_blink_keeps_its_depth():
+    for seed in range(4):
+        lid, noisy = _blinking_lid(seed)
+        raw = np.random.default_rng(seed + 10).normal(0.0, 0.3, (len(lid), 3, 3))  # the lid and two still markers
+        raw[:, 0, 1] = noisy
+        plain, steady = (out[:, 0, 1] for out in _smoothed(raw))
+        rest = np.abs(lid) < 1e-9
+        rest &= np.convolve(~rest, np.ones(31), "same") == 0  # at least a quarter second from any motion
+        rest[:30] = rest[-30:] = False  # and from the ends, where every low-pass starts
+        assert np.std(steady[rest] - lid[rest]) < 0.5 * np.std(plain[rest] - lid[rest])
+        for at in (3.0, 7.5, 11.0):  # each blink as deep as the 8 Hz low-pass leaves it
+            near = slice(int(at * RATE) - 5, int(at * RATE) + 25)
+            assert abs(steady[near].min() - plain[near].min()) < 0.15, (seed, at)
+        assert np.sqrt(np.mean((steady - lid) ** 2)) < 0.7 * np.sqrt(np.mean((plain - lid) ** 2))
+
+
+def test_a_marker_that_moves_all_the_time_is_not_smoothed_more():
+    """Lips through a whole speech never hold: their motion must not pass for noise."""
+    rng = np.random.default_rng(5)
+    t = np.arange(900) / RATE
+    raw = rng.normal(0.0, 0.3, (900, 4, 3))
+    raw[:, 0, 1] += 6.0 * np.sin(2 * np.pi * 4.3 * t) * (1 + 0.3 * np.sin(0.7 * t))
+    raw[:, 1, 0] += 2.0 * np.sin(2 * np.pi * 1.5 * t)  # slower, smaller: still motion
+    plain, steady = _smoothed(raw)
+    for marker, axis in ((0, 1), (1, 0)):
+        amplitude = [np.ptp(x[60:-60, marker, axis]) for x in (plain, steady)]
+        assert amplitude[1] > 0.97 * amplitude[0], (marker, amplitude)
+        assert np.abs(steady[:, marker, axis] - plain[:, marker, axis]).max() < 0.3
+
+
+def test_the_steadying_does_not_depend_on_units():
+    _, noisy = _blinking_lid(1)
+    raw = np.random.default_rng(2).normal(0.0, 0.3, (len(noisy), 2, 3))
+    raw[:, 0, 1] += noisy
+    plain, steady = _smoothed(raw)
+    plain_cm, steady_cm = _smoothed(raw / 10.0)
+    np.testing.assert_allclose(steady_cm * 10.0, steady, atol=1e-9)
+    assert not np.allclose(steady, plain)
+
+
+def test_plain_smoothing_is_the_low_pass_alone():
+    syn = synthesize(rate=RATE, noise_mm=0.3, performance=default_performance(6, max_turn_deg=0), seed=3)
+    ms = load_markerset("toon32")
+    take = Take(syn.take.positions, syn.take.labels, RATE)
+    plain, _ = clean_stabilised(take, ms, CleanSettings(holds=False))
+    raw, _ = clean_stabilised(take, ms, CleanSettings(cutoff_hz=0.0))
+    expected = Butterworth(8.0, RATE).smooth_offline(raw.local.reshape(len(raw.local), -1)).reshape(raw.local.shape)
+    np.testing.assert_allclose(plain.local, expected, atol=1e-9)
+    steady, _ = clean_stabilised(take, ms)
+    lid = syn.take.index("LID_R_LOW")  # the first second is at rest
+    assert np.std(np.diff(steady.local[10:60, lid], axis=0)) < 0.7 * np.std(np.diff(plain.local[10:60, lid], axis=0))
