@@ -19,8 +19,9 @@ noise: each marker's noise is capped at twice the take's median over its markers
 
 from __future__ import annotations
 
+from types import ModuleType
+
 import numpy as np
-from scipy import ndimage, signal
 
 from mapping.gaps import gap_runs
 
@@ -57,8 +58,8 @@ class HoldSmoother:
             raise ValueError(f"the cutoff must be between 0 and half the rate ({rate / 2:g} Hz), got {cutoff:g}")
         self.rate, self.threshold = rate, threshold
         kept = [fc for fc in levels if 0 < fc < cutoff]
-        self.levels = [(fc, signal.butter(2, fc, fs=rate, output="sos")) for fc in kept]
-        self.spreads = _spreads(signal.butter(2, cutoff, fs=rate, output="sos"), [sos for _, sos in self.levels])
+        self.levels = [(fc, _signal().butter(2, fc, fs=rate, output="sos")) for fc in kept]
+        self.spreads = _spreads(_signal().butter(2, cutoff, fs=rate, output="sos"), [sos for _, sos in self.levels])
 
     def smooth(self, smoothed: np.ndarray, raw: np.ndarray) -> np.ndarray:
         """Markers ``(F, M, D)`` smoothed by the take's low-pass (NaN where unseen), made
@@ -79,9 +80,11 @@ class HoldSmoother:
 
     def _run(self, x: np.ndarray, axes: np.ndarray, noise: np.ndarray) -> np.ndarray:
         """One seen stretch ``(n, D)`` of one marker, judged on its ``axes`` whose noise is ``noise``."""
+        from scipy import ndimage
+
         current = x
         for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
-            heavy = signal.sosfiltfilt(sos, x, axis=0)
+            heavy = _signal().sosfiltfilt(sos, x, axis=0)
             departure = np.sqrt(np.mean(((current - heavy)[:, axes] / (noise * spread)) ** 2, axis=1))
             keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
             width = max(3, int(round(0.5 * self.rate / fc)))
@@ -119,5 +122,13 @@ def _spreads(light: np.ndarray, heavier: list[np.ndarray]) -> list[float]:
 
 def _power(sos: np.ndarray) -> np.ndarray:
     """The forward-backward response ``|H|^2`` of a low-pass over 4096 frequencies up to Nyquist."""
-    _, response = signal.sosfreqz(sos, worN=4096)
+    _, response = _signal().sosfreqz(sos, worN=4096)
     return np.abs(response) ** 2
+
+
+def _signal() -> ModuleType:
+    """scipy.signal, imported when first needed: the live mapper, which imports the cleaning
+    stage's rules, never smooths offline and should not pay its second of start-up."""
+    from scipy import signal
+
+    return signal

@@ -8,6 +8,7 @@ from motor_streams import RATE, packets, smooth_motion
 from capture import load_take, synthesize
 from capture.performance import default_performance
 from capture.sources import take_source
+from mapping import CleanSettings
 from stream.packets import StreamWriter, read_ack
 from stream.playout import Playout
 from stream.reader import StreamReader
@@ -123,7 +124,9 @@ def test_live_mapping_follows_the_performer_close_to_offline():
     source = take_source(syn.take)
     mapper = build_mapper(source)
     live = np.array([mapper.step(f.positions, f.t)[0] for f in source.frames])
-    truth, offline = truth_track(syn).values, map_onto_face(syn.take).values
+    # offline with the low-pass alone: the smoothing held still markers get offline looks a
+    # second ahead, which no live filter can
+    truth, offline = truth_track(syn).values, map_onto_face(syn.take, settings=CleanSettings(holds=False)).values
     after = slice(int(16 * RATE), None)  # after the calibration segment
     live_error = np.sqrt(np.mean((live[after] - truth[after]) ** 2))
     assert live_error < 0.03
