@@ -69,27 +69,33 @@ class HoldSmoother:
         if not self.levels or len(out) < 2:
             return out
         noise = _noise(np.asarray(raw, dtype=np.float64))  # (M, D)
-        for m in range(out.shape[1]):
-            axes = np.flatnonzero(np.isfinite(noise[m]) & (noise[m] > 0))  # a flat axis (2-D depth) tells nothing
-            if not len(axes):
-                continue  # a marker never seen three times in a row, or without noise: nothing to judge by
+        judged = np.isfinite(noise) & (noise > 0)  # a flat axis (a 2-D tracker's depth) tells nothing
+        usable = judged.any(axis=1)  # a marker never seen three times in a row, or without noise: left be
+        whole = usable & np.isfinite(out).all(axis=(0, 2))
+        if whole.any():  # every marker seen throughout (gaps filled) at once
+            out[:, whole] = self._run(out[:, whole], judged[whole], noise[whole])
+        for m in np.flatnonzero(usable & ~whole):
             for start, end in gap_runs(np.asarray(np.isfinite(out[:, m]).all(axis=1))):
                 if end - start >= MIN_RUN:
-                    out[start:end, m] = self._run(out[start:end, m], axes, noise[m, axes])
+                    out[start:end, m:m + 1] = self._run(out[start:end, m:m + 1], judged[m:m + 1], noise[m:m + 1])
         return out
 
-    def _run(self, x: np.ndarray, axes: np.ndarray, noise: np.ndarray) -> np.ndarray:
-        """One seen stretch ``(n, D)`` of one marker, judged on its ``axes`` whose noise is ``noise``."""
+    def _run(self, x: np.ndarray, judged: np.ndarray, noise: np.ndarray) -> np.ndarray:
+        """Seen stretches ``(n, K, D)`` of ``K`` markers, judged on the axes ``judged`` ``(K, D)``
+        whose noise is ``noise`` ``(K, D)``."""
         from scipy import ndimage
 
+        n, markers, dims = x.shape
+        weight = judged / judged.sum(axis=1, keepdims=True)  # (K, D): the mean over the judged axes
+        scale = np.where(judged, noise, 1.0)
         current = x
         for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
-            heavy = _signal().sosfiltfilt(sos, x, axis=0)
-            departure = np.sqrt(np.mean(((current - heavy)[:, axes] / (noise * spread)) ** 2, axis=1))
+            heavy = _signal().sosfiltfilt(sos, x.reshape(n, -1), axis=0).reshape(x.shape)
+            departure = np.sqrt(np.sum(weight * ((current - heavy) / (scale * spread)) ** 2, axis=2))  # (n, K)
             keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
             width = max(3, int(round(0.5 * self.rate / fc)))
-            keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width), width)
-            current = heavy + keep[:, None] * (current - heavy)
+            keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=0), width, axis=0)
+            current = heavy + keep[..., None] * (current - heavy)
         return current
 
 
@@ -97,12 +103,14 @@ def _noise(raw: np.ndarray) -> np.ndarray:
     """Each marker's noise per axis ``(M, D)`` from raw positions ``(F, M, D)``: the median
     absolute second difference (seen samples three in a row) as a standard deviation, capped
     at :data:`NOISE_CAP` times the median over the markers."""
-    second = np.diff(raw, n=2, axis=0)
-    with np.errstate(all="ignore"):
-        counts = np.isfinite(second).sum(axis=0)
-        spread = 1.4826 * np.nanmedian(np.abs(second), axis=0) / np.sqrt(6.0) if len(second) else np.full(
-            raw.shape[1:], np.nan)
-    spread = np.where(counts >= 10, spread, np.nan)
+    second = np.abs(np.diff(raw, n=2, axis=0)).reshape(max(len(raw) - 2, 0), -1)
+    counts = np.isfinite(second).sum(axis=0)
+    ordered = np.sort(second, axis=0)  # NaN last: each column's median from its seen count (nanmedian is slow)
+    columns = np.arange(ordered.shape[1])
+    low, high = np.maximum(counts - 1, 0) // 2, counts // 2
+    middle = 0.5 * (ordered[low, columns] + ordered[np.minimum(high, len(ordered) - 1), columns]) if len(ordered) \
+        else np.full(len(columns), np.nan)
+    spread = np.where(counts >= 10, 1.4826 * middle / np.sqrt(6.0), np.nan).reshape(raw.shape[1:])
     if np.isfinite(spread).any():
         spread = np.minimum(spread, NOISE_CAP * np.nanmedian(spread))
     return spread

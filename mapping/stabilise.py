@@ -267,9 +267,6 @@ LONGEST_LOST_POSE = 1.0
 #: Seconds of fitted poses either side of a lost stretch that the bridge is fitted to, at most
 #: (the stretch's own length, at least).
 POSE_CONTEXT = 0.3
-#: Shorter stretches are left to gap filling: each marker's own spline over a frame or two follows
-#: a quick head turn better than a pose fitted to the turn either side.
-SHORTEST_LOST_POSE = 6
 
 
 def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndarray, times: np.ndarray,
@@ -280,12 +277,12 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
     A frame with fewer than three head references seen has no pose, and without one every
     marker seen in it is lost to the head frame: when two references' gaps overlap for half a
     second, a whole face's worth of seen motion (a blink, a smile starting) would be left to gap
-    filling. A head turns slowly next to a face's motion, so across a stretch of at most
-    ``longest`` seconds (and at least :data:`SHORTEST_LOST_POSE` frames) with a fitted pose on
-    both sides, the pose is a quadratic in time fitted to the poses either side, as many frames
-    as the stretch is long, from 3 up to :data:`POSE_CONTEXT` seconds (the rotation as a rotation
-    vector from the last pose before it, which keeps the angles small), and the markers seen
-    there are expressed in it.
+    filling, and even over a few frames each marker's spline through its noisy neighbours swung
+    by a millimetre. A head turns slowly next to a face's motion, so across a stretch of at most
+    ``longest`` seconds with a fitted pose on both sides, the pose is a quadratic in time fitted
+    to the poses either side, as many frames as the stretch is long, from 3 up to
+    :data:`POSE_CONTEXT` seconds (the rotation as a rotation vector from the last pose before
+    it, which keeps the angles small), and the markers seen there are expressed in it.
 
     Parameters
     ----------
@@ -305,8 +302,7 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
     step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
     most = max(3, int(round(POSE_CONTEXT / step))) if step > 0 else 3
     for start, end in gap_runs(~ok):
-        if (start == 0 or end == len(ok) or end - start < SHORTEST_LOST_POSE
-                or times[end] - times[start - 1] > longest + 1.5 * step):
+        if start == 0 or end == len(ok) or times[end] - times[start - 1] > longest + 1.5 * step:
             continue
         reach = min(max(3, end - start), most)
         around = np.r_[max(0, start - reach):start, end:min(len(ok), end + reach)]
