@@ -65,14 +65,17 @@ class HoldSmoother:
         """Markers ``(F, M, D)`` smoothed by the take's low-pass (NaN where unseen), made
         steadier where they hold; ``raw`` ``(F, M, D)``: the same markers before any smoothing
         or gap filling (NaN where not seen), to measure each one's noise on."""
-        out = np.array(smoothed, dtype=np.float64, copy=True)
+        out = np.asarray(smoothed, dtype=np.float64)
         if not self.levels or len(out) < 2:
-            return out
+            return out.copy()
         noise = _noise(np.asarray(raw, dtype=np.float64))  # (M, D)
         judged = np.isfinite(noise) & (noise > 0)  # a flat axis (a 2-D tracker's depth) tells nothing
         usable = judged.any(axis=1)  # a marker never seen three times in a row, or without noise: left be
         whole = usable & np.isfinite(out).all(axis=(0, 2))
-        if whole.any():  # every marker seen throughout (gaps filled) at once
+        if whole.all():  # every marker seen throughout (gaps filled): at once, and no copy to write into
+            return self._run(out, judged, noise)
+        out = out.copy()
+        if whole.any():
             out[:, whole] = self._run(out[:, whole], judged[whole], noise[whole])
         for m in np.flatnonzero(usable & ~whole):
             for start, end in gap_runs(np.asarray(np.isfinite(out[:, m]).all(axis=1))):
@@ -85,17 +88,22 @@ class HoldSmoother:
         whose noise is ``noise`` ``(K, D)``."""
         from scipy import ndimage
 
-        n, markers, dims = x.shape
+        n = len(x)
         weight = judged / judged.sum(axis=1, keepdims=True)  # (K, D): the mean over the judged axes
         scale = np.where(judged, noise, 1.0)
         current = x
         for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
             heavy = _signal().sosfiltfilt(sos, x.reshape(n, -1), axis=0).reshape(x.shape)
-            departure = np.sqrt(np.sum(weight * ((current - heavy) / (scale * spread)) ** 2, axis=2))  # (n, K)
+            diff = current - heavy
+            scaled = diff / (scale * spread)
+            np.square(scaled, out=scaled)
+            departure = np.sqrt(np.einsum("nkd,kd->nk", scaled, weight))  # (n, K): RMS over the judged axes
             keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
             width = max(3, int(round(0.5 * self.rate / fc)))
             keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=0), width, axis=0)
-            current = heavy + keep[..., None] * (current - heavy)
+            diff *= keep[..., None]
+            heavy += diff
+            current = heavy
         return current
 
 
