@@ -76,7 +76,11 @@ class GapFiller:
         Choose each gap's ridge penalty (:data:`RIDGES`) and its blend with the spline
         (:data:`SHARES`) on stand-in gaps cut from the marker's own seen frames
         (:func:`_validate`): a face's few tightly coupled markers and a body's many loosely
-        coupled ones want different ones.
+        coupled ones want different ones; and whether the predictors are read as seen or as
+        their local mean (``predictor_mean_seconds``).
+    predictor_mean_seconds : float, optional
+        The half-width of that local mean (:data:`PREDICTOR_MEAN_SECONDS` by default; 0: the
+        predictors as seen only).
 
     Long gaps are regressed about the centre of the markers that predict them (a body walks
     across the room; a face's markers move about their own), the centre's own motion kept as a
@@ -85,7 +89,8 @@ class GapFiller:
 
     def __init__(self, spline_frames: int = 5, max_gap_seconds: float = 2.0, ridge: float = 3e-2,
                  window_seconds: float = 10.0, blend_seconds: tuple[float, float] = (0.1, 0.5),
-                 sigma_mm: float = 200.0, validate: bool = True) -> None:
+                 sigma_mm: float = 200.0, validate: bool = True, predictor_mean_seconds: float | None = None
+                 ) -> None:
         if spline_frames < 0 or max_gap_seconds <= 0 or window_seconds <= 0:
             raise ValueError("spline_frames must be >= 0, max_gap_seconds and window_seconds > 0")
         self.spline_frames, self.max_gap_seconds = spline_frames, max_gap_seconds
@@ -93,6 +98,8 @@ class GapFiller:
             raise ValueError("blend_seconds must be (low, high) with 0 <= low < high")
         self.ridge, self.window_seconds, self.blend_seconds = ridge, window_seconds, blend_seconds
         self.sigma_mm, self.validate = sigma_mm, validate
+        self.predictor_mean_seconds = (PREDICTOR_MEAN_SECONDS if predictor_mean_seconds is None
+                                       else predictor_mean_seconds)
 
     def apply(self, positions: np.ndarray, times: np.ndarray, apart: Sequence[int] = ()) -> Filled:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``;
@@ -148,6 +155,8 @@ class GapFiller:
         """
         frames, markers, dims = pos.shape
         seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
+        half = int(round(self.predictor_mean_seconds * rate))
+        steady = _local_mean(pos, max(1, half)) if self.predictor_mean_seconds > 0 else pos  # what predictors say
         for m in map(int, np.flatnonzero(wanted.any(axis=0))):
             candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
             for start, end in gap_runs(wanted[:, m]):
@@ -162,20 +171,21 @@ class GapFiller:
                     self._splines(pos, times, _only(wanted, start, end, m))
                     seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
                     continue
-                centre = pos[rows][:, others].mean(axis=1)  # (rows, dims): the frame moving with the subject
                 near = pos[own][:, others] - pos[own, m][:, None]
                 weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
-                x = ((pos[rows][:, others] - centre[:, None]) * weight[None, :, None]).reshape(len(rows), -1)
-                if len(others) < 4:  # a centre of so few is mostly the predictors: keep its motion too
-                    x = np.hstack([x, centre])
-                x = x - x.mean(axis=0)
                 fit = np.isin(rows, own)
                 low, high = self.blend_seconds
                 ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
                 edge = 1
-                if self.validate:
-                    ridge, share, edge = _validate(x[fit], pos[own, m] - centre[fit], times[own], end - start,
-                                                   m in apart, (ridge, share, edge))
+                centre, x = _design(pos, rows, others, weight)
+                if self.validate:  # the predictors as seen, or their local mean, whichever fills stand-ins better
+                    best = np.inf
+                    for source in (pos, steady) if steady is not pos else (pos,):
+                        c, xs = (centre, x) if source is pos else _design(source, rows, others, weight)
+                        error, params = _validate(xs[fit], pos[own, m] - c[fit], times[own], end - start, m in apart,
+                                                  (ridge, share, edge))
+                        if error < best:
+                            best, (ridge, share, edge), centre, x = error, params, c, xs
                 predicted = _ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
                 gap = np.isin(rows, np.arange(start, end))
                 bridge = _bridge(pos[own, m] - predicted[fit], own, start, end, times, edge)
@@ -187,8 +197,37 @@ class GapFiller:
                     else:
                         spline = CubicSpline(times[own], relative, axis=0)(times[start:end])
                     regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
-                pos[start:end, m] = regressed
+                pos[start:end, m] = steady[start:end, m] = regressed
                 seen_all[start:end, m] = True
+
+
+def _design(source: np.ndarray, rows: np.ndarray, others: list[int], weight: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The centre of the predictors ``others`` at ``rows`` of ``source`` ``(F, M, D)``, ``(rows,
+    D)``, and the regression's design about it, ``(rows, features)``, each predictor weighted by
+    ``weight`` and every feature centred."""
+    centre = source[rows][:, others].mean(axis=1)  # the frame moving with the subject
+    x = ((source[rows][:, others] - centre[:, None]) * weight[None, :, None]).reshape(len(rows), -1)
+    if len(others) < 4:  # a centre of so few is mostly the predictors: keep its motion too
+        x = np.hstack([x, centre])
+    return centre, x - x.mean(axis=0)
+
+
+def _local_mean(pos: np.ndarray, half: int) -> np.ndarray:
+    """Each sample of ``pos`` ``(F, M, D)`` as the mean of the seen samples within ``half``
+    frames either side, where it is seen itself (NaN elsewhere).
+
+    >>> _local_mean(np.array([1.0, 2.0, 6.0, np.nan, 4.0]).reshape(5, 1, 1), 1).ravel().tolist()
+    [1.5, 3.0, 4.0, nan, 4.0]
+    """
+    seen = np.isfinite(pos).all(axis=2)
+    sums = np.cumsum(np.where(seen[..., None], pos, 0.0), axis=0)
+    counts = np.cumsum(seen, axis=0)
+    sums, counts = np.concatenate([np.zeros_like(sums[:1]), sums]), np.concatenate([np.zeros_like(counts[:1]), counts])
+    frames = np.arange(len(pos))
+    low, high = np.maximum(frames - half, 0), np.minimum(frames + half + 1, len(pos))
+    mean = (sums[high] - sums[low]) / np.maximum(counts[high] - counts[low], 1)[..., None]
+    return np.where(seen[..., None], mean, np.nan)
 
 
 def _bridge(residual: np.ndarray, own: np.ndarray, start: int, end: int, times: np.ndarray, edge: int = 1
@@ -274,13 +313,19 @@ def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
 #: (:func:`_bridge`: one follows a smooth residual best, five carry less of a noisy one's jitter
 #: and none of a spike beside the gap) it tries.
 RIDGES = (0.003, 0.01, 0.03, 0.1)
+#: Predictors may be read as their mean over this many seconds either side (one frame at 60 Hz),
+#: where the stand-in gaps fill better so: a regression on noisy predictors shrinks their weights
+#: (errors in variables; a lid filled from the other lid blinked two thirds as deep), while on
+#: clean ones the mean only blurs a saccade or a step. The marker's own samples stay as seen.
+PREDICTOR_MEAN_SECONDS = 0.0125
 SHARES = (0.0, 0.25, 0.5, 0.75, 1.0)
 EDGES = (1, 5)
 
 
 def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight: bool,
-              fallback: tuple[float, float, int]) -> tuple[float, float, int]:
-    """The ridge penalty, the regression's share (against the marker's own spline, or its
+              fallback: tuple[float, float, int]) -> tuple[float, tuple[float, float, int]]:
+    """The summed error of the best fill of the stand-ins (infinite where there are none) and
+    its ridge penalty, the regression's share (against the marker's own spline, or its
     straight line where ``straight``) and the bridge's edge samples (:data:`EDGES`) that best
     fill stand-in gaps of ``length`` rows cut from the marker's own seen rows (``x``
     ``(n, features)``, ``y`` ``(n, dims)`` at times ``t``), up to eight spread evenly along
@@ -291,7 +336,7 @@ def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight
     n = len(y)
     count = min(8, (n - 60) // max(length, 1) - 1)  # stand-ins, as many as the rows allow, up to 8
     if count < 2:
-        return fallback
+        return np.inf, fallback
     blocks = [(middle - length // 2, middle - length // 2 + length)
               for middle in (n * k // (count + 1) for k in range(1, count + 1))]
     truth = np.stack([y[lo:hi] for lo, hi in blocks])  # (blocks, length, dims)
@@ -324,7 +369,7 @@ def _validate(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight
             pick = int(np.argmin(error))
             if error[pick] < best[0]:
                 best = (float(error[pick]), (ridge, SHARES[pick], edge))
-    return best[1]
+    return best
 
 
 def _ridge_predict(x: np.ndarray, fit: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
