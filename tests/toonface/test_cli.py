@@ -175,6 +175,24 @@ def test_clean_rejects_spikes_fills_gaps_and_writes_a_take(tmp_path, capsys):
     assert main(["clean", str(tmp_path / "missing.npz"), "-o", str(tmp_path / "x.npz")]) == 2
 
 
+def test_clean_plain_smoothing_is_the_low_pass_alone(tmp_path):
+    """--plain-smoothing reaches the cleaning: the take comes out as clean_take's without hold
+    smoothing, and by default a still marker comes out steadier than that."""
+    from mapping import CleanSettings
+    from mapping.clean import clean_take
+
+    syn = synthesize(seconds=4, rate=60, noise_mm=0.3)
+    source = save_take(syn.take, tmp_path / "raw.npz")
+    assert main(["clean", str(source), "-o", str(tmp_path / "plain.npz"), "--plain-smoothing"]) == 0
+    assert main(["clean", str(source), "-o", str(tmp_path / "held.npz")]) == 0
+    plain, held = load_take(tmp_path / "plain.npz"), load_take(tmp_path / "held.npz")
+    np.testing.assert_allclose(plain.positions, clean_take(syn.take, CleanSettings(holds=False))[0].positions,
+                               atol=1e-4)
+    lid = syn.take.index("LID_R_LOW")  # at rest over the first second
+    assert np.std(np.diff(held.positions[10:60, lid], axis=0)) < 0.7 * np.std(np.diff(plain.positions[10:60, lid],
+                                                                                     axis=0))
+
+
 def test_calibrate_map_with_the_profile_and_score(tmp_path, capsys):
     take, profile, motors, png = (tmp_path / n for n in ("t.npz", "p.toml", "m.csv", "s.png"))
     exact = ["--cutoff", "0", "--no-spikes"]
