@@ -43,6 +43,7 @@ from mapping.stabilise import (
     express,
     fit_head,
     nearest_rotation,
+    posedness,
     refit_head,
     to_head_frame,
     yaw_pitch_degrees,
@@ -103,7 +104,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     fit = fit_head(positions, rows, neutral)
     if isinstance(fit, Failure):
         return fit
-    first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times)
+    first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times, rows)
     rejected = 0
     if settings.spikes:
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
@@ -115,7 +116,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         fit = refit_head(fit, positions, rows, new_references)
         if isinstance(fit, Failure):
             return fit
-        first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times)
+        first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times, rows)
     found = markerset.match(take.labels)
     apart = [take.index(found[m]) for m in markerset.independent if m in found]
     local, filled_mask = _fill_and_smooth(first.local, take, settings, apart)
@@ -128,10 +129,14 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()), bridged=bridged)
 
 
-def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray) -> tuple[Stabilised, int]:
-    """``first`` with short stretches without a head pose given one (:func:`mapping.stabilise.bridge_lost_poses`)
-    and the markers seen there expressed in it; and how many frames were bridged."""
-    rotation, translation, bridged = bridge_lost_poses(first.rotation, first.translation, first.ok, times)
+def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray, rows: list[int]
+                       ) -> tuple[Stabilised, int]:
+    """``first`` with short stretches without a head pose given one (:func:`mapping.stabilise.bridge_lost_poses`,
+    each pose either side trusted as well as its references pin it) and the markers seen there expressed in it; and
+    how many frames were bridged."""
+    trust = posedness(first.reference, np.isfinite(positions[:, rows, 0]))
+    rotation, translation, bridged = bridge_lost_poses(first.rotation, first.translation, first.ok, times,
+                                                       trust=trust)
     if not bridged.any():
         return first, 0
     local = first.local.copy()

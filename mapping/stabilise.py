@@ -119,15 +119,22 @@ def well_posed(shape: np.ndarray, seen: np.ndarray) -> np.ndarray:
     >>> well_posed(shape, np.array([[1, 1, 1, 1, 1], [1, 0, 0, 1, 1], [0, 1, 0, 1, 1]], bool)).tolist()
     [True, False, True]
     """
+    return posedness(shape, seen) >= LEAST_POSED
+
+
+def posedness(shape: np.ndarray, seen: np.ndarray) -> np.ndarray:
+    """How well the references seen in each frame ``(F, K)`` of ``shape`` ``(K, 3)`` pin the
+    head's rotation, ``(F,)``: the smallest principal moment of inertia of the seen ones about
+    their centre over all of theirs (1 with every reference seen; 0 with fewer than three)."""
     def least_moment(rows: np.ndarray) -> float:
         points = shape[rows] - shape[rows].mean(axis=0)
         inertia = np.sum(points ** 2) * np.eye(3) - points.T @ points
         return float(np.linalg.eigvalsh(inertia)[0])
 
-    everything = least_moment(np.ones(len(shape), bool))
+    everything = max(least_moment(np.ones(len(shape), bool)), 1e-12)
     patterns, inverse = np.unique(seen, axis=0, return_inverse=True)
-    posed = np.array([row.sum() >= 3 and least_moment(row) >= LEAST_POSED * everything for row in patterns])
-    return posed[inverse.reshape(-1)] if len(patterns) else np.zeros(len(seen), bool)
+    share = np.array([least_moment(row) / everything if row.sum() >= 3 else 0.0 for row in patterns])
+    return share[inverse.reshape(-1)] if len(patterns) else np.zeros(len(seen))
 
 
 #: At most about this many frames, spread over the take, measure the performer's reference shape.
@@ -270,7 +277,8 @@ POSE_CONTEXT = 0.3
 
 
 def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndarray, times: np.ndarray,
-                      longest: float = LONGEST_LOST_POSE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                      longest: float = LONGEST_LOST_POSE, trust: np.ndarray | None = None
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The head pose carried across short stretches of frames without one, and which frames
     it was carried across ``(F,)``.
 
@@ -293,6 +301,12 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
         Frames with a fitted pose.
     times : ndarray, shape (F,)
         Seconds.
+    longest : float
+        Seconds; longer stretches stay without a pose.
+    trust : ndarray, shape (F,), optional
+        How far each fitted pose is to be trusted (:func:`posedness`: a fit on three references
+        close to a line swings more than one on five); the fit either side weighs each pose by
+        it. Equal trust by default.
     """
     from scipy.spatial.transform import Rotation
 
@@ -311,8 +325,9 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
         offsets = Rotation.from_matrix(np.einsum("ji,fjk->fik", base, rotation[around])).as_rotvec()
         t = times[around] - times[start - 1]
         degree = 2 if len(around) >= 6 else 1
+        weight = np.sqrt(trust[around])[:, None] if trust is not None else np.ones((len(around), 1))
         design = np.vander(t, degree + 1)
-        coef, *_ = np.linalg.lstsq(design, np.hstack([offsets, translation[around]]), rcond=None)
+        coef, *_ = np.linalg.lstsq(design * weight, np.hstack([offsets, translation[around]]) * weight, rcond=None)
         inside = np.vander(times[start:end] - times[start - 1], degree + 1) @ coef
         rot[start:end] = base @ Rotation.from_rotvec(inside[:, :3]).as_matrix()
         trans[start:end] = inside[:, 3:]
