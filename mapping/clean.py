@@ -33,7 +33,8 @@ from capture.markerset import find_markerset
 from common import Failure
 from common.rotations import rigid_fit
 from mapping.filters import Butterworth
-from mapping.gaps import GapFiller, gap_runs, straight_line
+from mapping.gap_fit import straight_line
+from mapping.gaps import GapFiller, gap_runs
 from mapping.holds import HoldSmoother
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings

@@ -325,14 +325,14 @@ def test_a_long_gap_keeps_the_predictor_that_moves_with_the_marker():
 def test_stand_in_fits_from_running_sums_equal_fits_on_the_rows_left():
     """Validation fits each stand-in gap from sums over the whole less the block; that must be
     the ridge fit on the rows outside it, at any penalty."""
-    from mapping.gaps import _Moments, _ridge_predict
+    from mapping.gap_fit import Moments, ridge_predict
 
     rng = np.random.default_rng(2)
     x, y = rng.normal(size=(200, 7)), rng.normal(size=(200, 3))
     blocks = [(40, 70), (120, 150)]
     rows = np.array([np.arange(30, 80), np.arange(110, 160)])
     for ridge in (0.003, 0.1):
-        fast = _Moments(x, y, blocks).predict(ridge, rows)
+        fast = Moments(x, y, blocks).predict(ridge, rows)
         for b, (lo, hi) in enumerate(blocks):
             keep = np.r_[0:lo, hi:200]
-            np.testing.assert_allclose(fast[b], _ridge_predict(x, keep, y[keep], ridge)[rows[b]], atol=1e-10)
+            np.testing.assert_allclose(fast[b], ridge_predict(x, keep, y[keep], ridge)[rows[b]], atol=1e-10)
