@@ -131,10 +131,14 @@ def posedness(shape: np.ndarray, seen: np.ndarray) -> np.ndarray:
         inertia = np.sum(points ** 2) * np.eye(3) - points.T @ points
         return float(np.linalg.eigvalsh(inertia)[0])
 
-    everything = max(least_moment(np.ones(len(shape), bool)), 1e-12)
-    patterns, inverse = np.unique(seen, axis=0, return_inverse=True)
-    share = np.array([least_moment(row) / everything if row.sum() >= 3 else 0.0 for row in patterns])
-    return share[inverse.reshape(-1)] if len(patterns) else np.zeros(len(seen))
+    out = np.ones(len(seen))
+    partial = ~seen.all(axis=1)  # every reference seen pins it fully: nothing to work out (a live frame, mostly)
+    if partial.any():
+        everything = max(least_moment(np.ones(len(shape), bool)), 1e-12)
+        patterns, inverse = np.unique(seen[partial], axis=0, return_inverse=True)
+        share = np.array([least_moment(row) / everything if row.sum() >= 3 else 0.0 for row in patterns])
+        out[partial] = share[inverse.reshape(-1)]
+    return out
 
 
 #: At most about this many frames, spread over the take, measure the performer's reference shape.
