@@ -85,11 +85,11 @@ class GapFiller:
     validate : bool
         Choose each gap's ridge penalty (:data:`mapping.gap_fit.RIDGES`) and its blend with the spline
         (:data:`mapping.gap_fit.SHARES`) on stand-in gaps cut from the marker's own seen frames
-        (:func:`validate_gap`): a face's few tightly coupled markers and a body's many loosely
+        (:func:`mapping.gap_fit.validate_gap`): a face's few tightly coupled markers and a body's many loosely
         coupled ones want different ones; and whether the predictors are read as seen or as
         their local mean (``predictor_mean_seconds``).
     predictor_mean_seconds : float, optional
-        The half-width of that local mean (:data:`PREDICTOR_MEAN_SECONDS` by default; 0: the
+        The half-width of that local mean (:data:`mapping.gap_fit.PREDICTOR_MEAN_SECONDS` by default; 0: the
         predictors as seen only).
 
     Long gaps are regressed about the centre of the markers that predict them (a body walks
@@ -126,12 +126,13 @@ class GapFiller:
         for m in apart:
             for start, end in gap_runs(missing[:, m]):
                 brief[start:end, m] = 0 < start and end < frames and end - start <= self.spline_frames
+        lasting = missing & ~brief  # what a partner cannot be bridged across
         for m in range(markers):
             for start, end in gap_runs(missing[:, m]):
                 if start == 0 or end == frames or end - start > max_frames:
                     continue  # nothing on one side, or too long: left unseen
                 if m in apart:
-                    partnered = any(k != m and not (missing & ~brief)[start:end, k].any() for k in apart)
+                    partnered = any(k != m and not lasting[start:end, k].any() for k in apart)
                     (long_ if partnered and not brief[start, m] else lined)[start:end, m] = True
                     continue
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True
@@ -161,7 +162,7 @@ class GapFiller:
         The predictors are the other markers seen throughout the gap; around it (``window_seconds``,
         at least the gap's length, on each side) the missing marker is ridge-regressed on them
         over the frames where all of them are seen; the regression's residual is
-        bridged across the gap (:func:`bridge_residual`) and added to its prediction there.
+        bridged across the gap (:func:`mapping.gap_fit.bridge_residual`) and added to its prediction there.
         """
         frames, markers, dims = pos.shape
         seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
@@ -192,8 +193,8 @@ class GapFiller:
                     best = np.inf
                     for source in (pos, steady) if steady is not pos else (pos,):
                         c, xs = (centre, x) if source is pos else regression_design(source, rows, others, weight)
-                        error, params = validate_gap(xs[fit], pos[own, m] - c[fit], times[own], end - start, m in apart,
-                                                  (ridge, share, edge))
+                        error, params = validate_gap(xs[fit], pos[own, m] - c[fit], times[own], end - start,
+                                                     m in apart, (ridge, share, edge))
                         if error < best:
                             best, (ridge, share, edge), centre, x = error, params, c, xs
                 predicted = ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
