@@ -80,12 +80,12 @@ def _best_r(curve: np.ndarray, truth: np.ndarray) -> float:
 def _curves(sound: np.ndarray, text: str | None) -> dict[str, np.ndarray]:
     """The mouth's opening (100 Hz) from the sound, the phones, the words where given, and the loudness peer."""
     from capture.voice import openness, recognise, shape_curves, shape_sequence, speaking, with_opening
-    from capture.voice_sound import sound_shapes
+    from capture.voice_sound import sound_mouth
 
     frames = len(sound) // 160
     speech = speaking(sound, frames)
-    heard = sound_shapes(sound, frames)
-    curves = {"sound": openness(shape_curves(heard)),
+    weights, heard = sound_mouth(sound, frames)
+    curves = {"sound": openness(weights),
               "phones": openness(shape_curves(shape_sequence(recognise(sound), frames, speech))),
               "loudness": np.sqrt(np.mean(sound[: frames * 160].reshape(frames, 160) ** 2, axis=1))}
     if text is not None:
@@ -119,8 +119,8 @@ def _noisy(sound: np.ndarray, times: np.ndarray, gap: np.ndarray) -> dict[str, f
     silence, white noise added throughout at each of :data:`SNRS`; per ratio, the share (%) of
     the added seconds' frames shut (opening at most 0.1, the 0.25 s next to the clip left out)
     and r against the lips."""
-    from capture.voice import openness, shape_curves
-    from capture.voice_sound import sound_shapes
+    from capture.voice import openness
+    from capture.voice_sound import sound_mouth
 
     rng = np.random.default_rng(0)
     padded = np.concatenate([np.zeros(32000), sound, np.zeros(32000)])
@@ -129,7 +129,7 @@ def _noisy(sound: np.ndarray, times: np.ndarray, gap: np.ndarray) -> dict[str, f
     for snr in SNRS:
         noisy = (padded + rng.normal(0.0, speech_rms * 10 ** (-snr / 20), len(padded))).astype(np.float32)
         frames = len(noisy) // 160
-        opening = openness(shape_curves(sound_shapes(noisy, frames)))
+        opening = openness(sound_mouth(noisy, frames)[0])
         out[f"shut_{snr:g}dB"] = float(100.0 * np.mean(np.r_[opening[:175], opening[-175:]] <= 0.1))
         at = np.arange(frames) / 100.0 - 2.0
         out[f"r_{snr:g}dB"] = max(float(np.corrcoef(np.interp(times + lag, at, opening), gap)[0, 1]) for lag in LAGS)
@@ -289,13 +289,13 @@ def _fill(clips: list) -> Figure:
 
 def _silence_shut(sound: np.ndarray) -> float:
     """The share (%) of a second of quiet either side of ``sound`` whose opening is at most 0.1."""
-    from capture.voice import openness, shape_curves
-    from capture.voice_sound import sound_shapes
+    from capture.voice import openness
+    from capture.voice_sound import sound_mouth
 
     quiet = sound[np.argsort(np.abs(sound))[: len(sound) // 4]]  # the clip's own quietest samples, as room tone
     pad = np.resize(quiet, 16000)
     padded = np.concatenate([pad, sound, pad]).astype(np.float32)
     frames = len(padded) // 160
-    opening = openness(shape_curves(sound_shapes(padded, frames)))
+    opening = openness(sound_mouth(padded, frames)[0])
     silent = np.r_[opening[:100], opening[-100:]]
     return float(100.0 * np.mean(silent <= 0.1))

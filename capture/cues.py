@@ -7,7 +7,9 @@ end, at rest), JSON (``metadata`` with the sound file and its duration, and ``mo
 (``MohoSwitch1``, then ``FRAME SHAPE`` lines, frames counted from 1 at a chosen rate; written
 only, as it keeps no seconds). Read back, cues are the voice take they came
 from (:func:`cues_take`): the same shapes at 100 Hz, blended as :func:`capture.voice.shape_curves`
-blends them, so a track mapped from the cues is the track mapped from the voice.
+blends them, so a track mapped from the cues is the track mapped from the voice where the
+voice was a shape a frame (its phones or words), and that track a shape at a time where the
+sound weighed two (:func:`capture.voice_sound.sound_mouth`).
 """
 
 from __future__ import annotations

@@ -252,13 +252,20 @@ SOUND_SUFFIXES = _SOUND_SUFFIXES
 @dataclass(frozen=True, eq=False)
 class Heard:
     """What a voice says: its sound (16 kHz mono, ``(n,)``), the phones heard, the mouth
-    shape of each 10 ms frame (``shapes`` ``(frames,)``, indices into :data:`VISEMES`), and
-    where the sound starts on its video's clock (``start``, seconds; 0 for a sound file)."""
+    shape of each 10 ms frame (``shapes`` ``(frames,)``, indices into :data:`VISEMES`: its
+    mouth cues), where the sound starts on its video's clock (``start``, seconds; 0 for a
+    sound file), and each shape's weight per frame where the sound weighs them between two
+    shapes (``weights`` ``(frames, 9)``; otherwise :func:`shape_curves` of ``shapes``)."""
 
     samples: np.ndarray
     phones: list[Phone]
     shapes: np.ndarray
     start: float = 0.0
+    weights: np.ndarray | None = None
+
+    def curves(self) -> np.ndarray:
+        """Each shape's weight per frame, ``(frames, 9)``: what moves the motors."""
+        return shape_curves(self.shapes) if self.weights is None else self.weights
 
 
 #: How a voice is heard (``--listen``): ``sound`` its spectrum alone, in any language
@@ -272,14 +279,15 @@ def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     (``listen="sound"``), from the phones pocketsphinx hears (``"phones"``), or, given the words
     ``text``, from their aligned phones, opened as wide as the sound says: the one way every
     command hears a voice (errors name the file)."""
-    from capture.voice_sound import sound_shapes
+    from capture.voice_sound import sound_mouth, sound_shapes
 
     if listen not in LISTEN_MODES:
         raise InputError(f"unknown way to listen {listen!r} (known: {', '.join(LISTEN_MODES)})", path)
     samples, start = decode_voice_at(path)
     frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
     if listen == "sound" and text is None:
-        return Heard(samples, [], sound_shapes(samples, frames), start)
+        weights, shapes = sound_mouth(samples, frames)
+        return Heard(samples, [], shapes, start, weights)
     try:
         phones = recognise(samples, text)
     except InputError as exc:
@@ -319,7 +327,7 @@ def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     the clock of a video's first frame (a video's sound may start before or after it)."""
     heard = hear_voice(path, text, listen)
     frames, samples = len(heard.shapes), heard.samples
-    curves = shape_curves(heard.shapes)
+    curves = heard.curves()
     hop = int(SAMPLE_RATE / FRAME_RATE)
     level = np.sqrt(np.mean(np.resize(np.pad(samples, (0, frames * hop)), frames * hop).reshape(frames, hop) ** 2,
                             axis=1))

@@ -8,7 +8,9 @@ band (its lowest 28 %, a room's noise, gated off) and the centre of mass of the 
 band (where F1 lies). Rounded lips lower the second formant: the centre of mass of the
 800-2200 Hz band, low for a rounded vowel, gives how round. Both are then placed on Rhubarb's
 shapes (:data:`capture.voice.VISEMES`): along a ladder of openness, closed (A, or X in
-silence) → B → C → D when spread, A → F → E → D when round.
+silence) → B → C → D when spread, A → F → E → D when round; a frame between two rungs weighs
+both (what moves the motors), and its mouth cue is the heavier (what Rhubarb's formats keep):
+:func:`sound_mouth` gives the two.
 
 One implementation serves a whole file and a live voice (:class:`Listener`): the same frames,
 the same blend (:data:`capture.voice.KERNEL`, a Gaussian of 25 ms cut at ±50 ms), the same
@@ -26,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from capture.voice import FRAME_RATE, LOOKAHEAD, SAMPLE_RATE, VISEMES, blend, one_hot
+from capture.voice import FRAME_RATE, LOOKAHEAD, SAMPLE_RATE, VISEMES, blend
 
 HOP = int(SAMPLE_RATE / FRAME_RATE)
 #: Each frame's analysis window (samples: 25 ms), centred on the frame.
@@ -66,7 +68,9 @@ def window_features(windows: np.ndarray) -> np.ndarray:
 
 #: The lowest 28 % of the loud band's scale opens nothing: a room's hum and hiss stay shut.
 #: Chosen on the lip-sync bench's GRID clips (r against the lips, share of room tone shut):
-#: no gate 0.71/0.64 and 30 %; 0.25: 0.67/0.61 and 93 %; 0.28: 0.62/0.62 and 100 %.
+#: no gate 0.71/0.64 and 30 %; 0.25: 0.67/0.61 and 93 %; 0.28: 0.62/0.62 and 100 %. (A
+#: frame's voicing, its autocorrelation at a pitch lag, does not tell GRID's room tone from
+#: speech: the room hums, 0.6-0.9 voiced as a vowel is.)
 GATE = 0.28
 #: The loud band's scale spans at least this many dB: a room's noise alone (a live voice before
 #: its first word, a file of hiss) is not stretched into speech.
@@ -120,17 +124,25 @@ def shape_weights(open_: np.ndarray, round_: np.ndarray, held: np.ndarray) -> np
     return weights
 
 
-def sound_shapes(samples: np.ndarray, frames: int) -> np.ndarray:
-    """A whole sound's shape per frame, ``(frames,)`` indices into :data:`VISEMES`: the
-    heaviest of :func:`shape_weights` of its blended opening and roundness, on the scale of all of it."""
+def sound_mouth(samples: np.ndarray, frames: int) -> tuple[np.ndarray, np.ndarray]:
+    """A whole sound's mouth, on the scale of all of it: each shape's weight per frame,
+    ``(frames, 9)`` in :data:`VISEMES` order and summing to 1 (:func:`shape_weights` of the
+    blended opening and roundness, blended again as :func:`capture.voice.shape_curves` blends
+    shapes: what moves the motors), and its mouth cue per frame, ``(frames,)`` indices into
+    :data:`VISEMES` (the heaviest shape before that second blend: what Rhubarb's formats keep)."""
     features = band_features(samples, frames)
     open_, round_, speech = opening(features, scales(features))
-    return _heaviest(blend(np.column_stack([open_, round_])), pauses(speech))
+    weights = _weights(blend(np.column_stack([open_, round_])), pauses(speech))
+    return blend(weights), np.argmax(weights, axis=1)
 
 
-def _heaviest(both: np.ndarray, held: np.ndarray) -> np.ndarray:
-    weights = shape_weights(np.clip(both[:, 0], 0.0, 1.0), np.clip(both[:, 1], 0.0, 1.0), held)
-    return np.argmax(weights, axis=1)
+def sound_shapes(samples: np.ndarray, frames: int) -> np.ndarray:
+    """A whole sound's mouth cue per frame, ``(frames,)``: :func:`sound_mouth`'s cues."""
+    return sound_mouth(samples, frames)[1]
+
+
+def _weights(both: np.ndarray, held: np.ndarray) -> np.ndarray:
+    return shape_weights(np.clip(both[:, 0], 0.0, 1.0), np.clip(both[:, 1], 0.0, 1.0), held)
 
 
 @dataclass
@@ -159,9 +171,9 @@ class _LiveBlend:
 @dataclass
 class Listener:
     """A live voice's mouth: :meth:`hear` takes sound as it comes (16 kHz mono, any chunk size)
-    and returns the shape weights ``(n, 9)`` (:func:`capture.voice.shape_curves`) of the frames
-    it can now place: two blends of :data:`LOOKAHEAD` frames each (100 ms) plus half a window
-    (12.5 ms) after their sound. The same frames as :func:`sound_shapes` gives a whole file
+    and returns the shape weights ``(n, 9)`` of the frames it can now place: two blends of
+    :data:`LOOKAHEAD` frames each (100 ms) plus half a window (12.5 ms) after their sound. The
+    same weights as :func:`sound_mouth` gives a whole file
     (tests hold it to that); the scale is that of the last ``memory_s`` seconds heard, or
     ``scale`` ``(2, 3)`` where given (:func:`scales` of a voice heard before)."""
 
@@ -191,7 +203,7 @@ class Listener:
         del self._speech[:len(both)]
         held = pauses(placed, self._pause)
         self._pause = _pause_after(placed, self._pause)
-        return self._shapes.push(one_hot(_heaviest(both, held)))
+        return self._shapes.push(_weights(both, held))
 
 
 def _pause_after(speech: np.ndarray, before: int) -> int:

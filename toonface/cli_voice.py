@@ -30,7 +30,8 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: s
     sound of a video, heard offline in any language (or, with --text, its English words aligned),
     as Rhubarb Lip Sync's mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and
     the like. The cues read back as a take: `toonface map cues.tsv` gives the motors
-    `toonface map VOICE` gives.
+    `toonface map VOICE` gives from the phones or the words, and from the sound alone (which
+    weighs a frame between two shapes) the same a shape at a time.
 
     Silence is rest (X) whatever was heard in it, and the blend between shapes reaches 50 ms
     either side. From phones, a vowel's shape comes a little early, no shape is held for less

@@ -7,7 +7,7 @@ import pytest
 from scipy.signal import lfilter
 
 from capture.voice import OPENNESS, VISEMES, openness, shape_curves
-from capture.voice_sound import HOP, WINDOW, Listener, band_features, scales, sound_shapes
+from capture.voice_sound import HOP, WINDOW, Listener, band_features, scales, sound_mouth, sound_shapes
 
 RATE = 16000
 
@@ -65,7 +65,7 @@ def test_a_short_closure_inside_speech_presses_the_lips_and_a_long_pause_relaxes
 def test_the_live_listener_gives_the_files_frames_exactly_for_any_chunks():
     sound = _speech([("-", 0.3), ("a", 0.25), ("-", 0.05), ("i", 0.2), ("u", 0.2), ("-", 0.4)])
     frames = _frames(sound)
-    whole = shape_curves(sound_shapes(sound, frames))
+    whole = sound_mouth(sound, frames)[0]
     rng = np.random.default_rng(3)
     listener = Listener(scale=scales(band_features(sound, frames)))
     out, k = [], 0
@@ -92,7 +92,7 @@ def test_a_live_voice_scales_itself_from_what_it_has_heard():
     sound = _speech([("-", 0.4), ("a", 0.5), ("-", 0.2), ("i", 0.5), ("-", 0.4)])
     listener = Listener()
     live = openness(np.concatenate([listener.hear(sound), listener.hear(np.zeros(4000, np.float32))]))
-    whole = openness(shape_curves(sound_shapes(sound, _frames(sound))))
+    whole = openness(sound_mouth(sound, _frames(sound))[0])
     assert np.corrcoef(live[:len(whole)], whole[:len(live)])[0, 1] > 0.9
 
 
@@ -114,7 +114,7 @@ def test_speech_in_another_language_opens_the_mouth_as_its_phonemes_say(voice):
         spoken = espeak.say(sentence, voice)
         sound = resample_poly(spoken.samples, 320, 441).astype(np.float32)  # 22050 Hz to 16 kHz
         truth = spoken.openness()
-        heard = openness(shape_curves(sound_shapes(sound, _frames(sound))))
+        heard = openness(sound_mouth(sound, _frames(sound))[0])
         n = min(len(truth), len(heard))
         scores.append(max(np.corrcoef(np.roll(heard[:n], -lag), truth[:n])[0, 1] for lag in range(-12, 13)))
     assert min(scores) > 0.55, scores

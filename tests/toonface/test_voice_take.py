@@ -77,12 +77,28 @@ def test_a_voice_has_no_table_options(voice, capsys):
 @pytest.mark.realdata
 @pytest.mark.parametrize("suffix", [".tsv", ".json", ".xml"])
 def test_rhubarb_cues_read_back_as_the_motors_they_came_from(voice, tmp_path, suffix):
-    assert main(["lipsync", str(voice), "-o", str(tmp_path / f"cues{suffix}")]) == 0
-    assert main(["map", str(voice), "-o", str(tmp_path / "voice.csv")]) == 0
+    """From the phones heard, a frame is one shape: its cues are its motors exactly."""
+    assert main(["lipsync", str(voice), "--listen", "phones", "-o", str(tmp_path / f"cues{suffix}")]) == 0
+    assert main(["map", str(voice), "--listen", "phones", "-o", str(tmp_path / "voice.csv")]) == 0
     assert main(["map", str(tmp_path / f"cues{suffix}"), "-o", str(tmp_path / "cues.csv")]) == 0
     from_voice, from_cues = load_track(tmp_path / "voice.csv"), load_track(tmp_path / "cues.csv")
     assert from_cues.frames == from_voice.frames
     np.testing.assert_allclose(from_cues.values, from_voice.values, atol=1e-6)
+
+
+@pytest.mark.slow
+@pytest.mark.realdata
+def test_cues_from_the_sound_are_its_mouth_to_the_nearest_shape(voice, tmp_path):
+    """From the sound, a frame between two shapes weighs both; its cue is the heavier, so the
+    cues read back follow the voice's own motors, a shape at a time."""
+    assert main(["lipsync", str(voice), "-o", str(tmp_path / "cues.tsv")]) == 0
+    assert main(["map", str(voice), "-o", str(tmp_path / "voice.csv")]) == 0
+    assert main(["map", str(tmp_path / "cues.tsv"), "-o", str(tmp_path / "cues.csv")]) == 0
+    from_voice, from_cues = load_track(tmp_path / "voice.csv"), load_track(tmp_path / "cues.csv")
+    mb = MOTOR_CODES.index("MB")
+    voice_mb, cues_mb = from_voice.values[:, mb], from_cues.values[:, mb]
+    assert np.corrcoef(voice_mb, cues_mb)[0, 1] > 0.95 and np.abs(voice_mb - cues_mb).mean() < 0.03  # 0.973, 0.015
+    assert np.abs(voice_mb - cues_mb).max() > 0.01  # the voice's own mouth is not a shape at a time
 
 
 def test_cues_written_are_the_cues_read(tmp_path):
