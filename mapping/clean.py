@@ -8,7 +8,9 @@ one spike turns the whole head). Spikes are then rejected there, by the live tes
 offline one that looks both ways (on the head references too), and the head is fitted again
 without them, with the performer's reference shape the first fit measured. A frame with too few
 references seen, or only ones on a line, has no pose; a short stretch of them takes one carried
-across from the poses either side (:func:`~mapping.stabilise.bridge_lost_poses`). Gaps are filled
+across from the poses either side (:func:`~mapping.lost_poses.bridge_lost_poses`), set right by
+the references still seen there as far as they pin it (:func:`~mapping.lost_poses.refine_poses`:
+the midline's three pitch it where the head nods). Gaps are filled
 in the head frame (from both sides, and from the other markers for long ones; a marker set's
 independent markers, the pupils, only from each other or straight across), then everything is
 smoothed with a zero-phase low-pass, which has no lag because it may look ahead, and more
@@ -36,11 +38,11 @@ from mapping.filters import Butterworth
 from mapping.gap_fit import straight_line
 from mapping.gaps import GapFiller, gap_runs
 from mapping.holds import HoldSmoother
+from mapping.lost_poses import bridge_lost_poses, refine_poses
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
     Stabilised,
-    bridge_lost_poses,
     express,
     fit_head,
     nearest_rotation,
@@ -55,7 +57,7 @@ from mapping.stabilise import (
 class CleanReport:
     """What cleaning did: counts of marker-samples ``rejected``, ``filled`` and ``still_missing``,
     frames without a head pose (``no_head_frames``), frames whose pose was carried across from either side
-    (``bridged``, :func:`mapping.stabilise.bridge_lost_poses`) and how head motion was handled (``head``)."""
+    (``bridged``, :func:`mapping.lost_poses.bridge_lost_poses`) and how head motion was handled (``head``)."""
 
     rejected: int
     filled: int
@@ -132,14 +134,15 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
 
 def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray, rows: list[int]
                        ) -> tuple[Stabilised, int]:
-    """``first`` with short stretches without a head pose given one (:func:`mapping.stabilise.bridge_lost_poses`,
-    each pose either side trusted as well as its references pin it) and the markers seen there expressed in it; and
-    how many frames were bridged."""
+    """``first`` with short stretches without a head pose given one (:func:`mapping.lost_poses.bridge_lost_poses`,
+    each pose either side trusted as well as its references pin it; then :func:`mapping.lost_poses.refine_poses` by
+    the references seen there) and the markers seen there expressed in it; and how many frames were bridged."""
     trust = posedness(first.reference, np.isfinite(positions[:, rows, 0]))
     rotation, translation, bridged = bridge_lost_poses(first.rotation, first.translation, first.ok, times,
                                                        trust=trust)
     if not bridged.any():
         return first, 0
+    rotation, translation = refine_poses(rotation, translation, first.reference, positions[:, rows], bridged)
     local = first.local.copy()
     local[bridged] = to_head_frame(positions[bridged], rotation[bridged], translation[bridged])
     return Stabilised(local, rotation, translation, first.ok | bridged, first.reference), int(bridged.sum())

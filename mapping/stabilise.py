@@ -126,19 +126,22 @@ def posedness(shape: np.ndarray, seen: np.ndarray) -> np.ndarray:
     """How well the references seen in each frame ``(F, K)`` of ``shape`` ``(K, 3)`` pin the
     head's rotation, ``(F,)``: the smallest principal moment of inertia of the seen ones about
     their centre over all of theirs (1 with every reference seen; 0 with fewer than three)."""
-    def least_moment(rows: np.ndarray) -> float:
-        points = shape[rows] - shape[rows].mean(axis=0)
-        inertia = np.sum(points ** 2) * np.eye(3) - points.T @ points
-        return float(np.linalg.eigvalsh(inertia)[0])
-
     out = np.ones(len(seen))
     partial = ~seen.all(axis=1)  # every reference seen pins it fully: nothing to work out (a live frame, mostly)
     if partial.any():
-        everything = max(least_moment(np.ones(len(shape), bool)), 1e-12)
+        everything = max(least_moment(shape), 1e-12)
         patterns, inverse = np.unique(seen[partial], axis=0, return_inverse=True)
-        share = np.array([least_moment(row) / everything if row.sum() >= 3 else 0.0 for row in patterns])
+        share = np.array([least_moment(shape[row]) / everything if row.sum() >= 3 else 0.0 for row in patterns])
         out[partial] = share[inverse.reshape(-1)]
     return out
+
+
+def least_moment(points: np.ndarray) -> float:
+    """The smallest principal moment of inertia of ``points`` ``(K, 3)`` about their centre
+    (mm²): how well they pin the rotation they pin worst."""
+    centred = points - points.mean(axis=0)
+    inertia = np.sum(centred ** 2) * np.eye(3) - centred.T @ centred
+    return float(np.linalg.eigvalsh(inertia)[0])
 
 
 #: At most about this many frames, spread over the take, measure the performer's reference shape.
@@ -271,69 +274,3 @@ def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarra
         rot[start:end] = d_rot @ rotation[start:end]
         trans[start:end] = np.einsum("fij,fj->fi", d_rot, translation[start:end]) + d_trans
     return rot, trans
-
-
-#: The longest stretch without a head pose that :func:`bridge_lost_poses` bridges, seconds.
-LONGEST_LOST_POSE = 1.0
-#: Seconds of fitted poses either side of a lost stretch that the bridge is fitted to, at most
-#: (the stretch's own length, at least).
-POSE_CONTEXT = 0.3
-
-
-def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndarray, times: np.ndarray,
-                      longest: float = LONGEST_LOST_POSE, trust: np.ndarray | None = None
-                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The head pose carried across short stretches of frames without one, and which frames
-    it was carried across ``(F,)``.
-
-    A frame with fewer than three head references seen has no pose, and without one every
-    marker seen in it is lost to the head frame: when two references' gaps overlap for half a
-    second, a whole face's worth of seen motion (a blink, a smile starting) would be left to gap
-    filling, and even over a few frames each marker's spline through its noisy neighbours swung
-    by a millimetre. A head turns slowly next to a face's motion, so across a stretch of at most
-    ``longest`` seconds with a fitted pose on both sides, the pose is a quadratic in time fitted
-    to the poses either side, as many frames as the stretch is long, from 3 up to
-    :data:`POSE_CONTEXT` seconds (the rotation as a rotation vector from the last pose before
-    it, which keeps the angles small), and the markers seen there are expressed in it.
-
-    Parameters
-    ----------
-    rotation : ndarray, shape (F, 3, 3)
-    translation : ndarray, shape (F, 3)
-        Head frame to world, as fitted (anything where ``ok`` is False).
-    ok : ndarray of bool, shape (F,)
-        Frames with a fitted pose.
-    times : ndarray, shape (F,)
-        Seconds.
-    longest : float
-        Seconds; longer stretches stay without a pose.
-    trust : ndarray, shape (F,), optional
-        How far each fitted pose is to be trusted (:func:`posedness`: a fit on three references
-        close to a line swings more than one on five); the fit either side weighs each pose by
-        it. Equal trust by default.
-    """
-    from scipy.spatial.transform import Rotation
-
-    from mapping.gaps import gap_runs
-
-    rot, trans, bridged = rotation.copy(), translation.copy(), np.zeros(len(ok), bool)
-    step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
-    most = max(3, int(round(POSE_CONTEXT / step))) if step > 0 else 3
-    for start, end in gap_runs(~ok):
-        if start == 0 or end == len(ok) or times[end] - times[start - 1] > longest + 1.5 * step:
-            continue
-        reach = min(max(3, end - start), most)
-        around = np.r_[max(0, start - reach):start, end:min(len(ok), end + reach)]
-        around = around[ok[around]]
-        base = rotation[start - 1]
-        offsets = Rotation.from_matrix(np.einsum("ji,fjk->fik", base, rotation[around])).as_rotvec()
-        t = times[around] - times[start - 1]
-        degree = 2 if len(around) >= 6 else 1
-        weight = np.sqrt(trust[around])[:, None] if trust is not None else np.ones((len(around), 1))
-        design = np.vander(t, degree + 1)
-        coef, *_ = np.linalg.lstsq(design * weight, np.hstack([offsets, translation[around]]) * weight, rcond=None)
-        inside = np.vander(times[start:end] - times[start - 1], degree + 1) @ coef
-        rot[start:end] = base @ Rotation.from_rotvec(inside[:, :3]).as_matrix()
-        trans[start:end] = inside[:, 3:]
-        bridged[start:end] = True
-    return rot, trans, bridged

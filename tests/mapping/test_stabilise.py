@@ -158,7 +158,7 @@ def test_a_head_reference_spike_with_few_references_seen_does_not_turn_the_head(
     18 degrees (found on the second bench performer). The references'
     own spikes are found first, in the world, where the head's smooth motion bends no path; and
     three references on one line pin no yaw at all, so that second's pose is carried across from
-    either side (mapping.stabilise.well_posed, bridge_lost_poses)."""
+    either side (mapping.stabilise.well_posed, mapping.lost_poses)."""
     syn = synthesize(rate=60.0, noise_mm=0.2, performance=default_performance(8, max_turn_deg=30), seed=4)
     pos = syn.take.positions.copy()
     for label in ("TEMPLE_R", "TEMPLE_L"):
@@ -218,7 +218,7 @@ def test_a_lost_pose_is_carried_across_by_the_poses_that_are_pinned_best():
     off; weighed by how well its references pin the head, it hardly bends the carried pose."""
     from scipy.spatial.transform import Rotation
 
-    from mapping.stabilise import bridge_lost_poses
+    from mapping.lost_poses import bridge_lost_poses
 
     times = np.arange(120) / 60.0
     rotation, translation = np.tile(np.eye(3), (120, 1, 1)), np.zeros((120, 3))
@@ -232,3 +232,42 @@ def test_a_lost_pose_is_carried_across_by_the_poses_that_are_pinned_best():
         _, carried, bridged = bridge_lost_poses(rotation, translation, ok, times, trust=weights)
         assert bridged[50:60].all() and not bridged[:50].any()
         assert (np.abs(carried[50:60, 0]).max() < 0.5) == near, (weights is None, carried[50:60, 0])
+
+
+def test_a_nod_that_stops_while_the_temples_are_lost_follows_the_midline_references():
+    """The head nods 20 degrees and stops inside half a second without either temple (found on
+    the second bench performer): the pose carried across from either side cuts the corner by
+    degrees, and every marker in the head frame moved by up to 14 mm. The forehead, nose bridge
+    and nose tip still seen pin a nod well (not a turn about their line), so the carried pose
+    follows them there, weighed as one fit on all five references (7.7 degrees off -> 2.9 at
+    worst); with no reference seen it stays as carried."""
+    from scipy.spatial.transform import Rotation
+
+    from mapping.lost_poses import bridge_lost_poses, refine_poses
+
+    ms = load_markerset("toon32")
+    shape = np.array([ms.neutral_of(r) for r in ms.head_reference])
+    times = np.arange(120) / 60.0
+    pitch = -20.0 * np.clip((times - 0.5) / 0.35, 0.0, 1.0)  # degrees: a nod from 0.5 s that stops at 0.85 s
+    rotation = Rotation.from_euler("x", pitch[:, None], degrees=True).as_matrix()
+    translation = np.tile([5.0, -3.0, 600.0], (120, 1))
+    target = np.einsum("fij,kj->fki", rotation, shape) + translation[:, None, :]
+    target += np.random.default_rng(5).normal(0.0, 0.3, target.shape)
+    lost = np.zeros(120, bool)
+    lost[36:63] = True  # 0.6-1.05 s: the nod's second half and its stop
+    target[np.ix_(lost, [1, 2])] = np.nan
+    carried_rot, carried_trans, bridged = bridge_lost_poses(rotation, translation, ~lost, times)
+    assert (bridged == lost).all()
+    refined_rot, _ = refine_poses(carried_rot, carried_trans, shape, target, bridged)
+
+    def error(rot):  # degrees from the true pose, per lost frame
+        rel = np.einsum("fji,fjk->fik", rotation[lost], rot[lost])
+        return np.degrees(np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1.0, 1.0)))
+
+    assert error(carried_rot).max() > 7.0 > 3.0 > error(refined_rot).max(), (error(carried_rot).max(),
+                                                                             error(refined_rot).max())
+    unseen = target.copy()
+    unseen[lost] = np.nan
+    kept_rot, kept_trans = refine_poses(carried_rot, carried_trans, shape, unseen, bridged)
+    np.testing.assert_allclose(kept_rot, carried_rot, atol=1e-9)
+    np.testing.assert_allclose(kept_trans, carried_trans, atol=1e-6)
