@@ -51,9 +51,9 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
     longest : float
         Seconds; longer stretches stay without a pose.
     trust : ndarray, shape (F,), optional
-        How far each fitted pose is to be trusted (:func:`posedness`: a fit on three references
-        close to a line swings more than one on five); the fit either side weighs each pose by
-        it. Equal trust by default.
+        How far each fitted pose is to be trusted (:func:`mapping.stabilise.posedness`: a fit
+        on three references close to a line swings more than one on five); the fit either side
+        weighs each pose by it. Equal trust by default.
     """
     from scipy.spatial.transform import Rotation
 
