@@ -174,13 +174,12 @@ class GapFiller:
                 pad = max(int(self.window_seconds * rate), end - start)
                 lo, hi = max(0, start - pad), min(frames, end + pad)
                 others, rows, own = _predictors(pos, seen_all, m, start, end, lo, hi, candidates)
-                if len(own) < 8 and m in apart:
-                    pos[start:end, m] = straight_line(pos[:, m], times, start, end)
-                    seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
-                    continue
-                if len(own) < 8:
-                    self._splines(pos, times, _only(wanted, start, end, m))
-                    seen_all[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
+                if len(own) < 8:  # too few frames to learn from: its own line (apart) or spline
+                    if m in apart:
+                        pos[start:end, m] = straight_line(pos[:, m], times, start, end)
+                    else:
+                        self._splines(pos, times, _only(wanted, start, end, m))
+                    _filled(pos, steady, seen_all, start, end, m)
                     continue
                 near = pos[own][:, others] - pos[own, m][:, None]
                 weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
@@ -208,8 +207,8 @@ class GapFiller:
                     else:
                         spline = CubicSpline(times[own], relative, axis=0)(times[start:end])
                     regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
-                pos[start:end, m] = steady[start:end, m] = regressed
-                seen_all[start:end, m] = True
+                pos[start:end, m] = regressed
+                _filled(pos, steady, seen_all, start, end, m)
 
 
 def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
@@ -248,6 +247,15 @@ def _relevance(target: np.ndarray, other: np.ndarray, both: np.ndarray) -> float
     coef, *_ = np.linalg.lstsq(x, y, rcond=None)
     residual = y - x @ coef
     return 1.0 - float((residual * residual).sum()) / total
+
+
+def _filled(pos: np.ndarray, steady: np.ndarray, seen: np.ndarray, start: int, end: int, m: int) -> None:
+    """Marker ``m``'s gap ``[start, end)`` just filled in ``pos``: what it predicts later gaps
+    from as seen (``seen``) and as read (``steady``, the predictors' local mean: the filled
+    samples as they are), wherever the fill gave a position."""
+    if steady is not pos:
+        steady[start:end, m] = pos[start:end, m]
+    seen[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
 
 
 def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
