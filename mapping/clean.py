@@ -137,6 +137,8 @@ def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarr
     """``first`` with short stretches without a head pose given one (:func:`mapping.lost_poses.bridge_lost_poses`,
     each pose either side trusted as well as its references pin it; then :func:`mapping.lost_poses.refine_poses` by
     the references seen there) and the markers seen there expressed in it; and how many frames were bridged."""
+    if first.ok.all():  # every frame has its own pose: nothing to carry across
+        return first, 0
     trust = posedness(first.reference, np.isfinite(positions[:, rows, 0]))
     rotation, translation, bridged = bridge_lost_poses(first.rotation, first.translation, first.ok, times,
                                                        trust=trust)

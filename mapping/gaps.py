@@ -167,7 +167,8 @@ class GapFiller:
         frames, markers, dims = pos.shape
         seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
         half = int(round(self.predictor_mean_seconds * rate))
-        steady = local_mean(pos, max(1, half)) if self.predictor_mean_seconds > 0 else pos  # what predictors say
+        # what predictors say, read as their local mean: only ever chosen by validation
+        steady = local_mean(pos, max(1, half)) if self.validate and self.predictor_mean_seconds > 0 else pos
         for m in map(int, np.flatnonzero(wanted.any(axis=0))):
             candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
             for start, end in gap_runs(wanted[:, m]):

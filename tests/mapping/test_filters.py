@@ -338,7 +338,7 @@ def test_stand_in_fits_from_running_sums_equal_fits_on_the_rows_left():
             np.testing.assert_allclose(fast[b], ridge_predict(x, keep, y[keep], ridge)[rows[b]], atol=1e-10)
 
 
-@pytest.mark.parametrize("seed", [2, 7, 12, 14, 15, 21])
+@pytest.mark.parametrize("seed", [0, 2, 7, 8, 9, 16])  # each raised before the fix
 def test_heavy_dropout_is_filled_or_left_unseen_never_a_crash(seed):
     """Markers lost often and long (found by random takes: 71 of 300 raised): a marker too
     rarely seen to learn from is filled by its own spline, and what predicts later gaps from
