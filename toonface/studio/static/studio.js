@@ -214,5 +214,8 @@
   $("follow").addEventListener("change", (event) => send({op: "follow", on: event.target.checked}));
   $("show-points").addEventListener("change", (event) => $("handles").classList.toggle("hidden", !event.target.checked));
   $("stage").addEventListener("pointermove", follow);
-  connect();
+  // the socket opens once every script has loaded: a message that came while a later script was
+  // still downloading would find none of its handlers (the face editor's lists stayed empty)
+  if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", connect);
+  else connect();
 })();
