@@ -11,6 +11,13 @@ motor has moved (beyond 0.3 of its way) and the rule's own sources are not being
 0.9), only where both were seen (a filled gap would teach the filler's guess back). Mapping
 then subtracts that share of the other motor's measured motion from each source before the
 sources combine, offline and live alike.
+
+The motion a driver carries is the same distance whichever side of rest the source stands
+(raised brows lift a lid by a millimetre, open or shut), but a source's range may differ
+either side (an upper lid shuts by 3.5 mm and opens by 0.6): so the coupling is measured and
+taken away in the source's own units, and kept as a share of the source's range on the side
+it moves the source toward. Taken away as a share of whichever side the source stands on, a
+lid lifted by raised brows and blinking at once read as shut four times too early.
 """
 
 from __future__ import annotations
@@ -18,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from mapping.mapfile import Mapping, MotorRule
+from mapping.plan import resolved_mode, span_of
 from mapping.profile import Profile
 from mapping.sources import Source
 from toon.motors import MIRROR_PAIRS
@@ -34,6 +42,17 @@ def driver_of(mapping: Mapping, code: str) -> tuple[MotorRule, Source]:
     """The rule of motor ``code`` and the source that stands for its motion (its first)."""
     rule = next(r for r in mapping.rules if r.code == code)
     return rule, rule.sources[0]
+
+
+def sides(source: Source, rule: MotorRule, profile: Profile) -> tuple[float, float]:
+    """How far a source's normalised value (:func:`mapping.mapper.normalise`) reaches per unit
+    on its positive and its negative side, in the source's own units: the performer's range
+    above and below rest (swapped where the source is inverted); 1 and 1 where no range
+    normalises it (a score, a scale)."""
+    if resolved_mode(rule, profile) != "profile" or source.key not in profile.sources:
+        return 1.0, 1.0
+    _, up, down = span_of(profile.sources[source.key])
+    return (down, up) if source.invert else (up, down)
 
 
 def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np.ndarray]
@@ -53,30 +72,39 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
             d = normalised[driver.key]
             for i, source in enumerate(rule.sources):
                 x = normalised[source.key]
-                sides: list[float | None] = []
+                up, down = sides(source, rule, profile)
+                units = np.where(x >= 0, x * up, x * down)  # the source's own units
+                slopes: list[float | None] = []
                 for side in (-1.0, 1.0):
                     at = (side * d >= MOVED) & (own < EXTREME) & np.isfinite(x)
-                    sides.append(float(np.sum(x[at] * d[at]) / np.sum(d[at] ** 2)) if at.sum() >= MIN_FRAMES
-                                 else None)
-                measured[(rule.code, i, code)] = sides
+                    if at.sum() < MIN_FRAMES:
+                        slopes.append(None)
+                        continue
+                    slope = float(np.sum(units[at] * d[at]) / np.sum(d[at] ** 2))
+                    slopes.append(slope / (up if slope * side >= 0 else down))  # a share of the side it moves to
+                measured[(rule.code, i, code)] = slopes
     mirror = {a: b for a, b in MIRROR_PAIRS} | {b: a for a, b in MIRROR_PAIRS}
     out: dict[str, dict[str, tuple[float, float]]] = {}
-    for (code, i, driver_code), sides in measured.items():
+    for (code, i, driver_code), found in measured.items():
         partner = measured.get((mirror.get(code, code), i, mirror.get(driver_code, driver_code)), [None, None])
-        slopes = [s if s is not None else (p if p is not None else 0.0) for s, p in zip(sides, partner, strict=True)]
-        if any(slopes):
+        kept = [s if s is not None else (p if p is not None else 0.0) for s, p in zip(found, partner, strict=True)]
+        if any(kept):
             rule, (_, driver) = next(r for r in mapping.rules if r.code == code), driver_of(mapping, driver_code)
-            out.setdefault(rule.sources[i].key, {})[driver.key] = (slopes[0], slopes[1])
+            out.setdefault(rule.sources[i].key, {})[driver.key] = (kept[0], kept[1])
     return out
 
 
-def decoupled(value: np.ndarray, source: Source, drivers: dict[str, np.ndarray], profile: Profile) -> np.ndarray:
+def decoupled(value: np.ndarray, source: Source, drivers: dict[str, np.ndarray], profile: Profile,
+              reach: tuple[float, float] = (1.0, 1.0)) -> np.ndarray:
     """A source's normalised values ``(F,)`` less the share of each driver's normalised motion
-    (``drivers``: driver source key -> ``(F,)``) the profile measured; a driver not seen in a
-    frame takes nothing away there."""
-    out = value
+    (``drivers``: driver source key -> ``(F,)``) the profile measured, taken away in the
+    source's own units: ``reach``, what one unit of its value is on its positive and its
+    negative side (:func:`sides`). A driver not seen in a frame takes nothing away there."""
+    up, down = reach
+    units = np.where(value >= 0, value * up, value * down)
     for key, (below, above) in profile.couplings.get(source.key, {}).items():
         if key in drivers:
             d = np.nan_to_num(drivers[key], nan=0.0)
-            out = out - np.where(d < 0, below, above) * d
-    return out
+            carried = np.where(d < 0, below, above) * d  # a share of the side it moves the source to
+            units = units - np.where(carried >= 0, carried * up, carried * down)
+    return np.where(units >= 0, units / up, units / down)
