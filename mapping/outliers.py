@@ -17,6 +17,9 @@ from mapping.filters import Stepwise
 
 #: The fastest plausible facial motion, mm/s (0.0766 mm/ms, ``../shared/realdata/README.md``).
 FACE_SPEED_MM_S = 76.6
+#: A sample at a gap's edge is judged against a line carried on from one side, whose jitter
+#: is twice that of the line between two neighbours (:func:`centred_spikes`): twice the bound.
+EDGE_FACTOR = 2.0
 
 
 class SpeedBound(Stepwise):
@@ -183,10 +186,15 @@ def centred_spikes(positions: np.ndarray, t: np.ndarray, threshold: float = 4.0,
 
     Motion that bends sharply between frames (the bottom of a fast blink) misses the line too,
     by about one frame's travel; ``threshold`` and ``floor`` keep that in, and a sample wrongly
-    rejected costs little: it becomes a one-frame gap that gap filling bridges. A sample at the
-    edge of a gap is not tested here (carrying a line on from one side doubles its jitter and
-    what a bend costs; measured on the second bench performer, rejecting there lost more
-    than it caught).
+    rejected costs little: it becomes a one-frame gap that gap filling bridges.
+
+    A sample at the edge of a gap (no seen sample within two frames on one side) is judged in
+    the same rounds against the line through the two nearest samples on its other side, carried
+    on to it: carrying a line doubles its jitter and what a bend costs, so its bound is
+    :data:`EDGE_FACTOR` times the centred one. Left untested, a spike just before a gap stayed
+    in the take whole, its neighbours were rejected in its place (they missed their lines by
+    half the spike, it missed none), and the low-pass spread it over what was left: a 13 mm
+    spike beside a mouth corner's gap read as 3 mm of motion.
 
     Parameters
     ----------
@@ -215,6 +223,55 @@ def centred_spikes(positions: np.ndarray, t: np.ndarray, threshold: float = 4.0,
 def _centred_peaks(x: np.ndarray, times: np.ndarray, threshold: float, floor: float) -> np.ndarray:
     """One round of :func:`centred_spikes` on ``x`` ``(F, M, D)``: the samples to reject, ``(F, M)``.
 
+    A sample at a gap's edge takes part with its miss of the line carried on to it: a spike
+    there makes its neighbour miss its own centred line by half as much, and the larger miss
+    is the one rejected."""
+    miss, ok, before, after = _centred_misses(x, times)
+    bound = _bound(miss, ok, threshold, floor)
+    edge, carried = _edge_misses(x, times, before, after)
+    peak = (ok & (miss > bound)) | (edge & (carried > EDGE_FACTOR * bound))
+    value = np.where(edge, carried, miss)
+    peak[1:] &= value[1:] >= value[:-1]
+    peak[:-1] &= value[:-1] >= value[1:]
+    return peak
+
+
+def _edge_misses(x: np.ndarray, times: np.ndarray, before: np.ndarray, after: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Which samples of ``x`` ``(F, M, D)`` are at a gap's edge (no seen sample within two
+    frames on one side, two on the other, each within two frames of the last) and how far each
+    misses the line through those two carried on to it; both ``(F, M)``. ``before`` and
+    ``after``: each sample's nearest seen frame either side (:func:`_centred_misses`)."""
+    frames, markers = before.shape
+    here = np.arange(frames)[:, None]
+    lone_after = (after - here > 2) & (here - before <= 2) & (before >= 0)  # a gap after, seen before
+    lone_before = (here - before > 2) & (after - here <= 2) & (after < frames)
+    seen = _seen(x)
+    edge, carried = np.zeros((frames, markers), bool), np.zeros((frames, markers))
+    for lone, near in ((lone_after, before), (lone_before, after)):
+        f, m = np.nonzero(seen & lone)
+        a = near[f, m]  # the nearest sample on the seen side, and the next one beyond it
+        b = near[a, m]
+        use = (b >= 0) & (b < frames) & (np.abs(a - b) <= 2)
+        f, m, a, b = f[use], m[use], a[use], b[use]
+        w = ((times[f] - times[a]) / (times[a] - times[b]))[:, None]
+        edge[f, m] = True
+        carried[f, m] = _length(x[f, m] - (x[a, m] + (x[a, m] - x[b, m]) * w))
+    return edge, carried
+
+
+def _bound(miss: np.ndarray, ok: np.ndarray, threshold: float, floor: float) -> np.ndarray:
+    """Each marker's bound on a centred miss ``(M,)``: ``threshold`` × the robust scale of its
+    tested misses (``miss``, ``ok``: ``(F, M)``) plus ``floor``."""
+    scale = 1.4826 * column_nan_median(np.where(ok, miss, np.nan))  # NaN for a marker never tested
+    return threshold * np.nan_to_num(scale) + floor
+
+
+def _centred_misses(x: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """How far each sample of ``x`` ``(F, M, D)`` misses the line between its seen neighbours
+    (within two frames either side), where it has both (``ok``); and each sample's nearest seen
+    frame before and after it (-1 and ``F`` where none); all ``(F, M)``.
+
     Where both neighbours are the next frames (nearly everywhere) the line between them comes
     from shifted views of the take; the samples beside a gap are gathered one by one."""
     frames, markers = x.shape[:2]
@@ -236,11 +293,7 @@ def _centred_peaks(x: np.ndarray, times: np.ndarray, threshold: float, floor: fl
         b, a = before[f, m], after[f, m]
         w = ((times[f] - times[b]) / (times[a] - times[b]))[:, None]
         miss[f, m] = _length(x[f, m] - (x[b, m] * (1 - w) + x[a, m] * w))
-    scale = 1.4826 * column_nan_median(np.where(ok, miss, np.nan))  # NaN for a marker never tested
-    peak = ok & (miss > threshold * np.nan_to_num(scale) + floor)
-    peak[1:] &= miss[1:] >= miss[:-1]
-    peak[:-1] &= miss[:-1] >= miss[1:]
-    return peak
+    return miss, ok, before, after
 
 
 def _seen(a: np.ndarray) -> np.ndarray:
