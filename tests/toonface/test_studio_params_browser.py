@@ -26,6 +26,7 @@ def test_the_face_editor_declares_a_parameter_its_slider_and_staff_move_the_face
     with studio_page(session, READY, 1400, 1000) as driver:
         driver.execute_script("document.getElementById('face-panel').open = true;")
         driver.find_element("id", "fparam-code").send_keys("SNARL")
+        wait_for(driver, "document.querySelector('#fparam-point option[value=\"MT\"]') !== null")  # points listed
         Select(driver.find_element("id", "fparam-point")).select_by_value("MT")
         dy = driver.find_element("id", "fparam-dy")
         dy.clear()
