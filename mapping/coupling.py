@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from mapping.mapfile import Mapping, MotorRule
-from mapping.plan import resolved_mode, span_of
+from mapping.plan import reach_of
 from mapping.profile import Profile
 from mapping.sources import Source
 from toon.motors import MIRROR_PAIRS
@@ -42,17 +42,6 @@ def driver_of(mapping: Mapping, code: str) -> tuple[MotorRule, Source]:
     """The rule of motor ``code`` and the source that stands for its motion (its first)."""
     rule = next(r for r in mapping.rules if r.code == code)
     return rule, rule.sources[0]
-
-
-def sides(source: Source, rule: MotorRule, profile: Profile) -> tuple[float, float]:
-    """How far a source's normalised value (:func:`mapping.mapper.normalise`) reaches per unit
-    on its positive and its negative side, in the source's own units: the performer's range
-    above and below rest (swapped where the source is inverted); 1 and 1 where no range
-    normalises it (a score, a scale)."""
-    if resolved_mode(rule, profile) != "profile" or source.key not in profile.sources:
-        return 1.0, 1.0
-    _, up, down = span_of(profile.sources[source.key])
-    return (down, up) if source.invert else (up, down)
 
 
 def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np.ndarray]
@@ -72,7 +61,7 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
             d = normalised[driver.key]
             for i, source in enumerate(rule.sources):
                 x = normalised[source.key]
-                up, down = sides(source, rule, profile)
+                up, down = reach_of(source, rule, profile)
                 units = np.where(x >= 0, x * up, x * down)  # the source's own units
                 slopes: list[float | None] = []
                 for side in (-1.0, 1.0):
@@ -99,7 +88,7 @@ def decoupled(value: np.ndarray, source: Source, drivers: dict[str, np.ndarray],
     """A source's normalised values ``(F,)`` less the share of each driver's normalised motion
     (``drivers``: driver source key -> ``(F,)``) the profile measured, taken away in the
     source's own units: ``reach``, what one unit of its value is on its positive and its
-    negative side (:func:`sides`). A driver not seen in a frame takes nothing away there."""
+    negative side (:func:`mapping.plan.reach_of`). A driver not seen in a frame takes nothing away there."""
     up, down = reach
     units = np.where(value >= 0, value * up, value * down)
     for key, (below, above) in profile.couplings.get(source.key, {}).items():

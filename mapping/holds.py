@@ -27,9 +27,10 @@ from mapping.gaps import gap_runs
 
 #: The heavier low-passes, Hz, tried one after another where a marker holds (each used only
 #: below the take's own cut-off), an octave apart. Against (2, 0.7): the third bench
-#: performer's fitted error 2.08 -> 2.07 % on the bench's seeds and 2.17 -> 2.15 % on nine other
-#: sensor draws, the others' unchanged, for 7 ms more a minute of 120 Hz toon32. A 4 Hz level
-#: first did better still (2.03 %) but made blinks shallower and a 1.5 Hz motion smaller.
+#: performer's fitted error 2.08 -> 2.07 % on the bench's seeds and 2.17 -> 2.15 % on nine
+#: other sensor draws, the others' unchanged, for about 6 ms more per 30 s of 120 Hz toon32
+#: (45 -> 51 ms, the smoother alone). A 4 Hz level first did better still (2.03 %) but made
+#: blinks shallower and a 1.5 Hz motion smaller.
 LEVELS: tuple[float, ...] = (2.0, 1.0, 0.5)
 #: A level is left where the two low-passes differ by more than this many times the spread their
 #: difference has on noise alone (RMS over the axes), and wholly from twice that.

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mapping.coupling import decoupled, driver_of, sides
+from mapping.coupling import decoupled, driver_of
 from mapping.mapfile import Mapping, MotorRule
 from mapping.plan import MODES, ONLY_SIGN, MotorPlan, combine_pairs, normalise_pairs, resolved_mode, span_of
 from mapping.profile import Profile, SourceRange
@@ -108,8 +108,8 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
                                  plan.only)
     if drivers:
         for j in np.flatnonzero(plan.decouples):
-            source, rule = plan.sources[j], rules[int(plan.rule[j])]
-            normalised[:, j] = decoupled(normalised[:, j], source, drivers, profile, sides(source, rule, profile))
+            normalised[:, j] = decoupled(normalised[:, j], plan.sources[j], drivers, profile,
+                                         (float(plan.reach[j, 0]), float(plan.reach[j, 1])))
     combined = combine_pairs(normalised, plan) * plan.invert
     rest = np.asarray(neutral, dtype=float)[plan.columns]
     # the performer's range (or a score) onto the motor's way to 0 or to 1

@@ -226,9 +226,9 @@ def _centred_peaks(x: np.ndarray, times: np.ndarray, threshold: float, floor: fl
     A sample at a gap's edge takes part with its miss of the line carried on to it: a spike
     there makes its neighbour miss its own centred line by half as much, and the larger miss
     is the one rejected."""
-    miss, ok, before, after = _centred_misses(x, times)
+    miss, ok, seen, before, after = _centred_misses(x, times)
     bound = _bound(miss, ok, threshold, floor)
-    edge, carried = _edge_misses(x, times, before, after)
+    edge, carried = _edge_misses(x, times, seen, before, after)
     peak = (ok & (miss > bound)) | (edge & (carried > EDGE_FACTOR * bound))
     value = np.where(edge, carried, miss)
     peak[1:] &= value[1:] >= value[:-1]
@@ -236,17 +236,17 @@ def _centred_peaks(x: np.ndarray, times: np.ndarray, threshold: float, floor: fl
     return peak
 
 
-def _edge_misses(x: np.ndarray, times: np.ndarray, before: np.ndarray, after: np.ndarray
+def _edge_misses(x: np.ndarray, times: np.ndarray, seen: np.ndarray, before: np.ndarray, after: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Which samples of ``x`` ``(F, M, D)`` are at a gap's edge (no seen sample within two
     frames on one side, two on the other, each within two frames of the last) and how far each
-    misses the line through those two carried on to it; both ``(F, M)``. ``before`` and
-    ``after``: each sample's nearest seen frame either side (:func:`_centred_misses`)."""
+    misses the line through those two carried on to it; both ``(F, M)``. ``seen``, ``before``
+    and ``after``: which samples are seen and each one's nearest seen frame either side
+    (:func:`_centred_misses`)."""
     frames, markers = before.shape
     here = np.arange(frames)[:, None]
     lone_after = (after - here > 2) & (here - before <= 2) & (before >= 0)  # a gap after, seen before
     lone_before = (here - before > 2) & (after - here <= 2) & (after < frames)
-    seen = _seen(x)
     edge, carried = np.zeros((frames, markers), bool), np.zeros((frames, markers))
     for lone, near in ((lone_after, before), (lone_before, after)):
         f, m = np.nonzero(seen & lone)
@@ -267,10 +267,11 @@ def _bound(miss: np.ndarray, ok: np.ndarray, threshold: float, floor: float) -> 
     return threshold * np.nan_to_num(scale) + floor
 
 
-def _centred_misses(x: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _centred_misses(x: np.ndarray, times: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """How far each sample of ``x`` ``(F, M, D)`` misses the line between its seen neighbours
-    (within two frames either side), where it has both (``ok``); and each sample's nearest seen
-    frame before and after it (-1 and ``F`` where none); all ``(F, M)``.
+    (within two frames either side), where it has both (``ok``); which samples are seen; and
+    each sample's nearest seen frame before and after it (-1 and ``F`` where none); all ``(F, M)``.
 
     Where both neighbours are the next frames (nearly everywhere) the line between them comes
     from shifted views of the take; the samples beside a gap are gathered one by one."""
@@ -293,7 +294,7 @@ def _centred_misses(x: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.nd
         b, a = before[f, m], after[f, m]
         w = ((times[f] - times[b]) / (times[a] - times[b]))[:, None]
         miss[f, m] = _length(x[f, m] - (x[b, m] * (1 - w) + x[a, m] * w))
-    return miss, ok, before, after
+    return miss, ok, seen, before, after
 
 
 def _seen(a: np.ndarray) -> np.ndarray:

@@ -43,6 +43,9 @@ class MotorPlan:
         and ranges above and below it, the rule's scale, -1 for an inverted source, +1 where
         only its increase counts and -1 only its decrease (0 both), its weight (1 unless
         weighted) and whether it is decoupled.
+    reach : ndarray, shape (J, 2)
+        What one unit of each pair's normalised value is in the source's own units on its
+        positive and its negative side (:func:`reach_of`), set with the profile.
     counts, starts : ndarray of int, shape (R,)
         Each rule's number of sources and its first pair.
     columns, invert, ways, gain, offset, low, high, hard : ndarray, shape (R,)
@@ -95,6 +98,7 @@ class MotorPlan:
     pairs: np.ndarray
     several_starts: np.ndarray
     groups: list[tuple[str, np.ndarray]]
+    reach: np.ndarray
 
     @classmethod
     def of(cls, rules: tuple[MotorRule, ...], profile: Profile, columns: dict[str, int]) -> MotorPlan:
@@ -147,22 +151,25 @@ class MotorPlan:
             soft=[r for r, rule in enumerate(rules) if rule.clamp == "soft"],
             alone=np.flatnonzero(counts == 1), several=several, pairs=in_several,
             several_starts=np.searchsorted(rule_of[in_several], several),
-            groups=[(how, np.flatnonzero([c == how for c in combines])) for how in dict.fromkeys(combines)])
+            groups=[(how, np.flatnonzero([c == how for c in combines])) for how in dict.fromkeys(combines)],
+            reach=np.ones((len(pairs), 2)))
         return plan.under(rules, profile)
 
     def under(self, rules: tuple[MotorRule, ...], profile: Profile) -> MotorPlan:
         """This plan (of ``rules``) with ``profile``'s ranges: what changes with the profile
         alone (a live learner's widening ranges) without working the rest out again."""
         modes = [resolved_mode(rule, profile) for rule in rules]
-        spans = []
+        spans, reach = [], []
         for source, r in zip(self.sources, self.rule, strict=True):
             span = profile.sources.get(source.key)
             if modes[r] == "profile" and span is None:
                 raise ValueError(f"motor {rules[r].code}: a profile-normalised rule needs the range of {source.key}")
             spans.append(span_of(span))
+            reach.append(reach_of(source, rules[r], profile))
         rest, up, down = (np.array(column, dtype=float) for column in zip(*spans, strict=True))
         return replace(self, mode=np.array([MODES.index(modes[r]) for r in self.rule], dtype=int), rest=rest,
-                       up=up, down=down, ways=np.array([m in ("profile", "score") for m in modes]))
+                       up=up, down=down, ways=np.array([m in ("profile", "score") for m in modes]),
+                       reach=np.array(reach, dtype=float).reshape(len(self.sources), 2))
 
 
 def span_of(span: SourceRange | None) -> tuple[float, float, float]:
@@ -170,6 +177,17 @@ def span_of(span: SourceRange | None) -> tuple[float, float, float]:
     if span is None:
         return 0.0, 1.0, 1.0
     return span.neutral, max(span.high - span.neutral, 1e-9), max(span.neutral - span.low, 1e-9)
+
+
+def reach_of(source: Source, rule: MotorRule, profile: Profile) -> tuple[float, float]:
+    """How far a source's normalised value (:func:`mapping.mapper.normalise`) reaches per unit
+    on its positive and its negative side, in the source's own units: the performer's range
+    above and below rest (swapped where the source is inverted); 1 and 1 where no range
+    normalises it (a score, a scale)."""
+    if resolved_mode(rule, profile) != "profile" or source.key not in profile.sources:
+        return 1.0, 1.0
+    _, up, down = span_of(profile.sources[source.key])
+    return (down, up) if source.invert else (up, down)
 
 
 def resolved_mode(rule: MotorRule, profile: Profile) -> str:

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from mapping import load_mapping
-from mapping.coupling import decoupled, learn_couplings, sides
+from mapping.coupling import decoupled, learn_couplings
+from mapping.plan import reach_of
 from mapping.profile import Profile, SourceRange
 
 UP, DOWN = 0.6, 3.5  # the lid's range above and below its rest, mm
@@ -32,7 +33,7 @@ def _normalised(mm: np.ndarray) -> np.ndarray:
 
 def test_the_sources_reach_either_side_is_its_range(lid):
     mapping, rule, _, profile = lid
-    assert sides(rule.sources[0], rule, profile) == pytest.approx((UP, DOWN))
+    assert reach_of(rule.sources[0], rule, profile) == pytest.approx((UP, DOWN))
 
 
 def test_a_brow_sweep_teaches_the_lift_as_a_share_of_the_side_it_lifts_toward(lid):
@@ -59,6 +60,6 @@ def test_a_blink_under_raised_brows_reads_as_far_shut_as_it_is(lid):
     own = np.array([-3.0, -1.0, 0.0, 0.3])  # the lid's own motion, mm
     brows = np.array([1.0, 0.5, 1.0, 0.0])
     seen = _normalised(own + CARRIED * brows)
-    out = decoupled(seen, rule.sources[0], {brow.key: brows}, profile, sides(rule.sources[0], rule, profile))
+    out = decoupled(seen, rule.sources[0], {brow.key: brows}, profile, reach_of(rule.sources[0], rule, profile))
     assert out == pytest.approx(_normalised(own))
     assert out[0] == pytest.approx(-3.0 / DOWN)
