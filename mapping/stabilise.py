@@ -146,6 +146,10 @@ def least_moment(points: np.ndarray) -> float:
 
 #: At most about this many frames, spread over the take, measure the performer's reference shape.
 SHAPE_FRAMES = 1000
+#: The references' shape is measured again in the head fitted with it until it moves by under
+#: this much (mm), at most :data:`SHAPE_ROUNDS` times.
+SHAPE_SETTLED_MM = 0.05
+SHAPE_ROUNDS = 6
 
 
 @dataclass(frozen=True, eq=False)
@@ -196,13 +200,19 @@ def fit_head(positions: np.ndarray, reference_rows: list[int], reference_neutral
     shape = np.asarray(reference_neutral, dtype=np.float64)
     if own_shape:  # measured on frames spread over the take: a median of thousands is no surer
         sample = target[::max(1, len(target) // SHAPE_FRAMES)]
-        rot, trans, ok = robust_rigid_fit(shape, sample)
-        if ok.any():
+        for _ in range(SHAPE_ROUNDS):
+            rot, trans, ok = robust_rigid_fit(shape, sample)
+            if not ok.any():
+                break
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
                 own = np.nanmedian(to_head_frame(sample[ok], rot[ok], trans[ok]), axis=0)
             own = np.where(np.isnan(own), shape, own)
-            shape = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
+            own = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
+            moved = float(np.abs(own - shape).max())
+            shape = own
+            if moved < SHAPE_SETTLED_MM:
+                break
     rot, trans, ok = robust_rigid_fit(shape, target)
     if not ok.any():
         return Failure("fewer than 3 head reference markers are seen in every frame")
