@@ -9,7 +9,8 @@ side) by ridge regression, which keeps their strong principal directions and shr
 ones (a hard cut to the first few components lost small but telling motions such as the other
 pupil's); what the regression misses at the gap's two ends is bridged by a straight line, so
 the filled stretch meets the real samples at both ends (a spline through the noisy residuals
-on either side swung by many millimetres across the gap).
+on either side swung by many millimetres across the gap). A gap that a marker seen through part
+of it could have told about is filled again once every gap has been filled once.
 
 Gaps of at most ``spline_frames`` frames use a cubic spline through the marker's own samples
 (never worse than a spline there, by construction); gaps longer than ``max_gap_seconds`` stay
@@ -163,53 +164,76 @@ class GapFiller:
         at least the gap's length, on each side) the missing marker is ridge-regressed on them
         over the frames where all of them are seen; the regression's residual is
         bridged across the gap (:func:`mapping.gap_fit.bridge_residual`) and added to its prediction there.
+
+        A marker seen through only part of the gap cannot predict it (the other upper lid, lost
+        when the gap starts, seen when both blink), yet its seen part holds what the gap lacks.
+        So each gap that had such a marker is filled a second time, once every gap has been
+        filled once and that marker has a position throughout: on the second performer a blink
+        inside one lid's gap was lost this way (fitted error 1.50 -> 1.39 % over 5 seeds).
         """
         frames, markers, dims = pos.shape
         seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
         half = int(round(self.predictor_mean_seconds * rate))
         # what predictors say, read as their local mean: only ever chosen by validation
         steady = local_mean(pos, max(1, half)) if self.validate and self.predictor_mean_seconds > 0 else pos
-        for m in map(int, np.flatnonzero(wanted.any(axis=0))):
-            candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
-            for start, end in gap_runs(wanted[:, m]):
-                pad = max(int(self.window_seconds * rate), end - start)
-                lo, hi = max(0, start - pad), min(frames, end + pad)
-                others, rows, own = _predictors(pos, seen_all, m, start, end, lo, hi, candidates)
-                if len(own) < 8:  # too few frames to learn from: its own line (apart) or spline
-                    if m in apart:
-                        pos[start:end, m] = straight_line(pos[:, m], times, start, end)
-                    else:
-                        self._splines(pos, times, _only(wanted, start, end, m))
-                    _filled(pos, steady, seen_all, start, end, m)
-                    continue
-                near = pos[own][:, others] - pos[own, m][:, None]
-                weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
-                fit = np.isin(rows, own)
-                low, high = self.blend_seconds
-                ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
-                edge = 1
-                centre, x = regression_design(pos, rows, others, weight)
-                if self.validate:  # the predictors as seen, or their local mean, whichever fills stand-ins better
-                    best = np.inf
-                    for source in (pos, steady) if steady is not pos else (pos,):
-                        c, xs = (centre, x) if source is pos else regression_design(source, rows, others, weight)
-                        error, params = validate_gap(xs[fit], pos[own, m] - c[fit], times[own], end - start,
-                                                     m in apart, (ridge, share, edge))
-                        if error < best:
-                            best, (ridge, share, edge), centre, x = error, params, c, xs
-                predicted = ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
-                gap = np.isin(rows, np.arange(start, end))
-                bridge = bridge_residual(pos[own, m] - predicted[fit], own, start, end, times, edge)
-                regressed = predicted[gap] + bridge
-                if share < 1.0:  # the marker's own line or spline about the centre, as validate_gap judged it
-                    relative = pos[own, m] - centre[fit]
-                    if m in apart:
-                        spline = bridge_residual(relative, own, start, end, times)
-                    else:
-                        spline = CubicSpline(times[own], relative, axis=0)(times[start:end])
-                    regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
-                pos[start:end, m] = regressed
-                _filled(pos, steady, seen_all, start, end, m)
+        gaps = [(m, start, end) for m in map(int, np.flatnonzero(wanted.any(axis=0)))
+                for start, end in gap_runs(wanted[:, m])]
+        again = [gap for gap in gaps if self._fill(pos, steady, seen_all, times, wanted, rate, apart, *gap)]
+        for m, start, end in again:  # once more, now that every predictor has a position throughout
+            pos[start:end, m] = np.nan
+            seen_all[start:end, m] = False
+            if steady is not pos:
+                steady[start:end, m] = np.nan
+            self._fill(pos, steady, seen_all, times, wanted, rate, apart, m, start, end)
+
+    def _fill(self, pos: np.ndarray, steady: np.ndarray, seen_all: np.ndarray, times: np.ndarray,
+              wanted: np.ndarray, rate: float, apart: set[int], m: int, start: int, end: int) -> bool:
+        """Fill marker ``m``'s gap ``[start, end)`` (see :meth:`_from_neighbours`), written into
+        ``pos``, ``steady`` and ``seen_all``; whether a marker that could predict it was seen
+        through part of the gap only (and so did not)."""
+        frames, markers, dims = pos.shape
+        candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
+        pad = max(int(self.window_seconds * rate), end - start)
+        lo, hi = max(0, start - pad), min(frames, end + pad)
+        others, rows, own = _predictors(pos, seen_all, m, start, end, lo, hi, candidates)
+        during = seen_all[start:end, candidates]
+        partly = bool((during.any(axis=0) & ~during.all(axis=0)).any())  # m itself is unseen throughout
+        if len(own) < 8:  # too few frames to learn from: its own line (apart) or spline
+            if m in apart:
+                pos[start:end, m] = straight_line(pos[:, m], times, start, end)
+            else:
+                self._splines(pos, times, _only(wanted, start, end, m))
+            _filled(pos, steady, seen_all, start, end, m)
+            return partly
+        near = pos[own][:, others] - pos[own, m][:, None]
+        weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
+        fit = np.isin(rows, own)
+        low, high = self.blend_seconds
+        ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
+        edge = 1
+        centre, x = regression_design(pos, rows, others, weight)
+        if self.validate:  # the predictors as seen, or their local mean, whichever fills stand-ins better
+            best = np.inf
+            for source in (pos, steady) if steady is not pos else (pos,):
+                c, xs = (centre, x) if source is pos else regression_design(source, rows, others, weight)
+                error, params = validate_gap(xs[fit], pos[own, m] - c[fit], times[own], end - start,
+                                             m in apart, (ridge, share, edge))
+                if error < best:
+                    best, (ridge, share, edge), centre, x = error, params, c, xs
+        predicted = ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
+        gap = np.isin(rows, np.arange(start, end))
+        bridge = bridge_residual(pos[own, m] - predicted[fit], own, start, end, times, edge)
+        regressed = predicted[gap] + bridge
+        if share < 1.0:  # the marker's own line or spline about the centre, as validate_gap judged it
+            relative = pos[own, m] - centre[fit]
+            if m in apart:
+                spline = bridge_residual(relative, own, start, end, times)
+            else:
+                spline = CubicSpline(times[own], relative, axis=0)(times[start:end])
+            regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
+        pos[start:end, m] = regressed
+        _filled(pos, steady, seen_all, start, end, m)
+        return partly
 
 
 def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
@@ -223,7 +247,8 @@ def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int,
     with a missing one, stays; a marker that hardly moves with it goes first."""
     others = [k for k in candidates if k != m and seen[start:end, k].all()]
     window = seen[lo:hi]
-    score = {k: _relevance(pos[lo:hi, m], pos[lo:hi, k], window[:, m] & window[:, k]) for k in others}
+    share = _relevance(pos[lo:hi, m], pos[lo:hi][:, others], window[:, [m]] & window[:, others])
+    score = dict(zip(others, share.tolist(), strict=True))
     others.sort(key=lambda k: score[k], reverse=True)
     while others:
         rows = np.flatnonzero(window[:, others].all(axis=1)) + lo
@@ -234,20 +259,24 @@ def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int,
     return [], np.zeros(0, int), np.zeros(0, int)
 
 
-def _relevance(target: np.ndarray, other: np.ndarray, both: np.ndarray) -> float:
-    """The share of ``target``'s variance that ``other``'s position explains linearly (the R² of
-    a least-squares fit, 0 with fewer than 10 frames) over the frames ``both`` sees them;
-    positions ``(F, dims)``, ``both`` ``(F,)``."""
-    if both.sum() < 10:
-        return 0.0
-    y = target[both] - target[both].mean(axis=0)
-    x = other[both] - other[both].mean(axis=0)
-    total = float((y * y).sum())
-    if total <= 0:
-        return 0.0
-    coef, *_ = np.linalg.lstsq(x, y, rcond=None)
-    residual = y - x @ coef
-    return 1.0 - float((residual * residual).sum()) / total
+def _relevance(target: np.ndarray, others: np.ndarray, both: np.ndarray) -> np.ndarray:
+    """The share of ``target``'s variance that each of ``others``' positions explains linearly
+    (the R² of a least-squares fit, 0 with fewer than 10 frames) over the frames ``both`` sees
+    the two; positions ``target`` ``(F, dims)`` and ``others`` ``(F, K, dims)``, ``both``
+    ``(F, K)``; ``(K,)``."""
+    weight = both.astype(np.float64)[..., None]  # (F, K, 1)
+    y = np.where(weight > 0, target[:, None], 0.0)
+    x = np.where(weight > 0, others, 0.0)
+    count = np.maximum(weight.sum(axis=0), 1.0)  # (K, 1)
+    y = y - y.sum(axis=0) / count
+    x = x - x.sum(axis=0) / count
+    y, x = y * weight, x * weight
+    sxx = np.einsum("fki,fkj->kij", x, x)
+    sxy = np.einsum("fki,fkj->kij", x, y)
+    total = np.einsum("fki,fki->k", y, y)
+    explained = np.einsum("kij,kij->k", sxy, np.linalg.pinv(sxx, hermitian=True) @ sxy)
+    share = np.where(total > 0, explained / np.where(total > 0, total, 1.0), 0.0)
+    return np.where(both.sum(axis=0) >= 10, share, 0.0)
 
 
 def _filled(pos: np.ndarray, steady: np.ndarray, seen: np.ndarray, start: int, end: int, m: int) -> None:
