@@ -12,18 +12,25 @@ performer and on a second one designed apart, beside a plain peer (:mod:`bench.g
 ``fidelity.clean_map_fps``: clean + map of a 120 Hz toon32 take, frames per second on one core
 (goal 50 000), in a process whose allocator keeps freed memory as the ``toonface`` command's does
 (:mod:`common.memory`); beside it, ``default_allocator_fps``: the same with glibc's defaults.
+That take has no gaps; ``fidelity.gapfill_fps`` is gap filling alone (:class:`mapping.gaps.GapFiller`)
+on the second performer's 60 Hz take with 10 % of its samples in 0.5 s gaps, frames per second
+(the best of two runs; no goal: ``real_time_x`` in the detail says how it compares with the take's own rate).
 """
 
 from __future__ import annotations
+
+import time
 
 import numpy as np
 
 from bench import gapfill, generators
 from bench.core import Figure
 from bench.pipeline import pinned_rate
+from bench.second_performer import perform
 from capture import synthesize
 from capture.performance import default_performance
 from mapping.filters import OneEuro
+from mapping.gaps import GapFiller
 from mapping.stepwise import LIVE_BETA, LIVE_MIN_CUTOFF
 
 LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's marker filter
@@ -31,7 +38,20 @@ LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's m
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``fidelity.*`` figures."""
-    return [*_live_filter(), *gapfill.run(quick), *generators.run(quick), _throughput(quick)]
+    return [*_live_filter(), *gapfill.run(quick), *generators.run(quick), _throughput(quick), _fill_rate(quick)]
+
+
+def _fill_rate(quick: bool) -> Figure:
+    """``fidelity.gapfill_fps``: frames per second of gap filling alone on the second performer."""
+    take = perform(seconds=6.0 if quick else 20.0, seed=7).take
+    best = np.inf
+    for _ in range(2):
+        start = time.perf_counter()
+        filled = GapFiller().apply(take.positions, take.times)
+        best = min(best, time.perf_counter() - start)
+    return Figure("fidelity.gapfill_fps", take.frames / best, "frames/s", None, True,
+                  {"frames": take.frames, "rate_hz": take.rate, "real_time_x": round(take.frames / best / take.rate, 1),
+                   "filled_share": round(float(filled.filled.mean()), 3), "take": "bench.second_performer seed 7"})
 
 
 def _live_filter() -> list[Figure]:

@@ -178,19 +178,25 @@ class GapFiller:
         steady = local_mean(pos, max(1, half)) if self.validate and self.predictor_mean_seconds > 0 else pos
         gaps = [(m, start, end) for m in map(int, np.flatnonzero(wanted.any(axis=0)))
                 for start, end in gap_runs(wanted[:, m])]
-        again = [gap for gap in gaps if self._fill(pos, steady, seen_all, times, wanted, rate, apart, *gap)]
-        for m, start, end in again:  # once more, now that every predictor has a position throughout
+        sources = (pos, steady) if steady is not pos else (pos,)
+        read = [(gap, self._fill(pos, steady, seen_all, times, wanted, rate, apart, sources, *gap)) for gap in gaps]
+        for (m, start, end), source in read:  # once more, now that every predictor has a position throughout
+            if source is None:
+                continue
             pos[start:end, m] = np.nan
             seen_all[start:end, m] = False
             if steady is not pos:
                 steady[start:end, m] = np.nan
-            self._fill(pos, steady, seen_all, times, wanted, rate, apart, m, start, end)
+            self._fill(pos, steady, seen_all, times, wanted, rate, apart, (source,), m, start, end)
 
     def _fill(self, pos: np.ndarray, steady: np.ndarray, seen_all: np.ndarray, times: np.ndarray,
-              wanted: np.ndarray, rate: float, apart: set[int], m: int, start: int, end: int) -> bool:
+              wanted: np.ndarray, rate: float, apart: set[int], sources: tuple[np.ndarray, ...], m: int,
+              start: int, end: int) -> np.ndarray | None:
         """Fill marker ``m``'s gap ``[start, end)`` (see :meth:`_from_neighbours`), written into
-        ``pos``, ``steady`` and ``seen_all``; whether a marker that could predict it was seen
-        through part of the gap only (and so did not)."""
+        ``pos``, ``steady`` and ``seen_all``, validation choosing among the predictors as read
+        from ``sources`` (``pos``, ``steady`` or both). Where a marker that could predict it was
+        seen through part of the gap only (and so did not), the source it chose (``pos`` where it
+        had no choice), for a second fill; None elsewhere."""
         frames, markers, dims = pos.shape
         candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
         pad = max(int(self.window_seconds * rate), end - start)
@@ -204,7 +210,7 @@ class GapFiller:
             else:
                 self._splines(pos, times, _only(wanted, start, end, m))
             _filled(pos, steady, seen_all, start, end, m)
-            return partly
+            return pos if partly else None
         near = pos[own][:, others] - pos[own, m][:, None]
         weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
         fit = np.isin(rows, own)
@@ -212,14 +218,15 @@ class GapFiller:
         ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
         edge = 1
         centre, x = regression_design(pos, rows, others, weight)
+        chosen = pos
         if self.validate:  # the predictors as seen, or their local mean, whichever fills stand-ins better
             best = np.inf
-            for source in (pos, steady) if steady is not pos else (pos,):
+            for source in sources:
                 c, xs = (centre, x) if source is pos else regression_design(source, rows, others, weight)
                 error, params = validate_gap(xs[fit], pos[own, m] - c[fit], times[own], end - start,
                                              m in apart, (ridge, share, edge))
                 if error < best:
-                    best, (ridge, share, edge), centre, x = error, params, c, xs
+                    best, (ridge, share, edge), centre, x, chosen = error, params, c, xs, source
         predicted = ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
         gap = np.isin(rows, np.arange(start, end))
         bridge = bridge_residual(pos[own, m] - predicted[fit], own, start, end, times, edge)
@@ -233,7 +240,7 @@ class GapFiller:
             regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
         pos[start:end, m] = regressed
         _filled(pos, steady, seen_all, start, end, m)
-        return partly
+        return chosen if partly else None
 
 
 def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
@@ -270,10 +277,9 @@ def _relevance(target: np.ndarray, others: np.ndarray, both: np.ndarray) -> np.n
     count = np.maximum(weight.sum(axis=0), 1.0)  # (K, 1)
     y = y - y.sum(axis=0) / count
     x = x - x.sum(axis=0) / count
-    y, x = y * weight, x * weight
-    sxx = np.einsum("fki,fkj->kij", x, x)
-    sxy = np.einsum("fki,fkj->kij", x, y)
-    total = np.einsum("fki,fki->k", y, y)
+    y, x = (y * weight).transpose(1, 0, 2), (x * weight).transpose(1, 0, 2)  # (K, F, dims)
+    sxx, sxy = x.transpose(0, 2, 1) @ x, x.transpose(0, 2, 1) @ y
+    total = (y * y).sum(axis=(1, 2))
     explained = np.einsum("kij,kij->k", sxy, np.linalg.pinv(sxx, hermitian=True) @ sxy)
     share = np.where(total > 0, explained / np.where(total > 0, total, 1.0), 0.0)
     return np.where(both.sum(axis=0) >= 10, share, 0.0)
