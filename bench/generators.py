@@ -110,7 +110,8 @@ def _figures(prefix: str, runs: list[Performance], raw_goal: float = 2.5) -> lis
         return [round(s[key], 3) for s in scored]
 
     worst = {code: max(s["per_motor_pct"][code] for s in mine) for code in MOTOR_CODES}
-    lowest = {code: min(s["r"][code] for s in mine) for code in MOTOR_CODES}
+    lowest = {code: min(s["r"][code] for s in mine if code in s["r"]) for code in MOTOR_CODES
+              if any(code in s["r"] for s in mine)}
     detail = {**runs[0][4], "seeds": len(runs), "rmse_pct_each": each(mine, "raw_pct"),
               "seconds_after_sweep": round(float(runs[0][0].times[-1] - runs[0][3]), 2),
               "worst_per_motor_pct": worst}

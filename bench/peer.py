@@ -65,7 +65,8 @@ def scores(values: np.ndarray, truth: np.ndarray, rest: np.ndarray | None = None
     """RMSE (% of range) raw, with each motor's gain and offset fitted away, and (given the
     performer's ``rest`` ``(21,)``) with a separate gain either side of it (``two_sided_pct``:
     how a rest maps onto a face's own does not count), and each motor's correlation with the
-    truth, over frames ``(F, 21)``."""
+    truth, over frames ``(F, 21)`` (``r`` leaves out a motor whose truth never moves: its
+    correlation means nothing, and read as 0 it would be any take's lowest)."""
     fitted = np.empty_like(values)
     sided = np.empty_like(values)
     r = np.empty(values.shape[1])
@@ -81,9 +82,10 @@ def scores(values: np.ndarray, truth: np.ndarray, rest: np.ndarray | None = None
         spread = values[:, c].std() * truth[:, c].std()
         r[c] = float(np.mean((values[:, c] - values[:, c].mean()) * (truth[:, c] - truth[:, c].mean())) / spread) \
             if spread > 0 else 0.0
+    moving = truth.std(axis=0) > 1e-6
     out = {"raw_pct": 100 * float(np.sqrt(np.mean((values - truth) ** 2))),
            "fitted_pct": 100 * float(np.sqrt(np.mean((fitted - truth) ** 2))),
-           "r": {code: round(float(x), 3) for code, x in zip(MOTOR_CODES, r, strict=True)},
+           "r": {code: round(float(x), 3) for code, x, moves in zip(MOTOR_CODES, r, moving, strict=True) if moves},
            "per_motor_pct": {code: round(100 * float(x), 2) for code, x in
                              zip(MOTOR_CODES, np.sqrt(np.mean((values - truth) ** 2, axis=0)), strict=True)}}
     if rest is not None:

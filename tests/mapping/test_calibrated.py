@@ -171,3 +171,15 @@ def test_lids_that_travel_three_millimetres_in_a_sweep_are_moving(seed):
         truth = third.motors[:, c]
         assert np.ptp(values[:, c]) > 0.7 * np.ptp(truth)
         assert np.corrcoef(values[:, c], truth)[0, 1] > 0.85
+
+
+def test_scores_leave_out_the_correlation_of_a_motor_whose_truth_never_moves():
+    """Read as 0, a lower lid that never moves in a take was its lowest r; a motor of ours that
+    never moves while its truth does still scores 0."""
+    rng = np.random.default_rng(3)
+    truth = rng.random((200, len(MOTOR_CODES)))
+    values = truth + rng.normal(0, 0.05, truth.shape)
+    truth[:, MOTOR_CODES.index("ERL")] = 0.15
+    values[:, MOTOR_CODES.index("MB")] = 0.5
+    r = scores(values, truth)["r"]
+    assert "ERL" not in r and r["MB"] == 0.0 and min(v for k, v in r.items() if k != "MB") > 0.95
