@@ -179,10 +179,12 @@ class GapFiller:
         gaps = [(m, start, end) for m in map(int, np.flatnonzero(wanted.any(axis=0)))
                 for start, end in gap_runs(wanted[:, m])]
         sources = (pos, steady) if steady is not pos else (pos,)
-        read = [(gap, self._fill(pos, steady, seen_all, times, wanted, rate, apart, sources, *gap)) for gap in gaps]
-        for (m, start, end), source in read:  # once more, now that every predictor has a position throughout
-            if source is None:
-                continue
+        again = []  # (gap, how its predictors were read) where one was seen through part of it
+        for gap in gaps:
+            source = self._fill(pos, steady, seen_all, times, wanted, rate, apart, sources, *gap)
+            if source is not None:
+                again.append((gap, source))
+        for (m, start, end), source in again:  # once more, now that every predictor has a position throughout
             pos[start:end, m] = np.nan
             seen_all[start:end, m] = False
             if steady is not pos:
