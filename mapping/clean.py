@@ -43,6 +43,7 @@ from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
     Stabilised,
+    bridge_edge,
     express,
     fit_head,
     nearest_rotation,
@@ -107,7 +108,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     fit = fit_head(positions, rows, neutral)
     if isinstance(fit, Failure):
         return fit
-    first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times, rows)
+    edge = bridge_edge(take.rate)
+    first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows)
     rejected = 0
     if settings.spikes:
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
@@ -119,7 +121,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         fit = refit_head(fit, positions, rows, new_references)
         if isinstance(fit, Failure):
             return fit
-        first, bridged = _bridge_lost_poses(express(positions, rows, fit), positions, take.times, rows)
+        first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows)
     found = markerset.match(take.labels)
     apart = [take.index(found[m]) for m in markerset.independent if m in found]
     local, filled_mask = _fill_and_smooth(first.local, take, settings, apart)

@@ -124,6 +124,36 @@ def test_a_lost_head_reference_does_not_make_the_head_jump():
     np.testing.assert_array_equal(bridged_rot[:300], rot[:300])
 
 
+def test_a_lost_head_reference_carries_no_single_frames_jitter_across_its_gap():
+    """Rigid references with 0.3 mm of jitter, one temple lost for 0.5 s every 2 s: the
+    difference between the fits on all and on four references was read from the one frame
+    either side, so each stretch kept that frame's jitter (a point on the chin 0.20 mm off on
+    average over a stretch, RMS over the stretches); averaged over the frames that hold steady
+    near it, 0.09 mm, against 0.08 mm for the fit on four references alone (right here, where
+    the references are rigid)."""
+    from mapping.stabilise import bridge_edge, bridge_references
+
+    ms = load_markerset("toon32")
+    rows = [ms.labels.index(r) for r in ms.head_reference]
+    shape = ms.neutral[rows]
+    t = np.arange(3600) / 60.0
+    rotation = rotation_yaw_pitch(np.radians(20 * np.sin(0.5 * t)), np.radians(10 * np.sin(0.3 * t)))
+    translation = np.column_stack([30 * np.sin(0.2 * t), 5 * t, np.zeros_like(t)])
+    rng = np.random.default_rng(1)
+    world = np.einsum("fij,kj->fki", rotation, shape) + translation[:, None, :]
+    world += rng.normal(0.0, 0.3, world.shape)
+    starts = np.arange(60, 3500, 120)
+    for start in starts:
+        world[start:start + 30, ms.head_reference.index("TEMPLE_R")] = np.nan
+    rot, trans, ok = robust_rigid_fit(shape, world)
+    bridged_rot, bridged_trans = bridge_references(world, shape, rot, trans, ok, bridge_edge(60.0))
+    probe = np.array([0.0, -80.0, 20.0])
+    error = np.einsum("fij,j->fi", bridged_rot, probe) + bridged_trans - (
+        np.einsum("fij,j->fi", rotation, probe) + translation)
+    bias = np.array([np.linalg.norm(error[start:start + 30].mean(axis=0)) for start in starts])
+    assert np.sqrt(np.mean(bias ** 2)) < 0.13, bias
+
+
 @pytest.mark.slow
 def test_clean_keeps_the_markers_cut_with_a_head_reference_close_to_a_spline(realdata):
     """The AnimFace jaw take, three markers cut for 250 ms, one of them a head reference: the
