@@ -301,9 +301,10 @@ def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarra
         keep = ~missing[start]
         if keep.all() or keep.sum() < 3:
             continue
-        sides = [np.arange(start - 1, max(start - edge, 0) - 1, -1), np.arange(end, min(end + edge, frames))]
+        near = [np.arange(start - 1, max(start - edge, 0) - 1, -1), np.arange(end, min(end + edge, frames))]
+        sides = [side[whole[side]] for side in near]  # nearest first, every reference seen
         corrections = [_correction(shape, keep, target[side][:, keep], rotation[side], translation[side])
-                       for side in (side[whole[side]] for side in sides) if len(side)]
+                       for side in sides if len(side)]
         if not corrections:
             continue
         (first_rot, first_trans), (last_rot, last_trans) = corrections[0], corrections[-1]
