@@ -1,11 +1,13 @@
-"""Shared benchmark helpers: the figure record and median timing."""
+"""Shared benchmark helpers: the figure record, median timing and running on one core."""
 
 from __future__ import annotations
 
 import json
+import os
 import statistics
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -37,6 +39,21 @@ class Figure:
         record["value"] = round(self.value, 4)
         record["detail"] = {**self.detail, "goal_met": self.met}
         return json.dumps(record)
+
+
+@contextmanager
+def one_core() -> Iterator[bool]:
+    """Run the body on one CPU (the lowest this thread may use), as the speed goals are set, and
+    give the others back after; yields whether it could (not every platform pins)."""
+    cpus = os.sched_getaffinity(0) if hasattr(os, "sched_setaffinity") else None
+    if cpus is None:
+        yield False
+        return
+    os.sched_setaffinity(0, {min(cpus)})
+    try:
+        yield True
+    finally:
+        os.sched_setaffinity(0, cpus)
 
 
 def median_rate(run: Callable[[], int], repeats: int, warmup: int = 1) -> tuple[float, list[float]]:

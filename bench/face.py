@@ -10,7 +10,6 @@ Skipped (no figures) where ``../shared/realdata`` is absent.
 
 from __future__ import annotations
 
-import os
 import statistics
 import tempfile
 import time
@@ -20,7 +19,7 @@ import av
 import cv2
 import numpy as np
 
-from bench.core import REALDATA, Figure, median_rate
+from bench.core import REALDATA, Figure, median_rate, one_core
 from capture import load_markerset
 from capture.face_sources import face_source
 from capture.video_tracking import track_video
@@ -37,21 +36,15 @@ def run(quick: bool = False) -> list[Figure]:
     if not CLIP.is_file():
         return []
     repeats = 2 if quick else 5
-    cpus = os.sched_getaffinity(0) if hasattr(os, "sched_setaffinity") else None
     with tempfile.TemporaryDirectory() as tmp:
         with av.open(str(CLIP)) as container:
             images = [cv2.resize(f.to_ndarray(format="rgb24"), SIZE, interpolation=cv2.INTER_CUBIC)[:, :, ::-1]
                       for f in container.decode(video=0)]
         video = write_video(images, Path(tmp) / "talk.mp4", 25.0)
-        if cpus is not None:
-            os.sched_setaffinity(0, {min(cpus)})
-        try:
+        with one_core() as pinned:
             fps, runs = median_rate(lambda: track_video(video, "face").frames, repeats)
             latencies = _latencies(video)
-        finally:
-            if cpus is not None:
-                os.sched_setaffinity(0, cpus)
-    detail = {"clip": CLIP.name, "size": list(SIZE), "frames": len(images), "one_core": cpus is not None}
+    detail = {"clip": CLIP.name, "size": list(SIZE), "frames": len(images), "one_core": pinned}
     return [Figure("track.face_fps", fps, "frames/s", 50.0, True, {**detail, "runs": [round(r, 1) for r in runs]}),
             Figure("live.face_latency_ms", statistics.median(latencies), "ms", 25.0, False,
                    {**detail, "p95_ms": round(float(np.percentile(latencies, 95)), 2)})]

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from bench import gapfill, generators
-from bench.core import Figure, median_rate
+from bench.core import Figure, median_rate, one_core
 from bench.pipeline import pinned_rate
 from bench.second_performer import perform
 from capture import synthesize
@@ -43,10 +43,12 @@ def _fill_rate(quick: bool) -> Figure:
     """``fidelity.gapfill_fps``: frames per second of gap filling alone on the second performer."""
     take = perform(seconds=6.0 if quick else 20.0, seed=7).take
     filled = np.mean(np.isnan(take.positions).any(axis=2))
-    fps, runs = median_rate(lambda: len(GapFiller().apply(take.positions, take.times).positions), 1 if quick else 3,
-                            warmup=0)
+    with one_core() as pinned:
+        fps, runs = median_rate(lambda: len(GapFiller().apply(take.positions, take.times).positions),
+                                1 if quick else 3, warmup=0)
     return Figure("fidelity.gapfill_fps", fps, "frames/s", None, True,
                   {"frames": take.frames, "rate_hz": take.rate, "real_time_x": round(fps / take.rate, 1),
+                   "one_core": pinned,
                    "runs": [round(r, 1) for r in runs], "missing_share": round(float(filled), 3),
                    "take": "bench.second_performer seed 7"})
 

@@ -42,7 +42,7 @@ import time
 import numpy as np
 
 from bench import stream_wire
-from bench.core import REALDATA, Figure
+from bench.core import REALDATA, Figure, one_core
 from capture import load_take
 from capture.sources import synthetic_source, take_source
 from mapping.predict import MotionModel, trailing_line
@@ -79,10 +79,7 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
     source = synthetic_source(seconds=seconds, rate=RATE, noise_mm=noise_mm)
     mapper = build_mapper(source)
     writer = StreamWriter(RATE)
-    cpus = os.sched_getaffinity(0) if hasattr(os, "sched_setaffinity") else None
-    if cpus is not None:
-        os.sched_setaffinity(0, {min(cpus)})
-    try:
+    with one_core():
         out, beyond, start = [], [], time.perf_counter()
         for frame in source.frames:
             values, _ = mapper.step(frame.positions, frame.t)
@@ -90,9 +87,6 @@ def _live_values(seconds: float, noise_mm: float = 0.2) -> tuple[np.ndarray, flo
             out.append(values)
             beyond.append(mapper.extra.copy())
         elapsed = time.perf_counter() - start
-    finally:
-        if cpus is not None:
-            os.sched_setaffinity(0, cpus)
     return np.array(out), len(out) / elapsed, (np.array(beyond), mapper.extra_codes)
 
 
