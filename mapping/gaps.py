@@ -171,34 +171,30 @@ class GapFiller:
         filled once and that marker has a position throughout: on the second performer a blink
         inside one lid's gap was lost this way (fitted error 1.50 -> 1.39 % over 5 seeds).
         """
-        frames, markers, dims = pos.shape
-        seen_all = np.isfinite(pos).all(axis=2)  # kept current as gaps fill: a filled marker predicts too
         half = int(round(self.predictor_mean_seconds * rate))
         # what predictors say, read as their local mean: only ever chosen by validation
         steady = local_mean(pos, max(1, half)) if self.validate and self.predictor_mean_seconds > 0 else pos
+        state = _Filling(pos, steady, np.isfinite(pos).all(axis=2), times, wanted, rate, apart)
         gaps = [(m, start, end) for m in map(int, np.flatnonzero(wanted.any(axis=0)))
                 for start, end in gap_runs(wanted[:, m])]
         sources = (pos, steady) if steady is not pos else (pos,)
         again = []  # (gap, how its predictors were read) where one was seen through part of it
         for gap in gaps:
-            source = self._fill(pos, steady, seen_all, times, wanted, rate, apart, sources, *gap)
+            source = self._fill(state, sources, *gap)
             if source is not None:
                 again.append((gap, source))
         for (m, start, end), source in again:  # once more, now that every predictor has a position throughout
-            pos[start:end, m] = np.nan
-            seen_all[start:end, m] = False
-            if steady is not pos:
-                steady[start:end, m] = np.nan
-            self._fill(pos, steady, seen_all, times, wanted, rate, apart, (source,), m, start, end)
+            state.forget(start, end, m)
+            self._fill(state, (source,), m, start, end)
 
-    def _fill(self, pos: np.ndarray, steady: np.ndarray, seen_all: np.ndarray, times: np.ndarray,
-              wanted: np.ndarray, rate: float, apart: set[int], sources: tuple[np.ndarray, ...], m: int,
-              start: int, end: int) -> np.ndarray | None:
+    def _fill(self, state: _Filling, sources: tuple[np.ndarray, ...], m: int, start: int, end: int
+              ) -> np.ndarray | None:
         """Fill marker ``m``'s gap ``[start, end)`` (see :meth:`_from_neighbours`), written into
-        ``pos``, ``steady`` and ``seen_all``, validation choosing among the predictors as read
-        from ``sources`` (``pos``, ``steady`` or both). Where a marker that could predict it was
-        seen through part of the gap only (and so did not), the source it chose (``pos`` where it
-        had no choice), for a second fill; None elsewhere."""
+        ``state``, validation choosing among the predictors as read from ``sources``
+        (``state.pos``, ``state.steady`` or both). Where a marker that could predict it was seen
+        through part of the gap only (and so did not), the source it chose (``state.pos`` where
+        it had no choice), for a second fill; None elsewhere."""
+        pos, seen_all, times, rate, apart = state.pos, state.seen, state.times, state.rate, state.apart
         frames, markers, dims = pos.shape
         candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
         pad = max(int(self.window_seconds * rate), end - start)
@@ -210,8 +206,8 @@ class GapFiller:
             if m in apart:
                 pos[start:end, m] = straight_line(pos[:, m], times, start, end)
             else:
-                self._splines(pos, times, _only(wanted, start, end, m))
-            _filled(pos, steady, seen_all, start, end, m)
+                self._splines(pos, times, _only(state.wanted, start, end, m))
+            state.filled(start, end, m)
             return pos if partly else None
         near = pos[own][:, others] - pos[own, m][:, None]
         weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
@@ -241,7 +237,7 @@ class GapFiller:
                 spline = CubicSpline(times[own], relative, axis=0)(times[start:end])
             regressed = share * regressed + (1.0 - share) * (spline + centre[gap])
         pos[start:end, m] = regressed
-        _filled(pos, steady, seen_all, start, end, m)
+        state.filled(start, end, m)
         return chosen if partly else None
 
 
@@ -287,13 +283,48 @@ def _relevance(target: np.ndarray, others: np.ndarray, both: np.ndarray) -> np.n
     return np.where(both.sum(axis=0) >= 10, share, 0.0)
 
 
-def _filled(pos: np.ndarray, steady: np.ndarray, seen: np.ndarray, start: int, end: int, m: int) -> None:
-    """Marker ``m``'s gap ``[start, end)`` just filled in ``pos``: what it predicts later gaps
-    from as seen (``seen``) and as read (``steady``, the predictors' local mean: the filled
-    samples as they are), wherever the fill gave a position."""
-    if steady is not pos:
-        steady[start:end, m] = pos[start:end, m]
-    seen[start:end, m] = np.isfinite(pos[start:end, m]).all(axis=1)
+@dataclass(frozen=True, eq=False)
+class _Filling:
+    """The long gaps of one :meth:`GapFiller.apply` being filled: what each fill reads and writes.
+
+    Attributes
+    ----------
+    pos : ndarray, shape (frames, markers, dims)
+        The positions, filled in place.
+    steady : ndarray, shape (frames, markers, dims)
+        The predictors as their local mean (``pos`` itself where they are not read so).
+    seen : ndarray of bool, shape (frames, markers)
+        Where a marker has a position, kept current as gaps fill: a filled marker predicts too.
+    times : ndarray, shape (frames,)
+    wanted : ndarray of bool, shape (frames, markers)
+        The long gaps.
+    rate : float
+    apart : set of int
+        The markers filled only from each other.
+    """
+
+    pos: np.ndarray
+    steady: np.ndarray
+    seen: np.ndarray
+    times: np.ndarray
+    wanted: np.ndarray
+    rate: float
+    apart: set[int]
+
+    def filled(self, start: int, end: int, m: int) -> None:
+        """Marker ``m``'s gap ``[start, end)`` just filled in ``pos``: what it predicts later
+        gaps from as seen (``seen``) and as read (``steady``: the filled samples as they are),
+        wherever the fill gave a position."""
+        if self.steady is not self.pos:
+            self.steady[start:end, m] = self.pos[start:end, m]
+        self.seen[start:end, m] = np.isfinite(self.pos[start:end, m]).all(axis=1)
+
+    def forget(self, start: int, end: int, m: int) -> None:
+        """Marker ``m``'s gap ``[start, end)`` unfilled again, to be filled once more."""
+        self.pos[start:end, m] = np.nan
+        self.seen[start:end, m] = False
+        if self.steady is not self.pos:
+            self.steady[start:end, m] = np.nan
 
 
 def _only(mask: np.ndarray, start: int, end: int, marker: int) -> np.ndarray:
