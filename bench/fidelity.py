@@ -14,7 +14,8 @@ performer and on a second one designed apart, beside a plain peer (:mod:`bench.g
 (:mod:`common.memory`); beside it, ``default_allocator_fps``: the same with glibc's defaults.
 That take has no gaps; ``fidelity.gapfill_fps`` is gap filling alone (:class:`mapping.gaps.GapFiller`)
 on the second performer's 60 Hz take with 10 % of its samples in 0.5 s gaps, frames per second
-on one core (the median of three runs; no goal: ``real_time_x`` in the detail says how it compares with the take's own rate).
+on one core (the median of three runs; no goal: ``real_time_x`` in the detail says how it compares
+with the take's own rate).
 """
 
 from __future__ import annotations
