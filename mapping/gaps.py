@@ -174,7 +174,7 @@ class GapFiller:
         half = int(round(self.predictor_mean_seconds * rate))
         # what predictors say, read as their local mean: only ever chosen by validation
         steady = local_mean(pos, max(1, half)) if self.validate and self.predictor_mean_seconds > 0 else pos
-        state = _Filling(pos, steady, np.isfinite(pos).all(axis=2), times, wanted, rate, apart)
+        state = _Filling(pos, steady, np.isfinite(pos).all(axis=2), times, rate, apart)
         gaps = [(m, start, end) for m in map(int, np.flatnonzero(wanted.any(axis=0)))
                 for start, end in gap_runs(wanted[:, m])]
         sources = (pos, steady) if steady is not pos else (pos,)
@@ -206,7 +206,7 @@ class GapFiller:
             if m in apart:
                 pos[start:end, m] = straight_line(pos[:, m], times, start, end)
             else:
-                self._splines(pos, times, _only(state.wanted, start, end, m))
+                self._splines(pos, times, _only(seen_all, start, end, m))
             state.filled(start, end, m)
             return pos if partly else None
         near = pos[own][:, others] - pos[own, m][:, None]
@@ -296,8 +296,6 @@ class _Filling:
     seen : ndarray of bool, shape (frames, markers)
         Where a marker has a position, kept current as gaps fill: a filled marker predicts too.
     times : ndarray, shape (frames,)
-    wanted : ndarray of bool, shape (frames, markers)
-        The long gaps.
     rate : float
     apart : set of int
         The markers filled only from each other.
@@ -307,7 +305,6 @@ class _Filling:
     steady: np.ndarray
     seen: np.ndarray
     times: np.ndarray
-    wanted: np.ndarray
     rate: float
     apart: set[int]
 

@@ -24,6 +24,7 @@ from types import ModuleType
 import numpy as np
 
 from mapping.gaps import gap_runs
+from mapping.outliers import jitter
 
 #: The heavier low-passes, Hz, tried one after another where a marker holds (each used only
 #: below the take's own cut-off), an octave apart. Against (2, 0.7): the third bench
@@ -115,14 +116,7 @@ def _noise(raw: np.ndarray) -> np.ndarray:
     """Each marker's noise per axis ``(M, D)`` from raw positions ``(F, M, D)``: the median
     absolute second difference (seen samples three in a row) as a standard deviation, capped
     at :data:`NOISE_CAP` times the median over the markers."""
-    second = np.abs(np.diff(raw, n=2, axis=0)).reshape(max(len(raw) - 2, 0), -1)
-    counts = np.isfinite(second).sum(axis=0)
-    ordered = np.sort(second, axis=0)  # NaN last: each column's median from its seen count (nanmedian is slow)
-    columns = np.arange(ordered.shape[1])
-    low, high = np.maximum(counts - 1, 0) // 2, counts // 2
-    middle = 0.5 * (ordered[low, columns] + ordered[np.minimum(high, len(ordered) - 1), columns]) if len(ordered) \
-        else np.full(len(columns), np.nan)
-    spread = np.where(counts >= 10, 1.4826 * middle / np.sqrt(6.0), np.nan).reshape(raw.shape[1:])
+    spread = jitter(raw, least=10)
     if np.isfinite(spread).any():
         spread = np.minimum(spread, NOISE_CAP * np.nanmedian(spread))
     return spread

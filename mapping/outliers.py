@@ -313,6 +313,24 @@ def _length(a: np.ndarray) -> np.ndarray:
     return np.sqrt(total)
 
 
+def jitter(values: np.ndarray, least: int = 1) -> np.ndarray:
+    """Each column's jitter as a standard deviation, from ``values`` ``(F, ...)`` (NaN where
+    unseen), ``(...)``: the median absolute second difference over three seen samples in a row,
+    times 1.4826 / sqrt(6) (white noise's second difference has six times its variance; motion at
+    a face's speeds hardly reaches it). NaN with fewer than ``least`` such differences.
+
+    >>> rng = np.random.default_rng(0)
+    >>> bool(abs(jitter(np.cumsum(rng.normal(0, 0.01, 4000)) + rng.normal(0, 0.3, 4000)) - 0.3) < 0.02)
+    True
+    """
+    columns = values.reshape(len(values), -1)
+    if len(columns) < 3:
+        return np.full(values.shape[1:], np.nan)
+    second = np.abs(np.diff(columns, n=2, axis=0))
+    spread = 1.4826 * column_nan_median(second) / np.sqrt(6.0)
+    return np.where(np.isfinite(second).sum(axis=0) >= least, spread, np.nan).reshape(values.shape[1:])
+
+
 def column_nan_median(values: np.ndarray) -> np.ndarray:
     """``np.nanmedian(values, axis=0)`` of ``(F, M)``, ``(M,)``, without a warning for a column
     that is all NaN (its median is NaN): one sort of the columns, where numpy takes them one by one."""

@@ -9,6 +9,7 @@ import numpy as np
 
 from common import Failure
 from common.rotations import best_rotation, rigid_fit, rotate
+from mapping.outliers import jitter
 
 
 def nearest_rotation(matrices: np.ndarray) -> np.ndarray:
@@ -245,10 +246,10 @@ def express(positions: np.ndarray, reference_rows: list[int], fit: HeadFit, edge
 
 
 def stabilise(positions: np.ndarray, reference_rows: list[int], reference_neutral: np.ndarray,
-              own_shape: bool = True, edge: int = 1) -> Stabilised | Failure:
+              own_shape: bool = True) -> Stabilised | Failure:
     """Remove head motion: :func:`express` of :func:`fit_head` (the same parameters)."""
     fit = fit_head(positions, reference_rows, reference_neutral, own_shape)
-    return fit if isinstance(fit, Failure) else express(positions, reference_rows, fit, edge)
+    return fit if isinstance(fit, Failure) else express(positions, reference_rows, fit)
 
 
 #: :func:`bridge_references` compares the head fitted on all references with the fit on fewer
@@ -336,7 +337,8 @@ def steady_count(values: np.ndarray, errors: float = STEADY_ERRORS) -> int:
     """How many of the first rows of ``values`` ``(n, P)`` to average: the most whose running
     means' intervals (each mean ± ``errors`` standard errors) still share a point in every
     column, the noise measured from the rows' second differences (the intersection of
-    confidence intervals rule of Goldenshluger & Nemirovski, 1997). Noisy rows that hold steady
+    confidence intervals rule of Goldenshluger & Nemirovski, 1997; the noise by
+    :func:`mapping.outliers.jitter`). Noisy rows that hold steady
     are all averaged; rows that drift more than their noise explains stop it early. One with
     fewer than five rows (too few to tell noise from drift).
 
@@ -348,7 +350,7 @@ def steady_count(values: np.ndarray, errors: float = STEADY_ERRORS) -> int:
     n = len(values)
     if n < 5:
         return min(n, 1)
-    noise = 1.4826 * np.median(np.abs(np.diff(values, n=2, axis=0)), axis=0) / np.sqrt(6.0)  # (P,)
+    noise = jitter(values)  # (P,)
     count = np.arange(1, n + 1)[:, None]
     mean = np.cumsum(values, axis=0) / count
     half = errors * noise / np.sqrt(count)

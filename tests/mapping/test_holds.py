@@ -4,6 +4,7 @@ import numpy as np
 
 from capture import Take, load_markerset, synthesize
 from capture.performance import default_performance
+from common import Failure
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.filters import Butterworth
 from mapping.holds import HoldSmoother
@@ -79,3 +80,16 @@ def test_plain_smoothing_is_the_low_pass_alone():
     steady, _ = clean_stabilised(take, ms)
     lid = syn.take.index("LID_R_LOW")  # the first second is at rest
     assert np.std(np.diff(steady.local[10:60, lid], axis=0)) < 0.7 * np.std(np.diff(plain.local[10:60, lid], axis=0))
+
+
+def test_a_take_of_two_frames_is_cleaned_not_refused():
+    """Two frames hold no second difference to measure a marker's jitter on: the smoother leaves
+    them as the low-pass gave them (it had stopped the clean with a numpy reshape error)."""
+    syn = synthesize(seconds=1.0, rate=RATE, seed=3)
+    take = Take(syn.take.positions[:2], syn.take.labels, RATE)
+    cleaned = clean_stabilised(take, load_markerset("toon32"))
+    assert not isinstance(cleaned, Failure), cleaned
+    stable, _ = cleaned
+    assert stable.local.shape == (2, take.markers, 3) and np.isfinite(stable.local).any()
+    raw = syn.take.positions[:2]
+    np.testing.assert_array_equal(HoldSmoother(RATE, 8.0).smooth(raw, raw), raw)
