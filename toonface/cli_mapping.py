@@ -46,6 +46,9 @@ _NEUTRAL = click.option("--neutral", default=None, metavar="START:END|first|stil
                              "the stillest stretch where nobody speaks; else the first second where it is about "
                              "as restful as any, else the second nearest the take's typical pose and stillest].")
 _WORDS = ("first", "stillest")
+_VOICE_FILL = click.option("--voice-fill/--no-voice-fill", default=True, show_default=True,
+                           help="A video TAKE with sound: where the face's mouth is lost (turned away, covered, out "
+                                "of the frame), the voice moves the mouth (the voice mapping, crossfaded over 0.1 s).")
 _JSON = click.option("--json", "as_json", is_flag=True,
                      help="Print the take's report as one JSON object on standard output (the rest on standard "
                           "error) instead of as text on standard error.")
@@ -223,24 +226,31 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
               help="Map the performer's neutral onto this face's rest pose.")
 @MIRROR
 @_clean_settings
+@_VOICE_FILL
 @_JSON
 @take_options
 def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
-            neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning, as_json: bool,
-            reading: TakeReading) -> None:
-    """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz).
+            neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning, voice_fill: bool,
+            as_json: bool, reading: TakeReading) -> None:
+    """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz). TAKE
+    may also be a talking-head video with no markers (its face tracked, as by retarget) or a
+    voice (a sound file: .wav .mp3 .ogg ...).
 
     Ends with a report of what was chosen and how far to trust it: the units, the rest window
     and why, the profile, each motor's frames pinned at 0 or 1 and range used, and every warning.
     """
+    from capture.sources import VIDEO_SUFFIXES
+    from common.sound import has_audio
     from toon import load_face, save_track
     from toonface.pipeline import map_onto_face
 
     window = parse_window(neutral, words=_WORDS)
     loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
-    track = map_onto_face(loaded, window, load_face(face) if face else None, mirror, mapping, profile,
-                     cleaning.settings(loaded.rate))
+    face_obj = load_face(face) if face else None
+    track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile, cleaning.settings(loaded.rate))
+    if Path(take).suffix.lower() in VIDEO_SUFFIXES and voice_fill and has_audio(take):
+        track = _fill_from_voice(track, loaded, take, face_obj, mapping, mirror, as_json)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
                f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)", err=as_json)
     _report(track, Path(take).name, as_json)
@@ -293,9 +303,7 @@ def _report(track, take: str, as_json: bool) -> None:
 @click.option("--side-by-side", is_flag=True, help="A video TAKE: show it left of the cartoon, frame for frame.")
 @BACKGROUND
 @NO_PHYSICS
-@click.option("--voice-fill/--no-voice-fill", default=True, show_default=True,
-              help="A video TAKE with sound: where the face's mouth is lost (turned away, covered, out of the "
-                   "frame), the voice moves the mouth (the voice mapping, crossfaded over 0.1 s).")
+@_VOICE_FILL
 @_JSON
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
@@ -318,12 +326,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     video = Path(take).suffix.lower() in VIDEO_SUFFIXES
     if side_by_side and not video:
         raise click.BadParameter("needs a video TAKE to show beside the cartoon", param_hint="--side-by-side")
-    if video:
-        from capture.video_tracking import track_video
-
-        loaded = track_video(take, "face", progress_factory=progress("track"))
-    else:
-        loaded = read_take(take, reading, mapping=mapping)
+    loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
     if video and voice_fill and has_audio(take):

@@ -225,7 +225,10 @@ def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | Non
     rate and units, where neither it nor the options say them, from the ``[tables]`` of the
     marker set named by ``layout`` or read by ``mapping`` (a drafted set keeps the rig's)."""
     from capture import load_markerset, load_take
+    from capture.sources import VIDEO_SUFFIXES
 
+    if Path(path).suffix.lower() in VIDEO_SUFFIXES:
+        return _tracked(path, reading)
     names = _labels(reading.labels) if reading.labels else None
     markerset = None
     if Path(path).suffix.lower() in (".csv", ".tsv", ".txt") and (reading.rate is None or reading.units is None):
@@ -237,6 +240,22 @@ def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | Non
     return load_take(path, rate=reading.rate, labels=names, units=reading.units,
                      allow_truncated=reading.allow_truncated, markerset=markerset, words=reading.words,
                      listen=reading.listen)
+
+
+def _tracked(path: str, reading: TakeReading) -> Take:
+    """A talking-head video read as a take: its face tracked without markers, with a progress bar
+    (:func:`capture.video_tracking.load_take_or_video`); the options for tables and voices refused."""
+    from capture.video_tracking import load_take_or_video
+    from common import InputError
+
+    given = [option for option, value in (("--rate", reading.rate), ("--labels", reading.labels),
+                                          ("--units", reading.units), ("--text", reading.words),
+                                          ("--listen", reading.listen)) if value is not None]
+    if given or reading.allow_truncated:
+        named = ", ".join(given + (["--allow-truncated"] if reading.allow_truncated else []))
+        raise InputError(f"{named}: not for a video, whose face is tracked at its own rate and in its own units "
+                         "(--text and --listen are for a sound file)", path)
+    return load_take_or_video(path, progress_factory=progress("track"))
 
 
 BACKGROUND = click.option(

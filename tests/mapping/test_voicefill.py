@@ -74,3 +74,13 @@ def test_retarget_moves_a_covered_mouth_with_the_voice(realdata, tmp_path, capsy
     assert np.ptp(filled.values[32:53, mb]) > 0.3  # with it: it speaks
     assert main(["retarget", str(covered), "-o", str(tmp_path / "out.mp4"), "--size", "128"]) == 0
     assert "from the voice in 31 frames where the face's mouth was lost (25 frames" in capsys.readouterr().err
+    from toon import load_track
+
+    # map takes the video as retarget does (it said "unknown take format '.mkv'"), the voice filling alike
+    assert main(["map", str(covered), "-o", str(tmp_path / "filled.csv")]) == 0
+    assert "from the voice in 31 frames where the face's mouth was lost (25 frames" in capsys.readouterr().err
+    assert main(["map", str(covered), "-o", str(tmp_path / "held.csv"), "--no-voice-fill"]) == 0
+    assert "from the voice" not in capsys.readouterr().err
+    by_map = {name: load_track(tmp_path / f"{name}.csv").values[:, mb] for name in ("filled", "held")}
+    assert np.ptp(by_map["held"][32:53]) < 0.05 and np.ptp(by_map["filled"][32:53]) > 0.3
+    np.testing.assert_array_equal(by_map["filled"][:27], by_map["held"][:27])  # seen, and over 0.1 s from the fill

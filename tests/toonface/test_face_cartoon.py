@@ -247,3 +247,24 @@ def test_a_video_without_sound_is_not_said_to_carry_its_sound(realdata, tmp_path
     with av.open(str(tmp_path / "c.mp4")) as made:
         assert not made.streams.audio
 
+
+
+@pytest.mark.slow
+def test_info_clean_and_map_take_a_talking_head_video_as_retarget_does(realdata, tmp_path, capsys):
+    """They said "unknown take format '.mpg'" for the video retarget and send take: the face is
+    tracked without markers; the options for tables and voices are refused in one line."""
+    from capture import load_take
+
+    source = realdata / "video" / "grid" / "lbax4n.mpg"
+    assert main(["info", str(source)]) == 0
+    said = capsys.readouterr().out
+    assert "frames    75" in said and "rate      25 Hz" in said and "source    video" in said
+    assert main(["clean", str(source), "-o", str(tmp_path / "clean.csv")]) == 0
+    cleaned = load_take(tmp_path / "clean.csv")
+    assert cleaned.frames == 75 and "LIP_LOW_IN" in cleaned.labels
+    for option in (["--units", "cm"], ["--rate", "30"], ["--text", "lay blue at x four now"]):
+        capsys.readouterr()
+        assert main(["map", str(source), "-o", str(tmp_path / "m.csv"), *option]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and str(source) in err and f"{option[0]}: not for a video" in err
+    assert not (tmp_path / "m.csv").exists()

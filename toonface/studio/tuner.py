@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 
-from capture import Take, load_take
 from common import InputError, read_document, write_toml
 from mapping import parse_mapping, save_profile
 from mapping.mapfile import MotorRule
@@ -52,6 +51,8 @@ class MappingTuner:
     def __init__(self, take: str, neutral: np.ndarray, mapping: str | None = None, units: str | None = None) -> None:
         self.path = Path(take)
         self.neutral = np.asarray(neutral, dtype=np.float64)
+        from capture.video_tracking import load_take_or_video  # the tracker, imported when first opened
+
         self.ready: ReadyTake = ready_take(load_take_or_video(self.path, units), mapping)
         source = self.ready.mapping.source
         if not source or not Path(source).is_file():
@@ -170,17 +171,3 @@ def source_unit(source: Source) -> str:
     """The unit a source is measured in: ``mm`` for positions and distances, ``°`` for angles and
     the head, ``score`` for blendshapes."""
     return {"angle": "°", "head": "°", "blendshape": "score"}.get(source.kind, "mm")
-
-
-def load_take_or_video(path: Path, units: str | None = None) -> Take:
-    """A take file, or a video tracked without markers (the tuner and the Animation Editor open
-    the same files)."""
-    from capture.sources import VIDEO_SUFFIXES
-
-    if path.suffix.lower() not in VIDEO_SUFFIXES:
-        return load_take(path, units=units)
-    if units:
-        raise InputError("a video is tracked in its own units: leave units out", path)
-    from capture.video_tracking import track_video  # mediapipe: imported only for a video
-
-    return track_video(path, "face")
