@@ -29,6 +29,10 @@ from common import InputError, read_document
 from common.sound import sound_envelope
 
 
+class NoFace(InputError):
+    """A video in which the face tracker found no face in any frame."""
+
+
 def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = "toon32",
                 colour: str = "blue", start_frame: int = 0, names: dict[int, str] | None = None,
                 corners: bool = False, dictionary: str = "aruco_original", mm_per_pixel: float | None = None,
@@ -51,7 +55,7 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
             raise InputError("a still image (one frame), not a video of a face", path)
         seen = np.isfinite(take.positions).all(axis=2).any(axis=1)
         if not seen.any():
-            raise InputError(f"no face found in any of its {take.frames} frames", path)
+            raise NoFace(f"no face found in any of its {take.frames} frames", path)
         take.meta["faces_found"] = int(seen.sum())
         return with_sound_level(take, path)
     if method == "dots":
@@ -98,7 +102,11 @@ def load_take_or_video(path: str | os.PathLike, units: str | None = None,
         return load_take(path, units=units)
     if units:
         raise InputError("a video is tracked in its own units: leave units out", path)
-    return track_video(path, "face", progress_factory=progress_factory)
+    try:
+        return track_video(path, "face", progress_factory=progress_factory)
+    except NoFace as exc:  # taken for a face without being told: say how markers in a video are read
+        raise InputError(f"{exc.message}; a video of dot or ArUco markers is read by `toonface track --markers "
+                         "dots` (or aruco) first", path) from None
 
 
 def with_sound_level(take: Take, path: str | os.PathLike) -> Take:

@@ -67,8 +67,10 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
     if mapping is None:
         found = find_markerset(take.labels)
         if found is None or not data_path("mappings", f"{found.name}.toml").is_file():
-            raise InputError("no built-in mapping matches the take's markers "
-                             f"({', '.join(take.labels[:6])}...); name one (--mapping, or mapping in a batch job)")
+            raise InputError(f"no built-in mapping matches its {len(take.labels)} markers "
+                             f"({', '.join(take.labels[:6])}...): name one (--mapping, or mapping in a batch job), "
+                             "or draft one for this layout (toonface markerset draft TAKE, then markerset mapping)",
+                             take.meta.get("file"))
         mapping = found.name
     chosen = load_mapping(mapping) if isinstance(mapping, str) else mapping
     markerset = found if found is not None and found.name == chosen.markerset else load_markerset(chosen.markerset)

@@ -183,6 +183,9 @@ def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
     err = capfd.readouterr().err
     assert err.count("\n") == 1 and "wall.mp4: no face found in any of its 8 frames" in err, err
     assert not (tmp_path / "t.npz").exists()
+    assert main(["map", str(video), "-o", str(tmp_path / "m.csv")]) == 2  # a face was not asked for: the way on
+    err = capfd.readouterr().err
+    assert err.count("\n") == 1 and "8 frames; a video of dot or ArUco markers is read by `toonface track" in err
 
 
 def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_named(realdata):

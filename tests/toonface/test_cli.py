@@ -14,7 +14,7 @@ import click
 import numpy as np
 import pytest
 
-from capture import load_take, save_take, synthesize
+from capture import Take, load_take, save_take, synthesize
 from capture.performance import DEFAULT_EXPRESSIONS
 from toon import MOTOR_CODES, builtin_faces, load_track, motor_index
 from toonface.cli import cli, main
@@ -82,6 +82,18 @@ def test_synth_map_render_chain(tmp_path, capsys):
     assert main(["render", str(motors), "-o", str(video), "--size", "64x48", "--fps", "15"]) == 0
     assert len(list(video.glob("frame_*.png"))) == 30
     assert load_take(take).frames == 60
+
+
+def test_a_layout_no_preset_knows_is_refused_naming_the_file_and_the_way_on(tmp_path, capsys):
+    """It named neither the file nor `markerset draft`, the command for a layout toonface has not seen."""
+    syn = synthesize(seconds=1, noise_mm=0.0).take
+    odd = tmp_path / "odd.npz"
+    save_take(Take(syn.positions, tuple(f"M{i}" for i in range(syn.markers)), 30.0), odd)
+    assert main(["map", str(odd), "-o", str(tmp_path / "m.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("toonface: error: odd.npz: no built-in mapping matches its 32 ")
+    assert "(M0, M1, M2, M3, M4, M5...)" in err and "toonface markerset draft TAKE" in err
+    assert not (tmp_path / "m.csv").exists()
 
 
 def test_a_corrupt_track_writes_nothing(tmp_path, capsys):
