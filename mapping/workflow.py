@@ -173,7 +173,8 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
         if not frames.any():
             raise InputError(f"cannot calibrate: no frames in the range window "
                              f"{range_window[0]:g}-{range_window[1]:g} s")
-    notes = {"neutral": f"{window[0]:g}-{window[1]:g} s" + ("" if how == "given" else f" ({how})"),
+    notes = {"neutral": f"{round(window[0], 3):g}-{round(window[1], 3):g} s"  # a frame's time: 26.667, not 26.6667
+                        + ("" if how == "given" else f" ({how})"),
              "range": f"percentiles {percentiles[0]:g}-{percentiles[1]:g}"
                       + (f" of {range_window[0]:g}-{range_window[1]:g} s" if range_window else "")}
     full = (range_from is not None or range_window is not None) and not rest_only
