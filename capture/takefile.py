@@ -116,8 +116,15 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
             raise InputError(f"a voice has no {', '.join(given)} to give; those options are for CSV tables", path)
         return read_voice(path, words, listen or "sound")
     if suffix not in READABLE:
+        from capture.sources import VIDEO_SUFFIXES
+
+        if suffix in VIDEO_SUFFIXES:  # the commands track it; a program says so
+            raise InputError("a video, not a take file: capture.video_tracking.load_take_or_video tracks its face",
+                             path)
+        moho = "; Moho's .dat switch data is written only: it keeps frames, not seconds" if suffix == ".dat" else ""
         raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)}, "
-                         f"and a voice: {', '.join(sorted(SOUND_SUFFIXES))})", path)
+                         f"Rhubarb's mouth cues: .tsv, .json, .xml, and a voice: "
+                         f"{', '.join(sorted(SOUND_SUFFIXES))}{moho})", path)
     require_file(path)
     given = [name for name, value in (("rate", rate), ("labels", labels), ("units", units)) if value is not None]
     if given and suffix not in _TABLES:

@@ -69,8 +69,12 @@ def test_movie_script_errors_name_the_line(tmp_path):
 
 
 def test_unknown_formats_and_missing_files(tmp_path):
-    with pytest.raises(InputError, match="unknown take format '.xyz'"):
+    with pytest.raises(InputError, match="unknown take format '.xyz'.*Rhubarb's mouth cues: .tsv, .json, .xml"):
         load_take(tmp_path / "a.xyz")
+    with pytest.raises(InputError, match="Moho's .dat switch data is written only"):  # what lipsync writes
+        load_take(tmp_path / "cues.dat")
+    with pytest.raises(InputError, match="a video, not a take file: capture.video_tracking.load_take_or_video"):
+        load_take(tmp_path / "talk.mp4")
     with pytest.raises(InputError, match="no such file"):
         load_take(tmp_path / "missing.npz")
     (tmp_path / "junk.npz").write_bytes(b"not a zip")
