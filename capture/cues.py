@@ -36,15 +36,14 @@ def cues_text(cues: list[tuple[float, float, str]], suffix: str, sound: str | os
     """``cues`` (``(start, end, shape)``, seconds) as the text of a ``.tsv``, ``.json``, ``.xml``
     or ``.dat`` (frames at ``fps``) file."""
     if suffix == ".dat":  # each cue from the frame it starts on; a cue shorter than a frame is lost
-        lines, last = ["MohoSwitch1"], None
+        switches: list[tuple[int, str]] = []
         for start, _, shape in cues:
             frame = int(round(start * fps)) + 1
-            if lines[-1].startswith(f"{frame} "):
-                lines[-1] = f"{frame} {shape}"
-            elif shape != last:
-                lines.append(f"{frame} {shape}")
-            last = shape
-        return "\n".join(lines) + "\n"
+            if switches and switches[-1][0] == frame:  # a later cue on the same frame replaces it
+                switches.pop()
+            if not switches or switches[-1][1] != shape:  # and a switch to the shape shown already is none
+                switches.append((frame, shape))
+        return "".join(f"{line}\n" for line in ["MohoSwitch1", *(f"{frame} {shape}" for frame, shape in switches)])
     if suffix == ".xml":
         from xml.sax.saxutils import escape
 

@@ -112,6 +112,8 @@ def test_cues_written_are_the_cues_read(tmp_path):
     # Moho's switch data: the frame each cue starts on, counted from 1 (0.92 s is frame 23.08 at 24 fps)
     assert cues_text(cues, ".dat", fps=24) == "MohoSwitch1\n1 X\n23 A\n25 B\n29 X\n"
     assert cues_text(cues, ".dat", fps=10) == "MohoSwitch1\n1 X\n10 A\n11 B\n13 X\n"
+    # a cue shorter than a frame, replaced on its frame by the shape shown before it: no switch (was "2 X" again)
+    assert cues_text([(0.0, 0.1, "X"), (0.1, 0.12, "A"), (0.12, 0.5, "X")], ".dat", fps=10) == "MohoSwitch1\n1 X\n"
     (folder / "entity.xml").write_text('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaa">]><rhubarbResult/>')
     with pytest.raises(InputError, match="document type"):
         read_cues(folder / "entity.xml")
