@@ -333,7 +333,16 @@ def jitter(values: np.ndarray, least: int = 1) -> np.ndarray:
 
 def column_nan_median(values: np.ndarray) -> np.ndarray:
     """``np.nanmedian(values, axis=0)`` of ``(F, M)``, ``(M,)``, without a warning for a column
-    that is all NaN (its median is NaN): one sort of the columns, where numpy takes them one by one."""
+    that is all NaN (its median is NaN): the columns without NaN in one partial sort
+    (``np.median``), the others in one sort, where numpy takes them one by one."""
+    whole = ~np.isnan(values).any(axis=0)
+    if whole.all():
+        return np.median(values, axis=0) if len(values) else np.full(values.shape[1], np.nan)
+    if whole.any():
+        out = np.empty(values.shape[1])
+        out[whole] = np.median(values[:, whole], axis=0)
+        out[~whole] = column_nan_median(values[:, ~whole])
+        return out
     ordered = np.sort(np.ascontiguousarray(values.T), axis=1)  # NaN sort last
     count = np.isfinite(ordered).sum(axis=1)
     rows = np.arange(len(ordered))

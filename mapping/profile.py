@@ -22,6 +22,7 @@ import numpy as np
 
 from common import Failure, read_versioned, write_document
 from common.validate import Validator
+from mapping.outliers import column_nan_median
 from mapping.sources import Source, head_angles, measure, mm_scale
 from mapping.stabilise import Stabilised, nearest_rotation
 
@@ -157,9 +158,9 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
                     range_values[guessed, i] = np.nan
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
-        rest_value = np.nanmedian(rest_values, axis=0)
+        rest_value = column_nan_median(rest_values)
         low, high = _nan_percentiles(range_values, percentiles)
-        jitter = 1.4826 * np.nanmedian(np.abs(np.diff(range_values, axis=0)), axis=0) / np.sqrt(2)
+        jitter = 1.4826 * column_nan_median(np.abs(np.diff(range_values, axis=0))) / np.sqrt(2)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
     moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
