@@ -10,7 +10,8 @@ without them, with the performer's reference shape the first fit measured. A fra
 references seen, or only ones on a line, has no pose; a short stretch of them takes one carried
 across from the poses either side (:func:`~mapping.lost_poses.bridge_lost_poses`), set right by
 the references still seen there as far as they pin it (:func:`~mapping.lost_poses.refine_poses`:
-the midline's three pitch it where the head nods). Gaps are filled
+the midline's three pitch it where the head nods), and by the face's other markers as far as they
+hold still in the head (:func:`~mapping.lost_poses.weak_references`). Gaps are filled
 in the head frame (from both sides, and from the other markers for long ones; a marker set's
 independent markers, the pupils, only from each other or straight across), then everything is
 smoothed with a zero-phase low-pass, which has no lag because it may look ahead, and more
@@ -38,8 +39,8 @@ from mapping.filters import Butterworth
 from mapping.gap_fit import straight_line
 from mapping.gaps import GapFiller, gap_runs
 from mapping.holds import HoldSmoother
-from mapping.lost_poses import bridge_lost_poses, refine_poses
-from mapping.outliers import SpikeFilter, centred_spikes
+from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
+from mapping.outliers import SpikeFilter, centred_spikes, jitter
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
     Stabilised,
@@ -138,7 +139,8 @@ def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarr
                        ) -> tuple[Stabilised, int]:
     """``first`` with short stretches without a head pose given one (:func:`mapping.lost_poses.bridge_lost_poses`,
     each pose either side trusted as well as its references pin it; then :func:`mapping.lost_poses.refine_poses` by
-    the references seen there) and the markers seen there expressed in it; and how many frames were bridged."""
+    the references seen there, and the other markers as weak ones, :func:`mapping.lost_poses.weak_references`) and
+    the markers seen there expressed in it; and how many frames were bridged."""
     if first.ok.all():  # every frame has its own pose: nothing to carry across
         return first, 0
     trust = posedness(first.reference, np.isfinite(positions[:, rows, 0]))
@@ -146,7 +148,12 @@ def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarr
                                                        trust=trust)
     if not bridged.any():
         return first, 0
-    rotation, translation = refine_poses(rotation, translation, first.reference, positions[:, rows], bridged)
+    others = [m for m in range(positions.shape[1]) if m not in rows]
+    noise = jitter(positions[:, rows])
+    weak = weak_references(first.local[:, others], positions[:, others], first.ok, bridged, times,
+                           float(np.nanmedian(noise)) if np.isfinite(noise).any() else 0.0)
+    rotation, translation = refine_poses(rotation, translation, first.reference, positions[:, rows], bridged,
+                                         weak=weak)
     local = first.local.copy()
     local[bridged] = to_head_frame(positions[bridged], rotation[bridged], translation[bridged])
     return Stabilised(local, rotation, translation, first.ok | bridged, first.reference), int(bridged.sum())

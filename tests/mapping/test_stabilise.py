@@ -305,6 +305,51 @@ def test_a_nod_that_stops_while_the_temples_are_lost_follows_the_midline_referen
     np.testing.assert_allclose(kept_trans, carried_trans, atol=1e-6)
 
 
+def test_a_nod_seen_by_the_temples_alone_follows_the_faces_other_markers():
+    """Two temples cannot pin a nod about the line through them: where only they are seen, the
+    carried pose cut the corner of a nod that stops (second bench performer, draw 9: 6.6 degrees,
+    3-5 mm on the pupils and mouth). The face's other markers, weighed by how little they move
+    in the head, pin it; the mouth, which speaks through the whole take, hardly counts even
+    where it opens inside the stretch."""
+    from scipy.spatial.transform import Rotation
+
+    from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
+
+    ms = load_markerset("toon32")
+    shape = np.array([ms.neutral_of(r) for r in ms.head_reference])
+    face_labels = [label for label in ms.labels if label not in ms.head_reference]
+    face = np.array([ms.neutral_of(label) for label in face_labels])
+    frames, rng = 120, np.random.default_rng(9)
+    times = np.arange(frames) / 60.0
+    local = np.repeat(face[None], frames, axis=0)
+    speaking = face[:, 1] < -50  # the mouth and chin: open and shut all through, and wide open in the stretch
+    opening = 4.0 + 4.0 * np.sin(2 * np.pi * 3 * times) + 6.0 * ((times > 0.6) & (times < 1.05))
+    local[:, speaking, 1] -= opening[:, None]
+    pitch = -20.0 * np.clip((times - 0.5) / 0.35, 0.0, 1.0)  # degrees: a nod from 0.5 s that stops at 0.85 s
+    rotation = Rotation.from_euler("x", pitch[:, None], degrees=True).as_matrix()
+    translation = np.tile([5.0, -3.0, 600.0], (frames, 1))
+    target = np.einsum("fij,kj->fki", rotation, shape) + translation[:, None, :] + rng.normal(0.0, 0.3, (frames, 5, 3))
+    world = np.einsum("fij,fkj->fki", rotation, local) + translation[:, None, :] + rng.normal(0.0, 0.3, local.shape)
+    lost = np.zeros(frames, bool)
+    lost[36:63] = True  # 0.6-1.05 s: only the temples seen
+    target[np.ix_(lost, [0, 3, 4])] = np.nan
+    carried_rot, carried_trans, bridged = bridge_lost_poses(rotation, translation, ~lost, times)
+    seen_local = np.einsum("fji,fkj->fki", rotation, world - translation[:, None, :])  # in the fitted frames' heads
+    seen_local[lost] = np.nan
+    weak = weak_references(seen_local, world, ~lost, bridged, times, noise=0.3)
+    plain_rot, _ = refine_poses(carried_rot, carried_trans, shape, target, bridged)
+    weak_rot, _ = refine_poses(carried_rot, carried_trans, shape, target, bridged, weak=weak)
+
+    def error(rot):  # degrees from the true pose, worst lost frame
+        rel = np.einsum("fji,fjk->fik", rotation[lost], rot[lost])
+        return np.degrees(np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1.0, 1.0))).max()
+
+    assert error(carried_rot) > 7.0 and error(plain_rot) > 7.0  # the temples alone leave the nod as carried
+    assert error(weak_rot) < 4.5, error(weak_rot)  # 7.3 -> 4.1 at worst: the carried pose keeps its own weight
+    assert weak.weight[lost][:, speaking].max() < 0.05 < 0.4 < weak.weight[lost][:, ~speaking].min()
+    assert (weak.weight[~lost] == 0).all()
+
+
 def test_a_performer_whose_head_references_sit_apart_from_the_sets_keeps_the_head_still_when_one_drops():
     """The references' own shape is measured in a head fitted with the marker set's, and then
     again in the head fitted with that, until it settles. Measured once, on this draw of the
