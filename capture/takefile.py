@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -119,8 +120,7 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
         from capture.sources import VIDEO_SUFFIXES
 
         if suffix in VIDEO_SUFFIXES:  # the commands track it; a program says so
-            raise InputError("a video, not a take file: capture.video_tracking.load_take_or_video tracks its face",
-                             path)
+            raise InputError("a video, not a take file: capture.takefile.load_take_or_video tracks its face", path)
         moho = "; Moho's .dat switch data is written only: it keeps frames, not seconds" if suffix == ".dat" else ""
         raise InputError(f"unknown take format {path.suffix or '(no suffix)'!r} (readable: {', '.join(READABLE)}, "
                          f"Rhubarb's mouth cues: .tsv, .json, .xml, and a voice: "
@@ -171,3 +171,31 @@ def save_take(take: Take, path: str | os.PathLike) -> Path:
     with atomic_path(path) as tmp:
         writer(take, tmp)
     return path
+
+
+def load_take_or_video(path: str | os.PathLike, units: str | None = None,
+                       progress_factory: Callable[[int], Callable[[int], None]] | None = None) -> Take:
+    """A take file (:func:`capture.load_take`, its ``units`` where it does not say them), or a
+    talking-head video (any of :data:`capture.sources.VIDEO_SUFFIXES`) with its face tracked
+    without markers, as ``retarget`` takes it: what every command and page that opens a take
+    opens. For dot or ArUco markers in a video, :func:`capture.video_tracking.track_video`
+    names the kind.
+
+    Raises
+    ------
+    InputError
+        A bad take or video, or ``units`` given for a video (it is tracked in its own).
+    """
+    from capture.sources import VIDEO_SUFFIXES
+
+    if Path(path).suffix.lower() not in VIDEO_SUFFIXES:
+        return load_take(path, units=units)
+    if units:
+        raise InputError("a video is tracked in its own units: leave units out", path)
+    from capture.video_tracking import NoFace, track_video  # the trackers: imported for a video only
+
+    try:
+        return track_video(path, "face", progress_factory=progress_factory)
+    except NoFace as exc:  # taken for a face without being told: say how markers in a video are read
+        raise InputError(f"{exc.message}; a video of dot or ArUco markers is read by `toonface track --markers "
+                         "dots` (or aruco) first", path) from None

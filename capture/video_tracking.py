@@ -83,32 +83,6 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
     return Take(pixels_to_mm(pixels, origin, scale), tuple(labels), rate, dims=2, meta=meta)
 
 
-def load_take_or_video(path: str | os.PathLike, units: str | None = None,
-                       progress_factory: Callable[[int], Callable[[int], None]] | None = None) -> Take:
-    """A take file (:func:`capture.load_take`, its ``units`` where it does not say them), or a
-    talking-head video (any of :data:`capture.sources.VIDEO_SUFFIXES`) with its face tracked
-    without markers, as ``retarget`` takes it: what every command and page that opens a take
-    opens. For dot or ArUco markers in a video, :func:`track_video` names the kind.
-
-    Raises
-    ------
-    InputError
-        A bad take or video, or ``units`` given for a video (it is tracked in its own).
-    """
-    from capture.sources import VIDEO_SUFFIXES
-    from capture.takefile import load_take
-
-    if Path(path).suffix.lower() not in VIDEO_SUFFIXES:
-        return load_take(path, units=units)
-    if units:
-        raise InputError("a video is tracked in its own units: leave units out", path)
-    try:
-        return track_video(path, "face", progress_factory=progress_factory)
-    except NoFace as exc:  # taken for a face without being told: say how markers in a video are read
-        raise InputError(f"{exc.message}; a video of dot or ArUco markers is read by `toonface track --markers "
-                         "dots` (or aruco) first", path) from None
-
-
 def with_sound_level(take: Take, path: str | os.PathLike) -> Take:
     """``take`` with a :data:`~capture.take.SOUND_LEVEL` channel: the loudness of ``path``'s sound
     at each frame (RMS over 20 ms, 1 the loudest; NaN past the sound's end), which says where

@@ -244,8 +244,8 @@ def read_take(path: str, reading: TakeReading = TakeReading(), layout: str | Non
 
 def _tracked(path: str, reading: TakeReading) -> Take:
     """A talking-head video read as a take: its face tracked without markers, with a progress bar
-    (:func:`capture.video_tracking.load_take_or_video`); the options for tables and voices refused."""
-    from capture.video_tracking import load_take_or_video
+    (:func:`capture.takefile.load_take_or_video`); the options for tables and voices refused."""
+    from capture.takefile import load_take_or_video
     from common import InputError
 
     given = [option for option, value in (("--rate", reading.rate), ("--labels", reading.labels),

@@ -73,7 +73,7 @@ def test_unknown_formats_and_missing_files(tmp_path):
         load_take(tmp_path / "a.xyz")
     with pytest.raises(InputError, match="Moho's .dat switch data is written only"):  # what lipsync writes
         load_take(tmp_path / "cues.dat")
-    with pytest.raises(InputError, match="a video, not a take file: capture.video_tracking.load_take_or_video"):
+    with pytest.raises(InputError, match="a video, not a take file: capture.takefile.load_take_or_video"):
         load_take(tmp_path / "talk.mp4")
     with pytest.raises(InputError, match="no such file"):
         load_take(tmp_path / "missing.npz")

@@ -294,7 +294,7 @@ def _track(path: Path, units: str | None = None, rate: float | None = None) -> t
     from capture import load_take
     from capture.csvfile import MissingRate
     from capture.sources import VIDEO_SUFFIXES
-    from capture.video_tracking import load_take_or_video
+    from capture.takefile import load_take_or_video
     from toonface.pipeline import map_onto_face
 
     if path.suffix.lower() in (".csv", ".npz"):

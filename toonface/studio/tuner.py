@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from capture.takefile import load_take_or_video
 from common import InputError, read_document, write_toml
 from mapping import parse_mapping, save_profile
 from mapping.mapfile import MotorRule
@@ -51,8 +52,6 @@ class MappingTuner:
     def __init__(self, take: str, neutral: np.ndarray, mapping: str | None = None, units: str | None = None) -> None:
         self.path = Path(take)
         self.neutral = np.asarray(neutral, dtype=np.float64)
-        from capture.video_tracking import load_take_or_video  # the tracker, imported when first opened
-
         self.ready: ReadyTake = ready_take(load_take_or_video(self.path, units), mapping)
         source = self.ready.mapping.source
         if not source or not Path(source).is_file():
