@@ -204,6 +204,10 @@ def refine_poses(rotation: np.ndarray, translation: np.ndarray, shape: np.ndarra
         The references in the world, NaN where unseen.
     frames : ndarray of bool, shape (F,)
         Frames whose pose was carried across.
+    iterations : int
+        Gauss-Newton steps.
+    weak : WeakReferences, optional
+        The face's other markers, ``(F, J, ...)``, each counted at its weight (none by default).
 
     Returns
     -------
