@@ -44,6 +44,10 @@ def batch(ctx: click.Context, job_file: str, scheduler: str | None, workers: int
     job = load_job(job_file)
     for pattern in job.empty_globs:
         click.echo(f"warning: {job.path}: takes: {pattern!r} matches no take file", err=True)
+    if job.passed_over:
+        names = ", ".join(p.name for p in job.passed_over[:5]) + (", ..." if len(job.passed_over) > 5 else "")
+        click.echo(f"warning: {job.path}: takes: {len(job.passed_over)} videos or voices left out ({names}): a batch "
+                   "reads marker takes; `toonface retarget` each one", err=True)
     pairs = plan(job, force)
     if dry_run:
         for pair in pairs:

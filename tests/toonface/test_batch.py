@@ -70,6 +70,25 @@ def test_a_job_without_takes_is_an_error_and_an_empty_glob_is_reported(tmp_path)
         load_job(path)
 
 
+def test_videos_and_voices_a_glob_matches_are_said_to_be_left_out(tmp_path, capsys):
+    """A batch reads marker takes; a glob over a folder that also holds videos and voices, which
+    map and retarget read, left them out without a word (and with nothing else, said no take matched)."""
+    from toonface.cli import main
+
+    path = write_job(tmp_path, {"a": 1.0}, ["classic"])
+    path.write_text(path.read_text().replace('takes = ["takes/*.npz", "takes/*.c3d"]', 'takes = ["takes/*"]'))
+    for name in ("talk.mp4", "line.wav", "notes.md"):
+        (tmp_path / "takes" / name).write_bytes(b"")
+    job = load_job(path)
+    assert [t.name for t in job.takes] == ["a.npz"] and [p.name for p in job.passed_over] == ["line.wav", "talk.mp4"]
+    assert main(["batch", str(path), "--dry-run"]) == 0
+    assert ("takes: 2 videos or voices left out (line.wav, talk.mp4): a batch reads marker takes; `toonface "
+            "retarget` each one") in capsys.readouterr().err
+    (tmp_path / "takes" / "a.npz").unlink()
+    with pytest.raises(InputError, match="it matches 2 videos or voices, which a batch does not read"):
+        load_job(path)
+
+
 def test_outputs_are_never_taken_for_takes(tmp_path):
     path = write_job(tmp_path, {"a": 1.0}, ["classic"])
     path.write_text(path.read_text().replace('takes = ["takes/*.npz", "takes/*.c3d"]', 'takes = ["**/*.npz"]'))

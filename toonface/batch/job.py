@@ -112,13 +112,16 @@ class Job:
     clean: CleanSettings = CleanSettings()
     take_options: TakeOptions = TakeOptions()
     empty_globs: tuple[str, ...] = field(default=())
+    passed_over: tuple[Path, ...] = field(default=())
 
 
 def load_job(path: str | os.PathLike) -> Job:
     """Read and check a job file; every problem is an :class:`InputError` naming the field.
 
     Takes are found by the globs now (sorted, each once); a glob that matches nothing is kept in
-    ``empty_globs`` for the caller to warn about, and a job with no takes at all is an error.
+    ``empty_globs``, and the videos and voices the globs match (which ``map`` and ``retarget``
+    read, a batch not) in ``passed_over``, for the caller to warn about; a job with no takes
+    at all is an error.
     """
     path = Path(path).resolve()
     doc = read_versioned(path, FORMAT, "batch job")
@@ -129,7 +132,7 @@ def load_job(path: str | os.PathLike) -> Job:
     fields.check.fields(doc, known, "")
     patterns = fields.strings("takes", required=True)
     output = base / (fields.text("output") or "batch-out")
-    takes, empty = _expand(patterns, base, path, output)
+    takes, empty, passed = _expand(patterns, base, path, output)
     faces = tuple(_face_spec(name, base) for name in fields.strings("faces", required=True))
     if len(set(faces)) != len(faces):
         raise InputError("a face is named twice", path, "faces")
@@ -144,26 +147,35 @@ def load_job(path: str | os.PathLike) -> Job:
         mapping=_mapping_spec(mapping, base), profile=(base / profile) if profile else None,
         neutral=fields.neutral("neutral"), mirror=fields.flag("mirror", False),
         write=write, render=render, clean=_clean_settings(fields),
-        take_options=_take_options(fields), empty_globs=empty)
+        take_options=_take_options(fields), empty_globs=empty, passed_over=passed)
 
 
-def _expand(patterns: list[str], base: Path, path: Path, output: Path) -> tuple[tuple[Path, ...], tuple[str, ...]]:
-    """The take files the globs match, sorted, each once; files under the output folder (motor
-    tracks written as .npz or .csv) are never takes."""
+def _expand(patterns: list[str], base: Path, path: Path, output: Path
+            ) -> tuple[tuple[Path, ...], tuple[str, ...], tuple[Path, ...]]:
+    """The take files the globs match, sorted, each once (files under the output folder, motor
+    tracks written as .npz or .csv, are never takes); the globs that match none; and the videos
+    and voices they match, which a batch does not read."""
+    from capture.sources import VIDEO_SUFFIXES
+    from capture.voice import SOUND_SUFFIXES
+
     found: dict[Path, None] = {}
+    passed: dict[Path, None] = {}
     empty = []
     output = output.resolve()
     for pattern in patterns:
         full = pattern if os.path.isabs(pattern) else str(base / pattern)
-        matches = sorted(Path(m).resolve() for m in glob.glob(full, recursive=True)
-                         if Path(m).is_file() and Path(m).suffix.lower() in TAKE_SUFFIXES)
-        matches = [m for m in matches if output not in m.parents]
+        files = sorted(Path(m).resolve() for m in glob.glob(full, recursive=True) if Path(m).is_file())
+        files = [m for m in files if output not in m.parents]
+        matches = [m for m in files if m.suffix.lower() in TAKE_SUFFIXES]
+        passed.update(dict.fromkeys(m for m in files if m.suffix.lower() in VIDEO_SUFFIXES | SOUND_SUFFIXES))
         if not matches:
             empty.append(pattern)
         found.update(dict.fromkeys(matches))
     if not found:
-        raise InputError(f"no take file ({', '.join(TAKE_SUFFIXES)}) matches {patterns}", path, "takes")
-    return tuple(found), tuple(empty)
+        media = (f"; it matches {len(passed)} videos or voices, which a batch does not read (`toonface retarget` "
+                 "each one)") if passed else ""
+        raise InputError(f"no take file ({', '.join(TAKE_SUFFIXES)}) matches {patterns}{media}", path, "takes")
+    return tuple(found), tuple(empty), tuple(passed)
 
 
 def _face_spec(name: str, base: Path) -> str:

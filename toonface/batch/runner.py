@@ -151,7 +151,7 @@ class _Run:
     def __init__(self, job: Job, client: Client | None, progress: Callable[[int, int], None] | None,
                  clock: Callable[[], float]) -> None:
         self.job, self.client, self.progress, self.clock = job, client, progress, clock
-        self.map_job = replace(job, takes=(), empty_globs=())  # what map tasks need, not every take's path
+        self.map_job = replace(job, takes=(), empty_globs=(), passed_over=())  # what map tasks need, no paths
         self.capacity, self.capacity_time = 0, -float("inf")
         # Futures as they finish; without a cluster there is nothing to wait for (as_completed()
         # would look for a default client, and a rerun with nothing to make has none).
