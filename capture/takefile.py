@@ -192,10 +192,6 @@ def load_take_or_video(path: str | os.PathLike, units: str | None = None,
         return load_take(path, units=units)
     if units:
         raise InputError("a video is tracked in its own units: leave units out", path)
-    from capture.video_tracking import NoFace, track_video  # the trackers: imported for a video only
+    from capture.video_tracking import track_video  # the trackers: imported for a video only
 
-    try:
-        return track_video(path, "face", progress_factory=progress_factory)
-    except NoFace as exc:  # taken for a face without being told: say how markers in a video are read
-        raise InputError(f"{exc.message}; a video of dot or ArUco markers is read by `toonface track --markers "
-                         "dots` (or aruco) first", path) from None
+    return track_video(path, "face", progress_factory=progress_factory)

@@ -29,10 +29,6 @@ from common import InputError, read_document
 from common.sound import sound_envelope
 
 
-class NoFace(InputError):
-    """A video in which the face tracker found no face in any frame."""
-
-
 def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = "toon32",
                 colour: str = "blue", start_frame: int = 0, names: dict[int, str] | None = None,
                 corners: bool = False, dictionary: str = "aruco_original", mm_per_pixel: float | None = None,
@@ -55,7 +51,8 @@ def track_video(path: str | os.PathLike, method: str = "dots", markerset: str = 
             raise InputError("a still image (one frame), not a video of a face", path)
         seen = np.isfinite(take.positions).all(axis=2).any(axis=1)
         if not seen.any():
-            raise NoFace(f"no face found in any of its {take.frames} frames", path)
+            raise InputError(f"no face found in any of its {take.frames} frames; a video of dot or ArUco markers is "
+                             "read by `toonface track --markers dots` (or aruco)", path)
         take.meta["faces_found"] = int(seen.sum())
         return with_sound_level(take, path)
     if method == "dots":

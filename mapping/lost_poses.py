@@ -63,8 +63,8 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
     from scipy.spatial.transform import Rotation
 
     rot, trans, bridged = rotation.copy(), translation.copy(), np.zeros(len(ok), bool)
-    step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
-    most = _context_frames(times)
+    step = _step(times)
+    most = _context_frames(step)
     for start, end in gap_runs(~ok):
         if start == 0 or end == len(ok) or times[end] - times[start - 1] > longest + 1.5 * step:
             continue
@@ -85,9 +85,13 @@ def bridge_lost_poses(rotation: np.ndarray, translation: np.ndarray, ok: np.ndar
     return rot, trans, bridged
 
 
-def _context_frames(times: np.ndarray) -> int:
-    """:data:`POSE_CONTEXT` in frames of ``times`` (at least 3)."""
-    step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
+def _step(times: np.ndarray) -> float:
+    """The typical seconds between frames of ``times`` (1 for a single frame)."""
+    return float(np.median(np.diff(times))) if len(times) > 1 else 1.0
+
+
+def _context_frames(step: float) -> int:
+    """:data:`POSE_CONTEXT` in frames ``step`` seconds apart (at least 3)."""
     return max(3, int(round(POSE_CONTEXT / step))) if step > 0 else 3
 
 
@@ -148,7 +152,7 @@ def weak_references(local: np.ndarray, world: np.ndarray, ok: np.ndarray, carrie
     if not carried.any() or not ok.any() or not noise > 0:
         return WeakReferences(place, world, weight)
     _, moves, _ = _spread(local[ok])
-    reach = _context_frames(times)
+    reach = _context_frames(_step(times))
     for start, end in gap_runs(carried):
         around = np.r_[max(0, start - reach):start, end:min(frames, end + reach)]
         mean, varies, seen = _spread(local[around[ok[around]]])
