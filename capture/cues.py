@@ -15,6 +15,7 @@ sound weighed two (:func:`capture.voice_sound.sound_mouth`).
 from __future__ import annotations
 
 import json
+import math
 import os
 from pathlib import Path
 from typing import Any
@@ -24,6 +25,7 @@ import numpy as np
 from capture.take import Take
 from capture.voice import FRAME_RATE, VISEMES, shape_curves
 from common import InputError
+from common.limits import check_cue_end, read_regular_text
 
 #: What cues are written as, by suffix (all but ``.dat`` are read back too).
 CUE_SUFFIXES = (".tsv", ".json", ".xml", ".dat")
@@ -77,10 +79,7 @@ def read_cues(path: str | os.PathLike) -> list[tuple[float, float, str]]:
         Naming the file and the line or cue that is not a cue.
     """
     source = Path(path)
-    try:
-        text = source.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise InputError("not a text file of mouth cues (UTF-8)", source) from None
+    text = read_regular_text(source, what="file of mouth cues")
     if source.suffix.lower() == ".json":
         return _json_cues(text, source)
     if source.suffix.lower() == ".xml":
@@ -99,6 +98,7 @@ def read_cues(path: str | os.PathLike) -> list[tuple[float, float, str]]:
                              f"line {number}")
         if starts and start < starts[-1][0]:
             raise InputError("cue times must not go back", source, f"line {number}")
+        check_cue_end(start, source, f"line {number}")
         starts.append((start, parts[1].strip()))
     if len(starts) < 2:
         raise InputError("no mouth cues: expected start<TAB>shape lines ending with the end at rest", source)
@@ -113,6 +113,7 @@ def _json_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
     listed = doc.get("mouthCues") if isinstance(doc, dict) else None
     if not isinstance(listed, list) or not listed:
         raise InputError('expected Rhubarb\'s JSON: an object with "mouthCues"', source)
+    sound = _duration(doc.get("metadata"), source)
     cues: list[tuple[float, float, str]] = []
     for k, cue in enumerate(listed):
         where = f"mouthCues[{k}]"
@@ -125,6 +126,7 @@ def _json_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
         start, end = float(times[0]), float(times[1])  # type: ignore[arg-type]
         if not 0 <= start <= end or (cues and start < cues[-1][1] - 1e-9):
             raise InputError("expected 0 <= start <= end, each cue after the one before", source, where)
+        check_cue_end(end, source, where, sound)
         cues.append((start, end, str(cue["value"])))
     return cues
 
@@ -141,6 +143,7 @@ def _xml_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
     listed = root.findall("./mouthCues/mouthCue")
     if root.tag != "rhubarbResult" or not listed:
         raise InputError("expected Rhubarb's XML: rhubarbResult with mouthCues", source)
+    sound = _duration({"duration": root.findtext("./metadata/duration")}, source)
     cues: list[tuple[float, float, str]] = []
     for k, cue in enumerate(listed):
         where = f"mouthCue {k + 1}"
@@ -153,8 +156,26 @@ def _xml_cues(text: str, source: Path) -> list[tuple[float, float, str]]:
                 or (cues and start < cues[-1][1] - 1e-9):
             raise InputError(f"expected 0 <= start <= end after the cue before, and a shape of {', '.join(VISEMES)}",
                              source, where)
+        check_cue_end(end, source, where, sound)
         cues.append((start, end, shape))
     return cues
+
+
+def _duration(metadata: object, source: Path) -> float | None:
+    """The length of the sound the cues came with, seconds, where their metadata gives one
+    (Rhubarb writes ``duration``); an :class:`InputError` where it is not a length."""
+    value = metadata.get("duration") if isinstance(metadata, dict) else None
+    if value is None or value == "":
+        return None
+    try:
+        seconds = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"expected the sound's duration in seconds, got {str(value)[:40]!r}", source,
+                         "metadata.duration") from None
+    if not (math.isfinite(seconds) and seconds >= 0):
+        raise InputError(f"expected the sound's duration in seconds, got {str(value)[:40]!r}", source,
+                         "metadata.duration")
+    return seconds
 
 
 def cues_take(path: str | os.PathLike) -> Take:

@@ -12,21 +12,18 @@ from pathlib import Path
 import numpy as np
 
 from common import InputError
+from common.limits import MAX_TAKE_BYTES, read_regular
 
 #: Cells that mean "not seen" in the exports we read.
 MISSING_CELLS = frozenset({"", "na", "nan", "n/a", "null", "none", "-", "?"})
 SEPARATORS = (",", ";", "\t", "|")
-MAX_BYTES = 2 * 1024**3  # refuse absurd files before reading them into memory
 
 
 def read_lines(path: Path) -> list[str]:
     """The file's lines without line ends; refuses empty and binary files."""
-    size = path.stat().st_size
-    if size == 0:
+    raw = read_regular(path, MAX_TAKE_BYTES, "text take")
+    if not raw:
         raise InputError("empty file (0 bytes)", path)
-    if size > MAX_BYTES:
-        raise InputError(f"file of {size} bytes is larger than the {MAX_BYTES} bytes a text take may have", path)
-    raw = path.read_bytes()
     if b"\x00" in raw[:65536]:
         raise InputError("binary data in what should be a text file", path)
     try:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import functools
 import json
 import os
-import re
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -14,6 +13,7 @@ import tomli_w
 
 from common.atomic import atomic_path
 from common.errors import InputError
+from common.limits import MAX_DOCUMENT_BYTES, MAX_NESTING, nesting_depth, read_regular
 
 
 def data_path(*parts: str) -> Path:
@@ -36,16 +36,23 @@ def builtin_names(folder: str, suffix: str) -> list[str]:
 
 
 def names_builtin(name_or_path: str | os.PathLike) -> bool:
-    """Whether a user's ``name_or_path`` means a built-in file: a bare name, with no suffix and no
-    directory part, that does not exist as given."""
+    """Whether a user's ``name_or_path`` is written as a built-in's name: a bare name, with no
+    suffix and no folder part (``round``, ``toon32``). A file or folder of that name in the
+    working folder does not change it: a built-in is named the same everywhere, and a file of
+    one's own is written as a path (``./round``, ``round.json``).
+
+    >>> names_builtin("round"), names_builtin("./round"), names_builtin("round.json"), names_builtin("my/round")
+    (True, False, False, False)
+    """
     text = os.fspath(name_or_path)
-    return not Path(text).suffix and os.sep not in text and not Path(text).exists()
+    return bool(text) and not Path(text).suffix and "/" not in text and os.sep not in text and text not in (".", "..")
 
 
 def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, what: str) -> Path:
-    """The file a user named: a bare name means the built-in ``data/<folder>/<name><suffix>``.
-
-    Anything with a suffix, a directory part, or that exists as given is taken as a path.
+    """The file a user named: a bare name (:func:`names_builtin`) means the built-in
+    ``data/<folder>/<name><suffix>``, whatever the working folder holds; a bare name that no
+    built-in has is taken as a path where such a file exists. Anything with a suffix or a
+    folder part is a path.
 
     Raises
     ------
@@ -55,10 +62,13 @@ def resolve_builtin(name_or_path: str | os.PathLike, folder: str, suffix: str, w
     text = os.fspath(name_or_path)
     path = Path(text)
     if names_builtin(text):
-        path = data_path(folder, f"{text}{suffix}")
+        builtin = data_path(folder, f"{text}{suffix}")
+        if builtin.is_file():
+            return builtin
         if not path.is_file():
             known = ", ".join(builtin_names(folder, suffix)) or "none"
-            raise InputError(f'no built-in {what} "{text}" (built-in: {known})')
+            raise InputError(f'no built-in {what} "{text}" (built-in: {known}; a file of your own is written as a '
+                             f'path, such as ./{text}{suffix})')
     if not path.is_file():
         raise InputError(f"no such {what} file", path)
     return path
@@ -91,34 +101,13 @@ def _copied(value: object) -> object:
     return value
 
 
-#: The largest TOML or JSON file read (bytes): every toonface document is far smaller.
-MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
-#: The deepest nesting of arrays and tables read; a parser recursing deeper ran out of stack.
-MAX_NESTING = 64
-
-
-def nesting_depth(text: str) -> int:
-    """The deepest nesting of ``[``/``{`` in a TOML or JSON text, outside quoted strings (an upper
-    bound where TOML's comments hold brackets, which is all a limit needs)."""
-    import numpy as np  # loaded when a file is read, not when the command starts
-
-    data = np.frombuffer(_STRINGS.sub("", text).encode("utf-8"), dtype=np.uint8)
-    steps = ((data == ord("[")) | (data == ord("{"))).astype(np.int64) - ((data == ord("]")) | (data == ord("}")))
-    return int(np.cumsum(steps).max(initial=0))
-
-
-_STRINGS = re.compile(r'"(?:\\.|[^"\\\n])*"|\'[^\'\n]*\'')
-
-
 @functools.lru_cache(maxsize=256)
 def _parsed(path: Path, mtime_ns: int, size: int) -> dict:
     """The parsed document (the process's one cache: keyed by the file's path, modification time
     and size, so that a changed file is read again; errors are not kept)."""
     kind = "TOML" if path.suffix.lower() == ".toml" else "JSON"
-    if size > MAX_DOCUMENT_BYTES:
-        raise InputError(f"{size} bytes: larger than the {MAX_DOCUMENT_BYTES} bytes a {kind} file here may have", path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_regular(path, MAX_DOCUMENT_BYTES, f"{kind} file").decode("utf-8")
     except UnicodeDecodeError as exc:
         raise InputError(f"not valid {kind} ({exc})", path) from None
     depth = nesting_depth(text)

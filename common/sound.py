@@ -12,7 +12,8 @@ import os
 import av
 import numpy as np
 
-from common.errors import InputError
+from common.errors import InputError, require_file
+from common.limits import MAX_SOUND_SECONDS, check_sound
 
 
 def has_audio(path: str | os.PathLike) -> bool:
@@ -51,22 +52,41 @@ def decode_mono(path: str | os.PathLike, rate: int | None = None) -> tuple[np.nd
     InputError
         When the file has no audio stream or cannot be decoded.
     """
+    require_file(path)
     try:
         with av.open(str(path)) as container:
             if not container.streams.audio:
                 raise InputError("no audio stream", path)
             stream = container.streams.audio[0]
+            own = stream.codec_context.sample_rate or 0
+            check_sound(own, _stated_seconds(container, stream), path)
             offset = _start(stream)
             if container.streams.video:
                 offset -= _start(container.streams.video[0])
-            rate = rate or stream.codec_context.sample_rate or 48000
+            rate = rate or own
+            most = int(MAX_SOUND_SECONDS * rate) + rate  # a header may understate the length: count as it comes
             resampler = av.AudioResampler(format="flt", layout="mono", rate=rate)
-            pieces = [piece.to_ndarray().reshape(-1) for frame in container.decode(stream)
-                      for piece in resampler.resample(frame)]
-            pieces += [piece.to_ndarray().reshape(-1) for piece in resampler.resample(None)]  # what it holds back
+            pieces: list[np.ndarray] = []
+            count = 0
+            for frame in (*container.decode(stream), None):  # None: what the resampler holds back
+                for piece in resampler.resample(frame):
+                    pieces.append(piece.to_ndarray().reshape(-1))
+                    count += len(pieces[-1])
+                    if count > most:
+                        check_sound(rate, count / rate, path)
     except av.error.FFmpegError as exc:
         raise InputError(f"cannot decode its sound ({exc})", path) from None
-    return np.concatenate(pieces or [np.zeros(0, np.float32)]), rate, offset
+    samples = np.concatenate(pieces or [np.zeros(0, np.float32)])
+    if not np.isfinite(samples).all():
+        raise InputError("its sound holds samples that are not numbers (NaN or infinity)", path)
+    return samples, rate, offset
+
+
+def _stated_seconds(container: av.container.InputContainer, stream: av.stream.Stream) -> float:
+    """The sound's length as its headers state it (0 where they do not)."""
+    if stream.duration is not None and stream.time_base:
+        return float(stream.duration * stream.time_base)
+    return container.duration / av.time_base if container.duration is not None else 0.0
 
 
 def _start(stream: av.stream.Stream) -> float:

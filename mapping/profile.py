@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import Failure, read_versioned, write_document
+from common import Failure, read_versioned, resolve_builtin, write_document
 from common.validate import Validator
 from mapping.outliers import column_nan_median
 from mapping.sources import Source, head_angles, measure, mm_scale
@@ -201,8 +201,9 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
 
 
 def load_profile(path: str | os.PathLike) -> Profile:
-    """Read a profile; an unusable file raises :class:`InputError` naming the field."""
-    path = Path(path)
+    """Read a profile (a file, or a built-in's bare name: ``toon32``, a typical face of that marker
+    set); an unusable file raises :class:`InputError` naming the field."""
+    path = resolve_builtin(path, "profiles", ".toml", "profile")
     doc = read_versioned(path, FORMAT, "profile")
     check = Validator(path)
     for key in ("markerset", "rest_rotation", "sources"):

@@ -17,8 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-#: The largest picture side, pixels (a 4096x4096 RGBA picture is 64 MB).
-MAX_SIDE = 4096
+from common.errors import InputError
+from common.limits import MAX_PICTURE_BYTES, MAX_PICTURE_PIXELS, MAX_PICTURE_SIDE, read_regular
+
 #: How a picture embedded in a face file starts.
 DATA_PNG = "data:image/png;base64,"
 
@@ -45,9 +46,10 @@ def decode_png(data: bytes, where: str) -> Picture:
         with Image.open(io.BytesIO(data)) as image:
             if image.format != "PNG":
                 raise ValueError(f"{where}: expected a PNG picture, got {image.format or 'something else'}")
-            if max(image.size) > MAX_SIDE:
-                raise ValueError(f"{where}: the picture is {image.size[0]}x{image.size[1]} pixels; at most "
-                                 f"{MAX_SIDE} a side")
+            width, height = image.size
+            if max(width, height) > MAX_PICTURE_SIDE or width * height > MAX_PICTURE_PIXELS:
+                raise ValueError(f"{where}: the picture is {width}x{height} pixels; at most {MAX_PICTURE_SIDE} a "
+                                 f"side and {MAX_PICTURE_PIXELS} in all")
             pixels = np.ascontiguousarray(np.asarray(image.convert("RGBA"), dtype=np.uint8))
     except (UnidentifiedImageError, OSError, Image.DecompressionBombError) as exc:
         raise ValueError(f"{where}: not a readable PNG picture ({exc})") from None
@@ -62,6 +64,9 @@ def load_picture(src: str, base_dir: Path | None) -> Picture:
     if src.startswith("data:"):
         if not src.startswith(DATA_PNG):
             raise ValueError(f"a picture in the face file is a PNG data URI ({DATA_PNG}...)")
+        if len(src) - len(DATA_PNG) > MAX_PICTURE_BYTES * 4 // 3 + 4:
+            raise ValueError(f"the picture in the face file is larger than the {MAX_PICTURE_BYTES} bytes a picture "
+                             "may have")
         try:
             data = base64.b64decode(src[len(DATA_PNG):], validate=True)
         except ValueError:
@@ -73,9 +78,9 @@ def load_picture(src: str, base_dir: Path | None) -> Picture:
     if path.suffix.lower() != ".png":
         raise ValueError(f"{src}: a picture is a .png file (or a PNG data URI)")
     try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise ValueError(f"{src}: cannot read it ({exc.strerror or exc})") from None
+        data = read_regular(path, MAX_PICTURE_BYTES, "picture")
+    except InputError as exc:
+        raise ValueError(f"{src}: {exc.message}") from None
     return decode_png(data, src)
 
 

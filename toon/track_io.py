@@ -18,6 +18,7 @@ import numpy as np
 
 from common import InputError, atomic_path
 from common.errors import require_file
+from common.limits import MAX_TAKE_BYTES, read_regular
 from common.npz import NPZ_ERRORS, check_npz
 from toon.motors import EXTRA_CODE, MOTOR_CODES
 from toon.track import MotorTrack
@@ -80,7 +81,7 @@ def _to_csv(track: MotorTrack) -> str:
 
 
 def _from_csv(path: Path) -> MotorTrack:
-    raw = path.read_bytes()
+    raw = read_regular(path, MAX_TAKE_BYTES, "motor track")
     try:
         if b"\x00" in raw[:65536]:
             raise UnicodeDecodeError("utf-8", raw, raw.index(b"\x00"), raw.index(b"\x00") + 1, "NUL byte")

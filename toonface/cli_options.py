@@ -194,12 +194,14 @@ def _at_file(value: str, option: str, what: str) -> str:
     is the option's one-line error."""
     if not value.startswith("@"):
         return value
+    from common import InputError
+    from common.limits import read_regular_text
+
     path = Path(value[1:])
     try:
-        return path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise click.BadParameter(f"{path}: cannot read {what} ({getattr(exc, 'strerror', None) or exc})",
-                                 param_hint=option) from None
+        return read_regular_text(path)
+    except InputError as exc:
+        raise click.BadParameter(f"cannot read {what}: {exc}", param_hint=option) from None
 
 
 def read_words(text: str) -> str:

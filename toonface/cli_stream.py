@@ -8,10 +8,11 @@ import secrets
 import threading
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import click
 
+from common import InputError
+from common.limits import read_regular
 from toonface.cli_options import (
     BACKGROUND,
     FACE,
@@ -55,7 +56,10 @@ def _warn(text: str) -> None:
 
 def _key(path: str | None) -> bytes | None:
     if path:
-        secret = Path(path).read_bytes().strip()
+        try:
+            secret = read_regular(path, 4096, "key file").strip()
+        except InputError as exc:
+            raise click.BadParameter(str(exc), param_hint="--key-file") from None
         if len(secret) < 16:
             raise click.BadParameter(f"{path}: a key needs at least 16 bytes", param_hint="--key-file")
         return secret
@@ -74,8 +78,9 @@ def _key(path: str | None) -> bytes | None:
 @ROOM_CA
 @click.option("--mapping", default=None, metavar="NAME|FILE",
               help="Mapping [default: the preset matching the markers].")
-@click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False, exists=True),
-              help="Performer profile [default: the marker set's typical one, rest from the first second].")
+@click.option("--profile", "profile_path", default=None, type=click.Path(dir_okay=False),
+              help="Performer profile, a file or a built-in's name [default: the marker set's typical one, rest from "
+                   "the first second].")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @click.option("--loop", "--repeat", "repeat", is_flag=True,
               help="A take file or a video (also played as a camera): play it again and again.")

@@ -106,12 +106,42 @@ def test_builtin_names_and_paths_resolve_the_same_way_for_faces_and_marker_sets(
     assert load_markerset("toon32").labels[0] == "FOREHEAD"
     with pytest.raises(InputError,
                        match=r'no built-in marker set "toon99" \(built-in: animface41, face, gluedots16, toon32, '
-                             r'voice\)'):
+                             r'voice; a file of your own is written as a path, such as ./toon99.toml\)'):
         load_markerset("toon99")
     with pytest.raises(InputError, match=r'no built-in face "toon99" \(built-in: .*classic'):
         load_face("toon99")
     with pytest.raises(InputError, match="no such marker set file"):
         load_markerset(tmp_path / "sub" / "mine.toml")
+
+
+@pytest.mark.parametrize("what", ["face", "marker set", "mapping", "profile", "expressions"])
+def test_a_file_or_folder_named_like_a_builtin_does_not_shadow_it(tmp_path, monkeypatch, what):
+    """A folder ``round`` in the working folder once made ``--face round`` say "round: no such face
+    file", and a file ``face`` hid the built-in marker set: a bare name is the built-in's wherever
+    one runs, and one's own file is written as a path."""
+    from capture import load_markerset
+    from mapping.mapfile import load_mapping
+    from mapping.profile import load_profile
+    from toon import load_face
+    from toon.expressions import load_expressions
+
+    loader, name = {"face": (load_face, "round"), "marker set": (load_markerset, "face"),
+                    "mapping": (load_mapping, "toon32"), "profile": (load_profile, "toon32"),
+                    "expressions": (load_expressions, "expressions")}[what]
+    monkeypatch.chdir(tmp_path)
+    builtin = loader(name)
+    (tmp_path / name).mkdir()
+    assert _same(loader(name), builtin)
+    (tmp_path / name).rmdir()
+    (tmp_path / name).write_text("not a file of any kind\n")
+    assert _same(loader(name), builtin)
+    with pytest.raises(InputError):  # written as a path, the file itself is read (and refused)
+        loader(f"./{name}")
+
+
+def _same(a: object, b: object) -> bool:
+    """The same document read twice (their fields, as text: no two reads share an address)."""
+    return repr(getattr(a, "__dict__", a)) == repr(getattr(b, "__dict__", b))
 
 
 def test_undecodable_documents_name_the_file_and_the_format(tmp_path):

@@ -58,7 +58,7 @@ def test_a_picture_is_read_from_the_face_file_or_beside_it_and_written_back_as_g
 
 
 @pytest.mark.parametrize(("change", "says"), [
-    ({"src": "missing.png"}, "components[-2].src: missing.png: cannot read it"),
+    ({"src": "missing.png"}, "components[-2].src: missing.png: no such file"),
     ({"src": "face.json"}, "a picture is a .png file"),
     ({"src": "data:image/jpeg;base64,AAAA"}, "is a PNG data URI"),
     ({"points": [[0, 0], [1, 0]]}, "an image has exactly 3 points"),

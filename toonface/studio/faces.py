@@ -18,6 +18,7 @@ import numpy as np
 
 from common import InputError, builtin_names
 from common.data import names_builtin
+from common.limits import MAX_PICTURE_BYTES, MAX_SVG_BYTES, read_regular
 from toon import Face, load_face, save_face
 from toon.face import KINDS, face_from_dict
 from toonface.studio import component_edits as parts
@@ -171,9 +172,10 @@ class FaceEditor:
         last; their indices. An :class:`InputError` naming the file where it is neither."""
         path = Path(path)
         try:
-            data = path.read_bytes()
+            picture = path.suffix.lower() == ".png"
+            data = read_regular(path, *((MAX_PICTURE_BYTES, "picture") if picture else (MAX_SVG_BYTES, "drawing")))
             made: list[int] = []
-            if path.suffix.lower() == ".png":
+            if picture:
                 self._edit(lambda doc: made.append(parts.import_picture(doc, data, path.name)))
             else:
                 text = data.decode("utf-8")

@@ -19,6 +19,7 @@ import numpy as np
 
 from common import InputError
 from common.errors import require_file
+from common.limits import read_regular_text
 from common.sound import decode_mono
 
 #: Samples per second of the sound the page plays and draws (speech keeps its words at 16 kHz).
@@ -114,11 +115,7 @@ def load_labels(path: str | os.PathLike) -> tuple[Label, ...]:
         Naming the file and the line that is not ``start<TAB>end<TAB>text``.
     """
     source = Path(path)
-    require_file(source)
-    try:
-        lines = source.read_text(encoding="utf-8").splitlines()
-    except UnicodeDecodeError:
-        raise InputError("not a text file of labels (UTF-8)", source) from None
+    lines = read_regular_text(source, what="text file of labels").splitlines()
     labels = []
     for number, line in enumerate(lines, start=1):
         if not line.strip() or line.startswith("\\"):
