@@ -2,8 +2,9 @@
 
 A component's drawn outline is a fixed linear function of its defining points: a spline through
 them (CharToon's smoothing, over all or part of an outline) or an ellipse through four contour
-points. Each is built once as a matrix ``M`` of shape ``(S, N)`` so that a frame's outline is
-``M @ points``; scipy's cubic spline evaluated on the identity basis gives the spline matrix.
+points. Each is built once as a sparse matrix ``M`` of shape ``(S, N)`` so that a frame's outline is
+``M @ points``; scipy's cubic spline evaluated on the identity basis gives the spline matrix (a
+long stretch's in windows, so that memory grows with its points, not their square).
 
 Strokes (outlines with a width) become triangles: one quad per visible segment with butt ends,
 plus miter joins on the outer side of each turn, falling back to a bevel beyond SVG's default
@@ -13,6 +14,7 @@ miter limit of 4, so the GL picture matches the SVG export's ``stroke-linejoin="
 from __future__ import annotations
 
 import numpy as np
+from scipy import sparse
 from scipy.interpolate import CubicSpline
 
 #: Output segments per input segment of a smoothed stretch.
@@ -39,8 +41,66 @@ def _spline_basis(params: np.ndarray, closed: bool, samples: np.ndarray) -> np.n
     return spline(samples)
 
 
+#: A smoothed stretch of up to this many points is solved whole (every built-in face's are).
+WHOLE_POINTS = 64
+#: Longer stretches are solved a block of this many segments at a time...
+BLOCK_SEGMENTS = 64
+#: ... and each drawn point reads the points up to this many either side of its segment: a cubic
+#: spline's reach falls by 2 - sqrt(3) (0.27) a point, so what lies beyond weighs under 1e-9 of a
+#: point's motion. A drawn point then depends on at most ``2 * REACH + 2`` points, and a stretch
+#: costs memory linear in its length.
+REACH = 16
+#: Weights below this are left out of a long stretch's sparse operator.
+NEGLIGIBLE = 1e-12
+
+
+def _stretch(rest: np.ndarray, idx: np.ndarray, closed: bool) -> tuple[sparse.csr_array, np.ndarray]:
+    """The spline through the points ``rest[idx]`` (a loop back to the first where ``closed``),
+    :data:`SPLINE_STEPS` samples a segment: its sparse operator ``(samples, len(rest))`` and the
+    segment (an index into ``idx``) each sample belongs to."""
+    k = len(idx)
+    loop = np.append(idx, idx[0]) if closed else idx
+    chords = np.linalg.norm(np.diff(rest[loop], axis=0), axis=1)
+    params = np.concatenate([[0.0], np.cumsum(np.maximum(chords, 1e-9))])
+    segments = len(params) - 1
+    samples = (np.arange(SPLINE_STEPS) * (np.diff(params) / SPLINE_STEPS)[:, None] + params[:-1, None]).reshape(-1)
+    owner = np.repeat(np.arange(segments), SPLINE_STEPS)
+    if k <= WHOLE_POINTS:  # exactly as one solve
+        local = _spline_basis(params, closed, samples)
+        return sparse.csr_array(_placed(local, idx, len(rest))), owner
+    rows, cols, vals = [], [], []
+    total = params[-1]
+    for first in range(0, segments, BLOCK_SEGMENTS):
+        last = min(first + BLOCK_SEGMENTS, segments)  # segments first..last-1
+        if closed:  # a window round the loop, its parameters unwrapped
+            at = np.arange(first - REACH, last + REACH + 1)
+            window = params[at % segments] + np.floor_divide(at, segments) * total
+            columns = idx[at % k]
+        else:
+            at = np.arange(max(first - REACH, 0), min(last + REACH, k - 1) + 1)
+            window, columns = params[at], idx[at]
+        basis = np.eye(len(at))
+        bc = "not-a-knot" if len(at) >= 4 else "natural"
+        local = CubicSpline(window, basis, bc_type=bc)(samples[first * SPLINE_STEPS:last * SPLINE_STEPS])
+        own = np.repeat(np.arange(first, last), SPLINE_STEPS) - at[0]  # each sample's segment in the window
+        near = np.abs(np.arange(len(at))[None, :] - own[:, None] - 0.5) <= REACH + 0.5
+        r, c = np.nonzero(near & (np.abs(local) >= NEGLIGIBLE))
+        rows.append(r + first * SPLINE_STEPS)
+        cols.append(columns[c])
+        vals.append(local[r, c])
+    operator = sparse.coo_array((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                shape=(len(samples), len(rest)))
+    return sparse.csr_array(operator), owner  # (a loop's window may name a point twice: summed)
+
+
+def _placed(local: np.ndarray, idx: np.ndarray, n: int) -> np.ndarray:
+    block = np.zeros((len(local), n))
+    block[:, idx] = local
+    return block
+
+
 def outline_operator(rest: np.ndarray, closed: bool, smooth: tuple[tuple[int, int], ...]
-                     ) -> tuple[np.ndarray, np.ndarray]:
+                     ) -> tuple[sparse.csr_array, np.ndarray]:
     """The matrix that turns an outline's points into the drawn outline, and each edge's origin.
 
     Parameters
@@ -55,8 +115,9 @@ def outline_operator(rest: np.ndarray, closed: bool, smooth: tuple[tuple[int, in
 
     Returns
     -------
-    operator : ndarray, shape (S, N)
-        Drawn outline = ``operator @ points``.
+    operator : scipy.sparse.csr_array, shape (S, N)
+        Drawn outline = ``operator @ points``. Sparse: its memory grows with N, not N squared
+        (a stretch longer than :data:`WHOLE_POINTS` is solved in windows, see :data:`REACH`).
     edge_origin : ndarray of int, shape (E,)
         For each drawn edge (``E = S`` closed, ``S - 1`` open), the input segment it belongs to
         (segment ``i`` runs from point ``i`` to point ``i + 1``), so invisible segments stay so.
@@ -64,47 +125,35 @@ def outline_operator(rest: np.ndarray, closed: bool, smooth: tuple[tuple[int, in
     n = len(rest)
     if not smooth:
         edges = np.arange(n if closed else n - 1)
-        return np.eye(n), edges
-    whole = closed and any(a == 0 and b == n - 1 for a, b in smooth)
-    rows: list[np.ndarray] = []
-    origin: list[int] = []
-    if whole:
-        chords = np.linalg.norm(np.diff(np.vstack([rest, rest[:1]]), axis=0), axis=1)
-        params = np.concatenate([[0.0], np.cumsum(np.maximum(chords, 1e-9))])
-        samples = np.concatenate([np.linspace(params[i], params[i + 1], SPLINE_STEPS, endpoint=False)
-                                  for i in range(n)])
-        basis = _spline_basis(params, True, samples)
-        return basis, np.repeat(np.arange(n), SPLINE_STEPS)
+        return sparse.csr_array(sparse.eye_array(n, format="csr")), edges
+    if closed and any(a == 0 and b == n - 1 for a, b in smooth):  # the whole loop
+        return _stretch(rest, np.arange(n), True)
     stretch_at = {a: b for a, b in smooth}
+    blocks: list[sparse.csr_array] = []
+    origin: list[np.ndarray] = []
     i = 0
     last = n - 1
-    while i < last or (i == last and not rows):
+    while i < last or (i == last and not blocks):
         if i in stretch_at:
             a, b = i, stretch_at[i]
-            idx = np.arange(a, b + 1)
-            chords = np.linalg.norm(np.diff(rest[idx], axis=0), axis=1)
-            params = np.concatenate([[0.0], np.cumsum(np.maximum(chords, 1e-9))])
-            samples = np.concatenate([np.linspace(params[j], params[j + 1], SPLINE_STEPS, endpoint=False)
-                                      for j in range(len(idx) - 1)])
-            local = _spline_basis(params, False, samples)
-            block = np.zeros((len(samples), n))
-            block[:, idx] = local
-            rows.append(block)
-            origin.extend(np.repeat(np.arange(a, b), SPLINE_STEPS))
+            block, owner = _stretch(rest, np.arange(a, b + 1), False)
+            blocks.append(block)
+            origin.append(owner + a)
             i = b
         else:
-            row = np.zeros((1, n))
-            row[0, i] = 1.0
-            rows.append(row)
-            origin.append(i)
+            blocks.append(_point_rows([i], n))
+            origin.append(np.array([i]))
             i += 1
-    final = np.zeros((1, n))
-    final[0, last] = 1.0
-    rows.append(final)
-    operator = np.vstack(rows)
+    blocks.append(_point_rows([last], n))
     if closed:
-        origin.append(last)  # the closing segment, from the last point back to the first
-    return operator, np.asarray(origin, dtype=np.int64)
+        origin.append(np.array([last]))  # the closing segment, from the last point back to the first
+    operator = sparse.csr_array(sparse.vstack(blocks, format="csr"))
+    return operator, np.concatenate(origin).astype(np.int64)
+
+
+def _point_rows(points: list[int], n: int) -> sparse.csr_array:
+    """Rows that copy ``points`` as they are."""
+    return sparse.csr_array((np.ones(len(points)), (np.arange(len(points)), points)), shape=(len(points), n))
 
 
 def ellipse_operator() -> np.ndarray:

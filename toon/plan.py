@@ -51,7 +51,7 @@ class ComponentPrep:
     depth: float
     mask_write: int
     mask_test: int | None
-    operator: np.ndarray | None  # (S, N) outline operator; None: the points themselves
+    operator: np.ndarray | sparse.csr_array | None  # (S, N) outline operator; None: the points themselves
     edge_visible: np.ndarray | None
     skeleton: Skeleton | None = None
 
@@ -106,7 +106,7 @@ def outline_size(prep: Polygon | ComponentPrep) -> int:
     if isinstance(prep, Polygon):
         return len(prep.rest)
     if prep.operator is not None:
-        return len(prep.operator)
+        return int(prep.operator.shape[0])
     return len(prep.skeleton.body_rest) if prep.skeleton is not None else len(prep.rows)
 
 
@@ -160,7 +160,7 @@ def plan_vertices(order: list[Polygon | ComponentPrep], rest: np.ndarray, column
         else:
             parts["direct_from"].append(np.arange(defined, defined + n))
             parts["direct_to"].append(np.arange(given, given + inputs))
-        parts["blocks"].append(prep.operator if prep.operator is not None else np.eye(inputs))
+        parts["blocks"].append(prep.operator if prep.operator is not None else sparse.eye_array(inputs, format="csr"))
         parts["component_at"].append(at)
         defined, given = defined + n, given + inputs
     lines = parts.pop("lines")

@@ -46,6 +46,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from scipy import sparse
 
 from common import InputError
 from toon.components import Component
@@ -320,7 +321,7 @@ class FaceRig:
             outline_rest = body
         if spec.kind == "ellipse":
             ellipse = ellipse_operator()
-            operator: np.ndarray | None = ellipse
+            operator: np.ndarray | sparse.csr_array | None = ellipse
             edges = np.zeros(len(ellipse), dtype=np.int64)
         elif spec.kind == "image":  # its three points to its four corners
             operator, edges = IMAGE_CORNERS, np.arange(4)

@@ -14,7 +14,9 @@ units apart (2 to 32 of them). The drawing is fitted into the face's viewbox, ce
 kept (SVG's y runs down, a face's up). Every point is frozen where it lands, ready to be attached
 to control points (``toonface studio``: Attach).
 
-A component is named after its shape's ``id``, else its kind and number.
+A component is named after its shape's ``id``, else its kind and number. A drawing beyond
+:mod:`common.limits`' bounds (elements with ``<use>`` expanded, depth, points) is refused before
+it is drawn (:mod:`toon.svg_size`).
 """
 
 from __future__ import annotations
@@ -22,6 +24,9 @@ from __future__ import annotations
 import io
 import math
 from typing import Any
+
+from common.limits import MAX_SVG_POINTS
+from toon.svg_size import check_svg_size
 
 #: Face units between the points of a curve.
 CURVE_STEP = 6.0
@@ -37,6 +42,7 @@ def svg_components(text: str, viewbox: tuple[float, float, float, float],
     mean colour) is added to ``notes``, a line each."""
     import svgelements as se
 
+    check_svg_size(text)  # before the drawing library expands its <use> elements
     try:
         drawing = se.SVG.parse(io.StringIO(text))
     except Exception as exc:  # noqa: BLE001 - the parser's own errors are many and unexported
@@ -53,11 +59,16 @@ def svg_components(text: str, viewbox: tuple[float, float, float, float],
         raise ValueError("the drawing has no shape to import (path, rect, circle, ellipse, line, polyline, polygon)")
     fit = _fit(drawing, [p for _, p in paths], viewbox)
     out: list[dict[str, Any]] = []
+    made = 0
     for number, (shape, path) in enumerate(paths, start=1):
         base = str(shape.id) if getattr(shape, "id", None) else f"{type(shape).__name__.lower()} {number}"
         subpaths = list(path.as_subpaths())
         for k, sub in enumerate(subpaths):
             points, closed = _points(se, sub, fit)
+            made += len(points)
+            if made > MAX_SVG_POINTS:
+                raise ValueError(f"the drawing's curves make more than {MAX_SVG_POINTS} points: simplify its paths "
+                                 "(Inkscape: Path > Simplify) and import it again")
             if len(points) < 2 or _length(points) < SMALLEST:
                 continue
             opacity = faded.get(id(shape), _opacity(shape))
