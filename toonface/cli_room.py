@@ -14,9 +14,11 @@ import click
 
 from common import InputError
 from common.atomic import atomic_path
+from common.limits import read_regular_text
 from toonface.cli_options import FACE, FiniteFloat
 from toonface.cli_player import _required_address
 from toonface.cli_stream import KEY, _key
+from toonface.stopping import stop_within
 
 
 def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]]:
@@ -30,9 +32,9 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
     rooms: dict[str, tuple[str, str]] = {}
     if path.exists():
         try:
-            doc = tomllib.loads(path.read_text())
+            doc = tomllib.loads(read_regular_text(path, what="tokens file"))
             rooms = {name: (str(pair["perform"]), str(pair["watch"])) for name, pair in doc.get("rooms", {}).items()}
-        except (tomllib.TOMLDecodeError, KeyError, TypeError, AttributeError) as exc:
+        except (InputError, tomllib.TOMLDecodeError, KeyError, TypeError, AttributeError) as exc:
             raise click.BadParameter(f"{path}: not a tokens file ({exc})", param_hint="--tokens") from None
     fresh = [name for name in names if name not in rooms]
     for name in fresh:
@@ -68,10 +70,14 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
 @click.option("--workers", default=1, show_default=True, type=click.IntRange(1, 64),
               help="Server processes on --listen's port (the system spreads connections over them; a viewer whose "
                    "process stops reconnects to another): one per core. More than one needs --pubsub.")
+@click.option("--allow-origin", "origins", multiple=True, metavar="URL",
+              help="Also let pages from this origin (https://NAME[:PORT], the address a TLS proxy serves the "
+                   "rooms at) open the rooms' sockets; repeatable. Pages of the address the server listens at "
+                   "always may (any IP address of this machine under 0.0.0.0); pages of other sites never.")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.01), help="Stop after this long.")
 def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | None, tls_key: str | None,
          max_viewers: int, face: str, key_file: str | None, pubsub: str | None, workers: int,
-         seconds: float | None) -> None:
+         origins: tuple[str, ...], seconds: float | None) -> None:
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
     and viewers (`toonface receive --from ws://HOST:PORT/r/NAME --token W`) both connect out to
     it over WebSocket, which passes NAT and firewalls; the stream's packets pass through it as
@@ -102,13 +108,18 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
         raise click.BadParameter("give both --tls-cert and --tls-key, or neither", param_hint="--tls-cert")
     if tls_cert and tls_key:
         _tls(tls_cert, tls_key)
+    for origin in origins:
+        if not origin.startswith(("http://", "https://")) or origin.rstrip("/").count("/") != 2:
+            raise click.BadParameter(f"{origin}: expected an origin, http(s)://NAME[:PORT]",
+                                     param_hint="--allow-origin")
     settings = Settings(host, port, tokens, max_viewers, face, _key(key_file), tls_cert, tls_key, pubsub,
-                        workers > 1, seconds)
+                        workers > 1, seconds, tuple(o.rstrip("/") for o in origins))
     spawn = multiprocessing.get_context("spawn")
     readies = [spawn.Event() for _ in range(workers - 1)]
     others = [spawn.Process(target=_worker, args=(settings, ready), daemon=True) for ready in readies]
     try:
-        asyncio.run(_serve(settings, path, list(zip(others, readies, strict=True))))
+        with stop_within():  # SIGTERM ends it within seconds, even with a page's mapper busy
+            asyncio.run(_serve(settings, path, list(zip(others, readies, strict=True))))
     except KeyboardInterrupt:
         pass
     finally:
@@ -133,6 +144,7 @@ class Settings:
     pubsub: str | None
     shared_port: bool
     seconds: float | None
+    origins: tuple[str, ...] = ()
 
 
 def _tls(cert: str, key: str) -> ssl.SSLContext:
@@ -164,13 +176,15 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
     from aiohttp import web
 
     from toon import load_face
-    from toonface.room.server import Rooms, make_app
+    from toonface.room.server import Rooms, make_runner
+    from toonface.web_hosts import listen_hosts
 
     s = settings
     context = _tls(s.tls_cert, s.tls_key) if s.tls_cert and s.tls_key else None
     scheme = "wss" if context else "ws"
-    rooms = Rooms(s.tokens, max_viewers=s.max_viewers, face=load_face(s.face), key=s.key, pubsub=s.pubsub)
-    runner = web.AppRunner(make_app(rooms), access_log=None)  # tokens unlogged
+    rooms = Rooms(s.tokens, max_viewers=s.max_viewers, face=load_face(s.face), key=s.key, pubsub=s.pubsub,
+                  origins=s.origins)
+    runner = make_runner(rooms)
     try:
         await runner.setup()
     except ConnectionError as exc:  # the NATS server
@@ -182,6 +196,7 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
         await runner.cleanup()
         raise click.BadParameter(f"cannot listen on {s.host}:{s.port}: {exc.strerror or exc}",
                                  param_hint="--listen") from None
+    rooms.hosts |= listen_hosts(s.host, runner.addresses[0][1] if runner.addresses else s.port)
     if ready is not None:
         ready.set()
     for process, _ in others:

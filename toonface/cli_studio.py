@@ -42,6 +42,7 @@ def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...]
     import contextlib
 
     from toonface.cli_stream import _key
+    from toonface.stopping import stop_within
     from toonface.studio.live import ReceivedStream
     from toonface.studio.server import serve
     from toonface.studio.session import StudioSession
@@ -59,8 +60,9 @@ def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...]
             session.show_live(True)
             click.echo(f"receiving a motor stream on {session.live.name}")
         try:
-            asyncio.run(serve(session, host, port, lambda url: _announce(url, host in ("0.0.0.0", "::", "")),
-                              allow))
+            with stop_within() as stop:  # SIGTERM ends it within seconds, a render under way too
+                asyncio.run(serve(session, host, port, lambda url: _announce(url, host in ("0.0.0.0", "::", "")),
+                                  allow, stop))
         except OSError as exc:
             raise click.BadParameter(f"cannot listen on {listen}: {exc.strerror or exc}",
                                      param_hint="--listen") from None

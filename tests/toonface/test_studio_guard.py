@@ -14,8 +14,9 @@ from hypothesis import strategies as st
 from toon import MOTOR_CODES
 from toonface.studio.guard import MAX_DEPTH, Folder, parse_message
 from toonface.studio.messages import EDITOR_OPS, FACE_ACTIONS, UNIT_ACTIONS
-from toonface.studio.server import ANY_ADDRESS, HOSTS, host_allowed, is_loopback, make_app, serve
+from toonface.studio.server import HOSTS, make_app, serve
 from toonface.studio.session import StudioSession
+from toonface.web_hosts import ANY_ADDRESS, host_allowed, is_loopback
 
 
 def _strict(text: str) -> object:

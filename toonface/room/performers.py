@@ -22,7 +22,6 @@ varies, and a stream's frames are evenly spaced) as a stream of its own
 
 from __future__ import annotations
 
-import json
 import math
 import queue
 import threading
@@ -34,6 +33,7 @@ import numpy as np
 from capture.blendshapes import BLENDSHAPES
 from capture.listening import head_references, lost, posed
 from capture.sources import Frame, Source
+from common.limits import parse_json_message
 from stream.framing import StreamKey
 from stream.packets import StreamWriter
 from stream.sender import StreamSender
@@ -74,10 +74,7 @@ def head_turn(matrix: list[float] | np.ndarray) -> np.ndarray:
 def page_frame(text: str | bytes, rest: np.ndarray) -> Frame:
     """One message of a performer page as a frame (see the module docstring); a ValueError naming
     what is wrong where it is not one."""
-    try:
-        message = json.loads(text)
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"not JSON ({exc.msg if isinstance(exc, json.JSONDecodeError) else exc})") from None
+    message = parse_json_message(text)  # (depth and numbers within common.limits' bounds)
     stamp = message.get("t") if isinstance(message, dict) else None
     if not isinstance(stamp, int | float) or not math.isfinite(stamp):
         raise ValueError('a frame is {"t": ms, "scores": {...}, "matrix": [...]}')
@@ -92,7 +89,10 @@ def page_frame(text: str | bytes, rest: np.ndarray) -> Frame:
         index = _INDEX.get(name)
         if index is not None and isinstance(value, int | float) and math.isfinite(value):
             scores[index] = min(max(float(value), 0.0), 1.0)
-    return posed(t, rest, head_turn(message.get("matrix", [])), scores)
+    matrix = message.get("matrix")
+    if not isinstance(matrix, list) or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in matrix):
+        raise ValueError("a matrix is a list of 16 numbers")
+    return posed(t, rest, head_turn(matrix), scores)
 
 
 class _InRoom:

@@ -15,8 +15,13 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
 - a message larger than a stream packet is refused and the connection closed; more than
   ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
   silent for ``idle_seconds`` is closed;
-- a WebSocket opened from a web page must come from the server's own pages (``Origin``); native
-  clients send none;
+- a WebSocket opened from a web page must come from a page of the server's own addresses or of an
+  origin it was given (``Origin``, :func:`toonface.web_hosts.origin_allowed`: a page of another
+  site reaching it by DNS rebinding is refused); native clients send none;
+- the pages answer the same for a room that exists and one that does not: without a token
+  nothing tells which rooms a server holds;
+- the messages of a performer page are parsed within :mod:`common.limits`' bounds, and a
+  request's headers must arrive within :data:`~common.limits.HEADER_TIMEOUT_SECONDS`;
 - a viewer whose connection has more than :data:`~toonface.room.fanout.LAG_BYTES` waiting
   misses packets (counted in :attr:`Room.skipped`; the stream conceals them) rather than holding
   the other viewers back (:mod:`toonface.room.fanout`: each packet is framed once for all).
@@ -33,19 +38,21 @@ import ssl
 import threading
 import time
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
 from aiohttp import WSMsgType, web
 
+from common.limits import HEADER_TIMEOUT_SECONDS
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import Viewers, add_pages, serve_viewer
 from toonface.room.fanout import send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer
 from toonface.room.pubsub import Bus
+from toonface.web_hosts import listen_hosts, origin_allowed
 
 
 @dataclass
@@ -88,11 +95,21 @@ class Rooms:
     pubsub : str, optional
         ``nats://HOST:PORT``: share the rooms with the other processes connected to that NATS
         server (:mod:`toonface.room.pubsub`).
+    origins : collection of str
+        Origins besides the server's own addresses whose pages may open its sockets
+        (``https://face.example``, the name a TLS proxy serves it at).
+
+    Attributes
+    ----------
+    hosts : set of str
+        The ``HOST:PORT`` names the server answers at (:func:`toonface.web_hosts.listen_hosts`),
+        filled in once it listens.
     """
 
     def __init__(self, tokens: dict[str, tuple[str, str]], max_performers: int = 16, max_viewers: int = 1000,
                  rate_limit: float = 200.0, idle_seconds: float = 60.0, face: Face | str = "classic",
-                 key: bytes | StreamKey | None = None, pubsub: str | None = None) -> None:
+                 key: bytes | StreamKey | None = None, pubsub: str | None = None,
+                 origins: Collection[str] = ()) -> None:
         self.rooms = {name: Room(name, perform, watch) for name, (perform, watch) in tokens.items()}
         self.pubsub = pubsub
         self.bus: Bus | None = None
@@ -102,6 +119,8 @@ class Rooms:
         self.max_performers, self.max_viewers = max_performers, max_viewers
         self.rate_limit, self.idle_seconds = rate_limit, idle_seconds
         self.refused: Counter[str] = Counter()  # before a room is known
+        self.hosts: set[str] = set()
+        self.origins = frozenset(origins)
 
     def admit(self, name: str, role: str, token: str) -> Room | str:
         """The room a connection may enter, or the word for why not."""
@@ -119,6 +138,13 @@ class Rooms:
 
 
 ROOMS = web.AppKey("rooms", Rooms)
+
+
+def make_runner(rooms: Rooms, header_timeout: float = HEADER_TIMEOUT_SECONDS) -> web.AppRunner:
+    """The room server's runner: no access log (a token may ride in a query), and a connection
+    that has not sent a whole request's headers within ``header_timeout`` seconds (or idles that
+    long between requests) closed: aiohttp's keep-alive timer runs from the connection's start."""
+    return web.AppRunner(make_app(rooms), access_log=None, keepalive_timeout=header_timeout)
 
 
 def make_app(rooms: Rooms) -> web.Application:
@@ -178,10 +204,11 @@ def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0, ssl_context:
     box: dict = {}
 
     async def serve() -> None:
-        runner = web.AppRunner(make_app(rooms), access_log=None)
+        runner = make_runner(rooms)
         await runner.setup()
         await web.TCPSite(runner, host, port, ssl_context=ssl_context, reuse_port=reuse_port).start()
         box["port"], box["stop"] = runner.addresses[0][1], asyncio.Event()
+        rooms.hosts |= listen_hosts(host, box["port"])
         started.set()
         await box["stop"].wait()
         await runner.cleanup()
@@ -201,7 +228,7 @@ def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0, ssl_context:
 async def _socket(request: web.Request) -> web.StreamResponse:
     rooms = request.app[ROOMS]
     origin = request.headers.get("Origin")
-    if origin is not None and origin not in (f"http://{request.host}", f"https://{request.host}"):
+    if origin is not None and not origin_allowed(origin, rooms.hosts, rooms.origins):
         rooms.refused["origin"] += 1
         raise web.HTTPForbidden(text="a WebSocket from another site's page\n")
     token = request.query.get("token", "") or request.headers.get("Authorization", "").removeprefix("Bearer ")

@@ -9,12 +9,12 @@ first line. Each rule here raises :class:`ValueError` with one line for the page
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from common.data import names_builtin, nesting_depth
+from common.data import names_builtin
+from common.limits import parse_json_message
 
 #: The deepest nesting of a page's message (the deepest the pages send is 3).
 MAX_DEPTH = 8
@@ -34,21 +34,9 @@ def parse_message(text: str) -> object:
     ValueError
         Saying which rule the message breaks.
     """
-    depth = nesting_depth(text)
-    if depth > MAX_DEPTH:
-        raise ValueError(f"a message nested {depth} deep: the studio's are at most {MAX_DEPTH}")
-    try:
-        parsed = json.loads(text, parse_constant=_refuse_constant)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"not JSON ({exc.msg} at character {exc.pos})") from None
-    except ValueError as exc:  # an integer of thousands of digits, or a constant refused
-        raise ValueError(str(exc) if "not a number" in str(exc) else "a number of thousands of digits") from None
+    parsed = parse_json_message(text, MAX_DEPTH)
     _check(parsed)
     return parsed
-
-
-def _refuse_constant(name: str) -> float:
-    raise ValueError(f"{name} is not a number the studio takes")
 
 
 def _check(value: object) -> None:
@@ -123,8 +111,9 @@ class Folder:
         return resolved
 
     def name_or_inside(self, name: object, what: str = "a file") -> str:
-        """A built-in's bare name as given (``toon32``, ``mouths``), else a path inside :attr:`root`."""
+        """A built-in's bare name as given (``toon32``, ``mouths``: :func:`~common.data.names_builtin`,
+        whatever the folder holds), else a path inside :attr:`root`."""
         text = str(name)
-        if text and names_builtin(text) and not (self.root / text).exists():
+        if names_builtin(text):
             return text
         return str(self.inside(text, what))

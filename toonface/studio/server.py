@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import asyncio
 import hmac
-import ipaddress
 import re
 import secrets
+import threading
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from pathlib import Path
@@ -30,11 +30,14 @@ from pathlib import Path
 from aiohttp import WSMsgType, web
 
 from common import InputError
+from common.limits import HEADER_TIMEOUT_SECONDS
 from toon import builtin_faces
+from toonface.stopping import check_stop
 from toonface.studio.guard import number, parse_message
 from toonface.studio.messages import apply, hear, open_tuner, reason, show_heard, show_tuner
 from toonface.studio.pages import Page, broadcast
 from toonface.studio.session import StudioSession
+from toonface.web_hosts import ANY_ADDRESS, EVERY_INTERFACE, host_allowed, is_loopback, listen_hosts
 
 SESSION = web.AppKey("session", StudioSession)
 PAGES = web.AppKey("pages", set[Page])
@@ -42,10 +45,8 @@ HOSTS = web.AppKey("hosts", set[str])
 TOKEN = web.AppKey("token", str)
 TICKER = web.AppKey("ticker", asyncio.Task)
 WAKE = web.AppKey("wake", asyncio.Event)
+STOP = web.AppKey("stop", threading.Event)
 
-#: In :data:`HOSTS`: the server listens on every interface and answers any IP address it is reached
-#: at (a name that DNS could point elsewhere only when the user names it).
-ANY_ADDRESS = "*"
 #: The largest message a page may send (a drag or a slider is under 200 bytes).
 MAX_MESSAGE = 64 * 1024
 
@@ -55,11 +56,14 @@ def static_folder() -> Path:
     return Path(str(resources.files("toonface.studio") / "static"))
 
 
-def make_app(session: StudioSession, hosts: set[str], token: str = "") -> web.Application:
+def make_app(session: StudioSession, hosts: set[str], token: str = "",
+             stop: threading.Event | None = None) -> web.Application:
     """The studio's application for ``session``, answering requests whose ``Host`` is one of
     ``hosts`` (``"127.0.0.1:8765"``, ``"localhost:8765"``; :data:`ANY_ADDRESS`: any IP address),
-    and, given a ``token``, serving the page only to an address that carries it."""
+    and, given a ``token``, serving the page only to an address that carries it. Work in worker
+    threads ends, between frames, once ``stop`` is set (:mod:`toonface.stopping`)."""
     app = web.Application(middlewares=[_only_our_host], client_max_size=MAX_MESSAGE)
+    app[STOP] = stop if stop is not None else threading.Event()
     app[SESSION] = session
     app[PAGES] = set()
     app[HOSTS] = set(hosts)
@@ -84,21 +88,6 @@ async def _only_our_host(request: web.Request, handler: Callable[[web.Request], 
         named = sorted(hosts - {ANY_ADDRESS}) + (["any IP address"] if ANY_ADDRESS in hosts else [])
         raise web.HTTPForbidden(text=f"this studio answers at {' or '.join(named)}")
     return await handler(request)
-
-
-def host_allowed(host: str, hosts: set[str]) -> bool:
-    """Whether a request's ``Host`` header is one the studio answers: one of ``hosts``, or, where
-    they hold :data:`ANY_ADDRESS`, an IP address (never a name that DNS could rebind)."""
-    if host in hosts:
-        return True
-    if ANY_ADDRESS not in hosts:
-        return False
-    name = host.rsplit(":", 1)[0] if host.count(":") == 1 or host.startswith("[") else host
-    try:
-        ipaddress.ip_address(name.strip("[]"))
-    except ValueError:
-        return False
-    return True
 
 
 def _cookie(request: web.Request) -> str:
@@ -257,6 +246,7 @@ async def _render(app: web.Application, page: Page, message: dict) -> None:
     last = [loop.time()]
 
     def progress(frames: int) -> None:  # in the worker thread
+        check_stop(app[STOP])  # the server is stopping: the render keeps what it drew
         done[0] += frames
         if loop.time() - last[0] >= 0.1 or done[0] == track.frames:
             last[0] = loop.time()
@@ -311,7 +301,7 @@ async def _tick(app: web.Application) -> None:
 
 
 async def serve(session: StudioSession, host: str, port: int, ready: Callable[[str], None],
-                allow: tuple[str, ...] = ()) -> None:
+                allow: tuple[str, ...] = (), stop: threading.Event | None = None) -> None:
     """Serve the studio on ``host:port`` (0: any free port) until cancelled; ``ready`` gets the
     page's address once the server listens (with the run's secret where ``host`` is not loopback).
 
@@ -319,33 +309,23 @@ async def serve(session: StudioSession, host: str, port: int, ready: Callable[[s
     ----------
     allow : tuple of str
         More names (``NAME`` or ``NAME:PORT``) the studio answers at, as ``--allow-host`` gives them.
+    stop : threading.Event, optional
+        Set when the server is to stop (:func:`toonface.stopping.stop_within`): a render under way
+        ends at its next frame.
     """
-    every = host in ("0.0.0.0", "::", "")
+    every = host in EVERY_INTERFACE
     token = "" if is_loopback(host) else secrets.token_urlsafe(18)
-    runner = web.AppRunner(make_app(session, set(), token), access_log=None)
+    runner = web.AppRunner(make_app(session, set(), token, stop), access_log=None,
+                           keepalive_timeout=HEADER_TIMEOUT_SECONDS)
     await runner.setup()
     site = web.TCPSite(runner, host or None, port, reuse_address=True)
     try:
         await site.start()
         bound = runner.addresses[0][1] if runner.addresses else port
         shown = "127.0.0.1" if every else f"[{host}]" if ":" in host else host
-        names = {f"{shown}:{bound}", f"localhost:{bound}", f"127.0.0.1:{bound}"} if is_loopback(host) or every \
-            else {f"{shown}:{bound}"}
-        names |= {name if ":" in name else f"{name}:{bound}" for name in allow}
-        if every:  # every interface, as asked: any of the machine's addresses
-            names.add(ANY_ADDRESS)
-        runner.app[HOSTS].update(names)
+        runner.app[HOSTS].update(listen_hosts(host, bound, allow))
         ready(f"http://{shown}:{bound}/" + (f"?token={token}" if token else ""))
         await asyncio.Event().wait()
     finally:
+        runner.app[STOP].set()  # (cancelled: work in worker threads ends too)
         await runner.cleanup()
-
-
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` (an address or a name to bind) reaches only this machine."""
-    if host == "localhost":
-        return True
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_loopback
-    except ValueError:
-        return False
