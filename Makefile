@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps docs pictures clean
+.PHONY: all install system-deps browser demo lint test test-fast bench bench-deps docs pictures clean lipsync-model
 
 all: test
 
@@ -62,6 +62,11 @@ bench-deps: $(STAMP)
 
 bench: bench-deps
 	$(PY) -m bench
+
+# The voice's learned mouth (capture/voice_model.py): rebuilds data/models/voice_mouth.json bit for bit
+# from the shared talking-face clips (../shared/realdata/video), seeded; a few minutes.
+lipsync-model: $(STAMP)
+	$(PY) -m bench.lipsync_train
 
 # The documentation site (MkDocs) into site/; --strict: a broken link or a missing page fails it.
 # make test builds it too (tests/test_docs.py).

@@ -68,7 +68,9 @@ def run(quick: bool = False) -> list[Figure]:
     if clips:
         figures.append(_fill(clips))
     figures += [_speed(clips), _live()]
-    return figures
+    from bench import lipsync_heldout
+
+    return figures + lipsync_heldout.run(quick)
 
 
 def _best_r(curve: np.ndarray, truth: np.ndarray) -> float:

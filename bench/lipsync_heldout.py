@@ -1,0 +1,104 @@
+"""Lip sync judged on speakers it never heard (issue 61), on every shared talking-face clip:
+Pearson r of the mouth's opening against the tracked lip gap, the best within ±120 ms, per clip
+and as the median per corpus (GRID; studio: a person addressing a camera; wild: interviews and
+television). ``ours`` is what ``lipsync`` ships (the hand-built opening of
+:mod:`capture.voice_sound`, whose constants were chosen on the two GRID clips: read those two as
+fitted); ``learned`` is the model of :mod:`capture.voice_model` by leave-one-speaker-out, with the
+shipped weights' choice of context and ridge strength (made by ``python -m bench.lipsync_train``
+without the final speakers), refitted without each speaker in turn. The plain peer in the same
+run: the sound's loudness (RMS per 10 ms), scored alike; Rhubarb Lip Sync where it is built
+(``TOONFACE_RHUBARB`` names its binary, else ``rhubarb`` on the PATH), scored alike from its cues.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from bench.core import Figure
+from bench.lipsync_data import clips, load_clip
+from bench.lipsync_train import SEED, Prepared, best_r, by_speaker, fit, model_of, prepare, score
+
+CORPORA = ("grid", "studio", "wild")
+
+
+def rhubarb() -> str | None:
+    """Rhubarb's binary, where there is one (``$TOONFACE_RHUBARB``, else ``rhubarb`` on the PATH)."""
+    return os.environ.get("TOONFACE_RHUBARB") or shutil.which("rhubarb")
+
+
+def rhubarb_curve(prepared: Prepared, binary: str) -> np.ndarray:
+    """Rhubarb's mouth cues for the clip's sound as a 100 Hz opening (its shapes' openness, blended
+    as toonface blends cues read back)."""
+    import wave
+
+    from capture.cues import cues_take
+    from capture.voice import openness
+
+    with tempfile.TemporaryDirectory() as folder:
+        sound, cues = Path(folder) / "s.wav", Path(folder) / "c.tsv"
+        with wave.open(str(sound), "wb") as out:
+            out.setnchannels(1)
+            out.setsampwidth(2)
+            out.setframerate(16000)
+            out.writeframes((np.clip(prepared.clip.sound, -1, 1) * 32767).astype("<i2").tobytes())
+        subprocess.run([binary, "-q", "-f", "tsv", "-o", str(cues), str(sound)], check=True, capture_output=True,
+                       timeout=600)
+        take = cues_take(cues)
+    return openness(take.channels[:, :9])
+
+
+def run(quick: bool = False) -> list[Figure]:
+    """The held-out figures (with ``quick``, on the first six clips: a smoke test, not a measure)."""
+    from capture.voice import openness
+    from capture.voice_model import shipped_model
+    from capture.voice_sound import sound_mouth
+
+    paths = clips()[:6] if quick else clips()
+    if not paths:
+        return []
+    shipped = shipped_model()
+    context, alpha = shipped.offsets, float(shipped.notes.get("alpha", 1.0))
+    rng = np.random.default_rng(SEED)  # the training command's augmentation, clip for clip
+    prepared = [prepare(load_clip(path), rng) for path in paths]
+    binary = rhubarb()
+    scores: dict[str, dict[str, float]] = {"ours": {}, "learned": {}, "loudness": {}, "rhubarb": {}}
+    for name, own in by_speaker(prepared).items():
+        model = model_of(fit([p for p in prepared if p.clip.speaker != name], context, alpha), context)
+        for p in own:
+            heard = sound_mouth(p.clip.sound, p.clip.frames)[0]  # what toonface ships: the hand-built opening
+            scores["ours"][p.clip.name] = round(best_r(openness(heard), p.clip), 4)
+            scores["learned"][p.clip.name] = round(score(p, model), 4)
+            sound = p.clip.sound[:p.clip.frames * 160].astype(np.float64)
+            scores["loudness"][p.clip.name] = round(best_r(np.sqrt(np.mean(sound.reshape(-1, 160) ** 2, axis=1)),
+                                                           p.clip), 4)
+            if binary:
+                scores["rhubarb"][p.clip.name] = round(best_r(rhubarb_curve(p, binary), p.clip), 4)
+    corpus = {p.clip.name: p.clip.corpus for p in prepared}
+    detail = {"per_clip": scores, "corpus": corpus, "context_ms": [10 * k for k in context], "alpha": alpha,
+              "rhubarb": binary or "not built (make bench-deps)", "quick": quick}
+    out = []
+    for part in (None, *CORPORA):
+        names = [n for n in scores["ours"] if part is None or corpus[n] == part]
+        if not names:
+            continue
+        medians = {who: float(np.median([got[n] for n in names])) for who, got in scores.items() if got}
+        peer = medians.get("rhubarb")
+        suffix = "" if part is None else f"_{part}"
+        goal = None if peer is None else peer + 0.1
+        if part == "grid":  # studio-quality clips: 0.65 at least
+            goal = max(goal or 0.0, 0.65)
+        out.append(Figure(f"lipsync.heldout_r_median{suffix}", medians["ours"], "r", goal, True,
+                          {**detail, "medians": medians, "clips": names} if part is None else
+                          {"medians": medians, "clips": names}))
+    out.append(Figure("lipsync.heldout_learned_r_median", float(np.median(list(scores["learned"].values()))), "r",
+                      float(np.median(list(scores["ours"].values()))), True,
+                      {"note": "the learned model, each speaker judged by a model fitted without it; not the default"}))
+    out.append(Figure("lipsync.heldout_loudness_r_median", float(np.median(list(scores["loudness"].values()))), "r",
+                      None, True, {}))
+    return out

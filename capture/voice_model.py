@@ -1,0 +1,165 @@
+"""How open a mouth is, learned from talking faces: a linear model over the voice's spectrum.
+
+Not yet the default: judged on speakers it never heard it follows real lips better than the
+hand-built opening of :mod:`capture.voice_sound` (``python -m bench lipsync``,
+``lipsync.heldout_*``), but it opens "i" as wide as "a" in synthetic vowels and follows
+espeak-ng's phonemes less well (r 0.55-0.65 against 0.8), so :mod:`capture.voice_sound` keeps
+its own until one model does both.
+
+Each 10 ms frame's sound is a log-mel spectrum (:data:`MEL_BANDS` bands, 60 Hz to 7.6 kHz, from
+the 25 ms window :mod:`capture.voice_sound` takes), normalised per voice: each band less
+its mean over the voice's louder half, over its spread there (what a microphone, a room and a
+gain do to a voice is mostly a constant per band, and this takes it away). The mouth's opening at
+a frame is a weighted sum of the normalised spectra at a few frames around it
+(:attr:`MouthModel.offsets`, 10 ms each: some before, at most 50 ms after, so that a live voice
+would wait no longer than it does), learned by ridge regression against the inner-lip gap a face
+tracker measured in real talking-face videos (``python -m bench.lipsync_train``, which writes the
+weights this module reads, ``data/models/voice_mouth.json``; its model card is the documentation
+page "The voice's mouth model").
+
+The weights are package data and numpy is the whole of the inference: no download, no GPU.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from capture.voice_sound import _FFT, GATE, HOP, WINDOW, band_features, scales
+from common import InputError, data_path
+
+#: Bands of the log-mel spectrum.
+MEL_BANDS = 40
+#: Its lowest and highest frequency, Hz.
+MEL_RANGE = (60.0, 7600.0)
+#: The weights' file format.
+FORMAT = "toonface.voice-mouth/1"
+
+
+def mel_filters(fft_size: int, rate: int, bands: int = MEL_BANDS, span: tuple[float, float] = MEL_RANGE
+                ) -> np.ndarray:
+    """Triangular mel filters ``(bands, fft_size // 2 + 1)`` over an rFFT's bins (HTK's mel scale)."""
+    def mel(f: np.ndarray) -> np.ndarray:
+        return 2595.0 * np.log10(1.0 + f / 700.0)
+
+    low_mel, high_mel = mel(np.array(span))
+    edges = 700.0 * (10.0 ** (np.linspace(float(low_mel), float(high_mel), bands + 2) / 2595.0) - 1.0)
+    freqs = np.fft.rfftfreq(fft_size, 1.0 / rate)
+    low, centre, high = edges[:-2, None], edges[1:-1, None], edges[2:, None]
+    return np.clip(np.minimum((freqs - low) / (centre - low), (high - freqs) / (high - centre)), 0.0, None)
+
+
+def log_mel(power: np.ndarray, filters: np.ndarray) -> np.ndarray:
+    """Log-mel spectra ``(frames, bands)`` of power spectra ``(frames, bins)``."""
+    return np.log(power @ filters.T + 1e-8)
+
+
+def voice_scale(mel: np.ndarray) -> np.ndarray:
+    """A voice's normalisation, ``(2, bands)``: each band's mean over the louder half of the
+    frames ``mel`` ``(frames, bands)`` (their summed log energy at or above its median), and that
+    mean plus the band's standard deviation there; ``(mel - s[0]) / (s[1] - s[0])`` normalises."""
+    energy = mel.sum(axis=1)
+    loud = mel[energy >= np.median(energy)] if len(mel) else np.zeros((1, mel.shape[1]))
+    mean = loud.mean(axis=0)
+    return np.vstack([mean, mean + loud.std(axis=0) + 1e-3])
+
+
+def in_context(rows: np.ndarray, offsets: tuple[int, ...]) -> np.ndarray:
+    """Each frame's rows at ``offsets`` frames from it, side by side: ``(frames, len(offsets) *
+    columns)``, a frame before the first or after the last read as the first or the last."""
+    n = len(rows)
+    index = np.clip(np.arange(n)[:, None] + np.asarray(offsets)[None, :], 0, max(n - 1, 0))
+    return rows[index].reshape(n, -1)
+
+
+def sound_units(samples: np.ndarray, frames: int) -> np.ndarray:
+    """A whole sound's frames as the model and its gate read them, ``(frames, 3 + MEL_BANDS)``:
+    :mod:`capture.voice_sound`'s three band features on their scale (0..1), then the log-mel
+    spectrum normalised on the voice's own (:func:`voice_scale`)."""
+    bands = band_features(samples, frames)
+    scale = scales(bands)
+    padded = np.pad(np.asarray(samples, np.float64), (WINDOW // 2, frames * HOP + WINDOW))
+    windows = np.lib.stride_tricks.sliding_window_view(padded, WINDOW)[::HOP][:frames]
+    power = np.abs(np.fft.rfft(windows * np.hanning(WINDOW), _FFT, axis=1)) ** 2
+    mel = log_mel(power, mel_filters(_FFT, 16000))
+    norm = voice_scale(mel)
+    return np.column_stack([np.clip((bands - scale[0]) / np.maximum(scale[1] - scale[0], 1e-9), 0.0, 1.0),
+                            (mel - norm[0]) / (norm[1] - norm[0])])
+
+
+def gated_opening(units: np.ndarray, model: MouthModel) -> np.ndarray:
+    """The model's opening of :func:`sound_units` rows, shut where the 300-1000 Hz band sits in the
+    lowest :data:`~capture.voice_sound.GATE` of its scale (silence and room tone, as
+    :mod:`capture.voice_sound` shuts them)."""
+    return np.where(units[:, 0] > GATE, model.opening(units[:, 3:]), 0.0)
+
+
+@dataclass(frozen=True)
+class MouthModel:
+    """The learned opening: ``clip((context - mean) @ weights + bias, 0, 1)``.
+
+    Attributes
+    ----------
+    offsets : tuple of int
+        The frames (10 ms each, from the frame predicted) whose normalised spectra it reads.
+    mean : ndarray, shape (len(offsets) * MEL_BANDS,)
+    weights : ndarray, shape (len(offsets) * MEL_BANDS,)
+    bias : float
+    notes : dict
+        What the weights file says of itself (training speakers, held-out figures...).
+    """
+
+    offsets: tuple[int, ...]
+    mean: np.ndarray
+    weights: np.ndarray
+    bias: float
+    notes: dict
+
+    @property
+    def lookahead(self) -> int:
+        """Frames after a frame that its opening reads (a live voice waits for them)."""
+        return max(0, max(self.offsets))
+
+    @property
+    def lookback(self) -> int:
+        """Frames before a frame that its opening reads."""
+        return max(0, -min(self.offsets))
+
+    def open_context(self, context: np.ndarray) -> np.ndarray:
+        """The opening (0..1) of frames given their spectra in context ``(frames, D)``."""
+        return np.clip((context - self.mean) @ self.weights + self.bias, 0.0, 1.0)
+
+    def opening(self, unit_mel: np.ndarray) -> np.ndarray:
+        """The opening (0..1) of each frame of normalised spectra ``(frames, MEL_BANDS)``."""
+        return self.open_context(in_context(unit_mel, self.offsets))
+
+    def to_dict(self) -> dict:
+        return {"format": FORMAT, "mel_bands": MEL_BANDS, "mel_range": list(MEL_RANGE),
+                "offsets": list(self.offsets), "mean": self.mean.tolist(), "weights": self.weights.tolist(),
+                "bias": self.bias, **self.notes}
+
+
+def model_from_dict(doc: dict, source: str = "") -> MouthModel:
+    """A :class:`MouthModel` from its file's document; an :class:`InputError` where it is not one."""
+    try:
+        if doc.get("format") != FORMAT or doc.get("mel_bands") != MEL_BANDS:
+            raise ValueError(f"expected format {FORMAT} with {MEL_BANDS} mel bands")
+        offsets = tuple(int(k) for k in doc["offsets"])
+        mean, weights = np.asarray(doc["mean"], float), np.asarray(doc["weights"], float)
+        if mean.shape != weights.shape or len(weights) != len(offsets) * MEL_BANDS:
+            raise ValueError("mean and weights must each have a value per offset and band")
+        notes = {k: v for k, v in doc.items() if k not in ("format", "mel_bands", "mel_range", "offsets", "mean",
+                                                            "weights", "bias")}
+        return MouthModel(offsets, mean, weights, float(doc["bias"]), notes)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"not a voice mouth model ({exc})", source) from None
+
+
+@lru_cache(maxsize=1)
+def shipped_model() -> MouthModel:
+    """The model shipped with toonface (``data/models/voice_mouth.json``), read once."""
+    path = data_path("models", "voice_mouth.json")
+    return model_from_dict(json.loads(path.read_text(encoding="utf-8")), str(path))

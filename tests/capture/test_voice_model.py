@@ -1,0 +1,89 @@
+"""The voice's learned mouth (issue 61): the shipped weights, the features they read, and the
+training command that rebuilds them."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from capture.voice import LOOKAHEAD, blend
+from capture.voice_model import (
+    MEL_BANDS,
+    gated_opening,
+    in_context,
+    mel_filters,
+    model_from_dict,
+    shipped_model,
+    sound_units,
+)
+from common import InputError
+
+
+def test_the_shipped_model_reads_the_spectrum_no_further_ahead_than_a_live_voice_waits():
+    model = shipped_model()
+    assert model.lookahead <= LOOKAHEAD and len(model.weights) == len(model.offsets) * MEL_BANDS
+    assert model.notes["command"] == "python -m bench.lipsync_train"
+    assert set(model.notes["final_speakers"]) <= set(model.notes["trained_on"])
+    assert model_from_dict(model.to_dict()).weights.tolist() == model.weights.tolist()  # (round trip, exactly)
+    with pytest.raises(InputError, match="not a voice mouth model"):
+        model_from_dict({**model.to_dict(), "weights": [1.0]})
+
+
+def test_mel_filters_cover_their_range_once_and_context_clamps_at_the_ends():
+    filters = mel_filters(512, 16000)
+    freqs = np.fft.rfftfreq(512, 1 / 16000)
+    inside = (freqs > 200) & (freqs < 7000)
+    assert filters.shape == (MEL_BANDS, 257) and np.allclose(filters[:, inside].sum(axis=0), 1.0, atol=1e-9)
+    assert filters[:, freqs > 7700].sum() == 0.0
+    rows = np.arange(5.0)[:, None]
+    assert in_context(rows, (-2, 0, 1)).tolist() == [[0, 0, 1], [0, 1, 2], [0, 2, 3], [1, 3, 4], [2, 4, 4]]
+
+
+def _voice(seconds: float = 2.0, seed: int = 0) -> np.ndarray:
+    """A buzz whose loudness and first formant rise and fall like syllables."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(int(seconds * 16000)) / 16000
+    syllables = 0.5 + 0.5 * np.sin(2 * np.pi * 3 * t)
+    buzz = np.sign(np.sin(2 * np.pi * 120 * t)) * syllables + 0.01 * rng.normal(size=len(t))
+    from scipy.signal import lfilter
+
+    return lfilter([1.0], [1.0, -1.6, 0.8], buzz).astype(np.float32) * 0.05
+
+
+def test_a_voices_spectrum_is_normalised_per_voice_so_gain_changes_nothing():
+    sound = _voice()
+    frames = len(sound) // 160
+    loud, quiet = sound_units(sound, frames), sound_units(0.2 * sound, frames)
+    assert loud.shape == (frames, 3 + MEL_BANDS)
+    assert np.median(np.abs(loud - quiet)) < 1e-4  # (but near the 1e-8 floor of the logarithm: the
+    assert np.percentile(np.abs(loud - quiet), 99) < 0.05  # highest bands of a voice that has little there)
+
+
+def test_the_learned_opening_follows_the_syllables_of_a_voice_it_never_heard_and_silence_is_shut():
+    sound = np.concatenate([np.zeros(8000, np.float32), _voice(3.0, seed=1), np.zeros(8000, np.float32)])
+    frames = len(sound) // 160
+    curve = blend(gated_opening(sound_units(sound, frames), shipped_model()))
+    assert (curve[:45] <= 0.1).all() and (curve[-45:] <= 0.1).all()
+    curve = curve[50:-50]
+    t = np.arange(len(curve)) / 100
+    syllables = blend(0.5 + 0.5 * np.sin(2 * np.pi * 3 * t))
+    assert np.corrcoef(curve[20:-20], syllables[20:-20])[0, 1] > 0.5
+
+
+@pytest.mark.slow  # two GRID clips tracked and learned from, twice (25 s)
+def test_the_training_command_rebuilds_the_same_weights_bit_for_bit(tmp_path, realdata):
+    """On a small subset (the two GRID clips, two speakers): two runs of the command, in two
+    processes, write the same bytes, a model that loads."""
+    outputs = []
+    for k in range(2):
+        out = tmp_path / f"w{k}.json"
+        subprocess.run([sys.executable, "-m", "bench.lipsync_train", "--corpus", "grid", "--out", str(out)],
+                       check=True, capture_output=True, timeout=600)
+        outputs.append(out.read_bytes())
+    assert outputs[0] == outputs[1]
+    model = model_from_dict(json.loads(outputs[0]))
+    assert model.notes["trained_on"] == ["bbaf2n", "lbax4n"]
