@@ -11,7 +11,6 @@ import os
 import resource
 import subprocess
 import sys
-import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -45,30 +44,52 @@ class Run:
         return self.seconds <= SECONDS and self.peak_mb <= MEGABYTES
 
 
-def _cap() -> None:
-    resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
+#: Runs ``ARGS`` under an address-space cap and writes its peak memory: a small process between
+#: the test and the command, as a child's peak (``ru_maxrss``) counts what its parent held when it
+#: forked (a pytest process of 500 MB made every command look that big). SIGTERM is passed on.
+WRAPPER = """
+import os, resource, signal, sys
+resource.setrlimit(resource.RLIMIT_AS, (int(sys.argv[1]), int(sys.argv[1])))
+pid = os.fork()
+if pid == 0:
+    os.execv(sys.executable, [sys.executable, *sys.argv[3:]])
+signal.signal(signal.SIGTERM, lambda number, frame: os.kill(pid, number))
+_, status, usage = os.wait4(pid, 0)
+with open(sys.argv[2], "w") as out:
+    out.write(str(usage.ru_maxrss))
+code = os.waitstatus_to_exitcode(status)
+sys.exit(code if code >= 0 else 128 - code)
+"""
+
+
+def capped_command(args: list[str], peak_file: Path) -> list[str]:
+    """The command line that runs ``python ARGS`` capped, its peak memory (kB) written to ``peak_file``."""
+    return [sys.executable, "-c", WRAPPER, str(ADDRESS_SPACE), str(peak_file), *args]
+
+
+def peak_mb(peak_file: Path) -> float:
+    """The peak memory :func:`capped_command` wrote, MB."""
+    return int(peak_file.read_text()) / 1024
 
 
 def run_capped(args: list[str], cwd: Path, timeout: float = 30.0) -> Run:
     """``toonface ARGS`` in ``cwd`` with its address space capped; killed after ``timeout``."""
     env = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
     started = time.perf_counter()
+    peak = cwd / ".peak"
     with open(cwd / ".out", "w+") as out, open(cwd / ".err", "w+") as err:
-        process = subprocess.Popen([sys.executable, "-m", "toonface", *args], cwd=cwd, stdout=out, stderr=err,
-                                   stdin=subprocess.DEVNULL, preexec_fn=_cap, env=env)
-        ended: dict = {}
-        waiter = threading.Thread(target=lambda: ended.update(result=os.wait4(process.pid, 0)))
-        waiter.start()  # (wait4 reaps it and gives its own peak memory; it takes no time-out)
-        waiter.join(timeout)
-        if waiter.is_alive():
+        process = subprocess.Popen(capped_command(["-m", "toonface", *args], peak), cwd=cwd, stdout=out, stderr=err,
+                                   stdin=subprocess.DEVNULL, env=env)
+        try:
+            process.wait(timeout)
+        except subprocess.TimeoutExpired:
             process.kill()
-            waiter.join()
-        _, status, usage = ended["result"]
-        process.returncode = os.waitstatus_to_exitcode(status)
+            process.wait()
         seconds = time.perf_counter() - started
         out.seek(0)
         err.seek(0)
-        return Run(process.returncode, out.read(), err.read(), seconds, usage.ru_maxrss / 1024)
+        peak_memory = peak_mb(peak) if peak.exists() else float("inf")
+        return Run(process.returncode, out.read(), err.read(), seconds, peak_memory)
 
 
 @contextmanager
