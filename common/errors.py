@@ -53,10 +53,17 @@ def require_file(path: str | os.PathLike) -> None:
         raise InputError(f"cannot read it ({exc.strerror})", path) from None
     if stat.S_ISREG(mode):
         return
+    raise InputError(f"{file_kind(mode)}, not a file", path)
+
+
+def file_kind(mode: int) -> str:
+    """What a file that is not a regular one is, from its ``st_mode``: "a folder", "a named pipe
+    (FIFO)", "a socket", "a character device", "a block device"."""
+    import stat
+
     kinds = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISSOCK, "a socket"),
              (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"))
-    what = next((name for test, name in kinds if test(mode)), "not a regular file")
-    raise InputError(f"{what}, not a file", path)
+    return next((name for test, name in kinds if test(mode)), "not a regular file")
 
 
 class Terminated(KeyboardInterrupt):

@@ -20,7 +20,7 @@ import re
 import stat
 from typing import Any, BinaryIO
 
-from common.errors import InputError
+from common.errors import InputError, file_kind
 
 MiB = 1024 * 1024
 
@@ -92,7 +92,7 @@ def open_regular(path: str | os.PathLike, limit: int, what: str = "file") -> Bin
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            raise InputError(f"{_kind(info.st_mode)}, not a file", path)
+            raise InputError(f"{file_kind(info.st_mode)}, not a file", path)
         if info.st_size > limit:
             raise InputError(f"{info.st_size} bytes: larger than the {limit} bytes a {what} may have", path)
         if hasattr(os, "set_blocking"):
@@ -120,12 +120,6 @@ def read_regular_text(path: str | os.PathLike, limit: int = MAX_TEXT_BYTES, what
         return read_regular(path, limit, what).decode("utf-8")
     except UnicodeDecodeError:
         raise InputError(f"not a {what} (UTF-8 text)", path) from None
-
-
-def _kind(mode: int) -> str:
-    kinds = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISSOCK, "a socket"),
-             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"))
-    return next((name for test, name in kinds if test(mode)), "not a regular file")
 
 
 def nesting_depth(text: str) -> int:
