@@ -72,13 +72,14 @@ class Prepared:
     its sound as heard, for scoring."""
 
     clip: Clip
-    units: np.ndarray  # (frames, 3 + MEL_BANDS) the sound as heard (capture.voice_model.sound_units)
+    units: np.ndarray  # (frames, 3 + MEL_BANDS) the sound as heard (capture.voice_sound.sound_units)
     sums: dict[tuple[int, ...], tuple[np.ndarray, ...]]  # n, sum x, sum xx^T, sum y, sum xy
 
 
 def prepare(clip: Clip, rng: np.random.Generator) -> Prepared:
     """Every copy of ``clip``'s sound as features in each of :data:`CONTEXTS`, with its target."""
-    from capture.voice_model import in_context, sound_units
+    from capture.voice_model import in_context
+    from capture.voice_sound import sound_units
 
     target = clip.target()
     sums: dict[tuple[int, ...], tuple[np.ndarray, ...]] = {}
@@ -124,9 +125,9 @@ def score(prepared: Prepared, model) -> float:
     """Pearson r of the clip's opening, gated as silence is and blended as shapes are, against its
     lip gap, the best within ±120 ms."""
     from capture.voice import blend
-    from capture.voice_model import gated_opening
+    from capture.voice_sound import learned_opening
 
-    curve = blend(gated_opening(prepared.units, model))
+    curve = blend(learned_opening(prepared.units, model))
     return best_r(curve, prepared.clip)
 
 

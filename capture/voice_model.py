@@ -1,10 +1,8 @@
 """How open a mouth is, learned from talking faces: a linear model over the voice's spectrum.
 
-Not yet the default: judged on speakers it never heard it follows real lips better than the
-hand-built opening of :mod:`capture.voice_sound` (``python -m bench lipsync``,
-``lipsync.heldout_*``), but it opens "i" as wide as "a" in synthetic vowels and follows
-espeak-ng's phonemes less well (r 0.55-0.65 against 0.8), so :mod:`capture.voice_sound` keeps
-its own until one model does both.
+Half of the opening :mod:`capture.voice_sound` gives (the other half is its hand-built measure of
+the first formant's band, which keeps vowels apart: alone, the model opens "i" as wide as "a"
+and follows espeak-ng's phonemes at r 0.5-0.65 where the two together give 0.78-0.88).
 
 Each 10 ms frame's sound is a log-mel spectrum (:data:`MEL_BANDS` bands, 60 Hz to 7.6 kHz, from
 the 25 ms window :mod:`capture.voice_sound` takes), normalised per voice: each band less
@@ -12,7 +10,7 @@ its mean over the voice's louder half, over its spread there (what a microphone,
 gain do to a voice is mostly a constant per band, and this takes it away). The mouth's opening at
 a frame is a weighted sum of the normalised spectra at a few frames around it
 (:attr:`MouthModel.offsets`, 10 ms each: some before, at most 50 ms after, so that a live voice
-would wait no longer than it does), learned by ridge regression against the inner-lip gap a face
+waits no longer than it did), learned by ridge regression against the inner-lip gap a face
 tracker measured in real talking-face videos (``python -m bench.lipsync_train``, which writes the
 weights this module reads, ``data/models/voice_mouth.json``; its model card is the documentation
 page "The voice's mouth model").
@@ -28,7 +26,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from capture.voice_sound import _FFT, GATE, HOP, WINDOW, band_features, scales
 from common import InputError, data_path
 
 #: Bands of the log-mel spectrum.
@@ -73,28 +70,6 @@ def in_context(rows: np.ndarray, offsets: tuple[int, ...]) -> np.ndarray:
     n = len(rows)
     index = np.clip(np.arange(n)[:, None] + np.asarray(offsets)[None, :], 0, max(n - 1, 0))
     return rows[index].reshape(n, -1)
-
-
-def sound_units(samples: np.ndarray, frames: int) -> np.ndarray:
-    """A whole sound's frames as the model and its gate read them, ``(frames, 3 + MEL_BANDS)``:
-    :mod:`capture.voice_sound`'s three band features on their scale (0..1), then the log-mel
-    spectrum normalised on the voice's own (:func:`voice_scale`)."""
-    bands = band_features(samples, frames)
-    scale = scales(bands)
-    padded = np.pad(np.asarray(samples, np.float64), (WINDOW // 2, frames * HOP + WINDOW))
-    windows = np.lib.stride_tricks.sliding_window_view(padded, WINDOW)[::HOP][:frames]
-    power = np.abs(np.fft.rfft(windows * np.hanning(WINDOW), _FFT, axis=1)) ** 2
-    mel = log_mel(power, mel_filters(_FFT, 16000))
-    norm = voice_scale(mel)
-    return np.column_stack([np.clip((bands - scale[0]) / np.maximum(scale[1] - scale[0], 1e-9), 0.0, 1.0),
-                            (mel - norm[0]) / (norm[1] - norm[0])])
-
-
-def gated_opening(units: np.ndarray, model: MouthModel) -> np.ndarray:
-    """The model's opening of :func:`sound_units` rows, shut where the 300-1000 Hz band sits in the
-    lowest :data:`~capture.voice_sound.GATE` of its scale (silence and room tone, as
-    :mod:`capture.voice_sound` shuts them)."""
-    return np.where(units[:, 0] > GATE, model.opening(units[:, 3:]), 0.0)
 
 
 @dataclass(frozen=True)

@@ -11,15 +11,8 @@ import numpy as np
 import pytest
 
 from capture.voice import LOOKAHEAD, blend
-from capture.voice_model import (
-    MEL_BANDS,
-    gated_opening,
-    in_context,
-    mel_filters,
-    model_from_dict,
-    shipped_model,
-    sound_units,
-)
+from capture.voice_model import MEL_BANDS, in_context, mel_filters, model_from_dict, shipped_model
+from capture.voice_sound import learned_opening, sound_units
 from common import InputError
 
 
@@ -66,7 +59,7 @@ def test_a_voices_spectrum_is_normalised_per_voice_so_gain_changes_nothing():
 def test_the_learned_opening_follows_the_syllables_of_a_voice_it_never_heard_and_silence_is_shut():
     sound = np.concatenate([np.zeros(8000, np.float32), _voice(3.0, seed=1), np.zeros(8000, np.float32)])
     frames = len(sound) // 160
-    curve = blend(gated_opening(sound_units(sound, frames), shipped_model()))
+    curve = blend(learned_opening(sound_units(sound, frames)))
     assert (curve[:45] <= 0.1).all() and (curve[-45:] <= 0.1).all()
     curve = curve[50:-50]
     t = np.arange(len(curve)) / 100
