@@ -19,7 +19,7 @@ import numpy as np
 from toon import MOTOR_CODES, MotorTrack
 
 if TYPE_CHECKING:
-    from mapping.workflow import ReadyTake
+    from mapping.ready import ReadyTake
 
 #: A motor value within this of 0 or 1 is pinned there.
 PINNED_WITHIN = 0.005

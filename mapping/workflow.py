@@ -14,7 +14,7 @@ source the mapping reads gets it from the take the same way. The track's metadat
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -29,28 +29,17 @@ from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, normalise
 from mapping.plan import resolved_mode
 from mapping.profile import KIND_MOTION, Profile, build_profile
+from mapping.ready import Prepared, ReadyTake
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
 from mapping.sources import head_angles, measure
-from mapping.stabilise import Stabilised
 from mapping.sweep import mirror_lost_sides
 from mapping.typical import TYPICAL, bound_by_typical, typical_profile
-from mapping.units import Units, settle_units
+from mapping.units import settle_units
 from toon import MotorTrack, standard_neutral
 
 #: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
 SELF_MIN_SIDE = 4.0
-
-
-@dataclass(frozen=True, eq=False)
-class Prepared:
-    """A take cleaned and stabilised for one mapping: what calibration and mapping read."""
-
-    take: Take
-    markerset: MarkerSet
-    stable: Stabilised
-    columns: dict[str, int]
-    units: Units | None = None
 
 
 def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Mapping, MarkerSet]:
@@ -229,19 +218,6 @@ def _couplings(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile
                 raw = np.where(made_up[:, [prepared.columns[m] for m in source.markers]].any(axis=1), np.nan, raw)
             values[source.key] = normalise(raw, source, rule, profile.sources.get(source.key), mode)[frames]
     return learn_couplings(mapping, profile, values)
-
-
-@dataclass(frozen=True)
-class ReadyTake:
-    """A take cleaned, stabilised and calibrated for one mapping: everything mapping needs but
-    the face, so that one take is cleaned once for all the faces it goes on."""
-
-    prepared: Prepared
-    mapping: Mapping
-    profile: Profile
-    notes: tuple[str, ...]
-    rest: str = ""  # where the rest pose came from, for the report
-    profile_kind: str = ""  # given, calibrated, typical or from the take, for the report
 
 
 def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
