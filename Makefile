@@ -54,11 +54,13 @@ test: $(STAMP) browser
 test-fast: $(STAMP)
 	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -m 'not slow' -n 2
 
-# The render bench's peers: skia-python, and pycairo built against Cairo's headers.
+# The render bench's peers: skia-python, and pycairo built against Cairo's headers; the lip-sync bench's
+# peer: Rhubarb Lip Sync 1.14.0 built from third_party/ into .bench/rhubarb (about two minutes, once).
 bench-deps: $(STAMP)
 	@dpkg -s libcairo2-dev pkg-config >/dev/null 2>&1 || { SUDO=$$([ "$$(id -u)" -ne 0 ] && echo sudo); \
 		$$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq --no-install-recommends libcairo2-dev pkg-config >/dev/null; }
 	$(PY) -m pip install --quiet --disable-pip-version-check -e '.[bench]'
+	@scripts/build-rhubarb.sh >/dev/null
 
 bench: bench-deps
 	$(PY) -m bench

@@ -7,7 +7,8 @@ with the shipped weights' choice of context and ridge strength (made by ``python
 bench.lipsync_train`` without the final speakers); ``hand`` and ``learned`` are each half alone
 (the hand-built constants were chosen on the two GRID clips: read those two as fitted). The plain peer in the same
 run: the sound's loudness (RMS per 10 ms), scored alike; Rhubarb Lip Sync where it is built
-(``TOONFACE_RHUBARB`` names its binary, else ``rhubarb`` on the PATH), scored alike from its cues.
+(``TOONFACE_RHUBARB`` names its binary, else the one ``make bench-deps`` builds into ``.bench/rhubarb``,
+else ``rhubarb`` on the PATH), scored alike from its cues.
 """
 
 from __future__ import annotations
@@ -28,8 +29,10 @@ CORPORA = ("grid", "studio", "wild")
 
 
 def rhubarb() -> str | None:
-    """Rhubarb's binary, where there is one (``$TOONFACE_RHUBARB``, else ``rhubarb`` on the PATH)."""
-    return os.environ.get("TOONFACE_RHUBARB") or shutil.which("rhubarb")
+    """Rhubarb's binary, where there is one: ``$TOONFACE_RHUBARB``, else the one ``make bench-deps`` builds
+    (``scripts/build-rhubarb.sh``), else ``rhubarb`` on the PATH."""
+    built = Path(__file__).resolve().parent.parent / ".bench" / "rhubarb" / "rhubarb"
+    return os.environ.get("TOONFACE_RHUBARB") or (str(built) if built.is_file() else None) or shutil.which("rhubarb")
 
 
 def rhubarb_curve(prepared: Prepared, binary: str) -> np.ndarray:

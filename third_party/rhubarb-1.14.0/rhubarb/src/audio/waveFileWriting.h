@@ -1,0 +1,5 @@
+#pragma once
+
+#include "AudioClip.h"
+
+void createWaveFile(const AudioClip& audioClip, std::string fileName);

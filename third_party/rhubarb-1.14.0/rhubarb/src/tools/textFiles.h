@@ -1,0 +1,5 @@
+#pragma once
+
+#include <filesystem>
+
+std::string readUtf8File(std::filesystem::path filePath);
