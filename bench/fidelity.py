@@ -37,7 +37,31 @@ LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's m
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``fidelity.*`` figures."""
-    return [*_live_filter(), *gapfill.run(quick), *generators.run(quick), _throughput(quick), _fill_rate(quick)]
+    return [*_live_filter(), *gapfill.run(quick), *generators.run(quick), _throughput(quick), _fill_rate(quick),
+            _solve_rate(quick)]
+
+
+def _solve_rate(quick: bool) -> Figure:
+    """``fidelity.solve_fps``: frames per second of the sweep-taught solver alone (every motor of
+    every frame at once, :meth:`mapping.solver.Solver.solve`) on a 120 Hz toon32 take."""
+    from mapping import calibrate, choose_mapping, prepare
+    from mapping.mapper import marker_quality
+
+    syn = synthesize(rate=120.0, noise_mm=0.3, seed=3,
+                     performance=default_performance(6.0 if quick else 20.0, calibration=True, seed=3))
+    mapping, markerset = choose_mapping(syn.take)
+    prepared = prepare(syn.take, markerset)
+    profile = calibrate(mapping, prepared, (0.0, 1.0), range_window=(1.0, generators.OWN_SWEEP_END), solve=True)
+    solver, stable = profile.solver, prepared.stable
+    assert solver is not None, "the sweep taught no solver"
+    quality = marker_quality(stable.local, stable.filled)
+    trust = (quality > 0).astype(float)
+    with one_core() as pinned:
+        fps, runs = median_rate(lambda: len(solver.solve(stable.local, prepared.columns, trust, quality)[0]),
+                                1 if quick else 5, warmup=1)
+    return Figure("fidelity.solve_fps", fps, "frames/s", 20_000.0, True,
+                  {"frames": len(stable.local), "rate_hz": 120.0, "motors": len(solver.codes),
+                   "markers": len(solver.markers), "one_core": pinned, "runs": [round(r, 1) for r in runs]})
 
 
 def _fill_rate(quick: bool) -> Figure:

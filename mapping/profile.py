@@ -23,6 +23,7 @@ import numpy as np
 from common import Failure, read_versioned, resolve_builtin, write_document
 from common.validate import Validator
 from mapping.outliers import column_nan_median
+from mapping.solver import Solver
 from mapping.sources import Source, head_angles, measure, mm_scale
 from mapping.stabilise import Stabilised, nearest_rotation
 
@@ -76,6 +77,10 @@ class Profile:
     couplings : dict
         ``{source key: {driver source key: (below rest, above rest)}}``: how far a source moves,
         in shares of its range, per share of another motor's range (:mod:`mapping.coupling`).
+    solver : Solver, optional
+        What each motor does to every marker, learned from a range-of-motion sweep
+        (:mod:`mapping.solver`): the motors it knows are solved all at once. Kept in memory
+        only: :func:`save_profile` does not write it yet.
     """
 
     markerset: str
@@ -86,6 +91,7 @@ class Profile:
     source: str = ""
     full_range: bool = False
     couplings: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
+    solver: Solver | None = None
 
 
 def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_window: tuple[float, float],

@@ -26,17 +26,19 @@ from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.coupling import learn_couplings
 from mapping.mapfile import Mapping, load_mapping
-from mapping.mapper import map_stabilised, normalise
-from mapping.plan import resolved_mode
+from mapping.mapper import map_stabilised, marker_quality, normalise, rule_shares
+from mapping.plan import MotorPlan, resolved_mode
 from mapping.profile import KIND_MOTION, Profile, build_profile
 from mapping.ready import Prepared, ReadyTake
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
+from mapping.solver import Solver, learn_solver
 from mapping.sources import head_angles, measure
 from mapping.sweep import mirror_lost_sides
 from mapping.typical import TYPICAL, bound_by_typical, typical_profile
 from mapping.units import settle_units
 from toon import MotorTrack, standard_neutral
+from toon.motors import MOTOR_CODES
 
 #: Ranges taken from the take being mapped reach at least this far each side of rest (mm or degrees).
 SELF_MIN_SIDE = 4.0
@@ -137,12 +139,16 @@ def rest_window(prepared: Prepared, spec: NeutralSpec) -> tuple[tuple[float, flo
 def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec = None,
               range_from: Prepared | None = None, range_window: tuple[float, float] | None = None,
               percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "", min_side: float = 0.0,
-              require_motion: bool = True, rest_only: bool = False) -> Profile:
+              require_motion: bool = True, rest_only: bool = False, solve: bool = False) -> Profile:
     """A performer profile: neutral from ``neutral_window`` of ``neutral`` (see :func:`rest_window`),
     range from ``range_window`` of ``range_from`` (default: the neutral take, all of it), each side
     at least ``min_side`` from rest (see :func:`~mapping.profile.build_profile`). With
     ``rest_only``, only the rest is wanted: the ranges are measured over the rest window alone,
-    which saves a pass over the take, and mean nothing.
+    which saves a pass over the take, and mean nothing. With ``solve``, a range-of-motion take
+    (``range_from`` or ``range_window``) also teaches the profile what each motor does to every
+    marker (:mod:`mapping.solver`), and mapping solves those motors all at once; off by default
+    while it maps the synthetic performers less faithfully than the rules (``python -m bench
+    fidelity``: ``fidelity.*_solver_*``).
 
     Raises
     ------
@@ -182,7 +188,28 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
             profile = replace(profile, notes={**profile.notes, "from_mirror": ", ".join(lost)})
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
         profile = replace(profile, couplings=_couplings(mapping, source, frames, profile))
+    if full and solve:
+        rest = np.nanmedian(neutral.stable.local[neutral.take.window(*window)], axis=0)
+        profile = replace(profile, solver=sweep_solver(mapping, source, frames, profile, rest))
     return profile
+
+
+def sweep_solver(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile: Profile, rest: np.ndarray
+                 ) -> Solver | None:
+    """What the range-of-motion ``frames`` of ``prepared`` show each marker-read motor doing to
+    every marker (:func:`mapping.solver.learn_solver`), markers at ``rest`` ``(M, 3)``."""
+    rules = [r for r in mapping.rules if r.code in MOTOR_CODES and r.sources and resolved_mode(r, profile) == "profile"]
+    if not any(all(s.markers for s in r.sources) for r in rules):  # the face's motors read from markers
+        return None
+    stable = prepared.stable
+    quality = marker_quality(stable.local, stable.filled)
+    plan = MotorPlan.of(mapping.rules, profile, prepared.columns)
+    shares, _ = rule_shares(mapping, stable, prepared.columns, quality, profile, plan)
+    index = {r.code: i for i, r in enumerate(mapping.rules)}
+    own = [sorted({m for s in r.sources for m in s.markers}) if all(s.markers for s in r.sources) else []
+           for r in rules]
+    return learn_solver([r.code for r in rules], own, stable.local[frames], prepared.columns,
+                        quality[frames] >= 1.0, shares[frames][:, [index[r.code] for r in rules]], rest)
 
 
 def source_kinds(mapping: Mapping) -> dict[str, str]:

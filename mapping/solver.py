@@ -1,0 +1,246 @@
+"""A performer's face learned from a range-of-motion sweep, and every frame solved for all motors at once.
+
+Per-channel rules read each motor from its own markers, so a face's cross-talk reads as motion
+it is not: a smile pushes the lower lids up and reads as a lid raise, a jaw's hinge moves the
+chin back as well as down. Production facial solvers learn each performer instead (blendshape
+weight solving from a range of motion: Joshi et al. 2003; Lewis et al. 2014, "Practice and
+Theory of Blendshape Facial Models"). Here:
+
+**Learning** (:func:`learn_solver`). A range-of-motion sweep moves each group of motors (a
+mirror pair, or a whole brow) to each end while the rest of the face stays at rest. Over the
+sweep, the rules say how far along its way each motor is (its signed share, -1 at its low end,
++1 at its high end: :func:`mapping.mapper.rule_shares`). In each frame the motors within
+:data:`TOGETHER` of the furthest along (at least :data:`MOVED` of its way) are the ones moving;
+each marker goes to the moving motor whose own markers (those its rule reads) are nearest, a
+tie (the midline between a mirror pair) half each; and every marker's head-frame displacement
+from rest is regressed through rest on its motor's share, one side of rest at a time: a basis
+per motor and side, ``(markers, 3)``, which holds whatever the sweep showed that motor doing to
+the markers near it (the lower lid a smile lifts, when no lid motor moves with the smile).
+Only samples that were seen count (a filled gap would teach the filler's guess back). A side
+the sweep did not show is the other side through rest. A marker a motor moves by less than
+:data:`SMALL_SHARE` of its furthest one, or by less than :data:`SMALL_MM`, is not its.
+
+The rules' shares tell the moving motors apart only while no rule reads another group's motion
+as more than :data:`TOGETHER` of its own range: a rule that reads a jaw's opening as a full
+smile (its range on that side set by the jaw) moves with the jaw, and takes the jaw's markers
+near it.
+
+**Solving** (:meth:`Solver.solve`). Each frame's displacements are explained by all motors at
+once: least squares over every seen marker, each motor's basis the one of the side its share is
+on (chosen by a first solve with the two sides' mean), a little ridge towards rest, shares
+clipped to ±:data:`REACH`. Markers the take lost that frame, or that cleaning filled, are absent
+from it, not believed. Then twice, robust weights (Cauchy, at :data:`ROBUST_SCALE` times the
+sweep's own residual) down-weight a marker that the motors cannot explain (an outlier, a swapped
+label), and the frame is solved again. Each motor's confidence is the share of its basis's
+motion on markers that counted; below :data:`MIN_CONFIDENCE` the motor is unseen that frame
+(NaN: the loss policy of :mod:`mapping.rules` takes over, as for a rule with no source seen).
+
+The solver gives each solved motor's share; the rest of a rule (gain, offset, curve, clamp) and
+the per-frame rules (filters, loss) stay as they are, offline and live alike.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: A motor this far along its way (a share) and leading the face shows what it does.
+MOVED = 0.3
+#: Motors at least this share of the leader's way move together in that frame (a group swept at once).
+TOGETHER = 0.7
+#: A marker within this (mm) of being as near one moving motor's markers as another's is shared.
+TIE_MM = 1.0
+#: A marker a motor moves by less than this share of its furthest marker's motion, or by less than
+#: this (mm per unit of share), is not moved by it: a head fit's wobble moves the chin by a few
+#: tenths of a millimetre with whatever moves, and left in a lid's basis it reads speech as a squint.
+SMALL_SHARE = 0.1
+SMALL_MM = 0.15
+#: Frames on a side of rest needed to learn that side.
+MIN_FRAMES = 8
+#: Shares are clipped to this far past either end.
+REACH = 1.25
+#: The ridge towards rest, as a share of the basis's mean energy.
+RIDGE = 1e-3
+#: Robust weights fall to a half at this many times the sweep's residual per marker.
+ROBUST_SCALE = 3.0
+#: ... and never below this (mm): a face's motion is not the sweep's sum of motors to a tenth of a
+#: millimetre, and a marker off by that much is not an outlier.
+ROBUST_FLOOR_MM = 1.0
+#: A motor whose seen share of its basis's motion is below this is unseen in that frame.
+MIN_CONFIDENCE = 0.25
+#: A motor whose basis moves the markers less than this (mm, summed in quadrature) is not
+#: observable from the markers the take has.
+MIN_MOTION_MM = 0.5
+#: Frames solved at once (bounds the memory: a (chunk, 2K, 2K) Gram).
+CHUNK = 2048
+ROBUST_PASSES = 2
+
+
+@dataclass(frozen=True, eq=False)
+class Solver:
+    """A performer's motors as marker motion (see the module docstring).
+
+    Attributes
+    ----------
+    codes : tuple of str, length K
+        The motors solved, in the order of the share columns.
+    markers : tuple of str, length M
+        The markers read.
+    rest : ndarray, shape (M, 3)
+        Where each marker rests, head frame, mm.
+    up, down : ndarray, shape (K, M, 3)
+        Each marker's displacement per unit of share on the high side (share > 0) and the low
+        side (share < 0): a share ``s`` moves it by ``s * up`` or ``s * down``.
+    noise : float
+        The sweep's residual per marker (mm), the robust weights' scale.
+    unobservable : tuple of str
+        Motors the sweep moved but the markers did not show (left to the rules).
+    notes : dict
+    """
+
+    codes: tuple[str, ...]
+    markers: tuple[str, ...]
+    rest: np.ndarray
+    up: np.ndarray
+    down: np.ndarray
+    noise: float
+    unobservable: tuple[str, ...] = ()
+    notes: dict[str, str] = field(default_factory=dict)
+
+    def solve(self, local: np.ndarray, columns: dict[str, int], trust: np.ndarray | None = None,
+              quality: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Each solved motor's share and confidence, both ``(F, K)``, from head-frame markers
+        ``local`` ``(F, N, 3)`` (``columns``: label -> column); ``trust`` ``(F, N)``: how far the
+        fit believes each sample, 0 to 1 (default: 1 where finite); ``quality`` ``(F, N)``: what
+        each sample counts for in the confidence (default: ``trust``). A share is NaN where its
+        confidence is below :data:`MIN_CONFIDENCE`."""
+        cols = [columns[m] for m in self.markers]
+        shares = np.empty((len(local), len(self.codes)))
+        confidence = np.empty_like(shares)
+        for start in range(0, len(local), CHUNK):
+            part = slice(start, start + CHUNK)
+            d = local[part][:, cols] - self.rest
+            ok = np.isfinite(d).all(axis=2)
+            weight = ok if trust is None else np.where(ok, trust[part][:, cols], 0.0)
+            counts = weight if quality is None else np.where(ok, quality[part][:, cols], 0.0)
+            shares[part], confidence[part] = _solve(self, np.where(ok[..., None], d, 0.0), weight.astype(float),
+                                                    counts.astype(float))
+        return np.where(confidence >= MIN_CONFIDENCE, shares, np.nan), confidence
+
+
+def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], local: np.ndarray,
+                 columns: dict[str, int], seen: np.ndarray, shares: np.ndarray, rest: np.ndarray) -> Solver | None:
+    """A :class:`Solver` from a range-of-motion sweep (see the module docstring).
+
+    Parameters
+    ----------
+    codes : sequence of str, length K
+        The motors the sweep moves (the head's too: a face motor is not learned from frames
+        where the head leads).
+    own_markers : sequence of sequence of str, length K
+        The markers each motor's rule reads; a motor with none (the head's) is not learned.
+    local : ndarray, shape (F, N, 3)
+        The sweep's head-frame markers.
+    columns : dict
+        Label -> column of ``local``; every marker in it is read.
+    seen : ndarray of bool, shape (F, N)
+        Samples seen (not lost, not filled).
+    shares : ndarray, shape (F, K)
+        Each motor's signed share of its way by the rules over the sweep (NaN unseen).
+    rest : ndarray, shape (N, 3)
+        Each marker at rest.
+
+    Returns
+    -------
+    Solver or None
+        None where no motor read from markers led the face anywhere in the sweep.
+    """
+    markers = tuple(sorted(columns, key=columns.__getitem__))
+    cols = [columns[m] for m in markers]
+    d = local[:, cols] - rest[cols]
+    ok = seen[:, cols] & np.isfinite(d).all(axis=2)
+    d = np.where(ok[..., None], d, 0.0)
+    size = np.abs(np.nan_to_num(shares, nan=0.0))
+    lead = size.max(axis=1, keepdims=True)
+    movers = (lead >= MOVED) & (size >= TOGETHER * lead)  # (F, K): the motors the sweep moves in each frame
+    learnable = [k for k in range(len(codes)) if any(m in columns for m in own_markers[k])]
+    far = np.full((len(markers), len(codes)), np.inf)  # each marker's distance from each motor's own markers
+    for k in learnable:
+        own = rest[[columns[m] for m in own_markers[k] if m in columns]]
+        far[:, k] = np.linalg.norm(rest[cols][:, None] - own[None], axis=2).min(axis=1)
+    # each moving marker goes to the nearest mover (ties, such as the midline between a mirror pair, shared)
+    reach = np.where(movers[:, None, :], far[None], np.inf)  # (F, M, K)
+    nearest = reach.min(axis=2, keepdims=True)
+    share = (reach <= nearest + TIE_MM) & np.isfinite(reach)
+    share = share / np.maximum(share.sum(axis=2, keepdims=True), 1)
+    up = np.zeros((len(codes), len(markers), 3))
+    down = np.zeros_like(up)
+    kept: list[int] = []
+    for k in learnable:
+        sides: list[np.ndarray | None] = []
+        for sign in (1.0, -1.0):  # a side is what the frames where this motor moves that way show
+            at = movers[:, k] & (sign * np.nan_to_num(shares[:, k]) >= MOVED)
+            if at.sum() < MIN_FRAMES:
+                sides.append(None)
+                continue
+            s = np.where(at, shares[:, k], 0.0)
+            mine = ok * share[:, :, k]  # (F, M): a marker shared by two moving motors is half each's
+            sides.append(np.einsum("f,fm,fmc->mc", s, mine, d)
+                         / np.maximum((ok * (mine > 0) * (s ** 2)[:, None]).sum(axis=0), 1e-12)[:, None])
+        high, low = sides
+        if high is None and low is None:
+            continue
+        up[k] = low if high is None else high  # a side the sweep did not show: the other, through rest
+        down[k] = high if low is None else low
+        small = max(SMALL_SHARE * float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max()), SMALL_MM)
+        for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
+            basis[np.linalg.norm(basis, axis=1) < small] = 0.0
+        kept.append(k)
+    up, down = np.nan_to_num(up), np.nan_to_num(down)
+    motion = np.sqrt(np.maximum((up ** 2).sum(axis=(1, 2)), (down ** 2).sum(axis=(1, 2))))
+    observable = [k for k in kept if motion[k] >= MIN_MOTION_MM]
+    if not observable:
+        return None
+    unobservable = tuple(codes[k] for k in learnable if k not in observable)
+    solver = Solver(tuple(codes[k] for k in observable), markers, rest[cols], up[observable], down[observable], 1.0,
+                    unobservable)
+    fitted, _ = _solve(solver, d, ok.astype(float), robust=False)
+    moved = fitted[..., None, None] * np.where(fitted[..., None, None] >= 0, solver.up, solver.down)
+    residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]
+    noise = max(float(np.median(residual)), 0.05) if residual.size else 1.0
+    return Solver(solver.codes, markers, solver.rest, solver.up, solver.down, noise, unobservable)
+
+
+def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray | None = None, robust: bool = True
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Shares and confidence ``(F, K)`` for displacements ``d`` ``(F, M, 3)`` (0 where unseen)
+    with per-marker weights ``weight`` ``(F, M)`` (0 unseen); ``counts`` ``(F, M)``: each
+    marker's part in the confidence (default ``weight``)."""
+    k, m = len(solver.codes), len(solver.markers)
+    frames = len(d)
+    both = np.concatenate([(solver.up - solver.down) / 2, solver.up, solver.down])  # (3K, M, 3): mean, high, low
+    per_marker = np.einsum("imc,jmc->mij", both, both).reshape(m, -1)  # (M, 9K²): each marker's Gram
+    energy = np.einsum("imc,imc->im", both, both)  # (3K, M)
+    ridge = RIDGE * float(np.mean(energy[:k].sum(axis=1))) * np.eye(k)
+    flat = both.reshape(3 * k, -1)
+    at = np.arange(frames)[:, None]
+    chosen = np.broadcast_to(np.arange(k), (frames, k))  # the mean basis first
+    w = weight
+    s = np.zeros((frames, k))
+    passes = 2 + (ROBUST_PASSES if robust else 0)
+    for step in range(passes):
+        grams = (w @ per_marker).reshape(frames, 3 * k, 3 * k)
+        rhs = ((d * w[..., None]).reshape(frames, -1) @ flat.T)[at, chosen]
+        gram = grams[at[..., None], chosen[:, :, None], chosen[:, None, :]] + ridge
+        s = np.clip(np.linalg.solve(gram, rhs[..., None])[..., 0], -REACH, REACH)
+        chosen = np.where(s >= 0, np.arange(k) + k, np.arange(k) + 2 * k)
+        if robust and 1 <= step < passes - 1:
+            moved = np.einsum("fk,fkmc->fmc", s, both[chosen])
+            r = np.linalg.norm(d - moved, axis=2)
+            w = weight / (1.0 + (r / max(ROBUST_SCALE * solver.noise, ROBUST_FLOOR_MM)) ** 2)
+    basis_energy = energy[chosen]  # (F, K, M)
+    confidence = np.einsum("fkm,fm->fk", basis_energy, weight if counts is None else counts) \
+        / np.maximum(basis_energy.sum(axis=2), 1e-12)
+    return s, confidence

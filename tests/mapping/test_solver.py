@@ -1,0 +1,151 @@
+"""The sweep-taught solver (mapping.solver) on a small face whose motors are known exactly: a
+linear face, each motor moving its markers by a known amount per unit of share on each side of
+rest, a smile that lifts the lower lid, a mirror pair of brows that lift the nose between them."""
+
+import numpy as np
+import pytest
+
+from mapping.solver import MIN_CONFIDENCE, learn_solver
+
+MARKERS = {"BROW_R": (-30, 40, 0), "BROW_L": (30, 40, 0), "LID_R": (-30, 10, 0), "NOSE": (0, 0, 20),
+           "MOUTH_R": (-25, -40, 0), "MOUTH_L": (25, -40, 0), "LIP_LOW": (0, -45, 5), "CHIN": (0, -70, 0)}
+CODES = ("BR", "BL", "ER", "MR", "MB")
+OWN = (("BROW_R",), ("BROW_L",), ("LID_R",), ("MOUTH_R",), ("CHIN", "LIP_LOW"))
+READ = ((0, 1), (1, 1), (2, 1), (4, 0), (7, 1))  # the marker and axis each motor's rule reads
+COLUMNS = {name: i for i, name in enumerate(MARKERS)}
+REST = np.array(list(MARKERS.values()), float)
+
+
+def _bases() -> tuple[np.ndarray, np.ndarray]:
+    """Each motor's displacement per unit of share, ``(K, M, 3)``, above and below rest."""
+    up = np.zeros((len(CODES), len(MARKERS), 3))
+    down = np.zeros_like(up)
+
+    def put(code: str, marker: str, high: tuple, low: tuple) -> None:
+        up[CODES.index(code), COLUMNS[marker]] = high
+        down[CODES.index(code), COLUMNS[marker]] = low
+
+    put("BR", "BROW_R", (0, 8, 0), (0, 6, 0))  # raised 8 mm, lowered 6
+    put("BL", "BROW_L", (0, 8, 0), (0, 6, 0))
+    put("BR", "NOSE", (0, 1, 0), (0, 1, 0))  # the brows between them lift the nose by 2 mm
+    put("BL", "NOSE", (0, 1, 0), (0, 1, 0))
+    put("ER", "LID_R", (0, 3, 0), (0, 1, 0))  # a lower lid: 3 mm up, 1 down
+    put("MR", "MOUTH_R", (-6, 4, 0), (-4, 1, 0))  # a smile out and up; a pucker in and down
+    put("MR", "LID_R", (0, 1.5, 0), (0, 0, 0))  # a smile lifts the lower lid
+    put("MB", "CHIN", (0, -8, -2), (0, -1, 0))
+    put("MB", "LIP_LOW", (0, -8, -1), (0, -1, 0))
+    put("MB", "MOUTH_R", (0, -5, 0), (0, 0, 0))
+    put("MB", "MOUTH_L", (0, -5, 0), (0, 0, 0))
+    return up, down
+
+
+def _face(shares: np.ndarray) -> np.ndarray:
+    """Head-frame markers ``(F, M, 3)`` for motor shares ``(F, K)``."""
+    up, down = _bases()
+    moved = np.where(shares[..., None, None] >= 0, up, down) * shares[..., None, None]
+    return REST + moved.sum(axis=1)
+
+
+def _sweep() -> np.ndarray:
+    """Shares ``(F, K)`` of a range-of-motion sweep: each group (the brows together) to its low
+    end, held, to its high end, held, and back."""
+    one = np.concatenate([np.linspace(0, -1, 10), np.full(10, -1.0), np.linspace(-1, 1, 20), np.full(10, 1.0),
+                          np.linspace(1, 0, 10)])
+    groups = (("BR", "BL"), ("ER",), ("MR",), ("MB",))
+    shares = np.zeros((len(one) * len(groups), len(CODES)))
+    for g, group in enumerate(groups):
+        for code in group:
+            shares[g * len(one):(g + 1) * len(one), CODES.index(code)] = one
+    return shares
+
+
+def _rule_reading(local: np.ndarray) -> np.ndarray:
+    """What per-marker rules read: each motor from one coordinate of its own marker, as a share of
+    the sweep's range of it on that side (a profile's ranges): the lid reads a smile's lift as
+    its own raise."""
+    up, _ = _bases()
+    swept = _face(_sweep())
+    out = np.empty((len(local), len(CODES)))
+    for k, (m, axis) in enumerate(READ):
+        sign = np.sign(up[k, m, axis])
+        value, extent = sign * (local[:, m, axis] - REST[m, axis]), sign * (swept[:, m, axis] - REST[m, axis])
+        out[:, k] = np.where(value >= 0, value / extent.max(), -value / extent.min())
+    return out
+
+
+def _learned():
+    sweep = _sweep()
+    local = _face(sweep)
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), _rule_reading(local), REST)
+    assert solver is not None
+    return solver
+
+
+def test_the_sweep_teaches_each_motor_its_markers_on_each_side():
+    solver = _learned()
+    up, down = _bases()
+    assert solver.codes == CODES
+    order = [solver.markers.index(m) for m in MARKERS]
+    np.testing.assert_allclose(solver.up[:, order], up, atol=1e-9)
+    np.testing.assert_allclose(solver.down[:, order], down, atol=1e-9)
+    assert solver.noise == pytest.approx(0.05)  # a noise-free sweep: its floor
+
+
+def test_every_motor_is_solved_at_once_and_a_smile_is_not_a_lid_raise():
+    solver = _learned()
+    rng = np.random.default_rng(62)
+    truth = rng.uniform(-1, 1, (200, len(CODES)))
+    shares, confidence = solver.solve(_face(truth), COLUMNS)
+    np.testing.assert_allclose(shares, truth, atol=0.01)
+    assert (confidence == 1).all()
+    smile = np.zeros((1, len(CODES)))
+    smile[0, CODES.index("MR")] = 1.0
+    assert _rule_reading(_face(smile))[0, CODES.index("ER")] == pytest.approx(0.5)  # what a rule sees
+    shares, _ = solver.solve(_face(smile), COLUMNS)
+    assert shares[0, CODES.index("MR")] == pytest.approx(1.0, abs=0.01)
+    assert abs(shares[0, CODES.index("ER")]) < 0.01
+
+
+def test_a_lost_marker_is_left_out_and_a_motor_with_none_of_its_markers_is_unseen():
+    solver = _learned()
+    truth = np.array([[0.3, -0.4, 0.6, 0.5, 0.2]])
+    local = _face(truth)
+    local[0, COLUMNS["LID_R"]] = np.nan
+    shares, confidence = solver.solve(local, COLUMNS)
+    er, mr = CODES.index("ER"), CODES.index("MR")
+    assert np.isnan(shares[0, er]) and confidence[0, er] < MIN_CONFIDENCE
+    assert shares[0, mr] == pytest.approx(0.5, abs=0.01)  # its mouth corner still says
+    assert 0.9 < confidence[0, mr] < 1.0  # less the lid's part of the smile
+
+
+def test_a_swapped_marker_is_down_weighted_not_believed():
+    solver = _learned()
+    truth = np.array([[0.0, 0.0, 0.0, 0.0, 0.4]])
+    local = _face(truth)
+    local[0, COLUMNS["LIP_LOW"], 1] -= 10.0  # a label swapped with a marker 10 mm lower
+    shares, _ = solver.solve(local, COLUMNS)
+    mb = CODES.index("MB")
+    assert shares[0, mb] == pytest.approx(0.4, abs=0.05)
+    # plain least squares on the jaw's own basis believes it: far off
+    basis = solver.up[mb].ravel()
+    plain = float(basis @ (local[0] - REST)[[COLUMNS[m] for m in solver.markers]].ravel() / (basis @ basis))
+    assert abs(plain - 0.4) > 0.3
+
+
+def test_a_mirror_pair_swept_together_keeps_its_own_side_and_shares_the_midline():
+    solver = _learned()
+    br, bl = solver.codes.index("BR"), solver.codes.index("BL")
+    left, right, nose = (solver.markers.index(m) for m in ("BROW_L", "BROW_R", "NOSE"))
+    assert np.allclose(solver.up[br, left], 0) and np.allclose(solver.up[bl, right], 0)
+    # the nose between them rises 2 mm with both: half each
+    assert solver.up[br, nose, 1] == pytest.approx(1.0) and solver.up[bl, nose, 1] == pytest.approx(1.0)
+
+
+def test_a_motor_the_markers_do_not_show_is_named_not_solved():
+    sweep = _sweep()
+    local = _face(sweep)
+    local[:, COLUMNS["LID_R"]] = REST[COLUMNS["LID_R"]]  # a rig whose lid marker does not move with the lid
+    reading = _rule_reading(_face(sweep))
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), reading, REST)
+    assert solver is not None
+    assert "ER" not in solver.codes and solver.unobservable == ("ER",)
