@@ -29,7 +29,7 @@ import numpy as np
 from bench.core import Figure
 from capture import save_take, synthesize
 from player.backends import open_renderer
-from player.offline import resample
+from player.offline import geometries
 from toon import FaceRig, load_face, load_track
 
 GOAL_X = 3.0
@@ -75,12 +75,11 @@ def _command(args: list[str], renderer: str) -> None:
 def _psnr(video: Path, motors: Path) -> float:
     """PSNR (dB) of every 30th frame of ``video`` (a 30 fps render of ``motors``) against the
     default renderer's lossless frame of the same motors."""
-    values = resample(load_track(motors), 30.0)
-    rig = FaceRig(load_face("classic"))
+    frames = geometries(load_track(motors), FaceRig(load_face("classic")), 30.0)  # as retarget draws them
     errors = []
     with av.open(str(video)) as container, open_renderer((512, 512)) as renderer:
-        for k, frame in enumerate(container.decode(video=0)):
+        for k, (frame, geometry) in enumerate(zip(container.decode(video=0), frames, strict=False)):
             if k % 30 == 0:
-                drawn = renderer.render(rig.geometry(values[k])).astype(float)
+                drawn = renderer.render(geometry).astype(float)
                 errors.append(np.mean((frame.to_ndarray(format="rgb24").astype(float) - drawn) ** 2))
     return float(10 * np.log10(255.0 ** 2 / np.mean(errors)))
