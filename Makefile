@@ -42,11 +42,15 @@ lint: $(STAMP)
 	$(VENV)/bin/mypy
 
 # mypy (20 s from cold) checks beside the tests on the second core; its report shows only when it fails.
+# Then every bench group once with --quick (about six minutes): a smoke test, not a measure, so that a
+# group that raises fails the build (its figures are thrown away; its traceback shows).
 test: $(STAMP) browser
 	@$(VENV)/bin/ruff check .
 	@log=$$(mktemp); $(VENV)/bin/mypy >$$log 2>&1 & pid=$$!; \
 	$(PY) -m pytest; status=$$?; \
-	if ! wait $$pid; then cat $$log; echo "mypy found type errors"; status=1; fi; rm -f $$log; exit $$status
+	if ! wait $$pid; then cat $$log; echo "mypy found type errors"; status=1; fi; rm -f $$log; \
+	echo "python -m bench --quick (every group once, a smoke test)"; \
+	$(PY) -m bench --quick >/dev/null || status=1; exit $$status
 
 # both cores: the quick loop while working (make test, which CI runs, stays one process). Bytecode is
 # written for the tests (this machine sets PYTHONDONTWRITEBYTECODE): pytest then keeps its rewritten

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+import traceback
 
 GROUPS = ("cli", "render", "retarget", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream",
           "batch", "bridge", "lipsync", "physics", "room")
@@ -23,9 +24,17 @@ def main(argv: list[str] | None = None) -> int:
     unknown = [n for n in args.names if n not in GROUPS + LONG]
     if unknown:
         parser.error(f"unknown benchmark group(s) {unknown}; known: {', '.join(GROUPS + LONG)}")
+    failed = []
     for name in args.names or GROUPS:
-        for figure in importlib.import_module(f"bench.{name}").run(quick=args.quick):
-            print(figure.to_json(), flush=True)
+        try:  # a group that fails is said and the others still run; the exit status says it failed
+            for figure in importlib.import_module(f"bench.{name}").run(quick=args.quick):
+                print(figure.to_json(), flush=True)
+        except Exception:  # noqa: BLE001 - any failure of a group is reported, with its traceback
+            failed.append(name)
+            print(f"bench: group {name} failed:\n{traceback.format_exc()}", file=sys.stderr, flush=True)
+    if failed:
+        print(f"bench: {len(failed)} group(s) failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -18,3 +18,30 @@ def test_one_core_pins_the_body_to_one_cpu_and_gives_the_others_back_even_after_
     with pytest.raises(RuntimeError), one_core():
         raise RuntimeError("a benchmark that fails")
     assert os.sched_getaffinity(0) == before
+
+
+def test_a_group_that_fails_is_named_the_others_still_run_and_the_exit_status_says_so(monkeypatch, capsys):
+    import sys
+    import types
+
+    from bench import __main__ as bench_main
+    from bench.core import Figure
+
+    good = types.ModuleType("bench.fake_good")
+    good.run = lambda quick=False: [Figure("fake.value", 1.0, "x", None, True, {})]  # type: ignore[attr-defined]
+    bad = types.ModuleType("bench.fake_bad")
+
+    def broken(quick=False):
+        raise ValueError("expected 21 motor values, got shape (26,)")
+
+    bad.run = broken  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "bench.fake_good", good)
+    monkeypatch.setitem(sys.modules, "bench.fake_bad", bad)
+    monkeypatch.setattr(bench_main, "GROUPS", ("fake_bad", "fake_good"))
+    assert bench_main.main(["--quick"]) == 1
+    out, err = capsys.readouterr()
+    assert '"fake.value"' in out  # the group after the failure ran
+    assert "group fake_bad failed" in err and "expected 21 motor values" in err
+    assert err.strip().endswith("1 group(s) failed: fake_bad")
+    monkeypatch.setattr(bench_main, "GROUPS", ("fake_good",))
+    assert bench_main.main([]) == 0
