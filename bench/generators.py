@@ -6,7 +6,7 @@ performer's own (the pipeline maps a performer's rest onto the face's: measured 
 another rest, the convention itself would count as error), and scored after the sweep against
 the true motors, on :data:`SEEDS` seeds each (each seed a new performance, face and sensor noise):
 
-``fidelity.{motor,second,third}_rmse_pct``
+``fidelity.{motor,second,third,fourth}_rmse_pct``
     RMSE, % of the motors' 0..1, the mean over the seeds (goal 2.5; 2 on the project's own
     performer, as before); each seed's in the detail.
 ``fidelity.*_fitted_pct``
@@ -29,21 +29,27 @@ the true motors, on :data:`SEEDS` seeds each (each seed a new performance, face 
 The project's own performer is :mod:`capture.synthetic` with 0.3 mm jitter, 10 % dropout, 0.5 s
 gaps, spikes and ±20° turns; the second is :mod:`bench.second_performer` and the third
 :mod:`bench.third_performer`, each designed apart (the third with lids that travel 2-4 mm,
-brows resting low and moving partly in depth, and a wider mouth).
+brows resting low and moving partly in depth, and a wider mouth), and the fourth
+:mod:`bench.fourth_performer`, made as real capture is (arcs, cross-talk, skin sliding under the
+head references, 120 Hz, occlusions of every length, label swaps, a marker that falls off, ±40°
+of yaw); ``fidelity.fourth_metres_max_diff`` maps its take written in metres too (goal: the same
+motors, to 1e-6).
 """
 
 from __future__ import annotations
 
+import tempfile
 from dataclasses import replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from bench import third_performer
+from bench import fourth_performer, third_performer
 from bench.core import Figure
 from bench.peer import plain_pipeline, scores
 from bench.second_performer import REST_SECONDS, SWEEP_END, perform
-from capture import Take, synthesize
+from capture import Take, load_take, synthesize
 from capture.faults import Faults, apply_faults
 from capture.performance import CALIBRATION_GROUPS, default_performance
 from mapping import calibrate, choose_mapping, map_stabilised, prepare
@@ -62,7 +68,8 @@ def run(quick: bool = False) -> list[Figure]:
     seconds, seeds = (6.0, SEEDS[:2]) if quick else (20.0, SEEDS)
     return [*_figures("motor", [_own(seconds, s) for s in seeds], raw_goal=2.0),
             *_figures("second", [_second(seconds, s) for s in seeds]),
-            *_figures("third", [_third(seconds, s) for s in seeds])]
+            *_figures("third", [_third(seconds, s) for s in seeds]),
+            *_figures("fourth", [_fourth(seconds, s) for s in seeds]), _in_metres(seconds)]
 
 
 def _own(seconds: float, seed: int) -> Performance:
@@ -86,6 +93,25 @@ def _third(seconds: float, seed: int) -> Performance:
     third = third_performer.perform(seconds=seconds, seed=seed + 10)
     return third.take, third.motors, third.rest, third_performer.SWEEP_END, {
         "performer": "bench.third_performer: lids of 2-4 mm, brows low and moving in depth, a wider mouth"}
+
+
+def _fourth(seconds: float, seed: int) -> Performance:
+    fourth = fourth_performer.perform(seconds=seconds, seed=seed + 20)
+    return fourth.take, fourth.motors, fourth.rest, fourth_performer.SWEEP_END, {
+        "performer": "bench.fourth_performer: arcs, cross-talk, skin sliding under the references, 120 Hz, "
+                     "occlusions of every length, label swaps, a marker falling off, +-40 deg of yaw"}
+
+
+def _in_metres(seconds: float) -> Figure:
+    """``fidelity.fourth_metres_max_diff``: the fourth performer's first seed written in metres (a TRC
+    file saying so) and read back maps to the same motors as in millimetres."""
+    fourth = fourth_performer.perform(seconds=seconds, seed=SEEDS[0] + 20)
+    with tempfile.TemporaryDirectory() as folder:
+        metres = load_take(fourth_performer.write_in_metres(fourth.take, Path(folder) / "take.trc"))
+    values = [_one(take, fourth.motors, fourth.rest, fourth_performer.SWEEP_END)[3]
+              for take in (fourth.take, metres)]
+    return Figure("fidelity.fourth_metres_max_diff", float(np.max(np.abs(values[0] - values[1]))), "motor units",
+                  1e-6, False, {"units_in_file": metres.meta.get("units_in_file")})
 
 
 def _one(take: Take, truth: np.ndarray, rest: np.ndarray, sweep_end: float) -> tuple[dict, dict, dict, np.ndarray]:
