@@ -188,8 +188,12 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
             profile = replace(profile, notes={**profile.notes, "from_mirror": ", ".join(lost)})
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
         profile = replace(profile, couplings=_couplings(mapping, source, frames, profile))
-    if full and solve:
-        rest = np.nanmedian(neutral.stable.local[neutral.take.window(*window)], axis=0)
+    if full and solve:  # the rest from the neutral take, in the range take's marker order
+        at_rest = np.nanmedian(neutral.stable.local[neutral.take.window(*window)], axis=0)
+        rest = np.full((source.stable.local.shape[1], 3), np.nan)
+        for label, column in source.columns.items():
+            if label in neutral.columns:
+                rest[column] = at_rest[neutral.columns[label]]
         profile = replace(profile, solver=sweep_solver(mapping, source, frames, profile, rest))
     return profile
 
