@@ -23,18 +23,18 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
+from collections import Counter
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 from aiohttp import WSMsgType, web
 
+from stream.framing import StreamKey
+from toon import Face
 from toonface.room.fanout import LAG_BYTES, frame_of, send_all
 from toonface.room.stage import VIEW_FPS, Stage, packed
-
-if TYPE_CHECKING:
-    from toonface.room.server import Room, Rooms
 
 #: Seconds the stage waits after a frame it could not draw before it tries the next.
 RETRY_SECONDS = 1.0
@@ -109,10 +109,41 @@ async def _static(request: web.Request) -> web.Response:
     return web.Response(text=_text(package, name), content_type=_TYPES[name[name.rindex("."):]])
 
 
+class _Publisher(Protocol):
+    async def publish(self, room: str, kind: str, data: bytes) -> None: ...
+
+
+class RoomSide(Protocol):
+    """What the browser viewers read of their room (a :class:`toonface.room.server.Room`)."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def performers(self) -> dict[int, Any]: ...
+
+    @property
+    def refused(self) -> Counter[str]: ...
+
+
+class ServerSide(Protocol):
+    """What they read of the server (:class:`toonface.room.server.Rooms`): the face, the stream's
+    key, and the bus to other processes' performers where there is one."""
+
+    @property
+    def face(self) -> Face: ...
+
+    @property
+    def key(self) -> StreamKey | None: ...
+
+    @property
+    def bus(self) -> _Publisher | None: ...
+
+
 class Viewers:
     """A room's browser viewers and the stage they are sent, which runs while any is here."""
 
-    def __init__(self, room: Room, rooms: Rooms) -> None:
+    def __init__(self, room: RoomSide, rooms: ServerSide) -> None:
         self.room, self.rooms = room, rooms
         self.sockets: dict[web.WebSocketResponse, _Viewer] = {}
         self.stage: Stage | None = None
