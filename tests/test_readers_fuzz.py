@@ -18,7 +18,7 @@ from common.data import data_path
 from mapping.mapfile import load_mapping
 from mapping.profile import load_profile
 from toon import MOTOR_CODES, MotorTrack, load_face, load_track, save_track
-from toon.animation import load_animation
+from toon.animation_file import load_animation
 from toon.expressions import load_expressions
 from toonface.batch.job import load_job
 from toonface.studio.sound import load_labels

@@ -394,6 +394,3 @@ def concatenate(first: Animation, second: Animation, fade: float = 0.0) -> Anima
         merged = {k[0]: k for k in a + blend + b}  # one knot a time: the later of two
         knots[code] = tuple(merged[t] for t in sorted(merged))
     return Animation(knots, offset + second.duration)
-
-
-from toon.animation_file import animation_text, load_animation, save_animation  # noqa: E402, F401 (files, beside)

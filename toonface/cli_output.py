@@ -52,7 +52,7 @@ def render_cmd(motors: str, output: str, face: str, size: str, fps: float | None
     from pathlib import Path
 
     from toon import load_face, load_track
-    from toon.animation import load_animation
+    from toon.animation_file import load_animation
     from toonface.pipeline import render, render_with_sound
 
     dims = parse_size(size)
@@ -107,7 +107,7 @@ def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, s
     from pathlib import Path
 
     from toon import load_face, load_track
-    from toon.animation import load_animation
+    from toon.animation_file import load_animation
     from toonface.web_export import export_web
 
     if Path(output).suffix.lower() not in (".html", ".htm"):

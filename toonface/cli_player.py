@@ -198,10 +198,10 @@ def anim() -> None:
 @click.option("--rate", default=30.0, show_default=True, type=FiniteFloat(1, 1000), help="Frames per second.")
 def anim_sample(animation: str, output: str, rate: float) -> None:
     """Sample an animation into a motor track (a movie script)."""
-    from toon import animation as an
+    from toon import animation_file as af
     from toon import save_track
 
-    track = an.load_animation(animation).sample(rate)
+    track = af.load_animation(animation).sample(rate)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {rate:g} Hz)")
 
 
@@ -214,13 +214,14 @@ def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | N
              end: float | None) -> None:
     """Cut a slice out of chosen motors; what follows moves earlier."""
     from toon import animation as an
+    from toon import animation_file as af
 
-    source = an.load_animation(animation)
+    source = af.load_animation(animation)
     codes = parse_codes(motors, also=tuple(source.knots)) or tuple(source.knots)
     edited, clip = an.cut(source, codes, *_span(source, start, end))
-    an.save_animation(edited, output)
+    af.save_animation(edited, output)
     if clip_path:
-        an.save_animation(clip, clip_path)
+        af.save_animation(clip, clip_path)
     click.echo(f"wrote {output}" + (f" and {clip_path}" if clip_path else ""))
 
 
@@ -231,10 +232,11 @@ def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | N
 def anim_copy(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
     """Copy a slice of chosen motors into a clip (itself an animation starting at 0)."""
     from toon import animation as an
+    from toon import animation_file as af
 
-    source = an.load_animation(animation)
+    source = af.load_animation(animation)
     codes = parse_codes(motors, also=tuple(source.knots)) or tuple(source.knots)
-    an.save_animation(an.copy(source, codes, *_span(source, start, end)), output)
+    af.save_animation(an.copy(source, codes, *_span(source, start, end)), output)
     click.echo(f"wrote {output}")
 
 
@@ -248,16 +250,17 @@ def anim_copy(animation: str, output: str, motors: str | None, start: float, end
 def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | None) -> None:
     """Paste a clip at a time, replacing what was there for its length."""
     from toon import animation as an
+    from toon import animation_file as af
 
     pairs = None
-    target, source = an.load_animation(animation), an.load_animation(clip)
+    target, source = af.load_animation(animation), af.load_animation(clip)
     if onto:
         try:
             pairs = dict(p.split("=") for p in onto.upper().split(","))
         except ValueError:
             raise click.BadParameter(f"expected FROM=TO pairs, got {onto!r}", param_hint="--onto") from None
         parse_codes(",".join([*pairs, *pairs.values()]), "--onto", also=(*target.knots, *source.knots))
-    an.save_animation(an.paste(target, source, at, pairs), output)
+    af.save_animation(an.paste(target, source, at, pairs), output)
     click.echo(f"wrote {output}")
 
 
@@ -273,15 +276,16 @@ def anim_scale(animation: str, output: str, time_factor: float, value_factor: fl
                start: float, end: float | None) -> None:
     """Scale a slice of chosen motors in time and/or in value."""
     from toon import animation as an
+    from toon import animation_file as af
 
-    out = an.load_animation(animation)
+    out = af.load_animation(animation)
     span = _span(out, start, end)
     codes = parse_codes(motors, also=tuple(out.knots))
     if value_factor != 1.0:
         out = an.scale_value(out, codes, *span, value_factor)
     if time_factor != 1.0:
         out = an.scale_time(out, codes, *span, time_factor)
-    an.save_animation(out, output)
+    af.save_animation(out, output)
     click.echo(f"wrote {output} ({out.duration:g} s)")
 
 
@@ -292,9 +296,10 @@ def anim_scale(animation: str, output: str, time_factor: float, value_factor: fl
 def anim_flip(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
     """Play a slice of chosen motors backwards."""
     from toon import animation as an
+    from toon import animation_file as af
 
-    source = an.load_animation(animation)
-    an.save_animation(an.flip(source, parse_codes(motors, also=tuple(source.knots)), *_span(source, start, end)),
+    source = af.load_animation(animation)
+    af.save_animation(an.flip(source, parse_codes(motors, also=tuple(source.knots)), *_span(source, start, end)),
                       output)
     click.echo(f"wrote {output}")
 
@@ -307,6 +312,7 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
 def anim_from_track(track: str, output: str, tolerance: float) -> None:
     """Turn a motor track (.csv, .npz) into knots to edit: as few as keep every value within the tolerance."""
     from toon import animation as an
+    from toon import animation_file as af
     from toon import load_track
 
     motors = load_track(track)  # its parameters beyond the 21 (HT...) become knots too
@@ -314,7 +320,7 @@ def anim_from_track(track: str, output: str, tolerance: float) -> None:
         out = an.from_track(motors, tolerance)
     except ValueError as exc:
         raise click.BadParameter(f"{track}: {exc}", param_hint="TRACK") from None
-    an.save_animation(out, output)
+    af.save_animation(out, output)
     click.echo(f"wrote {output} ({sum(len(k) for k in out.knots.values())} knots for {motors.frames} frames)")
 
 
@@ -336,6 +342,7 @@ def anim_knot(animation: str, output: str, motor: str, add: str | None, move: st
     make it linear again (one of --add, --move, --delete, --ease, --linear). Knots are joined by
     straight lines unless eased, as CharToon's are."""
     from toon import animation as an
+    from toon import animation_file as af
 
     if sum(x is not None for x in (add, move, delete, ease, linear)) != 1:
         raise click.UsageError("give one of --add, --move, --delete, --ease and --linear")
@@ -343,7 +350,7 @@ def anim_knot(animation: str, output: str, motor: str, add: str | None, move: st
     if not codes or len(codes) != 1:
         raise click.BadParameter(f"expected one motor code, got {motor!r}", param_hint="--motor")
     code = codes[0]
-    source = an.load_animation(animation)
+    source = af.load_animation(animation)
     try:
         if add is not None:
             out = an.insert_knot(source, code, *_pair(add, "--add"))
@@ -360,7 +367,7 @@ def anim_knot(animation: str, output: str, motor: str, add: str | None, move: st
             out = an.set_ease(source, code, which, ease is not None)
     except (IndexError, ValueError) as exc:
         raise click.BadParameter(str(exc), param_hint="--add/--move/--delete/--ease/--linear") from None
-    an.save_animation(out, output)
+    af.save_animation(out, output)
     click.echo(f"wrote {output} ({len(out.knots.get(code, ()))} knots on {code})")
 
 
@@ -380,14 +387,15 @@ def _pair(text: str, option: str) -> tuple[float, float]:
 def anim_concat(animations: tuple[str, ...], output: str, fade: float) -> None:
     """Join animations one after another, optionally cross-fading."""
     from toon import animation as an
+    from toon import animation_file as af
 
-    out = an.load_animation(animations[0])
+    out = af.load_animation(animations[0])
     for path in animations[1:]:
         try:
-            out = an.concatenate(out, an.load_animation(path), fade)
+            out = an.concatenate(out, af.load_animation(path), fade)
         except ValueError as exc:
             raise click.BadParameter(str(exc), param_hint="--fade") from None
-    an.save_animation(out, output)
+    af.save_animation(out, output)
     click.echo(f"wrote {output} ({out.duration:g} s)")
 
 

@@ -13,13 +13,12 @@ from toon.animation import (
     flip,
     from_track,
     insert_knot,
-    load_animation,
     paste,
-    save_animation,
     scale_time,
     scale_value,
     set_ease,
 )
+from toon.animation_file import load_animation, save_animation
 
 A = Animation({"ELU": ((0.0, 0.8), (1.0, 0.0), (2.0, 0.8)), "MB": ((0.0, 0.1), (4.0, 0.5))}, 4.0)
 

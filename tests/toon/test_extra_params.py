@@ -104,7 +104,7 @@ def test_score_and_anim_from_track_keep_the_parameters(tmp_path, capsys):
 
     with Image.open(tmp_path / "s.png") as score:
         assert score.size[1] == 48 * 22 + 36  # a stave for each of the 21, and HT's
-    from toon.animation import load_animation
+    from toon.animation_file import load_animation
 
     assert load_animation(tmp_path / "a.toml").knots["HT"][0][1] == pytest.approx(0.8)
 

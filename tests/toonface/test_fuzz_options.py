@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from capture import load_take
 from common import InputError
 from toon import load_track
-from toon.animation import load_animation
+from toon.animation_file import load_animation
 from toonface.cli import main
 
 #: Values that broke commands before: tiny, huge, negative zero, the smallest subnormal.

@@ -7,6 +7,7 @@ from studios import temp_folder
 
 from toon import MOTOR_CODES, load_track, motor_index, standard_neutral
 from toon import animation as an
+from toon import animation_file as af
 from toonface.cli import main
 from toonface.studio.editor import UNDO_LEVELS, AnimationEditor
 from toonface.studio.messages import apply
@@ -132,7 +133,7 @@ def test_anim_knot_on_files_makes_the_editors_knots(tmp_path, capsys):
     for args, edit in steps:
         assert main(["anim", "knot", str(path), "-o", str(path), "--motor", "brc", *args]) == 0
         edit(editor)
-        assert an.load_animation(path) == editor.animation
+        assert af.load_animation(path) == editor.animation
     assert main(["anim", "knot", str(path), "-o", str(path), "--motor", "BRC", "--delete", "9"]) == 2
     assert main(["anim", "knot", str(path), "-o", str(path), "--motor", "BRC"]) == 2
     assert main(["anim", "knot", str(path), "-o", str(path), "--motor", "BRC", "--add", "x"]) == 2
@@ -155,7 +156,7 @@ def test_a_track_or_a_take_opens_as_knots_and_the_command_agrees(tmp_path):
     expected = an.from_track(load_track(tmp_path / "motors.csv"), 0.01)
     assert editor.animation == expected and "a motor track" in said and editor.path is None
     assert main(["anim", "from-track", str(tmp_path / "motors.csv"), "-o", str(tmp_path / "a.toml")]) == 0
-    assert an.load_animation(tmp_path / "a.toml") == expected
+    assert af.load_animation(tmp_path / "a.toml") == expected
     assert "a take, mapped" in editor.open(str(tmp_path / "take.npz"))
     np.testing.assert_allclose(editor.animation.sample(60.0, standard_neutral()).values, track.values, atol=0.0101)
     with pytest.raises(Exception, match="no such file"):

@@ -8,7 +8,7 @@ from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.keys import Keys
 from studios import temp_folder
 
-from toon import animation as an
+from toon import animation_file as af
 from toon import motor_index
 from toonface.cli import main
 from toonface.studio.session import StudioSession
@@ -53,7 +53,7 @@ def _anim(tmp_path, *args) -> None:
 def test_knots_by_mouse_are_the_commands_knots(blank, tmp_path):
     driver, session = blank
     path = str(tmp_path / "a.toml")
-    an.save_animation(session.editor.animation, path)
+    af.save_animation(session.editor.animation, path)
     staff = _staff(driver, "MB")
     for count, (x, y) in enumerate(((-200, 10), (0, -12), (150, 5)), start=1):
         before = _knots(session, "MB")
@@ -61,19 +61,19 @@ def test_knots_by_mouse_are_the_commands_knots(blank, tmp_path):
         wait_for(driver, f"(window.editor.state.knots.MB || []).length === {count}")
         (added,) = set(_knots(session, "MB")) - set(before)
         _anim(tmp_path, "knot", path, "-o", path, "--motor", "MB", "--add", f"{added[0]!r},{added[1]!r}")
-        assert an.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
+        assert af.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
     middle = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="1"]')
     ActionChains(driver).click_and_hold(middle).move_by_offset(20, 8).move_by_offset(20, 8).release().perform()
     wait_for(driver, "window.editor.state.knots.MB[1][1] < 0.6")
     t, v = _knots(session, "MB")[1]
     _anim(tmp_path, "knot", path, "-o", path, "--motor", "MB", "--move", f"1:{t!r},{v!r}")
-    assert an.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
+    assert af.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
     before_delete = _knots(session, "MB")
     first = driver.find_element("css selector", '#staves svg[data-code="MB"] circle[data-index="0"]')
     ActionChains(driver).context_click(first).perform()
     wait_for(driver, "window.editor.state.knots.MB.length === 2")
     _anim(tmp_path, "knot", path, "-o", path, "--motor", "MB", "--delete", "0")
-    assert an.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
+    assert af.load_animation(path).knots["MB"] == tuple(_knots(session, "MB"))
     driver.find_element("id", "undo").click()  # the deleted knot is back
     wait_for(driver, "window.editor.state.knots.MB.length === 3")
     assert _knots(session, "MB") == before_delete
@@ -106,13 +106,13 @@ def test_slice_operations_are_the_commands(blank, tmp_path):
                                   {"op": "knot", "action": "add", "code": code, "t": t, "v": v})
     wait_for(driver, "window.editor.state.undo === 5")
     path, clip = str(tmp_path / "a.toml"), str(tmp_path / "clip.toml")
-    an.save_animation(session.editor.animation, path)
+    af.save_animation(session.editor.animation, path)
     _choose(driver, "BRL", "BRC")
     start, end = _select(driver, 0.5, 2.0)
     driver.find_element("id", "copy").click()
     wait_for(driver, "window.editor.state.clipboard !== null")
     _anim(tmp_path, "copy", path, "-o", clip, "--motors", "BRL,BRC", "--from", repr(start), "--to", repr(end))
-    assert an.load_animation(clip) == session.editor.clipboard
+    assert af.load_animation(clip) == session.editor.clipboard
     _choose(driver, "BRL", "BRC")  # unchosen
     _choose(driver, "BLL", "BLC")
     driver.execute_script("window.studio.send({op: 'cursor', t: 2.5})")
@@ -120,7 +120,7 @@ def test_slice_operations_are_the_commands(blank, tmp_path):
     driver.find_element("id", "paste").click()
     wait_for(driver, "window.editor.state.undo === 6")
     _anim(tmp_path, "paste", path, clip, "-o", path, "--at", "2.5", "--onto", "BRL=BLL,BRC=BLC")
-    assert an.load_animation(path) == session.editor.animation
+    assert af.load_animation(path) == session.editor.animation
     for button, command in (("flip", ["flip"]), ("scale-value", ["scale", "--value", "0.5"]),
                             ("scale-time", ["scale", "--time", "0.5"]), ("cut", ["cut"])):
         undo = driver.execute_script("return window.editor.state.undo")
@@ -131,7 +131,7 @@ def test_slice_operations_are_the_commands(blank, tmp_path):
         driver.find_element("id", button).click()
         wait_for(driver, f"window.editor.state.undo === {undo + 1}")
         _anim(tmp_path, *command, path, "-o", path, "--motors", "BLL,BLC", "--from", repr(start), "--to", repr(end))
-        assert an.load_animation(path) == session.editor.animation, button
+        assert af.load_animation(path) == session.editor.animation, button
         driver.find_element("id", "factor").clear()
         driver.find_element("id", "factor").send_keys("0.5")
 

@@ -98,6 +98,7 @@ def test_the_animation_and_the_face_download_as_the_files_save_writes(tmp_path):
     import json
 
     from toon import animation as an
+    from toon import animation_file as af
 
     session = StudioSession("classic", folder=Folder(tmp_path.resolve()))
     session.editor.animation = an.insert_knot(session.editor.animation, "MB", 1.0, 0.8)
@@ -110,7 +111,7 @@ def test_the_animation_and_the_face_download_as_the_files_save_writes(tmp_path):
         status, disposition, text = asyncio.run(get(f"{url}download/animation.toml"))
         assert status == 200 and 'filename="animation.toml"' in disposition
         (tmp_path / "got.toml").write_text(text)
-        assert an.load_animation(tmp_path / "got.toml") == session.editor.animation
+        assert af.load_animation(tmp_path / "got.toml") == session.editor.animation
         status, disposition, text = asyncio.run(get(f"{url}download/face.json"))
         assert status == 200 and json.loads(text) == session.face.to_dict() and ".json" in disposition
         assert asyncio.run(get(f"{url}download/rooms.toml"))[0] == 404

@@ -16,6 +16,7 @@ import numpy as np
 from common import InputError
 from toon import MOTOR_CODES, MotorTrack, load_track, save_track
 from toon import animation as an
+from toon import animation_file as af
 from toon.animation import MAX_DURATION, Animation
 from toonface.studio.history import History
 
@@ -166,7 +167,7 @@ class AnimationEditor:
 
         source = Path(path)
         if source.suffix.lower() == ".toml":
-            self.animation, self.path, said = an.load_animation(source), source, f"opened {source}"
+            self.animation, self.path, said = af.load_animation(source), source, f"opened {source}"
             self.video, self.take = None, None
         else:
             try:
@@ -195,7 +196,7 @@ class AnimationEditor:
             raise InputError("say where to save: a new animation has no file yet")
         if target.suffix.lower() != ".toml":
             raise InputError("an animation is saved as .toml", target)
-        self.path = an.save_animation(self.animation, target)
+        self.path = af.save_animation(self.animation, target)
         return self.path
 
     def sample(self, path: str, rate: float) -> int:

@@ -60,7 +60,7 @@ def free_name(folder: Path, name: str) -> Path:
 
 async def send_file(request: web.Request, session: Any, allowed: bool) -> web.Response:
     """The animation or the face the studio holds, as a download named after it."""
-    from toon.animation import animation_text
+    from toon.animation_file import animation_text
     from toon.face import face_text
 
     if not allowed:
