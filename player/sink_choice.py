@@ -30,14 +30,16 @@ def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int], live
     a moving picture with alpha for ``.webm .mov .apng .webp`` (:mod:`player.alpha_sinks`), an
     animated SVG for ``.svg`` and a Lottie animation for ``.json`` (:mod:`player.vector_sinks`),
     raw RGB on standard output for ``-``, otherwise a folder of PNG frames (or of SVG frames,
-    ``fmt="svg"``)."""
+    ``fmt="svg"``): a name with no suffix, an existing folder, or any name but a picture file's
+    with ``fmt`` ``png`` or ``svg``."""
     if str(target) == "-":
         return RawSink()
     target = Path(target)
     suffix = target.suffix.lower()
     if fmt == "lottie" and suffix != ".json":
         raise InputError("--format lottie writes a .json file", target)
-    if fmt is not None and fmt != "lottie" and (suffix or fmt not in FOLDER_FORMATS):
+    folder = fmt in FOLDER_FORMATS or target.is_dir()  # a folder's name may hold a dot: "take.v2"
+    if fmt is not None and fmt != "lottie" and (suffix in PICTURE_SUFFIXES or fmt not in FOLDER_FORMATS):
         raise InputError(f"--format {fmt} is for a folder of frames ({' or '.join(FOLDER_FORMATS)}); a file's "
                          "suffix says its format", target)
     if suffix == ".mp4":
@@ -46,7 +48,7 @@ def open_sink(target: str | os.PathLike, fps: float, size: tuple[int, int], live
         return AlphaVideoSink(target, fps, size)
     if suffix in (".svg", ".json"):
         return AnimatedSvgSink(target, fps, size, lottie=suffix == ".json")
-    if target.suffix:
+    if target.suffix and not folder:
         known = ", ".join(f"{k} ({v})" for k, v in PICTURE_SUFFIXES.items())
         raise InputError(f"unknown output type {target.suffix!r}: give {known}, a folder for PNG frames or - for "
                          "raw RGB on standard output", target)

@@ -65,11 +65,16 @@ MOTOR_SINKS: dict[str, SinkKind] = {
 def open_sink(spec: str, kinds: dict[str, SinkKind], what: str, **options: Any) -> Any:
     """The sink of ``kinds`` that claims ``spec``, opened with ``options``; an :class:`InputError`
     naming ``spec`` when none does (``what`` says what was expected)."""
-    for kind in kinds.values():
-        if kind.claims(spec):
-            module, _sep, function = kind.opener.partition(":")
-            return getattr(importlib.import_module(module), function)(spec, **options)
-    raise InputError(f"not a known output: expected {what}", spec)
+    claimed = next((kind for kind in kinds.values() if kind.claims(spec)), None)
+    if claimed is None and "png" in kinds:  # a folder of frames whose name holds a dot ("take.v2"), as --format
+        from player.sink_choice import FOLDER_FORMATS  # or the disk says
+
+        if options.get("fmt") in FOLDER_FORMATS or Path(spec).is_dir():
+            claimed = kinds["png"]
+    if claimed is None:
+        raise InputError(f"not a known output: expected {what}", spec)
+    module, _sep, function = claimed.opener.partition(":")
+    return getattr(importlib.import_module(module), function)(spec, **options)
 
 
 def open_pictures(spec: str, rate: float = 30.0, size: tuple[int, int] = (512, 512), live: bool = False,
