@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import sys
-from typing import TYPE_CHECKING
 
 import click
 
 from player.animator import DEFAULT_LOOP_TIME
+from toon import animation as an
+from toon import animation_file as af
+from toon.animation import Animation
 from toonface.cli_options import (
     BACKGROUND,
     FACE,
@@ -24,9 +26,6 @@ from toonface.cli_options import (
     with_background,
     without_physics,
 )
-
-if TYPE_CHECKING:
-    from toon.animation import Animation
 
 
 def _address(value: str | None, option: str, port: int) -> tuple[str, int] | None:
@@ -198,7 +197,6 @@ def anim() -> None:
 @click.option("--rate", default=30.0, show_default=True, type=FiniteFloat(1, 1000), help="Frames per second.")
 def anim_sample(animation: str, output: str, rate: float) -> None:
     """Sample an animation into a motor track (a movie script)."""
-    from toon import animation_file as af
     from toon import save_track
 
     track = af.load_animation(animation).sample(rate)
@@ -213,9 +211,6 @@ def anim_sample(animation: str, output: str, rate: float) -> None:
 def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | None, start: float,
              end: float | None) -> None:
     """Cut a slice out of chosen motors; what follows moves earlier."""
-    from toon import animation as an
-    from toon import animation_file as af
-
     source = af.load_animation(animation)
     codes = parse_codes(motors, also=tuple(source.knots)) or tuple(source.knots)
     edited, clip = an.cut(source, codes, *_span(source, start, end))
@@ -231,9 +226,6 @@ def anim_cut(animation: str, output: str, clip_path: str | None, motors: str | N
 @_slice_options
 def anim_copy(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
     """Copy a slice of chosen motors into a clip (itself an animation starting at 0)."""
-    from toon import animation as an
-    from toon import animation_file as af
-
     source = af.load_animation(animation)
     codes = parse_codes(motors, also=tuple(source.knots)) or tuple(source.knots)
     af.save_animation(an.copy(source, codes, *_span(source, start, end)), output)
@@ -249,9 +241,6 @@ def anim_copy(animation: str, output: str, motors: str | None, start: float, end
               help="Put clip motors onto other motors, e.g. BRL=BLL,BRC=BLC,BRM=BLM [default: the same].")
 def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | None) -> None:
     """Paste a clip at a time, replacing what was there for its length."""
-    from toon import animation as an
-    from toon import animation_file as af
-
     pairs = None
     target, source = af.load_animation(animation), af.load_animation(clip)
     if onto:
@@ -275,9 +264,6 @@ def anim_paste(animation: str, clip: str, output: str, at: float, onto: str | No
 def anim_scale(animation: str, output: str, time_factor: float, value_factor: float, motors: str | None,
                start: float, end: float | None) -> None:
     """Scale a slice of chosen motors in time and/or in value."""
-    from toon import animation as an
-    from toon import animation_file as af
-
     out = af.load_animation(animation)
     span = _span(out, start, end)
     codes = parse_codes(motors, also=tuple(out.knots))
@@ -295,9 +281,6 @@ def anim_scale(animation: str, output: str, time_factor: float, value_factor: fl
 @_slice_options
 def anim_flip(animation: str, output: str, motors: str | None, start: float, end: float | None) -> None:
     """Play a slice of chosen motors backwards."""
-    from toon import animation as an
-    from toon import animation_file as af
-
     source = af.load_animation(animation)
     af.save_animation(an.flip(source, parse_codes(motors, also=tuple(source.knots)), *_span(source, start, end)),
                       output)
@@ -311,8 +294,6 @@ def anim_flip(animation: str, output: str, motors: str | None, start: float, end
               help="How far (of the 0..1 range) the lines between knots may stray from the track's values.")
 def anim_from_track(track: str, output: str, tolerance: float) -> None:
     """Turn a motor track (.csv, .npz) into knots to edit: as few as keep every value within the tolerance."""
-    from toon import animation as an
-    from toon import animation_file as af
     from toon import load_track
 
     motors = load_track(track)  # its parameters beyond the 21 (HT...) become knots too
@@ -341,8 +322,6 @@ def anim_knot(animation: str, output: str, motor: str, add: str | None, move: st
     """Insert, move or delete one knot of one motor, or ease the segment from it to the next or
     make it linear again (one of --add, --move, --delete, --ease, --linear). Knots are joined by
     straight lines unless eased, as CharToon's are."""
-    from toon import animation as an
-    from toon import animation_file as af
 
     if sum(x is not None for x in (add, move, delete, ease, linear)) != 1:
         raise click.UsageError("give one of --add, --move, --delete, --ease and --linear")
@@ -386,9 +365,6 @@ def _pair(text: str, option: str) -> tuple[float, float]:
               help="Cross-fade seconds between one and the next.")
 def anim_concat(animations: tuple[str, ...], output: str, fade: float) -> None:
     """Join animations one after another, optionally cross-fading."""
-    from toon import animation as an
-    from toon import animation_file as af
-
     out = af.load_animation(animations[0])
     for path in animations[1:]:
         try:
