@@ -81,18 +81,19 @@ def _best_r(curve: np.ndarray, truth: np.ndarray) -> float:
 
 def _curves(sound: np.ndarray, text: str | None) -> dict[str, np.ndarray]:
     """The mouth's opening (100 Hz) from the sound, the phones, the words where given, and the loudness peer."""
-    from capture.voice import openness, recognise, shape_curves, shape_sequence, speaking, with_opening
+    from capture.voice import openness, recognise, recognise_words, shape_curves, shape_sequence, speaking
     from capture.voice_sound import sound_mouth
+    from capture.voice_words import words_mouth
 
     frames = len(sound) // 160
     speech = speaking(sound, frames)
-    weights, heard = sound_mouth(sound, frames)
+    weights, _ = sound_mouth(sound, frames)
     curves = {"sound": openness(weights),
               "phones": openness(shape_curves(shape_sequence(recognise(sound), frames, speech))),
               "loudness": np.sqrt(np.mean(sound[: frames * 160].reshape(frames, 160) ** 2, axis=1))}
+    curves["heard_words"] = openness(words_mouth(sound, frames, recognise_words(sound))[0])
     if text is not None:
-        words = shape_sequence(recognise(sound, text), frames, speech)
-        curves["words"] = openness(shape_curves(with_opening(words, heard)))
+        curves["words"] = openness(words_mouth(sound, frames, recognise(sound, text))[0])
     return curves
 
 
@@ -169,16 +170,17 @@ def _languages() -> list[Figure]:
 
 def _speed(clips: list) -> Figure:
     """Seconds of sound per second of work on one core, decoding and the model included, from
-    the sound (the default); the phone loop's and the words' in the detail."""
-    from capture.voice import hear_voice
+    the sound (the default); the phone loop's, the words heard's (``--listen words``) and the words
+    given's (``--text``) in the detail."""
+    from capture.voice_take import hear_voice
 
     sources = clips or []
-    speeds: dict[str, list[float]] = {"sound": [], "phones": [], "words": []}
+    speeds: dict[str, list[float]] = {"sound": [], "phones": [], "heard_words": [], "words": []}
     for clip in sources:
         for name in speeds:
             start = time.perf_counter()
             heard = hear_voice(clip, transcript(clip.stem) if name == "words" else None,
-                               "phones" if name == "phones" else "sound")
+                               {"phones": "phones", "heard_words": "words"}.get(name, "sound"))
             speeds[name].append(len(heard.samples) / 16000 / (time.perf_counter() - start))
     medians = {k: round(float(np.median(v)), 1) if v else None for k, v in speeds.items()}
     return Figure("lipsync.realtime_x", float(medians["sound"] or 0.0), "x", 20.0, True, medians)
@@ -261,7 +263,7 @@ def _fill(clips: list) -> Figure:
     from pathlib import Path
 
     from capture.video_tracking import track_video
-    from capture.voice import read_voice
+    from capture.voice_take import read_voice
     from mapping.voicefill import fill_from_voice, lost_mouth
     from mapping.workflow import choose_mapping
     from toon import MOTOR_CODES

@@ -17,6 +17,12 @@ same choices, the same arithmetic.
    without it. Then the final speakers are scored once by a model fitted on all the others with
    the choice made on them.
 4. The shipped weights are fitted on every speaker with that choice.
+
+It does so twice: for the model of the spectrum alone (``voice_mouth.json``, any language) and
+for the model of the spectrum and the phones of the words an English recogniser hears in the
+clip (``voice_mouth_words.json``, :mod:`capture.voice_words`), whose choices also include how
+strongly the phones count (:data:`PHONE_SCALES`). The words are heard once, in the clip as it
+is, and given to each of its copies (a recogniser's mistakes in noise are not learned from).
 """
 
 from __future__ import annotations
@@ -40,10 +46,17 @@ CONTEXTS: tuple[tuple[int, ...], ...] = ((0,), tuple(range(-12, 6, 3)), tuple(ra
 ALPHAS = (0.03, 0.1, 0.3, 1.0, 3.0, 10.0)
 #: Speakers kept for the last check: the last clip of each corpus in name order.
 FINAL = ("lbax4n", "retalking-5", "vox-796100172")
+#: How strongly the phones count against the spectrum in the words model: their presence (0..1)
+#: times this before the ridge, whose one strength then shrinks them less.
+PHONE_SCALES = (3.0, 10.0, 30.0)
 #: The augmentation's seed.
 SEED = 61
 LAGS = np.arange(-12, 13)
-WEIGHTS = Path(__file__).resolve().parents[1] / "data" / "models" / "voice_mouth.json"
+MODELS = Path(__file__).resolve().parents[1] / "data" / "models"
+#: Each model's weights file: the spectrum alone, and the spectrum with the words' phones.
+WEIGHTS = {"sound": MODELS / "voice_mouth.json", "words": MODELS / "voice_mouth_words.json"}
+#: A choice of the frames read, the ridge's strength and the phones' scale (0: no phones).
+Choice = tuple[tuple[int, ...], float, float]
 
 
 def copies(sound: np.ndarray, rng: np.random.Generator) -> list[np.ndarray]:
@@ -68,57 +81,83 @@ def copies(sound: np.ndarray, rng: np.random.Generator) -> list[np.ndarray]:
 
 @dataclass
 class Prepared:
-    """A clip's training rows per context: sums that add across clips (for ridge by folds), and
-    its sound as heard, for scoring."""
+    """A clip's training rows per context (and phones' scale): sums that add across clips (for
+    ridge by folds), and its sound as heard, for scoring."""
 
     clip: Clip
     units: np.ndarray  # (frames, 3 + MEL_BANDS) the sound as heard (capture.voice_sound.sound_units)
-    sums: dict[tuple[int, ...], tuple[np.ndarray, ...]]  # n, sum x, sum xx^T, sum y, sum xy
+    sums: dict[tuple[tuple[int, ...], float], tuple[np.ndarray, ...]]  # n, sum x, sum xx^T, sum y, sum xy
+    presence: np.ndarray | None = None  # (frames, len(PHONES)) the words' phones heard in it, for the words model
 
 
-def prepare(clip: Clip, rng: np.random.Generator) -> Prepared:
-    """Every copy of ``clip``'s sound as features in each of :data:`CONTEXTS`, with its target."""
+def rows(units: np.ndarray, presence: np.ndarray | None, context: tuple[int, ...], scale: float) -> np.ndarray:
+    """A clip's feature rows: its spectra in ``context``, then (``scale`` > 0) its phones'
+    presence times ``scale``."""
     from capture.voice_model import in_context
+
+    x = in_context(units[:, 3:], context)
+    if not scale:
+        return x
+    assert presence is not None, "a words model's rows need the phones heard"
+    return np.concatenate([x, scale * presence], axis=1)
+
+
+def prepare(clip: Clip, rng: np.random.Generator, words: bool = False) -> Prepared:
+    """Every copy of ``clip``'s sound as features in each of :data:`CONTEXTS` (and, with
+    ``words``, each of :data:`PHONE_SCALES` with the words heard in it), with its target."""
+    from capture.voice import recognise_words, speaking
     from capture.voice_sound import sound_units
+    from capture.voice_words import presence
 
     target = clip.target()
-    sums: dict[tuple[int, ...], tuple[np.ndarray, ...]] = {}
+    heard_phones = presence(recognise_words(clip.sound), clip.frames, speaking(clip.sound, clip.frames)) \
+        if words else None
+    keys = [(context, scale) for context in CONTEXTS for scale in ((0.0, *PHONE_SCALES) if words else (0.0,))]
+    sums: dict[tuple[tuple[int, ...], float], tuple[np.ndarray, ...]] = {}
     heard = None
     for k, sound in enumerate(copies(clip.sound, rng)):
         units = sound_units(sound, clip.frames)
         if k == 0:
             heard = units
-        for context in CONTEXTS:
-            x = in_context(units[:, 3:], context)
+        for key in keys:
+            x = rows(units, heard_phones, *key)
             part = (np.array(float(len(x))), x.sum(axis=0), x.T @ x, np.array(target.sum()), x.T @ target)
-            sums[context] = part if context not in sums else tuple(a + b for a, b in zip(sums[context], part,
-                                                                                           strict=True))
+            sums[key] = part if key not in sums else tuple(a + b for a, b in zip(sums[key], part, strict=True))
     assert heard is not None
-    return Prepared(clip, heard, sums)
+    return Prepared(clip, heard, sums, heard_phones)
 
 
-def fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float) -> tuple[np.ndarray, np.ndarray, float]:
+def fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float, scale: float = 0.0
+        ) -> tuple[np.ndarray, np.ndarray, float]:
     """Ridge regression on ``prepared``'s rows, rescaled so that its openings over those clips as
     heard span 0 to 1 between their 5th and 95th percentiles (a ridge's predictions shrink towards
-    their mean; the mouth should still shut and open wide): ``(mean, weights, bias)``."""
-    from capture.voice_model import in_context
+    their mean; the mouth should still shut and open wide): ``(mean, weights, bias)`` of
+    features whose phones (``scale`` > 0) are their presence unscaled."""
+    from capture.voice_words import PHONES
 
-    n, sx, sxx, sy, sxy = (sum(p.sums[context][k] for p in prepared) for k in range(5))
+    key = (context, scale)
+    n, sx, sxx, sy, sxy = (sum(p.sums[key][k] for p in prepared) for k in range(5))
     mean, y_mean = sx / n, float(sy / n)
     gram = sxx - n * np.outer(mean, mean)
     cross = sxy - n * mean * y_mean
     weights = np.linalg.solve(gram + alpha * n * np.eye(len(gram)), cross)
-    heard = np.concatenate([(in_context(p.units[:, 3:], context) - mean) @ weights for p in prepared])
-    low, high = np.percentile(heard + y_mean, [5.0, 95.0])
+    heard = np.concatenate([(rows(p.units, p.presence, context, scale) - mean) @ weights for p in prepared]) + y_mean
+    low, high = np.percentile(heard, [5.0, 95.0])
     span = max(float(high - low), 1e-9)
-    return np.asarray(mean, float), weights / span, (y_mean - float(low)) / span
+    mean = np.asarray(mean, float)
+    unscale = np.ones(len(mean))
+    if scale:
+        unscale[len(mean) - len(PHONES):] = scale
+    return mean / unscale, weights * unscale / span, (y_mean - float(low)) / span
 
 
-def model_of(parts: tuple[np.ndarray, np.ndarray, float], context: tuple[int, ...], notes: dict | None = None):
+def model_of(parts: tuple[np.ndarray, np.ndarray, float], context: tuple[int, ...], notes: dict | None = None,
+             words: bool = False):
     from capture.voice_model import MouthModel
+    from capture.voice_words import PHONES
 
     mean, weights, bias = parts
-    return MouthModel(tuple(context), mean, weights, bias, notes or {})
+    return MouthModel(tuple(context), mean, weights, bias, notes or {}, PHONES if words else ())
 
 
 def score(prepared: Prepared, model) -> float:
@@ -126,9 +165,14 @@ def score(prepared: Prepared, model) -> float:
     lip gap, the best within ±120 ms."""
     from capture.voice import blend
     from capture.voice_sound import learned_opening
+    from capture.voice_words import words_opening
 
-    curve = blend(learned_opening(prepared.units, model))
-    return best_r(curve, prepared.clip)
+    if model.phones:
+        assert prepared.presence is not None, "a words model is scored on the phones heard"
+        opening = words_opening(prepared.units, prepared.presence, model)
+    else:
+        opening = learned_opening(prepared.units, model)
+    return best_r(blend(opening), prepared.clip)
 
 
 def best_r(curve: np.ndarray, clip: Clip) -> float:
@@ -150,65 +194,71 @@ def by_speaker(prepared: Sequence[Prepared]) -> dict[str, list[Prepared]]:
     return out
 
 
-def choose(prepared: Sequence[Prepared]) -> tuple[tuple[int, ...], float, float]:
-    """The context and alpha whose leave-one-speaker-out mean r over ``prepared``'s speakers is
-    highest (the first of equals, in :data:`CONTEXTS` and :data:`ALPHAS` order), and that r."""
+def choose(prepared: Sequence[Prepared], words: bool = False) -> tuple[Choice, float]:
+    """The context, alpha and phones' scale (with ``words``; else 0) whose leave-one-speaker-out
+    mean r over ``prepared``'s speakers is highest (the first of equals, in :data:`CONTEXTS`,
+    :data:`PHONE_SCALES` and :data:`ALPHAS` order), and that r."""
     speakers = by_speaker(prepared)
-    best: tuple[tuple[int, ...], float, float] | None = None
+    best: tuple[Choice, float] | None = None
     for context in CONTEXTS:
-        for alpha in ALPHAS:
-            rs = []
-            for name, own in speakers.items():
-                model = model_of(fit([p for p in prepared if p.clip.speaker != name], context, alpha), context)
-                rs.append(float(np.mean([score(p, model) for p in own])))
-            mean = float(np.mean(rs))
-            if best is None or mean > best[2]:
-                best = (context, alpha, mean)
+        for scale in PHONE_SCALES if words else (0.0,):
+            for alpha in ALPHAS:
+                rs = []
+                for name, own in speakers.items():
+                    parts = fit([p for p in prepared if p.clip.speaker != name], context, alpha, scale)
+                    model = model_of(parts, context, words=words)
+                    rs.append(float(np.mean([score(p, model) for p in own])))
+                mean = float(np.mean(rs))
+                if best is None or mean > best[1]:
+                    best = ((context, alpha, scale), mean)
     assert best is not None
     return best
 
 
-def held_out(prepared: Sequence[Prepared], nested: bool, context: tuple[int, ...] = (0,), alpha: float = 1.0
+def held_out(prepared: Sequence[Prepared], nested: bool, choice: Choice = ((0,), 1.0, 0.0), words: bool = False
              ) -> dict[str, float]:
     """Each clip's r from a model fitted without its speaker: with the choice made without it too
-    (``nested``), or with ``context`` and ``alpha`` given."""
+    (``nested``), or with ``choice`` given."""
     out = {}
     for name, own in by_speaker(prepared).items():
         others = [p for p in prepared if p.clip.speaker != name]
-        chosen = choose(others)[:2] if nested else (context, alpha)
-        model = model_of(fit(others, *chosen), chosen[0])
+        chosen = choose(others, words)[0] if nested else choice
+        model = model_of(fit(others, *chosen), chosen[0], words=words)
         out.update({p.clip.name: round(score(p, model), 4) for p in own})
     return out
 
 
-def train(paths: Sequence[Path], final: Sequence[str] = FINAL, say=print) -> dict:
-    """The whole procedure of the module docstring on ``paths``; the weights file's document."""
-    rng = np.random.default_rng(SEED)
-    prepared = []
-    for path in paths:
-        say(f"tracking and hearing {path.name}")
-        prepared.append(prepare(load_clip(path), rng))
+def train(prepared: Sequence[Prepared], final: Sequence[str] = FINAL, say=print, words: bool = False) -> dict:
+    """The whole procedure of the module docstring on ``prepared`` clips (prepared with
+    ``words`` for the words model); the weights file's document."""
     training = [p for p in prepared if p.clip.speaker not in final]
     kept = [p for p in prepared if p.clip.speaker in final]
-    say(f"choosing by leave-one-speaker-out over {len(by_speaker(training))} speakers")
-    context, alpha, inner = choose(training)
-    say(f"chose {len(context)} frames {min(context) * 10} to {max(context) * 10} ms, alpha {alpha:g}: r {inner:.3f}")
-    nested = held_out(training, nested=True) if len(by_speaker(training)) > 2 else {}
-    model = model_of(fit(training, context, alpha), context)
+    what = "the spectrum and the words' phones" if words else "the spectrum"
+    say(f"{what}: choosing by leave-one-speaker-out over {len(by_speaker(training))} speakers")
+    choice, inner = choose(training, words)
+    context, alpha, scale = choice
+    say(f"chose {len(context)} frames {min(context) * 10} to {max(context) * 10} ms, alpha {alpha:g}"
+        + (f", phones x{scale:g}" if words else "") + f": r {inner:.3f}")
+    nested = held_out(training, nested=True, words=words) if len(by_speaker(training)) > 2 else {}
+    model = model_of(fit(training, *choice), context, words=words)
     check = {p.clip.name: round(score(p, model), 4) for p in kept}
     corpora = {p.clip.name: p.clip.corpus for p in prepared}
     notes = {"trained_on": sorted(p.clip.name for p in prepared), "alpha": alpha, "seed": SEED,
-             "command": "python -m bench.lipsync_train",
+             **({"phone_scale": scale} if words else {}), "command": "python -m bench.lipsync_train",
              "chosen_by": f"leave-one-speaker-out mean r {inner:.4f} over {len(by_speaker(training))} speakers",
              "held_out_nested": nested, "final_check": check, "final_speakers": list(final),
              "corpus": corpora}
-    shipped = model_of(fit(prepared, context, alpha), context, notes)
+    shipped = model_of(fit(prepared, *choice), context, notes, words)
     return shipped.to_dict()
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench.lipsync_train", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=WEIGHTS, help=f"where the weights go [{WEIGHTS}]")
+    parser.add_argument("--model", choices=("sound", "words", "both"), default="both",
+                        help="which model to rebuild [both]")
+    parser.add_argument("--out", type=Path, default=MODELS,
+                        help=f"the folder the weights go to, as {WEIGHTS['sound'].name} and {WEIGHTS['words'].name} "
+                             f"[{MODELS}]")
     parser.add_argument("--clips", type=int, default=None, help="only the first N clips (a quick check)")
     parser.add_argument("--corpus", choices=("grid", "studio", "wild"), default=None,
                         help="only this corpus's clips (a quick check)")
@@ -218,10 +268,21 @@ def main(argv: list[str] | None = None) -> int:
         print("no shared talking-face clips found (../shared/realdata/video)", file=sys.stderr)
         return 2
     final = FINAL if args.clips is None and args.corpus is None else ()
-    doc = train(paths, final, say=lambda line: print(line, file=sys.stderr))
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
-    print(json.dumps({k: doc[k] for k in ("alpha", "held_out_nested", "final_check", "chosen_by")}))
+    kinds = ("sound", "words") if args.model == "both" else (args.model,)
+    rng = np.random.default_rng(SEED)
+    prepared = []
+    for path in paths:
+        print(f"tracking and hearing {path.name}", file=sys.stderr)
+        prepared.append(prepare(load_clip(path), rng, words="words" in kinds))
+    args.out.mkdir(parents=True, exist_ok=True)
+    for kind in kinds:
+        doc = train(prepared, final, say=lambda line: print(line, file=sys.stderr), words=kind == "words")
+        out = args.out / WEIGHTS[kind].name
+        partial = out.with_name(out.name + ".partial")  # an interrupted run leaves the old weights whole
+        partial.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        partial.replace(out)
+        print(json.dumps({"model": kind, **{k: doc[k] for k in ("alpha", "held_out_nested", "final_check",
+                                                                  "chosen_by")}}))
     return 0
 
 

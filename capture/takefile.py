@@ -19,9 +19,10 @@ from capture.c3dfile import read_c3d, write_c3d
 from capture.csvfile import read_csv, write_csv
 from capture.cues import cues_take, is_cue_table
 from capture.markerset import MarkerSet
+from capture.sources import SOUND_SUFFIXES
 from capture.take import Take
 from capture.trcfile import read_trc, write_trc
-from capture.voice import SOUND_SUFFIXES, read_voice
+from capture.voice_take import read_voice
 from common import InputError, atomic_path
 from common.errors import require_file
 from common.npz import NPZ_ERRORS, check_npz
@@ -95,7 +96,7 @@ def load_take(path: str | os.PathLike, rate: float | None = None, labels: list[s
     words : str, optional
         A voice's words (a sound file only): aligned with the sound (:mod:`capture.voice`).
     listen : str, optional
-        How a voice is heard without words (:data:`capture.voice.LISTEN_MODES`; ``sound`` by default).
+        How a voice is heard without words (:data:`capture.voice_take.LISTEN_MODES`; ``sound`` by default).
 
     Raises
     ------

@@ -23,8 +23,6 @@ from pathlib import Path
 
 import numpy as np
 
-from capture.sources import SOUND_SUFFIXES as _SOUND_SUFFIXES
-from capture.take import Take
 from common import InputError
 
 #: Rhubarb Lip Sync's mouth shapes, in its order.
@@ -106,14 +104,12 @@ def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
     """
     from pocketsphinx import Decoder, get_model_path
 
-    pcm = (np.clip(samples, -1.0, 1.0) * 32767).astype(np.int16).tobytes()
+    pcm = _pcm(samples)
     model = Path(get_model_path()) / "en-us"
     if text is None:
         decoder = Decoder(allphone=str(model / "en-us-phone.lm.bin"), lw=2.0, pip=0.3, beam=1e-20, pbeam=1e-20,
                           samprate=SAMPLE_RATE, loglevel="FATAL")
-        decoder.start_utt()
-        decoder.process_raw(pcm, full_utt=True)
-        decoder.end_utt()
+        _decode(decoder, pcm)
         return [Phone(s.word, s.start_frame / FRAME_RATE, (s.end_frame + 1) / FRAME_RATE) for s in decoder.seg()]
     words = " ".join(text.lower().split())
     decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
@@ -122,19 +118,56 @@ def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
         raise InputError(f"not in the pronouncing dictionary: {', '.join(unknown)} (spell numbers and names out "
                          "as they are said)")
     try:
-        decoder.set_align_text(words)
-        decoder.start_utt()
-        decoder.process_raw(pcm, full_utt=True)
-        decoder.end_utt()
-        decoder.set_alignment()
-        decoder.start_utt()
-        decoder.process_raw(pcm, full_utt=True)
-        decoder.end_utt()
-        aligned = decoder.get_alignment()
+        return _aligned(decoder, pcm, words)
     except (RuntimeError, ValueError) as exc:
         raise InputError(f"the words could not be aligned with the sound ({exc})") from None
-    return [Phone(p.name, p.start / FRAME_RATE, (p.start + p.duration) / FRAME_RATE, w.name) for w in aligned
-            for p in w]
+
+
+def recognise_words(samples: np.ndarray) -> list[Phone]:
+    """The phones of the words an English recogniser hears in ``samples`` (16 kHz mono): the
+    words found with pocketsphinx's US-English language model (the decoder Rhubarb Lip Sync
+    uses), then their phones placed by forced alignment of those words, each phone naming its
+    word. Where the alignment fails, each word's phones share its time evenly. About twice as
+    fast as real time on one core; noises and silence are left out."""
+    from pocketsphinx import Decoder
+
+    pcm = _pcm(samples)
+    decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
+    _decode(decoder, pcm)
+    heard = [(s.word, s.start_frame, s.end_frame + 1) for s in decoder.seg()
+             if not s.word.startswith(("<", "[")) and decoder.lookup_word(s.word)]
+    if not heard:
+        return []
+    try:
+        return _aligned(decoder, pcm, " ".join(word.split("(")[0] for word, _, _ in heard))
+    except (RuntimeError, ValueError):
+        out = []
+        for word, start, end in heard:
+            said = str(decoder.lookup_word(word)).split()
+            span = (end - start) / FRAME_RATE / len(said)
+            out += [Phone(name, start / FRAME_RATE + k * span, start / FRAME_RATE + (k + 1) * span,
+                          word.split("(")[0]) for k, name in enumerate(said)]
+        return out
+
+
+def _pcm(samples: np.ndarray) -> bytes:
+    return (np.clip(samples, -1.0, 1.0) * 32767).astype(np.int16).tobytes()
+
+
+def _decode(decoder, pcm: bytes) -> None:
+    decoder.start_utt()
+    decoder.process_raw(pcm, full_utt=True)
+    decoder.end_utt()
+
+
+def _aligned(decoder, pcm: bytes, words: str) -> list[Phone]:
+    """The phones of ``words`` placed in the sound ``pcm`` by ``decoder`` (with its dictionary)."""
+    decoder.set_align_text(words)
+    _decode(decoder, pcm)
+    decoder.set_alignment()
+    _decode(decoder, pcm)
+    return [Phone(p.name, p.start / FRAME_RATE, (p.start + p.duration) / FRAME_RATE, w.name)
+            for w in decoder.get_alignment() for p in w]
 
 
 def speaking(samples: np.ndarray, frames: int) -> np.ndarray:
@@ -243,98 +276,3 @@ def heard(phones: list[Phone]) -> tuple[list[tuple[float, float, str]], list[tup
 def mouth_cues(shapes: np.ndarray) -> list[tuple[float, float, str]]:
     """Rhubarb's mouth cues: ``(start, end, shape)`` seconds, one per run of a shape."""
     return [(a / FRAME_RATE, b / FRAME_RATE, VISEMES[s]) for a, b, s in _shape_runs(shapes)]
-
-
-#: The suffixes read as a voice (a take of mouth shapes), not a marker take.
-SOUND_SUFFIXES = _SOUND_SUFFIXES
-
-
-@dataclass(frozen=True, eq=False)
-class Heard:
-    """What a voice says: its sound (16 kHz mono, ``(n,)``), the phones heard, the mouth
-    shape of each 10 ms frame (``shapes`` ``(frames,)``, indices into :data:`VISEMES`: its
-    mouth cues), where the sound starts on its video's clock (``start``, seconds; 0 for a
-    sound file), and each shape's weight per frame where the sound weighs them between two
-    shapes (``weights`` ``(frames, 9)``; otherwise :func:`shape_curves` of ``shapes``)."""
-
-    samples: np.ndarray
-    phones: list[Phone]
-    shapes: np.ndarray
-    start: float = 0.0
-    weights: np.ndarray | None = None
-
-    def curves(self) -> np.ndarray:
-        """Each shape's weight per frame, ``(frames, 9)``: what moves the motors."""
-        return shape_curves(self.shapes) if self.weights is None else self.weights
-
-
-#: How a voice is heard (``--listen``): ``sound`` its spectrum alone, in any language
-#: (:mod:`capture.voice_sound`); ``phones`` pocketsphinx's US-English phone loop. Given the
-#: words, their phones are aligned and the mouth opens as the sound says, shaped as the phones say.
-LISTEN_MODES = ("sound", "phones")
-
-
-def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Heard:
-    """Decode ``path``'s sound and place the mouth shapes: from the sound alone
-    (``listen="sound"``), from the phones pocketsphinx hears (``"phones"``), or, given the words
-    ``text``, from their aligned phones, opened as wide as the sound says: the one way every
-    command hears a voice (errors name the file)."""
-    from capture.voice_sound import sound_mouth, sound_shapes
-
-    if listen not in LISTEN_MODES:
-        raise InputError(f"unknown way to listen {listen!r} (known: {', '.join(LISTEN_MODES)})", path)
-    samples, start = decode_voice_at(path)
-    frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
-    if listen == "sound" and text is None:
-        weights, shapes = sound_mouth(samples, frames)
-        return Heard(samples, [], shapes, start, weights)
-    try:
-        phones = recognise(samples, text)
-    except InputError as exc:
-        raise InputError(exc.message, path, exc.field) from None
-    shapes = shape_sequence(phones, frames, speaking(samples, frames))
-    if text is not None:
-        shapes = with_opening(shapes, sound_shapes(samples, frames))
-    return Heard(samples, phones, shapes, start)
-
-
-def with_opening(shapes: np.ndarray, heard: np.ndarray) -> np.ndarray:
-    """The words' ``shapes`` ``(frames,)`` opened as wide as the sound says (``heard``, from
-    :func:`capture.voice_sound.sound_shapes`): the words keep what they know better (lips
-    pressed for M B P, teeth on lip for F V, the tongue for L, round or spread), and each other
-    frame takes the rung of its ladder (A B C D spread, A F E D round) nearest the mean of the
-    two openings; where the words place silence but the sound has a voice, the sound's shape."""
-    levels = np.array([OPENNESS[v] for v in VISEMES])
-    mean = (levels[shapes] + levels[heard]) / 2
-    rounded = np.isin(shapes, [VISEMES.index("E"), VISEMES.index("F")])
-    out = shapes.copy()
-    for ladder, where in (("ABCD", ~rounded), ("AFED", rounded)):
-        rungs = np.array([VISEMES.index(v) for v in ladder])
-        nearest = rungs[np.argmin(np.abs(levels[rungs][None, :] - mean[:, None]), axis=1)]
-        out[where] = nearest[where]
-    rest = VISEMES.index("X")
-    voiced = (shapes == rest) & (levels[heard] > 0)
-    kept = np.isin(shapes, [VISEMES.index(v) for v in "AGH"]) | ((shapes == rest) & ~voiced)
-    out[kept] = shapes[kept]
-    out[voiced] = heard[voiced]
-    return out
-
-
-def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Take:
-    """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
-    ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
-    level, ``sound_level`` (0..1), by which a rest window is chosen in silence. Times are on
-    the clock of a video's first frame (a video's sound may start before or after it)."""
-    heard = hear_voice(path, text, listen)
-    frames, samples = len(heard.shapes), heard.samples
-    curves = heard.curves()
-    hop = int(SAMPLE_RATE / FRAME_RATE)
-    level = np.sqrt(np.mean(np.resize(np.pad(samples, (0, frames * hop)), frames * hop).reshape(frames, hop) ** 2,
-                            axis=1))
-    level = level / max(float(level.max()), 1e-9)
-    channels = np.column_stack([curves, level])
-    names = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
-    return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, times=heard.start + np.arange(frames) / FRAME_RATE,
-                channels=channels, channel_names=names,
-                meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones),
-                      "listen": "words" if text else listen})

@@ -22,7 +22,7 @@ from capture.voice import FRAME_RATE, LOOKAHEAD, SAMPLE_RATE, VISEMES, decode_vo
 from capture.voice_sound import HOP, WINDOW, Listener
 from common import InputError
 
-#: Each frame's channels, as :func:`capture.voice.read_voice` names them.
+#: Each frame's channels, as :func:`capture.voice_take.read_voice` names them.
 CHANNELS = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
 #: How much sound a file played in real time hands over at once (s): a sound card's period.
 CHUNK_S = 0.01

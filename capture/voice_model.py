@@ -15,6 +15,11 @@ tracker measured in real talking-face videos (``python -m bench.lipsync_train``,
 weights this module reads, ``data/models/voice_mouth.json``; its model card is the documentation
 page "The voice's mouth model").
 
+A second model (``data/models/voice_mouth_words.json``, :func:`shipped_words_model`) reads, beside
+the spectrum, the phones of the words an English recogniser heard (:mod:`capture.voice_words`):
+each phone's presence per frame, blended over time as shapes are (:attr:`MouthModel.phones`), so
+that it knows an "i" from an "a" where the words were heard.
+
 The weights are package data and numpy is the whole of the inference: no download, no GPU.
 """
 
@@ -85,6 +90,9 @@ class MouthModel:
     bias : float
     notes : dict
         What the weights file says of itself (training speakers, held-out figures...).
+    phones : tuple of str
+        The phones whose presence it reads after the spectra (``mean`` and ``weights`` then have
+        ``len(phones)`` more values, the last phone being silence); empty for a spectrum alone.
     """
 
     offsets: tuple[int, ...]
@@ -92,6 +100,7 @@ class MouthModel:
     weights: np.ndarray
     bias: float
     notes: dict
+    phones: tuple[str, ...] = ()
 
     @property
     def lookahead(self) -> int:
@@ -107,14 +116,28 @@ class MouthModel:
         """The opening (0..1) of frames given their spectra in context ``(frames, D)``."""
         return np.clip((context - self.mean) @ self.weights + self.bias, 0.0, 1.0)
 
-    def opening(self, unit_mel: np.ndarray) -> np.ndarray:
-        """The opening (0..1) of each frame of normalised spectra ``(frames, MEL_BANDS)``."""
-        return self.open_context(in_context(unit_mel, self.offsets))
+    def features(self, unit_mel: np.ndarray, presence: np.ndarray | None = None) -> np.ndarray:
+        """What the model reads of each frame, ``(frames, len(weights))``: the normalised spectra
+        ``(frames, MEL_BANDS)`` in context, then (for a model of :attr:`phones`) each phone's
+        presence ``(frames, len(phones))``."""
+        context = in_context(unit_mel, self.offsets)
+        if not self.phones:
+            return context
+        if presence is None or presence.shape != (len(unit_mel), len(self.phones)):
+            raise ValueError(f"this model reads the presence of {len(self.phones)} phones in each of "
+                             f"{len(unit_mel)} frames")
+        return np.concatenate([context, presence], axis=1)
+
+    def opening(self, unit_mel: np.ndarray, presence: np.ndarray | None = None) -> np.ndarray:
+        """The opening (0..1) of each frame of normalised spectra ``(frames, MEL_BANDS)`` (and, for
+        a model of :attr:`phones`, their presence ``(frames, len(phones))``)."""
+        return self.open_context(self.features(unit_mel, presence))
 
     def to_dict(self) -> dict:
+        phones = {"phones": list(self.phones)} if self.phones else {}
         return {"format": FORMAT, "mel_bands": MEL_BANDS, "mel_range": list(MEL_RANGE),
-                "offsets": list(self.offsets), "mean": self.mean.tolist(), "weights": self.weights.tolist(),
-                "bias": self.bias, **self.notes}
+                "offsets": list(self.offsets), **phones, "mean": self.mean.tolist(),
+                "weights": self.weights.tolist(), "bias": self.bias, **self.notes}
 
 
 def model_from_dict(doc: dict, source: str = "") -> MouthModel:
@@ -123,18 +146,29 @@ def model_from_dict(doc: dict, source: str = "") -> MouthModel:
         if doc.get("format") != FORMAT or doc.get("mel_bands") != MEL_BANDS:
             raise ValueError(f"expected format {FORMAT} with {MEL_BANDS} mel bands")
         offsets = tuple(int(k) for k in doc["offsets"])
+        phones = tuple(str(p) for p in doc.get("phones", ()))
         mean, weights = np.asarray(doc["mean"], float), np.asarray(doc["weights"], float)
-        if mean.shape != weights.shape or len(weights) != len(offsets) * MEL_BANDS:
-            raise ValueError("mean and weights must each have a value per offset and band")
-        notes = {k: v for k, v in doc.items() if k not in ("format", "mel_bands", "mel_range", "offsets", "mean",
-                                                            "weights", "bias")}
-        return MouthModel(offsets, mean, weights, float(doc["bias"]), notes)
+        if mean.shape != weights.shape or len(weights) != len(offsets) * MEL_BANDS + len(phones):
+            raise ValueError("mean and weights must each have a value per offset and band, and per phone")
+        notes = {k: v for k, v in doc.items() if k not in ("format", "mel_bands", "mel_range", "offsets", "phones",
+                                                            "mean", "weights", "bias")}
+        return MouthModel(offsets, mean, weights, float(doc["bias"]), notes, phones)
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(f"not a voice mouth model ({exc})", source) from None
 
 
-@lru_cache(maxsize=1)
-def shipped_model() -> MouthModel:
-    """The model shipped with toonface (``data/models/voice_mouth.json``), read once."""
-    path = data_path("models", "voice_mouth.json")
+@lru_cache(maxsize=2)
+def _shipped(name: str) -> MouthModel:
+    path = data_path("models", name)
     return model_from_dict(json.loads(path.read_text(encoding="utf-8")), str(path))
+
+
+def shipped_model() -> MouthModel:
+    """The model of the spectrum alone shipped with toonface (``data/models/voice_mouth.json``), read once."""
+    return _shipped("voice_mouth.json")
+
+
+def shipped_words_model() -> MouthModel:
+    """The model of the spectrum and the words' phones shipped with toonface
+    (``data/models/voice_mouth_words.json``), read once."""
+    return _shipped("voice_mouth_words.json")

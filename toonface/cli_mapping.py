@@ -258,7 +258,7 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
 
 def _fill_from_voice(track, loaded, video: str, face, mapping: str | None, mirror: bool, as_json: bool):
     """``track`` with its mouth from ``video``'s voice where the tracked face lost it (said aloud)."""
-    from capture.voice import read_voice
+    from capture.voice_take import read_voice
     from mapping.voicefill import MOUTH, fill_from_voice, lost_mouth
     from mapping.workflow import choose_mapping
     from toonface.pipeline import map_onto_face
@@ -314,8 +314,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
     (a sound file: .wav .mp3 .ogg ...), whose mouth shapes move the mouth (the voice mapping)
     and which goes into the MP4."""
-    from capture.sources import VIDEO_SUFFIXES
-    from capture.voice import SOUND_SUFFIXES
+    from capture.sources import SOUND_SUFFIXES, VIDEO_SUFFIXES
     from common.sound import has_audio
     from player.beside import beside_width
     from toon import load_face

@@ -151,7 +151,7 @@ class TakeReading:
     units: str | None = None
     allow_truncated: bool = False
     words: str | None = None  # a voice's words, read from @FILE already
-    listen: str | None = None  # how a voice is heard (capture.voice.LISTEN_MODES), None for the default
+    listen: str | None = None  # how a voice is heard (capture.voice_take.LISTEN_MODES), None for the default
 
 
 def take_options(fn: Callable) -> Callable:
@@ -183,10 +183,13 @@ def take_options(fn: Callable) -> Callable:
 
 #: How a voice is heard; shared by every command that reads one.
 LISTEN = click.option(
-    "--listen", default=None, type=click.Choice(("sound", "phones")),
+    "--listen", default=None, type=click.Choice(("sound", "words", "phones")),
     help="A voice only: how to hear it without --text. 'sound' (the default) reads how open and how round "
-         "the mouth is from the sound's spectrum, in any language; 'phones' recognises US-English phones "
-         "(pocketsphinx), which names each shape but follows the jaw less well.")
+         "the mouth is from the sound's spectrum, in any language, 100 times faster than real time; 'words' "
+         "(English) recognises the words said and opens the mouth from their phones and the sound as learned "
+         "from real talking faces: the closest to real lips on English speech, about twice as fast as real "
+         "time; 'phones' recognises US-English phones alone (pocketsphinx), which names each shape but "
+         "follows the jaw less well.")
 
 
 def _at_file(value: str, option: str, what: str) -> str:

@@ -22,23 +22,26 @@ CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhub
 @click.option("--dat-fps", default=24.0, show_default=True, type=FiniteFloat(min=1, max=240),
               help="With a .dat output: the frame rate its frame numbers count at.")
 @click.option("--text", default=None, metavar="WORDS|@FILE",
-              help="The words spoken (or @FILE holding them): aligned with the sound, which places each phone "
-                   "and opened as wide as the sound says [default: no words needed, see --listen].")
+              help="The words spoken (or @FILE holding them): aligned with the sound, which places each phone, "
+                   "and opened as --listen words opens them [default: no words needed, see --listen].")
 @LISTEN
 def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: str | None) -> None:
     """Mouth shapes from a voice: a sound file (WAV, MP3, OGG, anything FFmpeg decodes) or the
-    sound of a video, heard offline in any language (or, with --text, its English words aligned),
+    sound of a video, heard offline in any language (or, with --listen words, the English words
+    recognised in it; with --text, the English words given, aligned),
     as Rhubarb Lip Sync's mouth cues (shapes A-H and X) for Moho, OpenToonz, Blender, Spine and
     the like. The cues read back as a take: `toonface map cues.tsv` gives the motors
     `toonface map VOICE` gives from the phones or the words, and from the sound alone (which
     weighs a frame between two shapes) the same a shape at a time.
 
     Silence is rest (X) whatever was heard in it, and the blend between shapes reaches 50 ms
-    either side. From phones, a vowel's shape comes a little early, no shape is held for less
+    either side. From words or phones, a vowel's shape comes a little early, no shape is held for less
     than 30 ms, and a pause under 0.2 s keeps the shape before it.
     """
     from capture.cues import cues_text
-    from capture.voice import FRAME_RATE, hear_voice, mouth_cues
+    from capture.voice import FRAME_RATE, mouth_cues
+    from capture.voice import heard as said
+    from capture.voice_take import hear_voice
     from common import atomic_path
     from toonface.cli_options import read_words
 
@@ -54,7 +57,8 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: s
         tmp.write_text(cues_text(cues, suffix, voice, words, dat_fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
     click.echo(f"wrote {output}: {len(cues)} mouth cues over {duration:.2f} s ({shaped} speaking), "
-               + ("the words given aligned, opened as the sound says" if words else
+               + ("the words given aligned, opened as the sound and their phones say" if words else
+                  f"from the {len(said(heard.phones)[0])} words heard (English)" if listen == "words" else
                   "from the phones heard (no words given)" if listen == "phones" else
                   "from the sound's spectrum (no words given)"))
 

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from capture.sources import open_source
-from capture.voice import SAMPLE_RATE, VISEMES, read_voice
+from capture.voice import SAMPLE_RATE, VISEMES
 from capture.voice_live import CHANNELS, played, voice_frames
+from capture.voice_take import read_voice
 from tests.capture.test_voice_sound import _speech
 from toonface.cli import main
 

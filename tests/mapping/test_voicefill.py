@@ -58,7 +58,7 @@ def test_retarget_moves_a_covered_mouth_with_the_voice(realdata, tmp_path, capsy
     covered = tmp_path / "covered.mkv"
     cover(clip, covered, 30, 55)  # 1.2-2.2 s: "blue at" said with the face unseen
     from capture.video_tracking import track_video
-    from capture.voice import read_voice
+    from capture.voice_take import read_voice
     from mapping.workflow import choose_mapping
     from toonface.pipeline import map_onto_face
 

@@ -155,8 +155,7 @@ def _expand(patterns: list[str], base: Path, path: Path, output: Path
     """The take files the globs match, sorted, each once (files under the output folder, motor
     tracks written as .npz or .csv, are never takes); the globs that match none; and the videos
     and voices they match, which a batch does not read."""
-    from capture.sources import VIDEO_SUFFIXES
-    from capture.voice import SOUND_SUFFIXES
+    from capture.sources import SOUND_SUFFIXES, VIDEO_SUFFIXES
 
     found: dict[Path, None] = {}
     passed: dict[Path, None] = {}

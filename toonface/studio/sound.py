@@ -92,16 +92,17 @@ def load_sound(path: str | os.PathLike) -> Sound:
 def heard_labels(sound: Sound, text: str | None = None) -> tuple[Label, ...]:
     """What a voice says (:mod:`capture.voice`): its words where ``text`` gives them (aligned),
     each phone heard with its mouth shape, a row under them, and under those the mouth shapes
-    that ``map`` and ``lipsync`` use (from the sound, or with the words), a shape a box."""
-    from capture.voice import FRAME_RATE, heard, mouth_cues, recognise, shape_sequence, speaking, with_opening
-    from capture.voice_sound import sound_shapes
+    that ``map`` and ``lipsync`` use (from the sound, or with the words: :func:`capture.voice_take.mouth_of`),
+    a shape a box."""
+    from capture.voice import heard, mouth_cues, recognise
+    from capture.voice_take import mouth_of
 
-    phones = recognise(sound.samples, text)
+    if text is None:
+        phones = recognise(sound.samples)
+        _, shapes, _ = mouth_of(sound.samples)
+    else:
+        phones, shapes, _ = mouth_of(sound.samples, text)
     words, sounds = heard(phones)
-    frames = max(2, int(len(sound.samples) * FRAME_RATE // RATE))
-    shapes = sound_shapes(sound.samples, frames)
-    if text is not None:
-        shapes = with_opening(shape_sequence(phones, frames, speaking(sound.samples, frames)), shapes)
     cues = [Label(a, b, shape, 2) for a, b, shape in mouth_cues(shapes) if shape != "X"]
     return tuple([Label(a, b, w) for a, b, w in words] + [Label(a, b, t, 1) for a, b, t in sounds] + cues)
 
