@@ -217,30 +217,44 @@ def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray
            ) -> tuple[np.ndarray, np.ndarray]:
     """Shares and confidence ``(F, K)`` for displacements ``d`` ``(F, M, 3)`` (0 where unseen)
     with per-marker weights ``weight`` ``(F, M)`` (0 unseen); ``counts`` ``(F, M)``: each
-    marker's part in the confidence (default ``weight``)."""
+    marker's part in the confidence (default ``weight``).
+
+    Every frame's normal equations are made from the two sides' bases alone: each marker's Gram
+    of the 2K bases, weighted and summed once per set of weights (the first two passes share
+    theirs), then each frame's K x K system picked from its four side-by-side blocks by the side
+    each motor is on (the first pass: the two sides' mean, whose Gram those blocks give too)."""
     k, m = len(solver.codes), len(solver.markers)
     frames = len(d)
-    both = np.concatenate([(solver.up - solver.down) / 2, solver.up, solver.down])  # (3K, M, 3): mean, high, low
-    per_marker = np.einsum("imc,jmc->mij", both, both).reshape(m, -1)  # (M, 9K²): each marker's Gram
-    energy = np.einsum("imc,imc->im", both, both)  # (3K, M)
-    ridge = RIDGE * float(np.mean(energy[:k].sum(axis=1))) * np.eye(k)
-    flat = both.reshape(3 * k, -1)
-    at = np.arange(frames)[:, None]
-    chosen = np.broadcast_to(np.arange(k), (frames, k))  # the mean basis first
+    sides = np.concatenate([solver.up, solver.down])  # (2K, M, 3): high, low
+    per_marker = np.einsum("imc,jmc->mij", sides, sides).reshape(m, -1)  # (M, 4K²): each marker's Gram
+    energy = np.einsum("imc,imc->im", sides, sides)  # (2K, M)
+    mean_basis = (solver.up - solver.down) / 2
+    ridge = RIDGE * float(np.mean((mean_basis ** 2).sum(axis=(1, 2)))) * np.eye(k)
+    flat = sides.reshape(2 * k, -1)
     w = weight
+    high: np.ndarray | None = None  # the side each motor is on (None: the mean of the two, the first pass)
     s = np.zeros((frames, k))
     passes = 2 + (ROBUST_PASSES if robust else 0)
     for step in range(passes):
-        grams = (w @ per_marker).reshape(frames, 3 * k, 3 * k)
-        rhs = ((d * w[..., None]).reshape(frames, -1) @ flat.T)[at, chosen]
-        gram = grams[at[..., None], chosen[:, :, None], chosen[:, None, :]] + ridge
-        s = np.clip(np.linalg.solve(gram, rhs[..., None])[..., 0], -REACH, REACH)
-        chosen = np.where(s >= 0, np.arange(k) + k, np.arange(k) + 2 * k)
+        if step != 1:  # the second pass has the first's weights
+            g = (w @ per_marker).reshape(frames, 2, k, 2, k)
+            r = ((d * w[..., None]).reshape(frames, -1) @ flat.T).reshape(frames, 2, k)
+        if high is None:
+            gram = (g[:, 0, :, 0] - g[:, 0, :, 1] - g[:, 1, :, 0] + g[:, 1, :, 1]) / 4
+            rhs = (r[:, 0] - r[:, 1]) / 2
+        else:  # each frame's K x K picked from its (2K, 2K) by the sides: one gather
+            basis = np.where(high, np.arange(k), np.arange(k) + k)  # (F, K): row of each motor's side
+            picked = basis[:, :, None] * (2 * k) + basis[:, None, :] + np.arange(frames)[:, None, None] * (4 * k * k)
+            gram = g.reshape(-1)[picked]
+            rhs = np.where(high, r[:, 0], r[:, 1])
+        s = np.clip(np.linalg.solve(gram + ridge, rhs[..., None])[..., 0], -REACH, REACH)
+        high = s >= 0
         if robust and 1 <= step < passes - 1:
-            moved = np.einsum("fk,fkmc->fmc", s, both[chosen])
-            r = np.linalg.norm(d - moved, axis=2)
-            w = weight / (1.0 + (r / max(ROBUST_SCALE * solver.noise, ROBUST_FLOOR_MM)) ** 2)
-    basis_energy = energy[chosen]  # (F, K, M)
-    confidence = np.einsum("fkm,fm->fk", basis_energy, weight if counts is None else counts) \
-        / np.maximum(basis_energy.sum(axis=2), 1e-12)
+            moved = (np.where(high, s, 0.0) @ flat[:k] + np.where(high, 0.0, s) @ flat[k:]).reshape(frames, m, 3)
+            residual = np.linalg.norm(d - moved, axis=2)
+            w = weight / (1.0 + (residual / max(ROBUST_SCALE * solver.noise, ROBUST_FLOOR_MM)) ** 2)
+    assert high is not None
+    counted = weight if counts is None else counts
+    confidence = np.where(high, counted @ energy[:k].T, counted @ energy[k:].T) \
+        / np.maximum(np.where(high, energy[:k].sum(axis=1), energy[k:].sum(axis=1)), 1e-12)
     return s, confidence
