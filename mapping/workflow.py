@@ -181,6 +181,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
                             min_side, require_motion, kinds)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
+    _require_ranges(mapping, profile, neutral, window)
     profile = replace(profile, full_range=full)
     if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
         profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames, percentiles)
@@ -196,6 +197,28 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
                 rest[column] = at_rest[neutral.columns[label]]
         profile = replace(profile, solver=sweep_solver(mapping, source, frames, profile, rest))
     return profile
+
+
+def _require_ranges(mapping: Mapping, profile: Profile, neutral: Prepared, window: tuple[float, float]) -> None:
+    """An :class:`InputError` naming each marker of the take a ``profile``-normalised rule reads
+    that the calibration could not range (unseen throughout the neutral ``window``, so without a
+    rest, or never seen at all), and what to do about it: mapping would fail on it later. (A
+    ``calibrated`` rule without its range is scaled instead, as the report says.)"""
+    missing = sorted({m for r in mapping.rules if r.normalise == "profile" for s in r.sources
+                      if s.key not in profile.sources for m in s.markers if m in neutral.columns})
+    if not missing:
+        return
+    at_rest = neutral.take.window(*window)
+    seen = np.isfinite(neutral.stable.local[at_rest]).all(axis=2).any(axis=0)  # (N,): each marker seen at rest
+    unseen = [m for m in missing if not seen[neutral.columns[m]]]
+    motors = sorted({r.code for r in mapping.rules for s in r.sources if set(s.markers) & set(missing)})
+    where = (f"not seen in the neutral window {window[0]:g}-{window[1]:g} s" if unseen == missing else
+             "not seen at rest or over the range frames")
+    one = len(missing) == 1
+    raise InputError(f"cannot calibrate: marker{'' if one else 's'} {', '.join(missing)} {'is' if one else 'are'} "
+                     f"{where} (motor{'' if len(motors) == 1 else 's'} {', '.join(motors)} "
+                     f"need{'s' if len(motors) == 1 else ''} {'its' if one else 'their'} rest and range): "
+                     "give a neutral window where the face is at rest and every marker is seen (--neutral START:END)")
 
 
 def sweep_solver(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile: Profile, rest: np.ndarray

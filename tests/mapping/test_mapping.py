@@ -175,3 +175,15 @@ def test_a_profile_for_another_marker_set_names_both_files(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"the profile {other} is for marker set animface41, but the built-in mapping toon32 reads marker set " \
            "toon32" in err
+
+
+def test_a_marker_lost_through_the_neutral_window_is_named_when_calibrating():
+    """A profile-normalised motor's marker unseen for the whole rest window has no rest: calibrate
+    says which marker, which motor and what to do, instead of failing later in mapping."""
+    syn = synthesize(seconds=4.0, seed=0)
+    positions = syn.take.positions.copy()
+    positions[syn.take.times < 1.2, syn.take.labels.index("BROW_L_CEN")] = np.nan
+    take = Take(positions, syn.take.labels, syn.take.rate, times=syn.take.times)
+    mapping, markerset = choose_mapping(take)
+    with pytest.raises(InputError, match=r"marker BROW_L_CEN is not seen in the neutral window 0-1 s \(motors BLC"):
+        calibrate(mapping, prepare(take, markerset), (0.0, 1.0), range_window=(1.0, 4.0))
