@@ -128,13 +128,17 @@ class Mapping:
     #: Motors whose rules were left out because the take lacks their markers (see
     #: :func:`mapping.workflow.choose_mapping`): they stay at the face's neutral.
     left_out: tuple[str, ...] = ()
+    #: The marker set's markers the take lacks that those rules read.
+    absent: tuple[str, ...] = ()
 
     def left_out_note(self) -> str | None:
         """What a user is told of :attr:`left_out` (None where nothing was)."""
         if not self.left_out:
             return None
-        return (f"the take has no marker for {', '.join(self.left_out)} (dot markers cannot sit on the pupils): "
-                "they stay at the face's neutral")
+        which = f" {', '.join(self.absent)}" if self.absent else ""
+        return (f"the take has no marker{which}: motor{'' if len(self.left_out) == 1 else 's'} "
+                f"{', '.join(self.left_out)} {'stays' if len(self.left_out) == 1 else 'stay'} at the face's neutral "
+                "(not driven from other markers)")
 
     @property
     def extra_codes(self) -> tuple[str, ...]:

@@ -65,25 +65,29 @@ def choose_mapping(take: Take, mapping: Mapping | str | None = None) -> tuple[Ma
         mapping = found.name
     chosen = load_mapping(mapping) if isinstance(mapping, str) else mapping
     markerset = found if found is not None and found.name == chosen.markerset else load_markerset(chosen.markerset)
-    chosen = _without_absent_independents(chosen, markerset, take)
+    chosen = _without_absent_markers(chosen, markerset, take)
     check_markers(chosen, markerset, take)
     return chosen, markerset
 
 
-def _without_absent_independents(mapping: Mapping, markerset: MarkerSet, take: Take) -> Mapping:
-    """``mapping`` without the rules that read only independent markers the take lacks (a
-    dot-marker video has no pupils), their motors named in ``left_out``; any other missing
-    marker is still an error (:func:`check_markers`)."""
+def _without_absent_markers(mapping: Mapping, markerset: MarkerSet, take: Take) -> Mapping:
+    """``mapping`` without the rules that read a marker of the marker set the take lacks (a rig
+    that covers part of the face; a dot-marker video has no pupils): their motors named in
+    ``left_out`` (they stay at the face's neutral, never driven from the nearest markers there
+    are), the markers in ``absent``, and motors no longer there dropped from the others'
+    ``decouple``. The head references stay required (:func:`check_markers` names one missing)."""
     found = markerset.match(take.labels)
-    absent = {m for m in markerset.independent if m not in found}
-    if not absent:
-        return mapping
+    absent = {m for m in markerset.labels if m not in found and m not in markerset.head_reference}
     reads = [(rule, {m for s in rule.sources for m in s.markers}) for rule in mapping.rules]
-    out = [rule.code for rule, markers in reads if markers and markers <= absent]
+    out = {rule.code for rule, markers in reads if markers & absent}
     if not out:
         return mapping
-    return replace(mapping, rules=tuple(rule for rule in mapping.rules if rule.code not in out),
-                   left_out=(*mapping.left_out, *out))
+    kept = tuple(replace(rule, decouple=tuple(c for c in rule.decouple if c not in out))
+                 for rule in mapping.rules if rule.code not in out)
+    lacking = sorted({m for rule, markers in reads if rule.code in out for m in markers & absent},
+                     key=markerset.labels.index)
+    return replace(mapping, rules=kept, left_out=(*mapping.left_out, *(r.code for r in mapping.rules if r.code in out)),
+                   absent=(*mapping.absent, *lacking))
 
 
 def check_markers(mapping: Mapping, markerset: MarkerSet, take: Take | None = None) -> None:
