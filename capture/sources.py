@@ -16,7 +16,6 @@ A new kind is one module with its function and one line in :data:`KINDS`.
 from __future__ import annotations
 
 import importlib
-import itertools
 import os
 import threading
 import time
@@ -141,8 +140,9 @@ KINDS: dict[str, SourceKind] = {
     "voice": SourceKind("capture.voice_live:voice_source",  # voice:mic, voice:mic:DEVICE, or a sound file
                         lambda spec: Path(spec).suffix.lower() in SOUND_SUFFIXES),
     # video:VIDEO is dot markers; a video named without a kind is looked at (any_video_source)
-    "video": SourceKind("capture.sources:any_video_source", lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
-    "take": SourceKind("capture.sources:take_file_source", lambda spec: True),
+    "video": SourceKind("capture.file_sources:any_video_source",
+                        lambda spec: Path(spec).suffix.lower() in VIDEO_SUFFIXES),
+    "take": SourceKind("capture.file_sources:take_file_source", lambda spec: True),
 }
 
 
@@ -153,7 +153,7 @@ def open_source(spec: str, kinds: dict[str, SourceKind] | None = None, **options
     kind, _, rest = spec.partition(":")
     if rest and kind in kinds and not Path(spec).exists():
         chosen, target = kinds[kind], rest
-        options = {**options, "named": True}  # the user named the kind: no guessing (see any_video_source)
+        options = {**options, "named": True}  # the user named the kind: no guessing (file_sources.any_video_source)
     else:
         found = next((k for k in kinds.values() if k.claims(spec)), None)
         if found is None:
@@ -194,15 +194,6 @@ def take_source(take: Take, repeat: bool = False, **_: Any) -> Source:
                   meta=dict(take.meta), channel_names=take.channel_names)
 
 
-def take_file_source(path: str, read_take: Callable[[str], Take] | None = None, repeat: bool = False,
-                     **_: Any) -> Source:
-    """A take file played from its start; ``read_take`` reads it (:func:`capture.load_take` by default)."""
-    if read_take is None:
-        from capture.takefile import load_take
-        read_take = load_take
-    return take_source(read_take(path), repeat)
-
-
 def synthetic_source(target: str = "synthetic", seconds: float | None = None, rate: float = 60.0, seed: int = 0,
                      noise_mm: float = 0.2, **_: Any) -> Source:
     """The synthetic performer (calibration segment, then expressions), ``seconds`` long (60 by default)."""
@@ -215,36 +206,6 @@ def synthetic_source(target: str = "synthetic", seconds: float | None = None, ra
     return Source(take.labels, take.rate, (Frame(float(t), p) for t, p in zip(take.times, take.positions,
                                                                                 strict=True)),
                   "synthetic performer", recording=take)
-
-
-def any_video_source(path: str | os.PathLike, colour: str = "blue", markerset: str = "toon32", start_frame: int = 0,
-                     named: bool = False, repeat: bool = False, **options: Any) -> Source:
-    """A video: dot markers (:func:`video_source`) where its kind was named (``video:VIDEO``) or
-    its first frame shows at least half the marker set's dots in ``colour``; else the face in it
-    tracked without markers (``face:VIDEO``), the choice and why in ``meta["note"]``."""
-    from capture.dots import DotStyle, find_dots, sticker_labels
-    from capture.markerset import load_markerset
-    from capture.videoio import frames, probe
-
-    info = probe(path)
-    if named:
-        return video_source(path, colour, markerset, start_frame, info=info, repeat=repeat)
-    wanted = len(sticker_labels(load_markerset(markerset).labels))
-    first = next(itertools.islice(frames(info), start_frame, None), None)
-    try:
-        found = 0 if first is None else len(find_dots(first, DotStyle.named(colour)))
-    except ValueError as exc:
-        raise InputError(str(exc), path) from None
-    if found >= wanted // 2:
-        return video_source(path, colour, markerset, start_frame, info=info, repeat=repeat)
-    from capture.face_sources import face_source
-
-    source = face_source(path, info=info, repeat=repeat)
-    name = Path(path).name
-    source.meta["note"] = (f"{name}: {found} {colour} dots on frame {start_frame}, not the {wanted} of marker set "
-                           f"{markerset}: the face is tracked without markers (face:{name}); video:{name} takes "
-                           "it as dot markers")
-    return source
 
 
 def video_source(path: str | os.PathLike, colour: str = "blue", markerset: str = "toon32", start_frame: int = 0,
