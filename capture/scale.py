@@ -89,7 +89,11 @@ class ScaleCheck:
     def figure(self) -> str:
         """The check's figures, for a report: ``"shape 1.02x marker set's, extent 164 mm"``."""
         parts = [] if self.ratio is None else [f"shape {self.ratio:.3g}x the marker set's"]
-        if self.extent_mm is not None:
+        if self.extent_mm is not None and self.off and self.clear:  # read in the wrong units: say both
+            unit = str(self.likely_unit)
+            parts.append(f"extent {self.extent_mm / self.mm_per_unit:.3g} {unit}, "
+                         f"{self.extent_mm / self.mm_per_unit * UNITS[unit]:.3g} mm")
+        elif self.extent_mm is not None:
             parts.append(f"extent {self.extent_mm:.3g} mm")
         return ", ".join(parts) or "nothing to measure"
 

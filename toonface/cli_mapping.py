@@ -171,6 +171,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     """
     from mapping import calibrate, choose_mapping, prepare, save_profile
     from mapping.profile import MIN_MOTION, STILL_SIDE
+    from mapping.workflow import stabilisation_notes
 
     try:
         low, high = (float(p) for p in percentiles.split(","))
@@ -187,6 +188,9 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     rest = prepare(read_take(neutral_take, reading, mapping=mapping), markerset, settings) if neutral_take else ranged
     profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
     path = save_profile(profile, output)
+    for prepared in dict.fromkeys((rest, ranged)):  # what map's report says of the take's units and head fit
+        for note in stabilisation_notes(prepared):
+            click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
     still = set(profile.notes.get("no_motion", "").split(", "))
     moving = sum(1 for key in profile.sources if key not in still)
     click.echo(f"wrote {path}: {len(profile.sources)} sources ({moving} moving), neutral {profile.notes['neutral']}, "

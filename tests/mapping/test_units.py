@@ -49,6 +49,18 @@ def test_metres_centimetres_and_inches_are_inferred_on_a_known_layout(realdata, 
     assert np.nanmax(np.abs(prepared.take.positions - _animface_mm(realdata).positions)) < 0.01
 
 
+def test_a_metre_take_read_without_units_says_so_when_calibrated_and_its_extent_in_both_units(tmp_path, capsys):
+    """Issue 66: calibrate said nothing of the units it inferred, and map's units line called a
+    metre take's 0.162 (metres) "0.162 mm"."""
+    path = _rewritten(synthesize(seconds=3).take, tmp_path / "m.csv", 1000.0)
+    assert main(["calibrate", path, "-o", str(tmp_path / "p.toml")]) == 0
+    assert "note: units: m.csv read in m (it does not say its units" in capsys.readouterr().err
+    take = load_take(path)
+    figure = prepare(take, choose_mapping(take)[1]).units.check.figure()
+    extent = float(figure.split("extent ")[1].split(" m,")[0])
+    assert 0.1 < extent < 0.3 and figure.endswith(f"{extent * 1000:.3g} mm")  # metres, then millimetres
+
+
 @pytest.mark.parametrize(("written", "given", "likely"), [(10.0, "m", "cm"), (1.0, "cm", "mm"), (10.0, "mm", "cm")])
 def test_units_given_that_cannot_be_a_face_are_an_error_naming_the_likely_ones(realdata, tmp_path, capsys, written,
                                                                                given, likely):
