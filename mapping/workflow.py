@@ -351,8 +351,23 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
     return map_ready(ready_take(take, mapping, profile, neutral_window, settings, mirror), target_neutral)
 
 
-#: Head references further than this (RMS, mm) from the marker set's shape are worth a warning.
+#: Head references further than this (RMS, mm) from the marker set's shape, once another face's
+#: proportions are allowed for (:func:`unexplained_mm`), are worth a warning.
 REFERENCE_TOLERANCE = 5.0
+#: The proportions a face may have against its marker set's: a stretch along each head axis
+#: within these factors (faces differ in width, height and depth by 20-30 % either way).
+FACE_STRETCH = (0.75, 1.33)
+
+
+def unexplained_mm(found: np.ndarray, expected: np.ndarray) -> float:
+    """How far (RMS, mm) markers ``found`` ``(K, 3)`` lie from ``expected`` ``(K, 3)`` (both in
+    the head frame) once each is centred and ``expected`` is stretched along each head axis by
+    the factor that fits best, kept within :data:`FACE_STRETCH`: what a wider, taller or deeper
+    face explains is not a labelling mistake, while a swap (which no positive stretch explains)
+    still is."""
+    a, b = found - found.mean(axis=0), expected - expected.mean(axis=0)
+    stretch = np.clip(np.sum(a * b, axis=0) / np.maximum(np.sum(b * b, axis=0), 1e-9), *FACE_STRETCH)
+    return float(np.sqrt(np.mean(np.sum((a - b * stretch) ** 2, axis=1))))
 #: Head travel (mm) beyond which the note says that only the head's rotation is kept.
 TRAVEL_NOTE = 10.0
 
@@ -373,11 +388,12 @@ def stabilisation_notes(prepared: Prepared) -> list[str]:
     expected = np.array([prepared.markerset.neutral_of(r) for r in refs])
     scale_off = units is not None and units.check.off and units.origin != "inferred"  # said already, in units
     if len(refs) == len(prepared.stable.reference) and not scale_off:
-        off = float(np.sqrt(np.mean(np.sum((prepared.stable.reference - expected) ** 2, axis=1))))
+        off = unexplained_mm(prepared.stable.reference, expected)
         if off > REFERENCE_TOLERANCE:
             notes.append(f"warning: the take's head references ({', '.join(refs)}) lie {off:.0f} mm (RMS) from "
-                         f"marker set {prepared.markerset.name}'s shape: are the labels in the right order for "
-                         "this file, and the marker set's neutral in head-frame millimetres?")
+                         f"marker set {prepared.markerset.name}'s shape, more than another face's size and "
+                         "proportions explain: are the labels in the right order for this file, and the marker "
+                         "set's neutral in head-frame millimetres?")
     travel = prepared.stable.translation[prepared.stable.ok]
     if len(travel):
         extent = np.ptp(travel, axis=0)

@@ -369,3 +369,27 @@ def test_a_performer_whose_head_references_sit_apart_from_the_sets_keeps_the_hea
     lost = np.isnan(take.positions[:, rows, 0]).any(axis=1)
     assert lost.mean() > 0.2 and np.nanpercentile(missed[lost], 95) < 1.0 and np.nanmean(missed[lost]) < 0.3, \
         (np.nanpercentile(missed[lost], [50, 95, 99]), np.nanmean(missed[lost]))
+
+
+@pytest.mark.parametrize("stretch", [(1.13, 1.0, 1.0), (0.88, 1.0, 1.0), (1.1, 0.9, 1.12)])
+def test_a_correctly_labelled_face_of_other_proportions_raises_no_label_warning(stretch):
+    """Issue 66: a toon32 performer 10-15 % wider or narrower heard "the head references lie 7-11
+    mm from the marker set's shape: are the labels in the right order?" on every take."""
+    from mapping import choose_mapping, prepare
+    from mapping.workflow import stabilisation_notes
+
+    syn = synthesize(seconds=3.0, noise_mm=0.0, performance=default_performance(3.0, max_turn_deg=0))
+    take = syn.take
+    centre = np.nanmean(take.positions[0], axis=0)
+    wide = Take((take.positions - centre) * np.array(stretch) + centre, take.labels, take.rate, times=take.times)
+    prepared = prepare(wide, choose_mapping(wide)[1])
+    expected = np.array([prepared.markerset.neutral_of(r) for r in prepared.markerset.head_reference])
+    raw = np.sqrt(np.mean(np.sum((prepared.stable.reference - expected) ** 2, axis=1)))
+    assert raw > 5.0  # in raw millimetres the old check warned
+    assert not [n for n in stabilisation_notes(prepared) if "head references" in n]
+    swapped = list(wide.labels)
+    a, b = swapped.index("TEMPLE_R"), swapped.index("TEMPLE_L")
+    swapped[a], swapped[b] = swapped[b], swapped[a]  # a real mistake is still said
+    mistaken = Take(wide.positions, tuple(swapped), wide.rate, times=wide.times)
+    prepared = prepare(mistaken, choose_mapping(mistaken)[1])
+    assert [n for n in stabilisation_notes(prepared) if "head references" in n]
