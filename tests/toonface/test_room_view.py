@@ -240,6 +240,33 @@ def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_
     assert np.abs(shown - neutral).mean() > 3 * difference.mean()  # the open mouth is what is shown
 
 
+def test_the_viewer_page_fits_the_whole_face_and_its_caption_in_a_short_window():
+    """Issue 66: at 900x600 the viewer page cut the face's chin off (a 512 px face under the header)."""
+    from browser import chromium, wait_for
+
+    from stream.sender import StreamSender
+    from stream.websocket import WebSocketLink
+
+    rooms = Rooms(TOKENS, face=load_face("classic"))
+    with in_thread(rooms) as base, chromium(900, 600) as driver:
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
+        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2A), link=link)
+        try:
+            driver.get(f"{base.replace('ws://', 'http://')}/r/demo#watch={TOKENS['demo'][1]}")
+            for frame in range(3):
+                sender.write(frame / 30, _pose())
+            wait_for(driver, "window.viewer.performers.size === 1", timeout=30)
+            box = driver.execute_script(
+                "const f = document.querySelector('figure').getBoundingClientRect();"
+                "const s = document.querySelector('.face svg').getBoundingClientRect();"
+                "return [f.bottom, s.width, s.height, window.innerHeight]")
+        finally:
+            sender.close()
+    bottom, width, height, inner_height = box
+    assert bottom <= inner_height and width == pytest.approx(height, abs=1)
+    assert width >= 0.6 * inner_height  # fitted, not shrunk to nothing
+
+
 GRID_CLIP = Path(__file__).resolve().parents[3] / "shared" / "realdata" / "video" / "grid" / "bbaf2n.mpg"
 FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream",
                "--autoplay-policy=no-user-gesture-required")
