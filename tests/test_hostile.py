@@ -96,6 +96,7 @@ def test_fuzz_nested_uses_are_measured_exactly_and_refused_past_the_bound(levels
                 assert len(svg_components(use_bomb(levels, fanout), VIEWBOX)) == fanout ** levels
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_path_of_200_000_points_is_refused_and_curves_cost_memory_linear_in_their_points():
     started = time.perf_counter()
     with capped_memory(), pytest.raises(ValueError, match=f"more than {MAX_SVG_POINTS} points"):

@@ -173,6 +173,7 @@ def test_with_two_faces_in_view_the_same_person_is_followed(realdata, tmp_path):
     assert (side == side[0]).all()
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
     """One line on the process's stderr, MediaPipe's native logs included."""
     from capture.videoio import write_video
@@ -188,6 +189,7 @@ def test_a_video_without_a_face_is_one_line_and_status_2(tmp_path, capfd):
     assert err.count("\n") == 1 and "8 frames; a video of dot or ArUco markers is read by `toonface track" in err
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_named(realdata):
     from capture.face_sources import camera_source
 

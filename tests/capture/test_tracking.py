@@ -126,6 +126,7 @@ def generated():
     return truth, list(images)
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_generated_dots_are_tracked_with_identities(generated):
     truth, images = generated
     ms = load_markerset("toon32")

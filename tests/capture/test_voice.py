@@ -68,6 +68,7 @@ def test_mouth_cues_are_runs_that_tile_the_take():
     assert cues == [(0.0, 0.02, "X"), (0.02, 0.05, "A"), (0.05, 0.07, "D"), (0.07, 0.08, "X")]
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @pytest.mark.realdata
 def test_a_grid_clip_gives_rhubarb_cues_with_the_bilabials_shut(realdata, tmp_path, capsys):
     """GRID's bbaf2n says "bin blue at f two now": aligned, its B's and the start of blue are shut

@@ -75,6 +75,7 @@ def test_the_shipped_words_model_reads_every_phone_and_says_how_it_was_made():
     assert again.phones == PHONES and again.weights.tolist() == model.weights.tolist()
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @pytest.mark.realdata
 def test_lipsync_hears_the_words_of_a_grid_clip(realdata, tmp_path, capsys):
     """GRID's bbaf2n: the words recognised (whatever they are) shape a mouth that rests at the

@@ -240,6 +240,7 @@ def test_a_long_gap_in_jittery_markers_does_not_swing():
     assert np.abs(filled - pos[600:636, 1]).max() < 1.5
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_second_cut_from_real_facial_motion_is_filled_better_than_by_a_spline(realdata):
     take = load_take(realdata / "facial" / "animface" / "JawMoCap.csv", units="cm")
     rng = np.random.default_rng(5)
@@ -298,6 +299,7 @@ def test_the_offline_spike_test_looks_both_ways_and_finds_what_looking_back_miss
     assert len(set(looked_back) & set(spikes)) <= 3
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_long_gap_keeps_the_predictor_that_moves_with_the_marker():
     """Twenty still markers, each with a gap of its own, leave too few frames where all are seen;
     the predictor dropped first is the one that tells least about the missing marker, not the

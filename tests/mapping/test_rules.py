@@ -101,6 +101,7 @@ def cleaned():
     return mapping, prepared, profile
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_live_and_offline_map_the_same_cleaned_frames_equally_with_every_rule_on(cleaned):
     mapping, prepared, profile = cleaned
     stable, times = prepared.stable, prepared.take.times

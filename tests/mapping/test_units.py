@@ -27,6 +27,7 @@ def _rewritten(take: Take, path, divide: float) -> str:
     return str(path)
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_centimetre_take_read_without_units_is_read_in_centimetres(realdata, tmp_path, capsys):
     """It gave a face that barely moved (MB at most 0.24) with exit 0 and no word of units."""
     take = load_take(realdata.joinpath(*CM))
@@ -41,6 +42,7 @@ def test_a_centimetre_take_read_without_units_is_read_in_centimetres(realdata, t
     assert "head references" not in err  # the 38 mm doubt about labels was the units all along
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @pytest.mark.parametrize(("divide", "unit"), [(1000.0, "m"), (10.0, "cm"), (25.4, "in")])
 def test_metres_centimetres_and_inches_are_inferred_on_a_known_layout(realdata, tmp_path, divide, unit):
     take = load_take(_rewritten(_animface_mm(realdata), tmp_path / "t.csv", divide))
@@ -61,6 +63,7 @@ def test_a_metre_take_read_without_units_says_so_when_calibrated_and_its_extent_
     assert 0.1 < extent < 0.3 and figure.endswith(f"{extent * 1000:.3g} mm")  # metres, then millimetres
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @pytest.mark.parametrize(("written", "given", "likely"), [(10.0, "m", "cm"), (1.0, "cm", "mm"), (10.0, "mm", "cm")])
 def test_units_given_that_cannot_be_a_face_are_an_error_naming_the_likely_ones(realdata, tmp_path, capsys, written,
                                                                                given, likely):

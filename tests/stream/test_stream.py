@@ -93,6 +93,7 @@ def test_a_blink_missed_while_concealing_is_caught_up_at_the_eyelid_s_speed():
     assert np.abs(np.diff(shown)).max() <= 0.34 + 1e-9
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_linear_concealment_beats_holding_on_smooth_motion():
     values = smooth_motion(600, seed=5)
     lose = set(range(10, 300, 9))

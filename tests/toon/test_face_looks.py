@@ -82,6 +82,7 @@ def test_closed_eyes_hide_every_white_and_pupil_pixel(name, closed):
         assert ((shown[..., 0] > 150) & (shown[..., 1] < 110) & (shown[..., 2] > 150)).sum() > 20
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @pytest.mark.parametrize("name", FACES)
 def test_raised_brows_stay_clear_of_the_hair(name):
     """Raised brows disappeared under the hair (classic) and the hat brim (wizard)."""
@@ -130,6 +131,7 @@ def test_open_mouths_are_round_not_kites(name, expression):
     assert mouth[:, 1].min() > min(v[:, 1].min() for v in chin)  # the mouth stays on the face
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @pytest.mark.parametrize("name", FACES)
 @pytest.mark.parametrize("turn", [0.07, 0.93])
 def test_both_pupils_show_at_a_strong_head_turn(name, turn):
@@ -160,6 +162,7 @@ def _lid_heights(face, upper: float, lower: float) -> tuple[float, float]:
 
 @pytest.mark.parametrize("name", [n if n in ("classic", "cat") else pytest.param(n, marks=pytest.mark.slow)
                                   for n in FACES])  # 2-4 s a face: two in the quick run
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_crossing_lids_are_a_closed_eye(name):
     """A smile that pushes the lower lid above the upper reopened the round face's eye (white and
     iris) and left the line face's pupils over closed lids. The oracle needs no knowledge of how a

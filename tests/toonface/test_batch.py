@@ -147,6 +147,7 @@ def test_a_part_resamples_only_its_own_frames_and_they_are_the_whole_videos(fps)
         np.array([[np.interp(t, track.times, c) for c in track.values.T] for t in (10 / 60, 11 / 60)]))
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_parts_join_into_the_whole_video_in_order(tmp_path):
     track = map_onto_face(synthesize(seconds=2.0, rate=30.0, seed=3).take)
     rig = FaceRig(load_face("classic"))

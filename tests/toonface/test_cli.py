@@ -275,6 +275,7 @@ def test_help_imports_no_heavy_library():
     assert result.stderr.strip() == "loaded:"
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_the_live_mapper_loads_no_signal_library_until_a_filter_needs_one():
     """scipy.signal was a second of `send` and `play --source` start-up, for a filter most
     mappings never make."""

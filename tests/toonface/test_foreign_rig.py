@@ -78,6 +78,7 @@ def test_the_documented_route_maps_the_rig_without_code(tmp_path, capsys):
 @pytest.mark.parametrize(("take", "up", "doubt"), [
     ("JawMoCap.csv", None, False), pytest.param("JawMoCap.csv", "ForeHead_M", False, marks=pytest.mark.slow),
     pytest.param("EyebrowsMoCap.csv", "ForeHead_M", False, marks=pytest.mark.slow), ("EyebrowsMoCap.csv", None, True)])
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_real_layout_is_framed_as_its_hand_made_set_or_the_draft_asks_for_up(realdata, take, up, doubt):
     """AnimFace's takes: the jaw take says which way is up by itself (the chin opens down from
     a still upper face); the brows take, whose lower face is the still part, cannot: the draft

@@ -171,6 +171,7 @@ def _unfamiliar(realdata, tmp_path):
     return take, names
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_drafted_marker_set_matches_the_hand_made_one(realdata, tmp_path, capsys):
     """Working out which marker is which took 17 minutes of hand-written scripts."""
     from capture import load_markerset

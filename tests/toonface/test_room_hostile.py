@@ -29,6 +29,7 @@ HOSTILE_MESSAGES = ['{"t": 1, "scores": {}, "matrix": null}', '{"t": 1, "scores"
                     "0" * 400 + "}}", '{"t": 1e400}', '{"t": NaN}']
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_performer_pages_hostile_messages_are_refused_and_the_page_stays(caplog):
     from toonface.room.server import Rooms, in_thread
 
@@ -58,6 +59,7 @@ json_values = st.recursive(st.none() | st.booleans() | st.integers() | st.floats
 
 @given(value=st.fixed_dictionaries({"t": json_values}, optional={"scores": json_values, "matrix": json_values}),
        depth=st.integers(0, 40))
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 @example(value={"t": 1, "scores": {}, "matrix": None}, depth=0)
 @example(value={"t": 10**400}, depth=0)
 @example(value={"t": 1, "scores": {"jawOpen": 10**400}}, depth=0)

@@ -25,6 +25,7 @@ def _performer(base: str) -> StreamSender:
     return StreamSender((link.where, 0), StreamWriter(30.0, frames_per_packet=1, stream=0x51), link=link)
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_viewer_on_one_server_sees_a_performer_on_another_and_answers_it():
     with nats_server() as url:
         one, two = Rooms(TOKENS, pubsub=url), Rooms(TOKENS, pubsub=url)

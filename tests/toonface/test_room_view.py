@@ -240,6 +240,7 @@ def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_
     assert np.abs(shown - neutral).mean() > 3 * difference.mean()  # the open mouth is what is shown
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_the_viewer_page_fits_the_whole_face_and_its_caption_in_a_short_window():
     """Issue 66: at 900x600 the viewer page cut the face's chin off (a 512 px face under the header)."""
     from browser import chromium, wait_for

@@ -47,6 +47,7 @@ def test_face_editor_messages_declare_a_parameter_and_the_page_is_described_agai
     assert changed == "described" and "EARS" not in session.face.extra_codes
 
 
+@pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_head_turned_by_a_slider_swings_the_hair_which_settles_and_the_driver_is_tuned_live():
     session = StudioSession("classic", folder=temp_folder())
     session.tick(0.0)
