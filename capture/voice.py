@@ -61,6 +61,9 @@ LOOKAHEAD = (len(KERNEL) - 1) // 2
 #: the sound (its 95th percentile) and above the quiet part (5th percentile) by at least half
 #: of the way.
 SPEECH_RANGE_DB = 35.0
+#: ... and above this level (dB of full scale): digital silence, or a hum that quiet, is never
+#: speech, whatever its own loud and quiet parts (which silence alone does not have).
+SILENT_DB = -70.0
 
 
 @dataclass(frozen=True)
@@ -110,7 +113,8 @@ def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
         decoder = Decoder(allphone=str(model / "en-us-phone.lm.bin"), lw=2.0, pip=0.3, beam=1e-20, pbeam=1e-20,
                           samprate=SAMPLE_RATE, loglevel="FATAL")
         _decode(decoder, pcm)
-        return [Phone(s.word, s.start_frame / FRAME_RATE, (s.end_frame + 1) / FRAME_RATE) for s in decoder.seg()]
+        return [Phone(s.word, s.start_frame / FRAME_RATE, (s.end_frame + 1) / FRAME_RATE)
+                for s in decoder.seg() or ()]  # (None where it heard nothing at all)
     words = " ".join(text.lower().split())
     decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
     unknown = [w for w in words.split() if decoder.lookup_word(w) is None]
@@ -134,7 +138,7 @@ def recognise_words(samples: np.ndarray) -> list[Phone]:
     pcm = _pcm(samples)
     decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
     _decode(decoder, pcm)
-    heard = [(s.word, s.start_frame, s.end_frame + 1) for s in decoder.seg()
+    heard = [(s.word, s.start_frame, s.end_frame + 1) for s in decoder.seg() or ()
              if not s.word.startswith(("<", "[")) and decoder.lookup_word(s.word)]
     if not heard:
         return []
@@ -178,7 +182,7 @@ def speaking(samples: np.ndarray, frames: int) -> np.ndarray:
     windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * hop)[::hop][:frames]
     level = 10 * np.log10(np.mean(windows ** 2, axis=1) + 1e-10)
     loud, quiet = np.percentile(level, 95), np.percentile(level, 5)
-    threshold = max(loud - SPEECH_RANGE_DB, (loud + quiet) / 2)
+    threshold = max(loud - SPEECH_RANGE_DB, (loud + quiet) / 2, SILENT_DB)
     on = level >= threshold
     bridge = int(round(SHORT_PAUSE_S * FRAME_RATE / 2))  # a stop's silence inside a word is not a pause
     return _close_gaps(on, bridge)

@@ -88,3 +88,16 @@ def test_lipsync_hears_the_words_of_a_grid_clip(realdata, tmp_path, capsys):
     shapes = [line.split("\t")[1] for line in out.read_text().splitlines()]
     assert shapes[0] == "X" and shapes[-1] == "X" and {"C", "D"} & set(shapes) and "A" in shapes
     assert "words heard (English)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("seconds", [0.01, 0.05, 1.0])
+def test_digital_silence_is_rest_however_short_in_every_way_of_listening(seconds):
+    """The recogniser heard three words in a second of digital silence (the mouth opened to C),
+    and a sound too short to hear anything in raised a TypeError: now rest (X), shut, throughout."""
+    from capture.voice_take import LISTEN_MODES, mouth_of
+
+    silence = np.zeros(int(seconds * 16000), np.float32)
+    for listen in LISTEN_MODES:
+        _, shapes, weights = mouth_of(silence, None, listen)
+        assert {VISEMES[k] for k in shapes} == {"X"}, listen
+        assert weights is None or np.allclose(openness(weights), 0.0)
