@@ -35,6 +35,7 @@ from mapping.rest import choose_rest, stillest_window
 from mapping.solver import Solver, learn_solver
 from mapping.sources import head_angles, measure
 from mapping.sweep import mirror_lost_sides
+from mapping.take_notes import take_notes
 from mapping.typical import TYPICAL, bound_by_typical, typical_profile
 from mapping.units import settle_units
 from toon import MotorTrack, standard_neutral
@@ -286,9 +287,7 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
     if mirror:
         chosen = replace(chosen, mirror=True)
     prepared = prepare(take, markerset, settings)
-    notes = stabilisation_notes(prepared)
-    if (left_out := chosen.left_out_note()) is not None:
-        notes.append(left_out)
+    notes = take_notes((prepared,), chosen)
     rest_from_take = neutral_window is not None
     typical = typical_profile(markerset.name) if profile is None else None
     if typical is not None:
@@ -349,59 +348,6 @@ def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile 
     mapping says. The same as :func:`map_ready` of :func:`ready_take`.
     """
     return map_ready(ready_take(take, mapping, profile, neutral_window, settings, mirror), target_neutral)
-
-
-#: Head references further than this (RMS, mm) from the marker set's shape, once another face's
-#: proportions are allowed for (:func:`unexplained_mm`), are worth a warning.
-REFERENCE_TOLERANCE = 5.0
-#: The proportions a face may have against its marker set's: a stretch along each head axis
-#: within these factors (faces differ in width, height and depth by 20-30 % either way).
-FACE_STRETCH = (0.75, 1.33)
-
-
-def unexplained_mm(found: np.ndarray, expected: np.ndarray) -> float:
-    """How far (RMS, mm) markers ``found`` ``(K, 3)`` lie from ``expected`` ``(K, 3)`` (both in
-    the head frame) once each is centred and ``expected`` is stretched along each head axis by
-    the factor that fits best, kept within :data:`FACE_STRETCH`: what a wider, taller or deeper
-    face explains is not a labelling mistake, while a swap (which no positive stretch explains)
-    still is."""
-    a, b = found - found.mean(axis=0), expected - expected.mean(axis=0)
-    stretch = np.clip(np.sum(a * b, axis=0) / np.maximum(np.sum(b * b, axis=0), 1e-9), *FACE_STRETCH)
-    return float(np.sqrt(np.mean(np.sum((a - b * stretch) ** 2, axis=1))))
-#: Head travel (mm) beyond which the note says that only the head's rotation is kept.
-TRAVEL_NOTE = 10.0
-
-
-def stabilisation_notes(prepared: Prepared) -> list[str]:
-    """What the user should know about the head fit: references whose shape on this take is far
-    from the marker set's (wrong labels, another layout, a neutral not in head-frame mm), and head
-    travel that the motors cannot show (only the rotation reaches HH and HV)."""
-    units = prepared.units
-    notes = list(units.notes) if units is not None else []
-    notes += [f"warning: marker set {prepared.markerset.name}: {doubt}" for doubt in prepared.markerset.doubts()]
-    if not prepared.markerset.labels:  # a voice: no head at all
-        return notes
-    if not prepared.markerset.head_reference:
-        return [*notes, f"warning: marker set {prepared.markerset.name} has no head references: the head's motion "
-                "is not removed, and a nod or a turn moves the motors as the face would"]
-    refs = [r for r in prepared.markerset.head_reference if r in prepared.columns]
-    expected = np.array([prepared.markerset.neutral_of(r) for r in refs])
-    scale_off = units is not None and units.check.off and units.origin != "inferred"  # said already, in units
-    if len(refs) == len(prepared.stable.reference) and not scale_off:
-        off = unexplained_mm(prepared.stable.reference, expected)
-        if off > REFERENCE_TOLERANCE:
-            notes.append(f"warning: the take's head references ({', '.join(refs)}) lie {off:.0f} mm (RMS) from "
-                         f"marker set {prepared.markerset.name}'s shape, more than another face's size and "
-                         "proportions explain: are the labels in the right order for this file, and the marker "
-                         "set's neutral in head-frame millimetres?")
-    travel = prepared.stable.translation[prepared.stable.ok]
-    if len(travel):
-        extent = np.ptp(travel, axis=0)
-        if extent.max() > TRAVEL_NOTE:
-            axis = "xyz"[int(np.argmax(extent))]
-            notes.append(f"the head moved up to {extent.max():.0f} mm (most along the take's {axis} axis); only its "
-                         "rotation reaches the face (HH, HV)")
-    return notes
 
 
 def check_profile(profile: Profile, mapping: Mapping, markerset: str) -> None:

@@ -170,8 +170,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     it is reused with every mapping and face of the same marker set.
     """
     from mapping import calibrate, choose_mapping, prepare, save_profile
-    from mapping.profile import MIN_MOTION, STILL_SIDE
-    from mapping.workflow import stabilisation_notes
+    from mapping.take_notes import still_warning, take_notes
 
     try:
         low, high = (float(p) for p in percentiles.split(","))
@@ -188,19 +187,14 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     rest = prepare(read_take(neutral_take, reading, mapping=mapping), markerset, settings) if neutral_take else ranged
     profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
     path = save_profile(profile, output)
-    for prepared in dict.fromkeys((rest, ranged)):  # what map's report says of the take's units and head fit
-        for note in stabilisation_notes(prepared):
-            click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
+    for note in take_notes((rest, ranged), chosen):  # what map's report says of units, head fit, markers
+        click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
     still = set(profile.notes.get("no_motion", "").split(", "))
     moving = sum(1 for key in profile.sources if key not in still)
     click.echo(f"wrote {path}: {len(profile.sources)} sources ({moving} moving), neutral {profile.notes['neutral']}, "
                f"range {profile.notes['range']}")
-    idle = [src.key for src in chosen.sources() if src.key in still and not src.key.startswith("head.")]
-    if idle:
-        kinds = "" if not profile.full_range else " (1 mm for lids and pupils, which keep 3-4 mm, in a range window)"
-        click.echo(f"warning: not moving over the range frames (under {MIN_MOTION:g} mm{kinds}): {', '.join(idle)}; "
-                   f"they keep a range of {STILL_SIDE:g} mm either side of rest, so the motors that follow them "
-                   "move little", err=True)
+    if (warning := still_warning(profile, chosen)) is not None:
+        click.echo(warning, err=True)
 
 
 def _profile(profile_path: str | None, calibration: str | None, mapping: str | None, reading: TakeReading,

@@ -376,7 +376,7 @@ def test_a_correctly_labelled_face_of_other_proportions_raises_no_label_warning(
     """Issue 66: a toon32 performer 10-15 % wider or narrower heard "the head references lie 7-11
     mm from the marker set's shape: are the labels in the right order?" on every take."""
     from mapping import choose_mapping, prepare
-    from mapping.workflow import stabilisation_notes
+    from mapping.take_notes import stabilisation_notes
 
     syn = synthesize(seconds=3.0, noise_mm=0.0, performance=default_performance(3.0, max_turn_deg=0))
     take = syn.take
