@@ -88,6 +88,7 @@ class Prepared:
     units: np.ndarray  # (frames, 3 + MEL_BANDS) the sound as heard (capture.voice_sound.sound_units)
     sums: dict[tuple[tuple[int, ...], float], tuple[np.ndarray, ...]]  # n, sum x, sum xx^T, sum y, sum xy
     presence: np.ndarray | None = None  # (frames, len(PHONES)) the words' phones heard in it, for the words model
+    phones: list | None = None  # the phones of the words heard in it (capture.voice.Phone), for the words model
 
 
 def rows(units: np.ndarray, presence: np.ndarray | None, context: tuple[int, ...], scale: float) -> np.ndarray:
@@ -110,8 +111,8 @@ def prepare(clip: Clip, rng: np.random.Generator, words: bool = False) -> Prepar
     from capture.voice_words import presence
 
     target = clip.target()
-    heard_phones = presence(recognise_words(clip.sound), clip.frames, speaking(clip.sound, clip.frames)) \
-        if words else None
+    phones = recognise_words(clip.sound) if words else None
+    heard_phones = presence(phones, clip.frames, speaking(clip.sound, clip.frames)) if phones is not None else None
     keys = [(context, scale) for context in CONTEXTS for scale in ((0.0, *PHONE_SCALES) if words else (0.0,))]
     sums: dict[tuple[tuple[int, ...], float], tuple[np.ndarray, ...]] = {}
     heard = None
@@ -124,7 +125,7 @@ def prepare(clip: Clip, rng: np.random.Generator, words: bool = False) -> Prepar
             part = (np.array(float(len(x))), x.sum(axis=0), x.T @ x, np.array(target.sum()), x.T @ target)
             sums[key] = part if key not in sums else tuple(a + b for a, b in zip(sums[key], part, strict=True))
     assert heard is not None
-    return Prepared(clip, heard, sums, heard_phones)
+    return Prepared(clip, heard, sums, heard_phones, phones)
 
 
 def fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float, scale: float = 0.0
