@@ -1,0 +1,130 @@
+"""The motor stream read in the page (issue 63): ``stream.js`` and ``stream_reader.js`` in Chromium
+read the datagrams a :class:`~stream.packets.StreamWriter` sends over a bad link (packets lost,
+late, repeated, replayed from long ago and corrupted, the writer answering the acknowledgements
+and keyframe requests the Python reader sends it) exactly as :class:`~stream.reader.StreamReader`
+does: the same frames (index, time, values, parameters, run, filled), the same acknowledgement
+bytes, the same keyframe requests, drops and losses, datagram by datagram."""
+
+from __future__ import annotations
+
+import json
+from importlib import resources
+
+import numpy as np
+import pytest
+from browser import chromium
+from motor_streams import RATE, smooth_motion
+
+from stream.packets import StreamWriter, key_request, read_ack
+from stream.reader import StreamReader
+from toon.motors import STANDARD_EXTRAS
+
+
+def lossy_link(seed: int, codes: tuple[str, ...], frames_per_packet: int, steps: int, frames: int = 600) -> list[dict]:
+    """Datagrams through a bad link, each with what the Python reader made of it."""
+    rng = np.random.default_rng(seed)
+    values = smooth_motion(frames, seed)
+    if codes:
+        extra = np.clip(0.5 + 0.4 * np.sin(np.arange(frames)[:, None] / 17.0 + np.arange(len(codes))), 0, 1)
+        values = np.column_stack([values, extra])
+    writer = StreamWriter(RATE, frames_per_packet=frames_per_packet, first_sequence=int(rng.integers(0, 2 ** 32)),
+                          codes=codes, steps=steps, stream=7)
+    reader = StreamReader()
+    events: list[dict] = []
+    late: list[bytes] = []
+    sent: list[bytes] = []
+    for i, row in enumerate(values):
+        datagram = writer.push(row, i / RATE)
+        if datagram is None:
+            continue
+        sent.append(datagram)
+        arriving = []
+        chance = rng.uniform()
+        if chance >= 0.2:
+            arriving.append(datagram)
+        elif chance >= 0.1:  # below 0.1: lost
+            late.append(datagram)
+        if chance > 0.9 and late:
+            arriving.append(late.pop(0))
+        if rng.uniform() < 0.03:
+            arriving.append(datagram)  # twice
+        if rng.uniform() < 0.03 and len(sent) > 80:
+            arriving.append(sent[-80])  # replayed from long ago
+        if rng.uniform() < 0.02:
+            bad = bytearray(datagram)
+            bad[len(bad) // 2] ^= 0x40
+            arriving.append(bytes(bad))
+        for packet in arriving:
+            arrival = i / RATE + 0.01
+            got = reader.read(packet, arrival)
+            ack = reader.take_ack()
+            events.append({"packet": list(packet), "arrival": arrival, "ack": list(ack) if ack else None,
+                           "want": reader.want_keyframe, "dropped": dict(reader.dropped), "lost": reader.lost,
+                           "frames": [{"first": f.first, "time": f.time_s, "rate": f.rate, "values": f.values.tolist(),
+                                       "codes": list(f.codes), "run": f.run, "filled": f.filled} for f in got]})
+            if ack and (said := read_ack(ack, None, writer.frame)) is not None:
+                writer.acknowledge(*said)
+            if reader.want_keyframe:
+                writer.request_keyframe()
+    return events
+
+
+READ = """
+const [events, done] = [arguments[0], arguments[arguments.length - 1]];
+const reader = new toonStream.StreamReader(), out = [];
+for (const e of events) {
+  const frames = reader.read(new Uint8Array(e.packet), e.arrival).map(({arrival, ...f}) => f);
+  const ack = reader.takeAck();
+  out.push({frames, ack: ack ? [...ack] : null, want: reader.wantKeyframe, dropped: {...reader.dropped},
+            lost: reader.lost});
+}
+done(out);
+"""
+
+
+def _page(driver) -> None:
+    driver.get("about:blank")
+    static = resources.files("toonface.studio").joinpath("static")
+    for name in ("stream.js", "stream_reader.js"):
+        driver.execute_script("const s = document.createElement('script'); s.text = arguments[0];"
+                              "document.head.append(s)", static.joinpath(name).read_text(encoding="utf-8"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed, codes, frames_per_packet, steps", [
+    (0, ("HT", "CP", "BEARD"), 2, 100), (1, (), 1, 100), (2, ("JS",), 3, 37)])
+def test_the_page_reads_a_bad_link_as_the_python_reader_does(seed, codes, frames_per_packet, steps):
+    events = lossy_link(seed, codes, frames_per_packet, steps)
+    drops = events[-1]["dropped"]
+    assert drops.get("replay", 0) > 10 and drops.get("tag", 0) > 5 and events[-1]["lost"] > 20  # the link was bad
+    assert sum(len(e["frames"]) for e in events) > 400
+    with chromium() as driver:
+        _page(driver)
+        driver.set_script_timeout(60)
+        page = driver.execute_async_script(READ, events)
+    assert len(page) == len(events)
+    for k, (mine, theirs) in enumerate(zip(page, events, strict=True)):
+        expected = {key: theirs[key] for key in ("frames", "ack", "want", "dropped", "lost")}
+        assert _numbers(mine) == _numbers(expected), f"datagram {k}"
+
+
+def _numbers(found: object) -> object:
+    """``found`` with every number a float (the browser gives 60 for 60.0)."""
+    return json.loads(json.dumps(found), parse_int=float)
+
+
+def test_the_pages_constants_are_the_pythons():
+    """What the page keeps of the format beside the Python: the parameters' rests, a keyframe
+    request's bytes, every residual model's counts (all 255 quantisations)."""
+    from stream.wire import Models
+
+    with chromium() as driver:
+        _page(driver)
+        rests = driver.execute_script("return toonWire.EXTRA_REST")
+        request = driver.execute_script("return [...new toonStream.StreamReader().keyframeRequest()]")
+        models = driver.execute_script("const out = {}; for (let s = 1; s < 256; s++) "
+                                       "out[s] = new toonWire.Models(s).residual.map((m) => m.freq); return out")
+    assert rests == {code: spec.neutral for code, spec in STANDARD_EXTRAS.items()}
+    assert bytes(request) == key_request(0, None, 0)
+    for steps in range(1, 256):
+        assert models[str(steps)] == [m.freq for m in Models(steps).residual], f"steps {steps}"
