@@ -363,3 +363,63 @@ def test_a_frame_the_stage_cannot_draw_is_said_and_the_drawing_goes_on(monkeypat
 
     error = asyncio.run(watch())
     assert calls["n"] >= 2 and "a face without that parameter" in error
+
+
+@pytest.mark.slow  # Chromium and four seconds of stream: make test runs it
+def test_the_page_that_draws_the_face_itself_is_sent_only_the_stream_and_draws_what_the_renderer_does():
+    """Issue 63: ``?draw=page``. The page loads the face's web rig once and is then sent the
+    performer's packets as a native viewer is (no drawing on the server: the room has no stage);
+    it acknowledges them, so the performer hears back; what it draws, the ears' physics settled,
+    is what the offscreen renderer draws for the pose; and what it is sent is a few kbit/s."""
+    from browser import chromium, wait_for
+
+    from player.backends import open_renderer
+    from stream.sender import StreamSender
+    from stream.websocket import WebSocketLink
+
+    face = load_face("cat")
+    rooms = Rooms(TOKENS, face=face)
+    stop = threading.Event()
+
+    def perform(sender: StreamSender) -> None:  # a live performer holding the open mouth, at 30 Hz
+        frame = 0
+        while not stop.wait(1 / 30):
+            sender.write(frame / 30, _pose())
+            frame += 1
+
+    with in_thread(rooms) as base, chromium(900, 900) as driver:
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
+        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2A), link=link)
+        thread = threading.Thread(target=perform, args=(sender,))
+        driver.get(f"{base.replace('ws://', 'http://')}/r/demo?draw=page#watch={TOKENS['demo'][1]}")
+        wait_for(driver, "window.viewer.connected")
+        thread.start()
+        try:
+            wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 30", timeout=30)
+            start = driver.execute_script("return [window.viewer.bytes, performance.now()]")
+            stop.wait(3.0)  # the ears settle, the bytes count
+            end = driver.execute_script("return [window.viewer.bytes, performance.now()]")
+            values = driver.execute_script("return window.viewer.last.performers[0].values")
+            caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+            shown = _face_png(driver)
+        finally:
+            stop.set()
+            thread.join()
+            sender.close()
+    assert rooms.rooms["demo"].browsers is None  # nothing drawn on the server
+    assert sender.acks > 0  # the page's acknowledgements reached the performer
+    assert caption == "performer 2a · loss 0.0 %"
+    np.testing.assert_allclose([values[c] for c in ("MB", "BLM")], [0.9, 0.85], atol=0.006)
+    kbps = (end[0] - start[0]) * 8 / (end[1] - start[1])  # bytes a millisecond: kbit/s
+    assert 0.5 < kbps < 5  # packets alone (15 a second), where the drawn page is sent hundreds
+    motion = SecondaryMotion(face)
+    extra = {}
+    for k in range(200):
+        extra = motion.extra_at(k / 30, _pose(), {})
+    with open_renderer((512, 512)) as renderer:
+        drawn = renderer.render(FaceRig(face).geometry(_pose(), extra)).astype(int)
+        neutral = renderer.render(FaceRig(face).geometry(standard_neutral(), {})).astype(int)
+    assert shown.shape == drawn.shape
+    difference = np.abs(shown - drawn)
+    assert difference.mean() < 0.6 and np.mean(difference.max(axis=2) > 64) < 0.01
+    assert np.abs(shown - neutral).mean() > 3 * difference.mean()

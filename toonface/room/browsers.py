@@ -21,6 +21,8 @@ module that shows a drawing on every page); no page can reach any other file.
 from __future__ import annotations
 
 import asyncio
+import gzip
+import json
 import logging
 import os
 from collections import Counter
@@ -40,7 +42,8 @@ from toonface.room.stage import VIEW_FPS, Stage, packed
 RETRY_SECONDS = 1.0
 #: The files pages may load, and the package each comes from.
 STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
-          "draw.js": "toonface.studio"}
+          **{name: "toonface.studio" for name in ("draw.js", "rig.js", "physics.js", "stream.js", "stream_reader.js",
+                                                  "face_stream.js")}}
 #: The files of @mediapipe/tasks-vision the performer page loads (its SIMD and non-SIMD wasm).
 TASKS_VISION = ("vision_bundle.mjs", *(f"wasm/vision_wasm{kind}_internal.{ext}" for kind in ("", "_nosimd", "_module")
                                        for ext in ("js", "wasm")))
@@ -50,13 +53,29 @@ _TYPES = {".js": "text/javascript", ".mjs": "text/javascript", ".css": "text/css
           ".wasm": "application/wasm", ".task": "application/octet-stream"}
 
 
-def add_pages(app: web.Application) -> None:
-    """The viewer and performer pages and the files they load."""
+def add_pages(app: web.Application, face: Face) -> None:
+    """The viewer and performer pages and the files they load, and ``face`` as a web rig
+    (``/face.json``, :mod:`toon.web_rig`) for the pages that draw it themselves."""
+    app.router.add_get("/face.json", _web_rig(face))
     app.router.add_get("/r/{room}", _page("view.html"))
     app.router.add_get("/r/{room}/perform", _page("perform.html"))
     app.router.add_get("/static/{name}", _static)
     app.router.add_get("/web/tasks-vision/{name:.+}", _tasks_vision)
     app.router.add_get("/web/face_landmarker.task", _model)
+
+
+def _web_rig(face: Face) -> Callable[[web.Request], Awaitable[web.Response]]:
+    """The handler of ``/face.json``: the face's web rig, compiled and compressed once."""
+    from toon import FaceRig
+    from toon.web_rig import web_rig
+
+    body = gzip.compress(json.dumps(web_rig(FaceRig(face)), separators=(",", ":")).encode(), mtime=0)
+
+    async def rig(request: web.Request) -> web.Response:  # the server's one face: it tells no room apart
+        return web.Response(body=body, content_type="application/json",
+                            headers={"Content-Encoding": "gzip", "Cache-Control": "no-cache"})
+
+    return rig
 
 
 def web_modules() -> Path:

@@ -152,7 +152,7 @@ def make_app(rooms: Rooms) -> web.Application:
     app = web.Application(client_max_size=4096)
     app[ROOMS] = rooms
     app.router.add_get("/r/{room}/ws", _socket)
-    add_pages(app)
+    add_pages(app, rooms.face)
     app.on_shutdown.append(_going_away)
     if rooms.pubsub:
         app.on_startup.append(_join_bus)

@@ -1,6 +1,8 @@
 // The room's viewer page: the performers' faces as the room server draws them (toonface/room/stage.py),
 // shown with the studio's drawing module (draw.js). The watch token rides in the address's fragment
 // (#watch=TOKEN), which the browser never sends to a server; ?obs gives a clear page for OBS's browser source.
+// With ?draw=page the page draws the faces itself (face_stream.js): it is sent the performers' motor
+// packets as a native viewer is, and the face's web rig once (/face.json), instead of the drawings.
 "use strict";
 (() => {
   const $ = (id) => document.getElementById(id);
@@ -89,5 +91,70 @@
       setTimeout(connect, 500);  // another server process on the address takes it
     };
   }
-  connect();
+  const GONE_SECONDS = 3.0;  // a performer silent this long leaves the page
+
+  async function drawHere() {
+    // the page's own drawing: packets in, the faces drawn at the screen's rate
+    const response = await fetch("/face.json");
+    if (!response.ok) throw new Error(`the face did not load (${response.status})`);
+    const rig = new toonRig.Rig(await response.json());
+    const streams = new Map();
+    let socket = null;
+    const send = (bytes) => { if (socket && socket.readyState === WebSocket.OPEN) socket.send(bytes); };
+    function open() {
+      const scheme = location.protocol === "https:" ? "wss" : "ws";
+      socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=watch`
+                             + `&token=${encodeURIComponent(token)}`);
+      socket.binaryType = "arraybuffer";
+      socket.onopen = () => { viewer.connected = true; $("status").textContent = "connected: waiting for a performer…"; };
+      socket.onmessage = (event) => {
+        const bytes = new Uint8Array(event.data), now = performance.now() / 1000;
+        if (bytes.length < 3) return;
+        const id = bytes[1] | (bytes[2] << 8);
+        if (!streams.has(id)) streams.set(id, new toonFaceStream.FaceStream(rig, seat(id).drawing, send));
+        streams.get(id).feed(bytes, now);
+        viewer.bytes = (viewer.bytes || 0) + bytes.length;
+      };
+      socket.onclose = () => {
+        viewer.connected = false;
+        $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
+          : "no watch token: open the link the room server printed (it ends in #watch=…)";
+        setTimeout(open, 500);
+      };
+    }
+    viewer.frameMs = [];  // the last 240 frames' drawing times (the bench reads them)
+    function tick() {
+      const now = performance.now() / 1000, shown = [];
+      for (const [id, stream] of streams) {
+        const performer = seat(id);
+        if (now - stream.received > GONE_SECONDS) {
+          performer.figure.remove();
+          viewer.performers.delete(id);
+          streams.delete(id);
+          continue;
+        }
+        performer.drawing.held = viewer.held;
+        if (!stream.draw(now)) continue;
+        shown.push({id, values: Object.fromEntries(rig.codes.map((c, i) => [c, stream.last[i]]))});
+        if (viewer.held) continue;
+        const r = stream.reader, loss = r.packets ? (100 * r.lost / (r.packets + r.lost)).toFixed(1) : "0.0";
+        performer.caption.textContent = `performer ${id.toString(16)} · loss ${loss} %`
+          + (r.dropped.tag ? " · packets that do not open (sealed, or corrupted)" : "");
+      }
+      if (shown.length) {
+        viewer.frameMs.push(performance.now() - 1000 * now);
+        if (viewer.frameMs.length > 240) viewer.frameMs.shift();
+        viewer.last = {performers: shown};
+        viewer.frames += 1;
+        $("status").textContent = `${shown.length} performer${shown.length > 1 ? "s" : ""}`;
+      }
+      requestAnimationFrame(tick);
+    }
+    open();
+    requestAnimationFrame(tick);
+  }
+
+  if (query.get("draw") === "page") {
+    drawHere().catch((error) => { $("said").hidden = false; $("said").textContent = String(error.message || error); });
+  } else connect();
 })();
