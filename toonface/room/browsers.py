@@ -14,8 +14,13 @@ framed once for all of them: :mod:`toonface.room.fanout`).
 ``@mediapipe/tasks-vision`` from the ``node_modules`` folder ``make browser`` fills (or
 ``$TOONFACE_WEB_MODULES``), and the ``face_landmarker.task`` model from the ``faces`` extra.
 
+With ``?draw=page`` the viewer page draws the faces itself: it loads the face's web rig
+(``/face.json``, :mod:`toon.web_rig`) and opens ``/r/ROOM/ws?role=watch`` as a native viewer does,
+reading the packets in the page (``stream_reader.js``, ``face_stream.js``); no stage runs for it.
+
 The pages' scripts and styles come from this package and the studio's (``draw.js``, the one
-module that shows a drawing on every page); no page can reach any other file.
+module that shows a drawing on every page, and ``rig.js`` that draws a face from motors); no page
+can reach any other file.
 """
 
 from __future__ import annotations
