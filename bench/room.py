@@ -16,12 +16,15 @@ codes them) at 60 Hz; each packet carries its send time, taken on this machine's
     framing and TCP/IPv4 headers included (40 bytes a segment, one segment a message, and a
     bare TCP acknowledgement for every second segment received), acknowledgements once a second
     (no goal: the issue asks for the figure).
-``room.browser_kbps`` and ``room.stage_ms``
-    A browser viewer (``/r/ROOM``): what it is sent at 30 fps, the stage's deflated changes of
+``room.browser_kbps`` and ``room.page_frame_p95_ms``
+    The viewer page that draws the faces itself (``?draw=page``), in headless Chromium:
+    :mod:`bench.room_page`.
+``room.drawn_page_kbps`` and ``room.stage_ms``
+    The drawn viewer page (``/r/ROOM``): what it is sent at 30 fps, the stage's deflated changes of
     the drawing (:mod:`toonface.room.stage`), WebSocket and TCP/IPv4 headers included, median
     over two faces (classic, cat) and two motions (a talking mouth alone; every motor moving);
     and the server's time to decode and draw one frame of one performer. No goal: the price of
-    a page that needs no rig of its own, beside ``room.wire_both_kbps`` for a native viewer.
+    a page that needs no rig of its own, beside ``room.browser_kbps`` for the page that has one.
 """
 
 from __future__ import annotations
@@ -50,7 +53,7 @@ STAMP = struct.Struct("<d")
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``room.*`` figures."""
-    from bench import room_shared
+    from bench import room_page, room_shared
 
     packets = 150 if quick else 600
     with _server() as base:
@@ -60,7 +63,8 @@ def run(quick: bool = False) -> list[Figure]:
     figures = [Figure("room.added_p95_ms", added, "ms", 20.0, False,
                       {"through_p95_ms": round(float(np.percentile(through, 95)), 3),
                        "direct_udp_p95_ms": round(float(np.percentile(direct, 95)), 3), "packets": packets}),
-               *(room_shared.run(quick) or _one_process(quick, packets)), _wire(), *_browser(quick)]
+               *(room_shared.run(quick) or _one_process(quick, packets)), _wire(), *_browser(quick),
+               *room_page.run(quick)]
     return figures
 
 
@@ -181,7 +185,7 @@ def _wire() -> Figure:
 
 
 def _browser(quick: bool) -> list[Figure]:
-    """``room.browser_kbps`` and ``room.stage_ms`` (see the module docstring)."""
+    """``room.drawn_page_kbps`` and ``room.stage_ms`` (see the module docstring)."""
     from toon import MOTOR_CODES, load_face
     from toonface.room.stage import Stage, packed
 
@@ -208,7 +212,7 @@ def _browser(quick: bool) -> list[Figure]:
                 sent += len(message) + 4 + TCP_IP  # a server's frame: 4 bytes of header past 125 bytes
             stage.close()
             kbps[f"{face}_{motion}"] = round(sent * 8 / seconds / 1000, 1)
-    return [Figure("room.browser_kbps", float(np.median(list(kbps.values()))), "kbit/s", None, False,
+    return [Figure("room.drawn_page_kbps", float(np.median(list(kbps.values()))), "kbit/s", None, False,
                    {**kbps, "fps": rate}),
             Figure("room.stage_ms", float(np.median(took)), "ms", None, False,
                    {"p95_ms": round(float(np.percentile(took, 95)), 2), "per": "performer frame"})]

@@ -5,10 +5,12 @@
 set -uo pipefail
 
 # The npm packages of package.json (lottie-web and axe-core for browser tests; @mediapipe/tasks-vision,
-# which the room server serves to its performer page), from the lockfile, only when missing; without
+# which the room server serves to its performer page, and @noble/ciphers and @noble/hashes, to its viewer
+# page for sealed streams), from the lockfile, only when missing; without
 # npm, the tests that need them skip and the performer page says what is missing.
 if [ ! -f node_modules/lottie-web/build/player/lottie.min.js ] || [ ! -f node_modules/axe-core/axe.min.js ] \
-        || [ ! -f node_modules/@mediapipe/tasks-vision/vision_bundle.mjs ]; then
+        || [ ! -f node_modules/@mediapipe/tasks-vision/vision_bundle.mjs ] \
+        || [ ! -f node_modules/@noble/ciphers/aes.js ] || [ ! -f node_modules/@noble/hashes/hkdf.js ]; then
     if command -v npm >/dev/null 2>&1; then
         npm ci --no-audit --no-fund --silent >/dev/null 2>&1 || echo "toonface: npm ci failed: the Lottie, accessibility and performer-page browser tests will skip" >&2
     else

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import base64
 import json
 import os
 import secrets
@@ -52,6 +53,11 @@ OPEN_STREAM = ("toonface: note: the stream is not encrypted: anyone on the path 
 
 def _warn(text: str) -> None:
     click.echo(f"toonface: warning: {text}", err=True)
+
+
+def page_key(key: bytes) -> str:
+    """``key`` as the viewer page reads it from its link's fragment: base64url, unpadded."""
+    return base64.urlsafe_b64encode(key).decode("ascii").rstrip("=")
 
 
 def _key(path: str | None) -> bytes | None:
@@ -146,6 +152,9 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
         recording = outputs.motor(record, rate=src.rate) if record else None
         where = ", ".join(host if port == 0 else f"{host}:{port}" for host, port in addresses)
         click.echo(f"sending {src.name} at {src.rate:g} Hz to {where} as stream {stream_id} (Ctrl-C stops)")
+        if key is not None and any(port == 0 for _, port in addresses):  # a room: its pages open the seal themselves
+            click.echo(f"sealed: a browser opens it with the room's page link, ?draw=page before the # and "
+                       f"&key={page_key(key)} after the watch token (the room server never sees the key)")
         report = SendReport()
         try:
             run_sender(src, mapper, outputs.motors, seconds, report=report)

@@ -423,3 +423,51 @@ def test_the_page_that_draws_the_face_itself_is_sent_only_the_stream_and_draws_w
     difference = np.abs(shown - drawn)
     assert difference.mean() < 0.6 and np.mean(difference.max(axis=2) > 64) < 0.01
     assert np.abs(shown - neutral).mean() > 3 * difference.mean()
+
+
+@pytest.mark.slow  # Chromium and two pages of stream: make test runs it
+def test_a_sealed_room_opens_in_the_page_that_holds_the_key_and_the_server_holds_none():
+    """End to end: the performer seals, the room server has no key and relays what it cannot
+    read, the page with the key in its link's fragment opens the packets (and seals its
+    acknowledgements, which the performer opens), and a page without it says why it shows nothing."""
+    from browser import chromium, wait_for
+
+    from stream.sender import StreamSender
+    from stream.websocket import WebSocketLink
+    from toonface.cli_stream import page_key
+
+    rooms = Rooms(TOKENS, face=load_face("classic"))
+    assert rooms.key is None
+    stop = threading.Event()
+
+    def perform(sender: StreamSender) -> None:
+        frame = 0
+        while not stop.wait(1 / 30):
+            sender.write(frame / 30, _pose())
+            frame += 1
+
+    with in_thread(rooms) as base, chromium(900, 900) as driver:
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
+        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2B, key=KEY), link=link)
+        thread = threading.Thread(target=perform, args=(sender,))
+        page = f"{base.replace('ws://', 'http://')}/r/demo?draw=page#watch={TOKENS['demo'][1]}"
+        driver.get(f"{page}&key={page_key(KEY)}")
+        wait_for(driver, "window.viewer.connected")
+        thread.start()
+        try:
+            wait_for(driver, "window.viewer.frames > 30 && window.viewer.sent > 0", timeout=30)
+            values = driver.execute_script("return window.viewer.last.performers[0].values")
+            acks = sender.acks
+            driver.get("about:blank")  # (a new fragment alone would not load the page again)
+            driver.get(page)  # no key
+            wait_for(driver, "(document.querySelector('figcaption') || {}).textContent?.includes('do not open')")
+            caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+            frames = driver.execute_script("return window.viewer.frames")
+        finally:
+            stop.set()
+            thread.join()
+            sender.close()
+    np.testing.assert_allclose([values[c] for c in ("MB", "BLM")], [0.9, 0.85], atol=0.006)
+    assert acks > 0  # the page's sealed acknowledgements opened at the performer
+    assert caption == "performer 2b · its packets do not open: sealed (add the key to the link: #watch=…&key=…)"
+    assert frames == 0

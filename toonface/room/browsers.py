@@ -52,6 +52,10 @@ STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css":
 #: The files of @mediapipe/tasks-vision the performer page loads (its SIMD and non-SIMD wasm).
 TASKS_VISION = ("vision_bundle.mjs", *(f"wasm/vision_wasm{kind}_internal.{ext}" for kind in ("", "_nosimd", "_module")
                                        for ext in ("js", "wasm")))
+#: The files of @noble/ciphers and @noble/hashes a viewer page loads to open sealed streams (ES
+#: modules that import only one another), by package.
+NOBLE = {"ciphers": ("aes.js", "_polyval.js", "utils.js"),
+         "hashes": ("hkdf.js", "hmac.js", "sha2.js", "_md.js", "_u64.js", "utils.js")}
 #: Where the npm packages are, where not in the checkout's node_modules.
 WEB_MODULES_ENV = "TOONFACE_WEB_MODULES"
 _TYPES = {".js": "text/javascript", ".mjs": "text/javascript", ".css": "text/css", ".html": "text/html",
@@ -66,6 +70,7 @@ def add_pages(app: web.Application, face: Face) -> None:
     app.router.add_get("/r/{room}/perform", _page("perform.html"))
     app.router.add_get("/static/{name}", _static)
     app.router.add_get("/web/tasks-vision/{name:.+}", _tasks_vision)
+    app.router.add_get("/web/noble/{package}/{name}", _noble)
     app.router.add_get("/web/face_landmarker.task", _model)
 
 
@@ -100,6 +105,17 @@ async def _tasks_vision(request: web.Request) -> web.StreamResponse:
         raise web.HTTPNotFound(text=f"@mediapipe/tasks-vision is not installed in {web_modules()} (make browser, "
                                     f"or set {WEB_MODULES_ENV})\n")
     return web.FileResponse(path, headers={"Content-Type": _TYPES[path.suffix], "Cache-Control": "max-age=86400"})
+
+
+async def _noble(request: web.Request) -> web.StreamResponse:
+    package, name = request.match_info["package"], request.match_info["name"]
+    if name not in NOBLE.get(package, ()):
+        raise web.HTTPNotFound()
+    path = web_modules() / "@noble" / package / name
+    if not path.is_file():
+        raise web.HTTPNotFound(text=f"@noble/{package} is not installed in {web_modules()} (make browser, or set "
+                                    f"{WEB_MODULES_ENV})\n")
+    return web.FileResponse(path, headers={"Content-Type": _TYPES[".js"], "Cache-Control": "max-age=86400"})
 
 
 async def _model(request: web.Request) -> web.StreamResponse:

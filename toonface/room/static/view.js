@@ -2,7 +2,9 @@
 // shown with the studio's drawing module (draw.js). The watch token rides in the address's fragment
 // (#watch=TOKEN), which the browser never sends to a server; ?obs gives a clear page for OBS's browser source.
 // With ?draw=page the page draws the faces itself (face_stream.js): it is sent the performers' motor
-// packets as a native viewer is, and the face's web rig once (/face.json), instead of the drawings.
+// packets as a native viewer is, and the face's web rig once (/face.json), instead of the drawings;
+// a sealed stream opens with the key in the fragment (#watch=TOKEN&key=BASE64URL), which the server
+// never sees: it relays bytes it cannot read.
 "use strict";
 (() => {
   const $ = (id) => document.getElementById(id);
@@ -98,9 +100,16 @@
     const response = await fetch("/face.json");
     if (!response.ok) throw new Error(`the face did not load (${response.status})`);
     const rig = new toonRig.Rig(await response.json());
+    const key = fragment.get("key") ? await toonWire.streamKey(secretOf(fragment.get("key"))) : null;
     const streams = new Map();
     let socket = null;
-    const send = (bytes) => { if (socket && socket.readyState === WebSocket.OPEN) socket.send(bytes); };
+    Object.assign(viewer, {bytes: 0, messages: 0, sentBytes: 0, sent: 0, firstDrawMs: null});
+    const send = (bytes) => {
+      if (!socket || socket.readyState !== WebSocket.OPEN) return;
+      socket.send(bytes);
+      viewer.sentBytes += bytes.length;
+      viewer.sent += 1;
+    };
     function open() {
       const scheme = location.protocol === "https:" ? "wss" : "ws";
       socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=watch`
@@ -111,9 +120,10 @@
         const bytes = new Uint8Array(event.data), now = performance.now() / 1000;
         if (bytes.length < 3) return;
         const id = bytes[1] | (bytes[2] << 8);
-        if (!streams.has(id)) streams.set(id, new toonFaceStream.FaceStream(rig, seat(id).drawing, send));
+        if (!streams.has(id)) streams.set(id, new toonFaceStream.FaceStream(rig, seat(id).drawing, send, key));
         streams.get(id).feed(bytes, now);
-        viewer.bytes = (viewer.bytes || 0) + bytes.length;
+        viewer.bytes += bytes.length;
+        viewer.messages += 1;
       };
       socket.onclose = () => {
         viewer.connected = false;
@@ -138,10 +148,15 @@
         shown.push({id, values: Object.fromEntries(rig.codes.map((c, i) => [c, stream.last[i]]))});
         if (viewer.held) continue;
         const r = stream.reader, loss = r.packets ? (100 * r.lost / (r.packets + r.lost)).toFixed(1) : "0.0";
-        performer.caption.textContent = `performer ${id.toString(16)} · loss ${loss} %`
-          + (r.dropped.tag ? " · packets that do not open (sealed, or corrupted)" : "");
+        performer.caption.textContent = `performer ${id.toString(16)} · loss ${loss} %`;
+      }
+      for (const [id, stream] of streams) {  // a stream that never opened: say why
+        if (stream.reader.packets || !stream.reader.dropped.tag) continue;
+        seat(id).caption.textContent = `performer ${id.toString(16)} · its packets do not open: `
+          + (key ? "another key, or corrupted" : "sealed (add the key to the link: #watch=…&key=…)");
       }
       if (shown.length) {
+        if (viewer.firstDrawMs === null) viewer.firstDrawMs = performance.now();
         viewer.frameMs.push(performance.now() - 1000 * now);
         if (viewer.frameMs.length > 240) viewer.frameMs.shift();
         viewer.last = {performers: shown};
@@ -152,6 +167,12 @@
     }
     open();
     requestAnimationFrame(tick);
+  }
+
+  function secretOf(text) {
+    // the stream's key from the link (base64url, as `toonface room` prints it)
+    const plain = atob(text.replace(/-/g, "+").replace(/_/g, "/").padEnd(Math.ceil(text.length / 4) * 4, "="));
+    return Uint8Array.from(plain, (c) => c.charCodeAt(0));
   }
 
   if (query.get("draw") === "page") {

@@ -9,13 +9,14 @@
   const ASK_EVERY = 0.25;  // seconds between keyframe requests while one is wanted
 
   class FaceStream {
-    // `rig`: a toonRig.Rig; `drawing`: a toonDraw.Drawing; `send(bytes)`: replies to the performer
-    constructor(rig, drawing, send, size = [512, 512]) {
+    // `rig`: a toonRig.Rig; `drawing`: a toonDraw.Drawing; `send(bytes)`: replies to the performer;
+    // `key`: toonWire.streamKey's, for a sealed stream
+    constructor(rig, drawing, send, key = null, size = [512, 512]) {
       this.rig = rig;
       this.drawing = drawing;
       this.send = send;
       this.size = size;
-      this.reader = new toonStream.StreamReader();
+      this.reader = new toonStream.StreamReader(key);
       this.motion = new toonPhysics.Motion(rig.data.physics);
       this.frames = [];  // {time (sender's clock, s), row (the rig's columns)}
       this.offset = Infinity;  // arrival less capture time, the least seen: the link's delay at best
@@ -76,7 +77,7 @@
       } else if (play <= frames[0].time) {
         row = frames[0].row;
       } else {
-        let k = frames.findIndex((f) => f.time > play);
+        const k = frames.findIndex((f) => f.time > play);
         const a = frames[k - 1], b = frames[k], share = (play - a.time) / (b.time - a.time);
         row = a.row.map((v, c) => v + (b.row[c] - v) * share);
       }

@@ -8,7 +8,7 @@
 (() => {
   const VERSION = 5, WRAP = 2 ** 32;
   const KEYFRAME = 1, SEALED = 2, KEY_REQUEST = 4, ACK = 8, PARAMS = 16, NAMED = 32, LONG = 64, REGULAR = 128;
-  const MOTORS = 21, MAX_FRAMES = 32, MAX_EXTRA = 32, CHECK = 2, KEEP = 255;
+  const MOTORS = 21, MAX_FRAMES = 32, MAX_EXTRA = 32, CHECK = 2, SEAL = 16, KEEP = 255;
   const ANCHOR_SECONDS = 1.0, ANCHOR_FRAMES = 100, REPLAY_WINDOW = 64, SESSIONS_KEPT = 32;
   const ACK_INTERVAL = 1.0, KEY_WAIT = 0.2, LOSS_SECONDS = 2.0, ACK_BITS = 32, DEFAULT_STEPS = 100;
   const DECAY = [0.09, 0.21, 0.30, 0.45, 0.53, 0.66], HOLD_BELOW = 3;
@@ -181,9 +181,9 @@
     return out;
   }
 
-  function sealReply(flags, stream, first = 0, held = 0) {
-    // an acknowledgement or keyframe request (unsealed: a CRC check)
-    flags &= ~(SEALED | LONG | REGULAR);
+  function sealReply(flags, stream, first = 0, held = 0, key = null) {
+    // an acknowledgement or keyframe request: a CRC check, or sealed with `key`
+    flags = (flags & ~(SEALED | LONG | REGULAR)) | (key ? SEALED : 0);
     let head;
     if (flags & ACK) {
       head = new Uint8Array(9);
@@ -193,7 +193,22 @@
     } else {
       head = new Uint8Array([flags, stream & 0xFF, (stream >> 8) & 0xFF]);
     }
-    return withCheck(head, longHeader(reply(flags, stream, first, held)), new Uint8Array(0));
+    const full = longHeader(reply(flags, stream, first, held));
+    if (!key) return withCheck(head, full, new Uint8Array(0));
+    const tag = key.seal(full.subarray(0, 12), new Uint8Array(0), full), out = new Uint8Array(head.length + tag.length);
+    out.set(head); out.set(tag, head.length);
+    return out;
+  }
+
+  async function streamKey(secret, base = "/web/noble") {
+    // the stream's cipher for a shared secret (bytes): AES-256-GCM-SIV under a key derived by
+    // HKDF-SHA256, as stream/framing.py StreamKey; noble's audited code, served by the room server
+    if (secret.length < 16) throw new Error("a key needs at least 16 bytes");
+    const [{gcmsiv}, {hkdf}, {sha256}] = await Promise.all([
+      import(`${base}/ciphers/aes.js`), import(`${base}/hashes/hkdf.js`), import(`${base}/hashes/sha2.js`)]);
+    const derived = hkdf(sha256, secret, undefined, new TextEncoder().encode(`toonface stream ${VERSION}`), 32);
+    return {open: (nonce, data, aad) => gcmsiv(derived, nonce, aad).decrypt(data),
+      seal: (nonce, data, aad) => gcmsiv(derived, nonce, aad).encrypt(data)};
   }
 
   function signed(value, bits) {
@@ -204,11 +219,14 @@
 
   const restore = (low, near, bits) => mod(near + signed(low - near, bits));
 
-  function openPacket(data, anchor) {
-    // a datagram's full header and body, checked (stream/framing.py open_packet, without a key)
+  function openPacket(data, anchor, key = null) {
+    // a datagram's full header and body, checked or opened with `key` (streamKey's), as
+    // stream/framing.py open_packet does
     if (data.length > MAX_PACKET || data.length < 3 + CHECK) throw new WireError("size", `a packet of ${data.length} bytes`);
     const flags = data[0], view = new DataView(data.buffer, data.byteOffset, data.byteLength);
-    if (flags & SEALED) throw new WireError("tag", "a sealed packet and no key to open it");
+    if (Boolean(flags & SEALED) !== Boolean(key)) {
+      throw new WireError("tag", key ? "an unsealed packet" : "a sealed packet and no key to open it");
+    }
     let header, size;
     const need = (n) => { if (data.length < n) throw new WireError("size", "a packet shorter than its header"); };
     if (flags & ACK) {
@@ -236,12 +254,23 @@
       header = {flags, stream: view.getUint16(1, true), sequence: restore(data[3], anchor.sequence, 8), first, time,
         count, usual: anchor.usual, steps: anchor.steps, rate: anchor.rate, back};
     }
-    if (data.length < size + CHECK) throw new WireError("size", "a packet with no room for its header and check");
+    const tail = key ? SEAL : CHECK;
+    if (data.length < size + tail) throw new WireError("size", "a packet with no room for its header and tag");
     const short = !(flags & (LONG | ACK | KEY_REQUEST));
-    const body = data.subarray(size, data.length - CHECK);
-    const expected = withCheck(new Uint8Array(0), longHeader(short ? {...header, time: 0} : header), body);
-    if (expected[expected.length - 2] !== data[data.length - 2] || expected[expected.length - 1] !== data[data.length - 1]) {
-      throw new WireError("tag", "the packet's check does not match (corrupted, or replayed from long ago)");
+    const full = longHeader(short ? {...header, time: 0} : header);  // a short header's time is not sent
+    let body;
+    if (key) {
+      try {
+        body = key.open(full.subarray(0, 12), data.subarray(size), full);
+      } catch {
+        throw new WireError("tag", "the packet does not open with this key (another key, corrupted, forged or replayed)");
+      }
+    } else {
+      body = data.subarray(size, data.length - CHECK);
+      const expected = withCheck(new Uint8Array(0), full, body);
+      if (expected[expected.length - 2] !== data[data.length - 2] || expected[expected.length - 1] !== data[data.length - 1]) {
+        throw new WireError("tag", "the packet's check does not match (corrupted, or replayed from long ago)");
+      }
     }
     if (header.count > MAX_FRAMES || header.steps < 1 || header.rate <= 0 || (header.count && !(flags & KEYFRAME) && header.back === 0)) {
       throw new WireError("malformed", `a header with ${header.count} frames`);
@@ -249,7 +278,7 @@
     return [header, body];
   }
 
-  window.toonWire = {WireError, Model, Models, Decoder, decodeFrames, bridge, openPacket, sealReply, paramsCheck,
+  window.toonWire = {WireError, Model, Models, Decoder, decodeFrames, bridge, openPacket, sealReply, streamKey, paramsCheck,
     behind, mod, crc32, EXTRA_REST, constants: {WRAP, KEYFRAME, SEALED, KEY_REQUEST, ACK, PARAMS, NAMED, LONG, REGULAR, MOTORS,
       MAX_EXTRA, KEEP, ANCHOR_SECONDS, ANCHOR_FRAMES, REPLAY_WINDOW, SESSIONS_KEPT, ACK_INTERVAL, KEY_WAIT,
       LOSS_SECONDS, ACK_BITS, DEFAULT_STEPS}};

@@ -44,8 +44,9 @@
   }
 
   class StreamReader {
-    // see stream/reader.py; times are seconds on the page's clock
-    constructor(maxWaiting = 16, idleReset = 2.0) {
+    // see stream/reader.py; times are seconds on the page's clock; `key`: toonWire.streamKey's
+    constructor(key = null, maxWaiting = 16, idleReset = 2.0) {
+      this.key = key;
       this.maxWaiting = maxWaiting;
       this.idleReset = idleReset;
       this.dropped = {};
@@ -69,7 +70,7 @@
       if (anchor && arrival - this.lastValid > Math.min(C.ANCHOR_SECONDS, C.ANCHOR_FRAMES / anchor.rate)) anchor = null;
       let header, body;
       try {
-        [header, body] = W.openPacket(datagram, anchor);
+        [header, body] = W.openPacket(datagram, anchor, this.key);
       } catch (error) {
         if (!(error instanceof W.WireError)) throw error;
         this.drop(error.reason);
@@ -125,10 +126,10 @@
       this.ackedAt = this.now;
       let held = 0;
       for (let i = 0; i < C.ACK_BITS; i++) if (this.held.has(mod(this.ack - 1 - i))) held += 2 ** i;
-      return W.sealReply(C.ACK | (lossy ? C.PARAMS : 0), this.stream, this.ack, held);
+      return W.sealReply(C.ACK | (lossy ? C.PARAMS : 0), this.stream, this.ack, held, this.key);
     }
 
-    keyframeRequest() { return W.sealReply(C.KEY_REQUEST, this.stream); }
+    keyframeRequest() { return W.sealReply(C.KEY_REQUEST, this.stream, 0, 0, this.key); }
 
     want(now) {
       this.wantKeyframe = this.unnamed || [...this.waiting].some(([first, [, , a]]) =>
