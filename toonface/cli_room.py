@@ -81,13 +81,15 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
     and viewers (`toonface receive --from ws://HOST:PORT/r/NAME --token W`) both connect out to
     it over WebSocket, which passes NAT and firewalls; the stream's packets pass through it as
-    they are (sealed end to end with --key-file). Each room has a token to perform and one to
-    watch; they are printed once made and kept in --tokens.
+    they are (sealed end to end where send and receive share a --key-file). Each room has a
+    token to perform and one to watch; they are printed once made and kept in --tokens.
 
     A browser watches at http(s)://HOST:PORT/r/NAME#watch=TOKEN (add ?obs before the # for a
-    clear page for OBS's browser source): the server decodes the streams and draws the faces on
-    --face for it, so it must hold the key of sealed streams (--key-file). A browser performs
-    from its camera at http(s)://HOST:PORT/r/NAME/perform#perform=TOKEN.
+    clear page for OBS's browser source): the page is sent the packets and draws the faces on
+    --face itself; a sealed stream opens there with &key=KEY added to the link (send --key-file
+    prints it), and the server needs no key. With ?draw=server the server draws the faces for the
+    page instead, at hundreds of kbit/s, and must hold the key of sealed streams (--key-file). A
+    browser performs from its camera at http(s)://HOST:PORT/r/NAME/perform#perform=TOKEN.
     """
     from toon import load_face
 

@@ -90,7 +90,7 @@ done(out);
 def _page(driver) -> None:
     driver.get("about:blank")
     static = resources.files("toonface.studio").joinpath("static")
-    for name in ("stream.js", "stream_reader.js"):
+    for name in ("stream.js", "stream_reader.js", "playout.js"):
         driver.execute_script("const s = document.createElement('script'); s.text = arguments[0];"
                               "document.head.append(s)", static.joinpath(name).read_text(encoding="utf-8"))
 
@@ -155,3 +155,51 @@ def test_the_pages_constants_are_the_pythons():
     assert bytes(request) == key_request(0, None, 0)
     for steps in range(1, 256):
         assert models[str(steps)] == [m.freq for m in Models(steps).residual], f"steps {steps}"
+
+
+PLAY = """
+const [timeline, neutral, done] = [arguments[0], arguments[1], arguments[arguments.length - 1]];
+const playout = new toonPlayout.Playout(neutral, {declared: {BEARD: 0.25}}), out = [];
+for (const [kind, at, frames] of timeline) {
+  if (kind === "add") for (const f of frames) playout.add({...f, arrival: at});
+  else { const [values, state] = playout.valuesAt(at); out.push([values, state, playout.delay]); }
+}
+done(out);
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed, codes", [(0, ("HT", "CP", "BEARD")), (1, ())])
+def test_the_pages_playout_shows_what_the_pythons_shows(seed, codes):
+    """The jitter buffer, concealment and catching up of ``playout.js`` against
+    :class:`stream.playout.Playout`, fed the same frames over a bad link and asked at 60 Hz: the
+    same values (to 1e-9), states and delays."""
+    from stream.playout import Playout
+    from stream.reader import Frames
+    from toon import standard_neutral
+
+    events = lossy_link(seed, codes, 2, 100)
+    timeline: list[tuple[str, float, list]] = [("add", e["arrival"], e["frames"]) for e in events if e["frames"]]
+    end = timeline[-1][1]
+    timeline += [("draw", k / 60 + 0.005, []) for k in range(int(end * 60) + 30)]
+    timeline.sort(key=lambda item: (item[1], item[0] == "draw"))
+    playout = Playout(standard_neutral(), declared={"BEARD": 0.25})
+    expected = []
+    for kind, at, frames in timeline:
+        if kind == "add":
+            for f in frames:
+                playout.add(Frames(f["first"], f["time"], f["rate"], np.array(f["values"]), at, tuple(f["codes"]),
+                                   f["run"], f["filled"]))
+        else:
+            values, state = playout.values_at(at)
+            expected.append((values, state, playout.delay))
+    states = [state for _, state, _ in expected]
+    assert states.count("concealed") > 10 and states.count("recovering") > 0 and states.count("live") > 300
+    with chromium() as driver:
+        _page(driver)
+        driver.set_script_timeout(60)
+        page = driver.execute_async_script(PLAY, timeline, standard_neutral().tolist())
+    assert [state for _, state, _ in page] == states
+    for (values, _, delay), (mine, _, my_delay) in zip(expected, page, strict=True):
+        np.testing.assert_allclose(mine, values, atol=1e-9)
+        assert (delay is None and my_delay is None) or abs(delay - my_delay) < 1e-12

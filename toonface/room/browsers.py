@@ -1,22 +1,21 @@
 """The room server's pages and its browser viewers.
 
 ``/r/ROOM`` is the viewer page (``static/view.html``): the token rides in the address's fragment
-(``#watch=TOKEN``), which a browser never sends, and the page opens
-``/r/ROOM/ws?role=watch&format=drawn`` with it. Such a viewer is sent the room's stage
-(:mod:`toonface.room.stage`) at :data:`~toonface.room.stage.VIEW_FPS`: one message a frame, made
-and deflated once for all browser viewers. A viewer whose connection has more than
-:data:`LAG_BYTES` waiting is skipped (its frames are dropped, not queued) and is sent whole
-drawings once it has caught up, so a slow viewer never holds the others back (each message is
-framed once for all of them: :mod:`toonface.room.fanout`).
+(``#watch=TOKEN``, and a sealed stream's key, ``&key=``), which a browser never sends. The page
+draws the faces itself: it loads the face's web rig (``/face.json``, :mod:`toon.web_rig`) and opens
+``/r/ROOM/ws?role=watch`` as a native viewer does, reading the packets in the page
+(``stream_reader.js``, ``playout.js``, ``face_stream.js``); the server relays them and draws
+nothing for it. With ``?draw=server`` the page opens ``/r/ROOM/ws?role=watch&format=drawn``
+instead and is sent the room's stage (:mod:`toonface.room.stage`) at
+:data:`~toonface.room.stage.VIEW_FPS`: one message a frame, made and deflated once for all such
+viewers. A viewer whose connection has more than :data:`LAG_BYTES` waiting is skipped (its frames
+are dropped, not queued) and is sent whole drawings once it has caught up, so a slow viewer never
+holds the others back (each message is framed once for all of them: :mod:`toonface.room.fanout`).
 
 ``/r/ROOM/perform`` is the performer page (``static/perform.html``, see
 :mod:`toonface.room.performers`); its face tracker's files are served under ``/web/``: MediaPipe's
 ``@mediapipe/tasks-vision`` from the ``node_modules`` folder ``make browser`` fills (or
 ``$TOONFACE_WEB_MODULES``), and the ``face_landmarker.task`` model from the ``faces`` extra.
-
-With ``?draw=page`` the viewer page draws the faces itself: it loads the face's web rig
-(``/face.json``, :mod:`toon.web_rig`) and opens ``/r/ROOM/ws?role=watch`` as a native viewer does,
-reading the packets in the page (``stream_reader.js``, ``face_stream.js``); no stage runs for it.
 
 The pages' scripts and styles come from this package and the studio's (``draw.js``, the one
 module that shows a drawing on every page, and ``rig.js`` that draws a face from motors); no page
@@ -48,7 +47,7 @@ RETRY_SECONDS = 1.0
 #: The files pages may load, and the package each comes from.
 STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
           **{name: "toonface.studio" for name in ("draw.js", "rig.js", "physics.js", "stream.js", "stream_reader.js",
-                                                  "face_stream.js")}}
+                                                  "playout.js", "face_stream.js")}}
 #: The files of @mediapipe/tasks-vision the performer page loads (its SIMD and non-SIMD wasm).
 TASKS_VISION = ("vision_bundle.mjs", *(f"wasm/vision_wasm{kind}_internal.{ext}" for kind in ("", "_nosimd", "_module")
                                        for ext in ("js", "wasm")))

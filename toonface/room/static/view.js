@@ -1,10 +1,10 @@
-// The room's viewer page: the performers' faces as the room server draws them (toonface/room/stage.py),
-// shown with the studio's drawing module (draw.js). The watch token rides in the address's fragment
-// (#watch=TOKEN), which the browser never sends to a server; ?obs gives a clear page for OBS's browser source.
-// With ?draw=page the page draws the faces itself (face_stream.js): it is sent the performers' motor
-// packets as a native viewer is, and the face's web rig once (/face.json), instead of the drawings;
-// a sealed stream opens with the key in the fragment (#watch=TOKEN&key=BASE64URL), which the server
-// never sees: it relays bytes it cannot read.
+// The room's viewer page. It draws the performers' faces itself (face_stream.js): it is sent their
+// motor packets as a native viewer is, and the face's web rig once (/face.json); a sealed stream
+// opens with the key in the fragment (#watch=TOKEN&key=BASE64URL), which the server never sees: it
+// relays bytes it cannot read. With ?draw=server the server draws them instead
+// (toonface/room/stage.py) and the page shows its drawings (draw.js), at hundreds of kbit/s. The
+// watch token rides in the address's fragment (#watch=TOKEN), which the browser never sends to a
+// server; ?obs gives a clear page for OBS's browser source.
 "use strict";
 (() => {
   const $ = (id) => document.getElementById(id);
@@ -145,10 +145,13 @@
         }
         performer.drawing.held = viewer.held;
         if (!stream.draw(now)) continue;
-        shown.push({id, values: Object.fromEntries(rig.codes.map((c, i) => [c, stream.last[i]]))});
+        const q = stream.quality(), values = Object.fromEntries(rig.codes.map((c, i) => [c, stream.last[i]]));
+        const quality = {values, latency_ms: q.latency, loss_pct: Number(q.loss.toFixed(1)),
+          concealed_pct: Number(q.concealed.toFixed(1)), diagnosis: null};
+        shown.push({id, values, quality});
         if (viewer.held) continue;
-        const r = stream.reader, loss = r.packets ? (100 * r.lost / (r.packets + r.lost)).toFixed(1) : "0.0";
-        performer.caption.textContent = `performer ${id.toString(16)} · loss ${loss} %`;
+        performer.quality = quality;  // what is shown: its values too
+        performer.caption.textContent = `performer ${id.toString(16)} · ${readout(quality)}`;
       }
       for (const [id, stream] of streams) {  // a stream that never opened: say why
         if (stream.reader.packets || !stream.reader.dropped.tag) continue;
@@ -175,7 +178,6 @@
     return Uint8Array.from(plain, (c) => c.charCodeAt(0));
   }
 
-  if (query.get("draw") === "page") {
-    drawHere().catch((error) => { $("said").hidden = false; $("said").textContent = String(error.message || error); });
-  } else connect();
+  if (query.get("draw") === "server") connect();
+  else drawHere().catch((error) => { $("said").hidden = false; $("said").textContent = String(error.message || error); });
 })();

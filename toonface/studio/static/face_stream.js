@@ -1,11 +1,10 @@
 // A performer's motor stream drawn in the page: its packets read (stream_reader.js), its frames
-// played out at the screen's rate a little behind the newest (linear between frames, the last
-// held where the stream stalls), the face's physics run on what is drawn (physics.js), and the
-// face drawn from its web rig (rig.js) into a draw.js Drawing. Acknowledgements and keyframe
-// requests go back through `send`, so the performer's sender adapts to this page as to `receive`.
+// played out at the screen's rate by the jitter buffer and concealment `receive` uses
+// (playout.js), the face's physics run on what is drawn (physics.js), and the face drawn from its
+// web rig (rig.js) into a draw.js Drawing. Acknowledgements and keyframe requests go back through
+// `send`, so the performer's sender adapts to this page as to `receive`.
 "use strict";
 (() => {
-  const KEEP_SECONDS = 2.0;  // frames kept to play from
   const ASK_EVERY = 0.25;  // seconds between keyframe requests while one is wanted
 
   class FaceStream {
@@ -18,39 +17,34 @@
       this.size = size;
       this.reader = new toonStream.StreamReader(key);
       this.motion = new toonPhysics.Motion(rig.data.physics);
-      this.frames = [];  // {time (sender's clock, s), row (the rig's columns)}
-      this.offset = Infinity;  // arrival less capture time, the least seen: the link's delay at best
-      this.rate = 60;
-      this.run = -1;
+      const neutral = rig.data.neutral, declared = {};
+      rig.codes.slice(21).forEach((code, i) => { declared[code] = neutral[21 + i]; });
+      this.playout = new toonPlayout.Playout(neutral.slice(0, 21), {declared});
       this.asked = -Infinity;
-      this.drawn = 0;
-      this.held = 0;  // frames drawn past the newest frame (the stream stalled or lost it)
-      this.last = null;  // the row last drawn
+      this.last = null;  // the row last drawn (the rig's columns)
       this.svg = "";
-      this.received = 0;
+      this.received = -Infinity;  // when a packet last came
     }
 
     feed(bytes, now) {
       // a packet of this performer's stream, arrived at `now` (s, the page's clock)
       this.received = now;
-      for (const f of this.reader.read(bytes, now)) {
-        if (f.run !== this.run) { this.frames = []; this.offset = Infinity; this.run = f.run; }
-        this.rate = f.rate;
-        f.values.forEach((values, k) => {
-          const time = f.time + k / f.rate;
-          this.offset = Math.min(this.offset, now - time);
-          this.frames.push({time, row: this.row(values, f.codes)});
-        });
-      }
-      this.frames.sort((a, b) => a.time - b.time);
-      const newest = this.frames.length ? this.frames[this.frames.length - 1].time : 0;
-      while (this.frames.length > 2 && this.frames[0].time < newest - KEEP_SECONDS) this.frames.shift();
+      for (const frames of this.reader.read(bytes, now)) this.playout.add(frames);
       const ack = this.reader.takeAck();
       if (ack) this.send(ack);
       if (this.reader.wantKeyframe && now - this.asked >= ASK_EVERY) {
         this.asked = now;
         this.send(this.reader.keyframeRequest());
       }
+    }
+
+    quality() {
+      // what the caption says: latency (ms, null where the sender's clock is another), loss and
+      // concealment (% of packets, % of frames shown)
+      const r = this.reader, s = this.playout.stats, latency = this.playout.latency();
+      const shown = s.live + s.concealed + s.recovering;
+      return {latency: latency === null ? null : Math.round(latency * 1000),
+        loss: r.packets ? 100 * r.lost / (r.packets + r.lost) : 0, concealed: shown ? 100 * s.concealed / shown : 0};
     }
 
     row(values, codes) {
@@ -67,28 +61,15 @@
 
     draw(now) {
       // draw the frame due at `now` (s); false while nothing has come
-      if (!this.frames.length) return false;
-      const play = now - this.offset - 1.5 / this.rate - 0.02;  // a frame and a half behind, and jitter's margin
-      const frames = this.frames;
-      let row;
-      if (play >= frames[frames.length - 1].time) {
-        row = frames[frames.length - 1].row;
-        this.held += 1;
-      } else if (play <= frames[0].time) {
-        row = frames[0].row;
-      } else {
-        const k = frames.findIndex((f) => f.time > play);
-        const a = frames[k - 1], b = frames[k], share = (play - a.time) / (b.time - a.time);
-        row = a.row.map((v, c) => v + (b.row[c] - v) * share);
-      }
-      const moved = this.motion.frame(now, row);
+      if (this.playout.anchor === null) return false;
+      const [values] = this.playout.valuesAt(now);
+      const moved = this.motion.frame(now, this.row(values, this.playout.codes));
       this.last = moved;
       const svg = this.rig.svg(moved, this.size);
       if (svg !== this.svg) {
         this.svg = svg;
         this.drawing.show({svg});
       }
-      this.drawn += 1;
       return true;
     }
   }
