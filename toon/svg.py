@@ -98,7 +98,7 @@ def geometry_svg(geometry: Geometry, size: tuple[int, int] = (512, 512), decimal
             defs.append(f'<clipPath id="group-{group}">'
                         + "".join(p.replace("<polygon ", '<polygon clip-rule="evenodd" ') for p in polys)
                         + "</clipPath>")
-    body = [f'<rect {big} fill="{_paint(geometry.background)}"/>']
+    body = [f'<rect {big} fill="{_paint(geometry.background)}"{_opacity("fill-opacity", geometry.background)}/>']
     for item in geometry.items:
         name = f" data-name={quoteattr(item.name)}" if item.name else ""
         if item.mask_test == 0:

@@ -92,7 +92,8 @@ def export() -> None:
 @FACE
 @SIZE
 @click.option("--fps", default=30.0, show_default=True, type=FiniteFloat(min=1.0, max=120.0),
-              help="Frames a second sampled from the track (the browser interpolates between them).")
+              help="Frames a second a knot-point animation (.toml) is sampled at; a track's own samples "
+                   "travel as they are, and the page draws at the screen's rate between them.")
 @click.option("--sound", default=None, type=click.Path(dir_okay=False),
               help="A sound file (or a video's sound) to embed and play with the face.")
 @click.option("--transparent", is_flag=True,
@@ -103,7 +104,8 @@ def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, s
                    paused: bool, no_physics: bool) -> None:
     """MOTORS (.csv/.npz, or a knot-point animation .toml) on a face as one self-contained HTML
     file: it plays in any browser with no server, with play/pause and a time slider, and the
-    sound in step where one is given. The face is an animated SVG, the studio's own drawing."""
+    sound in step where one is given. The page draws the face itself, the studio's own drawing,
+    from the face's web rig and the track's samples, its physics included."""
     from pathlib import Path
 
     from toon import load_face, load_track
@@ -115,7 +117,7 @@ def export_web_cmd(motors: str, output: str, face: str, size: str, fps: float, s
     face_obj = without_physics(load_face(face), no_physics)
     track = (load_animation(motors).sample(fps, face_obj.neutral()) if motors.lower().endswith(".toml")
              else load_track(motors))
-    path = export_web(track, face_obj, output, size=parse_size(size), fps=fps, sound=sound, transparent=transparent,
+    path = export_web(track, face_obj, output, size=parse_size(size), sound=sound, transparent=transparent,
                       paused=paused, title=f"{Path(motors).stem} on {face_obj.name}")
     click.echo(f"wrote {path} ({path.stat().st_size // 1024} KB, {track.duration:.2f} s"
                f"{', with sound' if sound else ''}{', transparent' if transparent else ''})")

@@ -1,10 +1,13 @@
 """The exported web player: a motor track on a face as one self-contained HTML file that plays
 in any browser with no server (``toonface export web``).
 
-The face is the animated SVG of :mod:`toon.svg_anim` (the studio's drawing, :mod:`toon.svg`,
-over time), inlined; the page (``studio/static/player.html``) plays, pauses and scrubs it with
-SVG's own clock, and an embedded sound (Opus in WebM, a data URI) leads when there is one. In
-transparent mode the page has no background and no controls, for OBS's browser source.
+The page (``studio/static/player.html``) draws the face itself, as the room's viewer page does:
+the face's web rig (:mod:`toon.web_rig`) and the track's own samples travel in it as JSON, and
+the page modules every page shares (``rig.js``, ``physics.js``, ``draw.js``, inlined) draw each
+screen frame, linear between samples, the face's physics run on the track's samples as a render
+runs them. It plays, pauses and scrubs; an embedded sound (Opus in WebM, a data URI) leads when
+there is one. In transparent mode the page has no background and no controls, for OBS's browser
+source.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ import base64
 import dataclasses
 import html
 import io
+import json
 import os
 from importlib import resources
 from pathlib import Path
@@ -20,9 +24,13 @@ from pathlib import Path
 import numpy as np
 
 from common import atomic_path
-from player.offline import geometries
 from toon import Face, FaceRig, MotorTrack
-from toon.svg_anim import track_svg
+from toon.motors import N_MOTORS
+from toon.params import drawable
+from toon.web_rig import web_rig
+
+#: The page modules the player inlines, in order.
+SCRIPTS = ("draw.js", "rig.js", "physics.js")
 
 #: The sound's rate and bit rate in the page (Opus, voice-grade stereo folded to mono).
 SOUND_RATE, SOUND_KBPS = 48000, 48
@@ -47,7 +55,7 @@ def encoded_sound(path: str | os.PathLike) -> bytes:
     return out.getvalue()
 
 
-def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512), fps: float = 30.0,
+def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512),
                 sound: str | os.PathLike | None = None, transparent: bool = False, paused: bool = False,
                 title: str = "toonface") -> str:
     """The web player's HTML for ``track`` on ``face`` (see the module docstring).
@@ -55,11 +63,10 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
     Parameters
     ----------
     track, face
-        What to play, and on which face.
+        What to play, and on which face (a standard parameter the face does not declare is left
+        out, as a render leaves it).
     size : (width, height)
         The face's size on the page, pixels.
-    fps : float
-        Frames per second sampled from the track (the SVG interpolates between its keys).
     sound : path-like, optional
         A sound file (or a video with sound) to embed and play with the face.
     transparent : bool
@@ -69,20 +76,30 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
     """
     if transparent:
         face = dataclasses.replace(face, background=(*face.background[:3], 0.0))
-    frames = list(geometries(track, FaceRig(face), fps))
-    svg = track_svg(frames, fps, size)
-    duration = max(len(frames) - 1, 1) / fps
+    rig = FaceRig(face)
+    kept = drawable(track.extra_codes, face.extra_codes)[0]
+    table = track.table()
+    columns = [N_MOTORS + track.extra_codes.index(code) for code in kept]
+    rows = [rig.full_values(row[:N_MOTORS], dict(zip(kept, row[columns].tolist(), strict=True))).round(6).tolist()
+            for row in table]
+    take = json.dumps({"rig": web_rig(rig), "rate": track.rate, "rows": rows, "size": list(size)},
+                      separators=(",", ":")).replace("</", "<\\/")  # (a name may not close the script)
+    duration = max(track.frames - 1, 1) / track.rate
     audio = ""
     if sound is not None:
         data = base64.b64encode(encoded_sound(sound)).decode("ascii")
         audio = f'<audio id="sound" preload="auto" src="data:audio/webm;base64,{data}"></audio>'
-    template = resources.files("toonface.studio.static").joinpath("player.html").read_text(encoding="utf-8")
-    fields = {"{{TITLE}}": html.escape(title), "{{SVG}}": svg, "{{AUDIO}}": audio, "{{DURATION}}": f"{duration:.6g}",
-              "{{WIDTH}}": str(size[0]), "{{PAGE_BACKGROUND}}": "transparent" if transparent else "#f4f4f4",
-              "{{BODY_CLASS}}": "transparent" if transparent else "", "{{START_PAUSED}}": "true" if paused else "false"}
+    static = resources.files("toonface.studio.static")
+    template = static.joinpath("player.html").read_text(encoding="utf-8")
+    scripts = "\n".join(f"<script>\n{static.joinpath(name).read_text(encoding='utf-8')}</script>" for name in SCRIPTS)
+    fields = {"{{TITLE}}": html.escape(title), "{{AUDIO}}": audio, "{{DURATION}}": f"{duration:.6g}",
+              "{{WIDTH}}": str(size[0]), "{{HEIGHT}}": str(size[1]),
+              "{{PAGE_BACKGROUND}}": "transparent" if transparent else "#f4f4f4",
+              "{{BODY_CLASS}}": "transparent" if transparent else "", "{{START_PAUSED}}": "true" if paused else "false",
+              "{{SCRIPTS}}": scripts}
     for key, value in fields.items():
         template = template.replace(key, value)
-    return template
+    return template.replace("{{TAKE}}", take)  # last: the take's own text is never read for fields
 
 
 def export_web(track: MotorTrack, face: Face, output: str | os.PathLike, **options) -> Path:

@@ -102,7 +102,7 @@ def render_whole(track: MotorTrack, face: str, path: Path, fps: float, size: tup
 
     rig_face = with_background(face_rig(face).face, background or None)
     if path.suffix == ".html":
-        export_web(track, rig_face, _in_folder(path), size=size, fps=fps or 30.0)
+        export_web(track, rig_face, _in_folder(path), size=size)
         return frame_count(track, fps or 30.0), _size(path)
     frames = render(track, rig_face, _in_folder(path), size, fps or None, samples)
     return frames, _size(path)

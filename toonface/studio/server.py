@@ -256,7 +256,7 @@ async def _render(app: web.Application, page: Page, message: dict) -> None:
 
     def work() -> int:
         if path.suffix.lower() == ".html":
-            export_web(track, face, path, fps=fps, sound=sound.path if sound is not None else None)
+            export_web(track, face, path, sound=sound.path if sound is not None else None)
             return track.frames
         if sound is not None:
             return render_with_sound(track, face, path, sound.path, fps=fps, progress=progress)

@@ -123,5 +123,42 @@
     }
   }
 
-  window.toonPhysics = {Physics, Motion, expm};
+  class TrackMotion {
+    // a face's physics over a track's samples (SecondaryMotion with a track): `rows` (one a
+    // sample, the rig's columns) at `rate`; frames drawn at any rate, or sought in any order, show
+    // the same motion at the same instants
+    constructor(p, rate, rows) {
+      this.physics = p ? new Physics(p) : null;
+      this.rate = rate;
+      this.rows = rows;
+      this.next = 0;
+      this.last = null;
+    }
+
+    row(t) {
+      // the track's row at t seconds, linear between samples, held beyond its ends
+      const k = Math.min(Math.max(Math.floor(t * this.rate + 1e-9), 0), this.rows.length - 1);
+      if (k >= this.rows.length - 1 || t <= 0) return this.rows[t <= 0 ? 0 : k].slice();
+      const share = (t - k / this.rate) * this.rate, a = this.rows[k], b = this.rows[k + 1];
+      return a.map((v, c) => v + (b[c] - v) * share);
+    }
+
+    frame(t) {
+      // the row to draw at t: the track's, with what the drivers move added (within [0, 1])
+      const row = this.row(t);
+      if (!this.physics) return row;
+      if (this.last !== null && t < this.last - 1e-9) { this.physics.reset(); this.next = 0; }
+      this.last = t;
+      while (this.next < this.rows.length && this.next / this.rate <= t + 1e-9) {
+        this.physics.advance(this.next / this.rate, this.rows[this.next]);
+        this.next += 1;
+      }
+      const out = row.slice(), moved = new Map();
+      for (const [column, amount] of this.physics.outputs(t, row)) moved.set(column, (moved.get(column) || 0) + amount);
+      for (const [column, amount] of moved) out[column] = Math.min(Math.max(row[column] + amount, 0), 1);
+      return out;
+    }
+  }
+
+  window.toonPhysics = {Physics, Motion, TrackMotion, expm};
 })();

@@ -350,7 +350,7 @@
         defs.push(`<clipPath id="group-${group}">` + polys.map((p) => p.replace("<polygon ", '<polygon clip-rule="evenodd" ')).join("") + "</clipPath>");
       }
     }
-    const body = [`<rect ${big} fill="${paint(background)}"/>`];
+    const body = [`<rect ${big} fill="${paint(background)}"${opacity("fill-opacity", background)}/>`];
     for (const {item, vertices} of geometry) {
       const name = item.name ? ` data-name=${quoteattr(item.name)}` : "";
       let wrap = "";
