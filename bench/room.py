@@ -7,10 +7,9 @@ codes them) at 60 Hz; each packet carries its send time, taken on this machine's
     One viewer: the 95th percentile of the delay from the performer's send to the viewer's
     receipt through one room server (WebSocket both legs), less the same through a UDP socket
     pair (goal 20).
-``room.fanout_p95_ms``, ``room.fanout_lost`` and ``room.server_rss_mb_per_h``
-    A thousand viewers over two server processes and NATS: :mod:`bench.room_shared`. Where
-    nats-server is missing, the first two are measured with ``VIEWERS`` viewers of one server
-    process in this one (``--quick``: 50), as the detail says.
+``room.fanout_p95_ms``, ``room.fanout_lost``, ``room.shared_fanout_*`` and ``room.server_rss_mb_per_h``
+    A thousand viewers (``--quick``: 300) through one server process, and through two and NATS:
+    :mod:`bench.room_shared`.
 ``room.wire_both_kbps``
     One viewer at 30 fps, 2 frames a packet: what its connection costs both ways, WebSocket
     framing and TCP/IPv4 headers included (40 bytes a segment, one segment a message, and a
@@ -46,7 +45,6 @@ from toon import standard_neutral
 from toonface.room.server import Rooms, in_thread
 
 TOKENS = {"bench": ("perform-bench-token-0123", "watch-bench-token-0123")}
-VIEWERS = 200
 TCP_IP = 40  # bytes of TCP and IPv4 headers a segment
 STAMP = struct.Struct("<d")
 
@@ -63,21 +61,9 @@ def run(quick: bool = False) -> list[Figure]:
     figures = [Figure("room.added_p95_ms", added, "ms", 20.0, False,
                       {"through_p95_ms": round(float(np.percentile(through, 95)), 3),
                        "direct_udp_p95_ms": round(float(np.percentile(direct, 95)), 3), "packets": packets}),
-               *(room_shared.run(quick) or _one_process(quick, packets)), _wire(), *_browser(quick),
+               *room_shared.run(quick), _wire(), *_browser(quick),
                *room_page.run(quick)]
     return figures
-
-
-def _one_process(quick: bool, packets: int) -> list[Figure]:
-    """The fan-out with one server process in this one (where nats-server is missing)."""
-    viewers = 50 if quick else VIEWERS
-    with _server() as base:
-        delays = asyncio.run(_fan_out(base, viewers, packets))
-    every = np.concatenate([d for d in delays if len(d)]) if any(len(d) for d in delays) else np.zeros(1)
-    lost = sum(packets - len(d) for d in delays)
-    detail = {"viewers": viewers, "server_processes": 1, "packets_each": packets, "pubsub": None}
-    return [Figure("room.fanout_p95_ms", float(np.percentile(every, 95)), "ms", 50.0, False, detail),
-            Figure("room.fanout_lost", float(lost), "packets", 0.0, False, detail)]
 
 
 @contextmanager

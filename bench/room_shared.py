@@ -1,6 +1,6 @@
-"""The room's fan-out as the issue sets it: two server processes sharing one port and their rooms
-through a NATS server (``toonface room --workers 2 --pubsub``), one performer at 60 Hz and
-``VIEWERS`` WebSocket viewers, all on this machine's loopback.
+"""The room's fan-out: one performer at 60 Hz and ``VIEWERS`` WebSocket viewers on this machine's
+loopback, through one server process (``toonface room``), and through two sharing one port and
+their rooms through a NATS server (``toonface room --workers 2 --pubsub``).
 
 The viewers are written here on bare asyncio sockets (the handshake, then frames read straight
 from the stream, a pong for each ping, a reply now and then as a real viewer's acknowledgements
@@ -9,10 +9,14 @@ take this 2-core machine's whole time from the servers they measure. Each packet
 send time after the stream's own bytes (the server reads only its stream id).
 
 ``room.fanout_p95_ms`` and ``room.fanout_lost``
-    The 95th percentile of every viewer's delay from the performer's send (goal 50), and the
-    packets any viewer missed (goal 0). The detail has each process's CPU per viewer.
+    One server process (issue 63): the 95th percentile of every viewer's delay from the
+    performer's send (goal 50), and the packets any viewer missed (goal 0). The detail has the
+    process's CPU per viewer.
+``room.shared_fanout_p95_ms`` and ``room.shared_fanout_lost``
+    The same through two processes and NATS (issue 45's setting); none where nats-server is
+    missing.
 ``room.server_rss_mb_per_h``
-    The servers' resident memory (every process of theirs) over the run after its first
+    The two servers' resident memory (every process of theirs) over that run after its first
     :data:`WARM_SECONDS`, as a straight line's slope in MB an hour (goal: flat, under 10).
 """
 
@@ -44,31 +48,40 @@ WARM_SECONDS = 5.0
 
 
 def run(quick: bool = False) -> list[Figure]:
-    """Measure and return the shared fan-out's figures (none where nats-server is missing)."""
+    """Measure and return the fan-out's figures (the shared ones only where nats-server is)."""
+    viewers = 300 if quick else VIEWERS
+    with tempfile.TemporaryDirectory() as folder, _servers(Path(folder), None) as (port, tokens, pids):
+        seconds = 10.0 if quick else 60.0
+        delays, lost, _, cpu = asyncio.run(_measure(port, tokens, viewers, seconds, pids))
+    figures = _fanout("room.fanout", delays, lost, cpu, viewers, seconds, 1)
     nats = shutil.which("nats-server") or shutil.which("nats-server", path="/usr/sbin:/usr/local/sbin")
     if nats is None:
         print("room: nats-server is missing (make test installs it): no shared fan-out figures", file=sys.stderr)
-        return []
-    seconds = 20.0 if quick else 300.0  # (the issue: memory flat over five minutes)
-    viewers = 300 if quick else VIEWERS
+        return figures
+    seconds = 20.0 if quick else 300.0  # (issue 45: memory flat over five minutes)
     with tempfile.TemporaryDirectory() as folder, _nats(nats) as url, \
             _servers(Path(folder), url) as (port, tokens, pids):
-        result = asyncio.run(_measure(port, tokens, viewers, seconds, pids))
-    delays, lost, rss, cpu = result
+        delays, lost, rss, cpu = asyncio.run(_measure(port, tokens, viewers, seconds, pids))
     rss = [(t, m) for t, m in rss if t >= WARM_SECONDS]  # (the first packets' work grows it once)
     hours = np.array([t for t, _ in rss]) / 3600
     megabytes = np.array([m for _, m in rss])
     slope = float(np.polyfit(hours, megabytes, 1)[0]) if len(rss) > 2 else float("nan")
-    every = np.concatenate(delays) if delays else np.zeros(1)
-    detail = {"viewers": viewers, "server_processes": 2, "pubsub": "nats", "seconds": seconds, "rate_hz": RATE,
-              "cpu_us_per_viewer_packet": round(cpu * 1e6 / max(1, viewers * seconds * RATE), 2),
-              "server_cpu_share_of_a_core": round(cpu / seconds, 3)}
-    return [Figure("room.fanout_p95_ms", float(np.percentile(every, 95)), "ms", 50.0, False,
-                   {**detail, "p50_ms": round(float(np.percentile(every, 50)), 2)}),
-            Figure("room.fanout_lost", float(lost), "packets", 0.0, False, detail),
+    return [*figures, *_fanout("room.shared_fanout", delays, lost, cpu, viewers, seconds, 2),
             Figure("room.server_rss_mb_per_h", slope, "MB/h", 10.0, False,
                    {"first_mb": round(float(megabytes[0]), 1), "last_mb": round(float(megabytes[-1]), 1),
-                    "samples": len(rss), "seconds": seconds})]
+                    "samples": len(rss), "seconds": seconds, "server_processes": 2})]
+
+
+def _fanout(name: str, delays: list[np.ndarray], lost: int, cpu: float, viewers: int, seconds: float,
+            processes: int) -> list[Figure]:
+    every = np.concatenate(delays) if delays else np.zeros(1)
+    detail = {"viewers": viewers, "server_processes": processes, "pubsub": "nats" if processes > 1 else None,
+              "seconds": seconds, "rate_hz": RATE,
+              "cpu_us_per_viewer_packet": round(cpu * 1e6 / max(1, viewers * seconds * RATE), 2),
+              "server_cpu_share_of_a_core": round(cpu / seconds, 3)}
+    return [Figure(f"{name}_p95_ms", float(np.percentile(every, 95)), "ms", 50.0, False,
+                   {**detail, "p50_ms": round(float(np.percentile(every, 50)), 2)}),
+            Figure(f"{name}_lost", float(lost), "packets", 0.0, False, detail)]
 
 
 class _nats:
@@ -89,16 +102,16 @@ class _nats:
 
 
 class _servers:
-    """``toonface room --workers 2 --pubsub URL`` on a free port; yields the port, the tokens and
-    the server processes' ids."""
+    """``toonface room`` on a free port, one process, or two sharing through ``url`` (``--workers 2
+    --pubsub URL``); yields the port, the tokens and the server processes' ids."""
 
-    def __init__(self, folder: Path, url: str) -> None:
+    def __init__(self, folder: Path, url: str | None) -> None:
         self.folder, self.url, self.port = folder, url, _free_port()
 
     def __enter__(self) -> tuple[int, tuple[str, str], list[int]]:
         command = [sys.executable, "-m", "toonface", "room", "--listen", f"127.0.0.1:{self.port}", "--room", "bench",
-                   "--tokens", str(self.folder / "rooms.toml"), "--workers", "2", "--pubsub", self.url,
-                   "--max-viewers", "5000"]
+                   "--tokens", str(self.folder / "rooms.toml"), "--max-viewers", "5000",
+                   *(["--workers", "2", "--pubsub", self.url] if self.url else [])]
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         assert self.process.stdout is not None
         lines = [self.process.stdout.readline() for _ in range(3)]
