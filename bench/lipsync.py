@@ -281,8 +281,8 @@ def _fill(clips: list) -> Figure:
                 chosen, markerset = choose_mapping(take)
                 held = map_onto_face(take)
                 voice = read_voice(path)
-                filled, _ = fill_from_voice(held, lost_mouth(take, chosen, markerset), map_onto_face(voice, "first"),
-                                            voice.times)
+                filled, _ = fill_from_voice(held, lost_mouth(take, chosen, markerset),
+                                            map_onto_face(voice, "first", life=False), voice.times)
                 held_err.append(float(np.abs(held.values[first:last, mb] - seen[first:last]).mean()))
                 filled_err.append(float(np.abs(filled.values[first:last, mb] - seen[first:last]).mean()))
                 detail.append(f"{clip.stem}@{first}: {held_err[-1]:.3f} -> {filled_err[-1]:.3f}")

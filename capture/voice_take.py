@@ -29,6 +29,7 @@ from capture.voice import (
     shape_sequence,
     speaking,
 )
+from capture.voice_pitch import pitch_hz, semitones
 from capture.voice_sound import sound_mouth
 from capture.voice_words import words_mouth
 from common import InputError
@@ -101,8 +102,10 @@ def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
 
 def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Take:
     """A voice as a take with no markers: at 100 Hz, a channel per mouth shape,
-    ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), and the sound's
-    level, ``sound_level`` (0..1), by which a rest window is chosen in silence. Times are on
+    ``viseme_A`` ... ``viseme_X`` (each shape's weight, 0..1, summing to 1), the sound's
+    level, ``sound_level`` (0..1), by which a rest window is chosen in silence, and its pitch,
+    ``voice_pitch`` (semitones above 55 Hz, 0 unvoiced: :mod:`capture.voice_pitch`), from which
+    the life layer (:mod:`mapping.life`) raises the brows. Times are on
     the clock of a video's first frame (a video's sound may start before or after it)."""
     heard = hear_voice(path, text, listen)
     frames, samples = len(heard.shapes), heard.samples
@@ -111,8 +114,9 @@ def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     level = np.sqrt(np.mean(np.resize(np.pad(samples, (0, frames * hop)), frames * hop).reshape(frames, hop) ** 2,
                             axis=1))
     level = level / max(float(level.max()), 1e-9)
-    channels = np.column_stack([curves, level])
-    names = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
+    pitch = semitones(pitch_hz(samples, frames))
+    channels = np.column_stack([curves, level, pitch])
+    names = (*(f"viseme_{v}" for v in VISEMES), "sound_level", "voice_pitch")
     return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, times=heard.start + np.arange(frames) / FRAME_RATE,
                 channels=channels, channel_names=names,
                 meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones),

@@ -25,6 +25,7 @@ from capture.take import SOUND_LEVEL
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.coupling import learn_couplings
+from mapping.life import LifeSettings, add_life, take_cues
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, marker_quality, normalise, rule_shares
 from mapping.plan import MotorPlan, resolved_mode
@@ -325,8 +326,11 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
     return ReadyTake(prepared, chosen, profile, tuple(notes), rest, kind)
 
 
-def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None) -> MotorTrack:
-    """The motor track of a :class:`ReadyTake` on a face whose neutral is ``target_neutral``."""
+def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None, life: bool | LifeSettings | None = None
+              ) -> MotorTrack:
+    """The motor track of a :class:`ReadyTake` on a face whose neutral is ``target_neutral``,
+    with the life layer (:mod:`mapping.life`) on the motors the mapping does not drive where
+    ``life`` says (True or its settings: on; None: on for a voice alone)."""
     take, stable = ready.prepared.take, ready.prepared.stable
     track = map_stabilised(stable, ready.prepared.columns, take.times, take.rate, ready.mapping, ready.profile,
                            target_neutral, stable.filled)
@@ -334,20 +338,29 @@ def map_ready(ready: ReadyTake, target_neutral: np.ndarray | None = None) -> Mot
     mapped = replace(track, meta=meta)  # the extra parameters (HT) kept
     rest = standard_neutral() if target_neutral is None else target_neutral
     mapped.meta["report"] = take_report(ready, mapped, rest).as_dict()  # what was chosen, and how far to trust it
+    if life is None:
+        life = take.meta.get("source") == "voice"
+    if life is not False:
+        settings = life if isinstance(life, LifeSettings) else LifeSettings()
+        channels = {name: take.channels[:, i] for i, name in enumerate(take.channel_names)}
+        cues = take_cues(channels, mapped.frames, mapped.rate, settings)
+        mapped = add_life(mapped, cues, {rule.code for rule in ready.mapping.rules}, settings)
     return mapped
 
 
 def map_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
              neutral_window: NeutralSpec = None, target_neutral: np.ndarray | None = None,
-             settings: CleanSettings = CleanSettings(), mirror: bool = False) -> MotorTrack:
+             settings: CleanSettings = CleanSettings(), mirror: bool = False,
+             life: bool | LifeSettings | None = None) -> MotorTrack:
     """Clean, calibrate (unless ``profile`` is given) and map ``take``.
 
     ``neutral_window`` (see :func:`rest_window`) sets the rest pose from the take even with a profile
     (its ranges are kept around the new rest), for a take whose head rests differently from the
     profile's session; None keeps a given profile's rest. ``mirror`` swaps the sides whatever the
-    mapping says. The same as :func:`map_ready` of :func:`ready_take`.
+    mapping says. ``life``: the life layer, as :func:`map_ready` takes it. The same as
+    :func:`map_ready` of :func:`ready_take`.
     """
-    return map_ready(ready_take(take, mapping, profile, neutral_window, settings, mirror), target_neutral)
+    return map_ready(ready_take(take, mapping, profile, neutral_window, settings, mirror), target_neutral, life)
 
 
 def check_profile(profile: Profile, mapping: Mapping, markerset: str) -> None:

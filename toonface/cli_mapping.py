@@ -13,6 +13,7 @@ from click.core import ParameterSource
 from toonface.cli_options import (
     BACKGROUND,
     FACE,
+    LIFE,
     MIRROR,
     NO_PHYSICS,
     SIZE,
@@ -225,11 +226,12 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
 @MIRROR
 @_clean_settings
 @_VOICE_FILL
+@LIFE
 @_JSON
 @take_options
 def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
             neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning, voice_fill: bool,
-            as_json: bool, reading: TakeReading) -> None:
+            life: bool | None, as_json: bool, reading: TakeReading) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz). TAKE
     may also be a talking-head video with no markers (its face tracked, as by retarget) or a
     voice (a sound file: .wav .mp3 .ogg ...).
@@ -246,7 +248,7 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
     face_obj = load_face(face) if face else None
-    track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile, cleaning.settings(loaded.rate))
+    track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile, cleaning.settings(loaded.rate), life)
     if Path(take).suffix.lower() in VIDEO_SUFFIXES and voice_fill and has_audio(take):
         track = _fill_from_voice(track, loaded, take, face_obj, mapping, mirror, as_json)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
@@ -266,7 +268,7 @@ def _fill_from_voice(track, loaded, video: str, face, mapping: str | None, mirro
     if not lost.any():
         return track
     voice = read_voice(video)
-    filled, frames = fill_from_voice(track, lost, map_onto_face(voice, "first", face, mirror), voice.times)
+    filled, frames = fill_from_voice(track, lost, map_onto_face(voice, "first", face, mirror, life=False), voice.times)
     click.echo(f"note: the mouth ({', '.join(MOUTH)}) from the voice in {frames} frames where the face's mouth was "
                f"lost ({int(lost.any(axis=1).sum())} frames; --no-voice-fill keeps the face's own hold)", err=True)
     return filled
@@ -302,12 +304,13 @@ def _report(track, take: str, as_json: bool) -> None:
 @BACKGROUND
 @NO_PHYSICS
 @_VOICE_FILL
+@LIFE
 @_JSON
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
-             side_by_side: bool, background: str | None, no_physics: bool, voice_fill: bool, as_json: bool,
-             reading: TakeReading) -> None:
+             side_by_side: bool, background: str | None, no_physics: bool, voice_fill: bool, life: bool | None,
+             as_json: bool, reading: TakeReading) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
     (a sound file: .wav .mp3 .ogg ...), whose mouth shapes move the mouth (the voice mapping)
@@ -325,7 +328,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
         raise click.BadParameter("needs a video TAKE to show beside the cartoon", param_hint="--side-by-side")
     loaded = read_take(take, reading, mapping=mapping)
     profile = _profile(profile_path, calibration, mapping, reading, {take: loaded})
-    track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile)
+    track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile, life=life)
     if video and voice_fill and has_audio(take):
         track = _fill_from_voice(track, loaded, take, face_obj, mapping, mirror, as_json)
     bar = progress("render")(track.frames)

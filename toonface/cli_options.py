@@ -294,6 +294,11 @@ def with_background(face: Any, value: str | None) -> Any:
                                                  int(rgb[4:6], 16) / 255, int(alpha, 16) / 255 if alpha else 1.0))
 
 
+LIFE = click.option(
+    "--life/--no-life", default=None,
+    help="The life layer on the motors the source does not drive: blinks at pauses, gaze that holds and jumps, "
+         "brows raised on pitch accents, nods on stressed syllables, sway and breathing (seeded: the same every "
+         "run). On by default for a voice alone, off for other takes.")
 NO_PHYSICS = click.option(
     "--no-physics", is_flag=True,
     help="Draw without the face's physics: nothing swings or settles after the motors (hair, beard, hat).")

@@ -31,16 +31,18 @@ def truth_track(synthetic: SyntheticTake) -> MotorTrack:
 
 def map_onto_face(take: Take, neutral_window: tuple[float, float] | str | None = (0.0, 1.0), face: Face | None = None,
              mirror: bool = False, mapping: Mapping | str | None = None, profile: Profile | None = None,
-             settings: CleanSettings = CleanSettings()) -> MotorTrack:
+             settings: CleanSettings = CleanSettings(), life: bool | None = None) -> MotorTrack:
     """Clean and map a take (see :func:`mapping.map_take`).
 
     With ``face``, the performer's neutral maps onto that face's rest pose; otherwise onto the
     standard neutral shared by the built-in faces. ``mirror`` swaps the sides whatever the
     mapping says. ``neutral_window``: seconds, ``"first"``, ``"stillest"`` or None (a given
-    profile's rest, else the first second); see :func:`mapping.workflow.rest_window`.
+    profile's rest, else the first second); see :func:`mapping.workflow.rest_window`. ``life``:
+    the life layer (:mod:`mapping.life`) on the motors the source does not drive (None: on for a
+    voice alone).
     """
     target = None if face is None else face.neutral()
-    return map_take(take, mapping, profile, neutral_window, target, settings, mirror)
+    return map_take(take, mapping, profile, neutral_window, target, settings, mirror, life)
 
 
 def render(track: MotorTrack, face: Face, output: str | os.PathLike, size: tuple[int, int] = (512, 512),

@@ -64,7 +64,7 @@ def test_a_sound_file_plays_as_a_live_voice_each_frame_within_its_lookahead(line
 
 
 def test_the_live_level_is_the_files_once_the_loudest_has_been_heard(line):
-    sound = np.asarray(read_voice(line).channels[:, -1])
+    sound = np.asarray(read_voice(line).channel("sound_level"))
     clock = FakeClock()
     chunks = played(np.asarray(_speech([("-", 0.5), ("a", 0.4), ("-", 0.1), ("i", 0.3), ("u", 0.3), ("-", 0.6)])),
                     clock=clock, sleep=clock.sleep)
