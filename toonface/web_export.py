@@ -77,7 +77,8 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
     if transparent:
         face = dataclasses.replace(face, background=(*face.background[:3], 0.0))
     rig = FaceRig(face)
-    kept = drawable(track.extra_codes, face.extra_codes)[0]
+    kept, _, unknown = drawable(track.extra_codes, face.extra_codes)
+    kept += unknown  # (one the face lacks and no face has: the rig's error names it, as a render's does)
     table = track.table()
     columns = [N_MOTORS + track.extra_codes.index(code) for code in kept]
     rows = [rig.full_values(row[:N_MOTORS], dict(zip(kept, row[columns].tolist(), strict=True))).round(6).tolist()

@@ -75,3 +75,11 @@ def test_the_player_shows_the_renderers_frames_and_plays_its_sound(face_name, tr
             assert alpha[0, 0] == 0 and alpha[-1, -1] == 0 and alpha[256, 256] == 255
         driver.execute_script("player.seek(0.5); player.play();")
         wait_for(driver, "player.playing && player.now() > 0.7 && player.drawn > 10", 5.0)
+
+
+def test_a_parameter_no_face_has_is_an_error_naming_it_as_a_render_says(tmp_path, capsys):
+    track = _track()
+    odd = MotorTrack(track.values, track.rate, extra_codes=("BEARDX",), extra=np.full((track.frames, 1), 0.5))
+    save_track(odd, tmp_path / "m.csv")
+    assert main(["export", "web", str(tmp_path / "m.csv"), "-o", str(tmp_path / "p.html")]) == 2
+    assert "has no parameter BEARDX" in capsys.readouterr().err and not (tmp_path / "p.html").exists()

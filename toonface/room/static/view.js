@@ -173,8 +173,13 @@
   }
 
   function secretOf(text) {
-    // the stream's key from the link (base64url, as `toonface room` prints it)
-    const plain = atob(text.replace(/-/g, "+").replace(/_/g, "/").padEnd(Math.ceil(text.length / 4) * 4, "="));
+    // the stream's key from the link (base64url, as `send --key-file` prints it)
+    let plain;
+    try {
+      plain = atob(text.replace(/-/g, "+").replace(/_/g, "/").padEnd(Math.ceil(text.length / 4) * 4, "="));
+    } catch {
+      throw new Error("the key in the link is not base64url (copy it as send --key-file printed it)");
+    }
     return Uint8Array.from(plain, (c) => c.charCodeAt(0));
   }
 

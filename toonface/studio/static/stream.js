@@ -204,8 +204,15 @@
     // the stream's cipher for a shared secret (bytes): AES-256-GCM-SIV under a key derived by
     // HKDF-SHA256, as stream/framing.py StreamKey; noble's audited code, served by the room server
     if (secret.length < 16) throw new Error("a key needs at least 16 bytes");
-    const [{gcmsiv}, {hkdf}, {sha256}] = await Promise.all([
-      import(`${base}/ciphers/aes.js`), import(`${base}/hashes/hkdf.js`), import(`${base}/hashes/sha2.js`)]);
+    let modules;
+    try {
+      modules = await Promise.all([
+        import(`${base}/ciphers/aes.js`), import(`${base}/hashes/hkdf.js`), import(`${base}/hashes/sha2.js`)]);
+    } catch {
+      throw new Error("this page cannot open sealed streams: @noble/ciphers and @noble/hashes are not served "
+        + "here (make browser installs them beside the room server)");
+    }
+    const [{gcmsiv}, {hkdf}, {sha256}] = modules;
     const derived = hkdf(sha256, secret, undefined, new TextEncoder().encode(`toonface stream ${VERSION}`), 32);
     return {open: (nonce, data, aad) => gcmsiv(derived, nonce, aad).decrypt(data),
       seal: (nonce, data, aad) => gcmsiv(derived, nonce, aad).encrypt(data)};
