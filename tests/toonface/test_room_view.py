@@ -1,31 +1,28 @@
-"""The room's browser viewers. Issue 63: the page draws the faces itself from the performers'
-packets (the server relays them and draws nothing; a sealed room opens in the page that holds the
-key); the page in Chromium shows what the offscreen renderer draws for the same motors. Issue 45,
-``?draw=server``: the server decodes the room's streams once and draws each performer as the studio
-draws (toon.svg), sending only the lines that changed; a lagging viewer is skipped rather than
-holding the others back; a clear page for OBS."""
+"""The room's browser viewers drawn by the server (issue 45, ``?draw=server``): the server decodes
+the room's streams once and draws each performer as the studio draws (toon.svg), sending only the
+lines that changed; a lagging viewer is skipped rather than holding the others back; the page in
+Chromium shows what the offscreen renderer draws for the same motors, and a clear page for OBS.
+The page that draws the faces itself (the default) is ``test_room_page.py``'s; the performer page
+driving a viewer page is here."""
 
 import asyncio
 import dataclasses
-import io
 import json
-import threading
 import zlib
 from pathlib import Path
 
 import numpy as np
 import pytest
+from room_pages import KEY, TOKENS, performer, settled_pictures
+from room_pages import face_png as _face_png
+from room_pages import pose as _pose
 
-from player.motion import SecondaryMotion
 from stream.packets import StreamWriter
 from toon import FaceRig, load_face, motor_index, standard_neutral
 from toon.svg import geometry_svg
 from toonface.room.fanout import send_all
 from toonface.room.server import Rooms, in_thread
 from toonface.room.stage import DECIMALS, Stage, packed
-
-TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
-KEY = b"a shared secret of the room 0123"
 
 
 class Clock:
@@ -34,13 +31,6 @@ class Clock:
 
     def __call__(self) -> float:
         return self.now
-
-
-def _pose() -> np.ndarray:
-    values = standard_neutral().copy()
-    values[motor_index("MB")] = 0.9  # the mouth wide open
-    values[motor_index("BLM")] = 0.85
-    return values
 
 
 def _feed(stage: Stage, clock: Clock, values, seconds: float, writer: StreamWriter) -> None:
@@ -178,64 +168,31 @@ def test_a_packet_is_framed_once_as_rfc_6455_says_and_a_viewer_that_lags_misses_
     assert length == size and frame[start:] == data
 
 
-def _face_png(driver) -> np.ndarray:
-    from PIL import Image
-
-    png = driver.find_element("css selector", "figure .face").screenshot_as_png
-    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
-
-
 @pytest.mark.slow  # Chromium and two seconds of stream: make test runs it
 def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_and_a_clear_page_for_obs():
     """The server-drawn page (``?draw=server``)."""
     from browser import chromium, wait_for
 
-    from player.backends import open_renderer
-    from stream.sender import StreamSender
-    from stream.websocket import WebSocketLink
-
     face = load_face("cat")
     rooms = Rooms(TOKENS, face=face)
-    stop = threading.Event()
-
-    def perform(sender: StreamSender) -> None:  # a live performer holding the open mouth, at 30 Hz
-        frame = 0
-        while not stop.wait(1 / 30):
-            sender.write(frame / 30, _pose())
-            frame += 1
-
-    with in_thread(rooms) as base, chromium(900, 900) as driver:
-        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
-        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2A), link=link)
-        thread = threading.Thread(target=perform, args=(sender,))
+    with in_thread(rooms) as base, chromium(900, 900) as driver, performer(base, 0x2A) as one:
         page = f"{base.replace('ws://', 'http://')}/r/demo?draw=server"
         driver.get(f"{page}#watch={TOKENS['demo'][1]}")
-        thread.start()
-        try:
-            # the ears settled: a frame with no line changed
-            wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 20 && "
-                     "Object.keys(window.viewer.last.performers[0].lines || {x: 1}).length === 0", timeout=30)
-            caption = driver.execute_script("return document.querySelector('figcaption').textContent")
-            shown = _face_png(driver)
-            driver.get(f"{page}&obs#watch={TOKENS['demo'][1]}")
-            wait_for(driver, "window.viewer.performers.size === 1")
-            clear = driver.execute_script(
-                "const r = document.querySelector('.face svg > rect');"
-                "return [getComputedStyle(r).display, getComputedStyle(document.body).backgroundColor,"
-                " getComputedStyle(document.querySelector('header')).display]")
-        finally:
-            stop.set()
-            thread.join()
-            sender.close()
+        one.start()
+        # the ears settled: a frame with no line changed
+        wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 20 && "
+                 "Object.keys(window.viewer.last.performers[0].lines || {x: 1}).length === 0", timeout=30)
+        caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+        shown = _face_png(driver)
+        driver.get(f"{page}&obs#watch={TOKENS['demo'][1]}")
+        wait_for(driver, "window.viewer.performers.size === 1")
+        clear = driver.execute_script(
+            "const r = document.querySelector('.face svg > rect');"
+            "return [getComputedStyle(r).display, getComputedStyle(document.body).backgroundColor,"
+            " getComputedStyle(document.querySelector('header')).display]")
     assert caption.startswith("performer 2a · latency") and "loss 0 %" in caption
     assert clear == ["none", "rgba(0, 0, 0, 0)", "none"]
-    motion = SecondaryMotion(face)
-    extra = {}
-    for k in range(200):  # the ears settled, as the stage's have after three seconds held
-        extra = motion.extra_at(k / 30, _pose(), {})
-    with open_renderer((512, 512)) as renderer:
-        drawn = renderer.render(FaceRig(face).geometry(_pose(), extra)).astype(int)
-        neutral = renderer.render(FaceRig(face).geometry(standard_neutral(), {})).astype(int)
+    drawn, neutral = settled_pictures(face)  # the ears settled, as the stage's have after three seconds held
     assert shown.shape == drawn.shape
     difference = np.abs(shown - drawn)
     assert difference.mean() < 0.6  # antialiasing differs along edges only (0.13 when written)
@@ -367,110 +324,3 @@ def test_a_frame_the_stage_cannot_draw_is_said_and_the_drawing_goes_on(monkeypat
     error = asyncio.run(watch())
     assert calls["n"] >= 2 and "a face without that parameter" in error
 
-
-@pytest.mark.slow  # Chromium and four seconds of stream: make test runs it
-def test_the_page_that_draws_the_face_itself_is_sent_only_the_stream_and_draws_what_the_renderer_does():
-    """Issue 63: the page (by default, or ``?draw=page``) loads the face's web rig once and is then sent the
-    performer's packets as a native viewer is (no drawing on the server: the room has no stage);
-    it acknowledges them, so the performer hears back; what it draws, the ears' physics settled,
-    is what the offscreen renderer draws for the pose; and what it is sent is a few kbit/s."""
-    from browser import chromium, wait_for
-
-    from player.backends import open_renderer
-    from stream.sender import StreamSender
-    from stream.websocket import WebSocketLink
-
-    face = load_face("cat")
-    rooms = Rooms(TOKENS, face=face)
-    stop = threading.Event()
-
-    def perform(sender: StreamSender) -> None:  # a live performer holding the open mouth, at 30 Hz
-        frame = 0
-        while not stop.wait(1 / 30):
-            sender.write(frame / 30, _pose())
-            frame += 1
-
-    with in_thread(rooms) as base, chromium(900, 900) as driver:
-        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
-        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2A), link=link)
-        thread = threading.Thread(target=perform, args=(sender,))
-        driver.get(f"{base.replace('ws://', 'http://')}/r/demo?draw=page#watch={TOKENS['demo'][1]}")
-        wait_for(driver, "window.viewer.connected")
-        thread.start()
-        try:
-            wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 30", timeout=30)
-            start = driver.execute_script("return [window.viewer.bytes, performance.now()]")
-            stop.wait(3.0)  # the ears settle, the bytes count
-            end = driver.execute_script("return [window.viewer.bytes, performance.now()]")
-            values = driver.execute_script("return window.viewer.last.performers[0].values")
-            caption = driver.execute_script("return document.querySelector('figcaption').textContent")
-            shown = _face_png(driver)
-        finally:
-            stop.set()
-            thread.join()
-            sender.close()
-    assert rooms.rooms["demo"].browsers is None  # nothing drawn on the server
-    assert sender.acks > 0  # the page's acknowledgements reached the performer
-    assert caption.startswith("performer 2a · latency – · loss 0 % · concealed ")  # (another clock: no latency)
-    np.testing.assert_allclose([values[c] for c in ("MB", "BLM")], [0.9, 0.85], atol=0.006)
-    kbps = (end[0] - start[0]) * 8 / (end[1] - start[1])  # bytes a millisecond: kbit/s
-    assert 0.5 < kbps < 5  # packets alone (15 a second), where the drawn page is sent hundreds
-    motion = SecondaryMotion(face)
-    extra = {}
-    for k in range(200):
-        extra = motion.extra_at(k / 30, _pose(), {})
-    with open_renderer((512, 512)) as renderer:
-        drawn = renderer.render(FaceRig(face).geometry(_pose(), extra)).astype(int)
-        neutral = renderer.render(FaceRig(face).geometry(standard_neutral(), {})).astype(int)
-    assert shown.shape == drawn.shape
-    difference = np.abs(shown - drawn)
-    assert difference.mean() < 0.6 and np.mean(difference.max(axis=2) > 64) < 0.01
-    assert np.abs(shown - neutral).mean() > 3 * difference.mean()
-
-
-@pytest.mark.slow  # Chromium and two pages of stream: make test runs it
-def test_a_sealed_room_opens_in_the_page_that_holds_the_key_and_the_server_holds_none():
-    """End to end: the performer seals, the room server has no key and relays what it cannot
-    read, the page with the key in its link's fragment opens the packets (and seals its
-    acknowledgements, which the performer opens), and a page without it says why it shows nothing."""
-    from browser import chromium, wait_for
-
-    from stream.sender import StreamSender
-    from stream.websocket import WebSocketLink
-    from toonface.cli_stream import page_key
-
-    rooms = Rooms(TOKENS, face=load_face("classic"))
-    assert rooms.key is None
-    stop = threading.Event()
-
-    def perform(sender: StreamSender) -> None:
-        frame = 0
-        while not stop.wait(1 / 30):
-            sender.write(frame / 30, _pose())
-            frame += 1
-
-    with in_thread(rooms) as base, chromium(900, 900) as driver:
-        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
-        sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2B, key=KEY), link=link)
-        thread = threading.Thread(target=perform, args=(sender,))
-        page = f"{base.replace('ws://', 'http://')}/r/demo?draw=page#watch={TOKENS['demo'][1]}"
-        driver.get(f"{page}&key={page_key(KEY)}")
-        wait_for(driver, "window.viewer.connected")
-        thread.start()
-        try:
-            wait_for(driver, "window.viewer.frames > 30 && window.viewer.sent > 0", timeout=30)
-            values = driver.execute_script("return window.viewer.last.performers[0].values")
-            acks = sender.acks
-            driver.get("about:blank")  # (a new fragment alone would not load the page again)
-            driver.get(page)  # no key
-            wait_for(driver, "(document.querySelector('figcaption') || {}).textContent?.includes('do not open')")
-            caption = driver.execute_script("return document.querySelector('figcaption').textContent")
-            frames = driver.execute_script("return window.viewer.frames")
-        finally:
-            stop.set()
-            thread.join()
-            sender.close()
-    np.testing.assert_allclose([values[c] for c in ("MB", "BLM")], [0.9, 0.85], atol=0.006)
-    assert acks > 0  # the page's sealed acknowledgements opened at the performer
-    assert caption == "performer 2b · its packets do not open: sealed (add the key to the link: #watch=…&key=…)"
-    assert frames == 0

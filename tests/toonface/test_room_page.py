@@ -1,0 +1,75 @@
+"""The room's viewer page that draws the faces itself (issue 63, the default page): sent only the
+performers' packets (the server relays them and draws nothing), it draws what the offscreen
+renderer draws for the same motors; a sealed room opens in the page that holds the key while the
+server holds none."""
+
+import numpy as np
+import pytest
+from room_pages import KEY, TOKENS, face_png, performer, settled_pictures
+
+from toon import load_face
+from toonface.room.server import Rooms, in_thread
+
+
+@pytest.mark.slow  # Chromium and four seconds of stream: make test runs it
+def test_the_page_that_draws_the_face_itself_is_sent_only_the_stream_and_draws_what_the_renderer_does():
+    """The page loads the face's web rig once and is then sent the performer's packets as a native
+    viewer is (no drawing on the server: the room has no stage); it acknowledges them, so the
+    performer hears back; what it draws, the ears' physics settled, is what the offscreen renderer
+    draws for the pose; and what it is sent is a few kbit/s."""
+    from browser import chromium, wait_for
+
+    face = load_face("cat")
+    rooms = Rooms(TOKENS, face=face)
+    with in_thread(rooms) as base, chromium(900, 900) as driver, performer(base, 0x2A) as one:
+        driver.get(f"{base.replace('ws://', 'http://')}/r/demo?draw=page#watch={TOKENS['demo'][1]}")
+        wait_for(driver, "window.viewer.connected")
+        one.start()
+        wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 30", timeout=30)
+        start = driver.execute_script("return [window.viewer.bytes, performance.now()]")
+        one.wait(3.0)  # the ears settle, the bytes count
+        end = driver.execute_script("return [window.viewer.bytes, performance.now()]")
+        values = driver.execute_script("return window.viewer.last.performers[0].values")
+        caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+        shown = face_png(driver)
+    assert rooms.rooms["demo"].browsers is None  # nothing drawn on the server
+    assert one.sender.acks > 0  # the page's acknowledgements reached the performer
+    assert caption.startswith("performer 2a · latency – · loss 0 % · concealed ")  # (another clock: no latency)
+    np.testing.assert_allclose([values[c] for c in ("MB", "BLM")], [0.9, 0.85], atol=0.006)
+    kbps = (end[0] - start[0]) * 8 / (end[1] - start[1])  # bytes a millisecond: kbit/s
+    assert 0.5 < kbps < 5  # packets alone (15 a second), where the drawn page is sent hundreds
+    drawn, neutral = settled_pictures(face)
+    assert shown.shape == drawn.shape
+    difference = np.abs(shown - drawn)
+    assert difference.mean() < 0.6 and np.mean(difference.max(axis=2) > 64) < 0.01
+    assert np.abs(shown - neutral).mean() > 3 * difference.mean()
+
+
+@pytest.mark.slow  # Chromium and two pages of stream: make test runs it
+def test_a_sealed_room_opens_in_the_page_that_holds_the_key_and_the_server_holds_none():
+    """End to end: the performer seals, the room server has no key and relays what it cannot
+    read, the page with the key in its link's fragment opens the packets (and seals its
+    acknowledgements, which the performer opens), and a page without it says why it shows nothing."""
+    from browser import chromium, wait_for
+
+    from toonface.cli_stream import page_key
+
+    rooms = Rooms(TOKENS, face=load_face("classic"))
+    assert rooms.key is None
+    with in_thread(rooms) as base, chromium(900, 900) as driver, performer(base, 0x2B, KEY) as one:
+        page = f"{base.replace('ws://', 'http://')}/r/demo?draw=page#watch={TOKENS['demo'][1]}"
+        driver.get(f"{page}&key={page_key(KEY)}")
+        wait_for(driver, "window.viewer.connected")
+        one.start()
+        wait_for(driver, "window.viewer.frames > 30 && window.viewer.sent > 0", timeout=30)
+        values = driver.execute_script("return window.viewer.last.performers[0].values")
+        acks = one.sender.acks
+        driver.get("about:blank")  # (a new fragment alone would not load the page again)
+        driver.get(page)  # no key
+        wait_for(driver, "(document.querySelector('figcaption') || {}).textContent?.includes('do not open')")
+        caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+        frames = driver.execute_script("return window.viewer.frames")
+    np.testing.assert_allclose([values[c] for c in ("MB", "BLM")], [0.9, 0.85], atol=0.006)
+    assert acks > 0  # the page's sealed acknowledgements opened at the performer
+    assert caption == "performer 2b · its packets do not open: sealed (add the key to the link: #watch=…&key=…)"
+    assert frames == 0
