@@ -214,6 +214,7 @@ def test_the_viewer_page_fits_the_whole_face_and_its_caption_in_a_short_window()
         sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=0x2A), link=link)
         try:
             driver.get(f"{base.replace('ws://', 'http://')}/r/demo#watch={TOKENS['demo'][1]}")
+            wait_for(driver, "window.viewer.connected")  # (frames sent before the page listens never reach it)
             for frame in range(3):
                 sender.write(frame / 30, _pose())
             wait_for(driver, "window.viewer.performers.size === 1", timeout=30)
