@@ -91,14 +91,24 @@ def synthesize(seconds: float = 10.0, rate: float = 30.0, noise_mm: float = 0.2,
     ms = markerset if markerset is not None else load_markerset("toon32")
     performance = performance if performance is not None else default_performance(seconds)
     times = np.arange(int(round(performance.seconds * rate))) / rate
-    motors = perform(performance, times, poses)
+    made = performed(perform(performance, times, poses), rate, noise_mm, seed, ms)
+    made.take.meta["cues"] = sorted({cue.kind for cue in performance.cues})
+    return made
+
+
+def performed(motors: np.ndarray, rate: float, noise_mm: float = 0.2, seed: int = 0,
+              markerset: MarkerSet | None = None) -> SyntheticTake:
+    """The synthetic take of given true motor values ``(frames, 21)`` (columns in :data:`CODES`
+    order) at ``rate`` frames a second: the forward model of :func:`synthesize` without a script."""
+    ms = markerset if markerset is not None else load_markerset("toon32")
+    motors = np.asarray(motors, dtype=float)
+    times = np.arange(len(motors)) / rate
     local = _face_motion(ms, CODES, motors)
     world = _head_motion(local, times, motors[:, CODES.index("HH")], motors[:, CODES.index("HV")])
     rng = np.random.default_rng(seed)
     world = world + rng.normal(0.0, noise_mm, size=world.shape) if noise_mm else world
     meta = {"source": "synthetic", "seed": seed, "noise_mm": noise_mm, "markerset": ms.name,
-            "head_reference": list(ms.head_reference),
-            "cues": sorted({cue.kind for cue in performance.cues})}
+            "head_reference": list(ms.head_reference)}
     return SyntheticTake(Take(world, ms.labels, rate, times=times, meta=meta), CODES, motors)
 
 

@@ -27,6 +27,7 @@ import numpy as np
 from capture import MarkerSet
 from capture.sources import Frame
 from mapping.clean import head_references
+from mapping.eye_contact import LiveEyeContact
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.mapfile import Mapping
@@ -117,6 +118,8 @@ class LiveMapper:
         self.extra_codes: tuple[str, ...] = mapping.extra_codes
         self._extra_columns = [code_index(code) for code in self.extra_codes]
         self.extra = extended_neutral(self.neutral)[self._extra_columns]
+        #: Eye contact (:mod:`mapping.eye_contact`), stepped on every frame after the rest, where set.
+        self.eye_contact: LiveEyeContact | None = None
 
     @property
     def ready(self) -> bool:
@@ -149,6 +152,8 @@ class LiveMapper:
             self._collect_rest(stable, t)
             return self.neutral.copy(), np.zeros(N_MOTORS)
         values, confidence = self.map_frame(stable, quality[None], t)
+        if self.eye_contact is not None:  # the pupils centred on the screen's look, once calibrated
+            values = self.eye_contact.step(values, t)
         return values, confidence * min(max(trust, 0.0), 1.0)
 
     def extra_values(self) -> dict[str, float]:

@@ -299,6 +299,11 @@ LIFE = click.option(
     help="The life layer on the motors the source does not drive: blinks at pauses, gaze that holds and jumps, "
          "brows raised on pitch accents, nods on stressed syllables, sway and breathing (seeded: the same every "
          "run). On by default for a voice alone, off for other takes.")
+EYE_CONTACT = click.option(
+    "--eye-contact", is_flag=True,
+    help="After the rest (the first second), look at the middle of your screen for a second: that look becomes "
+         "the pupils' centre, so that the cartoon looks at its viewer while you look at the screen (a camera above "
+         "it sees you look down) and still looks away when you do. Said when taken, or why not.")
 NO_PHYSICS = click.option(
     "--no-physics", is_flag=True,
     help="Draw without the face's physics: nothing swings or settles after the motors (hair, beard, hat).")

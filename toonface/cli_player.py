@@ -12,6 +12,7 @@ from toon import animation_file as af
 from toon.animation import Animation
 from toonface.cli_options import (
     BACKGROUND,
+    EYE_CONTACT,
     FACE,
     NO_PHYSICS,
     OPENSEEFACE,
@@ -78,11 +79,12 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
+@EYE_CONTACT
 @NO_PHYSICS
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
          vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
-         seconds: float | None, stream_to: str | None, no_physics: bool, background: str | None,
+         seconds: float | None, stream_to: str | None, eye_contact: bool, no_physics: bool, background: str | None,
          virtual_camera: bool) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
@@ -130,12 +132,15 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
             raise click.BadParameter("give --camera or --source, not both", param_hint="--camera")
         source_spec = f"camera:{camera}"
     source_spec = bridge_spec(source_spec, vmc, openseeface, required=False)
+    if eye_contact and source_spec is None:
+        raise click.BadParameter("eye contact is for a performer: give --source, --camera, --vmc or --openseeface",
+                                 param_hint="--eye-contact")
     if source_spec is not None:
         if track_path:
             raise click.BadParameter("give --motors or --source, not both", param_hint="--source")
         from toonface.send import Follower
 
-        follower = Follower.open(source_spec, face_obj.neutral(), say, repeat=not once)
+        follower = Follower.open(source_spec, face_obj.neutral(), say, repeat=not once, eye_contact=eye_contact)
         settings.tracking = follower.latest.newest
         settings.extra = lambda t: follower.latest.extra() if follower is not None else {}
     settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)

@@ -16,6 +16,7 @@ from common import InputError
 from common.limits import read_regular
 from toonface.cli_options import (
     BACKGROUND,
+    EYE_CONTACT,
     FACE,
     FORCE_RECORD,
     NO_PHYSICS,
@@ -104,12 +105,13 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
 @click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
               help="This performer's stream id, for a receiver showing several [default: a random one].")
+@EYE_CONTACT
 @take_options
 def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], token: str | None,
          ca_file: str | None, mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
-         stats: bool, stream_id: int | None, force: bool, reading: TakeReading) -> None:
+         stats: bool, stream_id: int | None, eye_contact: bool, force: bool, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
     performer), or instead --vmc HOST:PORT (a face-tracking app over the VMC protocol) or
@@ -121,6 +123,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
     from capture.sources import open_source
     from mapping import load_profile
     from mapping import save_profile as write_profile
+    from mapping.eye_contact import LiveEyeContact
     from toonface.outputs import Outputs
     from toonface.send import SendReport, build_mapper, run_sender
 
@@ -139,6 +142,8 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
     mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes)
     for note in notes:
         click.echo(f"note: {note}", err=True)
+    if eye_contact:
+        mapper.eye_contact = LiveEyeContact(mapper.neutral, after=0.0, say=lambda text: click.echo(f"note: {text}"))
     key = _key(key_file)
     if key is None:
         click.echo(OPEN_STREAM, err=True)

@@ -150,17 +150,21 @@ class Follower:
 
     @classmethod
     def open(cls, spec: str, neutral: np.ndarray, say: Callable[[str], None] = lambda _: None,
-             repeat: bool = False) -> Follower:
+             repeat: bool = False, eye_contact: bool = False) -> Follower:
         """The follower of the source ``spec`` names (as ``send`` takes it; a file played again and
         again with ``repeat``), mapped onto a face whose neutral is ``neutral``; the choices made are
-        said through ``say``."""
+        said through ``say``; ``eye_contact``: calibrated in the second after the rest
+        (:mod:`mapping.eye_contact`)."""
         from capture.sources import open_source
+        from mapping.eye_contact import LiveEyeContact
 
         source = open_source(spec, repeat=repeat)
         notes: list[str] = []
         mapper = build_mapper(source, target_neutral=neutral, notes=notes)
         for note in notes:
             say(f"note: {note}")
+        if eye_contact:
+            mapper.eye_contact = LiveEyeContact(neutral, after=0.0, say=lambda text: say(f"note: {text}"))
         return cls(source, mapper, neutral)
 
     def start(self) -> None:

@@ -4,8 +4,10 @@ mapping and enter the room as a stream any viewer receives; bad messages are ref
 The page itself runs in Chromium in test_room_view.py."""
 
 import asyncio
+import contextlib
 import json
 import math
+import re
 
 import aiohttp
 import numpy as np
@@ -60,12 +62,14 @@ def test_a_page_frame_is_the_head_references_turned_and_the_arkit_scores():
             page_frame(bad, rest)
 
 
-def _frames(seconds: float, jaw: float, start: float = 0.0) -> list[str]:
-    """A page's messages at 25 frames a second, face front on, the jaw at ``jaw``."""
+def _frames(seconds: float, jaw: float, start: float = 0.0, down: float = 0.0) -> list[str]:
+    """A page's messages at 25 frames a second, face front on, the jaw at ``jaw``, the eyes
+    looking down by ``down`` (a score)."""
     matrix = np.eye(4)
     matrix[:3, 3] = [0, 0, -45]
-    return [json.dumps({"t": (start + k / 25) * 1000, "scores": {"jawOpen": jaw},
-                        "matrix": matrix.T.ravel().tolist()}) for k in range(round(seconds * 25))]
+    return [json.dumps({"t": (start + k / 25) * 1000, "matrix": matrix.T.ravel().tolist(),
+                        "scores": {"jawOpen": jaw, "eyeLookDownLeft": down, "eyeLookDownRight": down}})
+            for k in range(round(seconds * 25))]
 
 
 @pytest.mark.slow  # the mapping's real-time sender (1.5 s each): make test runs them (make test-fast stays near 50 s)
@@ -114,3 +118,42 @@ def test_the_wire_figure_counts_a_websocket_message_over_tcp_and_a_datagram_over
     finally:
         room.close()
         udp.close()
+
+
+@pytest.mark.slow  # the mapping's real-time sender: make test runs it
+def test_the_performer_pages_eye_contact_centres_its_look_at_the_screen_and_says_so():
+    """The rest looks into the lens, then the page asks for eye contact and looks down at its
+    screen: the page is told it was taken, and the pupils sent come back to centre."""
+    rooms = Rooms(TOKENS)
+    neutral = standard_neutral()
+
+    async def perform(base: str) -> tuple[list[str], np.ndarray]:
+        said: list[str] = []
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+                f"{base}/r/demo/ws?role=perform&format=face&token={TOKENS['demo'][0]}") as ws:
+            for text in _frames(1.0, 0.0):
+                await ws.send_str(text)
+            await ws.send_str('{"eye_contact": true}')  # no time: refused as malformed
+            await ws.send_str('{"eye_contact": true, "t": 1000}')
+            later, mapped, taken_at = _frames(30.0, 0.0, start=1.0, down=0.6), None, None
+            while later and mapped is None:
+                await ws.send_str(later.pop(0))  # the page's frames, each a chance to be told
+                with contextlib.suppress(TimeoutError):
+                    said.append(json.loads((await ws.receive(timeout=0.05)).data)["said"])
+                latest = next(iter(rooms.rooms["demo"].performers.values())).performer.follower.latest
+                if taken_at is None and any(line.startswith("eye contact taken") for line in said):
+                    taken_at = latest.frames
+                if taken_at is not None and latest.frames > taken_at + 5:  # frames mapped since
+                    mapped = latest.values()
+        assert mapped is not None
+        return said, mapped
+
+    with in_thread(rooms) as base:
+        said, values = asyncio.run(perform(base))
+    assert said[0] == "eye contact: look at the middle of your screen for 1 s"
+    below = re.match(r"eye contact taken: the screen's middle is now the pupils' centre \(they sat ([0-9.]+) below",
+                     said[1])
+    assert below is not None and float(below.group(1)) > 0.2  # the look down, 0.3 of the pupils' range
+    assert rooms.rooms["demo"].refused["malformed"] == 1
+    for code in ("PRV", "PLV", "PRH", "PLH"):
+        assert abs(values[motor_index(code)] - neutral[motor_index(code)]) < 0.05, code

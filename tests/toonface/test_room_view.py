@@ -8,6 +8,7 @@ driving a viewer page is here."""
 import asyncio
 import dataclasses
 import json
+import re
 import zlib
 from pathlib import Path
 
@@ -280,6 +281,9 @@ def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_op
         held = viewer.execute_script("const [p] = window.viewer.performers.values(); return p.quality.values")
         shown = _face_png(viewer)
         sent = camera.execute_script("return [window.performer.sent, window.performer.faces, window.performer.frames]")
+        camera.find_element("id", "eye-contact").click()  # the speaker looks into the lens: taken, or why not
+        contact = wait_for(camera, "/taken/.test(window.performer.contact) && window.performer.contact", timeout=30)
+    assert re.match(r"eye contact (taken: the screen's middle|not taken: the eyes)", contact), contact
     # it kept sending (the page's rate follows the machine's load: 99 in eight seconds once, beside
     # another test run), and the face was found in (nearly) every frame
     assert sent[0] > 50 and sent[1] > 0.9 * sent[2]

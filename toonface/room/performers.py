@@ -8,12 +8,15 @@ fetched from a CDN). For each camera frame it sends one JSON text message over
 
     {"t": 1234.5, "scores": {"jawOpen": 0.31, ...}, "matrix": [16 numbers]}   (a face)
     {"t": 1234.5}                                                            (no face in view)
+    {"eye_contact": true, "t": 1234.5}      (the performer looks at the middle of the screen from then)
 
 ``t`` is the frame's time (ms, increasing), ``scores`` MediaPipe's blendshapes (ARKit's names; its
 ``_neutral`` is ignored) and ``matrix`` its facial transformation matrix, 4x4, flattened in either
 order (the layout is told by where the translation is). The canonical face's axes are the head
 frame's (x to the performer's left, y up, z out of the face), so the matrix's rotation is the
-head's turn. The server maps the frames with the ``arkit`` mapping, as VMC's and OpenSeeFace's
+head's turn. Eye contact (:mod:`mapping.eye_contact`) takes the second after its message as
+the screen's look; what it found comes back to the page as ``{"said": "eye contact taken: ..."}``.
+The server maps the frames with the ``arkit`` mapping, as VMC's and OpenSeeFace's
 (:func:`toonface.send.build_mapper`: the first second is the rest) as they come, and sends the
 newest motors :data:`PAGE_RATE` times a second (a camera's own rate, 15 to 30 frames a second,
 varies, and a stream's frames are evenly spaced) as a stream of its own
@@ -22,6 +25,7 @@ varies, and a stream's frames are evenly spaced) as a stream of its own
 
 from __future__ import annotations
 
+import contextlib
 import math
 import queue
 import threading
@@ -34,6 +38,7 @@ from capture.blendshapes import BLENDSHAPES
 from capture.listening import head_references, lost, posed
 from capture.sources import Frame, Source
 from common.limits import parse_json_message
+from mapping.eye_contact import LiveEyeContact
 from stream.framing import StreamKey
 from stream.packets import StreamWriter
 from stream.sender import StreamSender
@@ -45,6 +50,8 @@ MAX_MESSAGE = 8192
 PAGE_RATE = 30.0
 #: Frames waiting to be mapped at most; a page that sends faster loses the oldest.
 WAITING = 32
+#: Lines for the page (eye contact's) kept until it is told them.
+SAID_KEPT = 16
 _INDEX = {name: i for i, name in enumerate(BLENDSHAPES)}
 
 
@@ -71,10 +78,10 @@ def head_turn(matrix: list[float] | np.ndarray) -> np.ndarray:
     return turn
 
 
-def page_frame(text: str | bytes, rest: np.ndarray) -> Frame:
-    """One message of a performer page as a frame (see the module docstring); a ValueError naming
-    what is wrong where it is not one."""
-    message = parse_json_message(text)  # (depth and numbers within common.limits' bounds)
+def page_frame(text: str | bytes | dict, rest: np.ndarray) -> Frame:
+    """One message of a performer page (its text, or that text parsed) as a frame (see the module
+    docstring); a ValueError naming what is wrong where it is not one."""
+    message = text if isinstance(text, dict) else parse_json_message(text)  # (within common.limits' bounds)
     stamp = message.get("t") if isinstance(message, dict) else None
     if not isinstance(stamp, int | float) or not math.isfinite(stamp):
         raise ValueError('a frame is {"t": ms, "scores": {...}, "matrix": [...]}')
@@ -144,7 +151,11 @@ class PagePerformer:
         self.source = Source(labels, PAGE_RATE, self._frames(), "a performer page", live=True,
                              meta={"mapping": "arkit", "rest": self.rest}, channel_names=BLENDSHAPES, halt=self.halt)
         self.notes: list[str] = []
-        self.follower = Follower(self.source, build_mapper(self.source, notes=self.notes), standard_neutral())
+        mapper = build_mapper(self.source, notes=self.notes)
+        #: What the mapping says to the page (eye contact taken or refused), for the server to pass on.
+        self.said: queue.Queue[str] = queue.Queue(SAID_KEPT)
+        mapper.eye_contact = LiveEyeContact(standard_neutral(), say=self._say)
+        self.follower = Follower(self.source, mapper, standard_neutral())
         self.link = _InRoom(deliver)
         self.sender = StreamSender(("room", 0), StreamWriter(PAGE_RATE, stream=stream, key=key), clock=clock,
                                    link=self.link)
@@ -154,9 +165,18 @@ class PagePerformer:
         self._thread.start()
 
     def take(self, text: str | bytes) -> None:
-        """One message of the page (a ValueError where it is not a frame); a frame that finds the
-        queue full pushes out the oldest."""
-        frame = page_frame(text, self.rest)
+        """One message of the page (a ValueError where it is none): a frame, which pushes out the
+        oldest where it finds the queue full, or ``{"eye_contact": true, "t": ms}``: the performer
+        looks at the middle of their screen from that time, for a second (:mod:`mapping.eye_contact`)."""
+        message = parse_json_message(text)
+        if isinstance(message, dict) and message.get("eye_contact") is True:
+            stamp = message.get("t")
+            if not isinstance(stamp, int | float) or isinstance(stamp, bool) or not math.isfinite(stamp):
+                raise ValueError('eye contact is {"eye_contact": true, "t": ms}')
+            assert self.follower.mapper.eye_contact is not None
+            self.follower.mapper.eye_contact.begin(float(stamp) / 1000)  # from the page's frame of that time
+            return
+        frame = page_frame(message, self.rest)
         while True:
             try:
                 self.waiting.put_nowait(frame)
@@ -166,6 +186,17 @@ class PagePerformer:
                     self.waiting.get_nowait()
                 except queue.Empty:
                     pass
+
+    def next_said(self) -> str | None:
+        """The oldest line the mapping said that the page has not been told, or None."""
+        try:
+            return self.said.get_nowait()
+        except queue.Empty:
+            return None
+
+    def _say(self, text: str) -> None:
+        with contextlib.suppress(queue.Full):  # a page that never reads them keeps the first few
+            self.said.put_nowait(text)
 
     def reply(self, data: bytes) -> None:
         """A viewer's acknowledgement or keyframe request for this stream."""

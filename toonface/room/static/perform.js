@@ -37,6 +37,10 @@ function connect() {
       : "no perform token: open the link the room server printed (it ends in #perform=…)";
     setTimeout(() => { performer.socket = connect(); }, 500);
   };
+  socket.onmessage = (event) => {  // what the mapping says back: eye contact taken, or why not
+    const said = JSON.parse(event.data).said;
+    if (typeof said === "string") $("contact").textContent = performer.contact = said;
+  };
   return socket;
 }
 
@@ -68,6 +72,12 @@ async function start() {
   const started = performance.now();
   const times = [];
   let last = -1;
+  $("eye-contact").disabled = false;
+  $("eye-contact").onclick = () => {
+    if (performer.socket.readyState !== WebSocket.OPEN) return;
+    performer.socket.send(JSON.stringify({eye_contact: true, t: last}));  // from the newest frame's time on
+    $("contact").textContent = "look at the middle of your screen…";
+  };
   const step = () => {
     const ms = performance.now() - started;
     if (ms > last) {  // the landmarker needs increasing times
