@@ -4,7 +4,8 @@
 (an ALSA device such as ``hw:1``), ``voice:FILE`` or just ``FILE.wav`` (any sound file; its sound
 is fed 10 ms at a time, each piece when its time comes, as a sound card gives it). Each frame of
 mouth shapes leaves :class:`capture.voice_sound.Listener` 112.5 ms after its sound (its fixed
-look-ahead) with the channels a voice take has (``viseme_A`` ... ``viseme_X``, ``sound_level``),
+look-ahead) with the channels a voice take has (``viseme_A`` ... ``viseme_X``, ``sound_level``,
+``voice_pitch``),
 so ``play --source`` and ``send`` map it with the same voice mapping as ``map voice.wav``.
 """
 
@@ -19,11 +20,14 @@ import numpy as np
 
 from capture.sources import Frame, Source
 from capture.voice import FRAME_RATE, LOOKAHEAD, SAMPLE_RATE, VISEMES, decode_voice
+from capture.voice_pitch import pitch_hz, semitones
 from capture.voice_sound import HOP, WINDOW, Listener
 from common import InputError
 
 #: Each frame's channels, as :func:`capture.voice_take.read_voice` names them.
-CHANNELS = (*(f"viseme_{v}" for v in VISEMES), "sound_level")
+CHANNELS = (*(f"viseme_{v}" for v in VISEMES), "sound_level", "voice_pitch")
+#: A frame this far below the loudest heard so far has no pitch (dB), as :func:`capture.voice_pitch.pitch_hz` gates.
+QUIET_DB = -45.0
 #: How much sound a file played in real time hands over at once (s): a sound card's period.
 CHUNK_S = 0.01
 
@@ -31,7 +35,8 @@ CHUNK_S = 0.01
 def voice_frames(chunks: Iterator[np.ndarray], listener: Listener | None = None) -> Iterator[Frame]:
     """Frames of mouth shapes from ``chunks`` of sound (16 kHz mono float32) as they come: frame
     ``k`` at ``t = k / 100`` s, its channels :data:`CHANNELS` (the level scaled by the loudest
-    10 ms heard so far)."""
+    10 ms heard so far; the pitch by YIN, as a voice file's, 0 where unvoiced or quieter than
+    :data:`QUIET_DB` below that loudest)."""
     listener = Listener() if listener is None else listener
     pending = np.zeros(0, np.float32)  # sound from frame `index` on (frame k: samples k*HOP to (k+1)*HOP)
     loudest, index, heard = 1e-9, 0, 0
@@ -42,11 +47,13 @@ def voice_frames(chunks: Iterator[np.ndarray], listener: Listener | None = None)
         placed = listener.hear(chunk)
         if last:
             placed = placed[:max(0, heard // HOP - index)]
+        pitches = semitones(pitch_hz(pending, len(placed), quiet_db=-np.inf)) if len(placed) else np.zeros(0)
         for k, weights in enumerate(placed):
             piece = pending[k * HOP:(k + 1) * HOP].astype(np.float64)
             level = float(np.sqrt(np.mean(piece ** 2))) if len(piece) else 0.0
             loudest = max(loudest, level)
-            yield Frame((index + k) / FRAME_RATE, np.zeros((0, 3)), np.append(weights, level / loudest))
+            pitch = pitches[k] if level > loudest * 10 ** (QUIET_DB / 20) else 0.0
+            yield Frame((index + k) / FRAME_RATE, np.zeros((0, 3)), np.append(weights, [level / loudest, pitch]))
         index += len(placed)
         pending = pending[len(placed) * HOP:]
 

@@ -1,65 +1,48 @@
-"""The life layer: what a face does that its source does not carry, added to the motors the source
-leaves alone (issue 64). A voice moves only the mouth; a listener expects the eyes to blink and
-look about, the brows to rise on the words that are stressed and the head to nod and sway.
+"""The life layer from a voice (issue 64): its cues, and the layer laid on the motors the source
+leaves alone. A voice moves only the mouth; a listener expects the eyes to blink and look about,
+the brows to rise on the words that are stressed and the head to nod and sway.
 
-From the voice (the take's ``sound_level`` and ``voice_pitch`` channels, :mod:`capture.voice_pitch`)
-come its cues: where it speaks, where it pauses, its pitch accents and its stressed syllables. On
-them, seeded and so the same every run:
+From the voice (the take's or the live source's ``sound_level`` and ``voice_pitch`` channels,
+:mod:`capture.voice_pitch`) come its cues, found frame by frame as they come
+(:class:`VoiceCues`: the same code offline and live):
 
-- **blinks**, as people blink: some 17 a minute at rest and fewer while speaking (Bentivoglio et
-  al. 1997, Movement Disorders 12:1028, give 17 at rest and 4.5 while reading; blinks cluster at
-  the pauses and ends of phrases, Nakano and Kitazawa 2010, Experimental Brain Research 205:577),
-  a blink at many pauses' start, none within a second of the last, each 0.1-0.4 s long (about
-  0.25 s; the lid shuts in a third of it and opens in the rest);
-- **gaze** that holds a point and jumps to the next in a saccade of some 40 ms (fixations of a
-  second or so in conversation, most near the listener, some aversions further off; the
-  saccade's main sequence, Bahill et al. 1975, makes a small jump last 30-50 ms);
-- **brow raises** on pitch accents: a peak of the pitch some semitones above the speaker's own
-  median raises both brows, from a tenth of a second before the peak, by more the higher it
-  goes, easing down over 0.4 s (brow raises align with pitch accents: Cavé et al. 1996, ICSLP;
-  Flecha-García 2010, Speech Communication 52:542);
-- **head motion**: a small nod (chin down and back) on each stressed syllable, a slow sway and
-  tilt that wander while speaking and settle in silence (Munhall et al. 2004, Psychological
-  Science 15:133: head motion follows the voice's pitch and loudness), and breathing.
+- **speaking**: the level above -30 dB of the loudest, with silences shorter than 0.25 s inside
+  the phrase;
+- **pauses**: a silence reaching 0.25 s (after some speech) began a pause;
+- **pitch accents**: a voiced frame the highest within three frames either side, some
+  semitones (``accent_semitones``) above the median of the voice's pitch (offline, the whole
+  voice's; live, its last 30 s so far), 0.35 s or more after the last accent;
+- **stressed syllables**: a speaking frame the loudest within three frames either side, at least
+  half the loudest, 0.3 s or more after the last.
 
-The layer writes only what the source does not drive: :func:`add_life` takes the codes the
-mapping drives and leaves those as they are.
+The motion they drive is :class:`toon.life.LifeMotion` (blinks, gaze, brows, nods, sway, tilt
+and breathing, with its sources in the literature). Offline (:func:`add_life`) each cue is laid
+where it belongs: a pause's blink from the pause's start, a brow risen by its accent's peak, a
+nod from 0.05 s before its syllable; live (:class:`LiveLife`) a cue is acted on when it is
+found: a pause 0.25 s into it, an accent three frames after its peak.
+
+The layer writes only what the source does not drive, or has lost (live).
 """
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from toon import MotorTrack
+from toon.life import LIDS, MOVED, LifeMotion, LifeSettings, Offsets, lay
 from toon.motors import MOTOR_CODES
 
-LIDS = ("ERU", "ELU")
-BROWS = ("BRL", "BRC", "BRM", "BLL", "BLC", "BLM")
-PUPILS_H, PUPILS_V = ("PRH", "PLH"), ("PRV", "PLV")
-
-
-@dataclass(frozen=True)
-class LifeSettings:
-    """The layer's rates, lengths and amounts (motor units of a 0..1 range), and its seed."""
-
-    seed: int = 0
-    blinks_per_minute: float = 17.0  # in silence
-    speaking_blinks_per_minute: float = 8.0
-    pause_blink_chance: float = 0.55  # a blink at a pause's start
-    blink_seconds: float = 0.25
-    fixation_seconds: float = 1.1  # a fixation's median length
-    gaze_near: float = 0.06  # where most fixations fall (the listener's face)
-    gaze_away: float = 0.2  # an aversion's reach
-    away_chance: float = 0.25
-    saccade_seconds: float = 0.04
-    accent_semitones: float = 2.5  # above the speaker's median pitch
-    brow_raise: float = 0.3
-    nod: float = 0.05
-    sway: float = 0.03
-    breathing_seconds: float = 4.0
-    breathing_amount: float = 0.008
+__all__ = ["LIDS", "Cues", "LifeSettings", "LiveLife", "VoiceCues", "add_life", "life_offsets", "take_cues",
+           "voice_cues"]
+#: Frames either side a peak must top (a cue is found this many frames after it).
+PEAK_FRAMES = 3
+#: Seconds of the voice's pitch its median is taken over.
+PITCH_MEMORY = 30.0
+#: The layer's settings unless told others (frozen).
+DEFAULTS = LifeSettings()
 
 
 @dataclass(frozen=True)
@@ -75,76 +58,109 @@ class Cues:
     stresses: list[tuple[int, float]]
 
 
-def voice_cues(level: np.ndarray, pitch: np.ndarray, rate: float, settings: LifeSettings = LifeSettings()) -> Cues:
+class VoiceCues:
+    """A voice's cues found frame by frame (see the module docstring): :meth:`step` takes a
+    frame's level (0..1) and pitch (semitones, 0 unvoiced) and says whether the voice is speaking
+    and which cues it found, each ``(kind, frame, value)`` for ``"pause"`` (value 0),
+    ``"accent"`` (semitones above the median) or ``"stress"`` (loudness), at the frame it
+    belongs to (frames counted from 0)."""
+
+    def __init__(self, rate: float, settings: LifeSettings = DEFAULTS, median: float | None = None) -> None:
+        self.rate, self.s = rate, settings
+        self.median = median  # the speaker's median pitch where known beforehand (offline: the whole voice's)
+        self.gap = max(1, int(round(0.25 * rate)))
+        self.frame = -1
+        self.silent = 0  # frames of silence up to this one
+        self.heard = False  # any speech yet
+        self.pitches: deque[float] = deque(maxlen=max(1, int(PITCH_MEMORY * rate)))
+        self.recent: deque[tuple[float, float, bool]] = deque(maxlen=2 * PEAK_FRAMES + 1)  # level, pitch, speaking
+        self.last_accent = self.last_stress = -np.inf
+
+    def step(self, level: float, pitch: float) -> tuple[bool, list[tuple[str, int, float]]]:
+        """One frame: speaking or not, and the cues found."""
+        self.frame += 1
+        level = level if level == level else 0.0  # NaN: not heard
+        pitch = pitch if pitch == pitch else 0.0
+        on = level > 10 ** (-30.0 / 20)
+        found: list[tuple[str, int, float]] = []
+        self.silent = 0 if on else self.silent + 1
+        if on:
+            self.heard = True
+        elif self.silent == self.gap and self.heard:
+            found.append(("pause", self.frame - self.gap + 1, 0.0))
+        speaking = on or (self.heard and self.silent < self.gap)
+        if pitch > 0:
+            self.pitches.append(pitch)
+        self.recent.append((level, pitch, speaking))
+        if len(self.recent) == self.recent.maxlen:
+            found += self._peaks(self.frame - PEAK_FRAMES)
+        return speaking, found
+
+    def _peaks(self, k: int) -> list[tuple[str, int, float]]:
+        """The accent and the stress at frame ``k``, the middle of :attr:`recent`, if any."""
+        found: list[tuple[str, int, float]] = []
+        level, pitch, speaking = self.recent[PEAK_FRAMES]
+        known = self.median is not None or len(self.pitches) > 10
+        if pitch > 0 and known and (k - self.last_accent) / self.rate >= 0.35 and \
+                pitch >= max(p for _, p, _ in self.recent):
+            height = pitch - (self.median if self.median is not None else float(np.median(self.pitches)))
+            if height >= self.s.accent_semitones:
+                found.append(("accent", k, height))
+                self.last_accent = k
+        if level >= 0.5 and speaking and (k - self.last_stress) / self.rate >= 0.3 and \
+                level >= max(v for v, _, _ in self.recent):
+            found.append(("stress", k, level))
+            self.last_stress = k
+        return found
+
+
+def voice_cues(level: np.ndarray, pitch: np.ndarray, rate: float, settings: LifeSettings = DEFAULTS) -> Cues:
     """The cues of a voice from its level ``(n,)`` (0..1, the loudest frame 1) and pitch ``(n,)``
-    (semitones, 0 unvoiced), at ``rate`` frames a second."""
-    level = np.nan_to_num(np.asarray(level, float))
-    pitch = np.nan_to_num(np.asarray(pitch, float))
+    (semitones, 0 unvoiced), at ``rate`` frames a second, as :class:`VoiceCues` finds them, but
+    knowing the whole voice: accents are measured from its median pitch (live, from the median so
+    far), and a pause's frames are not speaking from its start (live, they are until it is found)."""
+    voiced = np.asarray(pitch, float)
+    voiced = voiced[np.isfinite(voiced) & (voiced > 0)]
+    finder = VoiceCues(rate, settings, float(np.median(voiced)) if len(voiced) > 10 else None)
     n = len(level)
-    db = 20 * np.log10(np.maximum(level, 1e-6))
-    on = db > -30.0
-    gap = int(round(0.25 * rate))  # shorter silences are inside a phrase
-    speaking = on.copy()
-    starts = np.flatnonzero(np.diff(np.concatenate([[1], on.astype(int)])) == -1)
-    ends = np.flatnonzero(np.diff(np.concatenate([on.astype(int), [1]])) == 1) + 1
-    pauses = []
-    for a, b in zip(starts, ends, strict=True):
-        if b - a < gap and a > 0 and b < n:
-            speaking[a:b] = True
-        elif a > 0:
-            pauses.append(a)
-    voiced = pitch > 0
+    speaking = np.zeros(n, bool)
+    pauses: list[int] = []
     accents: list[tuple[int, float]] = []
-    if voiced.sum() > 10:
-        median = float(np.median(pitch[voiced]))
-        smooth = np.where(voiced, pitch, np.nan)
-        apart = int(round(0.35 * rate))
-        order = np.argsort(-np.where(voiced, pitch, -np.inf))
-        for k in order:
-            if not voiced[k] or pitch[k] < median + settings.accent_semitones:
-                break
-            lo, hi = max(0, k - 3), min(n, k + 4)
-            if np.nanmax(smooth[lo:hi]) > pitch[k] or any(abs(k - j) < apart for j, _ in accents):
-                continue
-            accents.append((int(k), float(pitch[k] - median)))
-        accents.sort()
     stresses: list[tuple[int, float]] = []
-    apart = int(round(0.3 * rate))
-    for k in np.argsort(-level):
-        if level[k] < 0.5:
-            break
-        if not speaking[k] or any(abs(k - j) < apart for j, _ in stresses):
-            continue
-        stresses.append((int(k), float(level[k])))
-    stresses.sort()
+    for k, (heard, tone) in enumerate(zip(np.asarray(level, float).tolist(), np.asarray(pitch, float).tolist(),
+                                          strict=True)):
+        speaking[k], found = finder.step(heard, tone)
+        for kind, frame, value in found:
+            if kind == "pause":
+                pauses.append(frame)
+                speaking[frame:k + 1] = False
+            else:
+                (accents if kind == "accent" else stresses).append((frame, value))
     return Cues(rate, speaking, np.array(pauses, dtype=int), accents, stresses)
 
 
-def life_offsets(cues: Cues, settings: LifeSettings = LifeSettings()) -> dict[str, np.ndarray]:
-    """What the layer adds, by code, ``(n,)`` each (lids: how shut, 0..1, to multiply the lid by)."""
-    rng = np.random.default_rng(settings.seed)
+def life_offsets(cues: Cues, settings: LifeSettings = DEFAULTS) -> dict[str, np.ndarray]:
+    """What the layer adds, by :class:`toon.life.Offsets` field, ``(n,)`` each (``shut``: how
+    shut the lids are, 0..1, to multiply a lid by), each cue laid where it belongs."""
+    motion = LifeMotion(settings)
     n, rate = len(cues.speaking), cues.rate
-    t = np.arange(n) / rate
-    out = {"shut": _blinks(cues, settings, rng), "gaze_h": np.zeros(n), "gaze_v": np.zeros(n)}
-    out["gaze_h"], out["gaze_v"] = _gaze(n, rate, settings, rng)
-    brow = np.zeros(n)
-    for k, height in cues.accents:
-        amount = settings.brow_raise * min(height / 8.0, 1.0)
-        brow = np.maximum(brow, amount * _pulse(t, k / rate - 0.1, 0.15, 0.1, 0.4))
-    out["brow"] = brow
-    nod = np.zeros(n)
+    told: list[list[tuple[str, float, float]]] = [[] for _ in range(n)]
+    for k in cues.pauses:
+        told[k].append(("pause", k / rate, 0.0))
+    rise = settings.brow_rise_seconds
+    for k, height in cues.accents:  # risen by the peak
+        told[max(0, k - int(round(rise * rate)))].append(("accent", k / rate - rise, height))
     for k, loud in cues.stresses:
-        nod -= settings.nod * loud * _pulse(t, k / rate - 0.05, 0.12, 0.0, 0.25)
-    speaking = np.convolve(cues.speaking.astype(float), np.ones(max(1, int(rate))) / max(1, int(rate)), "same")
-    sway = _wander(n, rate, 1.5, rng) * settings.sway * (0.3 + 0.7 * speaking)
-    tilt = _wander(n, rate, 2.5, rng) * settings.sway * (0.3 + 0.7 * speaking)
-    breathing = settings.breathing_amount * np.sin(2 * np.pi * t / settings.breathing_seconds)
-    out.update(HV=nod + breathing, HH=sway, HT=tilt)
-    return out
+        told[max(0, k - int(round(0.05 * rate)))].append(("stress", k / rate - 0.05, loud))
+    out = np.zeros((n, len(Offsets._fields)))
+    for k in range(n):
+        _tell(motion, told[k])
+        out[k] = motion.step(k / rate, bool(cues.speaking[k]))
+    return {name: out[:, i] for i, name in enumerate(Offsets._fields)}
 
 
 def take_cues(channels: dict[str, np.ndarray], frames: int, rate: float,
-              settings: LifeSettings = LifeSettings()) -> Cues:
+              settings: LifeSettings = DEFAULTS) -> Cues:
     """The cues of a take whose channels (by name) may hold a voice's ``sound_level`` and
     ``voice_pitch``; a take without them is silence throughout (blinks, gaze and breathing)."""
     level = channels.get("sound_level", np.zeros(frames))
@@ -153,7 +169,7 @@ def take_cues(channels: dict[str, np.ndarray], frames: int, rate: float,
 
 
 def add_life(track: MotorTrack, cues: Cues, driven: set[str] | frozenset[str],
-             settings: LifeSettings = LifeSettings()) -> MotorTrack:
+             settings: LifeSettings = DEFAULTS) -> MotorTrack:
     """``track`` with the layer added to every motor of it that ``driven`` does not name (HT too
     where the track carries it); ``cues`` at the track's rate and length."""
     if len(cues.speaking) != track.frames or abs(cues.rate - track.rate) > 1e-9:
@@ -161,81 +177,66 @@ def add_life(track: MotorTrack, cues: Cues, driven: set[str] | frozenset[str],
                          f"{track.frames} at {track.rate:g} Hz")
     add = life_offsets(cues, settings)
     values = track.values.copy()
-    column = {code: i for i, code in enumerate(MOTOR_CODES)}
-    for lid in LIDS:
-        if lid not in driven:
-            values[:, column[lid]] *= 1.0 - add["shut"]
-    for codes, key in ((BROWS, "brow"), (PUPILS_H, "gaze_h"), (PUPILS_V, "gaze_v"), (("HV",), "HV"), (("HH",), "HH")):
-        for code in codes:
-            if code not in driven:
-                values[:, column[code]] += add[key]
-    extra = track.extra
-    if extra is not None and "HT" in track.extra_codes and "HT" not in driven:
-        extra = extra.copy()
-        extra[:, track.extra_codes.index("HT")] += add["HT"]
-        extra = np.clip(extra, 0.0, 1.0)
-    return replace(track, values=np.clip(values, 0.0, 1.0), extra=extra,
+    extra = None if track.extra is None else track.extra.copy()
+    free = (set(MOTOR_CODES) | {"HT"}) - set(driven)
+    lay(values, add, free, extra, track.extra_codes)
+    return replace(track, values=values, extra=extra,
                    meta={**track.meta, "life": {"seed": settings.seed, "blinks": _count(add["shut"]),
                                                 "brow_raises": len(cues.accents), "nods": len(cues.stresses)}})
 
 
-def _blinks(cues: Cues, s: LifeSettings, rng: np.random.Generator) -> np.ndarray:
-    """How shut the lids are per frame (0 open, 1 shut)."""
-    n, rate = len(cues.speaking), cues.rate
-    wanted = set()
-    for k in cues.pauses:
-        if rng.uniform() < s.pause_blink_chance:
-            wanted.add(int(k + rng.uniform(0.05, 0.25) * rate))
-    hazard = np.where(cues.speaking, s.speaking_blinks_per_minute, s.blinks_per_minute) / 60.0 / rate
-    draws = rng.uniform(size=n)
-    shut = np.zeros(n)
-    last = -np.inf
-    t = np.arange(n) / rate
-    for k in range(n):
-        if (k in wanted or draws[k] < hazard[k]) and (k - last) / rate >= 1.0:
-            length = float(np.clip(s.blink_seconds * np.exp(0.25 * rng.standard_normal()), 0.1, 0.4))
-            shut = np.maximum(shut, _pulse(t, k / rate, length / 3, 0.0, 2 * length / 3, square=False))
-            last = k
-    return shut
+class LiveLife:
+    """The layer on a live stream of motor frames: the voice's cues as they come (from the
+    frames' ``sound_level`` and ``voice_pitch`` channels where the source has them; silence
+    otherwise), acted on when found, laid on the motors the mapping does not drive and on those
+    whose tracking is lost (confidence 0) at that frame.
+
+    Parameters
+    ----------
+    neutral : ndarray, shape (21,)
+        The face's neutral motors (a lost motor's value under the layer).
+    rate : float
+        The frames' rate.
+    driven : set of str
+        The codes the mapping drives.
+    settings : LifeSettings
+    """
+
+    def __init__(self, neutral: np.ndarray, rate: float, driven: set[str] | frozenset[str],
+                 settings: LifeSettings = DEFAULTS) -> None:
+        self.neutral = np.asarray(neutral, dtype=float)
+        self.driven = frozenset(driven)
+        self.cues = VoiceCues(rate, settings)
+        self.motion = LifeMotion(settings)
+
+    def step(self, values: np.ndarray, confidence: np.ndarray, t: float, level: float = 0.0, pitch: float = 0.0,
+             extra: np.ndarray | None = None, extra_codes: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        """One frame's motors ``(21,)`` and their confidence ``(21,)`` at ``t`` seconds (``extra``
+        ``(E,)`` by ``extra_codes`` changed in place): the motors with the layer, and the
+        confidence, full where the layer moves a motor (the layer's motors, :data:`toon.life.MOVED`,
+        that the mapping does not drive or has lost)."""
+        speaking, found = self.cues.step(level, pitch)
+        _tell(self.motion, [(kind, t, value) for kind, _, value in found])
+        lost = {code for code, sure in zip(MOTOR_CODES, confidence, strict=True) if sure <= 0.0 and code in MOVED}
+        free = (set(MOVED) - self.driven) | lost
+        out = np.array(values, dtype=float)
+        for code in lost:  # under the layer, a lost motor is at rest (not held where it was lost)
+            out[MOTOR_CODES.index(code)] = self.neutral[MOTOR_CODES.index(code)]
+        lay(out, self.motion.step(t, speaking), free | ({"HT"} - self.driven), extra, extra_codes)
+        sure = np.array(confidence, dtype=float)
+        sure[[MOTOR_CODES.index(code) for code in free]] = 1.0
+        return out, sure
 
 
-def _gaze(n: int, rate: float, s: LifeSettings, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """The pupils' offsets: fixations, each reached by a saccade."""
-    h, v = np.zeros(n), np.zeros(n)
-    here = np.zeros(2)
-    k = 0
-    while k < n:
-        length = max(int(s.fixation_seconds * np.exp(0.5 * rng.standard_normal()) * rate), 2)
-        away = rng.uniform() < s.away_chance
-        radius = s.gaze_away if away else s.gaze_near
-        there = rng.uniform(-1.0, 1.0, 2) * radius * np.array([1.0, 0.6])  # wider than high
-        move = max(1, int(round(s.saccade_seconds * rate)))
-        ramp = np.clip((np.arange(min(length, n - k)) + 1) / move, 0.0, 1.0)
-        ramp = ramp * ramp * (3 - 2 * ramp)  # a smooth start and stop
-        h[k:k + len(ramp)] = here[0] + (there[0] - here[0]) * ramp
-        v[k:k + len(ramp)] = here[1] + (there[1] - here[1]) * ramp
-        here, k = there, k + length
-    return h, v
-
-
-def _wander(n: int, rate: float, seconds: float, rng: np.random.Generator) -> np.ndarray:
-    """A slow random wander of about unit size (an Ornstein-Uhlenbeck path, time constant ``seconds``)."""
-    out = np.zeros(n)
-    decay = np.exp(-1.0 / (seconds * rate))
-    noise = rng.standard_normal(n) * np.sqrt(1 - decay ** 2)
-    x = 0.0
-    for k in range(n):
-        x = x * decay + noise[k]
-        out[k] = x
-    return out
-
-
-def _pulse(t: np.ndarray, start: float, rise: float, hold: float, fall: float, square: bool = True) -> np.ndarray:
-    """0 before ``start``, up to 1 over ``rise`` seconds, held ``hold``, down over ``fall`` (smooth)."""
-    up = np.clip((t - start) / max(rise, 1e-9), 0.0, 1.0)
-    down = np.clip((t - start - rise - hold) / max(fall, 1e-9), 0.0, 1.0)
-    shape = np.minimum(up, 1.0 - down)
-    return shape * shape * (3 - 2 * shape) if square else shape
+def _tell(motion: LifeMotion, cues: list[tuple[str, float, float]]) -> None:
+    """Tell ``motion`` of cues ``(kind, time, value)``."""
+    for kind, at, value in cues:
+        if kind == "pause":
+            motion.pause(at)
+        elif kind == "accent":
+            motion.accent(at, value)
+        else:
+            motion.stress(at, value)
 
 
 def _count(shut: np.ndarray) -> int:

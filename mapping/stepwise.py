@@ -30,6 +30,7 @@ from mapping.clean import head_references
 from mapping.eye_contact import LiveEyeContact
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
+from mapping.life import LiveLife
 from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
@@ -120,6 +121,8 @@ class LiveMapper:
         self.extra = extended_neutral(self.neutral)[self._extra_columns]
         #: Eye contact (:mod:`mapping.eye_contact`), stepped on every frame after the rest, where set.
         self.eye_contact: LiveEyeContact | None = None
+        #: The life layer (:mod:`mapping.life`), laid on every frame after the rest, where set.
+        self.life: LiveLife | None = None
 
     @property
     def ready(self) -> bool:
@@ -152,9 +155,21 @@ class LiveMapper:
             self._collect_rest(stable, t)
             return self.neutral.copy(), np.zeros(N_MOTORS)
         values, confidence = self.map_frame(stable, quality[None], t)
+        confidence = confidence * min(max(trust, 0.0), 1.0)
         if self.eye_contact is not None:  # the pupils centred on the screen's look, once calibrated
             values = self.eye_contact.step(values, t)
-        return values, confidence * min(max(trust, 0.0), 1.0)
+        if self.life is not None:  # on the motors the mapping does not drive, or has lost
+            values, confidence = self.life.step(values, confidence, t, self._heard("sound_level", channels),
+                                                self._heard("voice_pitch", channels), self.extra, self.extra_codes)
+        return values, confidence
+
+    def _heard(self, name: str, channels: np.ndarray | None) -> float:
+        """This frame's value of the channel ``name`` (a voice's level or pitch), 0 where the
+        source has none or did not measure it."""
+        if channels is None or name not in self.channel_names:
+            return 0.0
+        value = float(channels[self.channel_names.index(name)])
+        return value if np.isfinite(value) else 0.0
 
     def extra_values(self) -> dict[str, float]:
         """The last frame's parameters beyond the 21 by code (empty when the mapping drives none)."""

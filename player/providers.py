@@ -3,8 +3,9 @@
 The layers, bottom to top (:data:`LAYERS`):
 
 ``idle``
-    The face at rest, alive: blinks at a rate with some randomness, breathing (the head rises
-    and falls a little), and small saccades of the gaze. Always there, under everything.
+    The face at rest, alive: the life layer (:mod:`toon.life`, the same code that brings a voice
+    to life) in silence: blinks as people blink, gaze that holds and jumps, breathing and a slow
+    sway of the head. Always there, under everything: a motor whose tracking is lost shows it.
 ``tracking``
     A performer (``play --source``, ``--vmc``, ``--openseeface``, a stream or a track), each
     motor as present as its tracker is sure of it: a motor whose tracking is lost (confidence 0,
@@ -27,7 +28,6 @@ Settings are a ``toonface.providers/1`` TOML file (:func:`load_providers`), ever
 
 from __future__ import annotations
 
-import math
 import os
 from collections import deque
 from collections.abc import Callable
@@ -36,32 +36,47 @@ from typing import Any
 
 import numpy as np
 
-from common import read_versioned
+from common import InputError, read_versioned
 from common.validate import Validator, at
 from toon import MOTOR_CODES, motor_index
+from toon.life import MOVED, LifeMotion, LifeSettings, lay
 
 FORMAT = "toonface.providers/1"
 LAYERS = ("idle", "tracking", "motions", "manual")
-#: Blink times an idle face keeps (a player may run for days).
-BLINKS_KEPT = 1000
+#: The motors the idle face moves.
+MOVED_CODES = frozenset(MOVED)
 #: The newest tracked frame: values ``(21,)``, confidence ``(21,)``, seconds since it came.
 Tracked = Callable[[], tuple[np.ndarray, np.ndarray, float]]
 
 
 @dataclass(frozen=True)
 class IdleSettings:
-    """The idle face: blinks a minute and how irregular (0: a metronome), a blink's length,
-    breathing's period and its head motion (motor units of HV), saccades' mean interval and
-    reach (motor units of the pupils), and the seed of the randomness."""
+    """The idle face, the life layer (:mod:`toon.life`) in silence: blinks a minute and a
+    blink's length, breathing's period and its head motion (motor units of HV), a fixation's
+    median length and the gaze's reach near the viewer (motor units of the pupils; a look away
+    reaches some three times as far), the head's sway (motor units of HH; its rise and fall in
+    HV in proportion), and the seed of the randomness.
+    The defaults are the life layer's, set from how people blink and look."""
 
-    blink_per_minute: float = 15.0
-    blink_randomness: float = 0.4
-    blink_seconds: float = 0.2
-    breathing_seconds: float = 4.0
-    breathing_amount: float = 0.01
-    saccade_seconds: float = 2.0
-    saccade_amount: float = 0.04
+    blink_per_minute: float = LifeSettings.blinks_per_minute
+    blink_seconds: float = LifeSettings.blink_seconds
+    breathing_seconds: float = LifeSettings.breathing_seconds
+    breathing_amount: float = LifeSettings.breathing_amount
+    saccade_seconds: float = LifeSettings.fixation_seconds
+    saccade_amount: float = LifeSettings.gaze_near
+    sway_amount: float = LifeSettings.sway
     seed: int = 0
+
+    def life(self) -> LifeSettings:
+        """These settings as the life layer's."""
+        return LifeSettings(seed=self.seed, blinks_per_minute=self.blink_per_minute,
+                            speaking_blinks_per_minute=self.blink_per_minute, blink_seconds=self.blink_seconds,
+                            fixation_seconds=self.saccade_seconds, gaze_near=self.saccade_amount,
+                            gaze_away=self.saccade_amount * LifeSettings.gaze_away / LifeSettings.gaze_near,
+                            sway=self.sway_amount,
+                            pitch_sway=self.sway_amount * LifeSettings.pitch_sway / LifeSettings.sway,
+                            breathing_seconds=self.breathing_seconds,
+                            breathing_amount=self.breathing_amount)
 
 
 @dataclass(frozen=True)
@@ -95,6 +110,9 @@ def load_providers(path: str | os.PathLike | None) -> Providers:
     check.fields(doc, {"format", "idle", "tracking", "motions", "manual"}, "", "a providers file")
     out = Providers()
     idle = doc.get("idle", {})
+    if "blink_randomness" in idle:
+        raise InputError("idle.blink_randomness is no longer read: an idle face blinks as people do (at random, "
+                         "none within a second of another); remove it", path)
     check.fields(idle, {f.name for f in fields(IdleSettings)} | {"enabled"}, "idle", "idle")
     values: dict[str, Any] = {}
     for f in fields(IdleSettings):
@@ -119,45 +137,23 @@ def load_providers(path: str | os.PathLike | None) -> Providers:
 
 
 class Idle:
-    """The idle face over time (see :class:`IdleSettings`): its values at ``t`` for a ``t`` that
-    only grows."""
+    """The idle face over time (see :class:`IdleSettings`): the life layer in silence on the
+    face's neutral, at ``t`` for a ``t`` that only grows."""
 
     def __init__(self, neutral: np.ndarray, settings: IdleSettings) -> None:
         self.neutral = np.asarray(neutral, dtype=float)
-        self.s = settings
-        self.rng = np.random.default_rng(settings.seed)
-        self.blinks: deque[float] = deque(maxlen=BLINKS_KEPT)  # when the latest blinks began
-        self._next_blink = self._next_saccade = math.nan
-        self._gaze = np.zeros(2)
+        self.motion = LifeMotion(settings.life())
 
-    def _interval(self, mean: float, spread: float) -> float:
-        return mean * max(0.2, 1.0 + spread * float(self.rng.standard_normal())) if mean > 0 else math.inf
+    @property
+    def blinks(self) -> deque[float]:
+        """When the latest blinks began (s)."""
+        return self.motion.blinks
 
     def values(self, t: float) -> np.ndarray:
         """The idle face at ``t`` seconds ``(21,)``."""
-        s = self.s
-        blink_mean = 60.0 / s.blink_per_minute if s.blink_per_minute > 0 else 0.0
-        if math.isnan(self._next_blink):
-            self._next_blink = t + self._interval(blink_mean, s.blink_randomness)
-            self._next_saccade = t + self._interval(s.saccade_seconds, 0.5)
-        while t >= self._next_blink:
-            self.blinks.append(self._next_blink)
-            self._next_blink += self._interval(blink_mean, s.blink_randomness)
-        while t >= self._next_saccade:
-            self._gaze = self.rng.uniform(-1.0, 1.0, 2) * s.saccade_amount
-            self._next_saccade += self._interval(s.saccade_seconds, 0.5)
         out = self.neutral.copy()
-        if self.blinks and s.blink_seconds > 0:
-            phase = (t - self.blinks[-1]) / s.blink_seconds
-            if 0.0 <= phase < 1.0:
-                shut = 1.0 - abs(2.0 * phase - 1.0)  # down and up again
-                for lid in ("ERU", "ELU"):
-                    out[motor_index(lid)] *= 1.0 - shut
-        if s.breathing_seconds > 0:
-            out[motor_index("HV")] += s.breathing_amount * math.sin(2 * math.pi * t / s.breathing_seconds)
-        for code, k in (("PRH", 0), ("PLH", 0), ("PRV", 1), ("PLV", 1)):
-            out[motor_index(code)] += self._gaze[k]
-        return np.clip(out, 0.0, 1.0)
+        lay(out, self.motion.step(t, False), MOVED_CODES)
+        return out
 
 
 @dataclass

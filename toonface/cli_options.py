@@ -296,9 +296,9 @@ def with_background(face: Any, value: str | None) -> Any:
 
 LIFE = click.option(
     "--life/--no-life", default=None,
-    help="The life layer on the motors the source does not drive: blinks at pauses, gaze that holds and jumps, "
-         "brows raised on pitch accents, nods on stressed syllables, sway and breathing (seeded: the same every "
-         "run). On by default for a voice alone, off for other takes.")
+    help="The life layer on the motors the source does not drive (live: or loses): blinks at pauses, gaze that "
+         "holds and jumps, brows raised on pitch accents, nods on stressed syllables, sway and breathing (seeded: "
+         "the same every run). On by default for a voice alone, off for other sources.")
 EYE_CONTACT = click.option(
     "--eye-contact", is_flag=True,
     help="After the rest (the first second), look at the middle of your screen for a second: that look becomes "

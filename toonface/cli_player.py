@@ -14,6 +14,7 @@ from toonface.cli_options import (
     BACKGROUND,
     EYE_CONTACT,
     FACE,
+    LIFE,
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
@@ -74,18 +75,20 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @OPENSEEFACE
 @VMC_OUT
 @click.option("--providers", "providers_path", default=None, type=click.Path(dir_okay=False),
-              help="Who moves a motor (toonface.providers/1 TOML): the idle face's blinks, breathing and "
-                   "saccades, and each layer's weight and fade [default: blink 15 a minute, breathe, look about].")
+              help="Who moves a motor (toonface.providers/1 TOML): the idle face's blinks, breathing, gaze and "
+                   "sway, and each layer's weight and fade [default: the life layer in silence: blink 17 a minute "
+                   "as people do, breathe, look about, sway].")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.1), help="Stop after this long.")
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 @EYE_CONTACT
+@LIFE
 @NO_PHYSICS
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
          vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
-         seconds: float | None, stream_to: str | None, eye_contact: bool, no_physics: bool, background: str | None,
-         virtual_camera: bool) -> None:
+         seconds: float | None, stream_to: str | None, eye_contact: bool, life: bool | None, no_physics: bool,
+         background: str | None, virtual_camera: bool) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -140,7 +143,8 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
             raise click.BadParameter("give --motors or --source, not both", param_hint="--source")
         from toonface.send import Follower
 
-        follower = Follower.open(source_spec, face_obj.neutral(), say, repeat=not once, eye_contact=eye_contact)
+        follower = Follower.open(source_spec, face_obj.neutral(), say, repeat=not once, eye_contact=eye_contact,
+                                 life=life)
         settings.tracking = follower.latest.newest
         settings.extra = lambda t: follower.latest.extra() if follower is not None else {}
     settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)

@@ -19,6 +19,7 @@ from toonface.cli_options import (
     EYE_CONTACT,
     FACE,
     FORCE_RECORD,
+    LIFE,
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
@@ -106,12 +107,14 @@ def _key(path: str | None) -> bytes | None:
 @click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
               help="This performer's stream id, for a receiver showing several [default: a random one].")
 @EYE_CONTACT
+@LIFE
 @take_options
 def send(source: str | None, vmc: str | None, openseeface: str | None, targets: tuple[str, ...], token: str | None,
          ca_file: str | None, mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
-         stats: bool, stream_id: int | None, eye_contact: bool, force: bool, reading: TakeReading) -> None:
+         stats: bool, stream_id: int | None, eye_contact: bool, life: bool | None, force: bool,
+         reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
     performer), or instead --vmc HOST:PORT (a face-tracking app over the VMC protocol) or
@@ -139,7 +142,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
     src = open_source(spec, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
                       seconds=seconds)
     notes: list[str] = []
-    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes)
+    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes, life=life)
     for note in notes:
         click.echo(f"note: {note}", err=True)
     if eye_contact:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from toonface.cli_options import FACE
+from toonface.cli_options import FACE, LIFE
 from toonface.cli_player import _required_address
 
 
@@ -21,8 +21,9 @@ from toonface.cli_player import _required_address
               help="Also receive a motor stream from `toonface send` (UDP) and show it, with its quality.")
 @click.option("--conceal", default="linear", show_default=True, type=click.Choice(["hold", "linear"]),
               help="With --receive: how lost frames are guessed (as `toonface receive`).")
+@LIFE
 def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...], receive: str | None,
-           conceal: str) -> None:
+           conceal: str, life: bool | None) -> None:
     """The studio: a local web page showing FACE, with a slider per motor, control points to
     drag, expressions and standard motions to play, and head and eyes that can follow the
     pointer (CharToon's test mode); beside it, ANIMATION on staves to edit, play with a sound
@@ -48,7 +49,7 @@ def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...]
     from toonface.studio.session import StudioSession
 
     host, port = _required_address(listen, "--listen", 8765)
-    session = StudioSession(face, animation=animation)
+    session = StudioSession(face, animation=animation, life=life)
     with contextlib.ExitStack() as stack:
         if receive is not None:
             where = _required_address(receive, "--receive", 7710)

@@ -21,6 +21,7 @@ from capture import MarkerSet, Take
 from capture.sources import Source, paced
 from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
+from mapping.life import LiveLife
 from mapping.stepwise import LiveMapper
 from mapping.typical import typical_profile
 from mapping.workflow import SELF_MIN_SIDE, check_profile
@@ -34,11 +35,13 @@ LEARN_SECONDS = 60.0
 
 def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: Profile | None = None,
                  target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
-                 notes: list[str] | None = None) -> LiveMapper:
+                 notes: list[str] | None = None, life: bool | None = None) -> LiveMapper:
     """The live mapper for a source: the named mapping (or the one the source names, or the preset
     its labels match), and the given profile or the marker set's typical one, with the rest taken
     from the first ``rest_seconds``. Where the marker set has no typical profile, a take's own first
-    :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``."""
+    :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``. ``life``: the
+    life layer (:mod:`mapping.life`) on the motors the mapping does not drive or loses (None: on
+    for a voice alone, as offline)."""
     if notes is not None and source.meta.get("note"):
         notes.append(source.meta["note"])  # how the source read what it was given
     mapping = mapping or source.meta.get("mapping")  # a bridge names the mapping its data needs
@@ -69,10 +72,19 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
                          f"{profile.notes['range']})")
     check_profile(profile, chosen, markerset.name)
     try:
-        return LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
-                          learn_seconds=learn, channel_names=source.channel_names)
+        mapper = LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
+                            learn_seconds=learn, channel_names=source.channel_names)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+    if life is None:
+        life = source.meta.get("source") == "voice"
+    if life:
+        mapper.life = LiveLife(mapper.neutral, source.rate, {rule.code for rule in chosen.rules})
+        if notes is not None:
+            notes.append("the life layer moves what the mapping does not drive, or loses: blinks, gaze, "
+                         "brows and head" + (" from the voice's pauses, pitch and stress" if "sound_level" in
+                                             source.channel_names else ""))
+    return mapper
 
 
 def _own_profile(take: Take, mapping: Mapping, markerset: MarkerSet) -> Profile:
@@ -150,17 +162,17 @@ class Follower:
 
     @classmethod
     def open(cls, spec: str, neutral: np.ndarray, say: Callable[[str], None] = lambda _: None,
-             repeat: bool = False, eye_contact: bool = False) -> Follower:
+             repeat: bool = False, eye_contact: bool = False, life: bool | None = None) -> Follower:
         """The follower of the source ``spec`` names (as ``send`` takes it; a file played again and
         again with ``repeat``), mapped onto a face whose neutral is ``neutral``; the choices made are
         said through ``say``; ``eye_contact``: calibrated in the second after the rest
-        (:mod:`mapping.eye_contact`)."""
+        (:mod:`mapping.eye_contact`); ``life``: as :func:`build_mapper` takes it."""
         from capture.sources import open_source
         from mapping.eye_contact import LiveEyeContact
 
         source = open_source(spec, repeat=repeat)
         notes: list[str] = []
-        mapper = build_mapper(source, target_neutral=neutral, notes=notes)
+        mapper = build_mapper(source, target_neutral=neutral, notes=notes, life=life)
         for note in notes:
             say(f"note: {note}")
         if eye_contact:

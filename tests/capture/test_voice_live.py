@@ -55,12 +55,17 @@ def test_a_sound_file_plays_as_a_live_voice_each_frame_within_its_lookahead(line
     assert len(frames) == take.frames  # the last frames are placed when the sound ends
     assert [f.t for f in frames] == pytest.approx(np.arange(take.frames) / 100)
     live = np.array([f.channels for f in frames])
-    np.testing.assert_allclose(live.sum(axis=1) - live[:, -1], 1.0, atol=1e-9)  # shapes' weights sum to 1
+    np.testing.assert_allclose(live[:, :-2].sum(axis=1), 1.0, atol=1e-9)  # shapes' weights sum to 1
     x = VISEMES.index("X")
     assert (live[:40, x] > 0.99).all()  # silence before the voice: rest, also live
     opening_live = live[:, VISEMES.index("C")] + live[:, VISEMES.index("D")]
     opening_file = take.channels[:, VISEMES.index("C")] + take.channels[:, VISEMES.index("D")]
     assert np.corrcoef(opening_live, opening_file)[0, 1] > 0.9  # its own scale, learned as it goes
+    pitch_file, pitch_live = take.channel("voice_pitch"), live[:, -1]
+    voiced = pitch_file > 0
+    assert voiced.sum() > 50  # the vowels
+    assert np.mean(np.abs(pitch_live[voiced] - pitch_file[voiced]) < 0.3) > 0.9  # the file's pitch, as it comes
+    assert np.mean(pitch_live[~voiced] > 0) < 0.05
 
 
 def test_the_live_level_is_the_files_once_the_loudest_has_been_heard(line):
@@ -68,7 +73,7 @@ def test_the_live_level_is_the_files_once_the_loudest_has_been_heard(line):
     clock = FakeClock()
     chunks = played(np.asarray(_speech([("-", 0.5), ("a", 0.4), ("-", 0.1), ("i", 0.3), ("u", 0.3), ("-", 0.6)])),
                     clock=clock, sleep=clock.sleep)
-    level = np.array([f.channels[-1] for f in voice_frames(chunks)])
+    level = np.array([f.channels[-2] for f in voice_frames(chunks)])
     loudest = int(np.argmax(sound))
     np.testing.assert_allclose(level[loudest:], sound[loudest:len(level)], atol=2e-4)
 
@@ -89,3 +94,9 @@ def test_send_streams_a_voice_live_and_records_the_mouth(line, tmp_path, capsys)
     mb = sent.values[:, MOTOR_CODES.index("MB")]
     assert sent.frames == read_voice(line).frames
     assert np.ptp(mb[:40]) < 0.01 and mb[55:85].max() > mb[:40].mean() + 0.2  # shut, then the "a" opens it
+    assert "the life layer moves what the mapping does not drive" in said.out + said.err  # on for a voice, as offline
+    for code in ("PRH", "HV", "HH"):  # gaze, breathing and sway: alive while it speaks
+        assert np.ptp(sent.values[:, MOTOR_CODES.index(code)]) > 0.003, code
+    assert main(["send", str(line), "--to", "127.0.0.1:9", "--record", str(tmp_path / "still.csv"), "--no-life"]) == 0
+    still = load_track(tmp_path / "still.csv")
+    assert np.ptp(still.values[:, MOTOR_CODES.index("PRH")]) == 0.0

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from capture.voice_pitch import pitch_hz, semitones
-from mapping.life import LIDS, LifeSettings, add_life, life_offsets, voice_cues
+from mapping.life import LIDS, LifeSettings, LiveLife, add_life, life_offsets, voice_cues
 from toon import MOTOR_CODES, MotorTrack, standard_neutral
 
 RATE = 100.0
@@ -133,3 +133,73 @@ def test_map_of_a_voice_comes_alive_by_default_and_not_with_no_life(tmp_path):
         np.testing.assert_allclose(alive.values[:, column[code]], still.values[:, column[code]], atol=1e-6)
     for code in ("PRH", "HV", "HH"):
         assert np.ptp(alive.values[:, column[code]]) > 0.003 and np.ptp(still.values[:, column[code]]) < 1e-6, code
+
+
+def test_live_and_offline_are_one_layer_the_same_frames_in_silence():
+    """With no cue to act on early or late, the live layer is the offline one, frame for frame."""
+    n, neutral = 1500, standard_neutral()
+    track = MotorTrack(np.tile(neutral, (n, 1)), RATE)
+    offline = add_life(track, voice_cues(np.zeros(n), np.zeros(n), RATE), set(MOUTH), LifeSettings(seed=4))
+    live = LiveLife(neutral, RATE, set(MOUTH), LifeSettings(seed=4))
+    frames = np.array([live.step(neutral, np.ones(21), k / RATE)[0] for k in range(n)])
+    np.testing.assert_array_equal(frames, offline.values)
+
+
+def test_the_live_layer_follows_the_voice_as_it_comes_and_fills_what_is_lost():
+    """Live, a brow rises just after each accent (found three frames after its peak), the driven
+    motors are untouched, and pupils whose tracking is lost get the layer, fully sure."""
+    level, pitch, _, accents = _voice(60.0)
+    neutral = standard_neutral()
+    pupils = [MOTOR_CODES.index(code) for code in ("PRH", "PLH", "PRV", "PLV")]
+    live = LiveLife(neutral, RATE, {*MOUTH, "PRH", "PLH", "PRV", "PLV"}, LifeSettings(seed=2))
+    shown, sure = [], []
+    for k in range(len(level)):
+        values = neutral.copy()
+        values[MOTOR_CODES.index("MB")] = 0.2 + 0.5 * level[k]
+        values[pupils] = 0.9  # the performer looks far off ...
+        confidence = np.ones(21)
+        if 3000 <= k < 3500:
+            confidence[pupils] = 0.0  # ... until the camera loses the eyes for five seconds
+        out, certain = live.step(values, confidence, k / RATE, level[k], pitch[k])
+        shown.append(out)
+        sure.append(certain)
+    shown, sure = np.array(shown), np.array(sure)
+    brow = shown[:, MOTOR_CODES.index("BRM")] - neutral[MOTOR_CODES.index("BRM")]
+    for k in accents:
+        assert brow[k:k + 40].max() > 0.1 and brow[k - 30:k].max() < 0.02  # risen within 0.4 s after, not before
+    np.testing.assert_array_equal(shown[:, MOTOR_CODES.index("MB")], 0.2 + 0.5 * level)
+    assert (shown[:3000, pupils] == 0.9).all() and (shown[3500:, pupils] == 0.9).all()
+    lost = shown[3000:3500, pupils] - neutral[pupils]
+    assert np.abs(lost).max() < 0.21 and np.ptp(lost) > 0.01 and (sure[3000:3500][:, pupils] == 1.0).all()
+
+
+def test_a_performer_the_camera_loses_stays_alive_with_life_and_freezes_without():
+    """``send --life``: where the tracked face is lost its eyes and head get the layer, fully sure;
+    where it is seen they are the performer's."""
+    from dataclasses import replace as copy
+
+    from capture.performance import CODES, NEUTRAL
+    from capture.sources import take_source
+    from capture.synthetic import performed
+    from toonface.send import build_mapper
+
+    rate = 60.0
+    take = performed(np.tile([NEUTRAL[c] for c in CODES], (int(8 * rate), 1)), rate, seed=2).take
+    positions = take.positions.copy()
+    positions[int(3 * rate):int(6 * rate)] = np.nan  # the camera loses the face for three seconds
+    take = copy(take, positions=positions)
+    lost = slice(int(3.5 * rate), int(6 * rate))
+    shown = {}
+    for life in (True, False):
+        source = take_source(take)
+        mapper = build_mapper(source, target_neutral=standard_neutral(), life=life)
+        frames = [mapper.step_frame(frame) for frame in source.frames]
+        shown[life] = (np.array([f[0] for f in frames]), np.array([f[1] for f in frames]))
+    prh, hv = MOTOR_CODES.index("PRH"), MOTOR_CODES.index("HV")
+    alive, sure = shown[True]
+    still, unsure = shown[False]
+    assert np.ptp(alive[lost, prh]) > 0.02 and np.ptp(alive[lost, hv]) > 0.005 and (sure[lost, prh] == 1.0).all()
+    settled = slice(int(5 * rate), int(6 * rate))  # without it, the lost eyes glide to rest and stay
+    assert np.ptp(still[settled, prh]) < 1e-9 and (unsure[lost, prh] < 1.0).all()
+    seen = slice(int(1.5 * rate), int(3 * rate))
+    np.testing.assert_array_equal(alive[seen, prh], still[seen, prh])  # the performer's own where seen

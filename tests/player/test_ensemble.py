@@ -19,7 +19,7 @@ from stream.sender import StreamSender
 from toon import FaceRig, load_face, motor_index
 from toon.stage import KEYS_PER_CELL, grid
 
-STILL = Providers(idle=IdleSettings(blink_per_minute=0, breathing_amount=0, saccade_amount=0))
+STILL = Providers(idle=IdleSettings(blink_per_minute=0, breathing_amount=0, saccade_amount=0, sway_amount=0))
 
 
 def _pose(face, **motors):

@@ -169,3 +169,18 @@ def test_render_carries_the_voice_a_track_was_lip_synced_from(voice, tmp_path, c
         assert main(["render", str(tmp_path / "line.csv"), "-o", *argv]) == 2
         assert said in capsys.readouterr().err
         assert not list(tmp_path.glob("x.*"))
+
+
+@pytest.mark.realdata
+def test_the_studio_opens_a_voice_alive_unless_told_no_life(voice, tmp_path, monkeypatch):
+    """``studio line.wav`` maps the voice as ``map`` does: with the life layer, unless --no-life."""
+    from toonface.studio.session import StudioSession
+
+    monkeypatch.chdir(tmp_path)
+    knots = {}
+    for life in (None, False):
+        editor = StudioSession("classic", animation=str(voice), life=life).editor
+        knots[life] = {code: len(editor.animation.knots.get(code, ())) for code in ("PRH", "HV", "ERU", "MB")}
+    assert knots[None]["MB"] > 2 and knots[False]["MB"] > 2  # the mouth either way
+    assert all(knots[None][code] > 2 for code in ("PRH", "HV", "ERU"))  # eyes, breathing and blinks
+    assert all(knots[False][code] <= 2 for code in ("PRH", "HV", "ERU"))  # still without it

@@ -42,8 +42,10 @@ class AnimationEditor:
     """
 
     def __init__(self, neutral: np.ndarray, animation: Animation | None = None, path: Path | None = None,
-                 declared: dict[str, float] | None = None) -> None:
+                 declared: dict[str, float] | None = None, life: bool | None = None) -> None:
         self.neutral = np.asarray(neutral, dtype=np.float64)
+        #: The life layer on a take opened here (:mod:`mapping.life`; None: on for a voice alone).
+        self.life = life
         #: The face's parameters beyond the 21 and their rests: staves the page may edit too.
         self.declared: dict[str, float] = dict(declared or {})
         self.animation = animation if animation is not None else Animation({}, NEW_SECONDS)
@@ -171,7 +173,7 @@ class AnimationEditor:
             self.video, self.take = None, None
         else:
             try:
-                track, what = _track(source, units, rate)
+                track, what = _track(source, units, rate, self.life)
             except MissingRate as unsaid:
                 self.take = {"name": source.name, "path": shown or str(source), "ask": ["rate"], "units": units,
                              "rate": None, "said": unsaid.message}
@@ -289,9 +291,11 @@ def asked(track: MotorTrack, source: Path, shown: str | None, rate: float | None
             "units": str(units["unit"]), "rate": track.rate, "said": why}
 
 
-def _track(path: Path, units: str | None = None, rate: float | None = None) -> tuple[MotorTrack, str]:
-    """A motor track file, or a take (or a talking-head video, tracked) mapped on the fly; and
-    which it was. ``units`` and ``rate`` are a take's where its file does not say them."""
+def _track(path: Path, units: str | None = None, rate: float | None = None,
+           life: bool | None = None) -> tuple[MotorTrack, str]:
+    """A motor track file, or a take (or a talking-head video, tracked) mapped on the fly, with the
+    life layer where ``life`` says (as ``map --life``); and which it was. ``units`` and ``rate``
+    are a take's where its file does not say them."""
     from capture import load_take
     from capture.csvfile import MissingRate
     from capture.sources import VIDEO_SUFFIXES
@@ -309,10 +313,10 @@ def _track(path: Path, units: str | None = None, rate: float | None = None) -> t
                 raise
             except InputError:
                 raise not_a_track from None
-            return map_onto_face(take), "a take, mapped"
+            return map_onto_face(take, life=life), "a take, mapped"
     if path.suffix.lower() in VIDEO_SUFFIXES:
-        return map_onto_face(load_take_or_video(path, units)), "a video, its face tracked and mapped"
-    return map_onto_face(load_take(path, rate=rate, units=units)), "a take, mapped"
+        return map_onto_face(load_take_or_video(path, units), life=life), "a video, its face tracked and mapped"
+    return map_onto_face(load_take(path, rate=rate, units=units), life=life), "a take, mapped"
 
 
 

@@ -128,7 +128,8 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
         seconds = number(message.get("seconds", NEW_SECONDS))
         if not 0 < seconds <= MAX_DURATION:
             raise ValueError(f"a duration is 0..{MAX_DURATION:g} s, got {seconds:g}")
-        session.editor = AnimationEditor(session.neutral, Animation({}, seconds))
+        session.editor = AnimationEditor(session.neutral, Animation({}, seconds), declared=session.editor.declared,
+                                         life=session.editor.life)
     elif op == "insert":
         said = session.insert_motion(str(message["name"]))
     elif op == "open":

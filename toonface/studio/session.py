@@ -86,10 +86,12 @@ class StudioSession:
         A file for the Animation Editor to open (see :meth:`AnimationEditor.open`).
     folder : Folder, optional
         Where the pages' messages may read and write files; the working folder by default.
+    life : bool, optional
+        The life layer on a take the editor opens (``studio --life``; None: on for a voice alone).
     """
 
     def __init__(self, face: str = "classic", loop_time: float = 1 / 30, animation: str | None = None,
-                 folder: Folder | None = None) -> None:
+                 folder: Folder | None = None, life: bool | None = None) -> None:
         self.folder = folder if folder is not None else Folder.here()
         self.expressions: dict[str, Expression] = load_expressions()
         self.loop_time = loop_time
@@ -97,7 +99,7 @@ class StudioSession:
         self._load(face)
         self.faces = FaceEditor(self.face)  # the face being designed (ToonFace's Editor)
         self.follow = False  # head and gaze follow the pointer
-        self.editor = AnimationEditor(self.neutral, declared=self.face.extra_neutral())
+        self.editor = AnimationEditor(self.neutral, declared=self.face.extra_neutral(), life=life)
         if animation is not None:
             self.editor.open(animation)
         self.showing = "test"  # what the face shows (see the class docstring)
