@@ -2,6 +2,8 @@
 sideways and surprise beyond a human face, from blendshape scores and from markers, on real takes
 (a posed sneer and smile, a jaw exercise) and on synthetic performers that make none of them."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -92,3 +94,26 @@ def test_a_real_jaw_exercise_moves_the_jaw_sideways_and_not_the_cheeks_or_lip(re
     wide = slice(5 * 60, 8 * 60)  # the mouth 4 cm open: the cheeks and the lip stretch, and are not read
     assert track.column("MB")[wide].max() > 0.95
     assert _extra(track, "CP")[wide].max() < 0.15 and _extra(track, "UL")[wide].max() < 0.1
+
+
+@pytest.mark.realdata
+def test_a_jaw_that_thrusts_or_slides_does_not_puff_the_cheeks_and_a_real_puff_still_does(realdata):
+    """Issue 66: the jaw take's performer pushes the chin forward (13 mm, at 9-11 s) and sideways
+    (6 mm, at 21-23 s), which spreads the cheeks by 3-6 mm: no puff. Cheeks blown out by 5 mm a
+    side with the jaw still (put into the same take) are one."""
+    path = realdata / "facial" / "animface" / "JawMoCap.csv"
+    if not path.is_file():
+        pytest.skip(f"{path} is absent")
+    take = load_take(path, units="cm")
+    cp = _extra(map_take(take), "CP")
+    assert np.percentile(cp, 95) < 0.05 and cp.max() < 0.2  # was 0.59 and 0.81
+    positions = take.positions.copy()
+    right, left = take.labels.index("Rcheek_Outside"), take.labels.index("Lcheek_Outside")
+    puff = slice(13 * 60, 15 * 60)
+    ramp = np.clip(np.minimum(np.arange(120), 119 - np.arange(120)) / 15, 0, 1)[:, None]
+    outward = positions[puff, left] - positions[puff, right]
+    outward /= np.linalg.norm(outward, axis=1, keepdims=True)
+    positions[puff, left] += 5 * ramp * outward
+    positions[puff, right] -= 5 * ramp * outward
+    puffed = _extra(map_take(dataclasses.replace(take, positions=positions)), "CP")
+    assert np.median(puffed[int(13.4 * 60):int(14.6 * 60)]) > 0.8
