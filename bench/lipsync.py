@@ -149,7 +149,10 @@ def _languages() -> list[Figure]:
         return []
     from scipy.signal import resample_poly
 
+    from capture.voice_sound import sound_shapes
+
     per: dict[str, dict[str, list[float]]] = {}
+    held: list[tuple[int, int]] = []  # per sentence: its shortest cue outside closures, its one-frame switches
     for voice, sentences in {**espeak.SENTENCES, **espeak.HELD_OUT}.items():
         for sentence in sentences:
             spoken = espeak.say(sentence, voice)
@@ -157,6 +160,7 @@ def _languages() -> list[Figure]:
             truth = spoken.openness()
             for name, curve in _curves(sound, None).items():
                 per.setdefault(name, {}).setdefault(voice, []).append(round(_best_r(curve, truth), 3))
+            held.append(_holds(sound_shapes(sound, len(sound) // 160)))
     seen = [v for v in espeak.SENTENCES if not v.startswith("en")]
     medians = {name: {v: float(np.median(r)) for v, r in by.items()} for name, by in per.items()}
     detail = {"per_sentence": per, "medians": medians}
@@ -165,7 +169,23 @@ def _languages() -> list[Figure]:
                    True, detail),
             Figure("lipsync.r_english_espeak", medians["sound"].get("en-us", float("nan")), "r", None, True, detail),
             Figure("lipsync.phones_r_other_languages_worst",
-                   min(medians["phones"][v] for v in (*seen, *espeak.HELD_OUT)), "r", None, True, detail)]
+                   min(medians["phones"][v] for v in (*seen, *espeak.HELD_OUT)), "r", None, True, detail),
+            Figure("lipsync.cue_min_frames", float(min(shortest for shortest, _ in held)), "frames", 1.0, True,
+                   {"fps": 24, "sentences": len(held), "one_frame_switches_outside_closures":
+                    sum(flicker for _, flicker in held), "what": "lipsync's cues from the sound, held for 24 fps "
+                    "(capture.cues.held_cues): the shortest outside closures, and switches a frame apart"})]
+
+
+def _holds(shapes: np.ndarray) -> tuple[int, int]:
+    """The shortest of ``lipsync``'s held cues at 24 fps outside closures (frames) and how many of
+    its switches come a frame after the last outside closures."""
+    from capture.cues import CLOSURES, held_cues
+    from capture.voice import mouth_cues
+
+    cues = held_cues(mouth_cues(shapes), 24.0)
+    frames = [(round(b * 24) - round(a * 24), s) for a, b, s in cues[:-1]]
+    lengths = [f for f, s in frames if s not in CLOSURES]
+    return min(lengths, default=99), sum(1 for f, s in frames if f < 2 and s not in CLOSURES)
 
 
 def _speed(clips: list) -> Figure:

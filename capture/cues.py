@@ -31,6 +31,55 @@ from common.limits import check_cue_end, read_regular_text
 CUE_SUFFIXES = (".tsv", ".json", ".xml", ".dat")
 #: Moho's switch files count frames at this rate unless told (Rhubarb's default).
 DAT_FPS = 24.0
+#: The shapes that shut the lips (b, p, m), kept however short (:func:`held_cues`).
+CLOSURES = ("A",)
+
+
+def held_cues(cues: list[tuple[float, float, str]], fps: float = DAT_FPS,
+              closures: tuple[str, ...] = CLOSURES) -> list[tuple[float, float, str]]:
+    """``cues`` (``(start, end, shape)``, seconds) for an animation at ``fps`` frames a second,
+    as an editor needs them: each on whole frames, and held two frames at least (a shape for one
+    frame is a flicker), but a closure (``A``, the lips shut for b, p and m: without it a word
+    does not read), which keeps one frame at least even where it was shorter. A shape too short
+    to keep joins the shape before it (the first, or one after a closure: the shape after it);
+    neighbours of one shape become one cue. The first cue still starts where the first began and
+    the last ends where the last ended, on the nearest frame."""
+    spans = [[int(round(a * fps)), int(round(b * fps))] for a, b, _ in cues]  # (start, end) frames
+    shapes = [shape for _, _, shape in cues]
+    for k, span in enumerate(spans):  # a closure shorter than a frame takes one from its successor
+        if shapes[k] in closures and span[1] <= span[0]:
+            span[1] = span[0] + 1
+            if k + 1 < len(spans):
+                spans[k + 1][0] = max(spans[k + 1][0], span[1])
+                spans[k + 1][1] = max(spans[k + 1][1], spans[k + 1][0])
+
+    def least(shape: str) -> int:
+        return 1 if shape in closures else 2
+
+    changed = True
+    while changed and len(spans) > 1:
+        changed = False
+        kept: list[list[int]] = []
+        named: list[str] = []
+        carried: int | None = None  # where a shape too short after a closure began: the next shape's start
+        for k, (span, shape) in enumerate(zip(spans, shapes, strict=True)):
+            start = span[0] if carried is None else carried
+            carried = None
+            if named and named[-1] == shape:  # the same shape again: one cue
+                kept[-1][1] = span[1]
+            elif span[1] - start < least(shape) and named and named[-1] not in closures:
+                kept[-1][1], changed = span[1], True  # too short: joins the shape before it
+            elif span[1] - start < least(shape) and named and k + 1 < len(spans):
+                carried, changed = start, True  # too short after a closure: the shape after it takes its time
+            else:
+                kept.append([start, span[1]])
+                named.append(shape)
+        if len(kept) > 1 and kept[0][1] - kept[0][0] < least(named[0]):
+            kept[1][0], changed = kept[0][0], True  # the first, too short: the next shape from the start
+            del kept[0], named[0]
+        pairs = [(span, shape) for span, shape in zip(kept, named, strict=True) if span[1] > span[0] or len(kept) == 1]
+        spans, shapes = [span for span, _ in pairs], [shape for _, shape in pairs]
+    return [(a / fps, b / fps, shape) for (a, b), shape in zip(spans, shapes, strict=True)]
 
 
 def cues_text(cues: list[tuple[float, float, str]], suffix: str, sound: str | os.PathLike = "",

@@ -18,14 +18,18 @@ CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhub
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Mouth cues: .tsv (Rhubarb's: start<TAB>shape, the last line the end at rest), .json or .xml "
                    "(Rhubarb's: metadata and mouthCues with start, end and shape), or .dat (Moho's and OpenToonz's "
-                   "switch data: FRAME SHAPE lines at --dat-fps).")
-@click.option("--dat-fps", default=24.0, show_default=True, type=FiniteFloat(min=1, max=240),
-              help="With a .dat output: the frame rate its frame numbers count at.")
+                   "switch data: FRAME SHAPE lines at --fps).")
+@click.option("--fps", "--dat-fps", "fps", default=24.0, show_default=True, type=FiniteFloat(min=1, max=240),
+              help="The frame rate the cues are for: each starts on a frame and holds two at least (a closed mouth "
+                   "for b, p and m one at least), so that no shape flickers; a .dat counts its frames at it.")
+@click.option("--every-frame", is_flag=True,
+              help="The cues as heard, a shape for each 10 ms whatever the frame rate (they read back as the "
+                   "voice's own motors exactly; an animation at 24 or 30 fps would flicker).")
 @click.option("--text", default=None, metavar="WORDS|@FILE",
               help="The words spoken (or @FILE holding them): aligned with the sound, which places each phone, "
                    "and opened as --listen words opens them [default: no words needed, see --listen].")
 @LISTEN
-def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: str | None) -> None:
+def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | None, listen: str | None) -> None:
     """Mouth shapes from a voice: a sound file (WAV, MP3, OGG, anything FFmpeg decodes) or the
     sound of a video, heard offline in any language (or, with --listen words, the English words
     recognised in it; with --text, the English words given, aligned),
@@ -35,10 +39,11 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: s
     weighs a frame between two shapes) the same a shape at a time.
 
     Silence is rest (X) whatever was heard in it, and the blend between shapes reaches 50 ms
-    either side. From words or phones, a vowel's shape comes a little early, no shape is held for less
+    either side. Each cue holds two frames at least at --fps (a closed mouth one), as an
+    editor's timeline needs. From words or phones, a vowel's shape comes a little early, no shape is held for less
     than 30 ms, and a pause under 0.2 s keeps the shape before it.
     """
-    from capture.cues import cues_text
+    from capture.cues import cues_text, held_cues
     from capture.voice import FRAME_RATE, mouth_cues
     from capture.voice import heard as said
     from capture.voice_take import hear_voice
@@ -52,9 +57,11 @@ def lipsync(voice: str, output: str, dat_fps: float, text: str | None, listen: s
     words = read_words(text) if text is not None else None
     heard = hear_voice(voice, words, listen or "sound")
     cues = mouth_cues(heard.shapes)
+    if not every_frame:
+        cues = held_cues(cues, fps)
     duration = len(heard.shapes) / FRAME_RATE
     with atomic_path(output) as tmp:
-        tmp.write_text(cues_text(cues, suffix, voice, words, dat_fps), encoding="utf-8")
+        tmp.write_text(cues_text(cues, suffix, voice, words, fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
     click.echo(f"wrote {output}: {len(cues)} mouth cues over {duration:.2f} s ({shaped} speaking), "
                + ("the words given aligned, opened as the sound and their phones say" if words else

@@ -82,7 +82,8 @@ def test_a_voice_has_no_table_options(voice, capsys):
 @pytest.mark.parametrize("suffix", [".tsv", ".json", ".xml"])
 def test_rhubarb_cues_read_back_as_the_motors_they_came_from(voice, tmp_path, suffix):
     """From the phones heard, a frame is one shape: its cues are its motors exactly."""
-    assert main(["lipsync", str(voice), "--listen", "phones", "-o", str(tmp_path / f"cues{suffix}")]) == 0
+    assert main(["lipsync", str(voice), "--listen", "phones", "-o", str(tmp_path / f"cues{suffix}"),
+                 "--every-frame"]) == 0
     assert main(["map", str(voice), "--listen", "phones", "-o", str(tmp_path / "voice.csv"), "--no-life"]) == 0
     assert main(["map", str(tmp_path / f"cues{suffix}"), "-o", str(tmp_path / "cues.csv")]) == 0
     from_voice, from_cues = load_track(tmp_path / "voice.csv"), load_track(tmp_path / "cues.csv")
@@ -95,7 +96,7 @@ def test_rhubarb_cues_read_back_as_the_motors_they_came_from(voice, tmp_path, su
 def test_cues_from_the_sound_are_its_mouth_to_the_nearest_shape(voice, tmp_path):
     """From the sound, a frame between two shapes weighs both; its cue is the heavier, so the
     cues read back follow the voice's own motors, a shape at a time."""
-    assert main(["lipsync", str(voice), "-o", str(tmp_path / "cues.tsv")]) == 0
+    assert main(["lipsync", str(voice), "-o", str(tmp_path / "cues.tsv"), "--every-frame"]) == 0
     assert main(["map", str(voice), "-o", str(tmp_path / "voice.csv"), "--no-life"]) == 0
     assert main(["map", str(tmp_path / "cues.tsv"), "-o", str(tmp_path / "cues.csv")]) == 0
     from_voice, from_cues = load_track(tmp_path / "voice.csv"), load_track(tmp_path / "cues.csv")
@@ -103,6 +104,59 @@ def test_cues_from_the_sound_are_its_mouth_to_the_nearest_shape(voice, tmp_path)
     voice_mb, cues_mb = from_voice.values[:, mb], from_cues.values[:, mb]
     assert np.corrcoef(voice_mb, cues_mb)[0, 1] > 0.95 and np.abs(voice_mb - cues_mb).mean() < 0.03  # 0.973, 0.015
     assert np.abs(voice_mb - cues_mb).max() > 0.01  # the voice's own mouth is not a shape at a time
+
+
+def test_held_cues_sit_on_frames_and_hold_two_but_a_closure_which_keeps_one():
+    from capture.cues import held_cues
+
+    cues = [(0.0, 0.92, "X"), (0.92, 0.93, "A"), (0.93, 0.95, "C"), (0.95, 1.18, "B"), (1.18, 1.2, "F"),
+            (1.2, 2.97, "X")]
+    # at 24 fps: A (under a frame) keeps frame 22, C (none left) goes, F (one frame) joins B
+    assert [(round(a * 24), round(b * 24), s) for a, b, s in held_cues(cues, 24)] == [
+        (0, 22, "X"), (22, 23, "A"), (23, 29, "B"), (29, 71, "X")]
+    assert held_cues([(0.0, 0.01, "B"), (0.01, 0.5, "X")], 24) == [(0.0, 0.5, "X")]  # a first flicker: the next
+    after = [(0.0, 1.0, "X"), (1.0, 1.05, "A"), (1.05, 1.09, "B"), (1.09, 1.5, "D")]  # B a frame, after a closure
+    assert [(round(a * 24), round(b * 24), s) for a, b, s in held_cues(after, 24)] == [
+        (0, 24, "X"), (24, 25, "A"), (25, 36, "D")]
+    assert held_cues([(0.0, 0.5, "X")], 24) == [(0.0, 0.5, "X")]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("language", ["en-us", "de"])
+def test_lipsync_cues_for_an_editor_never_flicker_and_keep_every_closure(language, tmp_path):
+    """Issue 69: of 70 cues for an English espeak-ng sentence 27 were shorter than a 24 fps frame
+    (52 of 104 in German), and the .dat switched shapes on consecutive frames."""
+    from bench import espeak
+
+    if not espeak.available():
+        pytest.skip("espeak-ng is not installed (make install puts it there)")
+    from capture.cues import read_cues
+
+    spoken = espeak.say(espeak.SENTENCES[language][0], language)
+    sound = tmp_path / "said.wav"
+    _write_wav(sound, spoken.samples, spoken.rate)
+    assert main(["lipsync", str(sound), "-o", str(tmp_path / "raw.tsv"), "--every-frame"]) == 0
+    assert main(["lipsync", str(sound), "-o", str(tmp_path / "held.tsv")]) == 0
+    assert main(["lipsync", str(sound), "-o", str(tmp_path / "held.dat")]) == 0
+    raw, held = read_cues(tmp_path / "raw.tsv"), read_cues(tmp_path / "held.tsv")
+    assert min(b - a for a, b, _ in raw) < 1 / 24  # as heard, some flicker
+    frames = [round(b * 24) - round(a * 24) for a, b, _ in held[:-1]]  # (written to 10 ms, as Rhubarb's)
+    assert all(f >= 2 or s == "A" for f, (_, _, s) in zip(frames, held, strict=False)) and min(frames) >= 1
+    switches = [line.split() for line in (tmp_path / "held.dat").read_text().splitlines()[1:]]
+    for (f0, s0), (f1, s1) in zip(switches, switches[1:], strict=False):
+        assert int(f1) - int(f0) >= 2 or s0 == "A", (f0, s0, f1, s1)
+    closures = sum(1 for _, _, s in raw if s == "A")
+    assert sum(1 for _, _, s in held if s == "A") == closures  # every closed mouth kept
+
+
+def _write_wav(path, samples: np.ndarray, rate: int) -> None:
+    with av.open(str(path), "w") as out:
+        stream = out.add_stream("pcm_s16le", rate=rate, layout="mono")
+        frame = av.AudioFrame.from_ndarray((np.clip(samples, -1, 1) * 32767).astype(np.int16)[None], format="s16",
+                                           layout="mono")
+        frame.sample_rate = rate
+        for packet in (*stream.encode(frame), *stream.encode(None)):
+            out.mux(packet)
 
 
 def test_cues_written_are_the_cues_read(tmp_path):
