@@ -154,7 +154,7 @@ class PagePerformer:
         mapper = build_mapper(self.source, notes=self.notes)
         #: What the mapping says to the page (eye contact taken or refused), for the server to pass on.
         self.said: queue.Queue[str] = queue.Queue(SAID_KEPT)
-        mapper.eye_contact = LiveEyeContact(standard_neutral(), say=self._say)
+        self.eye_contact = mapper.eye_contact = LiveEyeContact(standard_neutral(), say=self._say)
         self.follower = Follower(self.source, mapper, standard_neutral())
         self.link = _InRoom(deliver)
         self.sender = StreamSender(("room", 0), StreamWriter(PAGE_RATE, stream=stream, key=key), clock=clock,
@@ -173,8 +173,7 @@ class PagePerformer:
             stamp = message.get("t")
             if not isinstance(stamp, int | float) or isinstance(stamp, bool) or not math.isfinite(stamp):
                 raise ValueError('eye contact is {"eye_contact": true, "t": ms}')
-            assert self.follower.mapper.eye_contact is not None
-            self.follower.mapper.eye_contact.begin(float(stamp) / 1000)  # from the page's frame of that time
+            self.eye_contact.begin(float(stamp) / 1000)  # from the page's frame of that time
             return
         frame = page_frame(message, self.rest)
         while True:
