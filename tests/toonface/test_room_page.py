@@ -73,3 +73,52 @@ def test_a_sealed_room_opens_in_the_page_that_holds_the_key_and_the_server_holds
     assert acks > 0  # the page's sealed acknowledgements opened at the performer
     assert caption == "performer 2b · its packets do not open: sealed (add the key to the link: #watch=…&key=…)"
     assert frames == 0
+
+
+def test_the_check_tells_a_page_whether_its_token_is_taken_and_only_from_a_header():
+    import asyncio
+
+    import aiohttp
+
+    rooms = Rooms(TOKENS)
+
+    async def ask(base: str) -> list[int]:
+        url = f"{base.replace('ws://', 'http://')}/r"
+        async with aiohttp.ClientSession() as session:
+            answers = []
+            for room, role, token in (("demo", "watch", TOKENS["demo"][1]), ("demo", "perform", TOKENS["demo"][0]),
+                                      ("demo", "watch", TOKENS["demo"][0]), ("nowhere", "watch", TOKENS["demo"][1]),
+                                      ("demo", "watch", "")):
+                async with session.get(f"{url}/{room}/check?role={role}",
+                                       headers={"Authorization": f"Bearer {token}"}) as answer:
+                    answers.append(answer.status)
+            async with session.get(f"{url}/demo/check?role=watch&token={TOKENS['demo'][1]}") as answer:
+                answers.append(answer.status)  # a token in the address is not read
+            return answers
+
+    with in_thread(rooms) as base:
+        answers = asyncio.run(ask(base))
+    assert answers == [204, 204, 403, 403, 403, 403]  # a wrong room answers as a wrong token does
+
+
+@pytest.mark.slow  # Chromium: make test runs it
+def test_a_viewer_page_with_a_wrong_token_says_so_and_stops_knocking():
+    """It tried again every half second forever, saying "a wrong token, or the server is away"."""
+    from browser import chromium, wait_for
+
+    rooms = Rooms(TOKENS)
+    timers = "window.timers = []; const later = window.setTimeout; " \
+             "window.setTimeout = (f, ms, ...rest) => { window.timers.push(ms); return later(f, ms, ...rest); };"
+    with in_thread(rooms) as base, chromium(900, 600) as driver:
+        driver.execute_cdp_cmd("Page.addScriptToEvaluateOnNewDocument", {"source": timers})  # what the page asks
+        page = f"{base.replace('ws://', 'http://')}/r/demo"
+        driver.get(f"{page}#watch=not-the-token")
+        wait_for(driver, "window.viewer.refused === true", timeout=20)
+        status = driver.execute_script("return document.getElementById('status').textContent")
+        asked = driver.execute_script("return window.timers")
+        knocks = rooms.refused["token"]
+        driver.get(f"{page}#watch={TOKENS['demo'][1]}")  # the right link, pasted into the same tab
+        wait_for(driver, "window.viewer.connected === true", timeout=20)
+    assert status.startswith("the room server refuses this link's watch token: open the link it printed")
+    assert 500 not in asked  # no try again in half a second (as there was), nor any
+    assert knocks == 2  # the socket, then the check

@@ -10,7 +10,10 @@ binary message of a performer goes to every viewer of the room, and a viewer's r
 Safety, each counted in :attr:`Room.refused` (or the server's, before a room is known):
 
 - tokens compared in constant time (``hmac.compare_digest``); a wrong one is refused with 403,
-  and tokens are never logged (the access log is off: a token may ride in the query);
+  and tokens are never logged (the access log is off: a token may ride in the query); a page
+  whose socket closed asks ``/r/ROOM/check?role=...`` (the token in its ``Authorization``
+  header) whether its link is wrong or the server was away, since a browser does not show a
+  refused WebSocket's status;
 - rooms exist only as declared (:class:`Rooms`); performers and viewers per room are capped;
 - a message larger than a stream packet is refused and the connection closed; more than
   ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
@@ -153,6 +156,7 @@ def make_app(rooms: Rooms) -> web.Application:
     app = web.Application(client_max_size=4096)
     app[ROOMS] = rooms
     app.router.add_get("/r/{room}/ws", _socket)
+    app.router.add_get("/r/{room}/check", _check)
     add_pages(app, rooms.face)
     app.on_shutdown.append(_going_away)
     if rooms.pubsub:
@@ -224,6 +228,19 @@ def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0, ssl_context:
         loop.call_soon_threadsafe(box["stop"].set)
         thread.join(10)
         loop.close()
+
+
+async def _check(request: web.Request) -> web.Response:
+    """Whether the room would take this token for this role (204), or not (403: the same for a
+    room that does not exist), for a page whose socket closed to tell a wrong link from a server
+    away; the token only in the ``Authorization`` header."""
+    rooms = request.app[ROOMS]
+    token = request.headers.get("Authorization", "").removeprefix("Bearer ")
+    admitted = rooms.admit(request.match_info["room"], request.query.get("role", "watch"), token)
+    if isinstance(admitted, str) and admitted != "full":
+        rooms.refused[admitted] += 1
+        raise web.HTTPForbidden(text="no such room, or not with that token\n")
+    return web.Response(status=204)
 
 
 async def _socket(request: web.Request) -> web.StreamResponse:

@@ -32,9 +32,10 @@ function connect() {
   const scheme = location.protocol === "https:" ? "wss" : "ws";
   const socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=perform`
                                + `&format=face&token=${encodeURIComponent(token)}`);
-  socket.onclose = () => {
-    $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
-      : "no perform token: open the link the room server printed (it ends in #perform=…)";
+  socket.onclose = async () => {
+    const state = await window.toonRoomLink.closed(room, "perform", token);
+    if (state !== "away") return fail(window.toonRoomLink.said(state, "perform"));  // a wrong link: said, kept
+    $("status").textContent = window.toonRoomLink.said(state, "perform");
     setTimeout(() => { performer.socket = connect(); }, 500);
   };
   socket.onmessage = (event) => {  // what the mapping says back: eye contact taken, or why not
@@ -79,6 +80,7 @@ async function start() {
     $("contact").textContent = "look at the middle of your screen…";
   };
   const step = () => {
+    if (performer.error) return;  // stopped: what stopped it stays on the page
     const ms = performance.now() - started;
     if (ms > last) {  // the landmarker needs increasing times
       last = ms;

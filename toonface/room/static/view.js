@@ -86,12 +86,15 @@
     socket.onmessage = (event) => {
       queue = queue.then(() => toonDraw.inflate(event.data)).then(show);
     };
-    socket.onclose = () => {
-      viewer.connected = false;
-      $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
-        : "no watch token: open the link the room server printed (it ends in #watch=…)";
-      setTimeout(connect, 500);  // another server process on the address takes it
-    };
+    socket.onclose = () => closed(connect);  // another server process on the address may take it
+  }
+  async function closed(again) {
+    // a wrong link is said and left; a server away is tried again in half a second
+    viewer.connected = false;
+    const state = await toonRoomLink.closed(room, "watch", token);
+    $("status").textContent = toonRoomLink.said(state, "watch");
+    viewer.refused = state !== "away";
+    if (state === "away") setTimeout(again, 500);
   }
   const GONE_SECONDS = 3.0;  // a performer silent this long leaves the page
 
@@ -125,12 +128,7 @@
         viewer.bytes += bytes.length;
         viewer.messages += 1;
       };
-      socket.onclose = () => {
-        viewer.connected = false;
-        $("status").textContent = token ? "disconnected (a wrong token, or the server is away): trying again…"
-          : "no watch token: open the link the room server printed (it ends in #watch=…)";
-        setTimeout(open, 500);
-      };
+      socket.onclose = () => closed(open);
     }
     viewer.frameMs = [];  // the last 240 frames' drawing times (the bench reads them)
     function tick() {
