@@ -179,7 +179,7 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
 
     from toon import load_face
     from toonface.room.server import Rooms, make_runner
-    from toonface.web_hosts import listen_hosts
+    from toonface.web_hosts import EVERY_INTERFACE, listen_hosts, reachable_addresses
 
     s = settings
     context = _tls(s.tls_cert, s.tls_key) if s.tls_cert and s.tls_key else None
@@ -211,10 +211,15 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
                 raise click.ClickException(f"a worker process stopped before it listened (exit {process.exitcode})")
     if path is not None:
         bound = runner.addresses[0][1] if runner.addresses else s.port
-        shown = "127.0.0.1" if s.host in ("0.0.0.0", "") else s.host
+        reachable = reachable_addresses() if s.host in EVERY_INTERFACE else []
+        shown = reachable[0] if reachable else "127.0.0.1" if s.host in EVERY_INTERFACE else s.host
         shared = f", {len(others) + 1} processes" if others else ""
         shared += f", rooms shared through {s.pubsub}" if s.pubsub else ""
         click.echo(f"room server on {scheme}://{shown}:{bound}{shared} (Ctrl-C stops); tokens in {path}")
+        if s.host in EVERY_INTERFACE:  # the links name the address other machines reach this one at
+            also = ", ".join([*reachable[1:], "127.0.0.1 from this machine"])
+            click.echo(f"  every interface: also at {also}" if reachable
+                       else "  every interface, but no address other machines reach was found: 127.0.0.1 only")
         web_scheme = "https" if context else "http"
         for name, (perform, watch) in s.tokens.items():
             where = f"{scheme}://{shown}:{bound}/r/{name}"

@@ -12,7 +12,9 @@ elsewhere unless the user names it.
 
 from __future__ import annotations
 
+import contextlib
 import ipaddress
+import socket
 from collections.abc import Collection
 from urllib.parse import urlsplit
 
@@ -50,6 +52,24 @@ def listen_hosts(host: str, port: int, allow: Collection[str] = ()) -> set[str]:
     if every:
         names.add(ANY_ADDRESS)
     return names | {name if ":" in name else f"{name}:{port}" for name in allow}
+
+
+def reachable_addresses() -> list[str]:
+    """This machine's IPv4 addresses that other machines may reach it at (not loopback, not
+    link-local), the one its traffic leaves by first (asked of the kernel by a UDP socket
+    "connected" to a documentation address: nothing is sent); empty where it has none."""
+    found: list[str] = []
+    with contextlib.suppress(OSError), socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        probe.connect(("192.0.2.1", 9))  # TEST-NET-1: a route is looked up, no packet leaves
+        found.append(probe.getsockname()[0])
+    with contextlib.suppress(OSError):
+        found += [str(info[4][0]) for info in socket.getaddrinfo(socket.gethostname(), None, socket.AF_INET)]
+    kept = []
+    for address in found:
+        ip = ipaddress.ip_address(address)
+        if not (ip.is_loopback or ip.is_link_local or ip.is_unspecified) and address not in kept:
+            kept.append(address)
+    return kept
 
 
 def host_allowed(host: str, hosts: Collection[str]) -> bool:

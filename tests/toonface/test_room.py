@@ -133,3 +133,32 @@ def test_wss_with_a_self_signed_certificate_is_trusted_only_when_given(tmp_path)
         link = WebSocketLink(url, TOKENS["demo"][1], "watch", ca_file=str(cert))
         link.close()
         assert link.closed.is_set()
+
+
+def test_a_room_on_every_interface_prints_links_other_machines_can_open(tmp_path, capsys, monkeypatch):
+    """Issue 68: under --listen 0.0.0.0 the links said 127.0.0.1, which no other machine opens."""
+    from toonface import web_hosts
+
+    monkeypatch.setattr(web_hosts, "reachable_addresses", lambda: ["192.168.1.23", "10.0.0.7"])
+    tokens = tmp_path / "rooms.toml"
+    assert main(["room", "--listen", "0.0.0.0:0", "--room", "demo", "--tokens", str(tokens), "--seconds", "0.1"]) == 0
+    out = capsys.readouterr().out
+    assert "browser  http://192.168.1.23:" in out and "camera   http://192.168.1.23:" in out
+    assert "every interface: also at 10.0.0.7, 127.0.0.1 from this machine" in out
+    assert "127.0.0.1:" not in out.split("every interface")[1]  # no link names it
+    monkeypatch.setattr(web_hosts, "reachable_addresses", lambda: [])
+    assert main(["room", "--listen", "0.0.0.0:0", "--tokens", str(tokens), "--seconds", "0.1"]) == 0
+    assert "no address other machines reach was found: 127.0.0.1 only" in capsys.readouterr().out
+
+
+def test_the_machines_reachable_addresses_are_real_and_never_loopback():
+    import ipaddress
+    import socket
+
+    from toonface.web_hosts import reachable_addresses
+
+    for address in reachable_addresses():
+        ip = ipaddress.ip_address(address)
+        assert not ip.is_loopback and not ip.is_link_local
+        with socket.socket() as probe:
+            probe.bind((address, 0))  # an address of this machine: it can be bound
