@@ -6,6 +6,7 @@ import asyncio
 import dataclasses
 import multiprocessing
 import secrets
+import socket
 import ssl
 from pathlib import Path
 from typing import Any
@@ -104,6 +105,7 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
         raise click.BadParameter("several workers share one port: name it (not 0)", param_hint="--listen")
     if pubsub is not None and not pubsub.startswith(("nats://", "tls://")):
         raise click.BadParameter(f"{pubsub}: expected nats://HOST:PORT", param_hint="--pubsub")
+    _check_port(host, port)  # before the tokens file is written, and before workers share the port
     tokens = load_tokens(path, names)
     load_face(face)  # (an error now, not in each worker)
     if bool(tls_cert) != bool(tls_key):
@@ -147,6 +149,22 @@ class Settings:
     shared_port: bool
     seconds: float | None
     origins: tuple[str, ...] = ()
+
+
+def _check_port(host: str, port: int) -> None:
+    """A usage error where something already listens at ``host:port``: bound alone (without
+    SO_REUSEPORT, which the workers share the port with), a port in use is refused, so a second
+    ``room --workers 2`` there does not start silently beside the first."""
+    if port == 0:
+        return
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # (a closed connection's wait is no user)
+        try:
+            probe.bind((host or "0.0.0.0", port))
+        except OSError as exc:
+            raise click.BadParameter(f"cannot listen on {host}:{port}: {exc.strerror or exc} (another server there?)",
+                                     param_hint="--listen") from None
 
 
 def _tls(cert: str, key: str) -> ssl.SSLContext:

@@ -2,6 +2,7 @@
 sees a performer on another, its acknowledgements find the performer, and a viewer whose server
 stops reconnects to another on the same address within two seconds."""
 
+import socket
 import threading
 import time
 
@@ -105,7 +106,6 @@ def test_a_viewer_whose_server_stops_reconnects_to_another_on_the_same_address_w
 def test_room_workers_share_one_port_a_killed_one_loses_its_viewers_to_the_other_and_all_stop_together(tmp_path):
     import os
     import signal
-    import socket
     import subprocess
     import sys
     from pathlib import Path
@@ -172,3 +172,21 @@ def test_room_sharing_given_wrongly_is_one_line_and_a_failure(tmp_path, capsys, 
                  *(["--listen", "127.0.0.1:0"] if "--listen" not in args else []), *args])
     err = capsys.readouterr().err
     assert code != 0 and says in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("workers", ["1", "2"])
+def test_a_room_on_a_port_in_use_is_refused_in_a_line_and_writes_no_tokens(tmp_path, capsys, workers):
+    """Issue 68: a second `room --workers 2` on a port in use started silently beside the first
+    (the workers' shared port let it bind); issue 70: the tokens file was written all the same."""
+    from toonface.cli import main
+
+    with socket.socket() as taken:
+        taken.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)  # as a room's workers hold it
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        code = main(["room", "--room", "demo", "--tokens", str(tmp_path / "rooms.toml"), "--seconds", "1",
+                     "--listen", f"127.0.0.1:{port}", "--workers", workers, "--pubsub", "nats://127.0.0.1:9"])
+    err = capsys.readouterr().err
+    assert code == 2 and f"cannot listen on 127.0.0.1:{port}: Address already in use" in err
+    assert len(err.strip().splitlines()) == 1 and not (tmp_path / "rooms.toml").exists()
