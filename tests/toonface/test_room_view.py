@@ -301,6 +301,25 @@ def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_op
     assert mouth.sum() > 100 and np.mean(difference.max(axis=2)[mouth] < 64) > 0.9  # the page shows it open
 
 
+@pytest.mark.slow  # Chromium with MediaPipe: make test runs it
+def test_the_performer_page_with_a_wrong_token_says_so_and_keeps_saying_it():
+    """Issue 68: "face found · 23 frames/s · connecting…" for ever, the token's message overwritten
+    every frame."""
+    from browser import chromium, wait_for
+
+    _performer_page_needs()
+    rooms = Rooms(TOKENS, face="cat")
+    with in_thread(rooms) as base, chromium(900, 700, FAKE_CAMERA) as camera:
+        camera.get(f"{base.replace('ws://', 'http://')}/r/demo/perform#perform=not-the-token")
+        said = wait_for(camera, "window.performer.error", timeout=60)
+        frames = camera.execute_script("return window.performer.frames")
+        shown = wait_for(camera, f"window.performer.frames === {frames} && "  # the tracking stopped with it
+                         "document.getElementById('said').textContent", timeout=10)
+        status = camera.execute_script("return document.getElementById('status').textContent")
+    assert said.startswith("the room server refuses this link's perform token") and shown == said
+    assert status == "stopped"
+
+
 def test_a_frame_the_stage_cannot_draw_is_said_and_the_drawing_goes_on(monkeypatch):
     from toonface.room import browsers
 
