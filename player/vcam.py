@@ -44,11 +44,11 @@ def open_pyvirtualcam(width: int, height: int, fps: float, device: str | None) -
     try:
         import pyvirtualcam
     except ImportError:
-        raise InputError(HOW_TO_GET_ONE, device or "vcam:") from None
+        raise InputError(HOW_TO_GET_ONE, device or "the virtual camera") from None
     try:
         camera: Camera = pyvirtualcam.Camera(width, height, fps, fmt=pyvirtualcam.PixelFormat.RGB, device=device)
     except (RuntimeError, ValueError) as exc:  # no device, or one that takes no such frames
-        raise InputError(f"cannot open a virtual camera ({exc}); {HOW_TO_GET_ONE}", device or "vcam:") from None
+        raise InputError(f"cannot open it ({exc}); {HOW_TO_GET_ONE}", device or "the virtual camera") from None
     return camera
 
 

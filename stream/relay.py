@@ -60,8 +60,18 @@ class FaultPlan:
         self.faults, self.rng = faults, np.random.default_rng(seed)
         self._burst_until = -np.inf
         self._last: float | None = None
+        self._first: float | None = None
         self.counts = {"in": 0, "lost": 0, "duplicated": 0, "corrupted": 0, "reordered": 0, "bytes_in": 0,
                        "wire_bytes_in": 0}
+
+    def flowing_kbps(self) -> float:
+        """The wire's kbit/s while datagrams came: from the first to the last, one interval more
+        (the last one's own), not over the relay's whole life, idle before and after included."""
+        count = self.counts["in"]
+        if count < 2 or self._first is None or self._last is None or self._last <= self._first:
+            return 0.0
+        span = (self._last - self._first) * count / (count - 1)
+        return self.counts["wire_bytes_in"] * 8 / span / 1000
 
     def decide(self, datagram: bytes, now: float) -> list[tuple[float, bytes]]:
         """``(send time, datagram)`` pairs (none if lost). The counts keep the datagrams' bytes
@@ -69,6 +79,7 @@ class FaultPlan:
         (``wire_bytes_in``)."""
         f, rng = self.faults, self.rng
         self.counts["in"] += 1
+        self._first = now if self._first is None else self._first
         self.counts["bytes_in"] += len(datagram)
         self.counts["wire_bytes_in"] += len(datagram) + UDP_IP_HEADER
         if f.burst_seconds > 0 and self._last is not None:

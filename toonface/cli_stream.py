@@ -381,7 +381,7 @@ def relay(listen: str, target: str, loss: float, burst_ms: float, duplicate: flo
         except KeyboardInterrupt:
             pass
         elapsed = max(time.monotonic() - start, 1e-9)
-    counts = {side: {**plan.counts, "wire_kbps": round(plan.counts["wire_bytes_in"] * 8 / elapsed / 1000, 3)}
+    counts = {side: {**plan.counts, "wire_kbps": round(plan.flowing_kbps(), 3)}  # while it flowed, not idle too
               for side, plan in (("forward", proxy.forward), ("back", proxy.backward))}
     both = round(sum(c["wire_kbps"] for c in counts.values()), 3)
     click.echo(json.dumps({**counts, "wire_kbps_both": both, "seconds": round(elapsed, 2)}))

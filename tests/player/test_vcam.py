@@ -78,6 +78,7 @@ def test_no_virtual_camera_is_a_one_line_error_saying_how_to_get_one(monkeypatch
     assert main(["play", "--listen", "off", "--seconds", "0.2", "--virtual-camera"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "v4l2loopback" in err and HOW_TO_GET_ONE[:40] in err
+    assert "the virtual camera: a virtual camera needs pyvirtualcam" in err and "vcam::" not in err  # was "vcam::"
 
 
 def test_the_real_device_where_there_is_one():
