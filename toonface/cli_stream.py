@@ -9,6 +9,7 @@ import secrets
 import threading
 import time
 from collections.abc import Callable
+from typing import Any
 
 import click
 
@@ -302,7 +303,15 @@ def receive(listen: str, room_url: str | None, token: str | None, ca_file: str |
         ensemble: Ensemble | None = None
         if max_performers > 1:
             ensemble = Ensemble(face_obj, dims, settings.providers, seats, say=_warn)
-            settings.scene = lambda t: ensemble.frame(receiver.performers(), t)
+            looked: dict[str, Any] = {}
+
+            def rows(t: float) -> list:  # one look a frame: each look counts a frame shown (--stats)
+                if looked.get("t") != t:
+                    looked["t"], looked["rows"] = t, receiver.performers()
+                return looked["rows"]
+            settings.source = lambda t: rows(t)[0][1] if rows(t) else receiver.values_at()[0][:N_MOTORS]
+            settings.extra = lambda t: rows(t)[0][3] if rows(t) and len(rows(t)[0]) > 3 else {}
+            settings.scene = lambda t: ensemble.frame(rows(t), t)
         done = threading.Event()
 
         def summary() -> dict:

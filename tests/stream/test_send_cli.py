@@ -62,3 +62,39 @@ def test_send_says_whether_the_stream_is_sealed(monkeypatch, capsys, tmp_path, k
         monkeypatch.setenv("TOONFACE_STREAM_KEY", key.read_text())
     assert main(["send", "synthetic", "--to", "127.0.0.1:9", "--seconds", "0.2"]) == 0
     assert ("the stream is not encrypted" in capsys.readouterr().err) != keyed
+
+
+@pytest.mark.slow  # a second of real-time stream: make test runs it
+def test_receive_stats_count_each_frame_drawn_once(capsys):
+    """`receive --stats` counted 120 frames a second while it drew 60: with room for several
+    performers, the first one's face was looked at twice a frame."""
+    import socket
+    import threading
+
+    from stream.packets import StreamWriter
+    from stream.sender import StreamSender
+
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    stop = threading.Event()
+
+    def perform() -> None:
+        sender = StreamSender(("127.0.0.1", port), StreamWriter(30.0))
+        k = 0
+        while not stop.wait(1 / 30):  # a performer at 30 frames a second, in real time
+            sender.write(k / 30, standard_neutral())
+            k += 1
+        sender.close()
+
+    thread = threading.Thread(target=perform, daemon=True)
+    thread.start()
+    try:
+        assert main(["receive", "--listen", f"127.0.0.1:{port}", "--seconds", "2", "--fps", "20"]) == 0
+    finally:
+        stop.set()
+        thread.join(5)
+    summary = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    shown = sum(summary["frames"].values())
+    assert 36 <= shown <= 41  # 40 loops of 50 ms (two seconds at 20 fps), each counted once
+    assert summary["frames"]["live"] > 10  # the performer was shown
