@@ -204,6 +204,7 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
     scheme = "wss" if context else "ws"
     rooms = Rooms(s.tokens, max_viewers=s.max_viewers, face=load_face(s.face), key=s.key, pubsub=s.pubsub,
                   origins=s.origins)
+    rooms.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)
     runner = make_runner(rooms)
     try:
         await runner.setup()

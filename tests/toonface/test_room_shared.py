@@ -190,3 +190,21 @@ def test_a_room_on_a_port_in_use_is_refused_in_a_line_and_writes_no_tokens(tmp_p
     err = capsys.readouterr().err
     assert code == 2 and f"cannot listen on 127.0.0.1:{port}: Address already in use" in err
     assert len(err.strip().splitlines()) == 1 and not (tmp_path / "rooms.toml").exists()
+
+
+@pytest.mark.slow  # a NATS server started and stopped: make test runs it
+def test_a_room_that_loses_nats_says_so_and_stops_without_a_traceback(caplog):
+    """Issue 70: a --pubsub server that lost NATS said nothing, then printed a 50-line traceback
+    when stopped."""
+    said: list[str] = []
+    noticed = threading.Event()
+    rooms = Rooms(TOKENS, pubsub="set below")
+    rooms.say = lambda text: (said.append(text), noticed.set())
+    with nats_server() as url:
+        rooms.pubsub = url
+        server = in_thread(rooms)
+        server.__enter__()
+    assert noticed.wait(10)  # the NATS server has stopped, and the room says so
+    server.__exit__(None, None, None)  # stopped with the NATS server still away
+    assert said and said[0].startswith(f"lost the NATS server at {url}: the rooms are this process's alone")
+    assert rooms.bus is None and not [r for r in caplog.records if r.levelname == "ERROR"]

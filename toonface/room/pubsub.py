@@ -37,11 +37,15 @@ class Bus:
     on_packet, on_reply : callable
         ``await on_packet(room, data)``: a performer's packet from another process;
         ``await on_reply(room, data)``: a viewer's reply from another process.
+    say : callable
+        Told, in a line, when the NATS server is lost (the rooms are then this process's alone)
+        and when it is back.
     """
 
     def __init__(self, url: str, on_packet: Callable[[str, bytes], Awaitable[None]],
-                 on_reply: Callable[[str, bytes], Awaitable[None]]) -> None:
-        self.url, self.on_packet, self.on_reply = url, on_packet, on_reply
+                 on_reply: Callable[[str, bytes], Awaitable[None]],
+                 say: Callable[[str], None] = lambda _: None) -> None:
+        self.url, self.on_packet, self.on_reply, self.say = url, on_packet, on_reply, say
         self.origin = secrets.token_bytes(8)
         self.client: Any = None
         self.published = self.received = 0
@@ -57,10 +61,19 @@ class Bus:
             self.errors += 1
             self.last_error = str(exc) or type(exc).__name__
 
+        async def lost() -> None:
+            if self.client is not None:  # (not when it is closed on purpose)
+                self.say(f"lost the NATS server at {self.url}: the rooms are this process's alone until it is back "
+                         "(trying again every quarter second)")
+
+        async def back() -> None:
+            self.say(f"the NATS server at {self.url} is back: the rooms are shared again")
+
         try:
             self.client = await asyncio.wait_for(nats.connect(
                 self.url, connect_timeout=timeout, max_reconnect_attempts=-1, reconnect_time_wait=0.25,
-                allow_reconnect=True, name="toonface room", error_cb=trouble), timeout)
+                allow_reconnect=True, name="toonface room", error_cb=trouble, disconnected_cb=lost,
+                reconnected_cb=back), timeout)
         except (NoServersError, OSError, TimeoutError) as exc:
             why = self.last_error or str(exc) or "no answer"
             raise ConnectionError(f"cannot reach the NATS server at {self.url} within {timeout:g} s: {why}") from None
@@ -84,8 +97,17 @@ class Bus:
             await self.client.publish(subject(room, kind), self.origin + data)
             self.published += 1
 
-    async def close(self) -> None:
-        """Let what is pending go, and disconnect."""
-        if self.client is not None:
-            await self.client.drain()
-            self.client = None
+    async def close(self, timeout: float = 2.0) -> None:
+        """Let what is pending go, and disconnect: at once where the NATS server is away (nothing
+        pending can go; a drain would fail), never with an error."""
+        client, self.client = self.client, None
+        if client is None:
+            return
+        try:
+            if client.is_connected:
+                await asyncio.wait_for(client.drain(), timeout)
+            else:
+                await asyncio.wait_for(client.close(), timeout)
+        except Exception as exc:  # noqa: BLE001 - stopping: what went wrong is kept, not raised
+            self.errors += 1
+            self.last_error = str(exc) or type(exc).__name__

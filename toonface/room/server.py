@@ -42,7 +42,7 @@ import ssl
 import threading
 import time
 from collections import Counter
-from collections.abc import Collection, Iterator
+from collections.abc import Callable, Collection, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
@@ -116,6 +116,8 @@ class Rooms:
                  origins: Collection[str] = ()) -> None:
         self.rooms = {name: Room(name, perform, watch) for name, (perform, watch) in tokens.items()}
         self.pubsub = pubsub
+        #: Told, in a line, what the server should say aloud (the NATS server lost, or back).
+        self.say: Callable[[str], None] = lambda _: None
         self.bus: Bus | None = None
         self.sockets: set[web.WebSocketResponse] = set()  # every connection, closed when the server stops
         self.face = load_face(face) if isinstance(face, str) else face
@@ -187,7 +189,7 @@ async def _join_bus(app: web.Application) -> None:
         if performer is not None:
             await send_all({performer: None}, data)
 
-    rooms.bus = Bus(rooms.pubsub, packet, reply)
+    rooms.bus = Bus(rooms.pubsub, packet, reply, rooms.say)
     await rooms.bus.start(list(rooms.rooms))
 
 
