@@ -119,7 +119,9 @@ def test_a_sealed_stream_is_drawn_only_where_the_room_holds_its_key():
         for stage in (blind, keyed):
             _feed(stage, clock, _pose(), 1.0, StreamWriter(30.0, frames_per_packet=1, key=KEY, stream=7))
         message, _ = blind.frame()
-        assert message["performers"] == [] and "--key-file" in message["said"]
+        assert message["performers"] == [] and message["said"].startswith("every packet (")
+        assert "the room server holds no key to draw it with: start it with --key-file" in message["said"]
+        assert "give the sender's" not in message["said"]  # (issue 70: advice for the wrong end)
         message, _ = keyed.frame()
         assert [p["id"] for p in message["performers"]] == [7] and message["said"] is None
     finally:

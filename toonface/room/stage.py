@@ -86,6 +86,7 @@ class Stage:
                  size: tuple[int, int] = (512, 512), clock: Callable[[], float] = time.perf_counter) -> None:
         self.rig = FaceRig(face)
         neutral = face.neutral()
+        self.keyed = key is not None
         self.receiver = StreamReceiver(("room", 0), self._playout(neutral), key, clock=clock,
                                        more=lambda: self._playout(neutral), link=_Replies(reply))
         self.size, self.clock = size, clock
@@ -133,6 +134,10 @@ class Stage:
         for stream in gone:
             del self.drawn[stream]
         said = self.receiver.diagnosis()
+        if said is not None and not self.keyed:  # the room server is what needs the key here, not the page
+            said = said.split(":")[0] + (": the room server holds no key to draw it with: start it with --key-file "
+                                         "(the sender's), or open the page without ?draw=server, with the &key= that "
+                                         "send prints (the page then opens the stream itself)")
         return ({"type": "stage", "performers": changed, "gone": gone, "said": said},
                 {"type": "stage", "performers": whole, "gone": gone, "said": said, "whole": True})
 
