@@ -42,6 +42,19 @@ class Lane:
     sender: tuple[str, int] | None = None
     arrived: float = -math.inf
     last_request: float = -math.inf
+    unanswered: int = 0  # keyframe requests made while no packet of the stream has opened
+
+
+#: A stream none of whose packets opens (another key's, say) is asked for keyframes less and less
+#: often: the interval doubles with each request up to this many seconds, and is back to the
+#: receiver's own once a packet opens (a wrong key turned the back channel into a flood).
+MAX_REQUEST_BACKOFF = 2.0
+
+
+def request_interval(base: float, unanswered: int) -> float:
+    """Seconds before the next keyframe request: ``base``, doubled for each request made while no
+    packet of the stream opened (up to :data:`MAX_REQUEST_BACKOFF`)."""
+    return min(base * 2.0 ** unanswered, max(base, MAX_REQUEST_BACKOFF))
 
 
 class StreamReceiver:
@@ -83,6 +96,8 @@ class StreamReceiver:
         self.playout, self.clock, self.key = playout, clock, stream_key(key)
         self.reader = StreamReader(key)
         self.lanes: dict[int, Lane] = {}
+        self._first = Lane(self.reader, self.playout)  # the first stream's, until one of its packets opens
+        self._pending: dict[int, Lane] = {}  # newcomers' lanes none of whose packets has opened yet
         self.more, self.max_streams = more, max_streams
         self.other_streams = 0
         self.newcomer_seconds = newcomer_seconds
@@ -169,13 +184,17 @@ class StreamReceiver:
         a packet of it reads well, so that junk cannot take a performer's place); the first
         performer's reader also counts what has no stream id at all."""
         if stream is None:
-            return next(iter(self.lanes.values()), None) or Lane(self.reader, self.playout)
+            return next(iter(self.lanes.values()), None) or self._first
         if stream in self.lanes:
             return self.lanes[stream]
         if not self.lanes:
-            return Lane(self.reader, self.playout)
+            return self._first
         if self.more is not None and len(self.lanes) < self.max_streams:
-            return Lane(StreamReader(self.key), self.more())
+            lane = self._pending.pop(stream, None) or Lane(StreamReader(self.key), self.more())
+            self._pending[stream] = lane  # kept (the newest last) while it opens nothing: its requests back off
+            while len(self._pending) > self.max_streams:
+                del self._pending[next(iter(self._pending))]
+            return lane
         self.other_streams += 1
         return None
 
@@ -198,15 +217,19 @@ class StreamReceiver:
                 lane.arrived, lane.sender = arrival, sender
                 if stream is not None and stream not in self.lanes:
                     self.lanes[stream] = lane  # a newcomer, now that a packet of it read well
+                    self._pending.pop(stream, None)
                     self._last_newcomer = arrival
                 self.refusing.update(False, arrival, "", "packets open again: the stream flows")
             elif _unopened(lane.reader) > refused:
                 self.refusing.update(True, arrival, self._refused_line, "")
             self._arrived.notify_all()
-            wanted = lane.reader.want_keyframe and arrival - lane.last_request >= self.request_interval
+            unanswered = lane.unanswered if lane.reader.packets == 0 else 0
+            wanted = lane.reader.want_keyframe and \
+                arrival - lane.last_request >= request_interval(self.request_interval, unanswered)
             ack = lane.reader.take_ack(self.acks) if sender is not None else None
             if wanted and sender is not None:
                 lane.last_request = arrival
+                lane.unanswered = unanswered + 1 if lane.reader.packets == 0 else 0
         if ack is not None and sender is not None:
             self.acks += 1
             try:

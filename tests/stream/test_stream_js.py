@@ -203,3 +203,35 @@ def test_the_pages_playout_shows_what_the_pythons_shows(seed, codes):
     for (values, _, delay), (mine, _, my_delay) in zip(expected, page, strict=True):
         np.testing.assert_allclose(mine, values, atol=1e-9)
         assert (delay is None and my_delay is None) or abs(delay - my_delay) < 1e-12
+
+
+ASK = """
+const [packets, secret, rig, done] = [arguments[0], arguments[1], arguments[2], arguments[arguments.length - 1]];
+(async () => {
+const key = await toonWire.streamKey(Uint8Array.from(secret)), asked = [];
+const stream = new toonFaceStream.FaceStream(new toonRig.Rig(rig), null, () => asked.push(now), key);
+let now = 0;
+packets.forEach((packet, i) => { now = i / 60; stream.feed(new Uint8Array(packet), now); });
+done(asked);
+})().catch((e) => done({error: String(e)}));
+"""
+
+
+@pytest.mark.slow
+def test_the_page_asks_a_stream_that_never_opens_for_keyframes_less_and_less_often():
+    """Issue 70: a page with a wrong key asked for a keyframe four times a second for ever."""
+    from toon import FaceRig, load_face
+    from toon.web_rig import web_rig
+    from toonface.room.server import Rooms, in_thread
+
+    writer = StreamWriter(RATE, frames_per_packet=1, key=b"another secret of enough length!", stream=7)
+    packets = [list(p) for i, row in enumerate(smooth_motion(600, 0)) if (p := writer.push(row, i / RATE))]
+    tokens = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
+    with in_thread(Rooms(tokens)) as base, chromium() as driver:
+        driver.get(f"{base.replace('ws://', 'http://')}/r/demo")  # a page of the server's: its scripts, noble's
+        driver.set_script_timeout(60)
+        asked = driver.execute_async_script(ASK, packets, list(b"a shared secret of the room 0123"),
+                                            web_rig(FaceRig(load_face("classic"))))
+    assert isinstance(asked, list), asked
+    # 0.25, 0.5, 1 s apart, then every 2 s over ten seconds: 7 at most, where it was one every 0.25 s (40)
+    assert 4 <= len(asked) <= 7 and np.diff(asked)[-1] == pytest.approx(2.0, abs=0.02)

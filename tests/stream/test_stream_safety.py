@@ -116,3 +116,25 @@ def test_a_sealed_stream_plays_as_the_open_one_does():
         reader = StreamReader(key)
         shown[key] = np.concatenate([f.values for i, d in enumerate(datagrams) for f in reader.read(d, i / 30)])
     assert np.array_equal(shown[None], shown[KEY]) and np.abs(shown[KEY] - values).max() <= 0.5 / 100 + 1e-9
+
+
+def test_a_stream_that_never_opens_is_asked_for_keyframes_less_and_less_often():
+    """Issue 70: under another key the receiver asked for a keyframe for every packet it could not
+    open (359 requests; acknowledgements grew to 7.9 kbit/s against 9.5 forward)."""
+    clock = Clock()
+    wrong = StreamWriter(RATE, key=b"another secret of enough length!", frames_per_packet=1)
+    right = StreamWriter(RATE, key=KEY, frames_per_packet=1)
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender, \
+            StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), KEY, clock=clock) as receiver:
+        sender.bind(("127.0.0.1", 0))
+        where = sender.getsockname()
+        for k in range(600):  # ten seconds of packets under another key, 60 a second
+            clock.now = k / 60
+            receiver.feed(wrong.push(standard_neutral(), clock.now), where)
+        asked = receiver.requests
+        for k in range(60):  # then a second of the right key's: asked as often as before once one opens
+            clock.now = 10 + k / 60
+            receiver.feed(right.push(standard_neutral(), clock.now), where)
+    # 0.05, 0.1, ... 1.6 s, then every 2 s: 11 in ten seconds, where it was one each 0.05 s (200)
+    assert 8 <= asked <= 12
+    assert receiver.reader.packets > 50

@@ -5,7 +5,8 @@
 // `send`, so the performer's sender adapts to this page as to `receive`.
 "use strict";
 (() => {
-  const ASK_EVERY = 0.25;  // seconds between keyframe requests while one is wanted
+  const ASK_EVERY = 0.25;  // seconds between keyframe requests while one is wanted ...
+  const ASK_AT_MOST = 2.0;  // ... doubling with each while no packet has opened (another key's), up to this
 
   class FaceStream {
     // `rig`: a toonRig.Rig; `drawing`: a toonDraw.Drawing; `send(bytes)`: replies to the performer;
@@ -21,6 +22,7 @@
       rig.codes.slice(21).forEach((code, i) => { declared[code] = neutral[21 + i]; });
       this.playout = new toonPlayout.Playout(neutral.slice(0, 21), {declared});
       this.asked = -Infinity;
+      this.unanswered = 0;  // keyframe requests made while no packet of the stream opened
       this.last = null;  // the row last drawn (the rig's columns)
       this.svg = "";
       this.received = -Infinity;  // when a packet last came
@@ -32,8 +34,10 @@
       for (const frames of this.reader.read(bytes, now)) this.playout.add(frames);
       const ack = this.reader.takeAck();
       if (ack) this.send(ack);
-      if (this.reader.wantKeyframe && now - this.asked >= ASK_EVERY) {
+      const unanswered = this.reader.packets ? 0 : this.unanswered;
+      if (this.reader.wantKeyframe && now - this.asked >= Math.min(ASK_EVERY * 2 ** unanswered, ASK_AT_MOST)) {
         this.asked = now;
+        this.unanswered = this.reader.packets ? 0 : unanswered + 1;
         this.send(this.reader.keyframeRequest());
       }
     }
