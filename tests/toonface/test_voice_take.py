@@ -130,11 +130,12 @@ def test_lipsync_cues_for_an_editor_never_flicker_and_keep_every_closure(languag
 
     if not espeak.available():
         pytest.skip("espeak-ng is not installed (make install puts it there)")
+    from sounds import write_wav
+
     from capture.cues import read_cues
 
     spoken = espeak.say(espeak.SENTENCES[language][0], language)
-    sound = tmp_path / "said.wav"
-    _write_wav(sound, spoken.samples, spoken.rate)
+    sound = write_wav(tmp_path / "said.wav", spoken.samples, spoken.rate)
     assert main(["lipsync", str(sound), "-o", str(tmp_path / "raw.tsv"), "--every-frame"]) == 0
     assert main(["lipsync", str(sound), "-o", str(tmp_path / "held.tsv")]) == 0
     assert main(["lipsync", str(sound), "-o", str(tmp_path / "held.dat")]) == 0
@@ -147,16 +148,6 @@ def test_lipsync_cues_for_an_editor_never_flicker_and_keep_every_closure(languag
         assert int(f1) - int(f0) >= 2 or s0 == "A", (f0, s0, f1, s1)
     closures = sum(1 for _, _, s in raw if s == "A")
     assert sum(1 for _, _, s in held if s == "A") == closures  # every closed mouth kept
-
-
-def _write_wav(path, samples: np.ndarray, rate: int) -> None:
-    with av.open(str(path), "w") as out:
-        stream = out.add_stream("pcm_s16le", rate=rate, layout="mono")
-        frame = av.AudioFrame.from_ndarray((np.clip(samples, -1, 1) * 32767).astype(np.int16)[None], format="s16",
-                                           layout="mono")
-        frame.sample_rate = rate
-        for packet in (*stream.encode(frame), *stream.encode(None)):
-            out.mux(packet)
 
 
 def test_cues_written_are_the_cues_read(tmp_path):
