@@ -43,6 +43,8 @@ PEAK_FRAMES = 3
 PITCH_MEMORY = 30.0
 #: The layer's settings unless told others (frozen).
 DEFAULTS = LifeSettings()
+#: Seconds over which the layer comes onto a motor whose tracking is lost (and leaves it again).
+LOST_FADE = 0.3
 
 
 @dataclass(frozen=True)
@@ -194,7 +196,7 @@ class LiveLife:
     Parameters
     ----------
     neutral : ndarray, shape (21,)
-        The face's neutral motors (a lost motor's value under the layer).
+        The face's neutral motors.
     rate : float
         The frames' rate.
     driven : set of str
@@ -208,23 +210,31 @@ class LiveLife:
         self.driven = frozenset(driven)
         self.cues = VoiceCues(rate, settings)
         self.motion = LifeMotion(settings)
+        #: How much of the layer each of its motors gets: 1 where the mapping does not drive it; a
+        #: driven one fades in over :data:`LOST_FADE` as its tracking is lost, and out as it returns.
+        self.weights = {code: 0.0 if code in self.driven else 1.0 for code in (*MOVED, "HT")}
+        self._last: float | None = None
 
     def step(self, values: np.ndarray, confidence: np.ndarray, t: float, level: float = 0.0, pitch: float = 0.0,
              extra: np.ndarray | None = None, extra_codes: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
         """One frame's motors ``(21,)`` and their confidence ``(21,)`` at ``t`` seconds (``extra``
         ``(E,)`` by ``extra_codes`` changed in place): the motors with the layer, and the
-        confidence, full where the layer moves a motor (the layer's motors, :data:`toon.life.MOVED`,
-        that the mapping does not drive or has lost)."""
+        confidence, as sure as the layer is present on a motor it moves (the layer's motors,
+        :data:`toon.life.MOVED`, that the mapping does not drive, or has lost)."""
         speaking, found = self.cues.step(level, pitch)
         _tell(self.motion, [(kind, t, value) for kind, _, value in found])
-        lost = {code for code, sure in zip(MOTOR_CODES, confidence, strict=True) if sure <= 0.0 and code in MOVED}
-        free = (set(MOVED) - self.driven) | lost
+        step = 1.0 if self._last is None else min(max(t - self._last, 0.0) / LOST_FADE, 1.0)
+        self._last = t
+        for code in self.driven & set(self.weights):  # a lost motor's own value eases by its loss policy
+            lost = code in MOTOR_CODES and confidence[MOTOR_CODES.index(code)] <= 0.0
+            self.weights[code] = min(max(self.weights[code] + (step if lost else -step), 0.0), 1.0)
+        free = {code for code, weight in self.weights.items() if weight > 0.0}
         out = np.array(values, dtype=float)
-        for code in lost:  # under the layer, a lost motor is at rest (not held where it was lost)
-            out[MOTOR_CODES.index(code)] = self.neutral[MOTOR_CODES.index(code)]
-        lay(out, self.motion.step(t, speaking), free | ({"HT"} - self.driven), extra, extra_codes)
+        lay(out, self.motion.step(t, speaking), free, extra, extra_codes, self.weights)
         sure = np.array(confidence, dtype=float)
-        sure[[MOTOR_CODES.index(code) for code in free]] = 1.0
+        for code in free & set(MOTOR_CODES):
+            column = MOTOR_CODES.index(code)
+            sure[column] = max(sure[column], self.weights[code])
         return out, sure
 
 

@@ -203,20 +203,26 @@ def pulse(t: float, start: float, rise: float, hold: float, fall: float, square:
 
 
 def lay(values: np.ndarray, offsets: Offsets | dict[str, np.ndarray], free: set[str] | frozenset[str],
-        extra: np.ndarray | None = None, extra_codes: tuple[str, ...] = ()) -> None:
+        extra: np.ndarray | None = None, extra_codes: tuple[str, ...] = (),
+        weights: dict[str, float] | None = None) -> None:
     """Put the layer on motor values ``(..., 21)`` in place, on the motors ``free`` names (lids
     shut by ``shut``, the rest added), clipped to 0..1; and on HT in ``extra`` ``(..., E)`` (by
     ``extra_codes``) where it is free. ``offsets``: one frame's, or arrays by the
-    :class:`Offsets` fields for many frames."""
+    :class:`Offsets` fields for many frames. ``weights``: how much of the layer each code gets
+    (1 where not named; a layer fading in or out)."""
     get = offsets._asdict() if isinstance(offsets, Offsets) else offsets
+
+    def part(code: str, key: str) -> np.ndarray:
+        return np.asarray(get[key]) * (1.0 if weights is None else weights.get(code, 1.0))
+
     for lid in LIDS:
         if lid in free:
-            values[..., motor_index(lid)] *= 1.0 - np.asarray(get["shut"])
+            values[..., motor_index(lid)] *= 1.0 - part(lid, "shut")
     for codes, key in ((BROWS, "brow"), (PUPILS_H, "gaze_h"), (PUPILS_V, "gaze_v"), (("HV",), "hv"), (("HH",), "hh")):
         for code in codes:
             if code in free:
                 column = motor_index(code)
-                values[..., column] = np.clip(values[..., column] + np.asarray(get[key]), 0.0, 1.0)
+                values[..., column] = np.clip(values[..., column] + part(code, key), 0.0, 1.0)
     if extra is not None and "HT" in extra_codes and "HT" in free:
         column = extra_codes.index("HT")
-        extra[..., column] = np.clip(extra[..., column] + np.asarray(get["ht"]), 0.0, 1.0)
+        extra[..., column] = np.clip(extra[..., column] + part("HT", "ht"), 0.0, 1.0)

@@ -147,7 +147,8 @@ def test_live_and_offline_are_one_layer_the_same_frames_in_silence():
 
 def test_the_live_layer_follows_the_voice_as_it_comes_and_fills_what_is_lost():
     """Live, a brow rises just after each accent (found three frames after its peak), the driven
-    motors are untouched, and pupils whose tracking is lost get the layer, fully sure."""
+    motors are untouched, and pupils whose tracking is lost get the layer, fading in (no jump) to
+    fully sure."""
     level, pitch, _, accents = _voice(60.0)
     neutral = standard_neutral()
     pupils = [MOTOR_CODES.index(code) for code in ("PRH", "PLH", "PRV", "PLV")]
@@ -158,8 +159,9 @@ def test_the_live_layer_follows_the_voice_as_it_comes_and_fills_what_is_lost():
         values[MOTOR_CODES.index("MB")] = 0.2 + 0.5 * level[k]
         values[pupils] = 0.9  # the performer looks far off ...
         confidence = np.ones(21)
-        if 3000 <= k < 3500:
-            confidence[pupils] = 0.0  # ... until the camera loses the eyes for five seconds
+        if 3000 <= k < 3500:  # ... until the camera loses the eyes for five seconds (they ease to rest)
+            values[pupils] = neutral[pupils] + (0.9 - neutral[pupils]) * np.exp(-(k - 3000) / 20)
+            confidence[pupils] = 0.0
         out, certain = live.step(values, confidence, k / RATE, level[k], pitch[k])
         shown.append(out)
         sure.append(certain)
@@ -168,9 +170,10 @@ def test_the_live_layer_follows_the_voice_as_it_comes_and_fills_what_is_lost():
     for k in accents:
         assert brow[k:k + 40].max() > 0.1 and brow[k - 30:k].max() < 0.02  # risen within 0.4 s after, not before
     np.testing.assert_array_equal(shown[:, MOTOR_CODES.index("MB")], 0.2 + 0.5 * level)
-    assert (shown[:3000, pupils] == 0.9).all() and (shown[3500:, pupils] == 0.9).all()
-    lost = shown[3000:3500, pupils] - neutral[pupils]
-    assert np.abs(lost).max() < 0.21 and np.ptp(lost) > 0.01 and (sure[3000:3500][:, pupils] == 1.0).all()
+    assert (shown[:3000, pupils] == 0.9).all() and (shown[3530:, pupils] == 0.9).all()  # (it fades out in 0.3 s)
+    lost = shown[3100:3500, pupils] - neutral[pupils]
+    assert np.abs(lost).max() < 0.21 and np.ptp(lost) > 0.01 and (sure[3030:3500][:, pupils] == 1.0).all()
+    assert np.abs(np.diff(shown[2990:3500, pupils], axis=0)).max() < 0.1  # no jump as the layer comes in
 
 
 def test_a_performer_the_camera_loses_stays_alive_with_life_and_freezes_without():
@@ -198,7 +201,8 @@ def test_a_performer_the_camera_loses_stays_alive_with_life_and_freezes_without(
     prh, hv = MOTOR_CODES.index("PRH"), MOTOR_CODES.index("HV")
     alive, sure = shown[True]
     still, unsure = shown[False]
-    assert np.ptp(alive[lost, prh]) > 0.02 and np.ptp(alive[lost, hv]) > 0.005 and (sure[lost, prh] == 1.0).all()
+    assert np.ptp(alive[lost, prh]) > 0.02 and np.ptp(alive[lost, hv]) > 0.005
+    assert (sure[int(4 * rate):int(6 * rate), prh] == 1.0).all()  # (faded in over 0.3 s once lost)
     settled = slice(int(5 * rate), int(6 * rate))  # without it, the lost eyes glide to rest and stay
     assert np.ptp(still[settled, prh]) < 1e-9 and (unsure[lost, prh] < 1.0).all()
     seen = slice(int(1.5 * rate), int(3 * rate))
