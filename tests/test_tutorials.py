@@ -97,4 +97,7 @@ def test_the_telepresence_tutorial_runs_as_written(realdata, tmp_path):
     assert seen.frames > 300 and np.ptp(mb) > 0.3  # the jaw opened on the viewer's face
     ports = {"7730": str(free_port()), "4222": str(free_port())}
     with running(substitute(many, ports), tmp_path, "room demo: camera") as servers:
-        assert f"room server on ws://127.0.0.1:{ports['7730']}" in servers.output()  # both processes, one NATS
+        from toonface.web_hosts import reachable_addresses
+
+        here = (reachable_addresses() or ["127.0.0.1"])[0]  # every interface: the address others reach
+        assert f"room server on ws://{here}:{ports['7730']}" in servers.output()  # both processes, one NATS
