@@ -11,9 +11,7 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
 
 - tokens compared in constant time (``hmac.compare_digest``); a wrong one is refused with 403,
   and tokens are never logged (the access log is off: a token may ride in the query); a page
-  whose socket closed asks ``/r/ROOM/check?role=...`` (the token in its ``Authorization``
-  header) whether its link is wrong or the server was away, since a browser does not show a
-  refused WebSocket's status;
+  asks :func:`_check` whether its token was the trouble (a browser hides a refused socket's status);
 - rooms exist only as declared (:class:`Rooms`); performers and viewers per room are capped;
 - a message larger than a stream packet is refused and the connection closed; more than
   ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
