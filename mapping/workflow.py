@@ -37,7 +37,7 @@ from mapping.solver import Solver, learn_solver
 from mapping.sources import head_angles, measure
 from mapping.sweep import mirror_lost_sides
 from mapping.take_notes import take_notes
-from mapping.typical import TYPICAL, bound_by_typical, typical_profile
+from mapping.typical import TYPICAL, bound_by_typical, shut_lids, shut_note, typical_profile
 from mapping.units import settle_units
 from toon import MotorTrack, standard_neutral
 from toon.motors import MOTOR_CODES
@@ -299,7 +299,9 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
         notes.append(f"profile from the take itself ({profile.notes['neutral']}, {profile.notes['range']})")
         kind, rest = "from the take itself (1st-99th percentiles)", profile.notes["neutral"]
         size = prepared.units.size if prepared.units is not None else 1.0
-        profile, widened = bound_by_typical(profile, chosen, size)
+        shut = shut_lids(chosen, prepared)
+        profile, widened = bound_by_typical(profile, chosen, size, shut)
+        notes.extend([shut_note(shut, profile)] if shut else [])
         if widened:
             kind += f", each side at least a typical face's (x{size:.2f})"
             notes.append(f"the take's own ranges of {', '.join(widened)} widened to a typical face's ({TYPICAL}'s "
