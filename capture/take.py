@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -143,6 +143,20 @@ class Take:
     def window(self, start: float, end: float) -> np.ndarray:
         """Boolean frame mask for times in ``[start, end)`` seconds, shape ``(frames,)``."""
         return np.asarray((self.times >= start) & (self.times < end))
+
+    def part(self, start: float | None = None, end: float | None = None) -> Take:
+        """The frames with times in ``[start, end)`` seconds (None: from the first, to the last),
+        their times as they were; raises :class:`InputError` where no frame is in it."""
+        low = -np.inf if start is None else start
+        high = np.inf if end is None else end
+        if high <= low:
+            raise InputError(f"the end ({high:g} s) must come after the start ({low:g} s)")
+        kept = self.window(low, high)
+        if not kept.any():
+            raise InputError(f"no frame between {low:g} and {high:g} s: the take runs "
+                             f"{self.times[0]:g}-{self.times[-1]:g} s")
+        return replace(self, positions=self.positions[kept], times=self.times[kept],
+                       channels=self.channels[kept])
 
 
 def unique_labels(labels: list[str]) -> tuple[tuple[str, ...], dict[str, str]]:

@@ -41,8 +41,13 @@ def test_the_animator_s_tutorial_runs_as_written(realdata, tmp_path):
     assert len(page) == 5
     for block in page:
         run(block, tmp_path)
+    jaw = load_track(tmp_path / "jaw.csv")
+    for lid in ("ERU", "ELU"):  # "blinks four times": the lids shut four times (issue 69: they were squints)
+        shut = np.diff(np.r_[0, (jaw.column(lid) <= 0.15).astype(int), 0])
+        assert (shut == 1).sum() == 4, lid
     for face in ("wizard", "round", "mine"):  # 26.5 s at 30 frames a second, on each face
         assert abs(_frames(tmp_path / f"jaw-{face}.mp4") - 26.5 * 30) <= 2
+    assert _frames(tmp_path / "jaw-open.mp4") == 4 * 30  # --start 5 --end 9
     assert json.loads((tmp_path / "mine.json").read_text())["format"] == "toonface.face/1"
     with av.open(str(tmp_path / "line.mp4")) as movie:
         assert movie.streams.audio and movie.streams.video  # the voice under the picture

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -116,6 +116,27 @@ class MotorTrack:
     def duration(self) -> float:
         """Seconds from the first frame to the end of the last."""
         return self.frames / self.rate
+
+    def part(self, start: float | None = None, end: float | None = None) -> MotorTrack:
+        """The frames with times in ``[start, end)`` seconds (None: from the first, to the last),
+        as a track of their own (its first frame at 0 s); raises :class:`InputError` where no
+        frame is in it.
+
+        >>> track = MotorTrack(np.full((10, N_MOTORS), 0.5), 5.0)
+        >>> track.part(0.5, 1.2).frames, track.part(start=1.0).frames
+        (3, 5)
+        """
+        low, high = 0.0 if start is None else float(start), np.inf if end is None else float(end)
+        if high <= low:
+            raise InputError(f"the end ({high:g} s) must come after the start ({low:g} s)")
+        kept = np.flatnonzero((self.times >= low - 1e-9) & (self.times < high - 1e-9))
+        if not len(kept):
+            raise InputError(f"no frame from {low:g} s{'' if end is None else f' to {high:g} s'}: the track "
+                             f"lasts {self.duration:g} s")
+        rows = slice(int(kept[0]), int(kept[-1]) + 1)
+        return replace(self, values=self.values[rows], meta={**self.meta, "part": [low, None if end is None else high]},
+                       confidence=None if self.confidence is None else self.confidence[rows],
+                       extra=None if self.extra is None else self.extra[rows])
 
     def column(self, code: str) -> np.ndarray:
         """One motor's values, or a parameter's beyond the 21 (:attr:`extra_codes`), ``(frames,)``."""

@@ -13,12 +13,14 @@ import signal
 import sys
 import threading
 import warnings
+from dataclasses import replace
 
 import click
 
 from capture.colours import HUES
 from common.errors import Interrupted, Terminated, ToonfaceError
 from common.memory import keep_freed_memory
+from toonface.cli_anim import ANIM_COMMANDS
 from toonface.cli_batch import BATCH_COMMANDS
 from toonface.cli_layout import LAYOUT_COMMANDS
 from toonface.cli_mapping import MAPPING_COMMANDS
@@ -269,8 +271,11 @@ def faces() -> None:
 @click.option("--size", default="256", show_default=True, help="Pixels per face picture, N or WxH.")
 @click.option("--save", "save_path", type=click.Path(dir_okay=False),
               help="Write the face as a face file (.json) to start your own from: edit it, or open it in the studio.")
+@click.option("--name", "new_name", default=None,
+              help="With --save: the saved face's name (titles, reports) [default: the file's name, 'mine' for "
+                   "mine.json].")
 def face(name: str, sheet_path: str | None, svg_path: str | None, expression: str, repertoire: str,
-         size: str, save_path: str | None) -> None:
+         size: str, save_path: str | None, new_name: str | None) -> None:
     """Check a face (built-in NAME or a JSON file) and draw it.
 
     Without options, validates the face and prints a summary. With --sheet, renders every
@@ -281,6 +286,8 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     from player.sheet import check_image_suffix, expression_sheet, save_image
     from toon import FaceRig, load_expressions, load_face, save_face, save_svg
 
+    if new_name is not None and not save_path:
+        raise click.BadParameter("names the face --save writes: give --save too", param_hint="--name")
     if sheet_path:
         check_image_suffix(sheet_path)
     loaded = load_face(name)
@@ -301,8 +308,11 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
     if save_path:
         if not save_path.lower().endswith(".json"):
             raise click.BadParameter(f"{save_path}: expected a .json face file", param_hint="--save")
-        save_face(loaded, save_path)
-        click.echo(f"wrote {save_path} ({loaded.name}: edit it, then --face {save_path})")
+        from pathlib import Path
+
+        saved = replace(loaded, name=new_name or Path(save_path).stem)
+        save_face(saved, save_path)
+        click.echo(f"wrote {save_path} ({saved.name}, from {loaded.name}: edit it, then --face {save_path})")
     if not sheet_path and not svg_path and not save_path:
         counts = f"{len(loaded.polygons)} polygons, {len(loaded.basic_components())} components"
         if loaded.extra_codes:
@@ -310,8 +320,8 @@ def face(name: str, sheet_path: str | None, svg_path: str | None, expression: st
         click.echo(f"{loaded.name}: ok ({counts}); {loaded.description}")
 
 
-for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS, *LAYOUT_COMMANDS,
-                 *STUDIO_COMMANDS, *VOICE_COMMANDS, *OUTPUT_COMMANDS, *ROOM_COMMANDS):
+for _command in (*MAPPING_COMMANDS, *PLAYER_COMMANDS, *ANIM_COMMANDS, *STREAM_COMMANDS, *BATCH_COMMANDS,
+                 *LAYOUT_COMMANDS, *STUDIO_COMMANDS, *VOICE_COMMANDS, *OUTPUT_COMMANDS, *ROOM_COMMANDS):
     cli.add_command(_command)
 
 

@@ -19,7 +19,6 @@ from toonface.cli_options import (
     SIZE,
     FiniteFloat,
     TakeReading,
-    parse_codes,
     parse_size,
     parse_span,
     parse_window,
@@ -29,6 +28,7 @@ from toonface.cli_options import (
     with_background,
     without_physics,
 )
+from toonface.cli_trim import Trim, trim_options
 
 if TYPE_CHECKING:
     from capture import Take
@@ -228,10 +228,11 @@ def _profile(profile_path: str | None, calibration: str | None, mapping: str | N
 @_VOICE_FILL
 @LIFE
 @_JSON
+@trim_options
 @take_options
 def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | None, calibration: str | None,
             neutral: str | None, face: str | None, mirror: bool, cleaning: Cleaning, voice_fill: bool,
-            life: bool | None, as_json: bool, reading: TakeReading) -> None:
+            life: bool | None, as_json: bool, reading: TakeReading, trim: Trim) -> None:
     """Clean a take and map it onto the 21 motors (CSV: time + the motor codes, or .npz). TAKE
     may also be a talking-head video with no markers (its face tracked, as by retarget) or a
     voice (a sound file: .wav .mp3 .ogg ...).
@@ -251,8 +252,9 @@ def map_cmd(take: str, output: str, mapping: str | None, profile_path: str | Non
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile, cleaning.settings(loaded.rate), life)
     if Path(take).suffix.lower() in VIDEO_SUFFIXES and voice_fill and has_audio(take):
         track = _fill_from_voice(track, loaded, take, face_obj, mapping, mirror, as_json)
+    track = trim.track(track)
     click.echo(f"wrote {save_track(track, output)} ({track.frames} frames at {track.rate:g} Hz, "
-               f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped)", err=as_json)
+               f"mapping {track.meta['mapping']}, {len(track.meta['mapped'])} motors mapped{trim.said()})", err=as_json)
     _report(track, Path(take).name, as_json)
 
 
@@ -306,11 +308,12 @@ def _report(track, take: str, as_json: bool) -> None:
 @_VOICE_FILL
 @LIFE
 @_JSON
+@trim_options
 @take_options
 def retarget(take: str, output: str, face: str, mapping: str | None, profile_path: str | None,
              calibration: str | None, neutral: str | None, size: str, fps: float | None, mirror: bool,
              side_by_side: bool, background: str | None, no_physics: bool, voice_fill: bool, life: bool | None,
-             as_json: bool, reading: TakeReading) -> None:
+             as_json: bool, reading: TakeReading, trim: Trim) -> None:
     """Clean, map and render a take on a face, in one go. TAKE may also be a talking-head video
     with no markers: its face is tracked (MediaPipe) and its sound goes into the MP4; or a voice
     (a sound file: .wav .mp3 .ogg ...), whose mouth shapes move the mouth (the voice mapping)
@@ -331,6 +334,7 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
     track = map_onto_face(loaded, window, face_obj, mirror, mapping, profile, life=life)
     if video and voice_fill and has_audio(take):
         track = _fill_from_voice(track, loaded, take, face_obj, mapping, mirror, as_json)
+    track = trim.track(track)
     bar = progress("render")(track.frames)
     voice = Path(take).suffix.lower() in SOUND_SUFFIXES
     fps = fps or (30.0 if voice else None)  # a voice's shapes come at 100 Hz: a movie need not
@@ -338,63 +342,16 @@ def retarget(take: str, output: str, face: str, mapping: str | None, profile_pat
 
     sound = ((video and has_audio(take)) or voice) and (Path(output).suffix.lower() in SOUND_CONTAINERS)
     if video or voice:  # the performer's own voice goes with the cartoon
-        frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0)), dims,
-                                   fps, progress=bar, side_by_side=side_by_side)
+        frames = render_with_sound(track, face_obj, output, take, float(loaded.meta.get("start_time", 0.0))
+                                   + trim.offset, dims, fps, progress=bar, side_by_side=side_by_side)
     else:
         frames = render(track, face_obj, output, dims, fps, progress=bar)
     width = dims[0] + (beside_width(take, dims[1]) if side_by_side else 0)
     heard = (video or voice) and has_audio(take)
     said = ", with its sound" if sound else ", no sound: the format carries none" if heard else (
         ", no sound in the video" if video else "")
-    click.echo(f"wrote {output} ({frames} frames, {width}x{dims[1]}{said})", err=as_json)
+    click.echo(f"wrote {output} ({frames} frames, {width}x{dims[1]}{said}{trim.said()})", err=as_json)
     _report(track, Path(take).name, as_json)
 
 
-@click.command()
-@click.argument("motors", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
-              help="The staves as a picture (.png .jpg .webp .bmp .tif) or as text (.txt).")
-@click.option("--compare", default=None, type=click.Path(dir_okay=False),
-              help="A second track drawn over the first in another colour (before/after a filter, truth/mapped).")
-@click.option("--motors", "codes", default=None, metavar="CODE,CODE,...", help="Staves to draw [default: all 21].")
-@click.option("--width", default=1200, show_default=True, type=click.IntRange(200, 8000), help="Image width, pixels.")
-@click.option("--text", is_flag=True, help="Also print the staves as text (block characters), one line per motor.")
-@click.option("--sound", "sound_path", default=None, type=click.Path(dir_okay=False, exists=True),
-              help="Draw this file's loudness as a last stave (the video the track was mapped from: check the "
-                   "mouth against the voice).")
-def score(motors: str, output: str, compare: str | None, codes: str | None, width: int, text: bool,
-          sound_path: str | None) -> None:
-    """Draw motor curves as staves, one per motor, like CharToon's Animation Editor.
-
-    Each stave spans 0..1 with the motor's code at the left and a time axis below; with
-    --compare, the second track is drawn over the first (the first in dark blue, the second
-    in orange) and each stave's RMS difference is printed at its right.
-    """
-    from common import atomic_path
-    from player.score import save_score, score_text
-    from player.sheet import check_image_suffix
-    from toon import load_track
-
-    as_text = output.lower().endswith(".txt")
-    if not as_text:
-        check_image_suffix(output)
-    track = load_track(motors)
-    picked = parse_codes(codes, also=track.extra_codes)  # the 21, then the track's parameters (HT...)
-    other = load_track(compare) if compare else None
-    sound = None
-    if sound_path:
-        from common.sound import sound_envelope
-
-        sound = sound_envelope(sound_path)
-    if as_text:
-        with atomic_path(output) as tmp:
-            tmp.write_text("\n".join(score_text(track, picked)) + "\n", encoding="utf-8")
-    else:
-        save_score(track, output, other, picked, width, sound)
-    if text:
-        for line in score_text(track, picked):
-            click.echo(line)
-    click.echo(f"wrote {output} ({track.frames} frames, {len(picked) if picked else 21} staves)")
-
-
-MAPPING_COMMANDS = (clean, calibrate_cmd, map_cmd, retarget, score)
+MAPPING_COMMANDS = (clean, calibrate_cmd, map_cmd, retarget)

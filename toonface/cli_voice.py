@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from toonface.cli_options import LISTEN, FiniteFloat
+from toonface.cli_trim import Trim, trim_options
 
 #: What ``lipsync -o`` writes, by suffix.
 CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhubarb's XML",
@@ -29,7 +30,9 @@ CUE_FORMATS = {".tsv": "Rhubarb's TSV", ".json": "Rhubarb's JSON", ".xml": "Rhub
               help="The words spoken (or @FILE holding them): aligned with the sound, which places each phone, "
                    "and opened as --listen words opens them [default: no words needed, see --listen].")
 @LISTEN
-def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | None, listen: str | None) -> None:
+@trim_options
+def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | None, listen: str | None,
+            trim: Trim) -> None:
     """Mouth shapes from a voice: a sound file (WAV, MP3, OGG, anything FFmpeg decodes) or the
     sound of a video, heard offline in any language (or, with --listen words, the English words
     recognised in it; with --text, the English words given, aligned),
@@ -56,10 +59,16 @@ def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | 
                                  param_hint="--output")
     words = read_words(text) if text is not None else None
     heard = hear_voice(voice, words, listen or "sound")
-    cues = mouth_cues(heard.shapes)
+    shapes = heard.shapes  # heard whole (its words, pauses and level), then cut: the cues start at 0 at --start
+    if trim.given:
+        first = int(round(trim.offset * FRAME_RATE))
+        shapes = shapes[first:None if trim.end is None else int(round(trim.end * FRAME_RATE))]
+        if not len(shapes):
+            raise click.BadParameter(f"{voice} lasts {len(heard.shapes) / FRAME_RATE:g} s", param_hint="--start")
+    cues = mouth_cues(shapes)
     if not every_frame:
         cues = held_cues(cues, fps)
-    duration = len(heard.shapes) / FRAME_RATE
+    duration = len(shapes) / FRAME_RATE
     with atomic_path(output) as tmp:
         tmp.write_text(cues_text(cues, suffix, voice, words, fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
@@ -67,7 +76,7 @@ def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | 
                + ("the words given aligned, opened as the sound and their phones say" if words else
                   f"from the {len(said(heard.phones)[0])} words heard (English)" if listen == "words" else
                   "from the phones heard (no words given)" if listen == "phones" else
-                  "from the sound's spectrum (no words given)"))
+                  "from the sound's spectrum (no words given)") + trim.said())
 
 
 VOICE_COMMANDS = (lipsync,)

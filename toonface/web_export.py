@@ -36,13 +36,16 @@ SCRIPTS = ("draw.js", "rig.js", "physics.js")
 SOUND_RATE, SOUND_KBPS = 48000, 48
 
 
-def encoded_sound(path: str | os.PathLike) -> bytes:
-    """``path``'s sound (a sound file or a video's) as Opus in a WebM, bytes for a data URI."""
+def encoded_sound(path: str | os.PathLike, span: tuple[float, float] | None = None) -> bytes:
+    """``path``'s sound (a sound file or a video's; only ``span``'s seconds where given) as Opus
+    in a WebM, bytes for a data URI."""
     import av
 
     from common.sound import decode_mono
 
     samples, _, _ = decode_mono(path, SOUND_RATE)
+    if span is not None:
+        samples = samples[int(round(span[0] * SOUND_RATE)):int(round(span[1] * SOUND_RATE))]
     out = io.BytesIO()
     with av.open(out, "w", format="webm") as container:
         stream = container.add_stream("libopus", rate=SOUND_RATE)
@@ -57,7 +60,7 @@ def encoded_sound(path: str | os.PathLike) -> bytes:
 
 def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512),
                 sound: str | os.PathLike | None = None, transparent: bool = False, paused: bool = False,
-                title: str = "toonface") -> str:
+                title: str = "toonface", sound_span: tuple[float, float] | None = None) -> str:
     """The web player's HTML for ``track`` on ``face`` (see the module docstring).
 
     Parameters
@@ -73,6 +76,10 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
         No background and no controls: the face alone, looping (for OBS's browser source).
     paused : bool
         Open paused at 0 s.
+    title : str
+        The page's title.
+    sound_span : (start, end), optional
+        Seconds of ``sound`` to embed (a trimmed track's), its start at the page's 0 s [default: all].
     """
     if transparent:
         face = dataclasses.replace(face, background=(*face.background[:3], 0.0))
@@ -88,7 +95,7 @@ def player_page(track: MotorTrack, face: Face, size: tuple[int, int] = (512, 512
     duration = max(track.frames - 1, 1) / track.rate
     audio = ""
     if sound is not None:
-        data = base64.b64encode(encoded_sound(sound)).decode("ascii")
+        data = base64.b64encode(encoded_sound(sound, sound_span)).decode("ascii")
         audio = f'<audio id="sound" preload="auto" src="data:audio/webm;base64,{data}"></audio>'
     static = resources.files("toonface.studio.static")
     template = static.joinpath("player.html").read_text(encoding="utf-8")
