@@ -185,3 +185,16 @@ def test_crossing_lids_are_a_closed_eye(name):
     for upper, lower in crossing:
         moved = (picture(upper, lower, 0.0) != picture(upper, lower, 1.0)).any(axis=2).sum()
         assert moved == 0, f"{name}: ERU={upper} ERL={lower} (lids crossed): {moved} pixels follow the gaze"
+
+
+def test_the_cats_widest_mouth_stays_clear_of_its_chin():
+    """Issue 69: the cat's mouth open wide reached its chin line (its MB went to -205, the chin's
+    outline is at -210 and 4 wide)."""
+    face = load_face("cat")
+    rig = FaceRig(face)
+    wide = face.neutral().copy()
+    wide[[motor_index("MB"), motor_index("MLV"), motor_index("MRV")]] = (1.0, 0.0, 0.0)  # open, corners down
+    items = {it.name: it for it in rig.geometry(wide).items}
+    mouth = min(float(items[name].vertices[:, 1].min()) for name in ("mouth", "lower_lip"))
+    chin = float(items["head"].vertices[:, 1].min()) + items["head"].width / 2  # the outline's inner edge
+    assert mouth - chin >= 12.0, (mouth, chin)

@@ -382,3 +382,14 @@ def test_face_save_writes_a_file_that_draws_as_the_built_in_face(tmp_path, capsy
         assert np.allclose(x.vertices, y.vertices) and x.fill == y.fill
     assert main(["face", "cat", "--save", str(tmp_path / "mine.toml")]) == 2
     assert "expected a .json face file" in capsys.readouterr().err
+
+
+def test_face_save_names_the_face_after_its_file(tmp_path, capsys):
+    from toon import load_face
+
+    assert main(["face", "cat", "--save", str(tmp_path / "mine.json")]) == 0
+    assert load_face(str(tmp_path / "mine.json")).name == "mine"  # it kept "cat" (issue 69)
+    assert "(mine, from cat:" in capsys.readouterr().out
+    assert main(["face", "cat", "--save", str(tmp_path / "b.json"), "--name", "Whiskers"]) == 0
+    assert load_face(str(tmp_path / "b.json")).name == "Whiskers"
+    assert main(["face", "cat", "--name", "Whiskers"]) == 2  # a name for no file

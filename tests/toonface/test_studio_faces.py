@@ -175,6 +175,15 @@ def test_a_component_copied_from_one_face_is_pasted_into_another(tmp_path):
     assert len(session.face.components) == before + 1 and session.face.components[-1].name == "tongue"
     apply(session, {"op": "faceedit", "action": "paste"}, 0.0)  # twice: the name made unique
     assert session.face.components[-1].name == "tongue 2"
-    assert load_face(session.faces.save(tmp_path / "classic_tongue.json")) == session.face
+    saved = load_face(session.faces.save(tmp_path / "classic_tongue.json"))
+    assert saved == session.faces.face and saved.name == "classic_tongue"  # a built-in's copy named as its file
     with pytest.raises(ValueError, match="nothing to paste"):
         FaceEditor(load_face("round")).paste_item()
+
+
+def test_a_built_in_face_saved_under_a_name_of_its_own_takes_that_name(tmp_path):
+    """Issue 69: a cat saved as mine.json still said "cat" (the web page's title said so)."""
+    editor = FaceEditor(load_face("cat"))
+    assert load_face(editor.save(tmp_path / "mine.json")).name == "mine"
+    editor.rename("Whiskers")  # a name given is kept
+    assert load_face(editor.save(tmp_path / "other.json")).name == "Whiskers"

@@ -19,7 +19,7 @@ import numpy as np
 from common import InputError, builtin_names
 from common.data import names_builtin
 from common.limits import MAX_PICTURE_BYTES, MAX_SVG_BYTES, read_regular
-from toon import Face, load_face, save_face
+from toon import Face, builtin_faces, load_face, save_face
 from toon.face import KINDS, face_from_dict
 from toonface.studio import component_edits as parts
 from toonface.studio import face_params
@@ -369,6 +369,8 @@ class FaceEditor:
         target = Path(path)
         if target.suffix.lower() != ".json":
             raise InputError("a face is saved as .json", target)
+        if self.face.name in builtin_faces() and target.stem != self.face.name:  # a template's copy is a new face,
+            self.rename(target.stem)  # named as its file (issue 69: a cat saved as mine.json said "cat")
         if not any(parts.file_libraries(self.doc.get("components", []))):
             return save_face(self.face, target)
         doc = copy.deepcopy(self.doc)
