@@ -65,6 +65,7 @@ def run(quick: bool = False) -> list[Figure]:
                     Figure("lipsync.loudness_r_median", float(np.median(scores["loudness"])), "r", None, True,
                            detail)]
     figures += _languages()
+    figures += _text_aligned()
     if clips:
         figures.append(_fill(clips))
     figures += [_speed(clips), _live()]
@@ -83,6 +84,7 @@ def _curves(sound: np.ndarray, text: str | None) -> dict[str, np.ndarray]:
     """The mouth's opening (100 Hz) from the sound, the phones, the words where given, and the loudness peer."""
     from capture.voice import openness, recognise, recognise_words, shape_curves, shape_sequence, speaking
     from capture.voice_sound import sound_mouth
+    from capture.voice_text import align_text
     from capture.voice_words import words_mouth
 
     frames = len(sound) // 160
@@ -93,7 +95,7 @@ def _curves(sound: np.ndarray, text: str | None) -> dict[str, np.ndarray]:
               "loudness": np.sqrt(np.mean(sound[: frames * 160].reshape(frames, 160) ** 2, axis=1))}
     curves["heard_words"] = openness(words_mouth(sound, frames, recognise_words(sound))[0])
     if text is not None:
-        curves["words"] = openness(words_mouth(sound, frames, recognise(sound, text))[0])
+        curves["words"] = openness(words_mouth(sound, frames, align_text(sound, text).phones)[0])
     return curves
 
 
@@ -174,6 +176,41 @@ def _languages() -> list[Figure]:
                    {"fps": 24, "sentences": len(held), "one_frame_switches_outside_closures":
                     sum(flicker for _, flicker in held), "what": "lipsync's cues from the sound, held for 24 fps "
                     "(capture.cues.held_cues): the shortest outside closures, and switches a frame apart"})]
+
+
+#: Lines of dialogue as written, punctuation and all (issue 69: "sunday," was refused, and "baked
+#: apple" and two of espeak-ng's sentences failed to align).
+PUNCTUATED = ("She baked apple pies on Sunday, then sliced them.", "Bob, put the map back by the pump!",
+              "Baked apple?", "Well... maybe; Pam's brother Bert bought 3 big mops.",
+              "\u201cPlease,\u201d said Mabel \u2014 \u201cbe polite!\u201d")
+
+
+def _text_aligned() -> list[Figure]:
+    """``--text`` on espeak-ng's English sentences and :data:`PUNCTUATED`: the share whose words
+    all align (:func:`capture.voice_text.align_text`, no phrase left to the sound), and the share
+    of their B, P and M phones during which the mouth is shut (shape A)."""
+    from bench import espeak
+
+    if not espeak.available():
+        return []
+    from scipy.signal import resample_poly
+
+    from capture.voice import VISEMES
+    from capture.voice_take import mouth_of
+    from capture.voice_text import align_text
+
+    aligned, closures, notes = [], [], {}
+    for sentence in (*espeak.SENTENCES["en-us"], *PUNCTUATED):
+        sound = resample_poly(espeak.say(sentence).samples, 320, 441).astype(np.float32)
+        found = align_text(sound, sentence)
+        notes[sentence] = found.notes
+        aligned.append(bool(found.phones) and not any("could not" in n or "left out" in n for n in found.notes))
+        shapes = mouth_of(sound, sentence)[1]
+        closures += [VISEMES.index("A") in shapes[int(p.start * 100):max(int(p.end * 100), int(p.start * 100) + 1)]
+                     for p in found.phones if p.name in ("B", "P", "M")]
+    detail = {"sentences": len(aligned), "closures": len(closures), "notes": notes}
+    return [Figure("lipsync.text_aligned_pct", 100.0 * float(np.mean(aligned)), "%", 100.0, True, detail),
+            Figure("lipsync.text_closures_shut_pct", 100.0 * float(np.mean(closures)), "%", 100.0, True, detail)]
 
 
 def _holds(shapes: np.ndarray) -> tuple[int, int]:

@@ -94,37 +94,20 @@ def decode_voice_at(path: str | os.PathLike) -> tuple[np.ndarray, float]:
     return samples, start
 
 
-def recognise(samples: np.ndarray, text: str | None = None) -> list[Phone]:
-    """The phones in ``samples`` (16 kHz mono), freely (a phone loop) or, given the words
-    ``text``, by forced alignment of those words. The decoder is made afresh for each sound
-    (0.2 s, 0.5 s with the dictionary): one kept and reused gave other phones for the same
-    sound after other sounds, even with its cepstral mean reset or computed per utterance.
-
-    Raises
-    ------
-    InputError
-        When a word of ``text`` is not in the dictionary (named) or the words cannot be aligned.
-    """
+def recognise(samples: np.ndarray) -> list[Phone]:
+    """The phones in ``samples`` (16 kHz mono), freely (a phone loop). The decoder is made
+    afresh for each sound (0.2 s): one kept and reused gave other phones for the same sound
+    after other sounds, even with its cepstral mean reset or computed per utterance. Words given
+    are aligned by :func:`capture.voice_text.align_text`."""
     from pocketsphinx import Decoder, get_model_path
 
     pcm = _pcm(samples)
     model = Path(get_model_path()) / "en-us"
-    if text is None:
-        decoder = Decoder(allphone=str(model / "en-us-phone.lm.bin"), lw=2.0, pip=0.3, beam=1e-20, pbeam=1e-20,
-                          samprate=SAMPLE_RATE, loglevel="FATAL")
-        _decode(decoder, pcm)
-        return [Phone(s.word, s.start_frame / FRAME_RATE, (s.end_frame + 1) / FRAME_RATE)
-                for s in decoder.seg() or ()]  # (None where it heard nothing at all)
-    words = " ".join(text.lower().split())
-    decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
-    unknown = [w for w in words.split() if decoder.lookup_word(w) is None]
-    if unknown:
-        raise InputError(f"not in the pronouncing dictionary: {', '.join(unknown)} (spell numbers and names out "
-                         "as they are said)")
-    try:
-        return _aligned(decoder, pcm, words)
-    except (RuntimeError, ValueError) as exc:
-        raise InputError(f"the words could not be aligned with the sound ({exc})") from None
+    decoder = Decoder(allphone=str(model / "en-us-phone.lm.bin"), lw=2.0, pip=0.3, beam=1e-20, pbeam=1e-20,
+                      samprate=SAMPLE_RATE, loglevel="FATAL")
+    _decode(decoder, pcm)
+    return [Phone(s.word, s.start_frame / FRAME_RATE, (s.end_frame + 1) / FRAME_RATE)
+            for s in decoder.seg() or ()]  # (None where it heard nothing at all)
 
 
 def recognise_words(samples: np.ndarray) -> list[Phone]:
@@ -206,22 +189,23 @@ def shape_sequence(phones: list[Phone], frames: int, speech: np.ndarray | None =
     """The mouth shape of each 10 ms frame, ``(frames,)`` indices into :data:`VISEMES`, with the
     rules of coarticulation (see the module docstring); ``speech`` ``(frames,)`` marks where
     there is voice, rest elsewhere."""
-    rest = VISEMES.index("X")
+    rest, closed = VISEMES.index("X"), VISEMES.index("A")
     shapes = np.full(frames, rest)
-    for phone in phones:
+    # closures last: a vowel's early start took the whole of a short M before it ("me": issue 69)
+    for phone in sorted(phones, key=lambda p: PHONE_SHAPES.get(p.name) == "A"):
         start = int(round(phone.start * FRAME_RATE))
         if phone.name in VOWELS:
             start -= int(round(ANTICIPATE_S * FRAME_RATE))
         end = int(round(phone.end * FRAME_RATE))
         named = PHONE_SHAPES.get(phone.name, "X")
         if named != "X":
-            shapes[max(start, 0):max(end, 0)] = VISEMES.index(named)
+            shapes[max(start, 0):max(end, start + 1, 0)] = VISEMES.index(named)
     if speech is not None:  # silence is rest; lips pressed shut for a B or an M are silent too, and stay
-        shapes[~speech[:frames] & (shapes != VISEMES.index("A"))] = rest
+        shapes[~speech[:frames] & (shapes != closed)] = rest
     hold = max(1, int(round(MIN_HOLD_S * FRAME_RATE)))
     runs = _shape_runs(shapes)
-    for k, (start, end, index) in enumerate(runs):  # a flicker joins the shape before it
-        if end - start < hold and k > 0 and index != rest:
+    for k, (start, end, index) in enumerate(runs):  # a flicker joins the shape before it; a closure stays
+        if end - start < hold and k > 0 and index not in (rest, closed):
             shapes[start:end] = shapes[start - 1]
     pause = int(round(SHORT_PAUSE_S * FRAME_RATE))
     for start, end, index in _shape_runs(shapes):

@@ -31,6 +31,7 @@ from capture.voice import (
 )
 from capture.voice_pitch import pitch_hz, semitones
 from capture.voice_sound import sound_mouth
+from capture.voice_text import align_text
 from capture.voice_words import words_mouth
 from common import InputError
 
@@ -48,6 +49,7 @@ class Heard:
     shapes: np.ndarray
     start: float = 0.0
     weights: np.ndarray | None = None
+    notes: tuple[str, ...] = ()  # how words given were aligned (capture.voice_text)
 
     def curves(self) -> np.ndarray:
         """Each shape's weight per frame, ``(frames, 9)``: what moves the motors."""
@@ -62,19 +64,21 @@ class Heard:
 LISTEN_MODES = ("sound", "words", "phones")
 
 
-def mouth_of(samples: np.ndarray, text: str | None = None, listen: str = "sound"
+def mouth_of(samples: np.ndarray, text: str | None = None, listen: str = "sound", notes: list[str] | None = None
              ) -> tuple[list[Phone], np.ndarray, np.ndarray | None]:
     """The mouth of a whole sound ``samples`` (16 kHz mono) heard as :data:`LISTEN_MODES` says:
     the phones heard (none from the sound alone), each 10 ms frame's mouth cue ``(frames,)``
     (indices into :data:`~capture.voice.VISEMES`) and, where the sound weighs a frame between
-    shapes, each shape's weight ``(frames, 9)`` (None: the cues blended).
+    shapes, each shape's weight ``(frames, 9)`` (None: the cues blended). What the user should
+    know of how words given were aligned (:func:`capture.voice_text.align_text`) is appended to
+    ``notes``.
 
     Raises
     ------
     InputError
-        For an unknown ``listen``, a word of ``text`` not in the dictionary, or words that cannot
-        be aligned (the caller names the file).
+        For an unknown ``listen`` (the caller names the file).
     """
+    notes = [] if notes is None else notes
     if listen not in LISTEN_MODES:
         raise InputError(f"unknown way to listen {listen!r} (known: {', '.join(LISTEN_MODES)})")
     frames = max(2, int(len(samples) * FRAME_RATE // SAMPLE_RATE))
@@ -84,7 +88,15 @@ def mouth_of(samples: np.ndarray, text: str | None = None, listen: str = "sound"
     if text is None and listen == "phones":
         phones = recognise(samples)
         return phones, shape_sequence(phones, frames, speaking(samples, frames)), None
-    phones = recognise(samples, text) if text is not None else recognise_words(samples)
+    if text is None:
+        phones = recognise_words(samples)
+    else:
+        aligned = align_text(samples, text)
+        phones = aligned.phones
+        notes.extend(aligned.notes)
+        if not phones:  # nothing aligned: the sound alone, as the notes say
+            weights, shapes = sound_mouth(samples, frames)
+            return [], shapes, weights
     weights, shapes = words_mouth(samples, frames, phones)
     return phones, shapes, weights
 
@@ -93,11 +105,12 @@ def hear_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     """Decode ``path``'s sound and place the mouth shapes (:func:`mouth_of`): the one way every
     command hears a voice (errors name the file)."""
     samples, start = decode_voice_at(path)
+    notes: list[str] = []
     try:
-        phones, shapes, weights = mouth_of(samples, text, listen)
+        phones, shapes, weights = mouth_of(samples, text, listen, notes)
     except InputError as exc:
         raise InputError(exc.message, path, exc.field) from None
-    return Heard(samples, phones, shapes, start, weights)
+    return Heard(samples, phones, shapes, start, weights, tuple(notes))
 
 
 def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "sound") -> Take:
@@ -120,4 +133,4 @@ def read_voice(path: str | os.PathLike, text: str | None = None, listen: str = "
     return Take(np.zeros((frames, 0, 3)), (), FRAME_RATE, times=heard.start + np.arange(frames) / FRAME_RATE,
                 channels=channels, channel_names=names,
                 meta={"source": "voice", "file": Path(path).name, "words": text, "phones": len(heard.phones),
-                      "listen": "words" if text else listen})
+                      "listen": "words" if text else listen, "notes": list(heard.notes)})

@@ -70,7 +70,7 @@ def take_notes(takes: Sequence[Prepared], mapping: Mapping) -> list[str]:
     """What ``map`` and ``calibrate`` tell of their takes: each take's :func:`stabilisation_notes`
     (a take given twice is told once), then the motors ``mapping`` left out for want of markers."""
     notes = [note for k, prepared in enumerate(takes) if all(prepared is not other for other in takes[:k])
-             for note in stabilisation_notes(prepared)]
+             for note in (*prepared.take.meta.get("notes", ()), *stabilisation_notes(prepared))]  # a voice's own
     left_out = mapping.left_out_note()
     return notes if left_out is None else [*notes, left_out]
 

@@ -209,8 +209,10 @@ def _at_file(value: str, option: str, what: str) -> str:
 
 def read_words(text: str) -> str:
     """The words a voice speaks, from ``WORDS`` or ``@FILE``, on one line."""
+    from capture.voice_text import words_of
+
     text = _at_file(text, "--text", "the words")
-    if not text.split():
+    if not words_of(text):  # (punctuation alone is no words either)
         raise click.BadParameter("no words given", param_hint="--text")
     return " ".join(text.split())
 

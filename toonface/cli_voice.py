@@ -69,6 +69,8 @@ def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | 
     if not every_frame:
         cues = held_cues(cues, fps)
     duration = len(shapes) / FRAME_RATE
+    for note in heard.notes:
+        click.echo(f"note: {note}", err=True)
     with atomic_path(output) as tmp:
         tmp.write_text(cues_text(cues, suffix, voice, words, fps), encoding="utf-8")
     shaped = sum(1 for _, _, shape in cues if shape != "X")
