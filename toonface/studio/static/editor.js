@@ -16,6 +16,7 @@
 
   const STAFF_HEIGHT = 40;
   const PAD = 4;  // pixels above 1 and below 0
+  const STILL = 0.05;  // a motor whose knots span less than this does not move (its group folds when opened)
   const el = (id) => document.getElementById(id);
 
   const svgNode = studio.svg;
@@ -42,10 +43,11 @@
     const holder = el("staves");
     holder.replaceChildren();
     editor.staves.clear();
-    for (const group of groups) {
+    for (const [order, group] of groups.entries()) {
       const details = document.createElement("details");
       details.className = "staves";
       details.open = true;
+      Object.assign(details.dataset, {order, title: group.title});
       const summary = document.createElement("summary");
       summary.textContent = group.title;
       details.append(summary);
@@ -307,14 +309,49 @@
       ? take.units : "";
   }
 
+  function foldStill(state) {
+    // an animation opened: the groups whose motors move most first, the still ones folded last and
+    // said so, so that what moves is in sight (a take's brows filled the screen, its MB far below)
+    const holder = el("staves");
+    const groups = [...holder.querySelectorAll("details.staves")];
+    const span = (code) => {
+      const values = (state.knots[code] || []).map((knot) => knot[1]);
+      return values.length ? Math.max(...values) - Math.min(...values) : 0;
+    };
+    const moving = new Map(groups.map((group) => [group, Math.max(0, ...[...group.querySelectorAll(".staff")].map(
+      (row) => span(row.dataset.code)))]));
+    const any = [...moving.values()].some((most) => most >= STILL);
+    groups.sort((a, b) => (any ? moving.get(b) - moving.get(a) : 0) || (a.dataset.order - b.dataset.order));
+    for (const group of groups) {
+      const title = group.querySelector("summary");
+      group.open = moving.get(group) >= STILL || !any;  // a new, empty animation: every group open, in order
+      title.textContent = group.open ? group.dataset.title : `${group.dataset.title} (still)`;
+      holder.append(group);
+    }
+  }
+
   editor.show = (state) => {
     const fresh = !editor.state || editor.state.duration !== state.duration;  // opened, new, or made longer
+    const source = (st) => `${st.path}|${st.take ? st.take.path : ""}|${st.video}`;  // what the knots came from
+    const opened = !editor.state || source(editor.state) !== source(state) || (editor.state.undo > 0 && state.undo === 0);
     showTake(state.take);
     editor.state = state;
     if (editor.selection && editor.selection[1] > state.duration) editor.selection = null;
+    if (opened || fresh) foldStill(state);
     if (fresh) fit();  // the whole animation across the score's width (it renders)
     else render();
   };
+
+  function moveCursor() {
+    // playback moves the cursor lines only: redrawing every staff each frame (a mapped take's
+    // hundreds of knots) made the page answer a click seconds late, and Pause landed at the end
+    const x = xOf(editor.state.cursor);
+    for (const line of document.querySelectorAll("#staves line.cursor, #wave line.cursor, #ruler line.cursor")) {
+      line.setAttribute("x1", x);
+      line.setAttribute("x2", x);
+    }
+    if (!editor.selection) el("selection").textContent = `cursor ${editor.state.cursor.toFixed(2)} s`;
+  }
 
   studio.onAnimation = editor.show;
   studio.onFrame = (frame) => {
@@ -323,7 +360,7 @@
     editor.state.playing = frame.playing;
     editor.state.cursor = frame.cursor;  // playback moves the cursor
     syncAudio(frame.playing);
-    if (moved) render();
+    if (moved) moveCursor();
   };
   const previousDescribe = studio.onHello;
   studio.onHello = (hello) => {
