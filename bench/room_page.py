@@ -30,7 +30,8 @@ import numpy as np
 from bench.core import Figure
 from stream.packets import StreamWriter
 from toon import MOTOR_CODES, load_face, standard_neutral
-from toonface.room.server import Rooms, in_thread
+from toonface.room.server import Rooms
+from toonface.room.threaded import in_thread
 
 TOKENS = {"bench": ("perform-bench-token-0123", "watch-bench-token-0123")}
 TCP_IP = 40  # bytes of TCP and IPv4 headers a segment

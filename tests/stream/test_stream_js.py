@@ -122,7 +122,8 @@ def _same(page: list | dict, events: list[dict]) -> None:
 def test_the_page_opens_a_sealed_stream_with_the_key_as_the_python_does():
     """Sealed (AES-256-GCM-SIV under HKDF-SHA256, noble's code as the room server serves it): the
     same frames, and acknowledgement bytes sealed alike; a corrupted packet does not open."""
-    from toonface.room.server import Rooms, in_thread
+    from toonface.room.server import Rooms
+    from toonface.room.threaded import in_thread
 
     secret = b"a shared secret of the room 0123"
     events = lossy_link(4, ("HT",), 2, 100, frames=300, key=secret)
@@ -222,7 +223,8 @@ def test_the_page_asks_a_stream_that_never_opens_for_keyframes_less_and_less_oft
     """Issue 70: a page with a wrong key asked for a keyframe four times a second for ever."""
     from toon import FaceRig, load_face
     from toon.web_rig import web_rig
-    from toonface.room.server import Rooms, in_thread
+    from toonface.room.server import Rooms
+    from toonface.room.threaded import in_thread
 
     writer = StreamWriter(RATE, frames_per_packet=1, key=b"another secret of enough length!", stream=7)
     packets = [list(p) for i, row in enumerate(smooth_motion(600, 0)) if (p := writer.push(row, i / RATE))]

@@ -15,7 +15,8 @@ from stream.receiver import StreamReceiver
 from stream.websocket import LinkError, WebSocketLink
 from toon import standard_neutral
 from toonface.cli import main
-from toonface.room.server import Rooms, in_thread
+from toonface.room.server import Rooms
+from toonface.room.threaded import in_thread
 
 TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
 
@@ -59,8 +60,8 @@ def test_wrong_tokens_foreign_pages_oversized_and_flooding_messages_are_refused_
         async def attempts() -> tuple[int, bool]:
             async with aiohttp.ClientSession() as session:
                 try:  # a page of another site opening a socket to the room
-                    await session.ws_connect(f"{base}/r/demo/ws?role=watch&token={TOKENS['demo'][1]}",
-                                             headers={"Origin": "https://elsewhere.example"})
+                    await session.ws_connect(f"{base}/r/demo/ws?role=watch", headers={
+                        "Origin": "https://elsewhere.example", "Authorization": f"Bearer {TOKENS['demo'][1]}"})
                     foreign = 0
                 except aiohttp.WSServerHandshakeError as exc:
                     foreign = exc.status

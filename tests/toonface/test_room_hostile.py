@@ -31,13 +31,15 @@ HOSTILE_MESSAGES = ['{"t": 1, "scores": {}, "matrix": null}', '{"t": 1, "scores"
 
 @pytest.mark.slow  # over a second: make test runs it, test-fast does not
 def test_a_performer_pages_hostile_messages_are_refused_and_the_page_stays(caplog):
-    from toonface.room.server import Rooms, in_thread
+    from toonface.room.server import Rooms
+    from toonface.room.threaded import in_thread
 
     rooms = Rooms(TOKENS)
     with caplog.at_level(logging.WARNING), in_thread(rooms) as base:
         async def perform() -> bool:
             async with aiohttp.ClientSession() as session, session.ws_connect(
-                    f"{base}/r/demo/ws?role=perform&format=face&token={TOKENS['demo'][0]}") as ws:
+                    f"{base}/r/demo/ws?role=perform&format=face",
+                    headers={"Authorization": f"Bearer {TOKENS['demo'][0]}"}) as ws:
                 for text in HOSTILE_MESSAGES:
                     await ws.send_str(text)
                 await ws.send_str('{"t": 5}')
@@ -127,7 +129,8 @@ async def _all_closed(loop: asyncio.AbstractEventLoop, sockets: list[socket.sock
 
 
 def test_room_pages_tell_no_room_apart_and_sockets_take_only_their_own_origins():
-    from toonface.room.server import Rooms, in_thread
+    from toonface.room.server import Rooms
+    from toonface.room.threaded import in_thread
 
     rooms = Rooms(TOKENS, origins=["https://face.example"])
     with in_thread(rooms) as base:
@@ -147,8 +150,8 @@ def test_room_pages_tell_no_room_apart_and_sockets_take_only_their_own_origins()
                                             (f"http://{host}", None), ("https://face.example", None)):
                     headers = {"Origin": origin, **({"Host": host_header} if host_header else {})}
                     try:
-                        async with session.ws_connect(f"{base}/r/demo/ws?role=watch&token={TOKENS['demo'][1]}",
-                                                      headers=headers) as ws:
+                        async with session.ws_connect(f"{base}/r/demo/ws?role=watch", headers={
+                                **headers, "Authorization": f"Bearer {TOKENS['demo'][1]}"}) as ws:
                             statuses[origin] = 101
                             await ws.close()
                     except aiohttp.WSServerHandshakeError as exc:

@@ -8,7 +8,8 @@ import pytest
 from room_pages import KEY, TOKENS, face_png, performer, settled_pictures
 
 from toon import load_face
-from toonface.room.server import Rooms, in_thread
+from toonface.room.server import Rooms
+from toonface.room.threaded import in_thread
 
 
 @pytest.mark.slow  # Chromium and four seconds of stream: make test runs it

@@ -20,7 +20,8 @@ from stream.receiver import StreamReceiver
 from stream.websocket import WebSocketLink
 from toon import motor_index, standard_neutral
 from toonface.room.performers import head_turn, page_frame
-from toonface.room.server import Rooms, in_thread
+from toonface.room.server import Rooms
+from toonface.room.threaded import in_thread
 
 TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
 KEY = b"a shared secret of the room 0123"
@@ -84,7 +85,8 @@ def test_a_performer_page_enters_the_room_as_a_stream_a_native_viewer_receives(k
 
             async def perform() -> None:
                 async with aiohttp.ClientSession() as session, session.ws_connect(
-                        f"{base}/r/demo/ws?role=perform&format=face&token={TOKENS['demo'][0]}") as ws:
+                        f"{base}/r/demo/ws?role=perform&format=face",
+                        headers={"Authorization": f"Bearer {TOKENS['demo'][0]}"}) as ws:
                     for text in _frames(1.0, 0.0) + _frames(1.0, 0.9, start=1.0):
                         await ws.send_str(text)
                     await ws.send_str("not json")
@@ -130,7 +132,8 @@ def test_the_performer_pages_eye_contact_centres_its_look_at_the_screen_and_says
     async def perform(base: str) -> tuple[list[str], np.ndarray]:
         said: list[str] = []
         async with aiohttp.ClientSession() as session, session.ws_connect(
-                f"{base}/r/demo/ws?role=perform&format=face&token={TOKENS['demo'][0]}") as ws:
+                f"{base}/r/demo/ws?role=perform&format=face", headers={"Authorization": f"Bearer {TOKENS['demo'][0]}"}
+        ) as ws:
             for text in _frames(1.0, 0.0):
                 await ws.send_str(text)
             await ws.send_str('{"eye_contact": true}')  # no time: refused as malformed

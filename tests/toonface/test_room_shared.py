@@ -16,7 +16,8 @@ from stream.receiver import StreamReceiver
 from stream.sender import StreamSender
 from stream.websocket import WebSocketLink
 from toon import standard_neutral
-from toonface.room.server import Rooms, in_thread
+from toonface.room.server import Rooms
+from toonface.room.threaded import in_thread
 
 TOKENS = {"demo": ("perform-secret-0123456789", "watch-secret-0123456789")}
 

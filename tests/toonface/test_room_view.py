@@ -22,8 +22,9 @@ from stream.packets import StreamWriter
 from toon import FaceRig, load_face, motor_index, standard_neutral
 from toon.svg import geometry_svg
 from toonface.room.fanout import send_all
-from toonface.room.server import Rooms, in_thread
+from toonface.room.server import Rooms
 from toonface.room.stage import DECIMALS, Stage, packed
+from toonface.room.threaded import in_thread
 
 
 class Clock:

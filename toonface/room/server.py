@@ -9,9 +9,11 @@ binary message of a performer goes to every viewer of the room, and a viewer's r
 
 Safety, each counted in :attr:`Room.refused` (or the server's, before a room is known):
 
-- tokens compared in constant time (``hmac.compare_digest``); a wrong one is refused with 403,
-  and tokens are never logged (the access log is off: a token may ride in the query); a page
-  asks :func:`_check` whether its token was the trouble (a browser hides a refused socket's status);
+- tokens compared in constant time (``hmac.compare_digest``); a wrong one is refused with 403;
+  a token rides in a header, never in an address that a proxy or an access log records: native
+  clients send ``Authorization: Bearer``, pages the socket's subprotocols (:func:`_token`), and a
+  token in a query is refused; a page asks :func:`_check` whether its token was the trouble (a
+  browser hides a refused socket's status);
 - rooms exist only as declared (:class:`Rooms`); performers and viewers per room are capped;
 - a message larger than a stream packet is refused and the connection closed; more than
   ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
@@ -36,12 +38,9 @@ import asyncio
 import hmac
 import json
 import secrets
-import ssl
-import threading
 import time
 from collections import Counter
-from collections.abc import Callable, Collection, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -54,7 +53,7 @@ from toonface.room.browsers import Viewers, add_pages, serve_viewer
 from toonface.room.fanout import send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer
 from toonface.room.pubsub import Bus
-from toonface.web_hosts import listen_hosts, origin_allowed
+from toonface.web_hosts import origin_allowed
 
 
 @dataclass
@@ -142,13 +141,16 @@ class Rooms:
 
 
 ROOMS = web.AppKey("rooms", Rooms)
+#: The subprotocol a room's sockets speak; a page offers ``bearer.TOKEN`` beside it (:func:`_token`).
+PROTOCOL = "toonface"
 
 
 def make_runner(rooms: Rooms, header_timeout: float = HEADER_TIMEOUT_SECONDS) -> web.AppRunner:
-    """The room server's runner: no access log (a token may ride in a query), and a connection
-    that has not sent a whole request's headers within ``header_timeout`` seconds (or idles that
-    long between requests) closed: aiohttp's keep-alive timer runs from the connection's start."""
-    return web.AppRunner(make_app(rooms), access_log=None, keepalive_timeout=header_timeout)
+    """The room server's runner: its access log (``aiohttp.access``, shown with ``-v``) holds no
+    token, and a connection that has not sent a whole request's headers within ``header_timeout``
+    seconds (or idles that long between requests) closed: aiohttp's keep-alive timer runs from
+    the connection's start."""
+    return web.AppRunner(make_app(rooms), keepalive_timeout=header_timeout)
 
 
 def make_app(rooms: Rooms) -> web.Application:
@@ -198,36 +200,14 @@ async def _leave_bus(app: web.Application) -> None:
         rooms.bus = None
 
 
-@contextmanager
-def in_thread(rooms: Rooms, host: str = "127.0.0.1", port: int = 0, ssl_context: ssl.SSLContext | None = None,
-              reuse_port: bool = False) -> Iterator[str]:
-    """A room server for ``rooms`` in a thread of its own (port 0: a free one; ``reuse_port``: a
-    port other servers listen on too), for tests and benchmarks; yields its ``ws://HOST:PORT``
-    (``wss://`` with ``ssl_context``) and stops on exit, closing its connections."""
-    loop = asyncio.new_event_loop()
-    started = threading.Event()
-    box: dict = {}
-
-    async def serve() -> None:
-        runner = make_runner(rooms)
-        await runner.setup()
-        await web.TCPSite(runner, host, port, ssl_context=ssl_context, reuse_port=reuse_port).start()
-        box["port"], box["stop"] = runner.addresses[0][1], asyncio.Event()
-        rooms.hosts |= listen_hosts(host, box["port"])
-        started.set()
-        await box["stop"].wait()
-        await runner.cleanup()
-
-    thread = threading.Thread(target=lambda: loop.run_until_complete(serve()), daemon=True)
-    thread.start()
-    if not started.wait(10):
-        raise OSError(f"the room server did not start on {host}:{port}")
-    try:
-        yield f"{'wss' if ssl_context else 'ws'}://{host}:{box['port']}"
-    finally:
-        loop.call_soon_threadsafe(box["stop"].set)
-        thread.join(10)
-        loop.close()
+def _token(request: web.Request) -> str:
+    """The token a socket's request carries: ``Authorization: Bearer TOKEN`` (native clients), or
+    among its subprotocols, ``toonface`` and ``bearer.TOKEN`` (a page: a browser cannot set a
+    socket's headers, and may not put a token in its address)."""
+    if "Authorization" in request.headers:
+        return request.headers["Authorization"].removeprefix("Bearer ")
+    offered = [p.strip() for p in request.headers.get("Sec-WebSocket-Protocol", "").split(",")]
+    return next((p.removeprefix("bearer.") for p in offered if p.startswith("bearer.")), "")
 
 
 async def _check(request: web.Request) -> web.Response:
@@ -249,7 +229,11 @@ async def _socket(request: web.Request) -> web.StreamResponse:
     if origin is not None and not origin_allowed(origin, rooms.hosts, rooms.origins):
         rooms.refused["origin"] += 1
         raise web.HTTPForbidden(text="a WebSocket from another site's page\n")
-    token = request.query.get("token", "") or request.headers.get("Authorization", "").removeprefix("Bearer ")
+    if "token" in request.query:  # already in a proxy's log: said, so that the client is mended
+        rooms.refused["token"] += 1
+        raise web.HTTPBadRequest(text="a token goes in the Authorization header (or a page's subprotocol), never "
+                                      "in the address: proxies and access logs record addresses\n")
+    token = _token(request)
     role = request.query.get("role", "watch")
     admitted = rooms.admit(request.match_info["room"], role, token)
     if isinstance(admitted, str):
@@ -260,7 +244,7 @@ async def _socket(request: web.Request) -> web.StreamResponse:
     room = admitted
     page = role == "perform" and request.query.get("format") == "face"  # a performer page's tracked face
     ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE if page else MAX_PACKET, heartbeat=rooms.idle_seconds / 2,
-                               compress=False)  # (packets do not shrink; the stage deflates its own)
+                               compress=False, protocols=(PROTOCOL,))  # (packets do not shrink; the stage deflates)
     await ws.prepare(request)
     rooms.sockets.add(ws)
     try:

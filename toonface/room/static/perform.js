@@ -29,9 +29,7 @@ function message(result, ms) {
 }
 
 function connect() {
-  const scheme = location.protocol === "https:" ? "wss" : "ws";
-  const socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=perform`
-                               + `&format=face&token=${encodeURIComponent(token)}`);
+  const socket = window.toonRoomLink.open(room, "perform", token, "&format=face");
   socket.onclose = async () => {
     const state = await window.toonRoomLink.closed(room, "perform", token);
     if (state !== "away") return fail(window.toonRoomLink.said(state, "perform"));  // a wrong link: said, kept

@@ -1,8 +1,17 @@
-// What a room page says when its connection closes: whether the room server refuses the link's
-// token (asked at /r/ROOM/check, the token in a header as the socket's is, never in an address),
-// or is away for a moment (the page then tries again). Shared by the viewer and performer pages.
+// A room page's socket, and what the page says when it closes: whether the room server refuses the
+// link's token (asked at /r/ROOM/check, the token in a header), or is away for a moment (the page
+// then tries again). The token never rides in an address, which proxies and access logs record: the
+// socket offers it among its subprotocols (toonface/room/server.py's _token), /check in a header.
+// Shared by the viewer and performer pages.
 "use strict";
 (() => {
+  function open(room, role, token, query = "") {
+    // the room's socket for ROLE, with QUERY ("&format=...") after the role
+    const scheme = location.protocol === "https:" ? "wss" : "ws";
+    return new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=${role}${query}`,
+                         ["toonface", `bearer.${token}`]);
+  }
+
   async function closed(room, role, token) {
     // "none" (no token in the link), "refused" (the server says no to it) or "away"
     if (!token) return "none";
@@ -28,5 +37,5 @@
 
   // a corrected link pasted into the same tab changes only the fragment: start again with it
   window.addEventListener("hashchange", () => location.reload());
-  window.toonRoomLink = {closed, said};
+  window.toonRoomLink = {open, closed, said};
 })();

@@ -77,9 +77,7 @@
   }
 
   function connect() {
-    const scheme = location.protocol === "https:" ? "wss" : "ws";
-    const socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=watch`
-                                 + `&format=drawn&token=${encodeURIComponent(token)}`);
+    const socket = toonRoomLink.open(room, "watch", token, "&format=drawn");
     socket.binaryType = "arraybuffer";
     let queue = Promise.resolve();  // messages are shown in the order they came
     socket.onopen = () => { viewer.connected = true; $("status").textContent = "connected"; };
@@ -114,9 +112,7 @@
       viewer.sent += 1;
     };
     function open() {
-      const scheme = location.protocol === "https:" ? "wss" : "ws";
-      socket = new WebSocket(`${scheme}://${location.host}/r/${encodeURIComponent(room)}/ws?role=watch`
-                             + `&token=${encodeURIComponent(token)}`);
+      socket = toonRoomLink.open(room, "watch", token);
       socket.binaryType = "arraybuffer";
       socket.onopen = () => { viewer.connected = true; $("status").textContent = "connected: waiting for a performer…"; };
       socket.onmessage = (event) => {
