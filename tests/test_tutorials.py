@@ -87,7 +87,7 @@ def test_the_batch_tutorial_runs_as_written(realdata, tmp_path):
 
 def test_the_telepresence_tutorial_runs_as_written(realdata, tmp_path):
     _shared(realdata, tmp_path, "facial/animface/JawMoCap.csv")
-    room, watch, perform, many = blocks("tutorials/telepresence.md")
+    room, watch, perform, _, many = blocks("tutorials/telepresence.md")
     banner = blocks("tutorials/telepresence.md", "text")[0]
     port = {"7730": str(free_port())}
     with running(substitute(room, port), tmp_path, "camera ") as server:
@@ -106,3 +106,35 @@ def test_the_telepresence_tutorial_runs_as_written(realdata, tmp_path):
 
         here = (reachable_addresses() or ["127.0.0.1"])[0]  # every interface: the address others reach
         assert f"room server on ws://{here}:{ports['7730']}" in servers.output()  # both processes, one NATS
+
+
+def test_the_telepresence_tutorials_phone_section_runs_to_the_camera(tmp_path):
+    """Issue 70, item 5: a phone on the LAN could not perform (plain http has no camera). The
+    section's command serves https with a certificate of its own whose printed fingerprint is the
+    one served; its camera link, the warning accepted (``--ignore-certificate-errors``), is a
+    secure page that asks for the camera and, allowed, performs."""
+    import ssl
+
+    from browser import chromium, wait_for
+
+    from tests.toonface.test_room_view import FAKE_CAMERA, _performer_page_needs
+
+    _performer_page_needs()
+    phone = blocks("tutorials/telepresence.md")[3]
+    port = str(free_port())
+    with running(substitute(phone, {"7731": port}), tmp_path, "room phone: camera") as server:
+        out = server.output()
+        printed = re.search(r"fingerprint reads ([0-9A-F:]+)", out)[1]
+        link = re.search(r"room phone: camera\s+(\S+)", out)[1]
+        host = re.match(r"https://([^:/]+):", link)[1]
+        served = ssl.PEM_cert_to_DER_cert(ssl.get_server_certificate((host, int(port))))
+        import hashlib
+
+        assert ":".join(f"{b:02X}" for b in hashlib.sha256(served).digest()) == printed
+        assert (tmp_path / "phone-cert.pem").is_file() and (tmp_path / "phone-key.pem").stat().st_mode & 0o077 == 0
+        with chromium(700, 900, (*FAKE_CAMERA, "--ignore-certificate-errors")) as browser:
+            browser.get(link)
+            wait_for(browser, "window.performer.ready || window.performer.error", timeout=60)
+            assert browser.execute_script("return window.isSecureContext")
+            assert browser.execute_script("return window.performer.error") is None  # past the camera's prompt
+            wait_for(browser, "window.performer.sent > 5", timeout=30)  # and performing over wss://

@@ -61,6 +61,10 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
 @click.option("--tls-cert", default=None, type=click.Path(dir_okay=False, exists=True), help="Serve wss:// with this "
               "certificate (PEM)...")
 @click.option("--tls-key", default=None, type=click.Path(dir_okay=False, exists=True), help="...and its key.")
+@click.option("--tls-self-signed", is_flag=True,
+              help="Serve https:// and wss:// with a certificate of the server's own for the addresses it is reached "
+                   "at (a phone on the LAN needs https to use its camera), kept beside --tokens and printed with its "
+                   "SHA-256 fingerprint: check it in the browser's warning before accepting.")
 @click.option("--max-viewers", default=1000, show_default=True, type=click.IntRange(1, 100_000),
               help="Viewers a room holds at once.")
 @FACE
@@ -77,7 +81,7 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
                    "always may (any IP address of this machine under 0.0.0.0); pages of other sites never.")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.01), help="Stop after this long.")
 def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | None, tls_key: str | None,
-         max_viewers: int, face: str, key_file: str | None, pubsub: str | None, workers: int,
+         tls_self_signed: bool, max_viewers: int, face: str, key_file: str | None, pubsub: str | None, workers: int,
          origins: tuple[str, ...], seconds: float | None) -> None:
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
     and viewers (`toonface receive --from ws://HOST:PORT/r/NAME --token W`) both connect out to
@@ -110,6 +114,11 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
     load_face(face)  # (an error now, not in each worker)
     if bool(tls_cert) != bool(tls_key):
         raise click.BadParameter("give both --tls-cert and --tls-key, or neither", param_hint="--tls-cert")
+    if tls_self_signed:
+        if tls_cert:
+            raise click.BadParameter("give --tls-cert and --tls-key, or --tls-self-signed",
+                                     param_hint="--tls-self-signed")
+        tls_cert, tls_key = _own_certificate(host, path)
     if tls_cert and tls_key:
         _tls(tls_cert, tls_key)
     for origin in origins:
@@ -165,6 +174,23 @@ def _check_port(host: str, port: int) -> None:
         except OSError as exc:
             raise click.BadParameter(f"cannot listen on {host}:{port}: {exc.strerror or exc} (another server there?)",
                                      param_hint="--listen") from None
+
+
+def _own_certificate(host: str, tokens: Path) -> tuple[str, str]:
+    """``--tls-self-signed``: the certificate kept beside the tokens file, made anew where it does
+    not name an address the server is reached at (:mod:`toonface.self_signed`), and said."""
+    from toonface.self_signed import paths_beside, self_signed
+    from toonface.web_hosts import EVERY_INTERFACE, reachable_addresses
+
+    addresses = reachable_addresses() if host in EVERY_INTERFACE else [host]
+    try:
+        made = self_signed(*paths_beside(tokens), addresses)
+    except InputError as exc:
+        raise click.BadParameter(str(exc), param_hint="--tls-self-signed") from None
+    click.echo(f"certificate {made.cert} ({'made' if made.made else 'kept'}, self-signed for "
+               f"{', '.join(made.addresses)}): a browser warns once; accept it where its certificate's SHA-256 "
+               f"fingerprint reads {made.fingerprint}")
+    return str(made.cert), str(made.key)
 
 
 def _tls(cert: str, key: str) -> ssl.SSLContext:

@@ -47,7 +47,7 @@ async function start() {
   if (!token) return fail("no perform token: open the link the room server printed (it ends in #perform=…)");
   if (!window.isSecureContext || !navigator.mediaDevices) {
     return fail("a browser lends its camera only to https:// pages (or to this machine's own, localhost): start the "
-                + "room with --tls-cert and --tls-key, or behind a TLS proxy");
+                + "room with --tls-self-signed (or --tls-cert and --tls-key), or behind a TLS proxy");
   }
   let landmarker;
   try {
