@@ -198,3 +198,21 @@ def test_the_cats_widest_mouth_stays_clear_of_its_chin():
     mouth = min(float(items[name].vertices[:, 1].min()) for name in ("mouth", "lower_lip"))
     chin = float(items["head"].vertices[:, 1].min()) + items["head"].width / 2  # the outline's inner edge
     assert mouth - chin >= 12.0, (mouth, chin)
+
+
+def test_the_smooth_eyes_lids_lie_on_the_holes_own_outline():
+    """Issue 70, item 7: the round face's lids were open splines of their own beside the hole's
+    closed one, so the white showed below the lower lid and the iris crossed it; they are now the
+    hole's outline itself, its other half hidden."""
+    face = load_face("round")
+    rig = FaceRig(face)
+    expressions = load_expressions()
+    for name, expression in expressions.items():
+        items = rig.geometry(expression.pose(face.neutral())).items
+        whites = [it for it in items if it.name == "white"]
+        for lid in ("upper_lid", "lower_lid"):
+            drawn = [it for it in items if it.name == lid]
+            assert len(drawn) == len(whites) == 2
+            for white, line in zip(whites, drawn, strict=True):
+                np.testing.assert_allclose(line.vertices, white.vertices, atol=1e-9, err_msg=f"{name} {lid}")
+                assert 0 < line.edge_visible.sum() < len(line.edge_visible)  # half the outline drawn

@@ -196,7 +196,7 @@ def test_a_builtin_library_entry_is_inserted_renamed_onto_the_other_eye():
     inserted = editor.doc["components"][-1]
     assert inserted["library"] == "features" and inserted["controls"] == controls
     lids = [c for c in editor.face.basic_components() if c.name == "upper_lid"]
-    assert [p.master for p in lids[-1].points] == ["ELI", "ELU", "ELO"]
+    assert [p.master for p in lids[-1].points] == ["ELI", "ELU", "ELO", "ELL"]  # (the hole's outline, half drawn)
 
 
 def test_component_messages_from_the_page_edit_the_shown_face():
