@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import dataclasses
 import multiprocessing
+import os
 import secrets
 import socket
 import ssl
@@ -74,15 +75,19 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
                    "other machines): a viewer on any of them sees a performer on any.")
 @click.option("--workers", default=1, show_default=True, type=click.IntRange(1, 64),
               help="Server processes on --listen's port (the system spreads connections over them; a viewer whose "
-                   "process stops reconnects to another): one per core. More than one needs --pubsub.")
+                   "process stops reconnects to another, and the process is started again): one per core. More "
+                   "than one needs --pubsub.")
 @click.option("--allow-origin", "origins", multiple=True, metavar="URL",
               help="Also let pages from this origin (https://NAME[:PORT], the address a TLS proxy serves the "
                    "rooms at) open the rooms' sockets; repeatable. Pages of the address the server listens at "
                    "always may (any IP address of this machine under 0.0.0.0); pages of other sites never.")
+@click.option("--stats", default=None, type=FiniteFloat(min=0.1), metavar="SECONDS",
+              help="Every SECONDS (60 is a minute), a line of what each room did: performers and viewers now, packets "
+                   "relayed and missed by slow viewers, refusals by reason.")
 @click.option("--seconds", default=None, type=FiniteFloat(min=0.01), help="Stop after this long.")
 def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | None, tls_key: str | None,
          tls_self_signed: bool, max_viewers: int, face: str, key_file: str | None, pubsub: str | None, workers: int,
-         origins: tuple[str, ...], seconds: float | None) -> None:
+         origins: tuple[str, ...], stats: float | None, seconds: float | None) -> None:
     """A room server: performers (`toonface send SOURCE --to ws://HOST:PORT/r/NAME --token T`)
     and viewers (`toonface receive --from ws://HOST:PORT/r/NAME --token W`) both connect out to
     it over WebSocket, which passes NAT and firewalls; the stream's packets pass through it as
@@ -126,7 +131,7 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
             raise click.BadParameter(f"{origin}: expected an origin, http(s)://NAME[:PORT]",
                                      param_hint="--allow-origin")
     settings = Settings(host, port, tokens, max_viewers, face, _key(key_file), tls_cert, tls_key, pubsub,
-                        workers > 1, seconds, tuple(o.rstrip("/") for o in origins))
+                        workers > 1, seconds, tuple(o.rstrip("/") for o in origins), stats)
     spawn = multiprocessing.get_context("spawn")
     readies = [spawn.Event() for _ in range(workers - 1)]
     others = [spawn.Process(target=_worker, args=(settings, ready), daemon=True) for ready in readies]
@@ -158,6 +163,7 @@ class Settings:
     shared_port: bool
     seconds: float | None
     origins: tuple[str, ...] = ()
+    stats: float | None = None  # seconds between counter lines (--stats)
 
 
 def _check_port(host: str, port: int) -> None:
@@ -272,10 +278,36 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
             click.echo(f"  room {name}: watch    toonface receive --from {where} --token {watch}")
             click.echo(f"  room {name}: browser  {web_scheme}://{shown}:{bound}/r/{name}#watch={watch}")
             click.echo(f"  room {name}: camera   {web_scheme}://{shown}:{bound}/r/{name}/perform#perform={perform}")
+    watcher = asyncio.create_task(_watch(s, others, rooms)) if others or s.stats else None
     try:
         await (asyncio.sleep(s.seconds) if s.seconds is not None else asyncio.Event().wait())
     finally:
+        if watcher is not None:
+            watcher.cancel()
         await runner.cleanup()
+
+
+async def _watch(settings: Settings, others: list[tuple[Any, Any]], rooms: Any) -> None:
+    """Start again a worker process that stopped (said), and with ``--stats`` say what this
+    process did every so many seconds (:mod:`toonface.room.counters`)."""
+    from toonface.room.counters import Counters
+
+    counters, loop = Counters(), asyncio.get_running_loop()
+    due = loop.time() + (settings.stats or 0.0)
+    who = f"process {os.getpid()}: " if settings.shared_port else ""
+    while True:
+        await asyncio.sleep(min(1.0, settings.stats or 1.0))
+        for k, (process, _) in enumerate(others):
+            if process.exitcode is not None:
+                click.echo(f"toonface: warning: worker process {process.pid} stopped (exit {process.exitcode}); "
+                           "started again", err=True)
+                ready = multiprocessing.get_context("spawn").Event()
+                others[k] = (multiprocessing.get_context("spawn").Process(target=_worker, args=(settings, ready),
+                                                                          daemon=True), ready)
+                others[k][0].start()
+        if settings.stats and loop.time() >= due:
+            click.echo(f"{who}{counters.line(rooms)}")
+            due += settings.stats
 
 
 ROOM_COMMANDS = (room,)

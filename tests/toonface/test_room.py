@@ -163,3 +163,54 @@ def test_the_machines_reachable_addresses_are_real_and_never_loopback():
         assert not ip.is_loopback and not ip.is_link_local
         with socket.socket() as probe:
             probe.bind((address, 0))  # an address of this machine: it can be bound
+
+
+def test_the_counters_say_what_each_room_did_since_the_last_line():
+    """Issue 68: the room server showed no counters. One line per room, what changed since the
+    last line and in all, refusals by reason."""
+    from toonface.room.counters import Counters
+
+    rooms = Rooms(TOKENS)
+    room = rooms.rooms["demo"]
+    counters = Counters()
+    room.forwarded, room.skipped = 120, 3
+    room.refused["token"] += 2
+    rooms.refused["room"] += 1
+    assert counters.line(rooms) == ("demo: 0 performing, 0 watching, 120 packets relayed (120 in all), 3 missed by "
+                                    "slow viewers (3), refused 2 (token 2); refused before a room: 1 (room 1)")
+    room.forwarded += 30
+    assert "30 packets relayed (150 in all), 0 missed by slow viewers (3)" in counters.line(rooms)
+
+
+@pytest.mark.slow  # a server process: make test runs it
+def test_room_stats_prints_a_line_every_so_often_with_a_performer_in_it(tmp_path):
+    import subprocess
+    import sys
+
+    from tests.helpers.pubsub import free_port
+
+    port = free_port()
+    server = subprocess.Popen([sys.executable, "-m", "toonface", "room", "--listen", f"127.0.0.1:{port}", "--room",
+                               "demo", "--tokens", str(tmp_path / "rooms.toml"), "--stats", "0.5", "--seconds", "30"],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        lines = [server.stdout.readline() for _ in range(5)]
+        perform = lines[1].rsplit("--token ", 1)[1].strip()
+        link = WebSocketLink(f"ws://127.0.0.1:{port}/r/demo", perform, "perform")
+        from stream.sender import StreamSender
+
+        sender = StreamSender((link.where, 0), StreamWriter(30.0, frames_per_packet=1, stream=7), link=link)
+        try:
+            for k in range(30):
+                sender.write(k / 30, standard_neutral())
+            said = ""
+            while "1 performing" not in said:  # within the server's --seconds, or readline's end fails it
+                said = server.stdout.readline()
+                assert said, "the server ended without a counters line"
+        finally:
+            sender.close()
+        assert said.startswith("demo: 1 performing, 0 watching, ") and "refused before a room: 0" in said
+    finally:
+        server.kill()
+        server.wait()
+        server.stdout.close()

@@ -144,6 +144,14 @@ def test_room_workers_share_one_port_a_killed_one_loses_its_viewers_to_the_other
                     receivers[0].wait_for_packets(10**9, timeout=1 / 30)
                 assert all(receiver.reader.packets >= 45 for receiver in receivers)  # each back within the two
                 assert sum(link.reconnects for link in links) >= 1
+                said = ""  # issue 68: a worker that died was neither restarted nor reported
+                while "started again" not in said:
+                    said = server.stdout.readline()
+                    assert said, "the server ended without saying the worker stopped"
+                assert f"worker process {worker} stopped (exit -9); started again" in said
+                children = Path(f"/proc/{server.pid}/task/{server.pid}/children").read_text().split()
+                assert [pid for pid in children if int(pid) != worker and "spawn_main" in Path(
+                    f"/proc/{pid}/cmdline").read_text()]  # a worker again
             finally:
                 sender.close()
                 for receiver in receivers:
