@@ -105,7 +105,10 @@ def test_the_telepresence_tutorial_runs_as_written(realdata, tmp_path):
         from toonface.web_hosts import reachable_addresses
 
         here = (reachable_addresses() or ["127.0.0.1"])[0]  # every interface: the address others reach
-        assert f"room server on ws://{here}:{ports['7730']}" in servers.output()  # both processes, one NATS
+        banner = servers.output()
+        assert (f"room server on ws://{here}:{ports['7730']}, 2 processes, rooms shared through "
+                f"nats://127.0.0.1:{ports['4222']}") in banner  # both processes, one NATS, its token unsaid
+        assert "without credentials" not in banner  # (NATS asks for its token: no warning)
 
 
 def test_the_telepresence_tutorials_phone_section_runs_to_the_camera(tmp_path):

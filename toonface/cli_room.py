@@ -20,6 +20,7 @@ from common.limits import read_regular_text
 from toonface.cli_options import FACE, FiniteFloat
 from toonface.cli_player import _required_address
 from toonface.cli_stream import KEY, _key
+from toonface.room.pubsub import shown as uncredentialed
 from toonface.stopping import stop_within
 
 
@@ -70,9 +71,11 @@ def load_tokens(path: Path, names: tuple[str, ...]) -> dict[str, tuple[str, str]
               help="Viewers a room holds at once.")
 @FACE
 @KEY
-@click.option("--pubsub", default=None, metavar="nats://HOST:PORT",
+@click.option("--pubsub", default=None, metavar="nats://TOKEN@HOST:PORT", envvar="TOONFACE_PUBSUB",
               help="Share the rooms with every other room server connected to this NATS server (other processes, "
-                   "other machines): a viewer on any of them sees a performer on any.")
+                   "other machines): a viewer on any of them sees a performer on any. Start NATS with --auth TOKEN "
+                   "and give the token here (or in $TOONFACE_PUBSUB, kept out of the process list): a NATS server "
+                   "that takes anyone lets anyone read every room's packets, and the room says so.")
 @click.option("--workers", default=1, show_default=True, type=click.IntRange(1, 64),
               help="Server processes on --listen's port (the system spreads connections over them; a viewer whose "
                    "process stops reconnects to another, and the process is started again): one per core. More "
@@ -113,7 +116,7 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
     if workers > 1 and port == 0:
         raise click.BadParameter("several workers share one port: name it (not 0)", param_hint="--listen")
     if pubsub is not None and not pubsub.startswith(("nats://", "tls://")):
-        raise click.BadParameter(f"{pubsub}: expected nats://HOST:PORT", param_hint="--pubsub")
+        raise click.BadParameter(f"{uncredentialed(pubsub)}: expected nats://HOST:PORT", param_hint="--pubsub")
     _check_port(host, port)  # before the tokens file is written, and before workers share the port
     tokens = load_tokens(path, names)
     load_face(face)  # (an error now, not in each worker)
@@ -265,7 +268,7 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
         reachable = reachable_addresses() if s.host in EVERY_INTERFACE else []
         shown = reachable[0] if reachable else "127.0.0.1" if s.host in EVERY_INTERFACE else s.host
         shared = f", {len(others) + 1} processes" if others else ""
-        shared += f", rooms shared through {s.pubsub}" if s.pubsub else ""
+        shared += f", rooms shared through {uncredentialed(s.pubsub)}" if s.pubsub else ""
         click.echo(f"room server on {scheme}://{shown}:{bound}{shared} (Ctrl-C stops); tokens in {path}")
         if s.host in EVERY_INTERFACE:  # the links name the address other machines reach this one at
             also = ", ".join([*reachable[1:], "127.0.0.1 from this machine"])

@@ -18,16 +18,21 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
+#: The token the tests' NATS servers ask of their clients.
+NATS_TOKEN = "test-nats-token-0123456789"
+
+
 @contextmanager
-def nats_server() -> Iterator[str]:
+def nats_server(auth: bool = True) -> Iterator[str]:
     """Debian's ``nats-server`` on a free loopback port (make test installs it; skips where it is
-    missing); yields its ``nats://`` address once it accepts connections."""
+    missing), asking its clients for :data:`NATS_TOKEN` unless ``auth`` is False; yields its
+    ``nats://`` address (with the token) once it accepts connections."""
     binary = shutil.which("nats-server") or shutil.which("nats-server", path="/usr/sbin:/usr/local/sbin")
     if binary is None:
         pytest.skip("nats-server is missing (make test installs Debian's nats-server)")
     port = free_port()
-    process = subprocess.Popen([binary, "-a", "127.0.0.1", "-p", str(port)], stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
+    process = subprocess.Popen([binary, "-a", "127.0.0.1", "-p", str(port), *(["--auth", NATS_TOKEN] if auth else [])],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 10
         while True:  # (a process starting: its port answers when it is ready)
@@ -41,7 +46,7 @@ def nats_server() -> Iterator[str]:
                     process.wait(0.02)  # (it may have ended: then the next round says so)
                 except subprocess.TimeoutExpired:
                     pass
-        yield f"nats://127.0.0.1:{port}"
+        yield f"nats://{NATS_TOKEN}@127.0.0.1:{port}" if auth else f"nats://127.0.0.1:{port}"
     finally:
         process.terminate()
         process.wait(10)

@@ -2,13 +2,14 @@
 sees a performer on another, its acknowledgements find the performer, and a viewer whose server
 stops reconnects to another on the same address within two seconds."""
 
+import json
 import socket
 import threading
 import time
 
 import numpy as np
 import pytest
-from pubsub import free_port, nats_server
+from pubsub import NATS_TOKEN, free_port, nats_server
 
 from stream.packets import StreamWriter
 from stream.playout import Playout
@@ -16,6 +17,7 @@ from stream.receiver import StreamReceiver
 from stream.sender import StreamSender
 from stream.websocket import WebSocketLink
 from toon import standard_neutral
+from toonface.room.pubsub import shown
 from toonface.room.server import Rooms
 from toonface.room.threaded import in_thread
 
@@ -118,7 +120,8 @@ def test_room_workers_share_one_port_a_killed_one_loses_its_viewers_to_the_other
                                    "--seconds", "60"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
             banner = server.stdout.readline()
-            assert f"room server on ws://127.0.0.1:{port}, 2 processes, rooms shared through {url}" in banner
+            assert f"room server on ws://127.0.0.1:{port}, 2 processes, rooms shared through {shown(url)}" in banner
+            assert NATS_TOKEN not in banner
             lines = [server.stdout.readline() for _ in range(4)]
             perform = lines[0].rsplit("--token ", 1)[1].strip()
             watch = lines[1].rsplit("--token ", 1)[1].strip()
@@ -215,5 +218,35 @@ def test_a_room_that_loses_nats_says_so_and_stops_without_a_traceback(caplog):
         server.__enter__()
     assert noticed.wait(10)  # the NATS server has stopped, and the room says so
     server.__exit__(None, None, None)  # stopped with the NATS server still away
-    assert said and said[0].startswith(f"lost the NATS server at {url}: the rooms are this process's alone")
+    assert said and said[0].startswith(f"lost the NATS server at {shown(url)}: the rooms are this process's alone")
     assert rooms.bus is None and not [r for r in caplog.records if r.levelname == "ERROR"]
+
+
+@pytest.mark.slow  # NATS servers started and stopped: make test runs it
+def test_the_nats_server_reads_nothing_to_a_client_without_its_token_and_an_open_one_is_said():
+    """Issue 68: the tutorial's NATS server took anyone, and a client with no room token read 150
+    of room demo's packets in 5 s. With --auth, a client without the token is refused; a room
+    server joining a NATS server that takes anyone says so."""
+    def subscribe_without_token(url: str, token: str = "") -> bytes:
+        """NATS's own protocol by hand: CONNECT (with ``token``, or none), SUB to every room, PING;
+        what the server answers."""
+        host, port = url.rsplit("@", 1)[-1].removeprefix("nats://").split(":")
+        with socket.create_connection((host, int(port)), timeout=5) as raw:
+            info = raw.recv(4096)
+            assert b'"auth_required":true' in info
+            raw.sendall(b"CONNECT " + json.dumps({"verbose": False, **({"auth_token": token} if token else {})}
+                                                 ).encode() + b"\r\nSUB toonface.> 1\r\nPING\r\n")
+            return raw.recv(4096)
+
+    with nats_server() as url:
+        for token in ("", "wrong-token"):
+            assert b"-ERR 'Authorization Violation'" in subscribe_without_token(url, token)
+        assert subscribe_without_token(url, NATS_TOKEN).startswith(b"PONG")  # (the check itself works)
+    said: list[str] = []
+    with nats_server(auth=False) as url:
+        rooms = Rooms(TOKENS, pubsub=url)
+        rooms.say = said.append
+        with in_thread(rooms):
+            pass
+    assert any("takes clients without credentials: anyone who reaches it reads every room's packets" in s
+               for s in said), said

@@ -22,6 +22,16 @@ from collections.abc import Awaitable, Callable
 from typing import Any
 
 
+def shown(url: str) -> str:
+    """``url`` as it may be printed: its credentials (``nats://TOKEN@HOST:PORT``) left out.
+
+    >>> shown("nats://s3cret@127.0.0.1:4222"), shown("tls://user:pw@nats.example:4222")
+    ('nats://127.0.0.1:4222', 'tls://nats.example:4222')
+    """
+    scheme, _, rest = url.partition("://")
+    return f"{scheme}://{rest.rsplit('@', 1)[-1]}"
+
+
 def subject(room: str, kind: str) -> str:
     """The subject of a room's packets (``kind`` ``p``) or replies (``r``)."""
     return f"toonface.{room.encode().hex()}.{kind}"
@@ -46,6 +56,7 @@ class Bus:
                  on_reply: Callable[[str, bytes], Awaitable[None]],
                  say: Callable[[str], None] = lambda _: None) -> None:
         self.url, self.on_packet, self.on_reply, self.say = url, on_packet, on_reply, say
+        self.where = shown(url)  # (what is said of it: never its credentials)
         self.origin = secrets.token_bytes(8)
         self.client: Any = None
         self.published = self.received = 0
@@ -63,11 +74,11 @@ class Bus:
 
         async def lost() -> None:
             if self.client is not None:  # (not when it is closed on purpose)
-                self.say(f"lost the NATS server at {self.url}: the rooms are this process's alone until it is back "
+                self.say(f"lost the NATS server at {self.where}: the rooms are this process's alone until it is back "
                          "(trying again every quarter second)")
 
         async def back() -> None:
-            self.say(f"the NATS server at {self.url} is back: the rooms are shared again")
+            self.say(f"the NATS server at {self.where} is back: the rooms are shared again")
 
         try:
             self.client = await asyncio.wait_for(nats.connect(
@@ -76,7 +87,10 @@ class Bus:
                 reconnected_cb=back), timeout)
         except (NoServersError, OSError, TimeoutError) as exc:
             why = self.last_error or str(exc) or "no answer"
-            raise ConnectionError(f"cannot reach the NATS server at {self.url} within {timeout:g} s: {why}") from None
+            raise ConnectionError(f"cannot reach the NATS server at {self.where} within {timeout:g} s: {why}") from None
+        if not self.client._server_info.get("auth_required"):  # anyone who reaches it reads every room's packets
+            self.say(f"the NATS server at {self.where} takes clients without credentials: anyone who reaches it "
+                     "reads every room's packets; start it with --auth TOKEN and give nats://TOKEN@HOST:PORT")
         for name in rooms:
             await self.client.subscribe(subject(name, "p"), cb=self._handler(name, self.on_packet))
             await self.client.subscribe(subject(name, "r"), cb=self._handler(name, self.on_reply))
