@@ -275,7 +275,8 @@ async def _serve(settings: Settings, path: Path | None, others: list[tuple[Any, 
             click.echo(f"  every interface: also at {also}" if reachable
                        else "  every interface, but no address other machines reach was found: 127.0.0.1 only")
         web_scheme = "https" if context else "http"
-        for name, (perform, watch) in s.tokens.items():
+        for name, room in rooms.rooms.items():  # (a shared room's tokens as agreed: Bus.agree)
+            perform, watch = room.perform_token, room.watch_token
             where = f"{scheme}://{shown}:{bound}/r/{name}"
             click.echo(f"  room {name}: perform  toonface send SOURCE --to {where} --token {perform}")
             click.echo(f"  room {name}: watch    toonface receive --from {where} --token {watch}")

@@ -250,3 +250,26 @@ def test_the_nats_server_reads_nothing_to_a_client_without_its_token_and_an_open
             pass
     assert any("takes clients without credentials: anyone who reaches it reads every room's packets" in s
                for s in said), said
+
+
+@pytest.mark.slow  # a NATS server started and stopped: make test runs it
+def test_a_shared_rooms_tokens_are_the_first_servers_on_every_server_of_it():
+    """Issue 68: each server sharing a room through NATS made its own tokens, and all of them
+    worked (server C's perform token performed into server A's room). The second server takes the
+    first's and says so; its own work nowhere, nor does another room's token."""
+    first = {"demo": ("perform-first-0123456789", "watch-first-0123456789"),
+             "other": ("perform-other-0123456789", "watch-other-0123456789")}
+    second = {"demo": ("perform-second-0123456789", "watch-second-0123456789"),
+              "other": ("perform-other-0123456789", "watch-other-0123456789")}
+    said: list[str] = []
+    with nats_server() as url:
+        a, b = Rooms(first, pubsub=url), Rooms(second, pubsub=url)
+        b.say = said.append
+        with in_thread(a), in_thread(b):
+            for rooms in (a, b):
+                assert isinstance(rooms.admit("demo", "perform", first["demo"][0]), type(rooms.rooms["demo"]))
+                assert isinstance(rooms.admit("demo", "watch", first["demo"][1]), type(rooms.rooms["demo"]))
+                assert rooms.admit("demo", "perform", second["demo"][0]) == "token"
+                assert rooms.admit("demo", "perform", first["other"][0]) == "token"  # another room's
+    assert said == ["room demo: the tokens of the servers already sharing it through NATS hold here too (this "
+                    "server's own, in its tokens file, do not)"]

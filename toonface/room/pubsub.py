@@ -11,12 +11,14 @@ goes to that process's viewers and is published on ``toonface.ROOM.p``; the othe
 theirs. A viewer's reply (acknowledgement, keyframe request) for a stream no local performer sends
 is published on ``toonface.ROOM.r`` and reaches the process that has it. Each message is the
 sender process's 8-byte id and the packet, so a process skips its own; ``ROOM`` is the room's name
-in hexadecimal (a subject's tokens may not hold dots or spaces).
+in hexadecimal (a subject's tokens may not hold dots or spaces). A room's tokens are agreed on
+``toonface.ROOM.t`` (:meth:`Bus.agree`): the first server's hold for every server of the room.
 """
 
 from __future__ import annotations
 
 import asyncio
+import json
 import secrets
 from collections.abc import Awaitable, Callable
 from typing import Any
@@ -95,6 +97,29 @@ class Bus:
             await self.client.subscribe(subject(name, "p"), cb=self._handler(name, self.on_packet))
             await self.client.subscribe(subject(name, "r"), cb=self._handler(name, self.on_reply))
         await self.client.flush(timeout)
+
+    async def agree(self, tokens: dict[str, tuple[str, str]], timeout: float = 1.0) -> dict[str, tuple[str, str]]:
+        """Each room's ``(perform, watch)`` tokens as the servers already sharing it hold them
+        (asked on ``toonface.ROOM.t``: the first server's), or ``tokens``' own where none answers;
+        from then on this process answers the servers that come after with them. One set of tokens
+        per shared room: a token made by one server works on every server of it (issue 68)."""
+        from nats.errors import Error as NatsError
+
+        agreed = {}
+        for name, own in tokens.items():
+            try:
+                answer = await self.client.request(subject(name, "t"), b"", timeout=timeout)
+                perform, watch = json.loads(answer.data)
+                agreed[name] = (str(perform), str(watch))
+            except (NatsError, TimeoutError, ValueError, TypeError):  # no responders: the first here
+                agreed[name] = own
+        for name, pair in agreed.items():
+            async def answer_with(message: Any, pair: tuple[str, str] = pair) -> None:
+                await message.respond(json.dumps(pair).encode())
+
+            await self.client.subscribe(subject(name, "t"), cb=answer_with)
+        await self.client.flush(timeout)
+        return agreed
 
     def _handler(self, room: str, deliver: Callable[[str, bytes], Awaitable[None]]) -> Callable[[Any], Awaitable[None]]:
         async def handle(message: Any) -> None:

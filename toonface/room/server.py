@@ -191,6 +191,13 @@ async def _join_bus(app: web.Application) -> None:
 
     rooms.bus = Bus(rooms.pubsub, packet, reply, rooms.say)
     await rooms.bus.start(list(rooms.rooms))
+    agreed = await rooms.bus.agree({name: (r.perform_token, r.watch_token) for name, r in rooms.rooms.items()})
+    for name, (perform, watch) in agreed.items():  # one set of tokens per shared room: the first server's
+        room = rooms.rooms[name]
+        if (perform, watch) != (room.perform_token, room.watch_token):
+            room.perform_token, room.watch_token = perform, watch
+            rooms.say(f"room {name}: the tokens of the servers already sharing it through NATS hold here too "
+                      "(this server's own, in its tokens file, do not)")
 
 
 async def _leave_bus(app: web.Application) -> None:
