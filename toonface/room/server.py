@@ -9,32 +9,28 @@ binary message of a performer goes to every viewer of the room, and a viewer's r
 
 Safety, each counted in :attr:`Room.refused` (or the server's, before a room is known):
 
-- tokens compared in constant time (``hmac.compare_digest``); a wrong one is refused with 403;
-  a token rides in a header, never in an address that a proxy or an access log records: native
-  clients send ``Authorization: Bearer``, pages the socket's subprotocols (:func:`_token`), and a
-  token in a query is refused; a page asks :func:`_check` whether its token was the trouble (a
-  browser hides a refused socket's status);
-- rooms exist only as declared (:class:`Rooms`); performers and viewers per room are capped;
+- tokens compared in constant time; a wrong one is refused with 403; a token rides in a header,
+  never in an address a proxy or access log records (:func:`_token`; one in a query is refused);
+  a page asks :func:`_check` whether its token was the trouble (a browser hides the status);
+- rooms exist only as declared (:class:`Rooms`; the pages answer alike for one that does not);
+  performers and viewers per room are capped;
 - a message larger than a stream packet is refused and the connection closed; more than
-  ``rate_limit`` messages a second from one connection are dropped (a flood), and a connection
-  silent for ``idle_seconds`` is closed;
-- a WebSocket opened from a web page must come from a page of the server's own addresses or of an
-  origin it was given (``Origin``, :func:`toonface.web_hosts.origin_allowed`: a page of another
-  site reaching it by DNS rebinding is refused); native clients send none;
-- the pages answer the same for a room that exists and one that does not: without a token
-  nothing tells which rooms a server holds;
-- the messages of a performer page are parsed within :mod:`common.limits`' bounds, and a
-  request's headers must arrive within :data:`~common.limits.HEADER_TIMEOUT_SECONDS`;
-- a viewer whose connection has more than :data:`~toonface.room.fanout.LAG_BYTES` waiting
-  misses packets (counted in :attr:`Room.skipped`; the stream conceals them) rather than holding
-  the other viewers back (:mod:`toonface.room.fanout`: each packet is framed once for all).
+  ``rate_limit`` messages a second are dropped (a flood); a connection silent for
+  ``idle_seconds`` is closed;
+- a WebSocket from a web page must come from a page of the server's own addresses or of an
+  origin it was given (:func:`toonface.web_hosts.origin_allowed`: DNS rebinding is refused);
+- a performer page's messages are parsed within :mod:`common.limits`' bounds, and a request's
+  headers must arrive within :data:`~common.limits.HEADER_TIMEOUT_SECONDS`;
+- a viewer with more than :data:`~toonface.room.fanout.LAG_BYTES` waiting misses packets
+  (:attr:`Room.skipped`; the stream conceals them) rather than holding the others back.
 
-Browsers watch through the room's stage (:mod:`toonface.room.browsers`): ``/r/ROOM`` is their page.
+A performer who leaves is said to the viewers at once (:func:`_gone`); browsers watch at ``/r/ROOM``.
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import hmac
 import json
 import secrets
@@ -268,8 +264,10 @@ async def _socket(request: web.Request) -> web.StreamResponse:
                 await _serve(ws, room, rooms, role)
             finally:
                 room.viewers.pop(ws, None)
-                for stream in [s for s, w in room.performers.items() if w is ws]:
+                left = [s for s, w in room.performers.items() if w is ws]
+                for stream in left:
                     del room.performers[stream]
+                await _gone(room, left)
     finally:
         rooms.sockets.discard(ws)
     return ws
@@ -298,6 +296,7 @@ async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> No
     finally:
         stand_in.closed = True
         room.performers.pop(stream, None)
+        await _gone(room, [stream])
         await loop.run_in_executor(None, performer.close)
 
 
@@ -380,6 +379,16 @@ async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | _Pag
     await _deliver(room, data, stream)
     if rooms.bus is not None:
         await rooms.bus.publish(room.name, "p", data)
+
+
+async def _gone(room: Room, streams: list[int]) -> None:
+    """Tell the room's viewers that the performers of ``streams`` left (a text message,
+    ``{"gone": [...]}``: pages drop their faces at once; native viewers read packets only)."""
+    said = json.dumps({"gone": streams})
+    for ws in list(room.viewers) if streams else ():
+        if not ws.closed:
+            with contextlib.suppress(ConnectionError, RuntimeError):
+                await ws.send_str(said)
 
 
 async def _deliver(room: Room, data: bytes, stream: int) -> None:

@@ -31,6 +31,21 @@
   }
   $("room").textContent = room;
 
+  function arrange() {
+    // the faces as large as the window lets all of them be at once, in as many columns as does
+    // that best (two performers stacked put the second below the fold: issue 68)
+    const count = Math.max(1, viewer.performers.size), header = $("stage").offsetTop + 16;
+    const width = window.innerWidth - 32, height = window.innerHeight - header;
+    let best = 0;
+    for (let columns = 1; columns <= count; columns++) {
+      const rows = Math.ceil(count / columns);
+      const size = Math.min((width - (columns - 1) * 16) / columns, (height - (rows - 1) * 16) / rows - 28, 512);
+      best = Math.max(best, size);
+    }
+    $("stage").style.setProperty("--face", `${Math.max(64, Math.floor(best))}px`);
+  }
+  window.addEventListener("resize", arrange);
+
   function seat(id) {
     // the figure of performer `id`, made when it first comes
     let performer = viewer.performers.get(id);
@@ -44,8 +59,16 @@
       $("stage").append(figure);
       performer = {figure, caption, drawing: new toonDraw.Drawing(face), quality: null};
       viewer.performers.set(id, performer);
+      arrange();
     }
     return performer;
+  }
+
+  function unseat(id) {
+    const performer = viewer.performers.get(id);
+    if (performer) performer.figure.remove();
+    viewer.performers.delete(id);
+    arrange();
   }
 
   function readout(q) {
@@ -55,11 +78,7 @@
   }
 
   function show(message) {
-    for (const id of message.gone) {
-      const performer = viewer.performers.get(id);
-      if (performer) performer.figure.remove();
-      viewer.performers.delete(id);
-    }
+    for (const id of message.gone) unseat(id);
     for (const frame of message.performers) {
       const performer = seat(frame.id);
       performer.drawing.held = viewer.held;
@@ -94,7 +113,7 @@
     viewer.refused = state !== "away";
     if (state === "away") setTimeout(again, 500);
   }
-  const GONE_SECONDS = 3.0;  // a performer silent this long leaves the page
+  const GONE_SECONDS = 2.0;  // a performer silent this long leaves the page (one who leaves is said at once)
 
   async function drawHere() {
     // the page's own drawing: packets in, the faces drawn at the screen's rate
@@ -114,8 +133,17 @@
     function open() {
       socket = toonRoomLink.open(room, "watch", token);
       socket.binaryType = "arraybuffer";
-      socket.onopen = () => { viewer.connected = true; $("status").textContent = "connected: waiting for a performer…"; };
+      socket.onopen = () => {
+        // (again) connected: the server may be another process, which knows none of the faces shown
+        for (const id of [...streams.keys()]) { unseat(id); streams.delete(id); }
+        viewer.connected = true;
+        $("status").textContent = "connected: waiting for a performer…";
+      };
       socket.onmessage = (event) => {
+        if (typeof event.data === "string") {  // the server's word: {"gone": [ids]}, performers who left
+          for (const id of JSON.parse(event.data).gone || []) { unseat(id); streams.delete(id); }
+          return;
+        }
         const bytes = new Uint8Array(event.data), now = performance.now() / 1000;
         if (bytes.length < 3) return;
         const id = bytes[1] | (bytes[2] << 8);
@@ -132,8 +160,7 @@
       for (const [id, stream] of streams) {
         const performer = seat(id);
         if (now - stream.received > GONE_SECONDS) {
-          performer.figure.remove();
-          viewer.performers.delete(id);
+          unseat(id);
           streams.delete(id);
           continue;
         }
