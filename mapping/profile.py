@@ -79,8 +79,8 @@ class Profile:
         in shares of its range, per share of another motor's range (:mod:`mapping.coupling`).
     solver : Solver, optional
         What each motor does to every marker, learned from a range-of-motion sweep
-        (:mod:`mapping.solver`): the motors it knows are solved all at once. Kept in memory
-        only: :func:`save_profile` does not write it yet.
+        (:mod:`mapping.solver`): the motors it knows are solved all at once. Saved with the
+        profile (its ``[solver]`` table) and read back.
     """
 
     markerset: str
@@ -202,7 +202,8 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
            "notes": dict(profile.notes), "rest_rotation": [[float(v) for v in row] for row in profile.rest_rotation],
            "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()},
            "full_range": profile.full_range,
-           "couplings": {k: {d: list(v) for d, v in drivers.items()} for k, drivers in profile.couplings.items()}}
+           "couplings": {k: {d: list(v) for d, v in drivers.items()} for k, drivers in profile.couplings.items()},
+           **({"solver": profile.solver.to_dict()} if profile.solver is not None else {})}
     return write_document(doc, path, "profile")
 
 
@@ -233,7 +234,8 @@ def load_profile(path: str | os.PathLike) -> Profile:
     return Profile(str(doc["markerset"]), ranges, rot, str(doc.get("performer", "")),
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path),
                    check.boolean(doc.get("full_range", False), "full_range"),
-                   _couplings(check, doc.get("couplings", {})))
+                   _couplings(check, doc.get("couplings", {})),
+                   Solver.from_dict(doc["solver"], check) if "solver" in doc else None)
 
 
 def _couplings(check: Validator, doc: object) -> dict[str, dict[str, tuple[float, float]]]:

@@ -36,15 +36,19 @@ motion on markers that counted; below :data:`MIN_CONFIDENCE` the motor is unseen
 (NaN: the loss policy of :mod:`mapping.rules` takes over, as for a rule with no source seen).
 
 The solver gives each solved motor's share; the rest of a rule (gain, offset, curve, clamp) and
-the per-frame rules (filters, loss) stay as they are, offline and live alike.
+the per-frame rules (filters, loss) stay as they are, offline and live alike. A profile keeps its
+solver (``calibrate --solve``; :meth:`Solver.to_dict`), so ``map --profile`` solves with it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+
+from common.validate import Validator
 
 #: A motor this far along its way (a share) and leading the face shows what it does.
 MOVED = 0.3
@@ -108,6 +112,36 @@ class Solver:
     noise: float
     unobservable: tuple[str, ...] = ()
     notes: dict[str, str] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The solver as a profile's ``[solver]`` table (:func:`from_dict` reads it back equal)."""
+        return {"codes": list(self.codes), "markers": list(self.markers), "noise": float(self.noise),
+                "unobservable": list(self.unobservable), "notes": dict(self.notes),
+                "rest": np.round(self.rest, 6).tolist(), "up": np.round(self.up, 6).tolist(),
+                "down": np.round(self.down, 6).tolist()}
+
+    @classmethod
+    def from_dict(cls, doc: Any, check: Validator) -> Solver:
+        """A profile's ``[solver]`` table as a solver; a field that cannot be one raises
+        :class:`InputError` naming it (through ``check``)."""
+        table = check.fields(doc, {"codes", "markers", "noise", "unobservable", "notes", "rest", "up", "down"},
+                             "solver", "a table")
+        codes, markers = check.strings(table.get("codes", []), "solver.codes"), check.strings(
+            table.get("markers", []), "solver.markers")
+        arrays = {}
+        for name, shape in (("rest", (len(markers), 3)), ("up", (len(codes), len(markers), 3)),
+                            ("down", (len(codes), len(markers), 3))):
+            try:
+                arrays[name] = np.asarray(table.get(name), dtype=float)
+            except (TypeError, ValueError):
+                arrays[name] = np.zeros(0)
+            check.require(arrays[name].shape == shape and bool(np.isfinite(arrays[name]).all()),
+                          f"expected {' x '.join(map(str, shape))} finite numbers", f"solver.{name}")
+        notes = table.get("notes", {})
+        return cls(tuple(codes), tuple(markers), arrays["rest"], arrays["up"], arrays["down"],
+                   check.number(table.get("noise", 0.0), "solver.noise", 0.0),
+                   tuple(check.strings(table.get("unobservable", []), "solver.unobservable")),
+                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {})
 
     def solve(self, local: np.ndarray, columns: dict[str, int], trust: np.ndarray | None = None,
               quality: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -159,10 +159,15 @@ def clean(take: str, output: str, head_frame: bool, markerset: str | None, mappi
 @click.option("--percentiles", default="0.5,99.5", show_default=True, metavar="LOW,HIGH",
               help="Percentiles of the range frames taken as each source's lowest and highest value.")
 @click.option("--performer", default="", help="A name to keep in the profile.")
+@click.option("--solve", is_flag=True,
+              help="With --range (a sweep: each motor moved alone): also learn what each motor does to every marker, "
+                   "kept in the profile, and solve all the motors it shows at once when mapping with it (off by "
+                   "default: on the synthetic performers it is still less faithful than the rules; see python -m "
+                   "bench fidelity).")
 @_clean_settings
 @take_options
 def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | None, neutral_take: str | None,
-                  range_window: str | None, percentiles: str, performer: str, cleaning: Cleaning,
+                  range_window: str | None, percentiles: str, performer: str, solve: bool, cleaning: Cleaning,
                   reading: TakeReading) -> None:
     """Make a performer profile (neutral pose and range of motion) from a take.
 
@@ -186,8 +191,14 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     chosen, markerset = choose_mapping(loaded, mapping)
     ranged = prepare(loaded, markerset, settings)
     rest = prepare(read_take(neutral_take, reading, mapping=mapping), markerset, settings) if neutral_take else ranged
-    profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer)
+    if solve and windows[1] is None:
+        raise click.BadParameter("learns from a sweep: give its frames with --range START:END", param_hint="--solve")
+    profile = calibrate(chosen, rest, windows[0], ranged, windows[1], (low, high), performer, solve=solve)
     path = save_profile(profile, output)
+    if profile.solver is not None:
+        click.echo(f"note: the solver learned {len(profile.solver.codes)} motors from {len(profile.solver.markers)} "
+                   f"markers" + (f"; unobservable: {', '.join(profile.solver.unobservable)} (left to the rules)"
+                                 if profile.solver.unobservable else ""), err=True)
     for note in take_notes((rest, ranged), chosen):  # what map's report says of units, head fit, markers
         click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
     still = set(profile.notes.get("no_motion", "").split(", "))

@@ -149,3 +149,35 @@ def test_a_motor_the_markers_do_not_show_is_named_not_solved():
     solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), reading, REST)
     assert solver is not None
     assert "ER" not in solver.codes and solver.unobservable == ("ER",)
+
+
+@pytest.mark.slow  # a sweep calibrated and a take mapped twice through the CLI: make test runs it
+def test_calibrate_solve_keeps_the_solver_in_the_profile_and_map_solves_with_it(tmp_path, capsys):
+    """Issue 62: the solver lived in memory only; calibrate --solve now writes it into the profile
+    and map --profile reads it back and solves with it, as calibrate(..., solve=True) in memory."""
+    from dataclasses import replace
+
+    from capture import save_take, synthesize
+    from capture.performance import default_performance
+    from mapping import calibrate, choose_mapping, load_profile, map_take, prepare
+    from toon import load_track
+    from toonface.cli import main
+
+    sweep_end = 1.0 + 1.2 * 7  # bench.generators.OWN_SWEEP_END: the own performer's calibration segment
+    syn = synthesize(seed=4, performance=default_performance(sweep_end + 2.0, calibration=True, seed=4))
+    take, profile_path = tmp_path / "take.npz", tmp_path / "me.toml"
+    save_take(syn.take, take)
+    assert main(["calibrate", str(take), "--neutral", "0:1", "--range", f"1:{sweep_end:g}", "--solve",
+                 "-o", str(profile_path)]) == 0
+    assert "the solver learned" in capsys.readouterr().err
+    mapping, markerset = choose_mapping(syn.take)
+    memory = calibrate(mapping, prepare(syn.take, markerset), (0.0, 1.0), range_window=(1.0, sweep_end), solve=True)
+    saved = load_profile(profile_path)
+    assert saved.solver is not None and memory.solver is not None
+    assert saved.solver.codes == memory.solver.codes and saved.solver.markers == memory.solver.markers
+    np.testing.assert_allclose(saved.solver.up, memory.solver.up, atol=1e-6)
+    assert main(["map", str(take), "--profile", str(profile_path), "-o", str(tmp_path / "solved.csv")]) == 0
+    solved = load_track(tmp_path / "solved.csv").values
+    np.testing.assert_allclose(solved, map_take(syn.take, profile=memory).values, atol=1e-4)
+    assert np.abs(solved - map_take(syn.take, profile=replace(memory, solver=None)).values).max() > 0.01
+    assert main(["calibrate", str(take), "--solve", "-o", str(tmp_path / "x.toml")]) == 2  # no sweep named
