@@ -245,8 +245,12 @@ def test_a_drafted_layout_maps_as_well_as_the_hand_made_preset(realdata, tmp_pat
     error = np.sqrt(np.mean((mine.values - preset.values) ** 2, axis=0))
     # The drafted frame is 7 degrees from the hand-made one; with the frame found from the data
     # every motor is within 0.03 (the old rule's frame leaked the corners' vertical motion into
-    # their horizontal range: MLH 0.086).
-    assert error.max() < 0.04 and error.mean() < 0.015, dict(zip(MOTOR_CODES, error.round(3), strict=True))
+    # their horizontal range: MLH 0.086). The upper lids' closing side is the take's own blinks'
+    # 1.4-2.4 mm since issue 69 (was a typical face's 10 mm), so the two frames' few tenths of a
+    # millimetre weigh five times more there: within 0.06.
+    said = dict(zip(MOTOR_CODES, error.round(3), strict=True))
+    lids = [MOTOR_CODES.index(code) for code in ("ERU", "ELU")]
+    assert np.delete(error, lids).max() < 0.04 and error[lids].max() < 0.06 and error.mean() < 0.015, said
 
 
 @pytest.mark.slow

@@ -16,7 +16,7 @@
 
   const STAFF_HEIGHT = 40;
   const PAD = 4;  // pixels above 1 and below 0
-  const STILL = 0.05;  // a motor whose knots span less than this does not move (its group folds when opened)
+  const STILL = 0.05;  // a motor whose knots span less than this does not move (its group goes last)
   const el = (id) => document.getElementById(id);
 
   const svgNode = studio.svg;
@@ -309,9 +309,10 @@
       ? take.units : "";
   }
 
-  function foldStill(state) {
-    // an animation opened: the groups whose motors move most first, the still ones folded last and
-    // said so, so that what moves is in sight (a take's brows filled the screen, its MB far below)
+  function orderStaves(state) {
+    // an animation opened: the groups whose motors move most first, the still ones last and said
+    // so, so that what moves is in sight (a take's brows filled the screen, its MB far below); all
+    // stay open, a still motor as easy to key as before
     const holder = el("staves");
     const groups = [...holder.querySelectorAll("details.staves")];
     const span = (code) => {
@@ -323,9 +324,8 @@
     const any = [...moving.values()].some((most) => most >= STILL);
     groups.sort((a, b) => (any ? moving.get(b) - moving.get(a) : 0) || (a.dataset.order - b.dataset.order));
     for (const group of groups) {
-      const title = group.querySelector("summary");
-      group.open = moving.get(group) >= STILL || !any;  // a new, empty animation: every group open, in order
-      title.textContent = group.open ? group.dataset.title : `${group.dataset.title} (still)`;
+      const still = any && moving.get(group) < STILL;
+      group.querySelector("summary").textContent = still ? `${group.dataset.title} (still)` : group.dataset.title;
       holder.append(group);
     }
   }
@@ -337,7 +337,7 @@
     showTake(state.take);
     editor.state = state;
     if (editor.selection && editor.selection[1] > state.duration) editor.selection = null;
-    if (opened || fresh) foldStill(state);
+    if (opened || fresh) orderStaves(state);
     if (fresh) fit();  // the whole animation across the score's width (it renders)
     else render();
   };
