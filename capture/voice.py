@@ -101,7 +101,7 @@ def recognise(samples: np.ndarray) -> list[Phone]:
     are aligned by :func:`capture.voice_text.align_text`."""
     from pocketsphinx import Decoder, get_model_path
 
-    pcm = _pcm(samples)
+    pcm = pcm16(samples)
     model = Path(get_model_path()) / "en-us"
     decoder = Decoder(allphone=str(model / "en-us-phone.lm.bin"), lw=2.0, pip=0.3, beam=1e-20, pbeam=1e-20,
                       samprate=SAMPLE_RATE, loglevel="FATAL")
@@ -118,7 +118,7 @@ def recognise_words(samples: np.ndarray) -> list[Phone]:
     fast as real time on one core; noises and silence are left out."""
     from pocketsphinx import Decoder
 
-    pcm = _pcm(samples)
+    pcm = pcm16(samples)
     decoder = Decoder(samprate=SAMPLE_RATE, loglevel="FATAL")
     _decode(decoder, pcm)
     heard = [(s.word, s.start_frame, s.end_frame + 1) for s in decoder.seg() or ()
@@ -126,7 +126,7 @@ def recognise_words(samples: np.ndarray) -> list[Phone]:
     if not heard:
         return []
     try:
-        return _aligned(decoder, pcm, " ".join(word.split("(")[0] for word, _, _ in heard))
+        return aligned_phones(decoder, pcm, " ".join(word.split("(")[0] for word, _, _ in heard))
     except (RuntimeError, ValueError):
         out = []
         for word, start, end in heard:
@@ -137,7 +137,8 @@ def recognise_words(samples: np.ndarray) -> list[Phone]:
         return out
 
 
-def _pcm(samples: np.ndarray) -> bytes:
+def pcm16(samples: np.ndarray) -> bytes:
+    """``samples`` (-1..1, clipped) as 16-bit PCM bytes, what pocketsphinx hears."""
     return (np.clip(samples, -1.0, 1.0) * 32767).astype(np.int16).tobytes()
 
 
@@ -147,8 +148,10 @@ def _decode(decoder, pcm: bytes) -> None:
     decoder.end_utt()
 
 
-def _aligned(decoder, pcm: bytes, words: str) -> list[Phone]:
-    """The phones of ``words`` placed in the sound ``pcm`` by ``decoder`` (with its dictionary)."""
+def aligned_phones(decoder, pcm: bytes, words: str) -> list[Phone]:
+    """The phones of ``words`` placed in the sound ``pcm`` by ``decoder`` (with its dictionary);
+    pocketsphinx's RuntimeError or ValueError where they cannot be
+    (:func:`capture.voice_text.align_text` never fails so)."""
     decoder.set_align_text(words)
     _decode(decoder, pcm)
     decoder.set_alignment()

@@ -136,11 +136,11 @@ def align_text(samples: np.ndarray, text: str) -> Aligned:
 
 
 def _try_align(decoder, samples: np.ndarray, words: list[str], offset: float = 0.0) -> list[Phone] | None:
-    from capture.voice import _aligned, _pcm
+    from capture.voice import aligned_phones, pcm16
 
     try:
         return [Phone(p.name, p.start + offset, p.end + offset, p.word.split("(")[0])  # sunday(2): a variant
-                for p in _aligned(decoder, _pcm(samples), " ".join(words))]
+                for p in aligned_phones(decoder, pcm16(samples), " ".join(words))]
     except (RuntimeError, ValueError):
         return None
 
