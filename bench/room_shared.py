@@ -85,16 +85,17 @@ def _fanout(name: str, delays: list[np.ndarray], lost: int, cpu: float, viewers:
 
 
 class _nats:
-    """nats-server on a free loopback port, for the run."""
+    """nats-server on a free loopback port, for the run, asking its clients for a token made for
+    it (as the telepresence tutorial starts it); its address with the token."""
 
     def __init__(self, binary: str) -> None:
-        self.binary, self.port = binary, _free_port()
+        self.binary, self.port, self.token = binary, _free_port(), secrets.token_urlsafe(18)
 
     def __enter__(self) -> str:
-        self.process = subprocess.Popen([self.binary, "-a", "127.0.0.1", "-p", str(self.port)],
+        self.process = subprocess.Popen([self.binary, "-a", "127.0.0.1", "-p", str(self.port), "--auth", self.token],
                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         _wait_for_port(self.port, self.process)
-        return f"nats://127.0.0.1:{self.port}"
+        return f"nats://{self.token}@127.0.0.1:{self.port}"
 
     def __exit__(self, *exc: object) -> None:
         self.process.terminate()
