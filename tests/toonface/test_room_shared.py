@@ -2,6 +2,7 @@
 sees a performer on another, its acknowledgements find the performer, and a viewer whose server
 stops reconnects to another on the same address within two seconds."""
 
+import asyncio
 import json
 import socket
 import threading
@@ -273,3 +274,35 @@ def test_a_shared_rooms_tokens_are_the_first_servers_on_every_server_of_it():
                 assert rooms.admit("demo", "perform", first["other"][0]) == "token"  # another room's
     assert said == ["room demo: the tokens of the servers already sharing it through NATS hold here too (this "
                     "server's own, in its tokens file, do not)"]
+
+
+@pytest.mark.slow  # a NATS server started and stopped: make test runs it
+def test_a_performer_who_leaves_one_server_is_said_to_the_viewers_of_another():
+    """A departure was said to the viewers of the performer's own process only; another's pages
+    waited out its two seconds of silence."""
+    import aiohttp
+
+    from stream.framing import peek_stream
+
+    with nats_server() as url:
+        a, b = Rooms(TOKENS, pubsub=url), Rooms(TOKENS, pubsub=url)
+        with in_thread(a) as base_a, in_thread(b) as base_b:
+
+            async def watch_while_one_leaves() -> tuple[list[int], list[object]]:
+                watch = {"Authorization": f"Bearer {TOKENS['demo'][1]}"}
+                perform = {"Authorization": f"Bearer {TOKENS['demo'][0]}"}
+                async with aiohttp.ClientSession() as session, \
+                        session.ws_connect(f"{base_b}/r/demo/ws?role=watch", headers=watch) as viewer:
+                    writer = StreamWriter(30.0, frames_per_packet=1, stream=0x51)
+                    async with session.ws_connect(f"{base_a}/r/demo/ws?role=perform", headers=perform) as one:
+                        for k in range(5):
+                            await one.send_bytes(writer.push(standard_neutral(), k / 30))
+                        packets = [peek_stream((await viewer.receive(timeout=5)).data) for _ in range(3)]
+                    said = await viewer.receive(timeout=5)  # the performer's socket closed on server A
+                    while said.type == aiohttp.WSMsgType.BINARY:  # (its last packets first)
+                        said = await viewer.receive(timeout=5)
+                    return packets, [said.type, said.data]
+
+            packets, said = asyncio.run(watch_while_one_leaves())
+    assert set(packets) == {0x51}  # its packets came through the bus
+    assert said[0] == aiohttp.WSMsgType.TEXT and json.loads(said[1]) == {"gone": [0x51]}

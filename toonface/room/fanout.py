@@ -12,8 +12,9 @@ cannot take (the stream conceals a lost packet) instead of queueing it or holdin
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import struct
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 #: A connection with more than this waiting to be sent misses messages until it drains.
@@ -54,3 +55,12 @@ async def send_all(sockets: Mapping[Any, asyncio.BaseTransport | None], data: by
         except ConnectionError:
             pass
     return skipped
+
+
+async def say_all(sockets: Iterable[Any], text: str) -> None:
+    """Send ``text`` as one text message to each of ``sockets`` still open (the room's word to
+    its viewers: a performer gone); one that closes meanwhile is left."""
+    for ws in list(sockets):
+        if not ws.closed:
+            with contextlib.suppress(ConnectionError, RuntimeError):
+                await ws.send_str(text)

@@ -49,6 +49,8 @@ class Bus:
     on_packet, on_reply : callable
         ``await on_packet(room, data)``: a performer's packet from another process;
         ``await on_reply(room, data)``: a viewer's reply from another process.
+    on_gone : callable, optional
+        ``await on_gone(room, data)``: another process's word that performers left (``g``).
     say : callable
         Told, in a line, when the NATS server is lost (the rooms are then this process's alone)
         and when it is back.
@@ -56,8 +58,10 @@ class Bus:
 
     def __init__(self, url: str, on_packet: Callable[[str, bytes], Awaitable[None]],
                  on_reply: Callable[[str, bytes], Awaitable[None]],
-                 say: Callable[[str], None] = lambda _: None) -> None:
+                 say: Callable[[str], None] = lambda _: None,
+                 on_gone: Callable[[str, bytes], Awaitable[None]] | None = None) -> None:
         self.url, self.on_packet, self.on_reply, self.say = url, on_packet, on_reply, say
+        self.on_gone = on_gone
         self.where = shown(url)  # (what is said of it: never its credentials)
         self.origin = secrets.token_bytes(8)
         self.client: Any = None
@@ -96,6 +100,8 @@ class Bus:
         for name in rooms:
             await self.client.subscribe(subject(name, "p"), cb=self._handler(name, self.on_packet))
             await self.client.subscribe(subject(name, "r"), cb=self._handler(name, self.on_reply))
+            if self.on_gone is not None:
+                await self.client.subscribe(subject(name, "g"), cb=self._handler(name, self.on_gone))
         await self.client.flush(timeout)
 
     async def agree(self, tokens: dict[str, tuple[str, str]], timeout: float = 1.0) -> dict[str, tuple[str, str]]:
@@ -131,7 +137,7 @@ class Bus:
         return handle
 
     async def publish(self, room: str, kind: str, data: bytes) -> None:
-        """Send a packet (``p``) or a reply (``r``) of ``room`` to the other processes."""
+        """Send a packet (``p``), a reply (``r``) or a departure (``g``) of ``room`` to the other processes."""
         if self.client is not None and self.client.is_connected:
             await self.client.publish(subject(room, kind), self.origin + data)
             self.published += 1

@@ -1,11 +1,10 @@
 """The room server (aiohttp): performers and viewers meet in a named room over WebSocket.
 
-Both ends connect *out* to the server (``ws://HOST:PORT/r/ROOM/ws?role=perform|watch`` with the
-room's token for that role), which passes any NAT or firewall that lets a web page through. The
-motors travel as the stream's own packets (:mod:`stream.framing`: their prediction, coding,
-concealment and seal stay end to end; the server reads nothing but the stream id of each): every
-binary message of a performer goes to every viewer of the room, and a viewer's replies
-(acknowledgements, keyframe requests) go to the performer of the stream id they name.
+Both ends connect *out* to the server (``ws://HOST:PORT/r/ROOM/ws?role=perform|watch``, with the
+room's token for that role), which passes any NAT or firewall a web page passes. The motors travel
+as the stream's own packets (:mod:`stream.framing`: coding, concealment and seal stay end to end;
+the server reads only each one's stream id): a performer's go to every viewer of the room, and a
+viewer's replies (acknowledgements, keyframe requests) to the performer of the stream they name.
 
 Safety, each counted in :attr:`Room.refused` (or the server's, before a room is known):
 
@@ -22,15 +21,13 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
 - a performer page's messages are parsed within :mod:`common.limits`' bounds, and a request's
   headers must arrive within :data:`~common.limits.HEADER_TIMEOUT_SECONDS`;
 - a viewer with more than :data:`~toonface.room.fanout.LAG_BYTES` waiting misses packets
-  (:attr:`Room.skipped`; the stream conceals them) rather than holding the others back.
-
-A performer who leaves is said to the viewers at once (:func:`_gone`); browsers watch at ``/r/ROOM``.
+  (:attr:`Room.skipped`) rather than holding the others back. A performer who leaves is said to
+  the viewers at once (:func:`_gone`); browsers watch at ``/r/ROOM``.
 """
 
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import hmac
 import json
 import secrets
@@ -46,7 +43,7 @@ from common.limits import HEADER_TIMEOUT_SECONDS
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import Viewers, add_pages, serve_viewer
-from toonface.room.fanout import send_all
+from toonface.room.fanout import say_all, send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer
 from toonface.room.pubsub import Bus
 from toonface.web_hosts import origin_allowed
@@ -185,7 +182,10 @@ async def _join_bus(app: web.Application) -> None:
         if performer is not None:
             await send_all({performer: None}, data)
 
-    rooms.bus = Bus(rooms.pubsub, packet, reply, rooms.say)
+    async def gone(name: str, data: bytes) -> None:  # another process's performer left
+        await _gone(rooms.rooms[name], rooms, json.loads(data)["gone"], shared=False)
+
+    rooms.bus = Bus(rooms.pubsub, packet, reply, rooms.say, gone)
     await rooms.bus.start(list(rooms.rooms))
     agreed = await rooms.bus.agree({name: (r.perform_token, r.watch_token) for name, r in rooms.rooms.items()})
     for name, (perform, watch) in agreed.items():  # one set of tokens per shared room: the first server's
@@ -267,7 +267,7 @@ async def _socket(request: web.Request) -> web.StreamResponse:
                 left = [s for s, w in room.performers.items() if w is ws]
                 for stream in left:
                     del room.performers[stream]
-                await _gone(room, left)
+                await _gone(room, rooms, left)
     finally:
         rooms.sockets.discard(ws)
     return ws
@@ -296,7 +296,7 @@ async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> No
     finally:
         stand_in.closed = True
         room.performers.pop(stream, None)
-        await _gone(room, [stream])
+        await _gone(room, rooms, [stream])
         await loop.run_in_executor(None, performer.close)
 
 
@@ -381,14 +381,14 @@ async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | _Pag
         await rooms.bus.publish(room.name, "p", data)
 
 
-async def _gone(room: Room, streams: list[int]) -> None:
-    """Tell the room's viewers that the performers of ``streams`` left (a text message,
-    ``{"gone": [...]}``: pages drop their faces at once; native viewers read packets only)."""
-    said = json.dumps({"gone": streams})
-    for ws in list(room.viewers) if streams else ():
-        if not ws.closed:
-            with contextlib.suppress(ConnectionError, RuntimeError):
-                await ws.send_str(said)
+async def _gone(room: Room, rooms: Rooms, streams: list[int], shared: bool = True) -> None:
+    """Tell the room's viewers, here and (``shared``) in the other processes, that ``streams``
+    left: ``{"gone": [...]}``, text (pages drop the faces at once; native viewers ignore it)."""
+    if streams:
+        said = json.dumps({"gone": streams})
+        await say_all(room.viewers, said)
+        if shared and rooms.bus is not None:
+            await rooms.bus.publish(room.name, "g", said.encode())
 
 
 async def _deliver(room: Room, data: bytes, stream: int) -> None:
