@@ -126,7 +126,7 @@ def bound_by_typical(profile: Profile, mapping: Mapping, size: float = 1.0,
 
 def shut_note(shut: Lookup[str, tuple[Blinks, float]], profile: Profile) -> str:
     """What :func:`bound_by_typical` did with the lids in ``shut``, for a take's notes."""
-    told = [f"{key} at {abs(blinks.closed - profile.sources[key].neutral):.1f} from rest ({len(blinks.frames)} "
+    told = [f"{key} at {abs(blinks.closed - profile.sources[key].neutral):.1f} mm from rest ({len(blinks.frames)} "
             f"blinks, the shallowest full one)" for key, (blinks, _) in shut.items() if key in profile.sources]
     return (f"lids shut where the take's own blinks shut them: {'; '.join(told)}; not widened to a typical face's "
             "on that side")

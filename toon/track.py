@@ -126,15 +126,9 @@ class MotorTrack:
         >>> track.part(0.5, 1.2).frames, track.part(start=1.0).frames
         (3, 5)
         """
-        low, high = 0.0 if start is None else float(start), np.inf if end is None else float(end)
-        if high <= low:
-            raise InputError(f"the end ({high:g} s) must come after the start ({low:g} s)")
-        kept = np.flatnonzero((self.times >= low - 1e-9) & (self.times < high - 1e-9))
-        if not len(kept):
-            raise InputError(f"no frame from {low:g} s{'' if end is None else f' to {high:g} s'}: the track "
-                             f"lasts {self.duration:g} s")
-        rows = slice(int(kept[0]), int(kept[-1]) + 1)
-        return replace(self, values=self.values[rows], meta={**self.meta, "part": [low, None if end is None else high]},
+        rows = kept_rows(self.frames, self.rate, start, end, "the track")
+        high = None if end is None else float(end)
+        return replace(self, values=self.values[rows], meta={**self.meta, "part": [float(start or 0.0), high]},
                        confidence=None if self.confidence is None else self.confidence[rows],
                        extra=None if self.extra is None else self.extra[rows])
 
@@ -143,3 +137,23 @@ class MotorTrack:
         if code in self.extra_codes and self.extra is not None:
             return self.extra[:, self.extra_codes.index(code)]
         return self.values[:, motor_index(code)]
+
+
+def kept_rows(count: int, rate: float, start: float | None, end: float | None, what: str) -> slice:
+    """The rows of ``count`` samples at ``rate`` Hz from 0 s whose times lie in ``[start, end)``
+    seconds (None: from the first, to the last): the one trimming rule of tracks and of a voice's
+    10 ms shapes (``--start``/``--end``); raises :class:`InputError` where none does, naming
+    ``what`` and how long it lasts.
+
+    >>> kept_rows(10, 5.0, 0.5, 1.2, "it"), kept_rows(10, 5.0, 1.0, None, "it")
+    (slice(3, 6, None), slice(5, 10, None))
+    """
+    low, high = 0.0 if start is None else float(start), np.inf if end is None else float(end)
+    if high <= low:
+        raise InputError(f"the end ({high:g} s) must come after the start ({low:g} s)")
+    times = np.arange(count) / rate
+    kept = np.flatnonzero((times >= low - 1e-9) & (times < high - 1e-9))
+    if not len(kept):
+        raise InputError(f"no frame from {low:g} s{'' if end is None else f' to {high:g} s'}: {what} "
+                         f"lasts {count / rate:g} s")
+    return slice(int(kept[0]), int(kept[-1]) + 1)

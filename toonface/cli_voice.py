@@ -51,6 +51,7 @@ def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | 
     from capture.voice import heard as said
     from capture.voice_take import hear_voice
     from common import atomic_path
+    from toon.track import kept_rows
     from toonface.cli_options import read_words
 
     suffix = Path(output).suffix.lower()
@@ -60,11 +61,8 @@ def lipsync(voice: str, output: str, fps: float, every_frame: bool, text: str | 
     words = read_words(text) if text is not None else None
     heard = hear_voice(voice, words, listen or "sound")
     shapes = heard.shapes  # heard whole (its words, pauses and level), then cut: the cues start at 0 at --start
-    if trim.given:
-        first = int(round(trim.offset * FRAME_RATE))
-        shapes = shapes[first:None if trim.end is None else int(round(trim.end * FRAME_RATE))]
-        if not len(shapes):
-            raise click.BadParameter(f"{voice} lasts {len(heard.shapes) / FRAME_RATE:g} s", param_hint="--start")
+    if trim.given:  # (the rule MotorTrack.part cuts tracks by)
+        shapes = shapes[kept_rows(len(shapes), FRAME_RATE, trim.start, trim.end, Path(voice).name)]
     cues = mouth_cues(shapes)
     if not every_frame:
         cues = held_cues(cues, fps)
