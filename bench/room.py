@@ -18,6 +18,8 @@ codes them) at 60 Hz; each packet carries its send time, taken on this machine's
 ``room.browser_kbps`` and ``room.page_frame_p95_ms``
     The viewer page that draws the faces itself (``?draw=page``), in headless Chromium:
     :mod:`bench.room_page`.
+``room.performer_page_kbps``
+    What the performer page uploads, in headless Chromium with a fake camera: :mod:`bench.room_performer`.
 ``room.drawn_page_kbps`` and ``room.stage_ms``
     The drawn viewer page (``/r/ROOM``): what it is sent at 30 fps, the stage's deflated changes of
     the drawing (:mod:`toonface.room.stage`), WebSocket and TCP/IPv4 headers included, median
@@ -52,7 +54,7 @@ STAMP = struct.Struct("<d")
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the ``room.*`` figures."""
-    from bench import room_page, room_shared
+    from bench import room_page, room_performer, room_shared
 
     packets = 150 if quick else 600
     with _server() as base:
@@ -63,7 +65,7 @@ def run(quick: bool = False) -> list[Figure]:
                       {"through_p95_ms": round(float(np.percentile(through, 95)), 3),
                        "direct_udp_p95_ms": round(float(np.percentile(direct, 95)), 3), "packets": packets}),
                *room_shared.run(quick), _wire(), *_browser(quick),
-               *room_page.run(quick)]
+               *room_page.run(quick), *room_performer.run(quick)]
     return figures
 
 

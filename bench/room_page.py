@@ -42,7 +42,7 @@ COUNTS = "return [window.viewer.bytes || 0, window.viewer.messages || 0, window.
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the two figures."""
-    why = _missing()
+    why = browser_missing()
     if why:
         return [Figure("room.browser_kbps", 0.0, "kbit/s", None, False, {"skipped": why, "goal": 10.0}),
                 Figure("room.page_frame_p95_ms", 0.0, "ms", None, False, {"skipped": why, "goal": 8.0})]
@@ -64,7 +64,7 @@ def run(quick: bool = False) -> list[Figure]:
                     "frames": len(frame_ms)})]
 
 
-def _missing() -> str | None:
+def browser_missing() -> str | None:
     if (shutil.which("chromium") or shutil.which("chromium-browser")) is None or shutil.which("chromedriver") is None:
         return "Chromium or chromedriver is missing (make test installs them)"
     try:
@@ -91,15 +91,15 @@ def _watch(face: str, rate: float, per_packet: int, moving: list[int], seconds: 
             sender.write(k / rate, np.clip(values, 0, 1))
             k += 1
 
-    with in_thread(rooms) as base, _chromium() as driver:
+    with in_thread(rooms) as base, headless_chromium() as driver:
         link = WebSocketLink(f"{base}/r/bench", TOKENS["bench"][0], "perform")
         sender = StreamSender((link.where, 0), StreamWriter(rate, frames_per_packet=per_packet, stream=9), link=link)
         thread = threading.Thread(target=perform, args=(sender,))
         driver.get(f"{base.replace('ws://', 'http://')}/r/bench?draw=page#watch={TOKENS['bench'][1]}")
-        _wait(driver, "window.viewer.connected")
+        wait_until(driver, "window.viewer.connected")
         thread.start()
         try:
-            _wait(driver, "window.viewer.frames > 30")
+            wait_until(driver, "window.viewer.frames > 30")
             start = driver.execute_script(COUNTS)
             stop.wait(seconds)
             end = driver.execute_script(COUNTS)
@@ -115,14 +115,14 @@ def _watch(face: str, rate: float, per_packet: int, moving: list[int], seconds: 
 
 
 @contextmanager
-def _chromium() -> Iterator:
+def headless_chromium(*flags: str) -> Iterator:
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
 
     options = webdriver.ChromeOptions()
     options.binary_location = shutil.which("chromium") or shutil.which("chromium-browser") or ""
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                 "--force-device-scale-factor=1", "--window-size=900,900", "--no-first-run"):
+                 "--force-device-scale-factor=1", "--window-size=900,900", "--no-first-run", *flags):
         options.add_argument(flag)
     driver = webdriver.Chrome(options=options, service=Service(executable_path=shutil.which("chromedriver") or ""))
     try:
@@ -131,7 +131,7 @@ def _chromium() -> Iterator:
         driver.quit()
 
 
-def _wait(driver, script: str, timeout: float = 30.0) -> None:
+def wait_until(driver, script: str, timeout: float = 30.0) -> None:
     from selenium.webdriver.support.ui import WebDriverWait
 
     WebDriverWait(driver, timeout, poll_frequency=0.05).until(lambda d: d.execute_script(f"return {script}"))

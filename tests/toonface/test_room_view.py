@@ -256,8 +256,8 @@ def _performer_page_needs() -> None:
 @pytest.mark.slow  # two Chromiums, MediaPipe in one, eight seconds of a clip: make test runs it
 def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_opens_when_the_clip_speaks(tmp_path):
     from browser import chromium, wait_for
-    from fake_camera import y4m_from
 
+    from bench.fake_camera import y4m_from
     from player.backends import open_renderer
     from toon import MOTOR_CODES
 
@@ -283,13 +283,15 @@ def test_the_performer_page_on_a_fake_camera_drives_a_viewer_page_whose_mouth_op
                  "(document.getElementById('hold').click(), true)", timeout=30)
         held = viewer.execute_script("const [p] = window.viewer.performers.values(); return p.quality.values")
         shown = _face_png(viewer)
-        sent = camera.execute_script("return [window.performer.sent, window.performer.faces, window.performer.frames]")
+        sent = camera.execute_script("return [window.performer.sent, window.performer.faces, window.performer.frames, "
+                                     "window.performer.sentBytes]")
         camera.find_element("id", "eye-contact").click()  # the speaker looks into the lens: taken, or why not
         contact = wait_for(camera, "/taken/.test(window.performer.contact) && window.performer.contact", timeout=30)
     assert re.match(r"eye contact (taken: the screen's middle|not taken: the eyes)", contact), contact
     # it kept sending (the page's rate follows the machine's load: 99 in eight seconds once, beside
     # another test run), and the face was found in (nearly) every frame
     assert sent[0] > 50 and sent[1] > 0.9 * sent[2]
+    assert sent[3] < 40 * sent[0]  # compact frames: about 30 bytes each (issue 68: 1.2 kB of JSON)
     assert max(openings) > rest + 0.15 and min(openings) < rest + 0.05  # it opens and shuts as the clip speaks
     motors = np.array([held[code] for code in MOTOR_CODES])
     extra = {code: held[code] for code in face.extra_codes}

@@ -46,7 +46,7 @@ from toonface.room.stage import VIEW_FPS, Stage, packed
 RETRY_SECONDS = 1.0
 #: The files pages may load, and the package each comes from.
 STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
-          "room_link.js": "toonface.room",
+          "room_link.js": "toonface.room", "face_code.js": "toonface.room",
           **{name: "toonface.studio" for name in ("draw.js", "rig.js", "physics.js", "stream.js", "stream_reader.js",
                                                   "playout.js", "face_stream.js")}}
 #: The files of @mediapipe/tasks-vision the performer page loads (its SIMD and non-SIMD wasm).

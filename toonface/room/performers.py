@@ -3,19 +3,36 @@
 ``/r/ROOM/perform`` (``static/perform.html``) runs MediaPipe's face landmarker in the page (the
 npm package ``@mediapipe/tasks-vision``, its wasm and the ``face_landmarker.task`` model served by
 the room server from where ``make browser`` and the ``faces`` extra installed them: nothing is
-fetched from a CDN). For each camera frame it sends one JSON text message over
-``/r/ROOM/ws?role=perform&format=face``::
+fetched from a CDN) and talks over ``/r/ROOM/ws?role=perform&format=face``. The server speaks first,
+once its mapping is ready, with the blendshapes that mapping reads (in :data:`BLENDSHAPES` order)::
 
-    {"t": 1234.5, "scores": {"jawOpen": 0.31, ...}, "matrix": [16 numbers]}   (a face)
-    {"t": 1234.5}                                                            (no face in view)
-    {"eye_contact": true, "t": 1234.5}      (the performer looks at the middle of the screen from then)
+    {"scores": ["browDownLeft", "browDownRight", ...]}
 
-``t`` is the frame's time (ms, increasing), ``scores`` MediaPipe's blendshapes (ARKit's names; its
-``_neutral`` is ignored) and ``matrix`` its facial transformation matrix, 4x4, flattened in either
-order (the layout is told by where the translation is). The canonical face's axes are the head
-frame's (x to the performer's left, y up, z out of the face), so the matrix's rotation is the
-head's turn. Eye contact (:mod:`mapping.eye_contact`) takes the second after its message as
-the screen's look; what it found comes back to the page as ``{"said": "eye contact taken: ..."}``.
+Then for each camera frame the page sends one compact binary message (``static/face_code.js``
+writes it, :class:`PageCodes` reads it), little-endian, about 30 bytes (2 kB of JSON before)::
+
+    kind   u8       1: a face, 2: no face in view
+    step   u16      ms since the previous frame on this socket (the first: since the page
+                    started); 65535: a u32 of ms since the page started follows instead
+    -- a face only:
+    turn   3 x i16  the head turn's unit quaternion (x, y, z; w >= 0 follows) times 32767
+    mask   bytes    one bit a score, in the order the server gave (bit i: byte i // 8, bit i % 8):
+                    set where the score's value follows
+    values u8 each  the set scores, each the score times 255, rounded
+
+A score not in a message keeps its value from the one before (the socket keeps order and loses
+nothing; every score starts at 0). The page also sends text, JSON::
+
+    {"eye_contact": true, "t": 1234}    (the performer looks at the middle of the screen from then)
+    {"t": 1234.5, "scores": {"jawOpen": 0.31, ...}, "matrix": [16 numbers]}   (a frame, as JSON)
+
+a frame as JSON being ``scores`` MediaPipe's blendshapes (ARKit's names; its ``_neutral`` is
+ignored) and ``matrix`` its facial transformation matrix, 4x4, flattened in either order (the
+layout is told by where the translation is); ``{"t": ...}`` alone: no face in view. ``t`` is the
+frame's time (ms, increasing). The canonical face's axes are the head frame's (x to the
+performer's left, y up, z out of the face), so the matrix's rotation is the head's turn. Eye
+contact (:mod:`mapping.eye_contact`) takes the second after its message as the screen's look;
+what it found comes back to the page as ``{"said": "eye contact taken: ..."}``.
 The server maps the frames with the ``arkit`` mapping, as VMC's and OpenSeeFace's
 (:func:`toonface.send.build_mapper`: the first second is the rest) as they come, and sends the
 newest motors :data:`PAGE_RATE` times a second (a camera's own rate, 15 to 30 frames a second,
@@ -28,9 +45,10 @@ from __future__ import annotations
 import contextlib
 import math
 import queue
+import struct
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -52,7 +70,12 @@ PAGE_RATE = 30.0
 WAITING = 32
 #: Lines for the page (eye contact's) kept until it is told them.
 SAID_KEPT = 16
+#: A compact frame's first byte: a face, or no face in view.
+FACE, NO_FACE = 1, 2
+#: A compact frame's step that says a u32 of the page's time follows instead.
+LONG_STEP = 0xFFFF
 _INDEX = {name: i for i, name in enumerate(BLENDSHAPES)}
+_STEP, _TIME, _TURN = struct.Struct("<H"), struct.Struct("<I"), struct.Struct("<3h")
 
 
 def head_turn(matrix: list[float] | np.ndarray) -> np.ndarray:
@@ -100,6 +123,69 @@ def page_frame(text: str | bytes | dict, rest: np.ndarray) -> Frame:
     if not isinstance(matrix, list) or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in matrix):
         raise ValueError("a matrix is a list of 16 numbers")
     return posed(t, rest, head_turn(matrix), scores)
+
+
+class PageCodes:
+    """One performer page socket's compact frames, read in the order they came (see the module
+    docstring): each carries the scores that changed since the one before.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The blendshapes the frames carry, in order (:attr:`PagePerformer.wanted`).
+    """
+
+    def __init__(self, names: Sequence[str]) -> None:
+        self.columns = np.array([_INDEX[name] for name in names], dtype=int)
+        self.levels = np.zeros(len(self.columns))  # each score's newest value, in 255ths
+        self.ms = 0
+
+    def frame(self, data: bytes, rest: np.ndarray) -> Frame:
+        """The next compact frame ``data`` as a frame of the head references ``rest`` ``(N, 3)``;
+        a ValueError naming what is wrong (what was read before it stands)."""
+        if not data or data[0] not in (FACE, NO_FACE):
+            raise ValueError("a compact frame starts with 1 (a face) or 2 (no face in view)")
+        if len(data) < 3:
+            raise ValueError("a compact frame is cut short")
+        (step,), at = _STEP.unpack_from(data, 1), 3
+        ms = self.ms + step
+        if step == LONG_STEP:
+            if len(data) < 7:
+                raise ValueError("a compact frame is cut short")
+            (ms,), at = _TIME.unpack_from(data, 3), 7
+            if ms < self.ms:
+                raise ValueError("a compact frame's time went back")
+        if data[0] == NO_FACE:
+            if len(data) != at:
+                raise ValueError("a compact frame with no face carries nothing more")
+            self.ms = ms
+            return lost(ms / 1000, rest)
+        size = (len(self.columns) + 7) // 8
+        if len(data) < at + 6 + size:
+            raise ValueError("a compact face frame is cut short")
+        bits = np.unpackbits(np.frombuffer(data, np.uint8, size, at + 6), bitorder="little")
+        if bits[len(self.columns):].any():
+            raise ValueError(f"a compact face frame's mask names more than the {len(self.columns)} scores")
+        values = np.frombuffer(data, np.uint8, offset=at + 6 + size)
+        if len(values) != bits.sum():
+            raise ValueError(f"a compact face frame's mask names {bits.sum()} scores and it carries {len(values)}")
+        turn = np.array(_TURN.unpack_from(data, at)) / 32767
+        if turn @ turn > 1.001:
+            raise ValueError("a compact face frame's head turn is no unit quaternion")
+        self.levels[bits[:len(self.columns)].astype(bool)] = values
+        self.ms = ms
+        scores = np.zeros(len(BLENDSHAPES))
+        scores[self.columns] = self.levels / 255
+        return posed(ms / 1000, rest, _turned(turn), scores)
+
+
+def _turned(xyz: np.ndarray) -> np.ndarray:
+    """The rotation ``(3, 3)`` of the unit quaternion whose x, y, z are ``xyz`` ``(3,)`` and w >= 0."""
+    x, y, z = xyz
+    w = math.sqrt(max(0.0, 1.0 - float(xyz @ xyz)))
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 class _InRoom:
@@ -152,6 +238,10 @@ class PagePerformer:
                              meta={"mapping": "arkit", "rest": self.rest}, channel_names=BLENDSHAPES, halt=self.halt)
         self.notes: list[str] = []
         mapper = build_mapper(self.source, notes=self.notes)
+        reads = {source.channel for source in mapper.mapping.sources() if source.kind == "blendshape"}
+        #: The blendshapes the mapping reads, which the page's compact frames carry (it is told them first).
+        self.wanted = [name for name in BLENDSHAPES if name in reads]
+        self.codes = PageCodes(self.wanted)
         #: What the mapping says to the page (eye contact taken or refused), for the server to pass on.
         self.said: queue.Queue[str] = queue.Queue(SAID_KEPT)
         self.eye_contact = mapper.eye_contact = LiveEyeContact(standard_neutral(), say=self._say)
@@ -164,18 +254,22 @@ class PagePerformer:
         self.follower.start()
         self._thread.start()
 
-    def take(self, text: str | bytes) -> None:
-        """One message of the page (a ValueError where it is none): a frame, which pushes out the
-        oldest where it finds the queue full, or ``{"eye_contact": true, "t": ms}``: the performer
-        looks at the middle of their screen from that time, for a second (:mod:`mapping.eye_contact`)."""
-        message = parse_json_message(text)
-        if isinstance(message, dict) and message.get("eye_contact") is True:
-            stamp = message.get("t")
-            if not isinstance(stamp, int | float) or isinstance(stamp, bool) or not math.isfinite(stamp):
-                raise ValueError('eye contact is {"eye_contact": true, "t": ms}')
-            self.eye_contact.begin(float(stamp) / 1000)  # from the page's frame of that time
-            return
-        frame = page_frame(message, self.rest)
+    def take(self, message: str | bytes) -> None:
+        """One message of the page (a ValueError where it is none): a frame, compact (bytes) or as
+        JSON (text), which pushes out the oldest where it finds the queue full, or
+        ``{"eye_contact": true, "t": ms}``: the performer looks at the middle of their screen from
+        that time, for a second (:mod:`mapping.eye_contact`)."""
+        if isinstance(message, bytes):
+            frame = self.codes.frame(message, self.rest)
+        else:
+            parsed = parse_json_message(message)
+            if isinstance(parsed, dict) and parsed.get("eye_contact") is True:
+                stamp = parsed.get("t")
+                if not isinstance(stamp, int | float) or isinstance(stamp, bool) or not math.isfinite(stamp):
+                    raise ValueError('eye contact is {"eye_contact": true, "t": ms}')
+                self.eye_contact.begin(float(stamp) / 1000)  # from the page's frame of that time
+                return
+            frame = page_frame(parsed, self.rest)
         while True:
             try:
                 self.waiting.put_nowait(frame)
@@ -235,3 +329,16 @@ class PagePerformer:
                     due = self.clock()  # far behind (a busy machine): keep the beat, do not race
         finally:
             self.sender.close()
+
+
+class PageSocket:
+    """A performer page's place among the room's performers: the viewers' replies to its stream
+    go to its mapping thread's sender."""
+
+    def __init__(self) -> None:
+        self.closed = False
+        self.performer: PagePerformer | None = None
+
+    async def send_bytes(self, data: bytes) -> None:
+        if self.performer is not None:
+            self.performer.reply(data)

@@ -44,7 +44,7 @@ from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import Viewers, add_pages, serve_viewer
 from toonface.room.fanout import say_all, send_all
-from toonface.room.performers import MAX_MESSAGE, PagePerformer
+from toonface.room.performers import MAX_MESSAGE, PagePerformer, PageSocket
 from toonface.room.pubsub import Bus
 from toonface.web_hosts import origin_allowed
 
@@ -282,7 +282,7 @@ async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> No
         return
     loop = asyncio.get_running_loop()
     stream = next(s for s in (secrets.randbelow(0x10000) for _ in range(1000)) if s not in room.performers)
-    stand_in = _PageSocket()
+    stand_in = PageSocket()
 
     def deliver(data: bytes) -> None:  # from the performer's mapping thread
         if not stand_in.closed:
@@ -292,6 +292,7 @@ async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> No
     stand_in.performer = performer
     room.performers[stream] = stand_in
     try:
+        await ws.send_str(json.dumps({"scores": performer.wanted}))  # what its compact frames carry
         await _serve(ws, room, rooms, "perform", performer)
     finally:
         stand_in.closed = True
@@ -300,25 +301,12 @@ async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> No
         await loop.run_in_executor(None, performer.close)
 
 
-class _PageSocket:
-    """A performer page's place among the room's performers: the viewers' replies to its stream
-    go to its mapping thread's sender."""
-
-    def __init__(self) -> None:
-        self.closed = False
-        self.performer: PagePerformer | None = None
-
-    async def send_bytes(self, data: bytes) -> None:
-        if self.performer is not None:
-            self.performer.reply(data)
-
-
 async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
                  page: PagePerformer | None = None) -> None:
     """Pass a connection's packets on (a performer page's frames to its mapping) until it closes,
     idles or breaks the rules."""
     window, count = time.monotonic(), 0
-    wanted = WSMsgType.TEXT if page is not None else WSMsgType.BINARY
+    wanted = (WSMsgType.TEXT, WSMsgType.BINARY) if page is not None else (WSMsgType.BINARY,)
     while True:
         try:
             message = await ws.receive(timeout=rooms.idle_seconds)
@@ -331,8 +319,8 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
             if message.type == WSMsgType.ERROR:
                 room.refused["size"] += 1  # aiohttp ends a socket whose message is over max_msg_size
             return
-        if message.type != wanted:
-            room.refused["text" if wanted is WSMsgType.BINARY else "binary"] += 1
+        if message.type not in wanted:
+            room.refused["text"] += 1
             continue
         now = time.monotonic()
         if now - window >= 1.0:
@@ -364,7 +352,7 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
                 await rooms.bus.publish(room.name, "r", data)
 
 
-async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | _PageSocket, data: bytes,
+async def _perform(room: Room, rooms: Rooms, owner: web.WebSocketResponse | PageSocket, data: bytes,
                    stream: int) -> None:
     """A performer's packet of ``stream``: to every viewer, unless the stream is another's or the
     room has its fill of performers."""

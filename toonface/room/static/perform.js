@@ -1,13 +1,15 @@
 // The room's performer page: the browser's camera, MediaPipe's face landmarker in the page (served by the
 // room server from its own copy of @mediapipe/tasks-vision and face_landmarker.task, never a CDN), and one
-// JSON message a camera frame to the room (toonface/room/performers.py maps it, as VMC's). The perform token
-// rides in the address's fragment (#perform=TOKEN), which the browser never sends to a server.
+// compact frame a camera frame to the room (face_code.js: the scores the server's mapping reads, once it has
+// said which; toonface/room/performers.py maps them, as VMC's). The perform token rides in the address's
+// fragment (#perform=TOKEN), which the browser never sends to a server.
 import {FaceLandmarker, FilesetResolver} from "/web/tasks-vision/vision_bundle.mjs";
+import {FaceCoder} from "/static/face_code.js";
 
 const $ = (id) => document.getElementById(id);
 const room = decodeURIComponent(location.pathname.split("/")[2] || "");
 const token = new URLSearchParams(location.hash.slice(1)).get("perform") || "";
-const performer = {frames: 0, faces: 0, sent: 0, rate: 0, error: null, ready: false};
+const performer = {frames: 0, faces: 0, sent: 0, sentBytes: 0, rate: 0, error: null, ready: false};
 window.performer = performer;  // the tests read it
 $("room").textContent = room;
 
@@ -18,26 +20,28 @@ function fail(text) {
   $("status").textContent = "stopped";
 }
 
-function message(result, ms) {
-  // one frame for the room: the blendshapes and the transformation matrix, or only the time
+function face(result) {
+  // the blendshapes by name and the transformation matrix's 16 numbers, or nulls where no face is in view
   const shapes = result.faceBlendshapes && result.faceBlendshapes[0];
   const matrix = result.facialTransformationMatrixes && result.facialTransformationMatrixes[0];
-  if (!shapes || !matrix) return {t: ms};
+  if (!shapes || !matrix) return {scores: null, matrix: null};
   const scores = {};
-  for (const c of shapes.categories) if (c.categoryName !== "_neutral") scores[c.categoryName] = Math.round(c.score * 1e4) / 1e4;
-  return {t: ms, scores, matrix: Array.from(matrix.data, (x) => Math.round(x * 1e5) / 1e5)};
+  for (const c of shapes.categories) scores[c.categoryName] = c.score;
+  return {scores, matrix: matrix.data};
 }
 
 function connect() {
   const socket = window.toonRoomLink.open(room, "perform", token, "&format=face");
+  performer.coder = null;  // until the server says which scores its mapping reads
   socket.onclose = async () => {
     const state = await window.toonRoomLink.closed(room, "perform", token);
     if (state !== "away") return fail(window.toonRoomLink.said(state, "perform"));  // a wrong link: said, kept
     $("status").textContent = window.toonRoomLink.said(state, "perform");
     setTimeout(() => { performer.socket = connect(); }, 500);
   };
-  socket.onmessage = (event) => {  // what the mapping says back: eye contact taken, or why not
-    const said = JSON.parse(event.data).said;
+  socket.onmessage = (event) => {  // the scores to send, then what the mapping says: eye contact taken, or why not
+    const {said, scores} = JSON.parse(event.data);
+    if (Array.isArray(scores)) performer.coder = new FaceCoder(scores);
     if (typeof said === "string") $("contact").textContent = performer.contact = said;
   };
   return socket;
@@ -73,8 +77,8 @@ async function start() {
   let last = -1;
   $("eye-contact").disabled = false;
   $("eye-contact").onclick = () => {
-    if (performer.socket.readyState !== WebSocket.OPEN) return;
-    performer.socket.send(JSON.stringify({eye_contact: true, t: last}));  // from the newest frame's time on
+    if (performer.socket.readyState !== WebSocket.OPEN || !performer.coder) return;
+    performer.socket.send(JSON.stringify({eye_contact: true, t: performer.coder.ms}));  // from the newest frame on
     $("contact").textContent = "look at the middle of your screen…";
   };
   const step = () => {
@@ -82,20 +86,22 @@ async function start() {
     const ms = performance.now() - started;
     if (ms > last) {  // the landmarker needs increasing times
       last = ms;
-      const frame = message(landmarker.detectForVideo(video, performance.now()), ms);
+      const frame = face(landmarker.detectForVideo(video, performance.now()));
       performer.frames += 1;
       performer.faces += frame.scores ? 1 : 0;
-      performer.last = frame;
-      if (performer.socket.readyState === WebSocket.OPEN) {
-        performer.socket.send(JSON.stringify(frame));
+      const sending = performer.socket.readyState === WebSocket.OPEN && performer.coder;
+      if (sending) {
+        const data = performer.coder.encode(ms, frame.scores, frame.matrix);
+        performer.socket.send(data);
         performer.sent += 1;
+        performer.sentBytes += data.byteLength;
       }
       const now = performance.now();
       times.push(now);
       while (times.length && times[0] < now - 1000) times.shift();
       performer.rate = times.length;
       $("status").textContent = `${frame.scores ? "face found" : "no face in view"} · ${performer.rate} frames/s`
-        + ` · ${performer.socket.readyState === WebSocket.OPEN ? "sending" : "connecting…"}`;
+        + ` · ${sending ? "sending" : "connecting…"}`;
     }
     video.requestVideoFrameCallback(step);
   };

@@ -1,4 +1,5 @@
-"""A clip as a fake camera for Chromium (``--use-file-for-fake-video-capture``): a Y4M file."""
+"""A clip as a fake camera for Chromium (``--use-file-for-fake-video-capture``): a Y4M file (the
+performer page's bench, :mod:`bench.room_performer`, and its browser tests)."""
 
 from __future__ import annotations
 
