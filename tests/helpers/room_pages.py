@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import io
 import threading
-from collections.abc import Iterator
+import time
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 import numpy as np
@@ -25,10 +26,13 @@ def pose() -> np.ndarray:
 
 
 class Performer:
-    """A live performer in room ``demo`` of the server at ``base`` holding :func:`pose` at 30 Hz,
-    once started; its ``sender`` counts the acknowledgements that came back."""
+    """A live performer in room ``demo`` of the server at ``base`` holding :func:`pose` at 30 Hz
+    (or moving as ``motion`` says: the motors ``(21,)`` at each second since it started), once
+    started; its ``sender`` counts the acknowledgements that came back, ``started`` is when it
+    started (``time.time()``)."""
 
-    def __init__(self, base: str, stream: int, key: bytes | None = None) -> None:
+    def __init__(self, base: str, stream: int, key: bytes | None = None,
+                 motion: Callable[[float], np.ndarray] | None = None) -> None:
         from stream.packets import StreamWriter
         from stream.sender import StreamSender
         from stream.websocket import WebSocketLink
@@ -37,14 +41,17 @@ class Performer:
         self.sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=stream, key=key), link=link)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run)
+        self.motion = motion or (lambda _t: pose())
+        self.started = 0.0
 
     def _run(self) -> None:
         frame = 0
         while not self._stop.wait(1 / 30):
-            self.sender.write(frame / 30, pose())
+            self.sender.write(frame / 30, self.motion(time.time() - self.started))
             frame += 1
 
     def start(self) -> None:
+        self.started = time.time()
         self._thread.start()
 
     def wait(self, seconds: float) -> None:
@@ -59,9 +66,10 @@ class Performer:
 
 
 @contextmanager
-def performer(base: str, stream: int, key: bytes | None = None) -> Iterator[Performer]:
+def performer(base: str, stream: int, key: bytes | None = None,
+              motion: Callable[[float], np.ndarray] | None = None) -> Iterator[Performer]:
     """A :class:`Performer`, stopped and closed at the end."""
-    one = Performer(base, stream, key)
+    one = Performer(base, stream, key, motion)
     try:
         yield one
     finally:

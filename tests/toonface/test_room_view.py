@@ -91,6 +91,32 @@ def test_the_stage_draws_a_performer_as_the_studio_does_and_then_sends_only_what
         stage.close()
 
 
+def test_a_viewer_that_skipped_frames_is_sent_what_changed_since_the_drawings_it_has():
+    """Issue 68: a slow viewer catches up at the cost of one frame's changes, not a queue of them."""
+    face, clock = dataclasses.replace(load_face("cat"), physics=()), Clock()
+    stage = Stage(face, lambda *_: None, clock=clock)
+    writers = [StreamWriter(30.0, frames_per_packet=1, stream=s) for s in (7, 8)]
+    try:
+        for writer in writers:
+            _feed(stage, clock, standard_neutral(), 1.0, writer)
+        stage.frame()
+        had = stage.lines()
+        for _ in range(10):  # the mouth opens over ten frames this viewer skips; performer 8 goes
+            _feed(stage, clock, _pose(), 1 / 10, writers[0])
+            changed, whole = stage.frame()
+        clock.now += 11.0
+        _feed(stage, clock, _pose(), 0.1, writers[0])
+        stage.frame()
+        catch_up = stage.since(had)
+        [frame] = catch_up["performers"]
+        assert frame["id"] == 7 and "lines" in frame and catch_up["gone"] == [8]
+        assert _patched(had[7], frame) == stage.lines()[7] != had[7]  # patched: the newest drawing
+        assert 0 < len(frame["lines"]) < len(had[7]) / 2 and len(packed(catch_up)) < len(packed(whole)) / 2
+        assert stage.since({})["performers"][0]["svg"] == "\n".join(stage.lines()[7])  # a newcomer: whole
+    finally:
+        stage.close()
+
+
 def test_the_stage_draws_each_performer_and_forgets_one_gone_silent():
     clock = Clock()
     stage = Stage(load_face("cat"), lambda *_: None, clock=clock)
@@ -187,6 +213,7 @@ def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_
         wait_for(driver, "window.viewer.performers.size === 1 && window.viewer.frames > 20 && "
                  "Object.keys(window.viewer.last.performers[0].lines || {x: 1}).length === 0", timeout=30)
         caption = driver.execute_script("return document.querySelector('figcaption').textContent")
+        answers = [viewer.answers for viewer in rooms.rooms["demo"].browsers.sockets.values()]
         shown = _face_png(driver)
         driver.get(f"{page}&obs#watch={TOKENS['demo'][1]}")
         wait_for(driver, "window.viewer.performers.size === 1")
@@ -195,6 +222,7 @@ def test_the_viewer_page_shows_the_performer_as_the_offscreen_renderer_draws_it_
             "return [getComputedStyle(r).display, getComputedStyle(document.body).backgroundColor,"
             " getComputedStyle(document.querySelector('header')).display]")
     assert caption.startswith("performer 2a · latency") and "loss 0 %" in caption
+    assert answers[0] > 20 and rooms.rooms["demo"].refused["viewer message"] == 0  # it answers each frame shown
     assert clear == ["none", "rgba(0, 0, 0, 0)", "none"]
     drawn, neutral = settled_pictures(face)  # the ears settled, as the stage's have after three seconds held
     assert shown.shape == drawn.shape

@@ -8,9 +8,14 @@ draws the faces itself: it loads the face's web rig (``/face.json``, :mod:`toon.
 nothing for it. With ``?draw=server`` the page opens ``/r/ROOM/ws?role=watch&format=drawn``
 instead and is sent the room's stage (:mod:`toonface.room.stage`) at
 :data:`~toonface.room.stage.VIEW_FPS`: one message a frame, made and deflated once for all such
-viewers. A viewer whose connection has more than :data:`LAG_BYTES` waiting is skipped (its frames
-are dropped, not queued) and is sent whole drawings once it has caught up, so a slow viewer never
-holds the others back (each message is framed once for all of them: :mod:`toonface.room.fanout`).
+viewers. The page answers each message it has shown (:data:`SHOWN`). A viewer still taking an
+earlier message, or with more on its way than its link carries in :data:`LAG_SECONDS`, is
+skipped (its frames are dropped, not queued: :func:`~toonface.room.fanout.lagging`) and is then
+sent what changed since the drawings it has (:meth:`~toonface.room.stage.Stage.since`), so a slow
+viewer sees the newest frame at the rate its link allows and never holds the others back (each
+message is framed once for all of them: :mod:`toonface.room.fanout`). Each second a page is told
+its link's delay, from a message's sending to its answer less half the round trip of a small
+one, which its caption adds to the stage's (capture to the server's drawing).
 
 ``/r/ROOM/perform`` is the performer page (``static/perform.html``, see
 :mod:`toonface.room.performers`); its face tracker's files are served under ``/web/``: MediaPipe's
@@ -28,8 +33,9 @@ import asyncio
 import gzip
 import json
 import logging
+import math
 import os
-from collections import Counter
+from collections import Counter, deque
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from pathlib import Path
@@ -39,11 +45,23 @@ from aiohttp import WSMsgType, web
 
 from stream.framing import StreamKey
 from toon import Face
-from toonface.room.fanout import LAG_BYTES, frame_of, send_all
+from toonface.room.fanout import frame_of, lagging, send_all
 from toonface.room.stage import VIEW_FPS, Stage, packed
 
 #: Seconds the stage waits after a frame it could not draw before it tries the next.
 RETRY_SECONDS = 1.0
+#: What a page sends for each message it has shown.
+SHOWN = "s"
+#: A page that says what it has shown is sent nothing new while more is on its way than its link
+#: carries in this many seconds (by its answers): a slow link's queue, wherever it forms (this
+#: server, the kernels, a router on the way), holds about this much and one message.
+LAG_SECONDS = 0.25
+#: A page not yet heard from after this long is one that does not answer: sent to as its link takes.
+FIRST_ANSWER_SECONDS = 3.0
+#: A message smaller than this (bytes) crosses any link at once: its answer times the round trip.
+SMALL_BYTES = 512
+#: Seconds between the words to a page of its link's delay (``{"delay_ms": ...}``).
+TELL_SECONDS = 1.0
 #: The files pages may load, and the package each comes from.
 STATIC = {"view.js": "toonface.room", "perform.js": "toonface.room", "room.css": "toonface.room",
           "room_link.js": "toonface.room", "face_code.js": "toonface.room",
@@ -231,18 +249,28 @@ class Viewers:
                 await asyncio.sleep(RETRY_SECONDS)
                 due = loop.time()
                 continue
-            small = frame_of(packed(changed))
-            full = small if all(v.current for v in self.sockets.values()) else frame_of(packed(whole))
+            small, full, had = frame_of(packed(changed)), None, self.stage.lines()
+            now = loop.time()
             for ws, viewer in list(self.sockets.items()):
                 transport = viewer.transport
                 if ws.closed or not isinstance(transport, asyncio.WriteTransport) or transport.is_closing():
                     continue
-                if transport.get_write_buffer_size() > LAG_BYTES:
+                if viewer.behind(transport, now):
                     viewer.current = False
                     self.skipped += 1
                     continue
-                transport.write(small if viewer.current else full)
-                viewer.current = True
+                if viewer.current:
+                    message = small
+                elif viewer.had is None:  # a new viewer: whole drawings, made once for all who join
+                    message = full = full or frame_of(packed(whole))
+                else:  # one that skipped frames: what changed since the drawings it has
+                    message = frame_of(packed(self.stage.since(viewer.had)))
+                transport.write(message)
+                viewer.current, viewer.had = True, had
+                viewer.sending(now, len(message))
+                if viewer.delay is not None and now - viewer.told >= TELL_SECONDS:
+                    transport.write(frame_of(json.dumps({"delay_ms": round(viewer.delay * 1000)}).encode(), text=True))
+                    viewer.told = now
             due += period
             await asyncio.sleep(max(0.0, due - loop.time()))
             if loop.time() - due > 1.0:
@@ -250,19 +278,63 @@ class Viewers:
 
 
 class _Viewer:
-    """A browser viewer's connection, and whether it has the last frame sent."""
+    """A browser viewer's connection, whether it has the last frame sent, the drawings it has (by
+    stream, as lines; None: none yet), and what it said it has shown (times on the loop's clock)."""
 
     def __init__(self, transport: asyncio.BaseTransport | None) -> None:
         self.transport, self.current = transport, False
+        self.had: dict[int, list[str]] | None = None
+        self.sent: deque[tuple[float, int]] = deque(maxlen=1024)  # each message it has not answered: when, bytes
+        self.answered: deque[tuple[float, int]] = deque()  # the last second's answers: when, the message's bytes
+        self.answers = 0
+        self.round_trip = 0.0  # the shortest from a small message sent to its answer (0: none yet)
+        self.delay: float | None = None  # the last answered message's, sent to shown
+        self.told = -math.inf
+
+    def sending(self, now: float, size: int) -> None:
+        """A message of ``size`` bytes goes to it."""
+        self.sent.append((now, size))
+
+    def shown(self, now: float) -> bool:
+        """The page showed the oldest message it had not answered; False where it had none."""
+        if not self.sent:
+            return False
+        when, size = self.sent.popleft()
+        took = now - when
+        self.answers += 1
+        if size < SMALL_BYTES:  # a message that crossed the link at once: the round trip alone
+            self.round_trip = min(self.round_trip, took) if self.round_trip else took
+        self.delay = max(0.0, took - self.round_trip / 2)
+        self.answered.append((now, size))
+        while self.answered[0][0] < now - 1.0:
+            self.answered.popleft()
+        return True
+
+    def behind(self, transport: asyncio.WriteTransport, now: float) -> bool:
+        """Whether it is still taking earlier messages: in the server (its ``transport``), or (a
+        page that answers) on their way, more than its link carries in :data:`LAG_SECONDS` (its
+        answers of the last second tell the rate); a page not yet heard from is sent one message
+        and waits for its answer for :data:`FIRST_ANSWER_SECONDS` at most."""
+        if lagging(transport):
+            return True
+        if not self.sent:
+            return False
+        if not self.answers:
+            return now - self.sent[0][0] < FIRST_ANSWER_SECONDS
+        waiting = sum(size for _, size in self.sent)
+        return waiting > LAG_SECONDS * sum(size for _, size in self.answered)
 
 
 async def serve_viewer(ws: web.WebSocketResponse, viewers: Viewers, transport: asyncio.BaseTransport | None) -> None:
-    """Keep a browser viewer until it goes (it sends nothing; aiohttp's heartbeat finds a dead one)."""
+    """Keep a browser viewer until it goes (it says only what it has shown; aiohttp's heartbeat
+    finds a dead one)."""
     viewers.join(ws, transport)
+    viewer, loop = viewers.sockets[ws], asyncio.get_running_loop()
     try:
         async for message in ws:
             if message.type == WSMsgType.ERROR:
                 return
-            viewers.room.refused["viewer message"] += 1
+            if not (message.type == WSMsgType.TEXT and message.data == SHOWN and viewer.shown(loop.time())):
+                viewers.room.refused["viewer message"] += 1
     finally:
         viewers.leave(ws)

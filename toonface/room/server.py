@@ -20,9 +20,10 @@ Safety, each counted in :attr:`Room.refused` (or the server's, before a room is 
   origin it was given (:func:`toonface.web_hosts.origin_allowed`: DNS rebinding is refused);
 - a performer page's messages are parsed within :mod:`common.limits`' bounds, and a request's
   headers must arrive within :data:`~common.limits.HEADER_TIMEOUT_SECONDS`;
-- a viewer with more than :data:`~toonface.room.fanout.LAG_BYTES` waiting misses packets
-  (:attr:`Room.skipped`) rather than holding the others back. A performer who leaves is said to
-  the viewers at once (:func:`_gone`); browsers watch at ``/r/ROOM``.
+- a viewer still taking an earlier packet misses the next (:attr:`Room.skipped`), its kernel's
+  backlog kept small (:mod:`toonface.room.fanout`), rather than falling behind or holding the
+  others back. A performer who leaves is said to the viewers at once (:func:`_gone`); browsers
+  watch at ``/r/ROOM``.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ from common.limits import HEADER_TIMEOUT_SECONDS
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import Viewers, add_pages, serve_viewer
-from toonface.room.fanout import say_all, send_all
+from toonface.room.fanout import keep_unsent_small, say_all, send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer, PageSocket
 from toonface.room.pubsub import Bus
 from toonface.web_hosts import origin_allowed
@@ -250,6 +251,8 @@ async def _socket(request: web.Request) -> web.StreamResponse:
                                compress=False, protocols=(PROTOCOL,))  # (packets do not shrink; the stage deflates)
     await ws.prepare(request)
     rooms.sockets.add(ws)
+    if role == "watch":
+        keep_unsent_small(request.transport)  # a slow viewer's backlog waits where the room can skip it
     try:
         if page:
             await _serve_page(ws, room, rooms)

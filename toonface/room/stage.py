@@ -7,7 +7,9 @@ buffer and concealment, as ``toonface receive`` has) whose faces are drawn as
 :func:`toon.svg.geometry_svg` draws them for the studio (the same SVG; the page shows it with the
 studio's own drawing module, ``draw.js``). A drawing is some 20 kB, so a viewer is sent only its
 lines that changed since the frame before (a talking mouth: 1.5 to 2 kB deflated), deflated once
-for all viewers; a viewer that joins, or falls behind and skips frames, is sent whole drawings.
+for all viewers; a viewer that joins is sent whole drawings, and one that fell behind and skipped
+frames the lines that changed since the drawings it last had (:meth:`Stage.since`), so that it
+catches up at the cost of one frame.
 
 The stage acknowledges the packets it reads to their performer (a performer seen only by
 browsers is still answered). A stream sealed with a key the room does not hold cannot be drawn:
@@ -63,6 +65,7 @@ class _Drawn:
 
     lines: list[str] = field(default_factory=list)
     motion: SecondaryMotion | None = None  # the face's swinging parts, as a native viewer swings them
+    quality: dict = field(default_factory=dict)  # its last frame's
 
 
 class Stage:
@@ -91,6 +94,7 @@ class Stage:
                                        more=lambda: self._playout(neutral), link=_Replies(reply))
         self.size, self.clock = size, clock
         self.drawn: dict[int, _Drawn] = {}
+        self.said: str | None = None  # the last frame's
 
     @staticmethod
     def _playout(neutral: Any) -> Playout:
@@ -129,7 +133,7 @@ class Stage:
             else:
                 changed.append({"id": stream, "svg": svg, "quality": quality})
             whole.append({"id": stream, "svg": svg, "quality": quality})
-            drawn.lines = lines
+            drawn.lines, drawn.quality = lines, quality
         gone = sorted(set(self.drawn) - here)
         for stream in gone:
             del self.drawn[stream]
@@ -138,8 +142,28 @@ class Stage:
             said = said.split(":")[0] + (": the room server holds no key to draw it with: start it with --key-file "
                                          "(the sender's), or open the page without ?draw=server, with the &key= that "
                                          "send prints (the page then opens the stream itself)")
+        self.said = said
         return ({"type": "stage", "performers": changed, "gone": gone, "said": said},
                 {"type": "stage", "performers": whole, "gone": gone, "said": said, "whole": True})
+
+    def lines(self) -> dict[int, list[str]]:
+        """The drawings of the last frame, as lines by stream (what a viewer sent it has)."""
+        return {stream: drawn.lines for stream, drawn in self.drawn.items()}
+
+    def since(self, had: dict[int, list[str]]) -> dict:
+        """The last frame for a viewer whose page has the drawings ``had`` (:meth:`lines` of the
+        frame it was last sent): the lines that changed since, whole drawings of performers it
+        lacks, and those it has that are gone; as :meth:`frame`'s messages."""
+        performers = []
+        for stream, drawn in self.drawn.items():
+            old = had.get(stream)
+            if old is not None and len(old) == len(drawn.lines):
+                delta = {i: line for i, (was, line) in enumerate(zip(old, drawn.lines, strict=True)) if was != line}
+                performers.append({"id": stream, "lines": delta, "quality": drawn.quality})
+            else:
+                performers.append({"id": stream, "svg": "\n".join(drawn.lines), "quality": drawn.quality})
+        return {"type": "stage", "performers": performers, "gone": sorted(set(had) - set(self.drawn)),
+                "said": self.said}
 
     def close(self) -> None:
         """Release the receiver."""

@@ -71,8 +71,9 @@
     arrange();
   }
 
-  function readout(q) {
-    const latency = q.latency_ms === null ? "–" : `${q.latency_ms} ms`;
+  function readout(q, link = 0) {
+    // LINK: the server-drawn page's delay from the server's drawing to this screen (ms)
+    const latency = q.latency_ms === null ? "–" : `${Math.round(q.latency_ms + link)} ms`;
     return `latency ${latency} · loss ${q.loss_pct} % · concealed ${q.concealed_pct} %`
       + (q.diagnosis ? ` · ${q.diagnosis}` : "");
   }
@@ -85,7 +86,8 @@
       performer.drawing.show(frame);
       if (viewer.held) continue;
       performer.quality = frame.quality;  // what is shown: its values too
-      performer.caption.textContent = `performer ${frame.id.toString(16)} · ${readout(frame.quality)}`;
+      performer.caption.textContent = `performer ${frame.id.toString(16)} · `
+        + readout(frame.quality, viewer.linkMs || 0);
     }
     $("said").hidden = !message.said;
     $("said").textContent = message.said || "";
@@ -101,7 +103,15 @@
     let queue = Promise.resolve();  // messages are shown in the order they came
     socket.onopen = () => { viewer.connected = true; $("status").textContent = "connected"; };
     socket.onmessage = (event) => {
-      queue = queue.then(() => toonDraw.inflate(event.data)).then(show);
+      if (typeof event.data === "string") {  // the server's word: this link's delay, sent to shown
+        const said = JSON.parse(event.data);
+        if (typeof said.delay_ms === "number") viewer.linkMs = said.delay_ms;
+        return;
+      }
+      queue = queue.then(() => toonDraw.inflate(event.data)).then((message) => {
+        show(message);
+        if (socket.readyState === WebSocket.OPEN) socket.send("s");  // shown: the server sends the next
+      });
     };
     socket.onclose = () => closed(connect);  // another server process on the address may take it
   }
