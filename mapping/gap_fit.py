@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.interpolate import CubicSpline
+from scipy.linalg import solve_banded
 
 
 def regression_design(source: np.ndarray, rows: np.ndarray, others: list[int], weight: np.ndarray
@@ -17,8 +18,9 @@ def regression_design(source: np.ndarray, rows: np.ndarray, others: list[int], w
     """The centre of the predictors ``others`` at ``rows`` of ``source`` ``(F, M, D)``, ``(rows,
     D)``, and the regression's design about it, ``(rows, features)``, each predictor weighted by
     ``weight`` and every feature centred."""
-    centre = source[rows][:, others].mean(axis=1)  # the frame moving with the subject
-    x = ((source[rows][:, others] - centre[:, None]) * weight[None, :, None]).reshape(len(rows), -1)
+    picked = source[rows[:, None], others]  # (rows, predictors, D)
+    centre = picked.mean(axis=1)  # the frame moving with the subject
+    x = ((picked - centre[:, None]) * weight[None, :, None]).reshape(len(rows), -1)
     if len(others) < 4:  # a centre of so few is mostly the predictors: keep its motion too
         x = np.hstack([x, centre])
     return centre, x - x.mean(axis=0)
@@ -65,6 +67,50 @@ def _line(values: np.ndarray, times: np.ndarray, before: int, after: int, at: np
     return a + share.reshape(-1, *([1] * (values.ndim - 1))) * (b - a)
 
 
+#: Knots either side of a stand-in gap that :func:`stand_in_splines` fits through. A cubic spline's
+#: reach decays by 2 - sqrt(3) (about 0.27) a knot, so the samples and the end condition beyond 40
+#: knots move its values inside the gap by under 1e-22 of theirs: the spline through every sample.
+SPLINE_REACH = 40
+
+
+def stand_in_splines(t: np.ndarray, y: np.ndarray, blocks: list[tuple[int, int]]) -> np.ndarray:
+    """The cubic spline through the rows of ``y`` ``(n, dims)`` at times ``t`` ``(n,)`` outside
+    each block ``[lo, hi)`` of ``blocks`` (all of one length ``L``), at the block's own times:
+    ``(blocks, L, dims)``. Where a block lies :data:`SPLINE_REACH` rows from both ends, all such
+    are fitted at once through those rows (one banded solve; natural ends that far away), else
+    through every row (:class:`scipy.interpolate.CubicSpline`, not-a-knot) as before."""
+    n, reach = len(y), SPLINE_REACH
+    length = blocks[0][1] - blocks[0][0]
+    out = np.empty((len(blocks), length, y.shape[1]))
+    inner = [b for b, (lo, hi) in enumerate(blocks) if lo >= reach and hi + reach <= n]
+    for b, (lo, hi) in enumerate(blocks):
+        if b not in inner:
+            keep = np.r_[0:lo, hi:n]
+            out[b] = CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi])
+    if not inner:
+        return out
+    starts = np.array([blocks[b][0] for b in inner])
+    rows = np.concatenate([starts[:, None] + np.arange(-reach, 0), starts[:, None] + length + np.arange(reach)], axis=1)
+    x, v = t[rows], y[rows]  # (B, m), (B, m, dims): each block's knots
+    h = np.diff(x, axis=1)  # (B, m - 1)
+    rhs = 6.0 * np.diff(np.diff(v, axis=1) / h[..., None], axis=1)  # (B, m - 2, dims)
+    count, inside = len(inner), rows.shape[1] - 2
+    band = np.zeros((3, count, inside))  # the second derivatives' tridiagonal system, block by block
+    band[0, :, 1:] = h[:, 1:-1]
+    band[1] = 2.0 * (h[:, :-1] + h[:, 1:])
+    band[2, :, :-1] = h[:, 1:-1]
+    second = np.zeros_like(v)
+    second[:, 1:-1] = solve_banded((1, 1), band.reshape(3, -1), rhs.reshape(count * inside, -1)).reshape(rhs.shape)
+    a, b = reach - 1, reach  # the knots either side of the block
+    wide = (x[:, b] - x[:, a])[:, None, None]
+    at = t[starts[:, None] + np.arange(length)]
+    left, right = (x[:, b, None] - at)[..., None], (at - x[:, a, None])[..., None]
+    out[inner] = (second[:, a, None] * left ** 3 + second[:, b, None] * right ** 3) / (6.0 * wide) \
+        + (v[:, a, None] / wide - second[:, a, None] * wide / 6.0) * left \
+        + (v[:, b, None] / wide - second[:, b, None] * wide / 6.0) * right
+    return out
+
+
 def straight_line(values: np.ndarray, times: np.ndarray, start: int, end: int) -> np.ndarray:
     """The straight line across the gap ``[start, end)`` of ``values`` ``(F, ...)`` (frames first)
     from the sample before it to the one after, at ``times`` ``(F,)``; ``(end - start, ...)``.
@@ -107,36 +153,41 @@ def validate_gap(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, strai
     blocks = [(middle - length // 2, middle - length // 2 + length)
               for middle in (n * k // (count + 1) for k in range(1, count + 1))]
     truth = np.stack([y[lo:hi] for lo, hi in blocks])  # (blocks, length, dims)
-    own = []
-    for lo, hi in blocks:
-        keep = np.r_[0:lo, hi:n]
-        if straight:
-            own.append(straight_line(y, t, lo, hi))
-        else:
-            own.append(CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]))
-    spline = np.stack(own)
+    if straight:
+        spline = np.stack([straight_line(y, t, lo, hi) for lo, hi in blocks])
+    else:
+        spline = stand_in_splines(t, y, blocks)
     starts = np.array([lo for lo, _ in blocks])
     shares = np.asarray(SHARES)[:, None, None, None]
     best = (np.inf, fallback)
-    moments = Moments(x, y, blocks)
     reach = max(EDGES)  # rows either side a bridge may read
     rows = np.clip(starts[:, None] + np.arange(-reach, length + reach), 0, n - 1)  # (blocks, rows)
+    moments = Moments(x, y, blocks, rows)
+    lines = []  # each edge's share of the way across each stand-in, as _line bridges a real gap
+    for edge in EDGES:
+        t0 = rows[:, reach - edge:reach].mean(axis=1)
+        t1 = rows[:, reach + length:reach + length + edge].mean(axis=1)
+        lines.append(((rows[:, reach:reach + length] - t0[:, None]) / (t1 - t0)[:, None])[..., None])
+    own_part = (1 - shares) * spline  # (shares, blocks, length, dims)
     for ridge in RIDGES:
-        residual = y[rows] - moments.predict(ridge, rows)  # (blocks, rows, dims): only where read
+        residual = y[rows] - moments.predict(ridge)  # (blocks, rows, dims): only where read
         inside = residual[:, reach:reach + length]
-        for edge in EDGES:  # the stand-ins bridged row by row, as _line bridges a real gap
-            a = np.median(residual[:, reach - edge:reach], axis=1)[:, None]
-            b = np.median(residual[:, reach + length:reach + length + edge], axis=1)[:, None]
-            t0 = rows[:, reach - edge:reach].mean(axis=1)
-            t1 = rows[:, reach + length:reach + length + edge].mean(axis=1)
-            share = ((rows[:, reach:reach + length] - t0[:, None]) / (t1 - t0)[:, None])[..., None]
+        for edge, share in zip(EDGES, lines, strict=True):  # the stand-ins bridged row by row
+            a = _median_rows(residual[:, reach - edge:reach])[:, None]
+            b = _median_rows(residual[:, reach + length:reach + length + edge])[:, None]
             regressed = truth - inside + a + share * (b - a)
-            miss = shares * regressed + (1 - shares) * spline - truth  # (shares, blocks, length, dims)
+            miss = shares * regressed + own_part - truth  # (shares, blocks, length, dims)
             error = np.linalg.norm(miss, axis=-1).mean(axis=-1).sum(axis=-1)
             pick = int(np.argmin(error))
             if error[pick] < best[0]:
                 best = (float(error[pick]), (ridge, SHARES[pick], edge))
     return best
+
+
+def _median_rows(values: np.ndarray) -> np.ndarray:
+    """The median over axis 1 of ``values`` ``(B, edge, ...)`` (one row: itself, without numpy's
+    median's cost)."""
+    return values[:, 0] if values.shape[1] == 1 else np.median(values, axis=1)
 
 
 def ridge_predict(x: np.ndarray, fit: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
@@ -156,23 +207,24 @@ class Moments:
     """The sums a ridge regression of ``y`` ``(n, dims)`` on ``x`` ``(n, features)`` needs, over
     all rows less each block ``[lo, hi)`` of ``blocks``: taken once for the whole and once per
     block, so that each stand-in's fit costs a small solve instead of a pass over every row. The
-    same fit as :func:`ridge_predict` on the rows outside the block."""
+    same fit as :func:`ridge_predict` on the rows outside the block; what does not depend on the
+    penalty (the centred sums, the design at each block's ``rows`` ``(B, R)``) is made once."""
 
-    def __init__(self, x: np.ndarray, y: np.ndarray, blocks: list[tuple[int, int]]) -> None:
-        self.x = x
-        self.count = np.array([len(y) - (hi - lo) for lo, hi in blocks], dtype=float)
+    def __init__(self, x: np.ndarray, y: np.ndarray, blocks: list[tuple[int, int]], rows: np.ndarray) -> None:
+        count = np.array([len(y) - (hi - lo) for lo, hi in blocks], dtype=float)
         parts = [(x[lo:hi], y[lo:hi]) for lo, hi in blocks]
-        self.sx = x.sum(axis=0) - np.stack([bx.sum(axis=0) for bx, _ in parts])  # (B, f)
-        self.sy = y.sum(axis=0) - np.stack([by.sum(axis=0) for _, by in parts])  # (B, d)
-        self.xx = x.T @ x - np.stack([bx.T @ bx for bx, _ in parts])  # (B, f, f)
-        self.xy = x.T @ y - np.stack([bx.T @ by for bx, by in parts])  # (B, f, d)
+        sx = x.sum(axis=0) - np.stack([bx.sum(axis=0) for bx, _ in parts])  # (B, f)
+        sy = y.sum(axis=0) - np.stack([by.sum(axis=0) for _, by in parts])  # (B, d)
+        xx = x.T @ x - np.stack([bx.T @ bx for bx, _ in parts])  # (B, f, f)
+        xy = x.T @ y - np.stack([bx.T @ by for bx, by in parts])  # (B, f, d)
+        mx, self.my = sx / count[:, None], sy / count[:, None]
+        self.gram = xx - count[:, None, None] * mx[:, :, None] * mx[:, None, :]
+        self.cross = xy - count[:, None, None] * mx[:, :, None] * self.my[:, None, :]
+        self.trace = np.trace(self.gram, axis1=1, axis2=2) / max(self.gram.shape[-1], 1)
+        self.design = x[rows] - mx[:, None]  # (B, R, f)
 
-    def predict(self, ridge: float, rows: np.ndarray) -> np.ndarray:
-        """The predictions of each block's fit at its ``rows`` ``(B, R)``, ``(B, R, dims)``."""
-        mx, my = self.sx / self.count[:, None], self.sy / self.count[:, None]
-        gram = self.xx - self.count[:, None, None] * mx[:, :, None] * mx[:, None, :]
-        cross = self.xy - self.count[:, None, None] * mx[:, :, None] * my[:, None, :]
-        size = gram.shape[-1]
-        penalty = ridge * np.trace(gram, axis1=1, axis2=2) / max(size, 1)
-        coef = np.linalg.solve(gram + penalty[:, None, None] * np.eye(size), cross)
-        return (self.x[rows] - mx[:, None]) @ coef + my[:, None]
+    def predict(self, ridge: float) -> np.ndarray:
+        """The predictions of each block's fit at its rows, ``(B, R, dims)``."""
+        size = self.gram.shape[-1]
+        coef = np.linalg.solve(self.gram + (ridge * self.trace)[:, None, None] * np.eye(size), self.cross)
+        return self.design @ coef + self.my[:, None]

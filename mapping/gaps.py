@@ -269,15 +269,16 @@ def _relevance(target: np.ndarray, others: np.ndarray, both: np.ndarray) -> np.n
     (the R² of a least-squares fit, 0 with fewer than 10 frames) over the frames ``both`` sees
     the two; positions ``target`` ``(F, dims)`` and ``others`` ``(F, K, dims)``, ``both``
     ``(F, K)``; ``(K,)``."""
-    weight = both.astype(np.float64)[..., None]  # (F, K, 1)
-    y = np.where(weight > 0, target[:, None], 0.0)
-    x = np.where(weight > 0, others, 0.0)
-    count = np.maximum(weight.sum(axis=0), 1.0)  # (K, 1)
-    y = y - y.sum(axis=0) / count
-    x = x - x.sum(axis=0) / count
-    y, x = (y * weight).transpose(1, 0, 2), (x * weight).transpose(1, 0, 2)  # (K, F, dims)
-    sxx, sxy = x.transpose(0, 2, 1) @ x, x.transpose(0, 2, 1) @ y
-    total = (y * y).sum(axis=(1, 2))
+    weight = both.astype(np.float64)  # (F, K)
+    count = np.maximum(weight.sum(axis=0), 1.0)  # (K,)
+    y = np.where(np.isfinite(target), target, 0.0)  # (F, dims): read only where weighted
+    x = np.where(both[..., None], others, 0.0)  # (F, K, dims): 0 where unweighted, so sums run over both
+    my = weight.T @ y / count[:, None]  # (K, dims): each pair's own means
+    mx = x.sum(axis=0) / count[:, None]
+    across = x.transpose(1, 2, 0)  # (K, dims, F)
+    sxx = across @ x.transpose(1, 0, 2) - count[:, None, None] * mx[:, :, None] * mx[:, None, :]
+    sxy = across @ y - count[:, None, None] * mx[:, :, None] * my[:, None, :]
+    total = weight.T @ (y * y).sum(axis=1) - count * (my * my).sum(axis=1)
     explained = np.einsum("kij,kij->k", sxy, np.linalg.pinv(sxx, hermitian=True) @ sxy)
     share = np.where(total > 0, explained / np.where(total > 0, total, 1.0), 0.0)
     return np.where(both.sum(axis=0) >= 10, share, 0.0)

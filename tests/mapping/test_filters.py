@@ -334,7 +334,7 @@ def test_stand_in_fits_from_running_sums_equal_fits_on_the_rows_left():
     blocks = [(40, 70), (120, 150)]
     rows = np.array([np.arange(30, 80), np.arange(110, 160)])
     for ridge in (0.003, 0.1):
-        fast = Moments(x, y, blocks).predict(ridge, rows)
+        fast = Moments(x, y, blocks, rows).predict(ridge)
         for b, (lo, hi) in enumerate(blocks):
             keep = np.r_[0:lo, hi:200]
             np.testing.assert_allclose(fast[b], ridge_predict(x, keep, y[keep], ridge)[rows[b]], atol=1e-10)

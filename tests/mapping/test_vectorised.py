@@ -211,3 +211,44 @@ def test_column_nan_median_is_numpys(frames):
     np.testing.assert_array_equal(column_nan_median(values), expected)
     whole = rng.normal(size=(frames, 3))
     np.testing.assert_array_equal(column_nan_median(whole), np.median(whole, axis=0))
+
+
+def test_the_stand_ins_splines_at_once_are_a_spline_through_every_other_row():
+    """Gap filling's validation fits its stand-in gaps' splines in one banded solve through 40
+    knots either side (issue 65): the values of scipy's not-a-knot spline through every row
+    outside each block, near the ends too (where it is that spline)."""
+    from scipy.interpolate import CubicSpline
+
+    from mapping.gap_fit import stand_in_splines
+
+    rng = np.random.default_rng(1)
+    t = np.cumsum(rng.uniform(0.5, 1.5, 400)) / 60.0  # uneven frame times
+    y = np.c_[np.sin(7 * t), np.cos(3 * t) + rng.normal(0, 0.1, 400), rng.normal(0, 1, 400)]
+    blocks = [(lo, lo + 12) for lo in (20, 100, 190, 300, 380)]
+    got = stand_in_splines(t, y, blocks)
+    for b, (lo, hi) in enumerate(blocks):
+        keep = np.r_[0:lo, hi:400]
+        np.testing.assert_allclose(got[b], CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]), rtol=0, atol=1e-12)
+
+
+def test_a_predictors_relevance_is_the_r2_of_its_own_least_squares_fit():
+    """:func:`mapping.gaps._relevance` (sums by matrix products, issue 65) against a plain fit of
+    the target on each marker over the frames both are seen."""
+    from mapping.gaps import _relevance
+
+    rng = np.random.default_rng(4)
+    frames, count = 300, 6
+    target = rng.normal(size=(frames, 3))
+    others = rng.normal(size=(frames, count, 3)) + target[:, None] * rng.uniform(0, 2, (1, count, 1))
+    both = rng.random((frames, count)) > 0.1
+    both[:, 5] = False
+    both[:8, 5] = True  # seen together in 8 frames: too few to judge
+    others[~both] = np.nan
+    got = _relevance(target, others, both)
+    for k in range(count - 1):
+        seen = both[:, k]
+        x = np.c_[others[seen, k], np.ones(seen.sum())]
+        y = target[seen] - target[seen].mean(axis=0)
+        fitted = x @ np.linalg.lstsq(x, y, rcond=None)[0]
+        assert got[k] == pytest.approx((fitted * fitted).sum() / (y * y).sum(), abs=1e-10)
+    assert got[5] == 0.0
