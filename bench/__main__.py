@@ -8,7 +8,7 @@ import sys
 import traceback
 
 GROUPS = ("cli", "render", "retarget", "pipeline", "track", "face", "read", "fidelity", "predict", "live", "stream",
-          "batch", "bridge", "lipsync", "physics", "room", "life")
+          "batch", "bridge", "lipsync", "physics", "room", "life", "scale")
 #: Groups run only when named: they take minutes.
 LONG = ("soak",)
 
