@@ -274,7 +274,8 @@ def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings,
     ``(F, M)``."""
     pos, filled = positions, np.zeros(positions.shape[:2], dtype=bool)
     if settings.max_gap_seconds > 0 and take.frames > 1:
-        result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times, apart or ())
+        result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times, apart or (),
+                                                                           settings.progress)
         pos, filled = result.positions, result.filled
     if settings.cutoff_hz > 0 and take.frames > 1:
         smoother = _smoother(settings, take.rate)

@@ -24,7 +24,7 @@ a straight line, which neither dips with the lids nor overshoots as a spline thr
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -112,10 +112,12 @@ class GapFiller:
         self.predictor_mean_seconds = (PREDICTOR_MEAN_SECONDS if predictor_mean_seconds is None
                                        else predictor_mean_seconds)
 
-    def apply(self, positions: np.ndarray, times: np.ndarray, apart: Sequence[int] = ()) -> Filled:
+    def apply(self, positions: np.ndarray, times: np.ndarray, apart: Sequence[int] = (),
+              progress: Callable[[int], Callable[[int], None]] | None = None) -> Filled:
         """Fill ``positions`` ``(frames, markers, dims)`` sampled at ``times`` ``(frames,)``;
         the markers (columns) ``apart`` are filled from each other or straight across (see the
-        module docstring)."""
+        module docstring). ``progress``, given the number of long gaps, gives a callback told
+        of each one filled."""
         pos = np.array(positions, dtype=np.float64, copy=True)
         frames, markers, dims = pos.shape
         missing = np.asarray(np.isnan(pos).any(axis=2))
@@ -144,7 +146,7 @@ class GapFiller:
         if short.any():  # first, so that brief dropouts do not disqualify a marker as a predictor
             self._splines(out, times, short)
         if long_.any():
-            self._from_neighbours(out, times, long_, rate, set(apart))
+            self._from_neighbours(out, times, long_, rate, set(apart), progress)
         return Filled(out, short | long_ | lined)
 
     def _splines(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray) -> None:
@@ -157,7 +159,7 @@ class GapFiller:
             pos[wanted[:, m], m] = spline(times[wanted[:, m]])
 
     def _from_neighbours(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray, rate: float,
-                         apart: set[int]) -> None:
+                         apart: set[int], progress: Callable[[int], Callable[[int], None]] | None = None) -> None:
         """Fill each long gap from the markers seen through it, written into ``pos``.
 
         The predictors are the other markers seen throughout the gap; around it (``window_seconds``,
@@ -179,8 +181,11 @@ class GapFiller:
                 for start, end in gap_runs(wanted[:, m])]
         sources = (pos, steady) if steady is not pos else (pos,)
         again = []  # (gap, how its predictors were read) where one was seen through part of it
+        told = progress(len(gaps)) if progress is not None else None
         for gap in gaps:
             source = self._fill(state, sources, *gap)
+            if told is not None:
+                told(1)
             if source is not None:
                 again.append((gap, source))
         for (m, start, end), source in again:  # once more, now that every predictor has a position throughout

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 
 
 @dataclass(frozen=True)
@@ -20,12 +21,17 @@ class CleanSettings:
     holds : bool
         Smooth more where a marker holds still than where it moves (:mod:`mapping.holds`);
         off, every frame gets the ``cutoff_hz`` low-pass alike.
+    progress : callable, optional
+        Given the number of long gaps to fill, a callback given how many more were filled (gap
+        filling is most of a long take's cleaning: minutes for an hour); not a setting, so not
+        compared.
     """
 
     spikes: bool = True
     max_gap_seconds: float = 2.0
     cutoff_hz: float = 8.0
     holds: bool = True
+    progress: Callable[[int], Callable[[int], None]] | None = field(default=None, compare=False, repr=False)
 
     def max_gap_frames(self, rate: float) -> int:
         """The longest gap filled, in frames at ``rate`` Hz (a huge ``max_gap_seconds``, which

@@ -80,7 +80,8 @@ class Cleaning:
             raise click.BadParameter(f"{self.cutoff_hz:g} Hz is not below half the take's {rate:g} Hz frame rate "
                                      f"(the fastest motion a {rate:g} Hz take holds is {rate / 2:g} Hz)",
                                      param_hint="--cutoff")
-        return CleanSettings(self.spikes, self.max_gap_seconds, self.cutoff_hz, self.holds)
+        return CleanSettings(self.spikes, self.max_gap_seconds, self.cutoff_hz, self.holds,
+                             progress("filling gaps", "gap"))  # a bar on a terminal: an hour's take takes minutes
 
 
 #: The lowest --cutoff taken (a blink or a word lasts a few tenths of a second).

@@ -37,11 +37,11 @@ class FiniteFloat(click.FloatRange):
 class ProgressBar:
     """A per-frame progress callback drawing a bar on stderr (only when stderr is a terminal)."""
 
-    def __init__(self, total: int, desc: str) -> None:
+    def __init__(self, total: int, desc: str, unit: str = "frame") -> None:
         from tqdm import tqdm
 
         self.total = total
-        self.bar = tqdm(total=total, desc=desc, unit="frame", file=sys.stderr, disable=None, leave=False)
+        self.bar = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=None, leave=False)
 
     def __call__(self, frames: int) -> None:
         self.bar.update(frames)
@@ -49,9 +49,9 @@ class ProgressBar:
             self.bar.close()
 
 
-def progress(desc: str) -> Callable[[int], Callable[[int], None]]:
-    """A factory of progress callbacks, given the total number of frames."""
-    return lambda total: ProgressBar(total, desc)
+def progress(desc: str, unit: str = "frame") -> Callable[[int], Callable[[int], None]]:
+    """A factory of progress callbacks, given the total number of frames (or ``unit``)."""
+    return lambda total: ProgressBar(total, desc, unit)
 
 
 def frame_size(value: str) -> tuple[int, int]:

@@ -385,3 +385,4 @@ def test_a_blink_inside_one_lids_gap_is_taken_from_the_other_lid_where_it_is_see
     truth = pos[600:630, 0, 1]
     assert filled.min() - truth[0] < 0.8 * (truth.min() - truth[0])
     assert np.abs(filled - truth).max() < 0.6
+

@@ -1,5 +1,6 @@
 """The whole-take forms of cleaning's rules against plain per-sample loops written from their
-docstrings: the spike tests, the NaN-aware median, the rotation fit and the head refit."""
+docstrings: the spike tests, the NaN-aware median, the rotation fit and the head refit; gap
+filling's faster forms (issue 65) against scipy and plain fits, and its progress."""
 
 import warnings
 
@@ -252,3 +253,31 @@ def test_a_predictors_relevance_is_the_r2_of_its_own_least_squares_fit():
         fitted = x @ np.linalg.lstsq(x, y, rcond=None)[0]
         assert got[k] == pytest.approx((fitted * fitted).sum() / (y * y).sum(), abs=1e-10)
     assert got[5] == 0.0
+
+
+def test_gap_filling_tells_its_progress_gap_by_gap():
+    """Issue 65: an hour's take fills gaps for minutes, so cleaning says how far it is: the
+    factory is given the long gaps' number, and told each one as it is filled."""
+    import dataclasses
+
+    from capture import synthesize
+    from mapping import CleanSettings
+    from mapping.clean import clean_take
+
+    syn = synthesize(seconds=6.0, rate=60.0, noise_mm=0.0, seed=3)
+    positions = syn.take.positions.copy()
+    for k, start in enumerate((60, 150, 240)):  # three long gaps (0.5 s) in three markers
+        positions[start:start + 30, 10 + k] = np.nan
+    positions[200:203, 20] = np.nan  # and a short one (a spline's, not counted)
+    take = dataclasses.replace(syn.take, positions=positions)
+    told: list[tuple[str, int]] = []
+
+    def factory(total: int):
+        told.append(("total", total))
+        return lambda done: told.append(("done", done))
+
+    quiet, _ = clean_take(take, CleanSettings())
+    loud, _ = clean_take(take, CleanSettings(progress=factory))
+    assert told == [("total", 3), ("done", 1), ("done", 1), ("done", 1)]
+    assert CleanSettings(progress=factory) == CleanSettings()  # not a setting
+    np.testing.assert_array_equal(quiet.positions, loud.positions)
