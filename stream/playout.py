@@ -190,13 +190,14 @@ class Playout:
         spread = float(np.percentile(transit, 95)) - fastest + self.margin
         return fastest + min(max(spread, self.min_delay), self.max_delay)
 
-    def latency(self) -> float | None:
-        """Seconds from a frame's capture to its showing, when the sender's clock is this
-        clock (one machine; its stamps wrap every 2**32 milliseconds); else None."""
+    def latency(self, offset: float = 0.0) -> float | None:
+        """Seconds from a frame's capture to its showing, where this clock less the sender's is
+        ``offset`` seconds (0: the same clock, one machine; see :mod:`toonface.room.clocks`; the
+        stamps wrap every 2**32 milliseconds); None where that leaves over 10 s (another clock)."""
         if self.delay is None:
             return None
         wrap = 2.0 ** 32 / 1e3
-        shown = (self.delay + wrap / 2) % wrap - wrap / 2
+        shown = (self.delay - offset + wrap / 2) % wrap - wrap / 2
         return shown if abs(shown) < 10.0 else None
 
     def values_at(self, now: float) -> tuple[np.ndarray, str]:

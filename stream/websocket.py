@@ -16,9 +16,13 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import json
+import math
 import queue
 import ssl
 import threading
+import time
+from collections.abc import Callable
 from urllib.parse import urlencode, urlsplit, urlunsplit
 
 import aiohttp
@@ -28,6 +32,19 @@ from stream.framing import MAX_PACKET
 #: Seconds between tries to connect again once a connection broke.
 RETRY_SECONDS = 0.25
 _ENDED = b""  # the server ended the connection (no packet is empty)
+
+
+def clock_answer(text: str, clock: Callable[[], float]) -> str | None:
+    """The answer to an ask of ``clock`` (``{"clock": ms}`` -> ``{"clock": ms, "at": ms}``, its
+    reading added: :mod:`toonface.room.clocks`), or None where ``text`` is no such ask."""
+    try:
+        asked = json.loads(text)
+    except ValueError:
+        return None
+    if not isinstance(asked, dict) or set(asked) != {"clock"} or isinstance(asked["clock"], bool) \
+            or not isinstance(asked["clock"], int | float) or not math.isfinite(asked["clock"]):
+        return None
+    return json.dumps({"clock": asked["clock"], "at": round(clock() * 1000, 3)})
 
 
 class LinkError(OSError):
@@ -46,16 +63,20 @@ class WebSocketLink:
     ca_file : str, optional
         A certificate (PEM) to trust for ``wss://`` beside the system's: a room server's own,
         self-signed one.
+    clock : callable
+        The clock a performer's packets are stamped with (the sender's), which the room server
+        asks for to tell the viewers how far it is from theirs (:func:`clock_answer`).
     """
 
-    def __init__(self, url: str, token: str, role: str, timeout: float = 10.0, ca_file: str | None = None) -> None:
+    def __init__(self, url: str, token: str, role: str, timeout: float = 10.0, ca_file: str | None = None,
+                 clock: Callable[[], float] = time.perf_counter) -> None:
         parts = urlsplit(url)
         if parts.scheme not in ("ws", "wss") or not parts.netloc or not parts.path.startswith("/r/"):
             raise LinkError(f"expected ws://HOST:PORT/r/ROOM or wss://HOST/r/ROOM, got {url}")
         path = parts.path.rstrip("/") + "/ws"
         self.url = urlunsplit((parts.scheme, parts.netloc, path, urlencode({"role": role}), ""))
         self.where = f"{parts.netloc}{parts.path}"
-        self._token, self.role = token, role
+        self._token, self.role, self.clock = token, role, clock
         self._ssl: ssl.SSLContext | bool = True
         if ca_file is not None:
             try:
@@ -181,6 +202,10 @@ class WebSocketLink:
 
     async def _pump_in(self, ws: aiohttp.ClientWebSocketResponse) -> None:
         async for message in ws:
+            if message.type == aiohttp.WSMsgType.TEXT and self.role == "perform":
+                told = clock_answer(message.data, self.clock)  # the room server asks the clock we stamp with
+                if told is not None:
+                    await ws.send_str(told)
             if message.type == aiohttp.WSMsgType.BINARY:
                 try:
                     self._incoming.put_nowait(message.data)

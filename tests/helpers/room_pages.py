@@ -28,17 +28,21 @@ def pose() -> np.ndarray:
 class Performer:
     """A live performer in room ``demo`` of the server at ``base`` holding :func:`pose` at 30 Hz
     (or moving as ``motion`` says: the motors ``(21,)`` at each second since it started), once
-    started; its ``sender`` counts the acknowledgements that came back, ``started`` is when it
-    started (``time.time()``)."""
+    started, its stamps' clock ``clock_ahead`` seconds ahead of this machine's (another machine's);
+    its ``sender`` counts the acknowledgements that came back, ``started`` is when it started
+    (``time.time()``)."""
 
     def __init__(self, base: str, stream: int, key: bytes | None = None,
-                 motion: Callable[[float], np.ndarray] | None = None) -> None:
+                 motion: Callable[[float], np.ndarray] | None = None, clock_ahead: float = 0.0) -> None:
         from stream.packets import StreamWriter
         from stream.sender import StreamSender
         from stream.websocket import WebSocketLink
 
-        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform")
-        self.sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=stream, key=key), link=link)
+        def clock() -> float:  # another machine's: its clock ``clock_ahead`` seconds ahead of this one's
+            return time.perf_counter() + clock_ahead
+
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][0], "perform", clock=clock)
+        self.sender = StreamSender((link.where, 0), StreamWriter(30.0, stream=stream, key=key), link=link, clock=clock)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run)
         self.motion = motion or (lambda _t: pose())
@@ -67,9 +71,9 @@ class Performer:
 
 @contextmanager
 def performer(base: str, stream: int, key: bytes | None = None,
-              motion: Callable[[float], np.ndarray] | None = None) -> Iterator[Performer]:
+              motion: Callable[[float], np.ndarray] | None = None, clock_ahead: float = 0.0) -> Iterator[Performer]:
     """A :class:`Performer`, stopped and closed at the end."""
-    one = Performer(base, stream, key, motion)
+    one = Performer(base, stream, key, motion, clock_ahead)
     try:
         yield one
     finally:

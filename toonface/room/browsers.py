@@ -45,6 +45,7 @@ from aiohttp import WSMsgType, web
 
 from stream.framing import StreamKey
 from toon import Face
+from toonface.room.clocks import Offsets
 from toonface.room.fanout import frame_of, lagging, send_all
 from toonface.room.stage import VIEW_FPS, Stage, packed
 
@@ -183,6 +184,9 @@ class RoomSide(Protocol):
     @property
     def refused(self) -> Counter[str]: ...
 
+    @property
+    def offsets(self) -> Offsets: ...
+
 
 class ServerSide(Protocol):
     """What they read of the server (:class:`toonface.room.server.Rooms`): the face, the stream's
@@ -241,6 +245,7 @@ class Viewers:
         due = loop.time()
         while self.stage is not None:
             try:
+                self.stage.offsets = self.room.offsets.by_stream(self.room.performers)
                 changed, whole = self.stage.frame()
             except Exception as exc:  # noqa: BLE001 - one bad frame must not end the drawing for every viewer
                 self.error = f"{type(exc).__name__}: {exc}"

@@ -44,6 +44,7 @@ from common.limits import HEADER_TIMEOUT_SECONDS
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import Viewers, add_pages, serve_viewer
+from toonface.room.clocks import Offsets, clock_text
 from toonface.room.fanout import keep_unsent_small, say_all, send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer, PageSocket
 from toonface.room.pubsub import Bus
@@ -63,6 +64,7 @@ class Room:
     refused: Counter[str] = field(default_factory=Counter)
     forwarded: int = 0
     skipped: int = 0  # packets not sent to a viewer that lagged
+    offsets: Offsets = field(default_factory=Offsets)  # the performers' clocks (:mod:`toonface.room.clocks`)
 
     def watching(self) -> int:
         """Viewers here now, native and browser."""
@@ -267,6 +269,7 @@ async def _socket(request: web.Request) -> web.StreamResponse:
                 await _serve(ws, room, rooms, role)
             finally:
                 room.viewers.pop(ws, None)
+                room.offsets.forget(ws)
                 left = [s for s, w in room.performers.items() if w is ws]
                 for stream in left:
                     del room.performers[stream]
@@ -294,11 +297,13 @@ async def _serve_page(ws: web.WebSocketResponse, room: Room, rooms: Rooms) -> No
     performer = await loop.run_in_executor(None, lambda: PagePerformer(deliver, stream, rooms.key))
     stand_in.performer = performer
     room.performers[stream] = stand_in
+    room.offsets.own(stand_in)  # its stream is stamped on this server's clock
     try:
         await ws.send_str(json.dumps({"scores": performer.wanted}))  # what its compact frames carry
         await _serve(ws, room, rooms, "perform", performer)
     finally:
         stand_in.closed = True
+        room.offsets.forget(stand_in)
         room.performers.pop(stream, None)
         await _gone(room, rooms, [stream])
         await loop.run_in_executor(None, performer.close)
@@ -309,7 +314,6 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
     """Pass a connection's packets on (a performer page's frames to its mapping) until it closes,
     idles or breaks the rules."""
     window, count = time.monotonic(), 0
-    wanted = (WSMsgType.TEXT, WSMsgType.BINARY) if page is not None else (WSMsgType.BINARY,)
     while True:
         try:
             message = await ws.receive(timeout=rooms.idle_seconds)
@@ -322,15 +326,16 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
             if message.type == WSMsgType.ERROR:
                 room.refused["size"] += 1  # aiohttp ends a socket whose message is over max_msg_size
             return
-        if message.type not in wanted:
-            room.refused["text"] += 1
-            continue
         now = time.monotonic()
         if now - window >= 1.0:
             window, count = now, 0
         count += 1
         if count > rooms.rate_limit:
             room.refused["flood"] += 1
+            continue
+        if message.type == WSMsgType.TEXT and page is None:  # clocks (toonface.room.clocks)
+            if not await clock_text(ws, message.data, role, room.offsets, room.performers, room.viewers):
+                room.refused["text"] += 1
             continue
         if page is not None:
             try:
@@ -347,6 +352,8 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
             continue
         if role == "perform":
             await _perform(room, rooms, ws, data, stream)
+            if (ask := room.offsets.ask(ws)) is not None:
+                await ws.send_str(ask)
         else:
             performer = room.performers.get(stream)
             if performer is not None:

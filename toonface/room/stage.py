@@ -95,6 +95,8 @@ class Stage:
         self.size, self.clock = size, clock
         self.drawn: dict[int, _Drawn] = {}
         self.said: str | None = None  # the last frame's
+        #: Each performer's clock less this server's (s), where its link told it (toonface.room.clocks).
+        self.offsets: dict[int, float] = {}
 
     @staticmethod
     def _playout(neutral: Any) -> Playout:
@@ -127,6 +129,9 @@ class Stage:
             lines = svg.split("\n")
             quality = {**readout(stats[stream]), "values": {**{c: round(float(v), 4) for c, v in zip(
                 MOTOR_CODES, values, strict=True)}, **{c: round(float(v), 4) for c, v in extra.items()}}}
+            if stream in self.offsets:  # its stamps' clock is known: the delay from capture, whatever the clocks
+                latency = self.receiver.lanes[stream].playout.latency(-self.offsets[stream])
+                quality["latency_ms"] = None if latency is None else round(latency * 1000, 1)
             if len(lines) == len(drawn.lines):
                 delta = {i: line for i, (old, line) in enumerate(zip(drawn.lines, lines, strict=True)) if old != line}
                 changed.append({"id": stream, "lines": delta, "quality": quality})

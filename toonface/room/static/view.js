@@ -132,6 +132,9 @@
     const rig = new toonRig.Rig(await response.json());
     const key = fragment.get("key") ? await toonWire.streamKey(secretOf(fragment.get("key"))) : null;
     const streams = new Map();
+    // this page's clock less the server's, from the answer of the shortest round trip of the last
+    // minute, and each performer's less the server's as the server tells them (s): toonface/room/clocks.py
+    const clocks = {offset: null, trip: Infinity, when: 0, performers: new Map()};
     let socket = null;
     Object.assign(viewer, {bytes: 0, messages: 0, sentBytes: 0, sent: 0, firstDrawMs: null});
     const send = (bytes) => {
@@ -146,12 +149,20 @@
       socket.onopen = () => {
         // (again) connected: the server may be another process, which knows none of the faces shown
         for (const id of [...streams.keys()]) { unseat(id); streams.delete(id); }
+        Object.assign(clocks, {offset: null, trip: Infinity, when: 0});  // another server may keep another clock
+        clocks.performers.clear();
+        send(JSON.stringify({clock: performance.now()}));
         viewer.connected = true;
         $("status").textContent = "connected: waiting for a performer…";
       };
       socket.onmessage = (event) => {
-        if (typeof event.data === "string") {  // the server's word: {"gone": [ids]}, performers who left
-          for (const id of JSON.parse(event.data).gone || []) { unseat(id); streams.delete(id); }
+        if (typeof event.data === "string") {  // the server's word: performers who left, clocks
+          const said = JSON.parse(event.data), now = performance.now();
+          for (const id of said.gone || []) { unseat(id); streams.delete(id); }
+          for (const [id, ms] of Object.entries(said.clocks || {})) clocks.performers.set(Number(id), ms / 1000);
+          if (typeof said.at === "number" && (now - said.clock <= clocks.trip || now - clocks.when > 60000)) {
+            Object.assign(clocks, {trip: now - said.clock, when: now, offset: ((said.clock + now) / 2 - said.at) / 1000});
+          }
           return;
         }
         const bytes = new Uint8Array(event.data), now = performance.now() / 1000;
@@ -164,6 +175,8 @@
       };
       socket.onclose = () => closed(open);
     }
+    setInterval(() => send(JSON.stringify({clock: performance.now()})), 2000);  // the server's clock, asked
+    viewer.clocks = clocks;
     viewer.frameMs = [];  // the last 240 frames' drawing times (the bench reads them)
     function tick() {
       const now = performance.now() / 1000, shown = [];
@@ -176,7 +189,9 @@
         }
         performer.drawing.held = viewer.held;
         if (!stream.draw(now)) continue;
-        const q = stream.quality(), values = Object.fromEntries(rig.codes.map((c, i) => [c, stream.last[i]]));
+        const known = clocks.offset !== null && clocks.performers.has(id);  // else the same clock is assumed
+        const q = stream.quality(known ? clocks.offset - clocks.performers.get(id) : 0);
+        const values = Object.fromEntries(rig.codes.map((c, i) => [c, stream.last[i]]));
         const quality = {values, latency_ms: q.latency, loss_pct: Number(q.loss.toFixed(1)),
           concealed_pct: Number(q.concealed.toFixed(1)), diagnosis: null};
         shown.push({id, values, quality});

@@ -42,10 +42,10 @@
       }
     }
 
-    quality() {
-      // what the caption says: latency (ms, null where the sender's clock is another), loss and
-      // concealment (% of packets, % of frames shown)
-      const r = this.reader, s = this.playout.stats, latency = this.playout.latency();
+    quality(offset = 0) {
+      // what the caption says: latency (ms, null where the sender's clock is another than this one
+      // less OFFSET seconds), loss and concealment (% of packets, % of frames shown)
+      const r = this.reader, s = this.playout.stats, latency = this.playout.latency(offset);
       const shown = s.live + s.concealed + s.recovering;
       return {latency: latency === null ? null : Math.round(latency * 1000),
         loss: r.packets ? 100 * r.lost / (r.packets + r.lost) : 0, concealed: shown ? 100 * s.concealed / shown : 0};

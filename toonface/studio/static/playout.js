@@ -97,10 +97,11 @@
       }
     }
 
-    latency() {
-      // seconds from capture to showing where the sender's clock is this one; else null
+    latency(offset = 0) {
+      // seconds from capture to showing where this clock less the sender's is OFFSET seconds (0: the
+      // same clock; the room server tells it, toonface/room/clocks.py); null where that leaves over 10 s
       if (this.delay === null) return null;
-      const wrap = 2 ** 32 / 1e3, shown = ((((this.delay + wrap / 2) % wrap) + wrap) % wrap) - wrap / 2;
+      const wrap = 2 ** 32 / 1e3, shown = ((((this.delay - offset + wrap / 2) % wrap) + wrap) % wrap) - wrap / 2;
       return Math.abs(shown) < 10.0 ? shown : null;
     }
 

@@ -1,0 +1,125 @@
+"""The room's clocks (issues 68 and 70): a caption says how old the face it shows is even where the
+performer's clock is another machine's. The server asks each performer's link for its clock and
+answers a page's asks for its own (toonface/room/clocks.py); the pages and the server's stage take
+the clocks' difference out of the delay they see.
+
+The performer here stamps on a clock 1000 s ahead of this machine's (as another machine's would
+be): before, every caption said "latency –". Its mouth opens steadily, so each pose shown tells
+when it was captured, and the caption's delay is checked against that."""
+
+import asyncio
+import json
+import time
+import zlib
+
+import aiohttp
+import numpy as np
+import pytest
+from room_pages import TOKENS, performer
+
+from stream.websocket import clock_answer
+from toon import motor_index, standard_neutral
+from toonface.room.clocks import CLOCK_SECONDS, Offsets
+from toonface.room.server import Rooms
+from toonface.room.threaded import in_thread
+
+AHEAD = 1000.0
+RAMP_SECONDS = 20.0
+
+
+class Clock:
+    def __init__(self, now: float = 0.0) -> None:
+        self.now = now
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_an_offset_is_the_other_clock_read_halfway_through_the_shortest_round_trip():
+    ours, theirs = Clock(100.0), Clock(5100.25)  # theirs 5000.25 s ahead
+    offsets = Offsets(ours)
+    ask = offsets.ask("link")
+    assert ask == json.dumps({"clock": 100000.0}) and offsets.ask("link") is None  # once every CLOCK_SECONDS
+    ours.now += 0.080  # 80 ms there and back, read 30 ms after the ask left (the way out was the slow one)
+    theirs.now += 0.030
+    assert offsets.heard("link", clock_answer(ask, theirs))
+    assert offsets.by_stream({7: "link", 8: "other"}) == {7: pytest.approx(5000.25 - 0.010)}  # within half the trip
+    ours.now += CLOCK_SECONDS
+    theirs.now += CLOCK_SECONDS + 0.050  # the same instant as ours again
+    ask = offsets.ask("link")
+    ours.now += 0.004  # a quick trip: this one is kept
+    theirs.now += 0.002
+    assert offsets.heard("link", clock_answer(ask, theirs))
+    assert offsets.by_stream({7: "link"})[7] == pytest.approx(5000.25, abs=0.0011)
+    for bad in ("{", '{"clock": 1}', '{"clock": 1, "at": "x"}', json.dumps({"clock": 99e9, "at": 1.0})):
+        assert not offsets.heard("link", bad)  # not an answer to an ask of ours
+    assert clock_answer('{"clock": true}', theirs) is None and clock_answer("[]", theirs) is None
+    offsets.forget("link")
+    assert offsets.by_stream({7: "link"}) == {}
+
+
+def _motion(t: float) -> np.ndarray:
+    values = standard_neutral().copy()
+    values[motor_index("MB")] = 0.05 + 0.9 * min(t / RAMP_SECONDS, 1.0)  # the capture's time, as an opening
+    return values
+
+
+def _age(opening: float, started: float) -> float:
+    return time.time() - (started + (opening - 0.05) / 0.9 * RAMP_SECONDS)
+
+
+@pytest.mark.slow  # six seconds of a performer: make test runs it
+def test_the_server_drawn_caption_says_the_delay_from_capture_on_another_machines_clock():
+    rooms = Rooms(TOKENS, face="cat")
+
+    async def watch(base: str, started: float) -> list[tuple[float, float]]:
+        said = []
+        headers = {"Authorization": f"Bearer {TOKENS['demo'][1]}"}
+        async with aiohttp.ClientSession() as session, session.ws_connect(
+                f"{base}/r/demo/ws?role=watch&format=drawn", headers=headers) as ws:
+            end = time.time() + 6.0
+            while time.time() < end:
+                message = await ws.receive(timeout=10)
+                if message.type != aiohttp.WSMsgType.BINARY:
+                    continue
+                await ws.send_str("s")
+                for shown in json.loads(zlib.decompress(message.data))["performers"]:
+                    latency = shown["quality"]["latency_ms"]
+                    said.append((None if latency is None else latency / 1000,
+                                 _age(shown["quality"]["values"]["MB"], started)))
+        return said
+
+    with in_thread(rooms) as base, performer(base, 0x2A, motion=_motion, clock_ahead=AHEAD) as one:
+        one.start()
+        said = asyncio.run(watch(base, one.started))
+    later = [pair for pair in said[len(said) // 2:]]  # after the first asks of the clock (every 2 s)
+    assert later and all(latency is not None for latency, _ in later)
+    latencies, ages = np.array(later).T
+    assert abs(np.median(latencies) - np.median(ages)) < 0.1, (np.median(latencies), np.median(ages))
+
+
+@pytest.mark.slow  # Chromium and six seconds of a performer: make test runs it
+def test_the_page_drawn_caption_says_the_delay_from_capture_on_another_machines_clock():
+    """The viewer page that draws the faces itself: its clock, the server's and the performer's
+    are three; its caption's delay is the one its poses show."""
+    from browser import chromium, wait_for
+
+    rooms = Rooms(TOKENS, face="cat")
+    with in_thread(rooms) as base, chromium(700, 700) as page, \
+            performer(base, 0x2A, motion=_motion, clock_ahead=AHEAD) as one:
+        page.get(f"{base.replace('ws://', 'http://')}/r/demo#watch={TOKENS['demo'][1]}")
+        one.start()
+        wait_for(page, "window.viewer.performers.size === 1 && window.viewer.clocks.performers.size === 1 "
+                       "&& window.viewer.clocks.offset !== null", timeout=30)
+        said = []
+        for _ in range(20):
+            frame = page.execute_script("return window.viewer.frames")
+            wait_for(page, f"window.viewer.frames > {frame + 3}")
+            latency, opening, now = page.execute_script(
+                "const q = window.viewer.last.performers[0].quality;"
+                "return [q.latency_ms, q.values.MB, Date.now() / 1000]")
+            said.append((latency, now - (one.started + (opening - 0.05) / 0.9 * RAMP_SECONDS)))
+        caption = page.execute_script("return document.querySelector('figcaption').textContent")
+    assert all(latency is not None for latency, _ in said) and "latency –" not in caption, caption
+    latencies, ages = np.array(said).T
+    assert abs(np.median(latencies) / 1000 - np.median(ages)) < 0.1, (np.median(latencies), np.median(ages))

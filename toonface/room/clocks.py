@@ -1,0 +1,112 @@
+"""The room's clocks: how far each performer's clock is from the server's, so that a page far from
+both can say how old the face it shows is.
+
+A stream's packets are stamped on the performer's clock and a page shows them on its own; the
+delay it sees is the true one plus the difference of the two clocks, which between machines can be
+anything (the captions said "latency –" there). So the server asks each performer's link for its
+clock every :data:`CLOCK_SECONDS` (``{"clock": ms}``, answered ``{"clock": ms, "at": ms}``: the
+server's reading sent back, and the performer's, on the clock it stamps packets with), and answers
+a page's own ``{"clock": ms}`` the same way with its own. Each asking side keeps the answer of the
+shortest round trip and takes the other's reading as made halfway through it, as NTP does (within
+half that round trip of the truth). The server tells the viewers each performer's clock less its
+own (``{"clocks": {stream: ms}}``); a page's caption then says ``delay - (its offset - the
+performer's)`` and the server's stage ``delay + the performer's``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Callable, Collection, Mapping
+from typing import Any
+
+from stream.websocket import clock_answer
+from toonface.room.fanout import say_all
+
+#: Seconds between the server's asks of a performer's clock (and a page's of the server's).
+CLOCK_SECONDS = 2.0
+#: Seconds an answer of the shortest round trip is kept before a longer one may replace it (two
+#: machines' clocks drift apart by some tens of parts in a million: a millisecond a minute).
+KEEP_SECONDS = 60.0
+
+
+def _reading(text: str, keys: Collection[str]) -> dict | None:
+    """``text`` as a clock message with finite numbers at ``keys``, or None where it is none."""
+    try:
+        message = json.loads(text)
+    except ValueError:
+        return None
+    if not isinstance(message, dict) or set(message) != set(keys):
+        return None
+    if not all(isinstance(message[k], int | float) and not isinstance(message[k], bool)
+               and math.isfinite(message[k]) for k in keys):
+        return None
+    return message
+
+
+class Offsets:
+    """Each performer connection's clock less this server's (seconds), from its link's answers to
+    :meth:`ask` (see the module docstring).
+
+    Parameters
+    ----------
+    clock : callable
+        This server's clock, seconds.
+    """
+
+    def __init__(self, clock: Callable[[], float] = time.perf_counter) -> None:
+        self.clock = clock
+        self.asked: dict[Any, float] = {}
+        self.best: dict[Any, tuple[float, float, float]] = {}  # owner: (round trip, offset, when), the shortest trip's
+
+    def ask(self, owner: Any) -> str | None:
+        """An ask for ``owner``'s clock where its last is :data:`CLOCK_SECONDS` old, else None."""
+        now = self.clock()
+        if now - self.asked.get(owner, -math.inf) < CLOCK_SECONDS:
+            return None
+        self.asked[owner] = now
+        return json.dumps({"clock": round(now * 1000, 3)})
+
+    def heard(self, owner: Any, text: str) -> bool:
+        """Take ``owner``'s answer; False where ``text`` is none (or answers no ask of ours)."""
+        said = _reading(text, ("clock", "at"))
+        now = self.clock()
+        if said is None or not 0 <= now - said["clock"] / 1000 <= CLOCK_SECONDS * 30:
+            return False
+        sent = said["clock"] / 1000
+        trip, offset = now - sent, said["at"] / 1000 - (sent + now) / 2
+        best = self.best.get(owner)
+        if best is None or trip <= best[0] or now - best[2] > KEEP_SECONDS:  # clocks drift: a minute at most
+            self.best[owner] = (trip, offset, now)
+        return True
+
+    def forget(self, owner: Any) -> None:
+        """``owner`` left."""
+        self.asked.pop(owner, None)
+        self.best.pop(owner, None)
+
+    def by_stream(self, performers: Mapping[int, Any]) -> dict[int, float]:
+        """The offsets known of ``performers`` (stream id: its owner), by stream id, seconds."""
+        return {stream: self.best[owner][1] for stream, owner in performers.items() if owner in self.best}
+
+    def own(self, owner: Any) -> None:
+        """``owner``'s stream is stamped on this server's clock (a performer page's)."""
+        self.best[owner] = (0.0, 0.0, math.inf)
+
+
+async def clock_text(ws: Any, text: str, role: str, offsets: Offsets, performers: Mapping[int, Any],
+                     viewers: Collection[Any]) -> bool:
+    """A text message of a connection (not a performer page's): a performer's link telling its
+    clock (the viewers are told the performers' offsets, ms) or a page asking the server's (it is
+    answered); False where it is neither."""
+    if role == "perform":
+        if not offsets.heard(ws, text):
+            return False
+        told = {stream: round(offset * 1000, 3) for stream, offset in offsets.by_stream(performers).items()}
+        await say_all(viewers, json.dumps({"clocks": told}))
+        return True
+    answered = clock_answer(text, offsets.clock)
+    if answered is not None:
+        await ws.send_str(answered)
+    return answered is not None
