@@ -59,7 +59,8 @@ def face_source(path: str | os.PathLike, info: VideoInfo | None = None, repeat: 
 def camera_source(target: str, clock: Callable[[], float] = time.perf_counter,
                   sleep: Callable[[float], None] = time.sleep, repeat: bool = False, **_: Any) -> Source:
     """A camera (``N``: the N-th device, V4L2 through OpenCV) or a video file played as one: its
-    frames come in real time, each stamped on ``clock`` when it arrives, and the source is
+    frames come in real time, each stamped on ``clock`` when it arrives (before it is tracked;
+    ``meta["clock_start"]``: ``clock`` at ``t`` 0, once the first is read), and the source is
     ``live`` (nothing waits for it). A file is read at its own frame rate (checked against its
     frames' times), from its start again at its end if ``repeat``."""
     import cv2
@@ -82,6 +83,7 @@ def camera_source(target: str, clock: Callable[[], float] = time.perf_counter,
 
     def images() -> Iterator[tuple[float, np.ndarray]]:
         start, index = clock(), 0
+        meta["clock_start"] = start  # a frame's t is its grab on ``clock`` less this, before tracking
         try:
             while True:
                 if device is None:  # a file stands in for a camera: its frames come when due

@@ -139,9 +139,10 @@ def _send_frames(source: Source, mapper: LiveMapper, sinks: Sequence[MotorSink],
     for frame in paced(source, clock, sleep):
         if (seconds is not None and frame.t >= seconds - 0.5 / source.rate) or stop():
             break
-        captured = clock()
+        began = clock()  # a camera's grab, where it says when (before tracking took its tens of ms), else now
+        captured = source.meta["clock_start"] + frame.t if "clock_start" in source.meta else began
         values, confidence = mapper.step_frame(frame)
-        report.step_seconds.append(clock() - captured)
+        report.step_seconds.append(clock() - began)
         extra = mapper.extra_values() or None  # the parameters beyond the 21 (HT...), where the mapping drives any
         for sink in sinks:  # stream time: frame n at n / rate, as the wire carries it (a camera's stamps jitter)
             sink.write(report.frames / source.rate, values, captured, confidence, extra=extra)

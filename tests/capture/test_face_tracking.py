@@ -207,6 +207,7 @@ def test_a_file_stands_in_for_a_camera_in_real_time_and_a_missing_camera_is_name
     assert source.live and source.rate == pytest.approx(25.0)
     times = [frame.t for frame, _ in zip(source.frames, range(4), strict=False)]
     assert times == pytest.approx([0.0, 0.04, 0.08, 0.12])  # each frame when it is due, stamped on arrival
+    assert source.meta["clock_start"] == 0.0  # where t is 0 on the clock: a frame's grab, before its tracking
     with pytest.raises(InputError, match="no camera 9"):
         camera_source("9")
 

@@ -157,6 +157,28 @@ def test_sender_receiver_and_relay_over_loopback_sockets():
     assert receiver.reader.dropped["replay"] == relay.forward.counts["duplicated"] > 0
 
 
+def test_a_camera_frame_is_stamped_when_it_was_grabbed_not_once_it_was_tracked():
+    """Issue 70: the caption under-reported the delay by the tracking's tens of milliseconds: a
+    frame was stamped when the tracker gave it. A source that says when its clock read t = 0
+    (a camera's ``clock_start``) is stamped at its frames' own times on that clock."""
+    syn = synthesize(seconds=1, rate=RATE)
+    source = take_source(syn.take)
+    source.meta["clock_start"] = 100.0
+    ticks = iter(500.0 + 0.02 * np.arange(10000))  # each reading 20 ms on: the tracking's and mapping's time
+
+    class Sink:
+        def __init__(self) -> None:
+            self.stamps: list[float] = []
+
+        def write(self, t, values, captured=None, confidence=None, extra=None):
+            self.stamps.append(captured)
+
+    sink = Sink()
+    run_sender(source, build_mapper(source), [sink], clock=ticks.__next__, sleep=lambda s: None)
+    assert sink.stamps == pytest.approx(100.0 + syn.take.times[:len(sink.stamps)])
+    assert len(sink.stamps) >= RATE - 1
+
+
 @pytest.mark.parametrize("argv, fragment", [
     (["send", "missing.csv", "--to", "127.0.0.1:9"], "missing.csv: no such file"),
     (["send", "synthetic", "--to", "host:port"], "expected HOST:PORT"),
