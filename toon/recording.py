@@ -159,6 +159,7 @@ class LatestMotors:
         self._values = np.array(neutral, dtype=float)
         self._confidence = np.zeros(len(self._values))
         self._at = -math.inf
+        self._captured: float | None = None
         self._extra: dict[str, float] = {}
         self.clock = clock
         self.frames = 0
@@ -172,6 +173,7 @@ class LatestMotors:
             self._extra = dict(extra or {})
             self._confidence = np.ones(len(self._values)) if confidence is None else np.array(confidence, dtype=float)
             self._at = self.clock()
+            self._captured = captured
             self.frames += 1
 
     def values(self) -> np.ndarray:
@@ -189,6 +191,11 @@ class LatestMotors:
         since it came."""
         with self._lock:
             return self._values.copy(), self._confidence.copy(), self.clock() - self._at
+
+    def captured(self) -> float | None:
+        """When the newest frame was captured, where its writer said (None before any, or where not)."""
+        with self._lock:
+            return self._captured
 
     def close(self) -> None:
         """Nothing to keep."""

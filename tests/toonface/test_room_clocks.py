@@ -8,6 +8,7 @@ be): before, every caption said "latency –". Its mouth opens steadily, so each
 when it was captured, and the caption's delay is checked against that."""
 
 import asyncio
+import contextlib
 import json
 import time
 import zlib
@@ -123,3 +124,51 @@ def test_the_page_drawn_caption_says_the_delay_from_capture_on_another_machines_
     assert all(latency is not None for latency, _ in said) and "latency –" not in caption, caption
     latencies, ages = np.array(said).T
     assert abs(np.median(latencies) / 1000 - np.median(ages)) < 0.1, (np.median(latencies), np.median(ages))
+
+
+def _page_latency(base: str, late_ms: float) -> float:
+    """A performer page's frames, each sent ``late_ms`` after the page saw it (its tracking), the
+    page's clock answered as the page answers it; a native viewer's median latency (s) over the
+    last two of six seconds (it shares the server's clock: one machine)."""
+    from stream.playout import Playout
+    from stream.receiver import StreamReceiver
+    from stream.websocket import WebSocketLink
+
+    page_zero = time.perf_counter() - 50.0  # the page opened 50 s ago: its clock is another
+    link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][1], "watch")
+    with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), link=link) as receiver:
+
+        async def perform() -> float:
+            headers = {"Authorization": f"Bearer {TOKENS['demo'][0]}"}
+            async with aiohttp.ClientSession() as session, session.ws_connect(
+                    f"{base}/r/demo/ws?role=perform&format=face", headers=headers) as ws:
+                await ws.receive(timeout=10)  # the scores it reads (this page sends JSON frames)
+                matrix, latencies = np.eye(4).T.ravel().tolist(), []
+                end = time.perf_counter() + 6.0
+                while time.perf_counter() < end:
+                    seen = (time.perf_counter() - page_zero) * 1000 - late_ms
+                    opening = 0.5 + 0.4 * np.sin(seen / 300)
+                    await ws.send_str(json.dumps({"t": seen, "matrix": matrix, "scores": {"jawOpen": opening}}))
+                    with contextlib.suppress(TimeoutError):
+                        asked = json.loads((await ws.receive(timeout=0.03)).data).get("clock")
+                        if asked is not None:  # as perform.js answers: its frames' clock
+                            now = (time.perf_counter() - page_zero) * 1000
+                            await ws.send_str(json.dumps({"clock": asked, "at": now}))
+                    receiver.values_at()
+                    if time.perf_counter() > end - 2.0 and receiver.playout.latency() is not None:
+                        latencies.append(receiver.playout.latency())
+                return float(np.median(latencies))
+
+        return asyncio.run(perform())
+
+
+@pytest.mark.slow  # twelve seconds of a performer page: make test runs it
+def test_a_performer_pages_frames_are_stamped_when_the_page_saw_them():
+    """Issue 70: the stream of a performer page was stamped when the server sent it, so its
+    latency left out the page's tracking and upload. Frames seen 150 ms before they are sent
+    show 150 ms more of latency than frames sent at once."""
+    latencies = []
+    for late_ms in (0.0, 150.0):
+        with in_thread(Rooms(TOKENS, face="cat")) as base:
+            latencies.append(_page_latency(base, late_ms))
+    assert latencies[1] - latencies[0] == pytest.approx(0.150, abs=0.04), latencies

@@ -81,6 +81,11 @@ class Offsets:
             self.best[owner] = (trip, offset, now)
         return True
 
+    def offset(self, owner: Any) -> float | None:
+        """``owner``'s clock less this server's (seconds), where it answered."""
+        best = self.best.get(owner)
+        return None if best is None else best[1]
+
     def forget(self, owner: Any) -> None:
         """``owner`` left."""
         self.asked.pop(owner, None)

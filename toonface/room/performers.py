@@ -24,6 +24,8 @@ A score not in a message keeps its value from the one before (the socket keeps o
 nothing; every score starts at 0). The page also sends text, JSON::
 
     {"eye_contact": true, "t": 1234}    (the performer looks at the middle of the screen from then)
+    {"clock": 5.0e6, "at": 1234.5}      (the answer to the server's {"clock": 5.0e6}: "at", the
+                                         page's clock of its frames' t, ms; :mod:`toonface.room.clocks`)
     {"t": 1234.5, "scores": {"jawOpen": 0.31, ...}, "matrix": [16 numbers]}   (a frame, as JSON)
 
 a frame as JSON being ``scores`` MediaPipe's blendshapes (ARKit's names; its ``_neutral`` is
@@ -43,6 +45,7 @@ varies, and a stream's frames are evenly spaced) as a stream of its own
 from __future__ import annotations
 
 import contextlib
+import json
 import math
 import queue
 import struct
@@ -61,6 +64,7 @@ from stream.framing import StreamKey
 from stream.packets import StreamWriter
 from stream.sender import StreamSender
 from toon import standard_neutral
+from toonface.room.clocks import Offsets
 
 #: The largest message a performer page may send (a frame is about 1.5 kB).
 MAX_MESSAGE = 8192
@@ -237,6 +241,8 @@ class PagePerformer:
         self.source = Source(labels, PAGE_RATE, self._frames(), "a performer page", live=True,
                              meta={"mapping": "arkit", "rest": self.rest}, channel_names=BLENDSHAPES, halt=self.halt)
         self.notes: list[str] = []
+        #: The page's clock (its frames' ``t``) less this server's: :mod:`toonface.room.clocks`.
+        self.offsets = Offsets(clock)
         mapper = build_mapper(self.source, notes=self.notes)
         reads = {source.channel for source in mapper.mapping.sources() if source.kind == "blendshape"}
         #: The blendshapes the mapping reads, which the page's compact frames carry (it is told them first).
@@ -261,6 +267,9 @@ class PagePerformer:
         that time, for a second (:mod:`mapping.eye_contact`)."""
         if isinstance(message, bytes):
             frame = self.codes.frame(message, self.rest)
+        elif self.offsets.heard(self, message):  # its clock: its frames are stamped when the page saw them
+            self.source.meta["clock_start"] = -(self.offsets.offset(self) or 0.0)  # this clock at its t = 0
+            return
         else:
             parsed = parse_json_message(message)
             if isinstance(parsed, dict) and parsed.get("eye_contact") is True:
@@ -281,11 +290,13 @@ class PagePerformer:
                     pass
 
     def next_said(self) -> str | None:
-        """The oldest line the mapping said that the page has not been told, or None."""
+        """The oldest message for the page it has not been sent (text: JSON), or None: what the
+        mapping said (``{"said": ...}``), then an ask of its clock, every
+        :data:`~toonface.room.clocks.CLOCK_SECONDS`."""
         try:
-            return self.said.get_nowait()
+            return json.dumps({"said": self.said.get_nowait()})
         except queue.Empty:
-            return None
+            return self.offsets.ask(self)
 
     def _say(self, text: str) -> None:
         with contextlib.suppress(queue.Full):  # a page that never reads them keeps the first few
@@ -314,16 +325,21 @@ class PagePerformer:
                 continue
 
     def _run(self) -> None:
-        """Send the newest mapped frame at :data:`PAGE_RATE`, once one has come."""
+        """Send the newest mapped frame at :data:`PAGE_RATE`, once one has come, stamped when the
+        page saw it (where its clock is known; else when it was mapped): a frame sent again (the
+        camera slower than the stream, or stopped) a period later than the one before, so that
+        the stream's stamps go on at its rate."""
         latest = self.follower.latest
-        sent = 0
+        sent, stamp = 0, -math.inf
         due = self.clock()
         try:
             while not self.halt.wait(max(0.0, due - self.clock())):
                 due += 1 / PAGE_RATE
                 if latest.frames:
                     values, confidence, _ = latest.newest()
-                    self.sender.write(sent / PAGE_RATE, values, self.clock(), confidence, extra=latest.extra() or None)
+                    captured = latest.captured()
+                    stamp = max(self.clock() if captured is None else captured, stamp + 1 / PAGE_RATE)
+                    self.sender.write(sent / PAGE_RATE, values, stamp, confidence, extra=latest.extra() or None)
                     sent += 1
                 if self.clock() - due > 1.0:
                     due = self.clock()  # far behind (a busy machine): keep the beat, do not race

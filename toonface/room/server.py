@@ -342,8 +342,8 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
                 page.take(message.data)
             except ValueError:
                 room.refused["malformed"] += 1
-            while (said := page.next_said()) is not None:  # eye contact taken or refused, for the page
-                await ws.send_str(json.dumps({"said": said}))
+            while (said := page.next_said()) is not None:  # eye contact taken or refused; its clock asked
+                await ws.send_str(said)
             continue
         data: bytes = message.data
         stream = peek_stream(data)

@@ -40,8 +40,11 @@ function connect() {
     setTimeout(() => { performer.socket = connect(); }, 500);
   };
   socket.onmessage = (event) => {  // the scores to send, then what the mapping says: eye contact taken, or why not
-    const {said, scores} = JSON.parse(event.data);
+    const {said, scores, clock} = JSON.parse(event.data);
     if (Array.isArray(scores)) performer.coder = new FaceCoder(scores);
+    if (typeof clock === "number" && performer.started !== undefined) {  // the server asks the frames' clock
+      socket.send(JSON.stringify({clock, at: performance.now() - performer.started}));
+    }
     if (typeof said === "string") $("contact").textContent = performer.contact = said;
   };
   return socket;
@@ -72,7 +75,7 @@ async function start() {
   }
   performer.socket = connect();
   performer.ready = true;
-  const started = performance.now();
+  const started = performer.started = performance.now();  // frames' times (ms) count from here
   const times = [];
   let last = -1;
   $("eye-contact").disabled = false;
