@@ -38,9 +38,14 @@ def pinned_rate(seconds: float, repeats: int, rate: float, keep_freed: bool = Tr
     ``frames``, ``markers`` and ``one_core``. ``keep_freed``: the allocator set as the
     ``toonface`` command sets it (:func:`common.memory.keep_freed_memory`); False measures a
     program that leaves glibc's defaults."""
+    return pinned_child(f"import bench.pipeline as p; p._child({seconds!r}, {repeats!r}, {rate!r}, {keep_freed!r})")
+
+
+def pinned_child(code: str) -> dict:
+    """Run ``code`` in a fresh Python pinned to one CPU before it imports numpy, with one BLAS
+    thread; the JSON object it prints, with ``one_core`` (whether it could be pinned)."""
     pinned = hasattr(os, "sched_setaffinity")
     cpu = min(os.sched_getaffinity(0)) if pinned else 0
-    code = f"import bench.pipeline as p; p._child({seconds!r}, {repeats!r}, {rate!r}, {keep_freed!r})"
     result = subprocess.run([sys.executable, "-c", code], env={**os.environ, **_ONE_THREAD}, capture_output=True,
                             text=True, check=True,
                             preexec_fn=(lambda: os.sched_setaffinity(0, {cpu})) if pinned else None)

@@ -18,12 +18,9 @@ depend on the length); the takes have no gaps (``fidelity.gapfill_fps`` measures
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 
 from bench.core import Figure
-from bench.pipeline import _ONE_THREAD
+from bench.pipeline import pinned_child
 
 RATE_HZ = 120.0
 
@@ -46,13 +43,7 @@ def _child(minutes: float) -> dict:
     """Map ``minutes`` of the synthetic take in a fresh child process pinned to one CPU, after a
     two-second take's warm-up; its seconds (the mean of three for a minute), peak and starting
     memory (MB)."""
-    pinned = hasattr(os, "sched_setaffinity")
-    cpu = min(os.sched_getaffinity(0)) if pinned else 0
-    code = f"import bench.scale as s; s._measure({minutes!r})"
-    result = subprocess.run([sys.executable, "-c", code], env={**os.environ, **_ONE_THREAD}, capture_output=True,
-                            text=True, check=True,
-                            preexec_fn=(lambda: os.sched_setaffinity(0, {cpu})) if pinned else None)
-    return {**json.loads(result.stdout), "one_core": pinned}
+    return pinned_child(f"import bench.scale as s; s._measure({minutes!r})")
 
 
 def _measure(minutes: float) -> None:

@@ -27,6 +27,7 @@ from urllib.parse import urlencode, urlsplit, urlunsplit
 
 import aiohttp
 
+from common.limits import parse_json_message
 from stream.framing import MAX_PACKET
 
 #: Seconds between tries to connect again once a connection broke.
@@ -38,7 +39,7 @@ def clock_answer(text: str, clock: Callable[[], float]) -> str | None:
     """The answer to an ask of ``clock`` (``{"clock": ms}`` -> ``{"clock": ms, "at": ms}``, its
     reading added: :mod:`toonface.room.clocks`), or None where ``text`` is no such ask."""
     try:
-        asked = json.loads(text)
+        asked = parse_json_message(text)  # within bounds: a deep nest from afar raised RecursionError
     except ValueError:
         return None
     if not isinstance(asked, dict) or set(asked) != {"clock"} or isinstance(asked["clock"], bool) \

@@ -172,3 +172,28 @@ def test_a_performer_pages_frames_are_stamped_when_the_page_saw_them():
         with in_thread(Rooms(TOKENS, face="cat")) as base:
             latencies.append(_page_latency(base, late_ms))
     assert latencies[1] - latencies[0] == pytest.approx(0.150, abs=0.04), latencies
+
+
+def test_a_hostile_text_where_a_clock_is_expected_is_refused_without_a_traceback(caplog):
+    """A link's text is read as a clock within common.limits' bounds: a deep nest raised
+    RecursionError out of the server's handler (a page's hostile messages, issue 59's test)."""
+    import logging
+
+    rooms = Rooms(TOKENS)
+
+    async def send(base: str) -> None:
+        for role, token in (("perform", TOKENS["demo"][0]), ("watch", TOKENS["demo"][1])):
+            async with aiohttp.ClientSession() as session, session.ws_connect(
+                    f"{base}/r/demo/ws?role={role}", headers={"Authorization": f"Bearer {token}"}) as ws:
+                await ws.send_str("[" * 1300 + "]" * 1300)
+                await ws.send_str('{"clock": ' + "9" * 4000 + "}")
+                await ws.send_str('{"clock": 1e400, "at": 1}')
+                await ws.send_str('{"clock": 12.5}')  # a good ask: answered (a performer's link is not asked so)
+                if role == "watch":
+                    answered = json.loads((await ws.receive(timeout=5)).data)
+                    assert answered["clock"] == 12.5 and isinstance(answered["at"], float)
+
+    with caplog.at_level(logging.WARNING), in_thread(rooms) as base:
+        asyncio.run(send(base))
+    assert rooms.rooms["demo"].refused["text"] == 3 + 4  # the performer's four, the viewer's three bad ones
+    assert not [r for r in caplog.records if r.exc_info or "Traceback" in r.getMessage()]

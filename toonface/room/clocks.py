@@ -21,6 +21,7 @@ import time
 from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
+from common.limits import parse_json_message
 from stream.websocket import clock_answer
 from toonface.room.fanout import say_all
 
@@ -31,10 +32,11 @@ CLOCK_SECONDS = 2.0
 KEEP_SECONDS = 60.0
 
 
-def _reading(text: str, keys: Collection[str]) -> dict | None:
-    """``text`` as a clock message with finite numbers at ``keys``, or None where it is none."""
+def _reading(text: str | dict, keys: Collection[str]) -> dict | None:
+    """``text`` (or its JSON already parsed) as a clock message with finite numbers at ``keys``,
+    or None where it is none (parsed within :mod:`common.limits`' bounds: it comes from afar)."""
     try:
-        message = json.loads(text)
+        message = text if isinstance(text, dict) else parse_json_message(text)
     except ValueError:
         return None
     if not isinstance(message, dict) or set(message) != set(keys):
@@ -68,8 +70,9 @@ class Offsets:
         self.asked[owner] = now
         return json.dumps({"clock": round(now * 1000, 3)})
 
-    def heard(self, owner: Any, text: str) -> bool:
-        """Take ``owner``'s answer; False where ``text`` is none (or answers no ask of ours)."""
+    def heard(self, owner: Any, text: str | dict) -> bool:
+        """Take ``owner``'s answer (its text, or that parsed); False where it is none (or answers
+        no ask of ours)."""
         said = _reading(text, ("clock", "at"))
         now = self.clock()
         if said is None or not 0 <= now - said["clock"] / 1000 <= CLOCK_SECONDS * 30:

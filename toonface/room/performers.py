@@ -262,16 +262,17 @@ class PagePerformer:
 
     def take(self, message: str | bytes) -> None:
         """One message of the page (a ValueError where it is none): a frame, compact (bytes) or as
-        JSON (text), which pushes out the oldest where it finds the queue full, or
+        JSON (text), which pushes out the oldest where it finds the queue full;
         ``{"eye_contact": true, "t": ms}``: the performer looks at the middle of their screen from
-        that time, for a second (:mod:`mapping.eye_contact`)."""
+        that time, for a second (:mod:`mapping.eye_contact`); or the answer to an ask of its
+        frames' clock (:meth:`next_said`)."""
         if isinstance(message, bytes):
             frame = self.codes.frame(message, self.rest)
-        elif self.offsets.heard(self, message):  # its clock: its frames are stamped when the page saw them
-            self.source.meta["clock_start"] = -(self.offsets.offset(self) or 0.0)  # this clock at its t = 0
-            return
         else:
             parsed = parse_json_message(message)
+            if isinstance(parsed, dict) and self.offsets.heard(self, parsed):  # its frames' clock
+                self.source.meta["clock_start"] = -(self.offsets.offset(self) or 0.0)  # this clock at their t = 0
+                return
             if isinstance(parsed, dict) and parsed.get("eye_contact") is True:
                 stamp = parsed.get("t")
                 if not isinstance(stamp, int | float) or isinstance(stamp, bool) or not math.isfinite(stamp):
