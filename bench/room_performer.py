@@ -24,6 +24,7 @@ from toonface.room.threaded import in_thread
 TOKENS = {"bench": ("perform-bench-token-0123", "watch-bench-token-0123")}
 CLIP = REALDATA / "video" / "grid" / "bbaf2n.mpg"
 GOAL = 10.0
+#: Chromium's flags for a fake camera that needs no one's permission.
 FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream",
                "--autoplay-policy=no-user-gesture-required")
 COUNTS = "return [window.performer.sentBytes, window.performer.sent, window.performer.faces, performance.now()]"
@@ -31,7 +32,7 @@ COUNTS = "return [window.performer.sentBytes, window.performer.sent, window.perf
 
 def run(quick: bool = False) -> list[Figure]:
     """Measure and return the figure (see the module docstring)."""
-    why = browser_missing() or _page_missing()
+    why = browser_missing() or page_missing()
     if why:
         return [Figure("room.performer_page_kbps", 0.0, "kbit/s", None, False, {"skipped": why, "goal": GOAL})]
     from bench.fake_camera import y4m_from
@@ -59,7 +60,9 @@ def run(quick: bool = False) -> list[Figure]:
                     "camera": "shared GRID clip bbaf2n, 25 fps, looped"})]
 
 
-def _page_missing() -> str | None:
+def page_missing() -> str | None:
+    """Why the performer page cannot run here (the clip, MediaPipe's page files or its model
+    absent), or None; its browser tests skip with it too."""
     from capture.face_landmarks import model_path
     from common import InputError
     from toonface.room.browsers import web_modules

@@ -22,7 +22,7 @@ import queue
 import ssl
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from urllib.parse import urlencode, urlsplit, urlunsplit
 
 import aiohttp
@@ -35,17 +35,27 @@ RETRY_SECONDS = 0.25
 _ENDED = b""  # the server ended the connection (no packet is empty)
 
 
-def clock_answer(text: str, clock: Callable[[], float]) -> str | None:
-    """The answer to an ask of ``clock`` (``{"clock": ms}`` -> ``{"clock": ms, "at": ms}``, its
-    reading added: :mod:`toonface.room.clocks`), or None where ``text`` is no such ask."""
+def clock_reading(text: str | dict, keys: Collection[str]) -> dict | None:
+    """``text`` (or its JSON already parsed) as a clock message, finite numbers at exactly ``keys``
+    (``clock``, and ``at`` in an answer: :mod:`toonface.room.clocks`), or None where it is none;
+    parsed within :mod:`common.limits`' bounds (a deep nest from afar raised RecursionError)."""
     try:
-        asked = parse_json_message(text)  # within bounds: a deep nest from afar raised RecursionError
+        message = text if isinstance(text, dict) else parse_json_message(text)
     except ValueError:
         return None
-    if not isinstance(asked, dict) or set(asked) != {"clock"} or isinstance(asked["clock"], bool) \
-            or not isinstance(asked["clock"], int | float) or not math.isfinite(asked["clock"]):
+    if not isinstance(message, dict) or set(message) != set(keys):
         return None
-    return json.dumps({"clock": asked["clock"], "at": round(clock() * 1000, 3)})
+    if not all(isinstance(message[k], int | float) and not isinstance(message[k], bool)
+               and math.isfinite(message[k]) for k in keys):
+        return None
+    return message
+
+
+def clock_answer(text: str, clock: Callable[[], float]) -> str | None:
+    """The answer to an ask of ``clock`` (``{"clock": ms}`` -> ``{"clock": ms, "at": ms}``, its
+    reading added), or None where ``text`` is no such ask."""
+    asked = clock_reading(text, ("clock",))
+    return None if asked is None else json.dumps({"clock": asked["clock"], "at": round(clock() * 1000, 3)})
 
 
 class LinkError(OSError):

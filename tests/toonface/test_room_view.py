@@ -10,7 +10,6 @@ import dataclasses
 import json
 import re
 import zlib
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +17,8 @@ from room_pages import KEY, TOKENS, performer, settled_pictures
 from room_pages import face_png as _face_png
 from room_pages import pose as _pose
 
+from bench.room_performer import CLIP as GRID_CLIP
+from bench.room_performer import FAKE_CAMERA
 from stream.packets import StreamWriter
 from toon import FaceRig, load_face, motor_index, standard_neutral
 from toon.svg import geometry_svg
@@ -261,24 +262,12 @@ def test_the_viewer_page_fits_the_whole_face_and_its_caption_in_a_short_window()
     assert width >= 0.6 * inner_height  # fitted, not shrunk to nothing
 
 
-GRID_CLIP = Path(__file__).resolve().parents[3] / "shared" / "realdata" / "video" / "grid" / "bbaf2n.mpg"
-FAKE_CAMERA = ("--use-fake-device-for-media-stream", "--use-fake-ui-for-media-stream",
-               "--autoplay-policy=no-user-gesture-required")
-
-
 def _performer_page_needs() -> None:
-    from capture.face_landmarks import model_path
-    from common import InputError
-    from toonface.room.browsers import web_modules
+    from bench.room_performer import page_missing
 
-    if not GRID_CLIP.is_file():
-        pytest.skip(f"the shared GRID clip is absent ({GRID_CLIP})")
-    if not (web_modules() / "@mediapipe" / "tasks-vision" / "vision_bundle.mjs").is_file():
-        pytest.skip("@mediapipe/tasks-vision is not installed (make browser installs it with npm)")
-    try:
-        model_path()
-    except InputError as exc:
-        pytest.skip(str(exc))
+    why = page_missing()
+    if why:
+        pytest.skip(why)
 
 
 @pytest.mark.slow  # two Chromiums, MediaPipe in one, eight seconds of a clip: make test runs it

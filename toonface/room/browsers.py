@@ -14,8 +14,10 @@ skipped (its frames are dropped, not queued: :func:`~toonface.room.fanout.laggin
 sent what changed since the drawings it has (:meth:`~toonface.room.stage.Stage.since`), so a slow
 viewer sees the newest frame at the rate its link allows and never holds the others back (each
 message is framed once for all of them: :mod:`toonface.room.fanout`). Each second a page is told
-its link's delay, from a message's sending to its answer less half the round trip of a small
-one, which its caption adds to the stage's (capture to the server's drawing).
+its link's delay, from a message's sending to its answer (the median of the last second's: their
+sizes differ), which its caption adds to the stage's (capture to the server's drawing). The
+answer's own way back is in it: a caption errs long by that, never short (taking half a small
+message's round trip off erred short by 60 ms at 64 kbit/s, where no message crosses at once).
 
 ``/r/ROOM/perform`` is the performer page (``static/perform.html``, see
 :mod:`toonface.room.performers`); its face tracker's files are served under ``/web/``: MediaPipe's
@@ -35,6 +37,7 @@ import json
 import logging
 import math
 import os
+import statistics
 from collections import Counter, deque
 from collections.abc import Awaitable, Callable
 from importlib import resources
@@ -59,8 +62,6 @@ SHOWN = "s"
 LAG_SECONDS = 0.25
 #: A page not yet heard from after this long is one that does not answer: sent to as its link takes.
 FIRST_ANSWER_SECONDS = 3.0
-#: A message smaller than this (bytes) crosses any link at once: its answer times the round trip.
-SMALL_BYTES = 512
 #: Seconds between the words to a page of its link's delay (``{"delay_ms": ...}``).
 TELL_SECONDS = 1.0
 #: The files pages may load, and the package each comes from.
@@ -290,10 +291,9 @@ class _Viewer:
         self.transport, self.current = transport, False
         self.had: dict[int, list[str]] | None = None
         self.sent: deque[tuple[float, int]] = deque(maxlen=1024)  # each message it has not answered: when, bytes
-        self.answered: deque[tuple[float, int]] = deque()  # the last second's answers: when, the message's bytes
+        self.answered: deque[tuple[float, int, float]] = deque()  # the last second's answers: when, bytes, delay
         self.answers = 0
-        self.round_trip = 0.0  # the shortest from a small message sent to its answer (0: none yet)
-        self.delay: float | None = None  # the last answered message's, sent to shown
+        self.delay: float | None = None  # the median of the last second's answered messages', sent to shown
         self.told = -math.inf
 
     def sending(self, now: float, size: int) -> None:
@@ -305,14 +305,11 @@ class _Viewer:
         if not self.sent:
             return False
         when, size = self.sent.popleft()
-        took = now - when
         self.answers += 1
-        if size < SMALL_BYTES:  # a message that crossed the link at once: the round trip alone
-            self.round_trip = min(self.round_trip, took) if self.round_trip else took
-        self.delay = max(0.0, took - self.round_trip / 2)
-        self.answered.append((now, size))
+        self.answered.append((now, size, now - when))
         while self.answered[0][0] < now - 1.0:
             self.answered.popleft()
+        self.delay = statistics.median(delay for _, _, delay in self.answered)  # messages differ in size
         return True
 
     def behind(self, transport: asyncio.WriteTransport, now: float) -> bool:
@@ -327,7 +324,7 @@ class _Viewer:
         if not self.answers:
             return now - self.sent[0][0] < FIRST_ANSWER_SECONDS
         waiting = sum(size for _, size in self.sent)
-        return waiting > LAG_SECONDS * sum(size for _, size in self.answered)
+        return waiting > LAG_SECONDS * sum(size for _, size, _ in self.answered)
 
 
 async def serve_viewer(ws: web.WebSocketResponse, viewers: Viewers, transport: asyncio.BaseTransport | None) -> None:

@@ -21,8 +21,7 @@ import time
 from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
-from common.limits import parse_json_message
-from stream.websocket import clock_answer
+from stream.websocket import clock_answer, clock_reading
 from toonface.room.fanout import say_all
 
 #: Seconds between the server's asks of a performer's clock (and a page's of the server's).
@@ -30,21 +29,6 @@ CLOCK_SECONDS = 2.0
 #: Seconds an answer of the shortest round trip is kept before a longer one may replace it (two
 #: machines' clocks drift apart by some tens of parts in a million: a millisecond a minute).
 KEEP_SECONDS = 60.0
-
-
-def _reading(text: str | dict, keys: Collection[str]) -> dict | None:
-    """``text`` (or its JSON already parsed) as a clock message with finite numbers at ``keys``,
-    or None where it is none (parsed within :mod:`common.limits`' bounds: it comes from afar)."""
-    try:
-        message = text if isinstance(text, dict) else parse_json_message(text)
-    except ValueError:
-        return None
-    if not isinstance(message, dict) or set(message) != set(keys):
-        return None
-    if not all(isinstance(message[k], int | float) and not isinstance(message[k], bool)
-               and math.isfinite(message[k]) for k in keys):
-        return None
-    return message
 
 
 class Offsets:
@@ -73,7 +57,7 @@ class Offsets:
     def heard(self, owner: Any, text: str | dict) -> bool:
         """Take ``owner``'s answer (its text, or that parsed); False where it is none (or answers
         no ask of ours)."""
-        said = _reading(text, ("clock", "at"))
+        said = clock_reading(text, ("clock", "at"))
         now = self.clock()
         if said is None or not 0 <= now - said["clock"] / 1000 <= CLOCK_SECONDS * 30:
             return False

@@ -132,11 +132,7 @@ class Stage:
             if stream in self.offsets:  # its stamps' clock is known: the delay from capture, whatever the clocks
                 latency = self.receiver.lanes[stream].playout.latency(-self.offsets[stream])
                 quality["latency_ms"] = None if latency is None else round(latency * 1000, 1)
-            if len(lines) == len(drawn.lines):
-                delta = {i: line for i, (old, line) in enumerate(zip(drawn.lines, lines, strict=True)) if old != line}
-                changed.append({"id": stream, "lines": delta, "quality": quality})
-            else:
-                changed.append({"id": stream, "svg": svg, "quality": quality})
+            changed.append(_patch(stream, drawn.lines, lines, quality))
             whole.append({"id": stream, "svg": svg, "quality": quality})
             drawn.lines, drawn.quality = lines, quality
         gone = sorted(set(self.drawn) - here)
@@ -159,20 +155,23 @@ class Stage:
         """The last frame for a viewer whose page has the drawings ``had`` (:meth:`lines` of the
         frame it was last sent): the lines that changed since, whole drawings of performers it
         lacks, and those it has that are gone; as :meth:`frame`'s messages."""
-        performers = []
-        for stream, drawn in self.drawn.items():
-            old = had.get(stream)
-            if old is not None and len(old) == len(drawn.lines):
-                delta = {i: line for i, (was, line) in enumerate(zip(old, drawn.lines, strict=True)) if was != line}
-                performers.append({"id": stream, "lines": delta, "quality": drawn.quality})
-            else:
-                performers.append({"id": stream, "svg": "\n".join(drawn.lines), "quality": drawn.quality})
+        performers = [_patch(stream, had.get(stream, []), drawn.lines, drawn.quality)
+                      for stream, drawn in self.drawn.items()]
         return {"type": "stage", "performers": performers, "gone": sorted(set(had) - set(self.drawn)),
                 "said": self.said}
 
     def close(self) -> None:
         """Release the receiver."""
         self.receiver.close()
+
+
+def _patch(stream: int, old: list[str], lines: list[str], quality: dict) -> dict:
+    """A performer's drawing ``lines`` for a page that has ``old``: the lines that changed (by
+    index), or the whole drawing where the two differ in length (none: a newcomer)."""
+    if old and len(old) == len(lines):
+        return {"id": stream, "lines": {i: line for i, (was, line) in enumerate(zip(old, lines, strict=True))
+                                        if was != line}, "quality": quality}
+    return {"id": stream, "svg": "\n".join(lines), "quality": quality}
 
 
 def packed(message: dict) -> bytes:
