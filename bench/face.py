@@ -1,6 +1,6 @@
 """``face``: faces without markers, a real talking head (a GRID clip scaled to 640x480 H.264) on one core.
 
-``track.face_fps``: frames per second of ``track --markers face``, decode included (goal 50:
+``track.face_fps``: frames per second of ``track --markers face``, decode included (goal 120, issue 65;
 OpenSeeFace's models run at 44-68 frames/s per core).
 ``live.face_latency_ms``: median time from asking for a frame (its decode and the landmarker
 included) to its motors leaving the live mapper (goal 25 ms); the 95th percentile beside.
@@ -29,6 +29,7 @@ from mapping.stepwise import LiveMapper
 
 CLIP = REALDATA / "video" / "grid" / "bbaf2n.mpg"
 SIZE = (640, 480)
+GOAL_FPS = 120.0  # issue 65
 
 
 def run(quick: bool = False) -> list[Figure]:
@@ -45,7 +46,7 @@ def run(quick: bool = False) -> list[Figure]:
             fps, runs = median_rate(lambda: track_video(video, "face").frames, repeats)
             latencies = _latencies(video)
     detail = {"clip": CLIP.name, "size": list(SIZE), "frames": len(images), "one_core": pinned}
-    return [Figure("track.face_fps", fps, "frames/s", 50.0, True, {**detail, "runs": [round(r, 1) for r in runs]}),
+    return [Figure("track.face_fps", fps, "frames/s", GOAL_FPS, True, {**detail, "runs": [round(r, 1) for r in runs]}),
             Figure("live.face_latency_ms", statistics.median(latencies), "ms", 25.0, False,
                    {**detail, "p95_ms": round(float(np.percentile(latencies, 95)), 2)})]
 

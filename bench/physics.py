@@ -6,7 +6,7 @@ geometry, the physics, the renderer), with the face's drivers and without them (
 whole renders one after the other (each first in turn, after a warm-up), 5 passes (the median
 ratio):
 
-``physics.render_ratio.<face>``: frames a second with physics over without (goal 0.9: the issue's
+``physics.render_ratio.<face>``: frames a second with physics over without (goal 0.95, issue 65; the first issue's
 "within 10 %"); ``physics.render_ratio`` is the worst face's.
 ``physics.fps_gap``: the largest difference, over every face, between a parameter's value drawn
 at 30 and at 60 frames a second at their shared instants (goal 1e-9: the drivers are integrated
@@ -28,7 +28,7 @@ from player.offline import geometries
 from toon import FaceRig, builtin_faces, load_face
 from toonface import map_onto_face
 
-GOAL_RATIO = 0.9
+GOAL_RATIO = 0.95  # issue 65
 
 
 def run(quick: bool = False) -> list[Figure]:
