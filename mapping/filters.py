@@ -50,20 +50,29 @@ class Stepwise:
         return out.reshape(arr.shape)
 
 
+#: Channels filtered in one call by :func:`_each_channel`: scipy's forward-backward filter keeps
+#: about five copies of what it is given, which for every marker of an hour's take was gigabytes.
+CHANNELS_AT_ONCE = 12
+
+
 def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray],
                   batched: Callable[[np.ndarray], np.ndarray] | None = None) -> np.ndarray:
     """``filter_seen`` on each channel's seen samples (NaN dropped, then put back as NaN).
 
     ``x`` is ``(frames, channels)`` or ``(frames,)``; the result has its shape. ``batched``, if
-    given, filters all the channels without NaN at once (``(frames, n)`` along axis 0) and must
-    equal ``filter_seen`` on each.
+    given, filters all the channels without NaN at once, given as rows (``(n, frames)``, C order,
+    along the last axis: scipy's filters copy and transpose an axis 0 on every pass, which on a
+    long take costs more than the filtering) and must equal ``filter_seen`` on each.
     """
     arr = np.asarray(x, dtype=np.float64)
     columns = arr[:, None] if arr.ndim == 1 else arr
     out = np.full_like(columns, np.nan)
     whole = np.isfinite(columns).all(axis=0)
-    if batched is not None and whole.any():  # complete channels in one call
-        out[:, whole] = batched(columns[:, whole])
+    if batched is not None and whole.any():  # complete channels a few at a time (a long take's copies stay small)
+        complete = np.flatnonzero(whole)
+        for first in range(0, len(complete), CHANNELS_AT_ONCE):
+            part = complete[first:first + CHANNELS_AT_ONCE]
+            out[:, part] = batched(np.ascontiguousarray(columns[:, part].T)).T
     for c in np.flatnonzero(~whole) if batched is not None else range(columns.shape[1]):
         seen = np.flatnonzero(np.isfinite(columns[:, c]))
         if len(seen):
@@ -186,7 +195,7 @@ class Butterworth:
         """
         pad = 3 * (2 * len(self.sos) + 1)
         return _each_channel(x, lambda v: _signal().sosfiltfilt(self.sos, v) if len(v) > pad else v,
-                             lambda v: _signal().sosfiltfilt(self.sos, v, axis=0) if len(v) > pad else v)
+                             lambda v: _signal().sosfiltfilt(self.sos, v) if v.shape[-1] > pad else v)
 
 
 class SavitzkyGolay:

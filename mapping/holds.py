@@ -85,35 +85,41 @@ class HoldSmoother:
             columns = np.flatnonzero(whole)
             for first in range(0, len(columns), MARKERS_AT_ONCE):
                 part = columns[first:first + MARKERS_AT_ONCE]
-                out[:, part] = self._run(out[:, part], judged[part], noise[part])
+                out[:, part] = self._run(_rows(out[:, part]), judged[part], noise[part]).transpose(2, 0, 1)
         for m in np.flatnonzero(usable & ~whole):
             for start, end in gap_runs(np.asarray(np.isfinite(out[:, m]).all(axis=1))):
                 if end - start >= MIN_RUN:
-                    out[start:end, m:m + 1] = self._run(out[start:end, m:m + 1], judged[m:m + 1], noise[m:m + 1])
+                    out[start:end, m:m + 1] = self._run(_rows(out[start:end, m:m + 1]), judged[m:m + 1],
+                                                        noise[m:m + 1]).transpose(2, 0, 1)
         return out
 
     def _run(self, x: np.ndarray, judged: np.ndarray, noise: np.ndarray) -> np.ndarray:
-        """Seen stretches ``(n, K, D)`` of ``K`` markers, judged on the axes ``judged`` ``(K, D)``
-        whose noise is ``noise`` ``(K, D)``."""
+        """Seen stretches of ``K`` markers as rows ``(K, D, n)`` (C order: filtered along the last
+        axis, scipy's filters copy no transposition), judged on the axes ``judged`` ``(K, D)``
+        whose noise is ``noise`` ``(K, D)``; the same shape."""
         from scipy import ndimage
 
-        n = len(x)
         weight = judged / judged.sum(axis=1, keepdims=True)  # (K, D): the mean over the judged axes
-        scale = np.where(judged, noise, 1.0)
+        scale = np.where(judged, noise, 1.0)[..., None]
         current = x
         for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
-            heavy = _signal().sosfiltfilt(sos, x.reshape(n, -1), axis=0).reshape(x.shape)
+            heavy = _signal().sosfiltfilt(sos, x)
             diff = current - heavy
             scaled = diff / (scale * spread)
             np.square(scaled, out=scaled)
-            departure = np.sqrt(np.einsum("nkd,kd->nk", scaled, weight))  # (n, K): RMS over the judged axes
+            departure = np.sqrt(np.einsum("kdn,kd->kn", scaled, weight))  # (K, n): RMS over the judged axes
             keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
             width = max(3, int(round(0.5 * self.rate / fc)))
-            keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=0), width, axis=0)
-            diff *= keep[..., None]
+            keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=-1), width, axis=-1)
+            diff *= keep[:, None]
             heavy += diff
             current = heavy
         return current
+
+
+def _rows(markers: np.ndarray) -> np.ndarray:
+    """Markers ``(n, K, D)`` as C-ordered rows ``(K, D, n)``."""
+    return np.ascontiguousarray(markers.transpose(1, 2, 0))
 
 
 def _noise(raw: np.ndarray) -> np.ndarray:

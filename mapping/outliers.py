@@ -20,6 +20,9 @@ FACE_SPEED_MM_S = 76.6
 #: A sample at a gap's edge is judged against a line carried on from one side, whose jitter
 #: is twice that of the line between two neighbours (:func:`centred_spikes`): twice the bound.
 EDGE_FACTOR = 2.0
+#: Columns whose jitter :func:`jitter` measures at once: its differences of an hour's take are
+#: hundreds of MB a copy.
+COLUMNS_AT_ONCE = 12
 
 
 class SpeedBound(Stepwise):
@@ -326,9 +329,13 @@ def jitter(values: np.ndarray, least: int = 1) -> np.ndarray:
     columns = values.reshape(len(values), -1)
     if len(columns) < 3:
         return np.full(values.shape[1:], np.nan)
-    second = np.abs(np.diff(columns, n=2, axis=0))
-    spread = 1.4826 * column_nan_median(second) / np.sqrt(6.0)
-    return np.where(np.isfinite(second).sum(axis=0) >= least, spread, np.nan).reshape(values.shape[1:])
+    spread, counted = np.empty(columns.shape[1]), np.empty(columns.shape[1], int)
+    for first in range(0, columns.shape[1], COLUMNS_AT_ONCE):  # a few at a time: small copies
+        part = slice(first, first + COLUMNS_AT_ONCE)
+        second = np.abs(np.diff(columns[:, part], n=2, axis=0))
+        spread[part] = 1.4826 * column_nan_median(second) / np.sqrt(6.0)
+        counted[part] = np.isfinite(second).sum(axis=0)
+    return np.where(counted >= least, spread, np.nan).reshape(values.shape[1:])
 
 
 def column_nan_median(values: np.ndarray) -> np.ndarray:

@@ -93,3 +93,43 @@ def test_a_take_of_two_frames_is_cleaned_not_refused():
     assert stable.local.shape == (2, take.markers, 3) and np.isfinite(stable.local).any()
     raw = syn.take.positions[:2]
     np.testing.assert_array_equal(HoldSmoother(RATE, 8.0).smooth(raw, raw), raw)
+
+
+def _one_marker_by_the_definition(smoother: HoldSmoother, x: np.ndarray, noise: np.ndarray) -> np.ndarray:
+    """The module docstring's rule on one marker ``(F, 3)`` written plainly, frames down axis 0:
+    at each level keep the lighter low-pass where the heavier departs from it by more than its
+    noise explains (eased over half a period), the heavier one elsewhere."""
+    from scipy import ndimage, signal
+
+    current = x
+    for (fc, sos), spread in zip(smoother.levels, smoother.spreads, strict=True):
+        heavy = signal.sosfiltfilt(sos, x, axis=0)
+        departure = np.sqrt(np.mean(((current - heavy) / (noise * spread)) ** 2, axis=1))
+        keep = np.clip(departure / smoother.threshold - 1.0, 0.0, 1.0)
+        width = max(3, int(round(0.5 * RATE / fc)))
+        keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width), width)
+        current = heavy + (current - heavy) * keep[:, None]
+    return current
+
+
+def test_each_marker_is_smoothed_on_its_own_by_the_rule_whatever_the_layout():
+    """Issue 65: the smoother works on rows (markers by frames) so that scipy's filters copy no
+    transposition; its output is the rule's on each marker alone (to rounding), for markers seen
+    throughout (taken four at a time) and for one with a gap (its seen stretches alone)."""
+    from mapping.holds import _noise
+
+    rng = np.random.default_rng(5)
+    t = np.arange(1200) / RATE
+    raw = np.stack([np.stack([np.sin(t * (0.3 + m)) * (m % 3), np.cos(t * 0.7 * m), 0.02 * m * t], axis=1)
+                    for m in range(7)], axis=1) + rng.normal(0.0, 0.2, (1200, 7, 3))
+    raw[400:460, 6] = np.nan
+    plain, held = _smoothed(raw)
+    smoother, noise = HoldSmoother(RATE, 8.0), _noise(raw)
+    for m in range(6):
+        assert np.allclose(held[:, m], _one_marker_by_the_definition(smoother, plain[:, m], noise[m]),
+                           rtol=0, atol=1e-12)
+    for start, end in ((0, 400), (460, 1200)):
+        assert np.allclose(held[start:end, 6], _one_marker_by_the_definition(smoother, plain[start:end, 6], noise[6]),
+                           rtol=0, atol=1e-12)
+    assert np.isnan(held[400:460, 6]).all()
+    assert np.abs(held - plain)[np.isfinite(held)].max() > 0.01  # the holds were steadied: the rule did something
