@@ -113,8 +113,12 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows)
     rejected = 0
     if settings.spikes:
+        del positions  # made again without the spikes: a long take's copy is hundreds of MB
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
-        spikes |= centred_spikes(np.where(spikes[..., None], np.nan, first.local), take.times)
+        local = first.local  # no longer needed once the spikes are found: they are blanked in it, not in a copy
+        local[spikes] = np.nan
+        spikes |= centred_spikes(local, take.times)
+        del local
         new_references = spikes[:, rows].any(axis=1)  # frames whose head fit loses a reference
         spikes |= world_spikes
         rejected = int(spikes.sum())
@@ -123,6 +127,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         if isinstance(fit, Failure):
             return fit
         first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows)
+    del positions  # the world positions are done with
     found = markerset.match(take.labels)
     apart = [take.index(found[m]) for m in markerset.independent if m in found]
     local, filled_mask = _fill_and_smooth(first.local, take, settings, apart)
@@ -277,11 +282,12 @@ def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings,
         result = GapFiller(max_gap_seconds=settings.max_gap_seconds).apply(pos, take.times, apart or (),
                                                                            settings.progress)
         pos, filled = result.positions, result.filled
+        del result  # a long take's arrays are hundreds of MB: none kept past its use
     if settings.cutoff_hz > 0 and take.frames > 1:
         smoother = _smoother(settings, take.rate)
-        pos = smoother.smooth_offline(pos.reshape(take.frames, -1)).reshape(pos.shape)
+        pos = smoother.smooth_offline(pos.reshape(take.frames, -1), overwrite=pos is not positions).reshape(pos.shape)
         if settings.holds:
-            pos = HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions)
+            pos = HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions, overwrite=True)
     return pos, filled
 
 

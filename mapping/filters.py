@@ -56,27 +56,31 @@ CHANNELS_AT_ONCE = 12
 
 
 def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray],
-                  batched: Callable[[np.ndarray], np.ndarray] | None = None) -> np.ndarray:
+                  batched: Callable[[np.ndarray], np.ndarray] | None = None, overwrite: bool = False) -> np.ndarray:
     """``filter_seen`` on each channel's seen samples (NaN dropped, then put back as NaN).
 
     ``x`` is ``(frames, channels)`` or ``(frames,)``; the result has its shape. ``batched``, if
     given, filters all the channels without NaN at once, given as rows (``(n, frames)``, C order,
     along the last axis: scipy's filters copy and transpose an axis 0 on every pass, which on a
     long take costs more than the filtering) and must equal ``filter_seen`` on each.
+    ``overwrite``: the result may be written into ``x`` (the caller no longer needs it: a long
+    take's copy saved; each channel is read before it is written).
     """
     arr = np.asarray(x, dtype=np.float64)
     columns = arr[:, None] if arr.ndim == 1 else arr
-    out = np.full_like(columns, np.nan)
     whole = np.isfinite(columns).all(axis=0)
+    out = columns if overwrite and columns.flags.writeable else np.full_like(columns, np.nan)
     if batched is not None and whole.any():  # complete channels a few at a time (a long take's copies stay small)
         complete = np.flatnonzero(whole)
         for first in range(0, len(complete), CHANNELS_AT_ONCE):
             part = complete[first:first + CHANNELS_AT_ONCE]
             out[:, part] = batched(np.ascontiguousarray(columns[:, part].T)).T
     for c in np.flatnonzero(~whole) if batched is not None else range(columns.shape[1]):
-        seen = np.flatnonzero(np.isfinite(columns[:, c]))
+        finite = np.isfinite(columns[:, c])
+        seen = np.flatnonzero(finite)
         if len(seen):
             out[seen, c] = filter_seen(columns[seen, c])
+        out[~finite, c] = np.nan
     return out.reshape(arr.shape)
 
 
@@ -188,14 +192,15 @@ class Butterworth:
         a channel's state waits through them, as in :meth:`step`)."""
         return _each_channel(x, lambda v: _signal().sosfilt(self.sos, v, zi=self._zi_unit * v[0])[0])
 
-    def smooth_offline(self, x: np.ndarray) -> np.ndarray:
+    def smooth_offline(self, x: np.ndarray, overwrite: bool = False) -> np.ndarray:
         """Zero-phase (forward-backward) smoothing of each channel's seen samples; NaN stay NaN.
 
-        A channel with too few samples for the filter's padding is left as it is.
+        A channel with too few samples for the filter's padding is left as it is. ``overwrite``:
+        the result may be written into ``x`` (no longer needed by the caller).
         """
         pad = 3 * (2 * len(self.sos) + 1)
         return _each_channel(x, lambda v: _signal().sosfiltfilt(self.sos, v) if len(v) > pad else v,
-                             lambda v: _signal().sosfiltfilt(self.sos, v) if v.shape[-1] > pad else v)
+                             lambda v: _signal().sosfiltfilt(self.sos, v) if v.shape[-1] > pad else v, overwrite)
 
 
 class SavitzkyGolay:

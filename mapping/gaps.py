@@ -139,7 +139,7 @@ class GapFiller:
                     (long_ if partnered and not brief[start, m] else lined)[start:end, m] = True
                     continue
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True
-        out = pos.copy()
+        out = pos  # already this call's own copy
         for m in map(int, np.flatnonzero(lined.any(axis=0))):
             for start, end in gap_runs(lined[:, m]):
                 out[start:end, m] = straight_line(out[:, m], times, start, end)

@@ -69,18 +69,20 @@ class HoldSmoother:
         self.levels = [(fc, _signal().butter(2, fc, fs=rate, output="sos")) for fc in kept]
         self.spreads = _spreads(_signal().butter(2, cutoff, fs=rate, output="sos"), [sos for _, sos in self.levels])
 
-    def smooth(self, smoothed: np.ndarray, raw: np.ndarray) -> np.ndarray:
+    def smooth(self, smoothed: np.ndarray, raw: np.ndarray, overwrite: bool = False) -> np.ndarray:
         """Markers ``(F, M, D)`` smoothed by the take's low-pass (NaN where unseen), made
         steadier where they hold; ``raw`` ``(F, M, D)``: the same markers before any smoothing
-        or gap filling (NaN where not seen), to measure each one's noise on."""
+        or gap filling (NaN where not seen), to measure each one's noise on. ``overwrite``: the
+        result may be written into ``smoothed`` (a float64 array the caller no longer needs: a
+        long take's copy saved)."""
         out = np.asarray(smoothed, dtype=np.float64)
         if not self.levels or len(out) < 2:
-            return out.copy()
+            return out if overwrite else out.copy()
         noise = _noise(np.asarray(raw, dtype=np.float64))  # (M, D)
         judged = np.isfinite(noise) & (noise > 0)  # a flat axis (a 2-D tracker's depth) tells nothing
         usable = judged.any(axis=1)  # a marker never seen three times in a row, or without noise: left be
         whole = usable & np.isfinite(out).all(axis=(0, 2))
-        out = out.copy()
+        out = out if overwrite and out is smoothed else out.copy()
         if whole.any():  # every marker seen throughout (gaps filled): a few at a time (each on its own)
             columns = np.flatnonzero(whole)
             for first in range(0, len(columns), MARKERS_AT_ONCE):

@@ -31,6 +31,9 @@ from toon import MotorTrack, standard_neutral
 from toon.motors import N_CODES, N_MOTORS, code_index, extended_neutral
 
 FILLED_QUALITY = 0.5
+#: Frames :func:`motor_values` measures and normalises at once: every frame is mapped on its own,
+#: and an hour's take measured whole held gigabytes of sources side by side.
+FRAMES_AT_ONCE = 16384
 
 
 def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarray, rate: float, mapping: Mapping,
@@ -101,18 +104,29 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     if not mapping.rules:
         return values, confidence
     plan = plan or MotorPlan.of(mapping.rules, profile, columns)
-    combined, sure = rule_shares(mapping, stable, columns, quality, profile, plan)
+    combined, sure = np.empty((frames, len(mapping.rules))), np.empty((frames, len(mapping.rules)))
+    for first in range(0, frames, FRAMES_AT_ONCE):  # each frame on its own: a long take's copies stay small
+        part = slice(first, first + FRAMES_AT_ONCE)
+        combined[part], sure[part] = rule_shares(mapping, stable.frames(part), columns, quality[part], profile, plan)
     if profile.solver is not None:  # learned from a range-of-motion sweep: all motors at once (mapping.solver)
         combined, sure = solved_shares(profile.solver, mapping, stable.local, columns, quality, combined, sure)
     rest = np.asarray(neutral, dtype=float)[plan.columns]
-    # the performer's range (or a score) onto the motor's way to 0 or to 1
+    for first in range(0, frames, FRAMES_AT_ONCE):
+        part = slice(first, first + FRAMES_AT_ONCE)
+        values[part, plan.columns] = _onto_motors(combined[part], plan, rest)
+    confidence[:, plan.columns] = sure
+    return values, confidence
+
+
+def _onto_motors(combined: np.ndarray, plan: MotorPlan, rest: np.ndarray) -> np.ndarray:
+    """The rules' shares ``(F, R)`` as motor values ``(F, R)``: the performer's range (or a score)
+    onto the motor's way from ``rest`` ``(R,)`` to 0 or to 1, with each rule's gain, offset, curve
+    and clamp."""
     delta = np.where(plan.ways, np.where(combined >= 0, combined * (1.0 - rest), combined * rest), combined)
     value = rest + plan.gain * delta + plan.offset
     for r, xs, ys in plan.curves:
         value[:, r] = np.where(np.isnan(value[:, r]), np.nan, np.interp(value[:, r], xs, ys))
-    values[:, plan.columns] = _clamp_many(value, plan)
-    confidence[:, plan.columns] = sure
-    return values, confidence
+    return _clamp_many(value, plan)
 
 
 def rule_shares(mapping: Mapping, stable: Stabilised, columns: dict[str, int], quality: np.ndarray,

@@ -23,6 +23,8 @@ EDGE_FACTOR = 2.0
 #: Columns whose jitter :func:`jitter` measures at once: its differences of an hour's take are
 #: hundreds of MB a copy.
 COLUMNS_AT_ONCE = 12
+#: Frames whose centred misses :func:`_centred_misses` works out at once (as for ``COLUMNS_AT_ONCE``).
+FRAMES_AT_ONCE = 8192
 
 
 class SpeedBound(Stepwise):
@@ -279,19 +281,23 @@ def _centred_misses(x: np.ndarray, times: np.ndarray
     Where both neighbours are the next frames (nearly everywhere) the line between them comes
     from shifted views of the take; the samples beside a gap are gathered one by one."""
     frames, markers = x.shape[:2]
-    here = np.arange(frames)[:, None]
+    index = np.int32 if frames < 2**31 - 1 else np.int64  # frame numbers: half the memory of a long take's
+    here = np.arange(frames, dtype=index)[:, None]
     seen = _seen(x)
-    last_seen = np.maximum.accumulate(np.where(seen, here, -1), axis=0)
-    before = np.vstack([np.full((1, markers), -1), last_seen[:-1]])
-    next_seen = np.minimum.accumulate(np.where(seen, here, frames)[::-1], axis=0)[::-1]
-    after = np.vstack([next_seen[1:], np.full((1, markers), frames)])
+    before = np.full((frames, markers), -1, index)
+    np.maximum.accumulate(np.where(seen[:-1], here[:-1], index(-1)), axis=0, out=before[1:])
+    after = np.full((frames, markers), frames, index)
+    np.minimum.accumulate(np.where(seen[:0:-1], here[:0:-1], index(frames)), axis=0, out=after[-2::-1])
     ok = seen & (before >= 0) & (after < frames) & (here - before <= 2) & (after - here <= 2)
     adjacent = ok & (before == here - 1) & (after == here + 1)
     miss = np.zeros((frames, markers))
-    share = ((times[1:-1] - times[:-2]) / (times[2:] - times[:-2]))[:, None, None]
-    with np.errstate(invalid="ignore"):  # unseen samples: NaN, not used
-        line = x[:-2] * (1 - share) + x[2:] * share
-    miss[1:-1] = np.where(adjacent[1:-1], _length(x[1:-1] - line), 0.0)
+    for first in range(1, frames - 1, FRAMES_AT_ONCE):  # a block at a time: a long take's copies stay small
+        part = slice(first, min(first + FRAMES_AT_ONCE, frames - 1))
+        earlier, later = slice(part.start - 1, part.stop - 1), slice(part.start + 1, part.stop + 1)
+        share = ((times[part] - times[earlier]) / (times[later] - times[earlier]))[:, None, None]
+        with np.errstate(invalid="ignore"):  # unseen samples: NaN, not used
+            line = x[earlier] * (1 - share) + x[later] * share
+        miss[part] = np.where(adjacent[part], _length(x[part] - line), 0.0)
     f, m = np.nonzero(ok & ~adjacent)
     if len(f):
         b, a = before[f, m], after[f, m]

@@ -152,9 +152,10 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     rest_values = _measure_all(wanted, neutral_take.local[at_rest], columns,
                                head_angles(neutral_take.rotation[at_rest], rest),
                                {k: v[at_rest] for k, v in neutral_take.channels.items()})
-    range_values = _measure_all(wanted, range_take.local[usable], range_columns,
-                                head_angles(range_take.rotation[usable], rest),
-                                {k: v[usable] for k, v in range_take.channels.items()})
+    every = usable.all()  # the usual case: no copy of a long take's markers
+    range_values = _measure_all(wanted, range_take.local if every else range_take.local[usable], range_columns,
+                                head_angles(range_take.rotation if every else range_take.rotation[usable], rest),
+                                {k: v if every else v[usable] for k, v in range_take.channels.items()})
     if range_take.filled is not None:  # a range is what the performer was seen to do, not a gap's guess
         made_up = range_take.filled[usable]
         for i, source in enumerate(wanted):
@@ -166,7 +167,9 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
         rest_value = column_nan_median(rest_values)
         low, high = _nan_percentiles(range_values, percentiles)
-        jitter = 1.4826 * column_nan_median(np.abs(np.diff(range_values, axis=0))) / np.sqrt(2)
+        jitter = np.empty(len(wanted))
+        for part in _column_groups(len(wanted)):  # a few at a time: a long take's differences stay small
+            jitter[part] = 1.4826 * column_nan_median(np.abs(np.diff(range_values[:, part], axis=0))) / np.sqrt(2)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
     moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
@@ -257,7 +260,8 @@ def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, in
     if plain:
         rows = [columns[sources[i].markers[0]] for i in plain]
         axes = [sources[i].axis for i in plain]
-        out[:, plain] = local[:, rows, axes]
+        for first in range(0, len(local), 8192):  # a block of frames at a time: no whole-take gathered copy
+            out[first:first + 8192, plain] = local[first:first + 8192, rows, axes]
     for i, source in enumerate(sources):
         if source.kind != "marker":
             out[:, i] = measure(source, local, columns, head, channels)
@@ -274,8 +278,15 @@ def _nan_percentiles(values: np.ndarray, percentiles: tuple[float, float]) -> np
     without NaN all at once (numpy takes a NaN-aware percentile one column at a time)."""
     whole = ~np.isnan(values).any(axis=0)
     out = np.empty((len(percentiles), values.shape[1]))
-    if whole.any():
-        out[:, whole] = np.percentile(values[:, whole], percentiles, axis=0)
-    if not whole.all():
-        out[:, ~whole] = np.nanpercentile(values[:, ~whole], percentiles, axis=0)
+    for part in _column_groups(values.shape[1]):  # a few at a time: a long take's sorted copies stay small
+        complete, gapped = part[whole[part]], part[~whole[part]]
+        if len(complete):
+            out[:, complete] = np.percentile(values[:, complete], percentiles, axis=0)
+        if len(gapped):
+            out[:, gapped] = np.nanpercentile(values[:, gapped], percentiles, axis=0)
     return out
+
+
+def _column_groups(columns: int, size: int = 16) -> list[np.ndarray]:
+    """Column numbers ``0 .. columns - 1`` in groups of ``size``."""
+    return np.array_split(np.arange(columns), max(1, -(-columns // size)))

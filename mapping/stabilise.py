@@ -72,6 +72,12 @@ class Stabilised:
     filled: np.ndarray | None = None
     channels: dict[str, np.ndarray] = field(default_factory=dict)
 
+    def frames(self, part: slice) -> Stabilised:
+        """The frames ``part`` of this take (views: nothing copied)."""
+        return Stabilised(self.local[part], self.rotation[part], self.translation[part], self.ok[part], self.reference,
+                          None if self.filled is None else self.filled[part],
+                          {name: values[part] for name, values in self.channels.items()})
+
     def world(self) -> np.ndarray:
         """``local`` back in world coordinates, ``(F, M, 3)``."""
         return rotate(self.local, self.rotation) + self.translation[:, None, :]
