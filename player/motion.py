@@ -40,6 +40,7 @@ class SecondaryMotion:
         self.physics: Physics | None = physics_for(face.physics, self.codes, self.rests)
         self.track = track
         self._rows = self._track_rows(track) if track is not None and self.physics is not None else None
+        self._times = track.times if track is not None else None  # made once: each frame asks
         self._next = 0  # the next track sample to take
         self._last: float | None = None
         self._held: np.ndarray | None = None  # live: the last frame's inputs, and when they came
@@ -68,14 +69,14 @@ class SecondaryMotion:
             self.physics.reset()
             self._next, self._held, self._held_at = 0, None, None
         self._last = t
-        row = self.row(values, extra)
-        if self._rows is not None and self.track is not None:
-            times = self.track.times
+        if self._rows is not None and self._times is not None:
+            times = self._times
             while self._next < len(times) and times[self._next] <= t + 1e-9:
                 self.physics.advance(float(times[self._next]), self._rows[self._next])
                 self._next += 1
             row = self._track_row(t)  # the track's own values at t (what a frame there shows, before mixing)
         else:  # live: linear from the last frame, or after a pause (a face idle in the studio) held till just before
+            row = self.row(values, extra)
             if self._held is not None and self._held_at is not None and t - self._held_at > GAP:
                 self.physics.advance(t - GAP, self._held)
             self.physics.advance(t, row)
@@ -83,19 +84,21 @@ class SecondaryMotion:
             if not self.physics.moving():  # all but stopped: at rest exactly (a still face is drawn as still)
                 self.physics.settle()
         for param, moved in self.physics.outputs(t, row).items():
-            out[param] = float(np.clip(out.get(param, self.rests[param]) + moved, 0.0, 1.0))
+            out[param] = min(max(float(out.get(param, self.rests[param]) + moved), 0.0), 1.0)
         return out
 
     def _track_row(self, t: float) -> np.ndarray:
         """The track's input row at ``t``, linear between its samples (held beyond its ends), as
         ``np.interp`` gives it column by column."""
-        assert self._rows is not None and self.track is not None
-        times = self.track.times
+        assert self._rows is not None and self._times is not None
+        times = self._times
         k = int(np.searchsorted(times, t, side="right"))
         if k <= 0:
             return self._rows[0]
         if k >= len(times):
             return self._rows[-1]
+        if t == times[k - 1]:  # on a sample (a frame at the track's rate): that sample (finite: the line's share is 0)
+            return self._rows[k - 1]
         share = (t - times[k - 1]) / (times[k] - times[k - 1])
         return self._rows[k - 1] + (self._rows[k] - self._rows[k - 1]) * share
 

@@ -142,6 +142,7 @@ class Physics:
     _row: np.ndarray | None = None
     _state: np.ndarray = field(default_factory=lambda: np.zeros(0))
     _cache: dict = field(default_factory=dict)
+    _blas: Any = None  # threadpoolctl's controller, made with the first transition
 
     def __post_init__(self) -> None:
         used = sorted({self.codes.index(i.code) for d in self.drivers for i in d.inputs if i.code})
@@ -252,7 +253,12 @@ class Physics:
         if found is None:
             if len(self._cache) > 512:
                 self._cache.clear()
-            found = self._cache[key] = expm(self._a * h)
+            if self._blas is None:  # made once a driver set (a few ms: it looks at the loaded libraries)
+                from threadpoolctl import ThreadpoolController
+
+                self._blas = ThreadpoolController()
+            with self._blas.limit(limits=1, user_api="blas"):  # scipy's BLAS threads otherwise spin on
+                found = self._cache[key] = expm(self._a * h)  # after this 8x8 product, a second core's worth
         return found
 
 

@@ -118,3 +118,15 @@ def test_the_swing_has_settled_in_the_picture_four_seconds_after_the_turn(name):
         late = np.abs(drawn(150) - drawn(141)).mean()  # 5.0 s against 4.7 s
     assert swing > 0.5, (name, swing)  # it does swing
     assert late < 0.05, (name, late)
+
+
+def test_the_drivers_inputs_are_the_tracks_own_values_at_and_between_its_samples():
+    """What the drivers read at ``t`` is ``np.interp`` of each column, exactly: a frame on a
+    sample takes that sample, a frame between two the line between them."""
+    face = load_face("classic")
+    track = _turn(face, 1.0)
+    motion = SecondaryMotion(face, track)
+    rows = motion._track_rows(track)
+    for t in [*(k / RATE for k in range(track.frames)), 0.2 + 0.3 / RATE, 29.5 / RATE, 0.9999]:
+        expected = np.array([np.interp(t, track.times, column) for column in rows.T])
+        np.testing.assert_array_equal(motion._track_row(t), expected, err_msg=f"t = {t}")

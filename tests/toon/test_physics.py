@@ -109,3 +109,25 @@ def test_an_acceleration_input_kicks_the_spring_with_the_analytic_impulse_respon
     w = 2 * np.pi * f
     wd = w * np.sqrt(1 - d ** 2)
     np.testing.assert_allclose(shown, w ** 2 * g * speed / wd * np.exp(-d * w * times) * np.sin(wd * times), atol=1e-9)
+
+
+def test_the_transitions_exponential_runs_on_one_blas_thread(monkeypatch):
+    """Issue 65: scipy's expm of the drivers' 8x8 system left scipy's OpenBLAS threads spinning a
+    second core for as long as a render pass lasted (the physics' render cost read 0.75 in CPU
+    seconds); it runs with one BLAS thread."""
+    from threadpoolctl import threadpool_info
+
+    import toon.physics
+
+    seen = []
+    exact = toon.physics.expm
+
+    def watched(a):
+        seen.append(max((lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"), default=1))
+        return exact(a)
+
+    monkeypatch.setattr(toon.physics, "expm", watched)
+    physics = _spring()
+    physics.advance(0.0, np.array([0.1, 0.5]))
+    physics.advance(1 / 30, np.array([0.6, 0.5]))
+    assert seen == [1]
