@@ -195,3 +195,50 @@ def test_a_live_video_closed_is_the_target_and_interrupted_keeps_a_partial_besid
     for name in ("a.mp4", "b.partial-40.mp4"):
         with av.open(str(tmp_path / name)) as container:
             assert sum(1 for _ in container.decode(video=0)) == 40
+
+
+def _decoded(path) -> list[np.ndarray]:
+    with av.open(str(path)) as container:
+        return [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
+
+
+def test_encoding_on_its_own_thread_writes_the_same_video(tmp_path):
+    """Issue 65: an offline MP4 is encoded on a thread beside the drawing (retarget 15.6 -> 10 s
+    for a minute); the frames are those encoded in turn, the caller's array reused meanwhile."""
+    from player.sinks import H264Encoder
+
+    videos = {}
+    for background in (False, True):
+        path = tmp_path / f"{background}.mp4"
+        encoder = H264Encoder(path, 30.0, (64, 48), background=background)
+        reused = np.zeros((48, 64, 3), np.uint8)
+        for frame in _frames(40, (64, 48)):
+            reused[:] = frame  # one array, overwritten as soon as it was given
+            encoder.write(reused)
+        encoder.finish()
+        videos[background] = _decoded(path)
+    assert len(videos[True]) == len(videos[False]) == 40
+    for a, b in zip(videos[True], videos[False], strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(videos[True][0], videos[True][-1])
+
+
+def test_an_encoding_error_on_the_thread_is_raised_and_no_video_is_left(tmp_path, monkeypatch):
+    from player.sinks import H264Encoder
+
+    real = H264Encoder._encode
+    calls = []
+
+    def failing(self, frame):
+        calls.append(frame)
+        if len(calls) == 3:
+            raise OSError("disk full")
+        real(self, frame)
+
+    monkeypatch.setattr(H264Encoder, "_encode", failing)
+    path = tmp_path / "v.mp4"
+    with pytest.raises(OSError, match="disk full"):
+        with Mp4Sink(path, 30.0, (32, 24)) as sink:
+            for frame in _frames(30):
+                sink.write(frame)
+    assert list(tmp_path.iterdir()) == []
