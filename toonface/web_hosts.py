@@ -16,6 +16,7 @@ import contextlib
 import ipaddress
 import socket
 from collections.abc import Collection
+from typing import Any
 from urllib.parse import urlsplit
 
 #: Among a server's hosts: it listens on every interface and answers any IP address it is reached at.
@@ -109,3 +110,13 @@ def origin_allowed(origin: str, hosts: Collection[str], origins: Collection[str]
         return False
     netloc = parts.netloc if port is not None else f"{parts.netloc}:{443 if parts.scheme == 'https' else 80}"
     return host_allowed(netloc, hosts) or host_allowed(parts.netloc, hosts)
+
+
+def bearer_token(request: Any) -> str:
+    """The token a WebSocket request (aiohttp's) carries: ``Authorization: Bearer TOKEN`` (native
+    clients), or among its subprotocols, ``toonface`` and ``bearer.TOKEN`` (a page: a browser cannot
+    set a socket's headers, and may not put a token in its address); "" where it has none."""
+    if "Authorization" in request.headers:
+        return str(request.headers["Authorization"]).removeprefix("Bearer ")
+    offered = [p.strip() for p in request.headers.get("Sec-WebSocket-Protocol", "").split(",")]
+    return next((p.removeprefix("bearer.") for p in offered if p.startswith("bearer.")), "")

@@ -11,6 +11,12 @@ shortest round trip and takes the other's reading as made halfway through it, as
 half that round trip of the truth). The server tells the viewers each performer's clock less its
 own (``{"clocks": {stream: ms}}``); a page's caption then says ``delay - (its offset - the
 performer's)`` and the server's stage ``delay + the performer's``.
+
+In a room shared by several server processes (:mod:`toonface.room.pubsub`), each process publishes
+the offsets of the performers connected to it (``toonface.ROOM.c``), and the others tell their own
+viewers and their stages those as well: the processes' clocks are taken as one (processes of one
+machine share it; servers of a room on several machines should keep NTP time, which holds them
+within milliseconds).
 """
 
 from __future__ import annotations
@@ -18,9 +24,10 @@ from __future__ import annotations
 import json
 import math
 import time
-from collections.abc import Callable, Collection, Mapping
+from collections.abc import Awaitable, Callable, Collection, Mapping
 from typing import Any
 
+from common.limits import parse_json_message
 from stream.websocket import clock_answer, clock_reading
 from toonface.room.fanout import say_all
 
@@ -45,6 +52,7 @@ class Offsets:
         self.clock = clock
         self.asked: dict[Any, float] = {}
         self.best: dict[Any, tuple[float, float, float]] = {}  # owner: (round trip, offset, when), the shortest trip's
+        self.remote: dict[int, float] = {}  # the performers of the room's other processes, by stream id (s)
 
     def ask(self, owner: Any) -> str | None:
         """An ask for ``owner``'s clock where its last is :data:`CLOCK_SECONDS` old, else None."""
@@ -79,8 +87,28 @@ class Offsets:
         self.best.pop(owner, None)
 
     def by_stream(self, performers: Mapping[int, Any]) -> dict[int, float]:
-        """The offsets known of ``performers`` (stream id: its owner), by stream id, seconds."""
+        """The offsets known of ``performers`` (stream id: its owner, this process's) and of the
+        other processes' performers (:meth:`told`), by stream id, seconds."""
+        return {**self.remote, **self.local(performers)}
+
+    def local(self, performers: Mapping[int, Any]) -> dict[int, float]:
+        """The offsets known of ``performers`` (stream id: its owner) alone, by stream id, seconds."""
         return {stream: self.best[owner][1] for stream, owner in performers.items() if owner in self.best}
+
+    def told(self, data: str | bytes) -> bool:
+        """Take another process's ``{"clocks": {stream: ms}}`` of its performers; False where
+        ``data`` is none (parsed within :mod:`common.limits`' bounds)."""
+        try:
+            message = parse_json_message(data)
+        except ValueError:
+            return False
+        said = message.get("clocks") if isinstance(message, dict) and set(message) == {"clocks"} else None
+        if not isinstance(said, dict) or not all(
+                k.isdigit() and isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+                for k, v in said.items()):
+            return False
+        self.remote.update({int(k): v / 1000 for k, v in said.items()})
+        return True
 
     def own(self, owner: Any) -> None:
         """``owner``'s stream is stamped on this server's clock (a performer page's)."""
@@ -88,17 +116,24 @@ class Offsets:
 
 
 async def clock_text(ws: Any, text: str, role: str, offsets: Offsets, performers: Mapping[int, Any],
-                     viewers: Collection[Any]) -> bool:
+                     viewers: Collection[Any], share: Callable[[str], Awaitable[None]] | None = None) -> bool:
     """A text message of a connection (not a performer page's): a performer's link telling its
-    clock (the viewers are told the performers' offsets, ms) or a page asking the server's (it is
-    answered); False where it is neither."""
+    clock (the viewers are told the performers' offsets, ms; ``share``, where the room is shared,
+    is given those of this process's performers for the others) or a page asking the server's (it
+    is answered); False where it is neither."""
     if role == "perform":
         if not offsets.heard(ws, text):
             return False
-        told = {stream: round(offset * 1000, 3) for stream, offset in offsets.by_stream(performers).items()}
-        await say_all(viewers, json.dumps({"clocks": told}))
+        await say_all(viewers, _clocks(offsets.by_stream(performers)))
+        if share is not None:
+            await share(_clocks(offsets.local(performers)))
         return True
     answered = clock_answer(text, offsets.clock)
     if answered is not None:
         await ws.send_str(answered)
     return answered is not None
+
+
+def _clocks(offsets: Mapping[int, float]) -> str:
+    """The viewers' message of ``offsets`` (seconds, by stream id): ``{"clocks": {stream: ms}}``."""
+    return json.dumps({"clocks": {stream: round(offset * 1000, 3) for stream, offset in offsets.items()}})

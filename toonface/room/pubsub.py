@@ -13,6 +13,8 @@ is published on ``toonface.ROOM.r`` and reaches the process that has it. Each me
 sender process's 8-byte id and the packet, so a process skips its own; ``ROOM`` is the room's name
 in hexadecimal (a subject's tokens may not hold dots or spaces). A room's tokens are agreed on
 ``toonface.ROOM.t`` (:meth:`Bus.agree`): the first server's hold for every server of the room.
+Performers who left are said on ``toonface.ROOM.g``, and the clocks of each process's performers
+on ``toonface.ROOM.c`` (:mod:`toonface.room.clocks`).
 """
 
 from __future__ import annotations
@@ -51,6 +53,8 @@ class Bus:
         ``await on_reply(room, data)``: a viewer's reply from another process.
     on_gone : callable, optional
         ``await on_gone(room, data)``: another process's word that performers left (``g``).
+    on_clocks : callable, optional
+        ``await on_clocks(room, data)``: another process's performers' clocks (``c``).
     say : callable
         Told, in a line, when the NATS server is lost (the rooms are then this process's alone)
         and when it is back.
@@ -59,9 +63,10 @@ class Bus:
     def __init__(self, url: str, on_packet: Callable[[str, bytes], Awaitable[None]],
                  on_reply: Callable[[str, bytes], Awaitable[None]],
                  say: Callable[[str], None] = lambda _: None,
-                 on_gone: Callable[[str, bytes], Awaitable[None]] | None = None) -> None:
+                 on_gone: Callable[[str, bytes], Awaitable[None]] | None = None,
+                 on_clocks: Callable[[str, bytes], Awaitable[None]] | None = None) -> None:
         self.url, self.on_packet, self.on_reply, self.say = url, on_packet, on_reply, say
-        self.on_gone = on_gone
+        self.on_gone, self.on_clocks = on_gone, on_clocks
         self.where = shown(url)  # (what is said of it: never its credentials)
         self.origin = secrets.token_bytes(8)
         self.client: Any = None
@@ -102,6 +107,8 @@ class Bus:
             await self.client.subscribe(subject(name, "r"), cb=self._handler(name, self.on_reply))
             if self.on_gone is not None:
                 await self.client.subscribe(subject(name, "g"), cb=self._handler(name, self.on_gone))
+            if self.on_clocks is not None:
+                await self.client.subscribe(subject(name, "c"), cb=self._handler(name, self.on_clocks))
         await self.client.flush(timeout)
 
     async def agree(self, tokens: dict[str, tuple[str, str]], timeout: float = 1.0) -> dict[str, tuple[str, str]]:
@@ -137,7 +144,8 @@ class Bus:
         return handle
 
     async def publish(self, room: str, kind: str, data: bytes) -> None:
-        """Send a packet (``p``), a reply (``r``) or a departure (``g``) of ``room`` to the other processes."""
+        """Send a packet (``p``), a reply (``r``), a departure (``g``) or clocks (``c``) of ``room`` to the
+        other processes."""
         if self.client is not None and self.client.is_connected:
             await self.client.publish(subject(room, kind), self.origin + data)
             self.published += 1

@@ -9,7 +9,8 @@ viewer's replies (acknowledgements, keyframe requests) to the performer of the s
 Safety, each counted in :attr:`Room.refused` (or the server's, before a room is known):
 
 - tokens compared in constant time; a wrong one is refused with 403; a token rides in a header,
-  never in an address a proxy or access log records (:func:`_token`; one in a query is refused);
+  never in an address a proxy or access log records (:func:`~toonface.web_hosts.bearer_token`; one
+  in a query is refused);
   a page asks :func:`_check` whether its token was the trouble (a browser hides the status);
 - rooms exist only as declared (:class:`Rooms`; the pages answer alike for one that does not);
   performers and viewers per room are capped;
@@ -48,7 +49,7 @@ from toonface.room.clocks import Offsets, clock_text
 from toonface.room.fanout import keep_unsent_small, say_all, send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer, PageSocket
 from toonface.room.pubsub import Bus
-from toonface.web_hosts import origin_allowed
+from toonface.web_hosts import bearer_token, origin_allowed
 
 
 @dataclass
@@ -137,7 +138,8 @@ class Rooms:
 
 
 ROOMS = web.AppKey("rooms", Rooms)
-#: The subprotocol a room's sockets speak; a page offers ``bearer.TOKEN`` beside it (:func:`_token`).
+#: The subprotocol a room's sockets speak; a page offers ``bearer.TOKEN`` beside it
+#: (:func:`~toonface.web_hosts.bearer_token`).
 PROTOCOL = "toonface"
 
 
@@ -188,7 +190,12 @@ async def _join_bus(app: web.Application) -> None:
     async def gone(name: str, data: bytes) -> None:  # another process's performer left
         await _gone(rooms.rooms[name], rooms, json.loads(data)["gone"], shared=False)
 
-    rooms.bus = Bus(rooms.pubsub, packet, reply, rooms.say, gone)
+    async def clocks(name: str, data: bytes) -> None:  # another process's performers' clocks: for the stage and pages
+        room = rooms.rooms[name]
+        if room.offsets.told(data):
+            await say_all(room.viewers, data.decode())
+
+    rooms.bus = Bus(rooms.pubsub, packet, reply, rooms.say, gone, clocks)
     await rooms.bus.start(list(rooms.rooms))
     agreed = await rooms.bus.agree({name: (r.perform_token, r.watch_token) for name, r in rooms.rooms.items()})
     for name, (perform, watch) in agreed.items():  # one set of tokens per shared room: the first server's
@@ -204,16 +211,6 @@ async def _leave_bus(app: web.Application) -> None:
     if rooms.bus is not None:
         await rooms.bus.close()
         rooms.bus = None
-
-
-def _token(request: web.Request) -> str:
-    """The token a socket's request carries: ``Authorization: Bearer TOKEN`` (native clients), or
-    among its subprotocols, ``toonface`` and ``bearer.TOKEN`` (a page: a browser cannot set a
-    socket's headers, and may not put a token in its address)."""
-    if "Authorization" in request.headers:
-        return request.headers["Authorization"].removeprefix("Bearer ")
-    offered = [p.strip() for p in request.headers.get("Sec-WebSocket-Protocol", "").split(",")]
-    return next((p.removeprefix("bearer.") for p in offered if p.startswith("bearer.")), "")
 
 
 async def _check(request: web.Request) -> web.Response:
@@ -239,7 +236,7 @@ async def _socket(request: web.Request) -> web.StreamResponse:
         rooms.refused["token"] += 1
         raise web.HTTPBadRequest(text="a token goes in the Authorization header (or a page's subprotocol), never "
                                       "in the address: proxies and access logs record addresses\n")
-    token = _token(request)
+    token = bearer_token(request)
     role = request.query.get("role", "watch")
     admitted = rooms.admit(request.match_info["room"], role, token)
     if isinstance(admitted, str):
@@ -334,7 +331,9 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
             room.refused["flood"] += 1
             continue
         if message.type == WSMsgType.TEXT and page is None:  # clocks (toonface.room.clocks)
-            if not await clock_text(ws, message.data, role, room.offsets, room.performers, room.viewers):
+            bus = rooms.bus
+            share = (lambda said: bus.publish(room.name, "c", said.encode())) if bus is not None else None
+            if not await clock_text(ws, message.data, role, room.offsets, room.performers, room.viewers, share):
                 room.refused["text"] += 1
             continue
         if page is not None:
