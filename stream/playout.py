@@ -100,6 +100,7 @@ class Playout:
         self.ease_after, self.ease_seconds = ease_after, ease_seconds
         self.stats = PlayoutStats()
         self.delay: float | None = None  # seconds behind the sender's clock (its offset included)
+        self.offset = 0.0  # this clock less the sender's (s), where known (stream.clocks): what latency() takes out
         self._needed = 0.0  # the delay the recent frames need (see _needed_delay)
         self.position = 0.0  # the stream frame (fractional index) shown last
         self.rate = 60.0
@@ -241,7 +242,7 @@ class Playout:
         if self.shown is not None:
             self._tell_shown(index, value, state == "live")
         setattr(self.stats, state, getattr(self.stats, state) + 1)
-        latency = self.latency()
+        latency = self.latency(self.offset)
         if latency is not None:
             self.stats.latencies.append(latency)
         return value.copy(), state

@@ -148,6 +148,7 @@ class StreamReceiver:
         """The face to show now (see :meth:`Playout.values_at`): the 21 motors and the stream's
         parameters beyond them (:meth:`extra_shown` names them)."""
         with self._lock:
+            self._clock_offsets()
             values, state = self.playout.values_at(self.clock() if now is None else now)
             self._shown = values
             return values, state
@@ -165,6 +166,7 @@ class StreamReceiver:
         """Each performer's stream id, the face to show now ``(21,)``, the seconds since its last
         packet and its parameters beyond the 21 by code, in the order they first came."""
         with self._lock:
+            self._clock_offsets()
             now = self.clock() if now is None else now
             out = []
             for stream, lane in self.lanes.items():
@@ -173,6 +175,17 @@ class StreamReceiver:
                 out.append((stream, row[:N_MOTORS], now - lane.arrived,
                             dict(zip(codes, row[N_MOTORS:].tolist(), strict=True))))
             return out
+
+    def _clock_offsets(self) -> None:
+        """Each performer's playout told this clock less its sender's, where a room's link knows it
+        (:meth:`stream.websocket.WebSocketLink.clock_offset`): its latency then counts from the
+        capture whatever the machines' clocks."""
+        offset_of = getattr(self.sock, "clock_offset", None)
+        if offset_of is None:
+            return
+        for stream, lane in self.lanes.items():
+            if (offset := offset_of(stream)) is not None:
+                lane.playout.offset = offset
 
     def counters_by_stream(self) -> dict[int, dict]:
         """Each performer's counters (:func:`counters`), by stream id."""

@@ -16,46 +16,21 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import json
-import math
 import queue
 import ssl
 import threading
 import time
-from collections.abc import Callable, Collection
+from collections.abc import Callable
 from urllib.parse import urlencode, urlsplit, urlunsplit
 
 import aiohttp
 
-from common.limits import parse_json_message
+from stream.clocks import Offsets, clock_answer, performer_clocks
 from stream.framing import MAX_PACKET
 
 #: Seconds between tries to connect again once a connection broke.
 RETRY_SECONDS = 0.25
 _ENDED = b""  # the server ended the connection (no packet is empty)
-
-
-def clock_reading(text: str | dict, keys: Collection[str]) -> dict | None:
-    """``text`` (or its JSON already parsed) as a clock message, finite numbers at exactly ``keys``
-    (``clock``, and ``at`` in an answer: :mod:`toonface.room.clocks`), or None where it is none;
-    parsed within :mod:`common.limits`' bounds (a deep nest from afar raised RecursionError)."""
-    try:
-        message = text if isinstance(text, dict) else parse_json_message(text)
-    except ValueError:
-        return None
-    if not isinstance(message, dict) or set(message) != set(keys):
-        return None
-    if not all(isinstance(message[k], int | float) and not isinstance(message[k], bool)
-               and math.isfinite(message[k]) for k in keys):
-        return None
-    return message
-
-
-def clock_answer(text: str, clock: Callable[[], float]) -> str | None:
-    """The answer to an ask of ``clock`` (``{"clock": ms}`` -> ``{"clock": ms, "at": ms}``, its
-    reading added), or None where ``text`` is no such ask."""
-    asked = clock_reading(text, ("clock",))
-    return None if asked is None else json.dumps({"clock": asked["clock"], "at": round(clock() * 1000, 3)})
 
 
 class LinkError(OSError):
@@ -75,8 +50,10 @@ class WebSocketLink:
         A certificate (PEM) to trust for ``wss://`` beside the system's: a room server's own,
         self-signed one.
     clock : callable
-        The clock a performer's packets are stamped with (the sender's), which the room server
-        asks for to tell the viewers how far it is from theirs (:func:`clock_answer`).
+        A performer's: the clock its packets are stamped with (the sender's), which the room server
+        asks for to tell the viewers how far it is from theirs (:func:`~stream.clocks.clock_answer`).
+        A viewer's: the clock its packets' arrivals are read on (the receiver's), which it compares
+        with the server's, so that :meth:`clock_offset` tells how far it is from each performer's.
     """
 
     def __init__(self, url: str, token: str, role: str, timeout: float = 10.0, ca_file: str | None = None,
@@ -102,6 +79,8 @@ class WebSocketLink:
         self.closed = threading.Event()
         self._stopping = False
         self.dropped = 0  # packets that came while nobody took them (the incoming queue full)
+        self.offsets = Offsets(clock)  # a viewer's: the server's clock less ours (stream.clocks)
+        self.performers: dict[int, float] = {}  # each performer's clock less the server's (s), as it told
         self.reconnects = 0  # connections made again after one broke
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
@@ -117,6 +96,12 @@ class WebSocketLink:
         if not self.closed.is_set() and self._outgoing is not None:
             with contextlib.suppress(RuntimeError):  # the loop ended between the check and the call
                 self._loop.call_soon_threadsafe(self._outgoing.put_nowait, data)
+
+    def clock_offset(self, stream: int) -> float | None:
+        """A viewer's clock less the clock of ``stream``'s performer (seconds), where the server
+        told that performer's and answered an ask of its own; else None."""
+        server, performer = self.offsets.offset("server"), self.performers.get(stream)
+        return None if server is None or performer is None else -server - performer
 
     def receive(self, timeout: float = 0.0) -> bytes | None:
         """The next packet from the server, waiting up to ``timeout`` seconds (None if none came)."""
@@ -217,6 +202,11 @@ class WebSocketLink:
                 told = clock_answer(message.data, self.clock)  # the room server asks the clock we stamp with
                 if told is not None:
                     await ws.send_str(told)
+            elif message.type == aiohttp.WSMsgType.TEXT:  # a viewer's: the server's answer, the performers' clocks
+                if not self.offsets.heard("server", message.data):
+                    self.performers.update(performer_clocks(message.data) or {})
+            if self.role != "perform" and (ask := self.offsets.ask("server")) is not None:  # every 2 s
+                await ws.send_str(ask)
             if message.type == aiohttp.WSMsgType.BINARY:
                 try:
                     self._incoming.put_nowait(message.data)

@@ -18,9 +18,8 @@ import numpy as np
 import pytest
 from room_pages import TOKENS, performer
 
-from stream.websocket import clock_answer
+from stream.clocks import CLOCK_SECONDS, Offsets, clock_answer
 from toon import motor_index, standard_neutral
-from toonface.room.clocks import CLOCK_SECONDS, Offsets
 from toonface.room.server import Rooms
 from toonface.room.threaded import in_thread
 
@@ -232,3 +231,30 @@ def test_a_hostile_text_where_a_clock_is_expected_is_refused_without_a_traceback
         asyncio.run(send(base))
     assert rooms.rooms["demo"].refused["text"] == 3 + 4  # the performer's four, the viewer's three bad ones
     assert not [r for r in caplog.records if r.exc_info or "Traceback" in r.getMessage()]
+
+
+@pytest.mark.slow  # six seconds of a performer: make test runs it
+def test_a_native_viewers_latency_counts_from_the_capture_on_another_machines_clock():
+    """Issue 70: ``receive`` through a room read its latency as arrival less the sender's stamp,
+    which between machines is the clocks' difference (here 1000 s: no figure at all). Its link now
+    asks the server's clock and hears the performers' (stream.clocks), as a page does."""
+    from stream.playout import Playout
+    from stream.receiver import StreamReceiver
+    from stream.websocket import WebSocketLink
+
+    with in_thread(Rooms(TOKENS, face="cat")) as base, \
+            performer(base, 0x2A, motion=_motion, clock_ahead=AHEAD) as linked:
+        link = WebSocketLink(f"{base}/r/demo", TOKENS["demo"][1], "watch")
+        with StreamReceiver(("127.0.0.1", 0), Playout(standard_neutral()), link=link) as receiver:
+            linked.start()
+            end, ages, packets = time.time() + 6.0, [], 0
+            while time.time() < end:
+                packets += 1
+                receiver.wait_for_packets(packets, timeout=0.2)  # drawn as packets come (30 a second)
+                values, state = receiver.values_at()
+                if state == "live" and time.time() > end - 2.0:  # the clocks asked (every 2 s) by then
+                    ages.append(_age(float(values[motor_index("MB")]), linked.started))
+            latencies = list(receiver.playout.stats.latencies)[-len(ages):]
+    assert ages and len(latencies) == len(ages)  # before: none (the stamps' clock 1000 s away)
+    assert abs(np.median(latencies) - np.median(ages)) < 0.1, (np.median(latencies), np.median(ages))
+    assert link.clock_offset(0x2A) == pytest.approx(-AHEAD, abs=0.05)

@@ -46,9 +46,9 @@ from typing import Any, Protocol
 
 from aiohttp import WSMsgType, web
 
+from stream.clocks import Offsets
 from stream.framing import StreamKey
 from toon import Face
-from toonface.room.clocks import Offsets
 from toonface.room.fanout import frame_of, lagging, send_all
 from toonface.room.stage import VIEW_FPS, Stage, packed
 

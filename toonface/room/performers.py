@@ -60,11 +60,11 @@ from capture.listening import head_references, lost, posed
 from capture.sources import Frame, Source
 from common.limits import parse_json_message
 from mapping.eye_contact import LiveEyeContact
+from stream.clocks import Offsets
 from stream.framing import StreamKey
 from stream.packets import StreamWriter
 from stream.sender import StreamSender
 from toon import standard_neutral
-from toonface.room.clocks import Offsets
 
 #: The largest message a performer page may send (a frame is about 1.5 kB).
 MAX_MESSAGE = 8192
@@ -293,7 +293,7 @@ class PagePerformer:
     def next_said(self) -> str | None:
         """The oldest message for the page it has not been sent (text: JSON), or None: what the
         mapping said (``{"said": ...}``), then an ask of its clock, every
-        :data:`~toonface.room.clocks.CLOCK_SECONDS`."""
+        :data:`~stream.clocks.CLOCK_SECONDS`."""
         try:
             return json.dumps({"said": self.said.get_nowait()})
         except queue.Empty:

@@ -150,6 +150,10 @@ class Bus:
             await self.client.publish(subject(room, kind), self.origin + data)
             self.published += 1
 
+    async def publish_text(self, room: str, kind: str, text: str) -> None:
+        """:meth:`publish` of a text (UTF-8)."""
+        await self.publish(room, kind, text.encode())
+
     async def close(self, timeout: float = 2.0) -> None:
         """Let what is pending go, and disconnect: at once where the NATS server is away (nothing
         pending can go; a drain would fail), never with an error."""

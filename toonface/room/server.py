@@ -37,15 +37,17 @@ import time
 from collections import Counter
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 from aiohttp import WSMsgType, web
 
 from common.limits import HEADER_TIMEOUT_SECONDS
+from stream.clocks import Offsets
 from stream.framing import MAX_PACKET, StreamKey, peek_stream, stream_key
 from toon import Face, load_face
 from toonface.room.browsers import Viewers, add_pages, serve_viewer
-from toonface.room.clocks import Offsets, clock_text
+from toonface.room.clocks import clock_text
 from toonface.room.fanout import keep_unsent_small, say_all, send_all
 from toonface.room.performers import MAX_MESSAGE, PagePerformer, PageSocket
 from toonface.room.pubsub import Bus
@@ -331,8 +333,7 @@ async def _serve(ws: web.WebSocketResponse, room: Room, rooms: Rooms, role: str,
             room.refused["flood"] += 1
             continue
         if message.type == WSMsgType.TEXT and page is None:  # clocks (toonface.room.clocks)
-            bus = rooms.bus
-            share = (lambda said: bus.publish(room.name, "c", said.encode())) if bus is not None else None
+            share = None if rooms.bus is None else partial(rooms.bus.publish_text, room.name, "c")
             if not await clock_text(ws, message.data, role, room.offsets, room.performers, room.viewers, share):
                 room.refused["text"] += 1
             continue
