@@ -20,8 +20,8 @@ FACE_SPEED_MM_S = 76.6
 #: A sample at a gap's edge is judged against a line carried on from one side, whose jitter
 #: is twice that of the line between two neighbours (:func:`centred_spikes`): twice the bound.
 EDGE_FACTOR = 2.0
-#: Columns whose jitter :func:`jitter` measures at once: its differences of an hour's take are
-#: hundreds of MB a copy.
+#: Columns worked on at once (:func:`column_groups`: :func:`jitter`'s differences, the profile's
+#: percentiles): a whole-take copy of every column of an hour's take is hundreds of MB.
 COLUMNS_AT_ONCE = 12
 #: Frames whose centred misses :func:`_centred_misses` works out at once (as for ``COLUMNS_AT_ONCE``).
 FRAMES_AT_ONCE = 8192
@@ -336,12 +336,17 @@ def jitter(values: np.ndarray, least: int = 1) -> np.ndarray:
     if len(columns) < 3:
         return np.full(values.shape[1:], np.nan)
     spread, counted = np.empty(columns.shape[1]), np.empty(columns.shape[1], int)
-    for first in range(0, columns.shape[1], COLUMNS_AT_ONCE):  # a few at a time: small copies
-        part = slice(first, first + COLUMNS_AT_ONCE)
+    for part in column_groups(columns.shape[1]):  # a few at a time: small copies
         second = np.abs(np.diff(columns[:, part], n=2, axis=0))
         spread[part] = 1.4826 * column_nan_median(second) / np.sqrt(6.0)
         counted[part] = np.isfinite(second).sum(axis=0)
     return np.where(counted >= least, spread, np.nan).reshape(values.shape[1:])
+
+
+def column_groups(columns: int) -> list[np.ndarray]:
+    """Column numbers ``0 .. columns - 1`` in groups of at most :data:`COLUMNS_AT_ONCE`: a long
+    take's per-column work a few columns at a time keeps its copies small."""
+    return np.array_split(np.arange(columns), max(1, -(-columns // COLUMNS_AT_ONCE)))
 
 
 def column_nan_median(values: np.ndarray) -> np.ndarray:

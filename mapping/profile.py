@@ -22,7 +22,7 @@ import numpy as np
 
 from common import Failure, read_versioned, resolve_builtin, write_document
 from common.validate import Validator
-from mapping.outliers import column_nan_median
+from mapping.outliers import FRAMES_AT_ONCE, column_groups, column_nan_median
 from mapping.solver import Solver
 from mapping.sources import Source, head_angles, measure, mm_scale
 from mapping.stabilise import Stabilised, nearest_rotation
@@ -168,7 +168,7 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         rest_value = column_nan_median(rest_values)
         low, high = _nan_percentiles(range_values, percentiles)
         jitter = np.empty(len(wanted))
-        for part in _column_groups(len(wanted)):  # a few at a time: a long take's differences stay small
+        for part in column_groups(len(wanted)):  # a few at a time: a long take's differences stay small
             jitter[part] = 1.4826 * column_nan_median(np.abs(np.diff(range_values[:, part], axis=0))) / np.sqrt(2)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
@@ -260,8 +260,8 @@ def _measure_all(sources: list[Source], local: np.ndarray, columns: dict[str, in
     if plain:
         rows = [columns[sources[i].markers[0]] for i in plain]
         axes = [sources[i].axis for i in plain]
-        for first in range(0, len(local), 8192):  # a block of frames at a time: no whole-take gathered copy
-            out[first:first + 8192, plain] = local[first:first + 8192, rows, axes]
+        for first in range(0, len(local), FRAMES_AT_ONCE):  # a block of frames at a time: no whole-take copy
+            out[first:first + FRAMES_AT_ONCE, plain] = local[first:first + FRAMES_AT_ONCE, rows, axes]
     for i, source in enumerate(sources):
         if source.kind != "marker":
             out[:, i] = measure(source, local, columns, head, channels)
@@ -278,15 +278,10 @@ def _nan_percentiles(values: np.ndarray, percentiles: tuple[float, float]) -> np
     without NaN all at once (numpy takes a NaN-aware percentile one column at a time)."""
     whole = ~np.isnan(values).any(axis=0)
     out = np.empty((len(percentiles), values.shape[1]))
-    for part in _column_groups(values.shape[1]):  # a few at a time: a long take's sorted copies stay small
+    for part in column_groups(values.shape[1]):  # a few at a time: a long take's sorted copies stay small
         complete, gapped = part[whole[part]], part[~whole[part]]
         if len(complete):
             out[:, complete] = np.percentile(values[:, complete], percentiles, axis=0)
         if len(gapped):
             out[:, gapped] = np.nanpercentile(values[:, gapped], percentiles, axis=0)
     return out
-
-
-def _column_groups(columns: int, size: int = 16) -> list[np.ndarray]:
-    """Column numbers ``0 .. columns - 1`` in groups of ``size``."""
-    return np.array_split(np.arange(columns), max(1, -(-columns // size)))

@@ -57,8 +57,7 @@ def clock_answer(text: str, clock: Callable[[], float]) -> str | None:
     return None if asked is None else json.dumps({"clock": asked["clock"], "at": round(clock() * 1000, 3)})
 
 
-
-#: Seconds between the server's asks of a performer's clock (and a page's of the server's).
+#: Seconds between the server's asks of a performer's clock (and a page's or viewer's of the server's).
 CLOCK_SECONDS = 2.0
 #: Seconds an answer of the shortest round trip is kept before a longer one may replace it (two
 #: machines' clocks drift apart by some tens of parts in a million: a millisecond a minute).
@@ -66,13 +65,15 @@ KEEP_SECONDS = 60.0
 
 
 class Offsets:
-    """Each performer connection's clock less this server's (seconds), from its link's answers to
-    :meth:`ask` (see the module docstring).
+    """Each other end's clock less this one's (seconds), from its answers to :meth:`ask` (see the
+    module docstring): the room server's of each performer's link (an owner each), a viewer's link's
+    of the server (owner ``"server"``); and (:meth:`told`) the performers of a room's other server
+    processes, by stream id.
 
     Parameters
     ----------
     clock : callable
-        This server's clock, seconds.
+        This end's clock, seconds.
     """
 
     def __init__(self, clock: Callable[[], float] = time.perf_counter) -> None:

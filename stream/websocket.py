@@ -165,6 +165,8 @@ class WebSocketLink:
                     async with session.ws_connect(self.url, headers=headers, max_msg_size=MAX_PACKET, heartbeat=20.0,
                                                   ssl=self._ssl) as ws:
                         self.reconnects += connected
+                        if connected:  # another server process may keep another clock: asked afresh
+                            self.offsets.forget("server")
                         connected = True
                         self._ready.set()
                         await asyncio.gather(self._pump_out(ws), self._pump_in(ws))

@@ -4,8 +4,9 @@ both can say how old the face it shows is.
 A stream's packets are stamped on the performer's clock and a page shows them on its own; the
 delay it sees is the true one plus the difference of the two clocks, which between machines can be
 anything (the captions said "latency –" there). So the server asks each performer's link for its
-clock every :data:`~stream.clocks.CLOCK_SECONDS` (``{"clock": ms}``, answered ``{"clock": ms, "at": ms}``: the
-server's reading sent back, and the performer's, on the clock it stamps packets with), and answers
+clock every :data:`~stream.clocks.CLOCK_SECONDS` (``{"clock": ms}``, answered ``{"clock": ms,
+"at": ms}``: the server's reading sent back, and the performer's, on the clock it stamps packets
+with; :mod:`stream.clocks`), and answers
 a page's own ``{"clock": ms}`` the same way with its own. Each asking side keeps the answer of the
 shortest round trip and takes the other's reading as made halfway through it, as NTP does (within
 half that round trip of the truth). The server tells the viewers each performer's clock less its
