@@ -61,6 +61,7 @@ def _columns(codes: tuple[str, ...]) -> list[int]:
     return [MOTOR_CODES.index(code) for code in codes]
 
 
+@pytest.mark.slow  # four seconds: make test runs it, test-fast does not
 def test_screen_looks_centre_and_looks_away_follow():
     truth, at_screen = _performer()
     pupils = _columns(PUPILS)

@@ -57,6 +57,7 @@ def test_the_cues_are_the_pauses_and_accents_put_there():
     assert cues.speaking[accents].all() and not cues.speaking[np.array(pauses) + 20].any()
 
 
+@pytest.mark.slow  # five seconds: make test runs it, test-fast does not
 def test_blinks_come_as_often_as_asked_fewer_while_speaking_and_at_pauses():
     """Ten minutes of silence blink near 17 a minute (less the second after each blink, when none
     comes); a voice's phrases near 8 a minute; and most pauses start with a blink."""

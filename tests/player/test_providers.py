@@ -21,6 +21,7 @@ def _times(seconds: float, start: float = 0.0):
     return [start + k * STEP for k in range(int(round(seconds / STEP)))]
 
 
+@pytest.mark.slow  # thirteen seconds of idle face: make test runs it, test-fast does not
 def test_the_idle_face_blinks_at_its_rate_breathes_and_looks_about(face):
     """The idle face is the life layer in silence: blinks at the rate asked, never two within a
     second, breathing, fixations with quick saccades, the eyes together, the same with one seed."""
