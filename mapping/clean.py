@@ -40,7 +40,8 @@ from mapping.gap_fit import straight_line
 from mapping.gaps import GapFiller, gap_runs
 from mapping.holds import HoldSmoother
 from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
-from mapping.outliers import SpikeFilter, centred_spikes, jitter
+from mapping.outliers import SpikeFilter, centred_spikes
+from mapping.robust import jitter
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
     Stabilised,

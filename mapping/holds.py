@@ -24,7 +24,7 @@ from types import ModuleType
 import numpy as np
 
 from mapping.gaps import gap_runs
-from mapping.outliers import jitter
+from mapping.robust import jitter
 
 #: The heavier low-passes, Hz, tried one after another where a marker holds (each used only
 #: below the take's own cut-off), an octave apart. Against (2, 0.7): the third bench

@@ -22,7 +22,8 @@ import numpy as np
 
 from common import Failure, read_versioned, resolve_builtin, write_document
 from common.validate import Validator
-from mapping.outliers import FRAMES_AT_ONCE, column_groups, column_nan_median
+from mapping.outliers import FRAMES_AT_ONCE
+from mapping.robust import column_groups, column_nan_median
 from mapping.solver import Solver
 from mapping.sources import Source, head_angles, measure, mm_scale
 from mapping.stabilise import Stabilised, nearest_rotation

@@ -9,7 +9,7 @@ import numpy as np
 
 from common import Failure
 from common.rotations import best_rotation, rigid_fit, rotate
-from mapping.outliers import jitter
+from mapping.robust import jitter
 
 
 def nearest_rotation(matrices: np.ndarray) -> np.ndarray:
@@ -344,7 +344,7 @@ def steady_count(values: np.ndarray, errors: float = STEADY_ERRORS) -> int:
     means' intervals (each mean ± ``errors`` standard errors) still share a point in every
     column, the noise measured from the rows' second differences (the intersection of
     confidence intervals rule of Goldenshluger & Nemirovski, 1997; the noise by
-    :func:`mapping.outliers.jitter`). Noisy rows that hold steady
+    :func:`mapping.robust.jitter`). Noisy rows that hold steady
     are all averaged; rows that drift more than their noise explains stop it early. One with
     fewer than five rows (too few to tell noise from drift).
 

@@ -9,7 +9,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from common.rotations import best_rotation
-from mapping.outliers import SpikeFilter, centred_spikes, nan_median
+from mapping.outliers import SpikeFilter, centred_spikes
+from mapping.robust import nan_median
 from mapping.stabilise import express, fit_head, refit_head, stabilise
 
 
@@ -201,7 +202,7 @@ def test_refitting_only_the_frames_that_lost_a_reference_equals_fitting_again():
 
 @pytest.mark.parametrize("frames", [1, 2, 3, 10, 500])
 def test_column_nan_median_is_numpys(frames):
-    from mapping.outliers import column_nan_median
+    from mapping.robust import column_nan_median
 
     rng = np.random.default_rng(frames)
     values = rng.normal(size=(frames, 8))
