@@ -37,6 +37,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -142,7 +143,6 @@ class Physics:
     _row: np.ndarray | None = None
     _state: np.ndarray = field(default_factory=lambda: np.zeros(0))
     _cache: dict = field(default_factory=dict)
-    _blas: Any = None  # threadpoolctl's controller, made with the first transition
 
     def __post_init__(self) -> None:
         used = sorted({self.codes.index(i.code) for d in self.drivers for i in d.inputs if i.code})
@@ -253,13 +253,19 @@ class Physics:
         if found is None:
             if len(self._cache) > 512:
                 self._cache.clear()
-            if self._blas is None:  # made once a driver set (a few ms: it looks at the loaded libraries)
-                from threadpoolctl import ThreadpoolController
-
-                self._blas = ThreadpoolController()
-            with self._blas.limit(limits=1, user_api="blas"):  # scipy's BLAS threads otherwise spin on
+            with blas_threads().limit(limits=1, user_api="blas"):  # scipy's BLAS threads otherwise spin on
                 found = self._cache[key] = expm(self._a * h)  # after this 8x8 product, a second core's worth
         return found
+
+
+@lru_cache(maxsize=1)
+def blas_threads() -> Any:
+    """threadpoolctl's controller of the BLAS libraries loaded (scipy's among them, which
+    :func:`scipy.linalg.expm` calls), made once a process: making one looks at every loaded
+    library, 3-15 ms, which each render's drivers paid anew (2 % of a 4 s render at 512 px)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
 def physics_for(drivers: tuple[Driver, ...], codes: tuple[str, ...], rests: Mapping[str, float] | np.ndarray

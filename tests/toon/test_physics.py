@@ -131,3 +131,27 @@ def test_the_transitions_exponential_runs_on_one_blas_thread(monkeypatch):
     physics.advance(0.0, np.array([0.1, 0.5]))
     physics.advance(1 / 30, np.array([0.6, 0.5]))
     assert seen == [1]
+
+
+def test_every_physics_shares_one_blas_controller(monkeypatch):
+    """Issue 65: each render's drivers made threadpoolctl's controller anew (3-15 ms looking at
+    every loaded library, 2 % of a 4 s render); one is made a process."""
+    import threadpoolctl
+
+    import toon.physics
+
+    made = []
+    real = threadpoolctl.ThreadpoolController
+
+    def counted():
+        made.append(1)
+        return real()
+
+    monkeypatch.setattr(threadpoolctl, "ThreadpoolController", counted)
+    toon.physics.blas_threads.cache_clear()
+    for _ in range(3):
+        physics = _spring()
+        physics.advance(0.0, np.array([0.1, 0.5]))
+        physics.advance(1 / 30, np.array([0.6, 0.5]))
+    toon.physics.blas_threads.cache_clear()  # the counting one is not kept for other tests
+    assert made == [1]
