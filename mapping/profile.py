@@ -15,7 +15,7 @@ from __future__ import annotations
 import os
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -93,6 +93,28 @@ class Profile:
     full_range: bool = False
     couplings: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
     solver: Solver | None = None
+
+
+def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool,
+                  rest: dict[str, np.ndarray] | None = None) -> Profile:
+    """``profile`` with ``own``'s ranges for ``missing`` keys; with ``rest_from_take``, ``own``'s
+    neutral values and rest rotation everywhere (the ranges' extents are kept around the new rest)
+    and the solver's markers at ``rest`` (label -> head-frame position ``(3,)``, the take's own:
+    :meth:`mapping.solver.Solver.at_rest`). The solver, couplings and notes are kept."""
+    sources = dict(profile.sources)
+    for key in missing:
+        if key in own.sources:
+            sources[key] = own.sources[key]
+    rotation, solver = profile.rest_rotation, profile.solver
+    if rest_from_take:
+        rotation = own.rest_rotation
+        for key, span in list(sources.items()):
+            if key in own.sources:
+                shift = own.sources[key].neutral - span.neutral
+                sources[key] = type(span)(span.neutral + shift, span.low + shift, span.high + shift)
+        if solver is not None and rest is not None:
+            solver = solver.at_rest(rest)
+    return replace(profile, sources=sources, rest_rotation=rotation, notes=dict(profile.notes), solver=solver)
 
 
 def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_window: tuple[float, float],

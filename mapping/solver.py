@@ -42,8 +42,8 @@ solver (``calibrate --solve``; :meth:`Solver.to_dict`), so ``map --profile`` sol
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -142,6 +142,16 @@ class Solver:
                    check.number(table.get("noise", 0.0), "solver.noise", 0.0),
                    tuple(check.strings(table.get("unobservable", []), "solver.unobservable")),
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {})
+
+    def at_rest(self, rest: Mapping[str, np.ndarray]) -> Solver:
+        """The same solver about another rest: ``rest`` (label -> head-frame position ``(3,)``,
+        mm) where a marker rests now (a take's own rest, live or offline; a marker it lacks or
+        that is not finite keeps the sweep's). What a motor does to each marker stays."""
+        moved = self.rest.copy()
+        for k, name in enumerate(self.markers):
+            if name in rest and np.isfinite(rest[name]).all():
+                moved[k] = rest[name]
+        return replace(self, rest=moved)
 
     def solve(self, local: np.ndarray, columns: dict[str, int], trust: np.ndarray | None = None,
               quality: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -17,10 +17,14 @@ it is taken as it is; and where no rule reads a marker (scores and the head alon
 
 The rest pose: with ``rest_seconds`` > 0 the first such seconds (with a head pose) are taken as
 rest, as ``toonface map`` does by default; the profile's ranges are kept around that rest and
-the motors show the face's neutral meanwhile.
+the motors show the face's neutral meanwhile. A profile with a solver (``calibrate --solve``,
+:mod:`mapping.solver`) solves its motors all at once on every frame, as offline mapping does,
+about the markers' rest taken at the start.
 """
 
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 
@@ -35,11 +39,10 @@ from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
 from mapping.plan import MotorPlan
-from mapping.profile import Profile, SourceRange
+from mapping.profile import Profile, SourceRange, merge_profile
 from mapping.rules import MotorRules
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
-from mapping.workflow import merge_profile
 from toon import N_MOTORS, standard_neutral
 from toon.motors import code_index, extended_neutral
 
@@ -251,7 +254,11 @@ class LiveMapper:
         if self.learn_seconds > 0:
             learner = self.learner = RangeLearner(own, freeze_after=self.learn_seconds)
             return learner.profile
-        return merge_profile(self.profile, own, [], rest_from_take=True)
+        with np.errstate(all="ignore"), warnings.catch_warnings():  # a marker unseen at rest keeps the sweep's
+            warnings.simplefilter("ignore", RuntimeWarning)
+            at_rest = np.nanmedian(local, axis=0)
+        markers = {label: at_rest[column] for label, column in self.columns.items()}
+        return merge_profile(self.profile, own, [], rest_from_take=True, rest=markers)
 
     def map_frame(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The mapping of one cleaned frame (``stable`` holds one frame; ``quality`` ``(1, M)``):

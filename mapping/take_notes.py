@@ -85,3 +85,15 @@ def still_warning(profile: Profile, mapping: Mapping) -> str | None:
     kinds = "" if not profile.full_range else " (1 mm for lids and pupils, which keep 3-4 mm, in a range window)"
     return (f"warning: not moving over the range frames (under {MIN_MOTION:g} mm{kinds}): {', '.join(idle)}; "
             f"they keep a range of {STILL_SIDE:g} mm either side of rest, so the motors that follow them move little")
+
+
+def solver_note(profile: Profile, mapping: Mapping) -> str | None:
+    """What the profile's solver (``calibrate --solve``) maps in place of the rules, and what it
+    leaves them; None without one."""
+    solver = profile.solver
+    if solver is None:
+        return None
+    solved = [r.code for r in mapping.rules if r.code in solver.codes]
+    return (f"motors {', '.join(solved)} solved all at once by the profile's solver ({len(solver.markers)} markers, "
+            "learned from its range of motion)" + (f"; {', '.join(solver.unobservable)} by the rules (the markers "
+                                                   "do not show them)" if solver.unobservable else ""))

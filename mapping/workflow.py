@@ -29,14 +29,14 @@ from mapping.life import LifeSettings, add_life, take_cues
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, marker_quality, normalise, rule_shares
 from mapping.plan import MotorPlan, resolved_mode
-from mapping.profile import KIND_MOTION, Profile, build_profile
+from mapping.profile import KIND_MOTION, Profile, build_profile, merge_profile
 from mapping.ready import Prepared, ReadyTake
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
 from mapping.solver import Solver, learn_solver
 from mapping.sources import head_angles, measure
 from mapping.sweep import mirror_lost_sides
-from mapping.take_notes import take_notes
+from mapping.take_notes import solver_note, take_notes
 from mapping.typical import TYPICAL, bound_by_typical, shut_lids, shut_note, typical_profile
 from mapping.units import settle_units
 from toon import MotorTrack, standard_neutral
@@ -196,13 +196,20 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
         profile = replace(profile, couplings=_couplings(mapping, source, frames, profile))
     if full and solve:  # the rest from the neutral take, in the range take's marker order
-        at_rest = np.nanmedian(neutral.stable.local[neutral.take.window(*window)], axis=0)
+        at_rest = marker_rests(neutral, window)
         rest = np.full((source.stable.local.shape[1], 3), np.nan)
         for label, column in source.columns.items():
-            if label in neutral.columns:
-                rest[column] = at_rest[neutral.columns[label]]
+            if label in at_rest:
+                rest[column] = at_rest[label]
         profile = replace(profile, solver=sweep_solver(mapping, source, frames, profile, rest))
     return profile
+
+
+def marker_rests(prepared: Prepared, window: tuple[float, float]) -> dict[str, np.ndarray]:
+    """Each marker's head-frame rest ``(3,)`` (mm): its median over the rest ``window`` (NaN
+    where it was not seen there), by label."""
+    at_rest = np.nanmedian(prepared.stable.local[prepared.take.window(*window)], axis=0)
+    return {label: at_rest[column] for label, column in prepared.columns.items()}
 
 
 def _require_ranges(mapping: Mapping, profile: Profile, neutral: Prepared, window: tuple[float, float]) -> None:
@@ -319,12 +326,15 @@ def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profil
             own = calibrate(chosen, prepared, neutral_window, percentiles=(1.0, 99.0), min_side=SELF_MIN_SIDE,
                             require_motion=any(key in ranged for key in missing),  # a range needs motion
                             rest_only=not missing)  # its ranges only if missing
-            profile = merge_profile(profile, own, missing, rest_from_take)
+            rests = marker_rests(prepared, rest_window(prepared, neutral_window)[0]) \
+                if rest_from_take and profile.solver is not None else None
+            profile = merge_profile(profile, own, missing, rest_from_take, rests)
             if missing:
                 notes.append(f"ranges from the take itself for {', '.join(missing)}")
             if rest_from_take:
                 notes.append(f"neutral from the take ({own.notes['neutral']})")
                 rest = own.notes["neutral"]
+    notes.extend(filter(None, [solver_note(profile, chosen)]))
     return ReadyTake(prepared, chosen, profile, tuple(notes), rest, kind)
 
 
@@ -376,21 +386,3 @@ def check_profile(profile: Profile, mapping: Mapping, markerset: str) -> None:
     raise InputError(f"the profile {profile.source or '(given)'} is for marker set {profile.markerset}, but {which} "
                      f"reads marker set {markerset}: calibrate a profile on a {markerset} take "
                      f"(toonface calibrate), or use a mapping for {profile.markerset}")
-
-
-def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool) -> Profile:
-    """``profile`` with ``own``'s ranges for ``missing`` keys; with ``rest_from_take``, ``own``'s
-    neutral values and rest rotation everywhere (the ranges' extents are kept around the new rest)."""
-    sources = dict(profile.sources)
-    for key in missing:
-        if key in own.sources:
-            sources[key] = own.sources[key]
-    rotation = profile.rest_rotation
-    if rest_from_take:
-        rotation = own.rest_rotation
-        for key, span in list(sources.items()):
-            if key in own.sources:
-                shift = own.sources[key].neutral - span.neutral
-                sources[key] = type(span)(span.neutral + shift, span.low + shift, span.high + shift)
-    return Profile(profile.markerset, sources, rotation, profile.performer, dict(profile.notes), profile.source,
-                   profile.full_range, profile.couplings)

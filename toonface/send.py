@@ -23,6 +23,7 @@ from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
 from mapping.life import LiveLife
 from mapping.stepwise import LiveMapper
+from mapping.take_notes import solver_note
 from mapping.typical import typical_profile
 from mapping.workflow import SELF_MIN_SIDE, check_profile
 from toon.recording import LatestMotors, MotorSink
@@ -71,6 +72,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
                          f"first {CALIBRATION_SECONDS:g} s (rest {profile.notes['neutral']}, ranges "
                          f"{profile.notes['range']})")
     check_profile(profile, chosen, markerset.name)
+    if notes is not None:
+        notes.extend(filter(None, [solver_note(profile, chosen)]))
     try:
         mapper = LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
                             learn_seconds=learn, channel_names=source.channel_names)

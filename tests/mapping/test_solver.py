@@ -181,3 +181,81 @@ def test_calibrate_solve_keeps_the_solver_in_the_profile_and_map_solves_with_it(
     np.testing.assert_allclose(solved, map_take(syn.take, profile=memory).values, atol=1e-4)
     assert np.abs(solved - map_take(syn.take, profile=replace(memory, solver=None)).values).max() > 0.01
     assert main(["calibrate", str(take), "--solve", "-o", str(tmp_path / "x.toml")]) == 2  # no sweep named
+
+
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    """The own performer's take with its calibration segment, and a profile with a solver learned from it."""
+    from capture import synthesize
+    from capture.performance import default_performance
+    from mapping import calibrate, choose_mapping, prepare
+
+    sweep_end = 1.0 + 1.2 * 7  # bench.generators.OWN_SWEEP_END
+    syn = synthesize(seed=4, performance=default_performance(sweep_end + 2.0, calibration=True, seed=4))
+    mapping, markerset = choose_mapping(syn.take)
+    profile = calibrate(mapping, prepare(syn.take, markerset), (0.0, 1.0), range_window=(1.0, sweep_end), solve=True)
+    assert profile.solver is not None
+    return syn.take, mapping, markerset, profile
+
+
+@pytest.mark.slow
+def test_a_rest_from_the_take_keeps_the_solver(swept):
+    """Issue 62: a profile whose rest was taken from the take (``map --neutral``, or a profile
+    lacking a range) lost its solver without a word and mapped by the rules; it keeps it, about
+    the take's own rest."""
+    from dataclasses import replace
+
+    from mapping import map_take
+    from mapping.workflow import ready_take
+
+    take, _, _, profile = swept
+    solved = map_take(take, profile=profile).values
+    again = map_take(take, profile=profile, neutral_window=(0.0, 1.0)).values  # the same rest, from the take
+    rules = map_take(take, profile=replace(profile, solver=None), neutral_window=(0.0, 1.0)).values
+    np.testing.assert_allclose(again, solved, atol=2e-3)
+    assert np.abs(again - rules).max() > 0.01
+    said = [n for n in ready_take(take, profile=profile, neutral_window=(0.0, 1.0)).notes if "solver" in n]
+    assert len(said) == 1 and all(code in said[0] for code in profile.solver.codes), said
+    assert not [n for n in ready_take(take, profile=replace(profile, solver=None)).notes if "solver" in n]
+
+
+def test_a_solver_at_another_rest_reads_the_same_motion_from_there():
+    """The solver about a rest moved (markers glued again a millimetre off) solves the same motion
+    from there; a marker the new rest lacks keeps the sweep's."""
+    solver = _learned()
+    shares = np.array([[0.5, 0.5, 0.0, 0.6, 0.0], [0.0, 0.0, 0.3, 0.0, 0.8]])
+    shift = np.array([1.0, -0.5, 0.3])
+    moved = solver.at_rest({name: REST[COLUMNS[name]] + shift for name in MARKERS if name != "NOSE"}
+                           | {"NOSE": np.full(3, np.nan)})
+    np.testing.assert_array_equal(moved.rest[solver.markers.index("NOSE")], solver.rest[solver.markers.index("NOSE")])
+    local = _face(shares) + shift
+    local[:, COLUMNS["NOSE"]] -= shift  # the nose where it rested in the sweep
+    got, _ = moved.solve(local, COLUMNS)
+    np.testing.assert_allclose(got, shares[:, [CODES.index(c) for c in solver.codes]], atol=0.02)
+
+
+@pytest.mark.slow
+def test_the_live_mapper_solves_with_the_profiles_solver(swept):
+    """Issue 62: the live mapper took its rest by a profile without the solver and mapped by the
+    rules; frame by frame it now solves as offline mapping does (within the live cleaning's
+    lag), about the rest it took."""
+    from dataclasses import replace
+
+    from mapping import map_take
+    from mapping.stepwise import LiveMapper
+
+    take, mapping, markerset, profile = swept
+    rules_only = replace(profile, solver=None)
+
+    def live(chosen) -> np.ndarray:
+        mapper = LiveMapper(mapping, markerset, chosen, take.labels, take.rate, rest_seconds=1.0)
+        return np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in range(take.frames)])
+
+    offline, offline_rules = map_take(take, profile=profile).values, map_take(take, profile=rules_only).values
+    solved, rules = live(profile), live(rules_only)
+    after = slice(int(2 * take.rate), None)  # past the rest and the filters' start
+    # the motors where the solver maps otherwise than the rules (0.36-0.65 apart offline at most)
+    differ = np.abs(offline_rules[after] - offline[after]).max(axis=0) > 0.2
+    assert differ.sum() >= 2
+    live_gap = np.abs(solved[after] - offline[after]).max(axis=0)[differ]  # 0.08-0.12 (the live cleaning's lag)
+    assert (live_gap < 0.5 * np.abs(rules[after] - offline[after]).max(axis=0)[differ]).all()
