@@ -101,6 +101,8 @@ class Solver:
         The sweep's residual per marker (mm), the robust weights' scale.
     unobservable : tuple of str
         Motors the sweep moved but the markers did not show (left to the rules).
+    unswept : tuple of str
+        Motors read from markers that the sweep never moved alone (left to the rules).
     notes : dict
     """
 
@@ -112,11 +114,12 @@ class Solver:
     noise: float
     unobservable: tuple[str, ...] = ()
     notes: dict[str, str] = field(default_factory=dict)
+    unswept: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The solver as a profile's ``[solver]`` table (:func:`from_dict` reads it back equal)."""
         return {"codes": list(self.codes), "markers": list(self.markers), "noise": float(self.noise),
-                "unobservable": list(self.unobservable), "notes": dict(self.notes),
+                "unobservable": list(self.unobservable), "unswept": list(self.unswept), "notes": dict(self.notes),
                 "rest": np.round(self.rest, 6).tolist(), "up": np.round(self.up, 6).tolist(),
                 "down": np.round(self.down, 6).tolist()}
 
@@ -124,7 +127,8 @@ class Solver:
     def from_dict(cls, doc: Any, check: Validator) -> Solver:
         """A profile's ``[solver]`` table as a solver; a field that cannot be one raises
         :class:`InputError` naming it (through ``check``)."""
-        table = check.fields(doc, {"codes", "markers", "noise", "unobservable", "notes", "rest", "up", "down"},
+        table = check.fields(doc, {"codes", "markers", "noise", "unobservable", "unswept", "notes", "rest",
+                                   "up", "down"},
                              "solver", "a table")
         codes, markers = check.strings(table.get("codes", []), "solver.codes"), check.strings(
             table.get("markers", []), "solver.markers")
@@ -141,7 +145,14 @@ class Solver:
         return cls(tuple(codes), tuple(markers), arrays["rest"], arrays["up"], arrays["down"],
                    check.number(table.get("noise", 0.0), "solver.noise", 0.0),
                    tuple(check.strings(table.get("unobservable", []), "solver.unobservable")),
-                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {})
+                   {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {},
+                   tuple(check.strings(table.get("unswept", []), "solver.unswept")))
+
+    def left_out(self) -> str:
+        """What the solver leaves to the rules and why, for a note: ``""`` where nothing."""
+        parts = ([f"{', '.join(self.unswept)} not moved alone by the sweep"] if self.unswept else []) + \
+            ([f"{', '.join(self.unobservable)} not shown by the markers"] if self.unobservable else [])
+        return f"; {'; '.join(parts)} (left to the rules)" if parts else ""
 
     def at_rest(self, rest: Mapping[str, np.ndarray]) -> Solver:
         """The same solver about another rest: ``rest`` (label -> head-frame position ``(3,)``,
@@ -247,14 +258,15 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     observable = [k for k in kept if motion[k] >= MIN_MOTION_MM]
     if not observable:
         return None
-    unobservable = tuple(codes[k] for k in learnable if k not in observable)
+    unswept = tuple(codes[k] for k in learnable if k not in kept)  # no side of it led the face long enough
+    unobservable = tuple(codes[k] for k in kept if k not in observable)
     solver = Solver(tuple(codes[k] for k in observable), markers, rest[cols], up[observable], down[observable], 1.0,
-                    unobservable)
+                    unobservable, unswept=unswept)
     fitted, _ = _solve(solver, d, ok.astype(float), robust=False)
     moved = fitted[..., None, None] * np.where(fitted[..., None, None] >= 0, solver.up, solver.down)
     residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]
     noise = max(float(np.median(residual)), 0.05) if residual.size else 1.0
-    return Solver(solver.codes, markers, solver.rest, solver.up, solver.down, noise, unobservable)
+    return replace(solver, noise=noise)
 
 
 def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray | None = None, robust: bool = True

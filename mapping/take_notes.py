@@ -95,5 +95,4 @@ def solver_note(profile: Profile, mapping: Mapping) -> str | None:
         return None
     solved = [r.code for r in mapping.rules if r.code in solver.codes]
     return (f"motors {', '.join(solved)} solved all at once by the profile's solver ({len(solver.markers)} markers, "
-            "learned from its range of motion)" + (f"; {', '.join(solver.unobservable)} by the rules (the markers "
-                                                   "do not show them)" if solver.unobservable else ""))
+            f"learned from its range of motion){solver.left_out()}")

@@ -198,8 +198,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     path = save_profile(profile, output)
     if profile.solver is not None:
         click.echo(f"note: the solver learned {len(profile.solver.codes)} motors from {len(profile.solver.markers)} "
-                   f"markers" + (f"; unobservable: {', '.join(profile.solver.unobservable)} (left to the rules)"
-                                 if profile.solver.unobservable else ""), err=True)
+                   f"markers{profile.solver.left_out()}", err=True)
     for note in take_notes((rest, ranged), chosen):  # what map's report says of units, head fit, markers
         click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
     still = set(profile.notes.get("no_motion", "").split(", "))

@@ -259,3 +259,22 @@ def test_the_live_mapper_solves_with_the_profiles_solver(swept):
     assert differ.sum() >= 2
     live_gap = np.abs(solved[after] - offline[after]).max(axis=0)[differ]  # 0.08-0.12 (the live cleaning's lag)
     assert (live_gap < 0.5 * np.abs(rules[after] - offline[after]).max(axis=0)[differ]).all()
+
+
+def test_a_motor_the_sweep_never_moved_is_named_as_such_not_as_unseen_by_the_markers():
+    """A sweep without the mouth (the own performer's moves brows, lids and pupils) called the
+    mouth's motors "unobservable", as if the markers could not show them; they were never swept.
+    The profile keeps which is which, and the notes say it."""
+    from common.validate import Validator
+    from mapping.solver import Solver
+
+    sweep = _sweep()
+    sweep[:, [CODES.index("MR"), CODES.index("MB")]] = 0.0  # the mouth held at rest throughout
+    local = _face(sweep)
+    local[:, COLUMNS["LID_R"]] = REST[COLUMNS["LID_R"]]  # and a lid marker that does not move with the lid
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), _rule_reading(_face(sweep)), REST)
+    assert solver is not None and solver.codes == ("BR", "BL")
+    assert solver.unswept == ("MR", "MB") and solver.unobservable == ("ER",)
+    assert solver.left_out() == "; MR, MB not moved alone by the sweep; ER not shown by the markers (left to the rules)"
+    again = Solver.from_dict(solver.to_dict(), Validator("me.toml"))
+    assert again.unswept == solver.unswept and again.unobservable == solver.unobservable
