@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 
 from common.validate import Validator
+from mapping.robust import column_nan_median
 
 #: A motor this far along its way (a share) and leading the face shows what it does.
 MOVED = 0.3
@@ -183,6 +184,14 @@ class Solver:
             shares[part], confidence[part] = _solve(self, np.where(ok[..., None], d, 0.0), weight.astype(float),
                                                     counts.astype(float))
         return np.where(confidence >= MIN_CONFIDENCE, shares, np.nan), confidence
+
+
+def rests_of(local: np.ndarray, columns: dict[str, int]) -> dict[str, np.ndarray]:
+    """Each marker's rest, by label (``columns``: label -> column): its median over the frames of
+    head-frame markers ``local`` ``(F, N, 3)`` where it was seen, ``(3,)``, NaN where it never
+    was (:meth:`Solver.at_rest` keeps the sweep's there)."""
+    at_rest = column_nan_median(local.reshape(len(local), -1)).reshape(local.shape[1:])
+    return {label: at_rest[column] for label, column in columns.items()}
 
 
 def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], local: np.ndarray,

@@ -24,8 +24,6 @@ about the markers' rest taken at the start.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
 from capture import MarkerSet
@@ -41,6 +39,7 @@ from mapping.outliers import SpikeFilter
 from mapping.plan import MotorPlan
 from mapping.profile import Profile, SourceRange, merge_profile
 from mapping.rules import MotorRules
+from mapping.solver import rests_of
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
 from toon import N_MOTORS, standard_neutral
@@ -254,11 +253,7 @@ class LiveMapper:
         if self.learn_seconds > 0:
             learner = self.learner = RangeLearner(own, freeze_after=self.learn_seconds)
             return learner.profile
-        with np.errstate(all="ignore"), warnings.catch_warnings():  # a marker unseen at rest keeps the sweep's
-            warnings.simplefilter("ignore", RuntimeWarning)
-            at_rest = np.nanmedian(local, axis=0)
-        markers = {label: at_rest[column] for label, column in self.columns.items()}
-        return merge_profile(self.profile, own, [], rest_from_take=True, rest=markers)
+        return merge_profile(self.profile, own, [], rest_from_take=True, rest=rests_of(local, self.columns))
 
     def map_frame(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The mapping of one cleaned frame (``stable`` holds one frame; ``quality`` ``(1, M)``):

@@ -33,7 +33,7 @@ from mapping.profile import KIND_MOTION, Profile, build_profile, merge_profile
 from mapping.ready import Prepared, ReadyTake
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
-from mapping.solver import Solver, learn_solver
+from mapping.solver import Solver, learn_solver, rests_of
 from mapping.sources import head_angles, measure
 from mapping.sweep import mirror_lost_sides
 from mapping.take_notes import solver_note, take_notes
@@ -208,8 +208,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
 def marker_rests(prepared: Prepared, window: tuple[float, float]) -> dict[str, np.ndarray]:
     """Each marker's head-frame rest ``(3,)`` (mm): its median over the rest ``window`` (NaN
     where it was not seen there), by label."""
-    at_rest = np.nanmedian(prepared.stable.local[prepared.take.window(*window)], axis=0)
-    return {label: at_rest[column] for label, column in prepared.columns.items()}
+    return rests_of(prepared.stable.local[prepared.take.window(*window)], prepared.columns)
 
 
 def _require_ranges(mapping: Mapping, profile: Profile, neutral: Prepared, window: tuple[float, float]) -> None:
