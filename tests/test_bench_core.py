@@ -20,6 +20,28 @@ def test_one_core_pins_the_body_to_one_cpu_and_gives_the_others_back_even_after_
     assert os.sched_getaffinity(0) == before
 
 
+@pytest.mark.skipif(not hasattr(os, "sched_setaffinity"), reason="this platform does not pin threads to CPUs")
+def test_one_core_runs_its_body_on_one_blas_thread_even_after_a_fork():
+    """The bench's one-core figures ran with the BLAS libraries' threads where they were: after
+    any child process, on the pinned CPU beside the body (gap filling 68 frames/s, not 350)."""
+    import subprocess
+    import sys
+
+    import numpy  # noqa: F401 (its BLAS loaded, as every bench group's)
+    from threadpoolctl import threadpool_info
+
+    def blas_threads() -> int:
+        return max(lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas")
+
+    before = blas_threads()
+    if before < 2:
+        pytest.skip("one BLAS thread already: the test could not fail")
+    subprocess.run([sys.executable, "-c", "pass"], check=True, preexec_fn=lambda: None)  # a fork, as pinned_child's
+    with one_core():
+        assert blas_threads() == 1
+    assert blas_threads() == before
+
+
 def test_a_group_that_fails_is_named_the_others_still_run_and_the_exit_status_says_so(monkeypatch, capsys):
     import sys
     import types
