@@ -285,15 +285,19 @@ def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray
     marker's part in the confidence (default ``weight``).
 
     Every frame's normal equations are made from the two sides' bases alone: each marker's Gram
-    of the 2K bases, weighted and summed once per set of weights (the first two passes share
-    theirs), then each frame's K x K system picked from its four side-by-side blocks by the side
-    each motor is on (the first pass: the two sides' mean, whose Gram those blocks give too)."""
+    of the 2K bases (symmetric: each pair once), weighted and summed once per set of weights (the
+    first two passes share theirs), then each frame's K x K system picked from it by the side each
+    motor is on (the first pass: the two sides' mean, its own Gram alike)."""
     k, m = len(solver.codes), len(solver.markers)
     frames = len(d)
     sides = np.concatenate([solver.up, solver.down])  # (2K, M, 3): high, low
-    per_marker = np.einsum("imc,jmc->mij", sides, sides).reshape(m, -1)  # (M, 4K²): each marker's Gram
+    pairs = np.triu_indices(2 * k)
+    per_marker = np.einsum("imc,jmc->mij", sides, sides)[:, pairs[0], pairs[1]]  # (M, P): each marker's Gram
+    where = np.empty((2 * k, 2 * k), dtype=np.intp)  # each (row, column) of a Gram: its pair's column
+    where[pairs] = where[pairs[::-1]] = np.arange(len(pairs[0]))
     energy = np.einsum("imc,imc->im", sides, sides)  # (2K, M)
     mean_basis = (solver.up - solver.down) / 2
+    per_mean = np.einsum("imc,jmc->mij", mean_basis, mean_basis).reshape(m, -1)  # (M, K²)
     ridge = RIDGE * float(np.mean((mean_basis ** 2).sum(axis=(1, 2)))) * np.eye(k)
     flat = sides.reshape(2 * k, -1)
     w = weight
@@ -302,14 +306,14 @@ def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray
     passes = 2 + (ROBUST_PASSES if robust else 0)
     for step in range(passes):
         if step != 1:  # the second pass has the first's weights
-            g = (w @ per_marker).reshape(frames, 2, k, 2, k)
+            g = w @ per_marker  # (F, P)
             r = ((d * w[..., None]).reshape(frames, -1) @ flat.T).reshape(frames, 2, k)
         if high is None:
-            gram = (g[:, 0, :, 0] - g[:, 0, :, 1] - g[:, 1, :, 0] + g[:, 1, :, 1]) / 4
+            gram = (w @ per_mean).reshape(frames, k, k)
             rhs = (r[:, 0] - r[:, 1]) / 2
-        else:  # each frame's K x K picked from its (2K, 2K) by the sides: one gather
+        else:  # each frame's K x K picked from its pairs by the sides: one gather
             basis = np.where(high, np.arange(k), np.arange(k) + k)  # (F, K): row of each motor's side
-            picked = basis[:, :, None] * (2 * k) + basis[:, None, :] + np.arange(frames)[:, None, None] * (4 * k * k)
+            picked = where[basis[:, :, None], basis[:, None, :]] + (np.arange(frames) * g.shape[1])[:, None, None]
             gram = g.reshape(-1)[picked]
             rhs = np.where(high, r[:, 0], r[:, 1])
         s = np.clip(np.linalg.solve(gram + ridge, rhs[..., None])[..., 0], -REACH, REACH)
