@@ -38,7 +38,6 @@ class SecondaryMotion:
         rests = face.extra_neutral()
         self.rests = {**{c: float(v) for c, v in zip(MOTOR_CODES, face.neutral(), strict=True)}, **rests}
         self.physics: Physics | None = physics_for(face.physics, self.codes, self.rests)
-        self.track = track
         self._rows = self._track_rows(track) if track is not None and self.physics is not None else None
         self._times = track.times if track is not None else None  # made once: each frame asks
         self._next = 0  # the next track sample to take

@@ -105,12 +105,12 @@ class Offsets:
         return True
 
     def offset(self, owner: Any) -> float | None:
-        """``owner``'s clock less this server's (seconds), where it answered."""
+        """``owner``'s clock less this end's (seconds), where it answered."""
         best = self.best.get(owner)
         return None if best is None else best[1]
 
     def forget(self, owner: Any) -> None:
-        """``owner`` left."""
+        """``owner`` left (or, a viewer's server, may keep another clock now: asked afresh)."""
         self.asked.pop(owner, None)
         self.best.pop(owner, None)
 
