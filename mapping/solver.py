@@ -16,9 +16,12 @@ tie (the midline between a mirror pair) half each; and every marker's head-frame
 from rest is regressed through rest on its motor's share, one side of rest at a time: a basis
 per motor and side, ``(markers, 3)``, which holds whatever the sweep showed that motor doing to
 the markers near it (the lower lid a smile lifts, when no lid motor moves with the smile).
-Only samples that were seen count (a filled gap would teach the filler's guess back). A side
-the sweep did not show is the other side through rest. A marker a motor moves by less than
-:data:`SMALL_SHARE` of its furthest one, or by less than :data:`SMALL_MM`, is not its.
+Only samples that were seen count (a filled gap would teach the filler's guess back), and the
+regression is robust (:func:`_side_basis`): a sweep has label swaps and spikes too. A marker that
+is a motor's in under :data:`MOSTLY` of the frames that see it is not its. A side the sweep did
+not show, or a marker it did not see on one side, is the other side through rest. A marker a
+motor moves by less than :data:`SMALL_SHARE` of its furthest one, or by less than
+:data:`SMALL_MM`, is not its.
 
 The rules' shares tell the moving motors apart only while no rule reads another group's motion
 as more than :data:`TOGETHER` of its own range: a rule that reads a jaw's opening as a full
@@ -64,6 +67,9 @@ SMALL_SHARE = 0.1
 SMALL_MM = 0.15
 #: Frames on a side of rest needed to learn that side.
 MIN_FRAMES = 8
+#: A marker seen in fewer of a side's frames is not learned on that side (it takes the other's): a
+#: lid closing is often seen in a handful, a marker behind a shut lid is a stray sample or two.
+SEEN_FRAMES = 3
 #: Shares are clipped to this far past either end.
 REACH = 1.25
 #: The ridge towards rest, as a share of the basis's mean energy.
@@ -81,6 +87,12 @@ MIN_MOTION_MM = 0.5
 #: Frames solved at once (bounds the memory: a (chunk, 2K, 2K) Gram).
 CHUNK = 2048
 ROBUST_PASSES = 2
+#: A marker is a motor's where it is nearest the motor in at least this share of the frames of a side that
+#: see it: a few frames where a neighbour motor seemed still (a label swap
+#: read by its rule) do not make its markers another motor's.
+MOSTLY = 0.5
+#: Weighted passes of learning each side of a motor (:func:`_side_basis`).
+LEARN_PASSES = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -243,21 +255,16 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     down = np.zeros_like(up)
     kept: list[int] = []
     for k in learnable:
-        sides: list[np.ndarray | None] = []
+        sides: list[tuple[np.ndarray, np.ndarray] | None] = []
         for sign in (1.0, -1.0):  # a side is what the frames where this motor moves that way show
             at = movers[:, k] & (sign * np.nan_to_num(shares[:, k]) >= MOVED)
             if at.sum() < MIN_FRAMES:
                 sides.append(None)
                 continue
-            s = np.where(at, shares[:, k], 0.0)
-            mine = ok * share[:, :, k]  # (F, M): a marker shared by two moving motors is half each's
-            sides.append(np.einsum("f,fm,fmc->mc", s, mine, d)
-                         / np.maximum((ok * (mine > 0) * (s ** 2)[:, None]).sum(axis=0), 1e-12)[:, None])
-        high, low = sides
-        if high is None and low is None:
+            sides.append(_side_basis(shares[at, k], ok[at], share[at, :, k], d[at]))
+        if sides[0] is None and sides[1] is None:
             continue
-        up[k] = low if high is None else high  # a side the sweep did not show: the other, through rest
-        down[k] = high if low is None else low
+        up[k], down[k] = _either_side(*sides)
         small = max(SMALL_SHARE * float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max()), SMALL_MM)
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
@@ -276,6 +283,55 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]
     noise = max(float(np.median(residual)), 0.05) if residual.size else 1.0
     return replace(solver, noise=noise)
+
+
+def _side_basis(s: np.ndarray, ok: np.ndarray, part: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What one side of a motor does to each marker, ``(M, 3)``, and which markers that side's
+    frames saw in at least :data:`SEEN_FRAMES` ``(M,)`` (bool): each marker's displacement ``d``
+    ``(F, M, 3)`` regressed through rest on the motor's share ``s`` ``(F,)`` over the frames it is
+    seen in (``ok`` ``(F, M)``), robustly, and times its ``part`` ``(F, M)`` of it (a marker shared
+    by two moving motors is half each's).
+
+    A sweep is capture too: a label swapped for a few frames (two brow markers 20 mm apart) or a
+    spike, believed, becomes motion of the motor that moved then (on the fourth performer a swap of
+    the right brow's markers while the left brow rose taught BLM to move the right brow, and BLM
+    followed its truth at r 0.47). So the fit starts from each marker's median displacement per
+    unit of share, and is weighted :data:`LEARN_PASSES` times by Cauchy weights of each sample's
+    miss, at :data:`ROBUST_SCALE` times the motor's median miss (at least :data:`ROBUST_FLOOR_MM`);
+    and a marker that is the motor's in under :data:`MOSTLY` of the frames that see it is not its
+    (there the swap made the neighbour's rule read its motor as still, and its markers went to
+    the motor that moved with it)."""
+    seen = ok & (part > 0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(seen[..., None], d / s[:, None, None], np.nan).reshape(len(s), -1)
+    basis = np.nan_to_num(column_nan_median(ratio).reshape(d.shape[1:]))
+    for _ in range(LEARN_PASSES):
+        miss = np.linalg.norm(d - s[:, None, None] * basis, axis=2)  # (F, M)
+        scale = max(ROBUST_SCALE * float(np.median(miss[seen])) if seen.any() else 0.0, ROBUST_FLOOR_MM)
+        weight = seen / (1.0 + (miss / scale) ** 2)
+        basis = np.einsum("f,fm,fmc->mc", s, weight, d) / np.maximum(weight.T @ (s ** 2), 1e-12)[:, None]
+    mostly = (seen.sum(axis=0) >= MOSTLY * ok.sum(axis=0)) & seen.any(axis=0)
+    return np.where(mostly[:, None], basis * _shared_part(part, seen)[:, None], 0.0), ok.sum(axis=0) >= SEEN_FRAMES
+
+
+def _either_side(high: tuple[np.ndarray, np.ndarray] | None, low: tuple[np.ndarray, np.ndarray] | None
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """A motor's two sides, ``(M, 3)`` each, from what each side's frames taught (its basis, and
+    which markers they saw, :func:`_side_basis`): a side the sweep did not show, or a marker it
+    never saw on one side (an upper lid's marker hidden for all of a shut eye's frames), is the
+    other side's through rest."""
+    if high is None or low is None:
+        only = high if high is not None else low
+        assert only is not None, "a motor with neither side is not learned"
+        return only[0], only[0]
+    (up, seen_up), (down, seen_down) = high, low
+    return (np.where((seen_down & ~seen_up)[:, None], down, up),
+            np.where((seen_up & ~seen_down)[:, None], up, down))
+
+
+def _shared_part(part: np.ndarray, seen: np.ndarray) -> np.ndarray:
+    """Each marker's mean ``part`` ``(F, M)`` of the motion over the frames it is ``seen``, ``(M,)``."""
+    return (part * seen).sum(axis=0) / np.maximum(seen.sum(axis=0), 1)
 
 
 def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray | None = None, robust: bool = True

@@ -141,6 +141,57 @@ def test_a_mirror_pair_swept_together_keeps_its_own_side_and_shares_the_midline(
     assert solver.up[br, nose, 1] == pytest.approx(1.0) and solver.up[bl, nose, 1] == pytest.approx(1.0)
 
 
+def _group_frames(code: str) -> np.ndarray:
+    """The sweep's frames where ``code``'s group is held at its high end, ``(F,)`` bool."""
+    sweep = _sweep()
+    return sweep[:, CODES.index(code)] == 1.0
+
+
+def test_a_label_swapped_in_the_sweep_does_not_teach_a_motor_to_move_it():
+    sweep = _sweep()
+    local = _face(sweep)
+    swapped = np.flatnonzero(_group_frames("ER"))[:8]  # the brows swap labels while the lid is up
+    local[swapped[:, None], [COLUMNS["BROW_R"], COLUMNS["BROW_L"]]] = local[swapped[:, None],
+                                                                          [COLUMNS["BROW_L"], COLUMNS["BROW_R"]]]
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), _rule_reading(local), REST)
+    assert solver is not None
+    er = solver.codes.index("ER")
+    brows = [solver.markers.index(m) for m in ("BROW_R", "BROW_L")]
+    # believed, the swap is the lid's: 60 mm across in 8 of its 27 frames' worth of share, about 18 mm a share
+    assert np.abs(solver.up[er, brows]).max() < 0.01
+    assert solver.up[er, solver.markers.index("LID_R"), 1] == pytest.approx(3.0, abs=0.01)
+
+
+def test_a_marker_that_is_another_motors_but_for_a_few_frames_is_not_taken():
+    sweep = _sweep()
+    local = _face(sweep)
+    reading = _rule_reading(local)
+    held = np.flatnonzero(_group_frames("BR"))[:6]
+    reading[held, CODES.index("BR")] = 0.0  # a swap read by the right brow's rule: it seems still
+    local[held, COLUMNS["BROW_R"]] = REST[COLUMNS["NOSE"]]  # ... its marker where the nose is
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), reading, REST)
+    assert solver is not None
+    bl, right = solver.codes.index("BL"), solver.markers.index("BROW_R")
+    # the right brow's marker went to the left brow's motor in those 6 frames, and only in them
+    assert np.allclose(solver.up[bl, right], 0.0) and np.allclose(solver.down[bl, right], 0.0)
+    assert solver.up[bl, solver.markers.index("BROW_L"), 1] == pytest.approx(8.0, abs=0.01)
+
+
+def test_a_marker_never_seen_on_one_side_of_its_motor_takes_the_other_side():
+    sweep = _sweep()
+    local = _face(sweep)
+    seen = np.ones(local.shape[:2], bool)
+    er = CODES.index("ER")
+    seen[sweep[:, er] > 0, COLUMNS["LID_R"]] = False  # the lid's marker hidden whenever the lid is up
+    reading = _rule_reading(_face(sweep))  # the rule's share from a filled guess of it
+    solver = learn_solver(CODES, OWN, local, COLUMNS, seen, reading, REST)
+    assert solver is not None
+    lid = solver.markers.index("LID_R")
+    np.testing.assert_allclose(solver.down[solver.codes.index("ER"), lid], (0.0, 1.0, 0.0), atol=1e-9)
+    # through rest from the side it was seen on, not still (which left the lid unsolved on that side)
+    np.testing.assert_allclose(solver.up[solver.codes.index("ER"), lid], (0.0, 1.0, 0.0), atol=1e-9)
+
+
 def test_a_motor_the_markers_do_not_show_is_named_not_solved():
     sweep = _sweep()
     local = _face(sweep)
@@ -244,7 +295,11 @@ def test_the_live_mapper_solves_with_the_profiles_solver(swept):
     from mapping import map_take
     from mapping.stepwise import LiveMapper
 
-    take, mapping, markerset, profile = swept
+    take, mapping, markerset, learned = swept
+    assert learned.solver is not None
+    # taught motion twice what the sweep showed, so that the solver's shares are half the rules'
+    # (the solver learned from this clean sweep maps within 0.02 of the rules here)
+    profile = replace(learned, solver=replace(learned.solver, up=2 * learned.solver.up, down=2 * learned.solver.down))
     rules_only = replace(profile, solver=None)
 
     def live(chosen) -> np.ndarray:
@@ -254,10 +309,10 @@ def test_the_live_mapper_solves_with_the_profiles_solver(swept):
     offline, offline_rules = map_take(take, profile=profile).values, map_take(take, profile=rules_only).values
     solved, rules = live(profile), live(rules_only)
     after = slice(int(2 * take.rate), None)  # past the rest and the filters' start
-    # the motors where the solver maps otherwise than the rules (0.36-0.65 apart offline at most)
+    # the motors where the solver maps otherwise than the rules
     differ = np.abs(offline_rules[after] - offline[after]).max(axis=0) > 0.2
-    assert differ.sum() >= 2
-    live_gap = np.abs(solved[after] - offline[after]).max(axis=0)[differ]  # 0.08-0.12 (the live cleaning's lag)
+    assert differ.sum() >= 4
+    live_gap = np.abs(solved[after] - offline[after]).max(axis=0)[differ]  # the live cleaning's lag
     assert (live_gap < 0.5 * np.abs(rules[after] - offline[after]).max(axis=0)[differ]).all()
 
 
