@@ -87,9 +87,9 @@ MIN_MOTION_MM = 0.5
 #: Frames solved at once (bounds the memory: a (chunk, 2K, 2K) Gram).
 CHUNK = 2048
 ROBUST_PASSES = 2
-#: A marker is a motor's where it is nearest the motor in at least this share of the frames of a side that
-#: see it: a few frames where a neighbour motor seemed still (a label swap
-#: read by its rule) do not make its markers another motor's.
+#: A marker is a motor's where it is nearest the motor in at least this share of the frames of a
+#: side that see it: a few frames where a neighbour motor seemed still (a label swap read by its
+#: rule) do not make its markers another motor's.
 MOSTLY = 0.5
 #: Weighted passes of learning each side of a motor (:func:`_side_basis`).
 LEARN_PASSES = 3
