@@ -20,8 +20,8 @@ Only samples that were seen count (a filled gap would teach the filler's guess b
 regression is robust (:func:`_side_basis`): a sweep has label swaps and spikes too. A marker that
 is a motor's in under :data:`MOSTLY` of the frames that see it is not its. A side the sweep did
 not show, or a marker it did not see on one side, is the other side through rest. A marker a
-motor moves by less than :data:`SMALL_SHARE` of its furthest one, or by less than
-:data:`SMALL_MM`, is not its.
+motor moves by less than :data:`SMALL_SHARE` of its furthest one (:data:`WOBBLE_MM` at most), or
+by less than :data:`SMALL_MM`, is not its.
 
 The rules' shares tell the moving motors apart only while no rule reads another group's motion
 as more than :data:`TOGETHER` of its own range: a rule that reads a jaw's opening as a full
@@ -65,6 +65,10 @@ TIE_MM = 1.0
 #: tenths of a millimetre with whatever moves, and left in a lid's basis it reads speech as a squint.
 SMALL_SHARE = 0.1
 SMALL_MM = 0.15
+#: ... but a motor that moves a marker by more than this (mm per unit of share) moves it: a head
+#: fit's wobble is a few tenths, and a tenth of a jaw's chin (5 mm) left out the mouth corners'
+#: drop as the jaw opens, which the solver then read as the corners pulled down (MRV).
+WOBBLE_MM = 1.0
 #: Frames on a side of rest needed to learn that side.
 MIN_FRAMES = 8
 #: A marker seen in fewer of a side's frames is not learned on that side (it takes the other's): a
@@ -265,7 +269,8 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         if sides[0] is None and sides[1] is None:
             continue
         up[k], down[k] = _either_side(*sides)
-        small = max(SMALL_SHARE * float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max()), SMALL_MM)
+        furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
+        small = max(min(SMALL_SHARE * furthest, WOBBLE_MM), SMALL_MM)
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
         kept.append(k)

@@ -39,9 +39,9 @@ def _bases() -> tuple[np.ndarray, np.ndarray]:
     return up, down
 
 
-def _face(shares: np.ndarray) -> np.ndarray:
-    """Head-frame markers ``(F, M, 3)`` for motor shares ``(F, K)``."""
-    up, down = _bases()
+def _face(shares: np.ndarray, bases: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """Head-frame markers ``(F, M, 3)`` for motor shares ``(F, K)`` (``bases``: :func:`_bases`'s by default)."""
+    up, down = bases or _bases()
     moved = np.where(shares[..., None, None] >= 0, up, down) * shares[..., None, None]
     return REST + moved.sum(axis=1)
 
@@ -59,12 +59,12 @@ def _sweep() -> np.ndarray:
     return shares
 
 
-def _rule_reading(local: np.ndarray) -> np.ndarray:
+def _rule_reading(local: np.ndarray, bases: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """What per-marker rules read: each motor from one coordinate of its own marker, as a share of
     the sweep's range of it on that side (a profile's ranges): the lid reads a smile's lift as
     its own raise."""
-    up, _ = _bases()
-    swept = _face(_sweep())
+    up, _ = bases or _bases()
+    swept = _face(_sweep(), bases)
     out = np.empty((len(local), len(CODES)))
     for k, (m, axis) in enumerate(READ):
         sign = np.sign(up[k, m, axis])
@@ -190,6 +190,29 @@ def test_a_marker_never_seen_on_one_side_of_its_motor_takes_the_other_side():
     np.testing.assert_allclose(solver.down[solver.codes.index("ER"), lid], (0.0, 1.0, 0.0), atol=1e-9)
     # through rest from the side it was seen on, not still (which left the lid unsolved on that side)
     np.testing.assert_allclose(solver.up[solver.codes.index("ER"), lid], (0.0, 1.0, 0.0), atol=1e-9)
+
+
+def test_a_big_jaw_keeps_the_mouth_corners_it_pulls_down():
+    """A marker a motor moves by under a tenth of its furthest one was dropped as the head fit's
+    wobble: a jaw whose chin drops 41 mm lost the corners' 3 mm, and a jaw opening then read as
+    the corners pulled down (the second performer's MRV at r 0.81)."""
+    up, down = _bases()
+    mb = CODES.index("MB")
+    up[mb, COLUMNS["CHIN"]] = (0, -40, -10)
+    up[mb, COLUMNS["LIP_LOW"]] = (0, -35, -5)
+    up[mb, COLUMNS["MOUTH_R"]] = up[mb, COLUMNS["MOUTH_L"]] = (0, -3, 0)
+    bases = (up, down)
+    local = _face(_sweep(), bases)
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), _rule_reading(local, bases),
+                          REST)
+    assert solver is not None
+    np.testing.assert_allclose(solver.up[solver.codes.index("MB"), solver.markers.index("MOUTH_R")], (0, -3, 0),
+                               atol=1e-9)
+    jaw = np.zeros((1, len(CODES)))
+    jaw[0, mb] = 0.8
+    shares, _ = solver.solve(_face(jaw, bases), COLUMNS)
+    assert abs(shares[0, solver.codes.index("MR")]) < 0.01
+    assert shares[0, solver.codes.index("MB")] == pytest.approx(0.8, abs=0.01)
 
 
 def test_a_motor_the_markers_do_not_show_is_named_not_solved():
