@@ -21,7 +21,7 @@ regression is robust (:func:`_side_basis`): a sweep has label swaps and spikes t
 is a motor's in under :data:`MOSTLY` of the frames that see it is not its. A side the sweep did
 not show, or a marker it did not see on one side, is the other side through rest. A marker a
 motor moves by less than :data:`SMALL_SHARE` of its furthest one (:data:`WOBBLE_MM` at most), or
-by less than :data:`SMALL_MM`, is not its.
+by less than :data:`SMALL_MM` (:data:`OTHERS_MM` for a marker its rule does not read), is not its.
 
 The rules' shares tell the moving motors apart only while no rule reads another group's motion
 as more than :data:`TOGETHER` of its own range: a rule that reads a jaw's opening as a full
@@ -69,6 +69,11 @@ SMALL_MM = 0.15
 #: fit's wobble is a few tenths, and a tenth of a jaw's chin (5 mm) left out the mouth corners'
 #: drop as the jaw opens, which the solver then read as the corners pulled down (MRV).
 WOBBLE_MM = 1.0
+#: A marker that is not one the motor's rule reads is its only from this (mm per unit of share): a
+#: head fit's wobble with a lid's 3 mm sweep moved the lips by 0.3-0.5 mm, past a tenth of the lid,
+#: and speech then read as the lid moving (the third performer's lowest r 0.941 -> 0.955 on the
+#: bench's seeds, 0.895 -> 0.950 on four others).
+OTHERS_MM = 0.5
 #: Frames on a side of rest needed to learn that side.
 MIN_FRAMES = 8
 #: A marker seen in fewer of a side's frames is not learned on that side (it takes the other's): a
@@ -270,7 +275,8 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
             continue
         up[k], down[k] = _either_side(*sides)
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
-        small = max(min(SMALL_SHARE * furthest, WOBBLE_MM), SMALL_MM)
+        least = min(SMALL_SHARE * furthest, WOBBLE_MM)
+        small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
         kept.append(k)

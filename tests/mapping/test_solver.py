@@ -215,6 +215,27 @@ def test_a_big_jaw_keeps_the_mouth_corners_it_pulls_down():
     assert shares[0, solver.codes.index("MB")] == pytest.approx(0.8, abs=0.01)
 
 
+def test_a_far_markers_wobble_in_a_small_motors_sweep_is_not_its_motion():
+    """A head fit wobbles by a few tenths of a millimetre with whatever moves; in a lid's sweep
+    (3 mm) a lip's 0.4 mm passed the lid's threshold (a tenth of 3 mm), and then speech read as
+    the lid moving. A marker that is not the motor's own must move by 0.5 mm a share."""
+    sweep = _sweep()
+    local = _face(sweep)
+    er = CODES.index("ER")
+    local[:, COLUMNS["LIP_LOW"], 2] += 0.4 * np.abs(sweep[:, er])  # wobble with the lid, either way
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), _rule_reading(local), REST)
+    assert solver is not None
+    k, lip = solver.codes.index("ER"), solver.markers.index("LIP_LOW")
+    assert np.allclose(solver.up[k, lip], 0.0) and np.allclose(solver.down[k, lip], 0.0)
+    np.testing.assert_allclose(solver.down[k, solver.markers.index("LID_R")], (0, 1, 0), atol=1e-9)  # its own: kept
+    speech = np.zeros((1, len(CODES)))
+    speech[0, CODES.index("MB")] = 0.5
+    speech_local = _face(speech)
+    speech_local[0, COLUMNS["LIP_LOW"], 2] += 1.0  # the lip pushed out as it speaks
+    shares, _ = solver.solve(speech_local, COLUMNS)
+    assert abs(shares[0, k]) < 0.01
+
+
 def test_a_motor_the_markers_do_not_show_is_named_not_solved():
     sweep = _sweep()
     local = _face(sweep)
