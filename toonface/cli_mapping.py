@@ -163,8 +163,8 @@ def clean(take: str, output: str, head_frame: bool, markerset: str | None, mappi
 @click.option("--solve", is_flag=True,
               help="With --range (a sweep: each motor moved alone): also learn what each motor does to every marker, "
                    "kept in the profile, and solve all the motors it shows at once when mapping with it (off by "
-                   "default: on the synthetic performers it is still less faithful than the rules; see python -m "
-                   "bench fidelity).")
+                   "default: on the bench's synthetic performers it is as faithful as the rules on two and more "
+                   "on two; see python -m bench fidelity).")
 @_clean_settings
 @take_options
 def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | None, neutral_take: str | None,
