@@ -111,7 +111,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     if isinstance(fit, Failure):
         return fit
     edge = bridge_edge(take.rate)
-    first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows)
+    first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows,
+                                        settings.max_gap_seconds)
     rejected = 0
     if settings.spikes:
         del positions  # made again without the spikes: a long take's copy is hundreds of MB
@@ -127,7 +128,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         fit = refit_head(fit, positions, rows, new_references)
         if isinstance(fit, Failure):
             return fit
-        first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows)
+        first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows,
+                                            settings.max_gap_seconds)
     del positions  # the world positions are done with
     found = markerset.match(take.labels)
     apart = [take.index(found[m]) for m in markerset.independent if m in found]
@@ -141,17 +143,18 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()), bridged=bridged)
 
 
-def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray, rows: list[int]
-                       ) -> tuple[Stabilised, int]:
+def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray, rows: list[int],
+                       longest: float) -> tuple[Stabilised, int]:
     """``first`` with short stretches without a head pose given one (:func:`mapping.lost_poses.bridge_lost_poses`,
     each pose either side trusted as well as its references pin it; then :func:`mapping.lost_poses.refine_poses` by
     the references seen there, and the other markers as weak ones, :func:`mapping.lost_poses.weak_references`) and
-    the markers seen there expressed in it; and how many frames were bridged."""
+    the markers seen there expressed in it; and how many frames were bridged. A stretch is
+    bridged up to ``longest`` seconds (the longest gap filled)."""
     if first.ok.all():  # every frame has its own pose: nothing to carry across
         return first, 0
     trust = posedness(first.reference, np.isfinite(positions[:, rows, 0]))
     rotation, translation, bridged = bridge_lost_poses(first.rotation, first.translation, first.ok, times,
-                                                       trust=trust)
+                                                       longest=longest, trust=trust)
     if not bridged.any():
         return first, 0
     others = [m for m in range(positions.shape[1]) if m not in rows]

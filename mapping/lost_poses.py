@@ -21,8 +21,13 @@ import numpy as np
 from mapping.gaps import gap_runs
 from mapping.stabilise import least_moment
 
-#: The longest stretch without a head pose that :func:`bridge_lost_poses` bridges, seconds.
-LONGEST_LOST_POSE = 1.0
+#: The longest stretch without a head pose that :func:`bridge_lost_poses` bridges, seconds: cleaning
+#: passes its longest gap filled (:attr:`mapping.settings.CleanSettings.max_gap_seconds`, 2 s by
+#: default), since a longer stretch is left unseen and a shorter one's markers would otherwise be
+#: filled one by one, each by a spline of its own across the whole face's gap (at 1 s, a forehead
+#: marker lost for 1.3 s while the head was turned past a temple's view left the fourth performer's
+#: raised brows to splines that swung them to fully lowered: brows at r 0.4-0.6).
+LONGEST_LOST_POSE = 2.0
 #: Seconds of fitted poses either side of a lost stretch that the bridge is fitted to, at most
 #: (the stretch's own length, at least).
 POSE_CONTEXT = 0.3
