@@ -273,7 +273,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
             sides.append(_side_basis(shares[at, k], ok[at], share[at, :, k], d[at]))
         if sides[0] is None and sides[1] is None:
             continue
-        up[k], down[k] = _either_side(*sides)
+        up[k], down[k] = _either_side(sides[0], sides[1], far[:, k] == 0.0)
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
@@ -325,19 +325,26 @@ def _side_basis(s: np.ndarray, ok: np.ndarray, part: np.ndarray, d: np.ndarray) 
     return np.where(mostly[:, None], basis * _shared_part(part, seen)[:, None], 0.0), ok.sum(axis=0) >= SEEN_FRAMES
 
 
-def _either_side(high: tuple[np.ndarray, np.ndarray] | None, low: tuple[np.ndarray, np.ndarray] | None
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def _either_side(high: tuple[np.ndarray, np.ndarray] | None, low: tuple[np.ndarray, np.ndarray] | None,
+                 own: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """A motor's two sides, ``(M, 3)`` each, from what each side's frames taught (its basis, and
-    which markers they saw, :func:`_side_basis`): a side the sweep did not show, or a marker it
-    never saw on one side (an upper lid's marker hidden for all of a shut eye's frames), is the
-    other side's through rest."""
+    which markers they saw, :func:`_side_basis`); ``own`` ``(M,)``: the markers its rule reads.
+
+    A side the sweep did not show is the other side through rest. So is a marker one side never
+    saw (an upper lid's marker hidden for all of a shut eye's frames), scaled by how much further
+    the motor's own markers seen on both sides reach on that side than on the other (their
+    median; 1 where there are none): a jaw's chin hidden while it opened took its clench, 3 mm a
+    share, for its opening, 20, and every opening then read several times too wide."""
     if high is None or low is None:
         only = high if high is not None else low
         assert only is not None, "a motor with neither side is not learned"
         return only[0], only[0]
     (up, seen_up), (down, seen_down) = high, low
-    return (np.where((seen_down & ~seen_up)[:, None], down, up),
-            np.where((seen_up & ~seen_down)[:, None], up, down))
+    both = seen_up & seen_down & own
+    reach = (np.linalg.norm(up[both], axis=1), np.linalg.norm(down[both], axis=1))
+    ratio = float(np.median(reach[0] / np.maximum(reach[1], 1e-9))) if both.any() and reach[1].min() > 0 else 1.0
+    return (np.where((seen_down & ~seen_up)[:, None], down * ratio, up),
+            np.where((seen_up & ~seen_down)[:, None], up / ratio, down))
 
 
 def _shared_part(part: np.ndarray, seen: np.ndarray) -> np.ndarray:

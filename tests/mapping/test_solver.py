@@ -192,6 +192,26 @@ def test_a_marker_never_seen_on_one_side_of_its_motor_takes_the_other_side():
     np.testing.assert_allclose(solver.up[solver.codes.index("ER"), lid], (0.0, 1.0, 0.0), atol=1e-9)
 
 
+def test_a_marker_unseen_on_one_side_is_scaled_as_the_motors_own_seen_ones():
+    """The jaw's chin hidden while the jaw opened: through rest alone its clench (1 mm a share)
+    stood for its opening (8), and an opening with the chin seen read as eight times as wide.
+    Scaled by how far the jaw's own marker seen on both sides (the lower lip) reaches on each."""
+    sweep = _sweep()
+    local = _face(sweep)
+    seen = np.ones(local.shape[:2], bool)
+    mb = CODES.index("MB")
+    seen[sweep[:, mb] > 0, COLUMNS["CHIN"]] = False
+    solver = learn_solver(CODES, OWN, local, COLUMNS, seen, _rule_reading(local), REST)
+    assert solver is not None
+    k, chin = solver.codes.index("MB"), solver.markers.index("CHIN")
+    ratio = np.hypot(8.0, 1.0) / 1.0  # the lower lip's reach up over down
+    np.testing.assert_allclose(solver.up[k, chin], (0.0, -ratio, 0.0), atol=1e-6)
+    jaw = np.zeros((1, len(CODES)))
+    jaw[0, mb] = 0.6
+    shares, _ = solver.solve(_face(jaw), COLUMNS)
+    assert shares[0, k] == pytest.approx(0.6, abs=0.05)
+
+
 def test_a_big_jaw_keeps_the_mouth_corners_it_pulls_down():
     """A marker a motor moves by under a tenth of its furthest one was dropped as the head fit's
     wobble: a jaw whose chin drops 41 mm lost the corners' 3 mm, and a jaw opening then read as
