@@ -19,7 +19,8 @@ the markers near it (the lower lid a smile lifts, when no lid motor moves with t
 Only samples that were seen count (a filled gap would teach the filler's guess back), and the
 regression is robust (:func:`_side_basis`): a sweep has label swaps and spikes too. A marker that
 is a motor's in under :data:`MOSTLY` of the frames that see it is not its. A side the sweep did
-not show, or a marker it did not see on one side, is the other side through rest. A marker a
+not show, or a marker it did not see on one side, is the other side through rest (a marker
+scaled as the motor's own markers reach on the two sides, :func:`_either_side`). A marker a
 motor moves by less than :data:`SMALL_SHARE` of its furthest one (:data:`WOBBLE_MM` at most), or
 by less than :data:`SMALL_MM` (:data:`OTHERS_MM` for a marker its rule does not read), is not its.
 
