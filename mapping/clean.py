@@ -4,7 +4,8 @@ The order matters. Head motion goes first, so that the spike test sees the face'
 motion (a fast head turn would otherwise look like a spike): a robust rigid fit of the head
 references expresses every marker in the head frame (the references' own spikes are found
 before it, in the world, by :func:`~mapping.outliers.centred_spikes`: with few references seen,
-one spike turns the whole head). Spikes are then rejected there, by the live test and by the
+one spike turns the whole head). Two neighbouring markers that traded labels for a few frames
+get them back there (:mod:`mapping.swaps`). Spikes are then rejected there, by the live test and by the
 offline one that looks both ways (on the head references too), and the head is fitted again
 without them, with the performer's reference shape the first fit measured. A frame with too few
 references seen, or only ones on a line, has no pose; a short stretch of them takes one carried
@@ -27,7 +28,7 @@ is, in world coordinates, and the report says so.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -54,13 +55,15 @@ from mapping.stabilise import (
     to_head_frame,
     yaw_pitch_degrees,
 )
+from mapping.swaps import find_swaps, undo_swaps
 
 
 @dataclass(frozen=True, eq=False)
 class CleanReport:
     """What cleaning did: counts of marker-samples ``rejected``, ``filled`` and ``still_missing``,
     frames without a head pose (``no_head_frames``), frames whose pose was carried across from either side
-    (``bridged``, :func:`mapping.lost_poses.bridge_lost_poses`) and how head motion was handled (``head``)."""
+    (``bridged``, :func:`mapping.lost_poses.bridge_lost_poses`), how head motion was handled (``head``) and how
+    many label swaps of two neighbouring markers were undone (``swaps``, :mod:`mapping.swaps`)."""
 
     rejected: int
     filled: int
@@ -68,6 +71,7 @@ class CleanReport:
     no_head_frames: int = 0
     head: str = "removed"
     bridged: int = 0
+    swaps: int = 0
 
     def summary(self) -> str:
         """One line for the CLI."""
@@ -75,7 +79,9 @@ class CleanReport:
                 f"head motion {self.head}" + (f" ({self.no_head_frames} frames without a head pose)"
                                               if self.no_head_frames else "")
                 + (f"; the head pose carried across {self.bridged} frames with too few head references seen"
-                   if self.bridged else ""))
+                   if self.bridged else "")
+                + (f"; {self.swaps} label swap{'s' if self.swaps != 1 else ''} of neighbouring markers undone"
+                   if self.swaps else ""))
 
 
 def head_references(labels: tuple[str, ...], markerset: MarkerSet) -> tuple[list[int], np.ndarray] | Failure:
@@ -113,18 +119,26 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     edge = bridge_edge(take.rate)
     first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows,
                                         settings.max_gap_seconds)
-    rejected = 0
+    rejected, swaps = 0, []
     if settings.spikes:
         del positions  # made again without the spikes: a long take's copy is hundreds of MB
+        swaps = find_swaps(first.local, take.times)  # before the spike tests, which would blank a swap's first frame
+        undo_swaps(first.local, swaps)
         spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
         local = first.local  # no longer needed once the spikes are found: they are blanked in it, not in a copy
         local[spikes] = np.nan
         spikes |= centred_spikes(local, take.times)
         del local
-        new_references = spikes[:, rows].any(axis=1)  # frames whose head fit loses a reference
+        new_references = spikes[:, rows].any(axis=1)  # frames whose head fit loses a reference, or gets one back
+        for swap in swaps:
+            if swap.first in rows or swap.second in rows:
+                new_references[swap.start:swap.end] = True
+        undo_swaps(world_spikes, swaps)  # every mask and copy from here on has the labels given back
         spikes |= world_spikes
         rejected = int(spikes.sum())
-        positions = np.where(spikes[..., None], np.nan, take.positions)
+        positions = take.positions.copy()
+        undo_swaps(positions, swaps)
+        positions[spikes] = np.nan
         fit = refit_head(fit, positions, rows, new_references)
         if isinstance(fit, Failure):
             return fit
@@ -140,7 +154,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     cleaned = Stabilised(local, rotation, translation, first.ok, first.reference, filled_mask,
                          clean_channels(take, settings))
     missing = int(np.isnan(local[..., 0]).sum())
-    return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()), bridged=bridged)
+    return cleaned, CleanReport(rejected, int(filled_mask.sum()), missing, int((~first.ok).sum()), bridged=bridged,
+                                swaps=len(swaps))
 
 
 def _bridge_lost_poses(first: Stabilised, positions: np.ndarray, times: np.ndarray, rows: list[int],
@@ -237,9 +252,9 @@ def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset:
                             "pitch_deg": np.where(stable.ok, pitch, np.nan).round(4).tolist()}
         else:
             pos = np.where(stable.ok[:, None, None], stable.world(), take.positions)
-            report = CleanReport(report.rejected, report.filled, int(np.isnan(pos[..., 0]).sum()),
-                                 report.no_head_frames, "removed while cleaning, then restored", report.bridged)
-    meta["cleaned"].update(rejected=report.rejected, filled=report.filled, head=report.head)
+            report = replace(report, still_missing=int(np.isnan(pos[..., 0]).sum()),
+                             head="removed while cleaning, then restored")
+    meta["cleaned"].update(rejected=report.rejected, filled=report.filled, head=report.head, swaps=report.swaps)
     cleaned = Take(pos, take.labels, take.rate, times=take.times, dims=take.dims, meta=meta,
                    channels=np.column_stack([channels[n] for n in take.channel_names]) if channels else take.channels,
                    channel_names=take.channel_names)

@@ -13,7 +13,8 @@ class CleanSettings:
     Attributes
     ----------
     spikes : bool
-        Reject spikes (:class:`~mapping.outliers.SpikeFilter`).
+        Reject spikes (:class:`~mapping.outliers.SpikeFilter`) and undo label swaps of two
+        neighbouring markers (:mod:`mapping.swaps`).
     max_gap_seconds : float
         Fill gaps up to this long (0: fill none).
     cutoff_hz : float

@@ -107,7 +107,8 @@ def _clean_settings(fn):
     command = click.option("--max-gap", default=default.max_gap_seconds, show_default=True,
                            type=FiniteFloat(min=0.0),
                            help="Fill gaps up to this many seconds (0: none); longer ones stay unseen.")(command)
-    return click.option("--no-spikes", is_flag=True, help="Keep spikes (no robust spike rejection).")(command)
+    return click.option("--no-spikes", is_flag=True,
+                        help="Keep spikes and label swaps (no robust spike rejection, no swap repair).")(command)
 
 
 @click.command()
