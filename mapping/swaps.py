@@ -46,8 +46,19 @@ class Swap:
     end: int
 
 
+#: The usual place of a marker is its median over about this many frames spread evenly over the
+#: take (a long take's median over every frame costs more than the rest and says no more).
+USUAL_FRAMES = 1000
+#: Frames whose steps are measured at once.
+BLOCK_FRAMES = 65536
+
+
 def find_swaps(local: np.ndarray, times: np.ndarray) -> list[Swap]:
     """The label swaps in ``local`` ``(F, M, D)`` (head frame, mm, NaN unseen) at ``times`` ``(F,)``.
+
+    Only frames where a marker lands after a step of :data:`JUMP_MM` / 2 or after being unseen
+    can end a jump (each jump has one of the two, or both, so), and they are few: a face moves
+    under a millimetre a frame at 120 Hz.
 
     Returns
     -------
@@ -55,16 +66,28 @@ def find_swaps(local: np.ndarray, times: np.ndarray) -> list[Swap]:
         In no particular order; no two share a marker in overlapping frames.
     """
     seen = np.isfinite(local).all(axis=2)
+    frames = len(local)
     usual = np.full(local.shape[1:], np.nan)
     counted = seen.any(axis=0)
     if counted.any():
-        usual[counted] = np.nanmedian(local[:, counted], axis=0)
+        usual[counted] = np.nanmedian(local[::max(1, frames // USUAL_FRAMES)][:, counted], axis=0)
     apart = np.linalg.norm(usual[:, None] - usual[None, :], axis=2)
     pairs = np.argwhere(np.triu(apart < NEIGHBOUR_MM, k=1))
+    landing = np.zeros_like(seen)  # where a marker lands after a step that could be a jump, or after a gap
+    for lo in range(1, frames, BLOCK_FRAMES):  # a block at a time: an hour's steps at once are hundreds of MB
+        hi = min(lo + BLOCK_FRAMES, frames)
+        step = local[lo:hi] - local[lo - 1:hi - 1]
+        moved = np.einsum("fmd,fmd->fm", step, step) >= (JUMP_MM / 2) ** 2  # NaN: False
+        landing[lo:hi] = moved | (seen[lo:hi] & ~seen[lo - 1:hi - 1])
+    landing, seen_each = np.ascontiguousarray(landing.T), np.ascontiguousarray(seen.T)  # (M, F): a marker's row
     swaps: list[Swap] = []
     busy: dict[int, list[tuple[int, int]]] = {}
     for i, j in pairs.tolist():
-        for swap in _pair_swaps(local, times, seen, usual, i, j):
+        at = np.flatnonzero(landing[i] | landing[j])
+        if len(at) < 2:  # a swap has two jumps
+            continue
+        jumps = _jumps(local, times, seen_each, usual, i, j, at)
+        for swap in _pair_swaps(local, times, seen, usual, i, j, jumps):
             if any(s < swap.end and swap.start < e for m in (i, j) for s, e in busy.get(m, [])):
                 continue
             swaps.append(swap)
@@ -80,17 +103,17 @@ def undo_swaps(values: np.ndarray, swaps: list[Swap]) -> None:
         values[rows, [s.first, s.second]] = values[rows, [s.second, s.first]]
 
 
-def _pair_swaps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: np.ndarray, i: int, j: int
-                ) -> list[Swap]:
-    """The swaps of markers ``i`` and ``j``: a run of stretches between their jumps (:func:`_jumps`)
-    where :data:`MOSTLY` of the samples sit nearer the other's usual place than their own, at most
-    :data:`LONGEST_SWAP_SECONDS` long. Stretches, not every other jump: one swap may begin with a
-    jump of each marker where the two were not seen in the same frames. A single sample is not a
-    swap: one marker's one frame near a hidden neighbour's place is as likely a spike (which the
-    spike tests blank) as a swap."""
-    jumps = _jumps(local, times, seen, usual, i, j).tolist()
+def _pair_swaps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: np.ndarray, i: int, j: int,
+                jumps: np.ndarray) -> list[Swap]:
+    """The swaps of markers ``i`` and ``j``: a run of stretches between their ``jumps``
+    (:func:`_jumps`) where :data:`MOSTLY` of the samples sit nearer the other's usual place than
+    their own, at most :data:`LONGEST_SWAP_SECONDS` long. Stretches, not every other jump: one
+    swap may begin with a jump of each marker where the two were not seen in the same frames. A
+    single sample is not a swap: one marker's one frame near a hidden neighbour's place is as
+    likely a spike (which the spike tests blank) as a swap."""
+    edges = jumps.tolist()
     crossed, samples = [], []
-    for start, end in zip(jumps[:-1], jumps[1:], strict=True):
+    for start, end in zip(edges[:-1], edges[1:], strict=True):
         nearer = np.concatenate([np.linalg.norm(local[start:end, m][seen[start:end, m]] - usual[o], axis=1)
                                  < np.linalg.norm(local[start:end, m][seen[start:end, m]] - usual[m], axis=1)
                                  for m, o in ((i, j), (j, i))])
@@ -102,43 +125,48 @@ def _pair_swaps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: n
         if not crossed[k]:
             k += 1
             continue
-        last = k
-        while last + 1 < len(crossed) and crossed[last + 1]:
-            last += 1
-        start, end = jumps[k], jumps[last + 1]
-        if times[end] - times[start] <= LONGEST_SWAP_SECONDS and sum(samples[k:last + 1]) >= 2:
-            out.append(Swap(i, j, int(start), int(end)))
-        k = last + 1
+        end = k
+        while end + 1 < len(crossed) and crossed[end + 1]:
+            end += 1
+        first, after = edges[k], edges[end + 1]
+        if times[after] - times[first] <= LONGEST_SWAP_SECONDS and sum(samples[k:end + 1]) >= 2:
+            out.append(Swap(i, j, int(first), int(after)))
+        k = end + 1
     return out
 
 
-def _jumps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: np.ndarray, i: int, j: int
-           ) -> np.ndarray:
-    """The frames (sorted) where markers ``i`` and ``j`` jump to where the other just was: both at
-    once where both are seen either side (each lands :data:`CLOSER` times nearer the other's last
-    sample than its own), or one alone where the other is not (it moves by the pair's offset, as
-    last seen or, never seen together, as usual)."""
+def _jumps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: np.ndarray, i: int, j: int,
+           at: np.ndarray) -> np.ndarray:
+    """The frames among ``at`` (sorted) where markers ``i`` and ``j`` jump to where the other just
+    was: both at once where both are seen there and in an earlier frame (each lands
+    :data:`CLOSER` times nearer the other's sample there than its own), or one alone where the
+    other is not seen both before and after (it moves by the pair's offset, as last seen
+    together or, never seen together, as usual). ``seen`` ``(M, F)``: where each marker is seen."""
+    both = np.flatnonzero(seen[i] & seen[j])
     found = []
-    both = np.flatnonzero(seen[:, i] & seen[:, j])
-    if len(both) >= 2:
-        a, b = local[both, i], local[both, j]
-        same = np.linalg.norm(a[1:] - a[:-1], axis=1) + np.linalg.norm(b[1:] - b[:-1], axis=1)
-        cross = np.linalg.norm(a[1:] - b[:-1], axis=1) + np.linalg.norm(b[1:] - a[:-1], axis=1)
-        close = np.diff(times[both]) <= LONGEST_STEP_SECONDS
-        found.append(both[1:][close & (same >= JUMP_MM) & (cross * CLOSER <= same)])
-    index = np.where(seen[:, i] & seen[:, j], np.arange(len(seen)), -1)
-    last_both = np.maximum.accumulate(index)  # the latest frame up to each with both seen (-1: none)
+    landed = at[seen[i, at] & seen[j, at]]
+    k = np.searchsorted(both, landed) - 1  # the frame before with both seen
+    landed, before = landed[k >= 0], both[k[k >= 0]]
+    if len(landed):
+        a, b, a0, b0 = local[landed, i], local[landed, j], local[before, i], local[before, j]
+        same = np.linalg.norm(a - a0, axis=1) + np.linalg.norm(b - b0, axis=1)
+        cross = np.linalg.norm(a - b0, axis=1) + np.linalg.norm(b - a0, axis=1)
+        close = times[landed] - times[before] <= LONGEST_STEP_SECONDS
+        found.append(landed[close & (same >= JUMP_MM) & (cross * CLOSER <= same)])
     for m, o in ((i, j), (j, i)):
-        own = np.flatnonzero(seen[:, m])
-        if len(own) < 2:
+        after = at[seen[m, at]]
+        own = np.flatnonzero(seen[m])
+        k = np.searchsorted(own, after) - 1  # m's sample before
+        after, before = after[k >= 0], own[k[k >= 0]]
+        alone = (times[after] - times[before] <= LONGEST_STEP_SECONDS) & ~(seen[o, before] & seen[o, after])
+        after, before = after[alone], before[alone]
+        if not len(after):
             continue
-        before, after = own[:-1], own[1:]
-        alone = (np.diff(times[own]) <= LONGEST_STEP_SECONDS) & ~(seen[before, o] & seen[after, o])
         step = local[after, m] - local[before, m]
-        at = last_both[before]
-        offset = np.where((at >= 0)[:, None], local[np.maximum(at, 0), o] - local[np.maximum(at, 0), m],
-                          usual[o] - usual[m])
+        k = np.searchsorted(both, before, side="right") - 1  # the latest frame up to before with both seen
+        together = both[np.maximum(k, 0)] if len(both) else before
+        offset = np.where((k >= 0)[:, None], local[together, o] - local[together, m], usual[o] - usual[m])
         size = np.linalg.norm(step, axis=1)
         miss = np.minimum(np.linalg.norm(step - offset, axis=1), np.linalg.norm(step + offset, axis=1))
-        found.append(after[alone & (size >= JUMP_MM / 2) & (miss * CLOSER <= size)])
+        found.append(after[(size >= JUMP_MM / 2) & (miss * CLOSER <= size)])
     return np.unique(np.concatenate(found)) if found else np.zeros(0, int)
