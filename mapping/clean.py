@@ -124,12 +124,12 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         del positions  # made again without the spikes: a long take's copy is hundreds of MB
         swaps = find_swaps(first.local, take.times)  # before the spike tests, which would blank a swap's first frame
         undo_swaps(first.local, swaps)
-        spikes = np.isnan(SpikeFilter().apply(first.local, take.times)[..., 0]) & ~np.isnan(first.local[..., 0])
+        spikes = SpikeFilter().spikes(first.local, take.times)
         local = first.local  # no longer needed once the spikes are found: they are blanked in it, not in a copy
         local[spikes] = np.nan
         spikes |= centred_spikes(local, take.times)
         del local
-        new_references = spikes[:, rows].any(axis=1)  # frames whose head fit loses a reference, or gets one back
+        new_references = np.asarray(spikes[:, rows].any(axis=1))  # frames whose fit loses a reference, or gets one back
         for swap in swaps:
             if swap.first in rows or swap.second in rows:
                 new_references[swap.start:swap.end] = True
@@ -214,7 +214,7 @@ def _without_head(take: Take, markerset: MarkerSet, settings: CleanSettings
     local = to_head_frame(take.positions, rotation, translation)
     rejected = 0
     if settings.spikes:
-        spikes = np.isnan(SpikeFilter().apply(local, take.times)[..., 0]) & ~np.isnan(local[..., 0])
+        spikes = SpikeFilter().spikes(local, take.times)
         rejected = int(spikes.sum())
         local = np.where(spikes[..., None], np.nan, local)
     local, filled = _fill_and_smooth(local, take, settings)

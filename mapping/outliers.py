@@ -127,16 +127,25 @@ class SpikeFilter:
 
     def apply(self, positions: np.ndarray, t: np.ndarray, block: int = 512) -> np.ndarray:
         """Whole recording ``(frames, markers, dims)``; equal to stepping it from a fresh state."""
+        out = np.array(positions, dtype=np.float64, copy=True)
+        out[self.spikes(out, t, block)] = np.nan
+        return out
+
+    def spikes(self, positions: np.ndarray, t: np.ndarray, block: int = 512) -> np.ndarray:
+        """Which seen samples of a whole recording ``(frames, markers, dims)`` stepping it from a
+        fresh state would reject, ``(frames, markers)``; without a copy of the recording (an
+        hour's is hundreds of MB)."""
         x = np.asarray(positions, dtype=np.float64)
         times = np.asarray(t, dtype=np.float64)
         k = self.window
-        padded = np.concatenate([np.full((k, *x.shape[1:]), np.nan), x])
-        padded_t = np.concatenate([np.full(k, np.nan), times])
-        out = x.copy()
-        edges = [0, *range(k, len(x), block), len(x)]  # the first window alone: it holds the padding
-        for start, stop in zip(edges[:-1], edges[1:], strict=True):  # blocks small enough for the cache
-            out[start:stop][self._spikes(padded[start:stop + k], padded_t[start:stop + k])] = np.nan
-        return out
+        spike = np.zeros(x.shape[:2], bool)
+        head = min(k, len(x))  # the first window alone: its past is padding
+        spike[:head] = self._spikes(np.concatenate([np.full((k, *x.shape[1:]), np.nan), x[:head]]),
+                                    np.concatenate([np.full(k, np.nan), times[:head]]))
+        for start in range(k, len(x), block):  # blocks small enough for the cache
+            stop = min(start + block, len(x))
+            spike[start:stop] = self._spikes(x[start - k:stop], times[start - k:stop])
+        return spike
 
     def _spikes(self, run: np.ndarray, run_t: np.ndarray) -> np.ndarray:
         """Which markers are spikes in each of the last ``len(run) - window`` frames of ``run``

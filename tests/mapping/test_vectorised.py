@@ -72,6 +72,7 @@ def test_the_spike_filter_equals_its_rule_sample_by_sample(seed):
     for block in (7, 64, 512):
         found = np.isnan(SpikeFilter().apply(x, t, block=block)[..., 0]) & np.isfinite(x[..., 0])
         np.testing.assert_array_equal(found, expected)
+        np.testing.assert_array_equal(SpikeFilter().spikes(x, t, block=block), expected)  # the mask, no copy
 
 
 def _centred_by_loop(x: np.ndarray, t: np.ndarray, threshold=4.0, floor=1.0, rounds=3) -> np.ndarray:
