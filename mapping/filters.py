@@ -24,6 +24,8 @@ from types import ModuleType
 
 import numpy as np
 
+from mapping.robust import ROWS_AT_ONCE, as_rows
+
 
 class Stepwise:
     """``apply`` as a loop over ``step``, for filters whose state depends on every sample.
@@ -53,8 +55,6 @@ class Stepwise:
 #: Channels filtered in one call by :func:`_each_channel`: scipy's forward-backward filter keeps
 #: about five copies of what it is given, which for every marker of an hour's take was gigabytes.
 CHANNELS_AT_ONCE = 12
-#: Frames gathered into rows (or back) at once by :func:`_as_rows`: a block that stays in the cache.
-ROWS_AT_ONCE = 4096
 
 
 def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray],
@@ -76,8 +76,8 @@ def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray]
         complete = np.flatnonzero(whole)
         for first in range(0, len(complete), CHANNELS_AT_ONCE):
             part = complete[first:first + CHANNELS_AT_ONCE]
-            filtered = batched(_as_rows(columns, part))
-            for lo in range(0, len(columns), ROWS_AT_ONCE):  # back a block of frames at a time, as taken
+            filtered = batched(as_rows(columns, part))
+            for lo in range(0, len(columns), ROWS_AT_ONCE):  # back a block of frames at a time, as taken (as_rows)
                 out[lo:lo + ROWS_AT_ONCE, part] = filtered[:, lo:lo + ROWS_AT_ONCE].T
     for c in np.flatnonzero(~whole) if batched is not None else range(columns.shape[1]):
         finite = np.isfinite(columns[:, c])
@@ -86,16 +86,6 @@ def _each_channel(x: np.ndarray, filter_seen: Callable[[np.ndarray], np.ndarray]
             out[seen, c] = filter_seen(columns[seen, c])
         out[~finite, c] = np.nan
     return out.reshape(arr.shape)
-
-
-def _as_rows(columns: np.ndarray, part: np.ndarray) -> np.ndarray:
-    """The columns ``part`` of ``columns`` ``(frames, channels)`` as rows, ``(len(part), frames)``,
-    C order; a block of :data:`ROWS_AT_ONCE` frames at a time: the transpose of a long take's
-    columns at once misses the cache at every frame (an hour's: a third of a second a pass)."""
-    rows = np.empty((len(part), len(columns)))
-    for lo in range(0, len(columns), ROWS_AT_ONCE):
-        rows[:, lo:lo + ROWS_AT_ONCE] = columns[lo:lo + ROWS_AT_ONCE, part].T
-    return rows
 
 
 class OneEuro(Stepwise):

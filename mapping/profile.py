@@ -23,7 +23,7 @@ import numpy as np
 from common import Failure, read_versioned, resolve_builtin, write_document
 from common.validate import Validator
 from mapping.outliers import FRAMES_AT_ONCE
-from mapping.robust import column_groups, column_nan_median
+from mapping.robust import as_rows, column_groups, column_nan_median
 from mapping.solver import Solver
 from mapping.sources import Source, head_angles, measure, mm_scale
 from mapping.stabilise import Stabilised, nearest_rotation
@@ -192,7 +192,8 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         low, high = _nan_percentiles(range_values, percentiles)
         jitter = np.empty(len(wanted))
         for part in column_groups(len(wanted)):  # a few at a time: a long take's differences stay small
-            jitter[part] = 1.4826 * column_nan_median(np.abs(np.diff(range_values[:, part], axis=0))) / np.sqrt(2)
+            steps = np.abs(np.diff(as_rows(range_values, part), axis=1)).T  # (F - 1, part), each column in order
+            jitter[part] = 1.4826 * column_nan_median(steps) / np.sqrt(2)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
     moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
@@ -299,12 +300,12 @@ def _is_matrix(value: object) -> bool:
 def _nan_percentiles(values: np.ndarray, percentiles: tuple[float, float]) -> np.ndarray:
     """``np.nanpercentile(values, percentiles, axis=0)`` of ``(F, C)``, ``(2, C)``: the columns
     without NaN all at once (numpy takes a NaN-aware percentile one column at a time)."""
-    whole = ~np.isnan(values).any(axis=0)
     out = np.empty((len(percentiles), values.shape[1]))
     for part in column_groups(values.shape[1]):  # a few at a time: a long take's sorted copies stay small
-        complete, gapped = part[whole[part]], part[~whole[part]]
-        if len(complete):
-            out[:, complete] = np.percentile(values[:, complete], percentiles, axis=0)
-        if len(gapped):
-            out[:, gapped] = np.nanpercentile(values[:, gapped], percentiles, axis=0)
+        rows = as_rows(values, part)  # each column's values in order: its partial sort runs through memory so
+        whole = ~np.isnan(rows).any(axis=1)
+        if whole.any():
+            out[:, part[whole]] = np.percentile(rows[whole], percentiles, axis=1)
+        if not whole.all():
+            out[:, part[~whole]] = np.nanpercentile(rows[~whole], percentiles, axis=1)
     return out

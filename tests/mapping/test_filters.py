@@ -393,7 +393,8 @@ def test_butterworth_smooths_a_long_take_a_block_at_a_time_as_scipy_does_each_ch
     """More frames than are gathered at once and more channels than are filtered at once, one
     channel with a gap: each channel as scipy's forward-backward filter gives it on its own
     (the seen samples of the gapped one), to the last bit."""
-    from mapping.filters import CHANNELS_AT_ONCE, ROWS_AT_ONCE
+    from mapping.filters import CHANNELS_AT_ONCE
+    from mapping.robust import ROWS_AT_ONCE
 
     rng = np.random.default_rng(3)
     frames, channels = 2 * ROWS_AT_ONCE + 77, CHANNELS_AT_ONCE + 5
