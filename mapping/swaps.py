@@ -5,9 +5,11 @@ markers, two brow markers) may give each the other's label for a few frames. Nei
 a spike on its own (each sits where a marker really is), so a test of one marker's path at a time
 finds only the first frame of the swap, if any: every frame after it agrees with the one before.
 A swap shows as both markers jumping at once, each to where the other just was, at its start and
-again at its end; :func:`find_swaps` looks for that pair of jumps on every pair of markers close
-at rest, and keeps a swap only where each marker between the jumps sits nearer the other's usual
-place than its own. :func:`undo_swaps` gives the samples their labels back.
+again at its end (or one alone, where the other is hidden); :func:`find_swaps` looks for those
+jumps on every pair of markers close at rest (across a frame, or two where a spike on the frame
+between hides the jump), and keeps a swap only where most samples between the jumps sit nearer
+the other marker's usual place than their own. :func:`undo_swaps` gives the samples their labels
+back.
 
 It works in the head frame (a turning head moves every marker more between two frames than a
 face does) and looks both ways, so it is offline cleaning's (:func:`mapping.clean.clean_stabilised`).
@@ -146,13 +148,16 @@ def _jumps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: np.nda
     found = []
     landed = at[seen[i, at] & seen[j, at]]
     k = np.searchsorted(both, landed) - 1  # the frame before with both seen
-    landed, before = landed[k >= 0], both[k[k >= 0]]
-    if len(landed):
-        a, b, a0, b0 = local[landed, i], local[landed, j], local[before, i], local[before, j]
+    for back in (0, 1):  # from that frame, and from the one before it (a spike there hides the jump)
+        kept = k - back >= 0
+        to, before = landed[kept], both[k[kept] - back]
+        if not len(to):
+            continue
+        a, b, a0, b0 = local[to, i], local[to, j], local[before, i], local[before, j]
         same = np.linalg.norm(a - a0, axis=1) + np.linalg.norm(b - b0, axis=1)
         cross = np.linalg.norm(a - b0, axis=1) + np.linalg.norm(b - a0, axis=1)
-        close = times[landed] - times[before] <= LONGEST_STEP_SECONDS
-        found.append(landed[close & (same >= JUMP_MM) & (cross * CLOSER <= same)])
+        close = times[to] - times[before] <= LONGEST_STEP_SECONDS
+        found.append(to[close & (same >= JUMP_MM) & (cross * CLOSER <= same)])
     for m, o in ((i, j), (j, i)):
         after = at[seen[m, at]]
         own = np.flatnonzero(seen[m])

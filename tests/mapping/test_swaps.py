@@ -44,6 +44,17 @@ def test_a_swap_with_frames_unseen_inside_is_still_found():
     assert find_swaps(swapped, times) == [Swap(0, 1, 30, 40)]
 
 
+def test_a_swap_that_begins_with_a_spike_is_found_from_the_frame_before():
+    """A spike on the swap's first frame hides the jump there (one marker lands nowhere near the
+    other's place); the jump is seen from the frame before the spike to the one after, and the
+    spiked frame is left to the spike tests."""
+    truth, times = _lids()
+    swapped = truth.copy()
+    swapped[60:68, [0, 1]] = swapped[60:68, [1, 0]]
+    swapped[60, 1] += np.array([6.0, -5.0, 4.0])
+    assert find_swaps(swapped, times) == [Swap(0, 1, 61, 68)]
+
+
 def test_a_swap_that_begins_while_one_marker_is_hidden_is_found():
     """The lower lid hidden when the labels trade (the upper lid's label jumps alone onto its
     place) and seen again before they trade back: the swap is found from the lone jump and the
