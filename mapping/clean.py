@@ -212,8 +212,10 @@ def _without_head(take: Take, markerset: MarkerSet, settings: CleanSettings
     rotation = np.broadcast_to(placed[0], (take.frames, 3, 3)).copy()
     translation = np.broadcast_to(placed[1], (take.frames, 3)).copy()
     local = to_head_frame(take.positions, rotation, translation)
-    rejected = 0
+    rejected, swaps = 0, []
     if settings.spikes:
+        swaps = find_swaps(local, take.times)
+        undo_swaps(local, swaps)
         spikes = SpikeFilter().spikes(local, take.times)
         rejected = int(spikes.sum())
         local = np.where(spikes[..., None], np.nan, local)
@@ -221,7 +223,7 @@ def _without_head(take: Take, markerset: MarkerSet, settings: CleanSettings
     cleaned = Stabilised(local, rotation, translation, np.ones(take.frames, bool), np.empty((0, 3)), filled,
                          clean_channels(take, settings))
     return cleaned, CleanReport(rejected, int(filled.sum()), int(np.isnan(local[..., 0]).sum()), 0,
-                                head="not removed (the marker set has no head references)")
+                                head="not removed (the marker set has no head references)", swaps=len(swaps))
 
 
 def clean_take(take: Take, settings: CleanSettings = CleanSettings(), markerset: MarkerSet | None = None,

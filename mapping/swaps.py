@@ -12,7 +12,9 @@ the other marker's usual place than their own. :func:`undo_swaps` gives the samp
 back.
 
 It works in the head frame (a turning head moves every marker more between two frames than a
-face does) and looks both ways, so it is offline cleaning's (:func:`mapping.clean.clean_stabilised`).
+face does; a marker set without head references is judged in its one fixed placement) and looks
+both ways, so it is offline cleaning's (:func:`mapping.clean.clean_stabilised`); the live mapper,
+which can only look back, has the spike test alone.
 """
 
 from __future__ import annotations

@@ -105,3 +105,20 @@ def test_cleaning_gives_a_swapped_lip_its_samples_back(frames):
     off = np.linalg.norm(stable.local[rows, [a, b]] - intact.local[rows, [a, b]], axis=-1)
     assert off.max() < 1.0, off.max()
     assert np.linalg.norm(intact.local[300, a] - intact.local[300, b]) > 5.0  # a swap that matters
+
+
+def test_a_layout_without_head_references_has_its_swaps_undone_too():
+    """A marker set without head references is cleaned in one fixed placement; a swap of two lip
+    markers there is found and undone as in the head frame (the performer's head held still)."""
+    from dataclasses import replace
+
+    syn = synthesize(rate=120.0, noise_mm=0.2, performance=default_performance(6, max_turn_deg=0), seed=3)
+    ms = replace(load_markerset("toon32"), head_reference=())
+    a, b = syn.take.index("LIP_LOW"), syn.take.index("LIP_LOW_R")
+    swapped = syn.take.positions.copy()
+    swapped[300:307, [a, b]] = swapped[300:307, [b, a]]
+    intact, _ = clean_stabilised(syn.take, ms)
+    stable, report = clean_stabilised(Take(swapped, syn.take.labels, 120.0, times=syn.take.times), ms)
+    assert report.swaps == 1 and "no head references" in report.head
+    off = np.linalg.norm(stable.local[300:307, [a, b]] - intact.local[300:307, [a, b]], axis=-1)
+    assert off.max() < 1.0, off.max()
