@@ -385,26 +385,3 @@ def test_a_blink_inside_one_lids_gap_is_taken_from_the_other_lid_where_it_is_see
     truth = pos[600:630, 0, 1]
     assert filled.min() - truth[0] < 0.8 * (truth.min() - truth[0])
     assert np.abs(filled - truth).max() < 0.6
-
-
-
-@pytest.mark.parametrize("overwrite", [False, True])
-def test_butterworth_smooths_a_long_take_a_block_at_a_time_as_scipy_does_each_channel(overwrite):
-    """More frames than are gathered at once and more channels than are filtered at once, one
-    channel with a gap: each channel as scipy's forward-backward filter gives it on its own
-    (the seen samples of the gapped one), to the last bit."""
-    from mapping.filters import CHANNELS_AT_ONCE
-    from mapping.robust import ROWS_AT_ONCE
-
-    rng = np.random.default_rng(3)
-    frames, channels = 2 * ROWS_AT_ONCE + 77, CHANNELS_AT_ONCE + 5
-    x = np.cumsum(rng.normal(size=(frames, channels)), axis=0)
-    x[1000:1040, 3] = np.nan
-    flt = Butterworth(8.0, 120.0)
-    expected = np.empty_like(x)
-    for c in range(channels):
-        seen = np.isfinite(x[:, c])
-        expected[:, c] = np.nan
-        expected[seen, c] = signal.sosfiltfilt(flt.sos, x[seen, c])
-    out = flt.smooth_offline(x.copy() if overwrite else x, overwrite=overwrite)
-    np.testing.assert_array_equal(out, expected)

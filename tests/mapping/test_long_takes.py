@@ -5,11 +5,14 @@ at a time equals the whole at once, and what is smoothed in place equals what is
 import warnings
 
 import numpy as np
+import pytest
+from scipy.signal import sosfiltfilt
 
 from capture import synthesize
 from capture.performance import default_performance
-from mapping.filters import Butterworth
+from mapping.filters import CHANNELS_AT_ONCE, Butterworth
 from mapping.profile import _nan_percentiles
+from mapping.robust import ROWS_AT_ONCE
 from toonface import map_onto_face
 
 
@@ -49,3 +52,22 @@ def test_smoothing_in_place_equals_smoothing_a_copy():
     assert np.shares_memory(result, mine)  # no second array of the take's size
     np.testing.assert_array_equal(result, expected)
     assert np.isnan(expected[100:140, 2]).all() and np.isnan(expected[450:, 29]).all()
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_butterworth_smooths_a_long_take_a_block_at_a_time_as_scipy_does_each_channel(overwrite):
+    """More frames than are gathered at once and more channels than are filtered at once, one
+    channel with a gap: each channel as scipy's forward-backward filter gives it on its own
+    (the seen samples of the gapped one), to the last bit."""
+    rng = np.random.default_rng(3)
+    frames, channels = 2 * ROWS_AT_ONCE + 77, CHANNELS_AT_ONCE + 5
+    x = np.cumsum(rng.normal(size=(frames, channels)), axis=0)
+    x[1000:1040, 3] = np.nan
+    flt = Butterworth(8.0, 120.0)
+    expected = np.empty_like(x)
+    for c in range(channels):
+        seen = np.isfinite(x[:, c])
+        expected[:, c] = np.nan
+        expected[seen, c] = sosfiltfilt(flt.sos, x[seen, c])
+    out = flt.smooth_offline(x.copy() if overwrite else x, overwrite=overwrite)
+    np.testing.assert_array_equal(out, expected)
