@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mapping.robust import column_nan_median
+
 #: Markers this close at rest (mm, head frame) are a pair whose labels a solver may swap.
 NEIGHBOUR_MM = 30.0
 #: The longest swap undone (s): a labeller that has gone wrong for longer has lost the markers,
@@ -35,9 +37,14 @@ LONGEST_STEP_SECONDS = 0.05
 JUMP_MM = 3.0
 #: ... and each lands at least this many times nearer where the other was than where it was.
 CLOSER = 4.0
-#: The share of the frames between the two jumps where the markers must sit nearer each other's
-#: usual places than their own (a blink brings an upper lid down past a lower lid's usual place).
+#: The share of the samples between the two jumps that must sit nearer the other marker's usual
+#: place than their own (a blink brings an upper lid down past a lower lid's usual place).
 MOSTLY = 0.8
+#: The usual place of a marker is its median over about this many frames spread evenly over the
+#: take (a long take's median over every frame costs more than the rest and says no more).
+USUAL_FRAMES = 1000
+#: Frames whose steps are measured at once.
+BLOCK_FRAMES = 65536
 
 
 @dataclass(frozen=True)
@@ -48,13 +55,6 @@ class Swap:
     second: int
     start: int
     end: int
-
-
-#: The usual place of a marker is its median over about this many frames spread evenly over the
-#: take (a long take's median over every frame costs more than the rest and says no more).
-USUAL_FRAMES = 1000
-#: Frames whose steps are measured at once.
-BLOCK_FRAMES = 65536
 
 
 def find_swaps(local: np.ndarray, times: np.ndarray) -> list[Swap]:
@@ -71,10 +71,8 @@ def find_swaps(local: np.ndarray, times: np.ndarray) -> list[Swap]:
     """
     seen = np.isfinite(local).all(axis=2)
     frames = len(local)
-    usual = np.full(local.shape[1:], np.nan)
-    counted = seen.any(axis=0)
-    if counted.any():
-        usual[counted] = np.nanmedian(local[::max(1, frames // USUAL_FRAMES)][:, counted], axis=0)
+    spread = local[::max(1, frames // USUAL_FRAMES)]
+    usual = column_nan_median(spread.reshape(len(spread), -1)).reshape(local.shape[1:])  # NaN: never seen
     apart = np.linalg.norm(usual[:, None] - usual[None, :], axis=2)
     pairs = np.argwhere(np.triu(apart < NEIGHBOUR_MM, k=1))
     landing = np.zeros_like(seen)  # where a marker lands after a step that could be a jump, or after a gap
@@ -118,9 +116,9 @@ def _pair_swaps(local: np.ndarray, times: np.ndarray, seen: np.ndarray, usual: n
     edges = jumps.tolist()
     crossed, samples = [], []
     for start, end in zip(edges[:-1], edges[1:], strict=True):
-        nearer = np.concatenate([np.linalg.norm(local[start:end, m][seen[start:end, m]] - usual[o], axis=1)
-                                 < np.linalg.norm(local[start:end, m][seen[start:end, m]] - usual[m], axis=1)
-                                 for m, o in ((i, j), (j, i))])
+        placed = [(local[start:end, m][seen[start:end, m]], m, o) for m, o in ((i, j), (j, i))]
+        nearer = np.concatenate([np.linalg.norm(x - usual[o], axis=1) < np.linalg.norm(x - usual[m], axis=1)
+                                 for x, m, o in placed])
         crossed.append(len(nearer) > 0 and nearer.mean() >= MOSTLY)
         samples.append(len(nearer))
     out: list[Swap] = []
