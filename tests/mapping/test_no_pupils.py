@@ -48,7 +48,8 @@ def test_a_rig_without_brows_and_lids_leaves_their_motors_out_and_names_them():
 
 
 def test_a_take_with_fewer_than_three_head_references_is_still_refused():
-    take = without(synthesize(seconds=2, rate=30, noise_mm=0.0).take, {"FOREHEAD", "TEMPLE_L", "NOSE_TIP"})
+    take = without(synthesize(seconds=2, rate=30, noise_mm=0.0).take,
+                   {"FOREHEAD", "TEMPLE_L", "NOSE_TIP", "EYE_R_IN", "EYE_L_IN"})
     with pytest.raises(InputError, match="head reference markers are present"):
         mapping, markerset = choose_mapping(take, "toon32")
         prepare(take, markerset)
