@@ -23,7 +23,8 @@ One ``[motor.CODE]`` table per mapped motor::
     filter = { kind = "one-euro", min_cutoff = 1.0, beta = 0.5 }   # or butterworth / savitzky-golay
     max_speed = 6.0          # motor units per second
     delay = 0.0              # seconds
-    loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle
+    loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle | pair (follow the other
+                             # side's motor where it is seen, else ease: lids blink and eyes look together)
     decouple = ["MB"]        # motors whose motion this one should not show (mapping.coupling)
 
 Across motors (top level): ``mirror`` (swap sides), ``copy_side = "right"|"left"`` (one side
@@ -47,7 +48,7 @@ from common import read_document, resolve_builtin
 from common.validate import Validator, at, is_number
 from mapping.sources import AXES, BLENDSHAPE_NAMES, HEAD_AXES, KINDS, Source
 from toon import MOTOR_CODES
-from toon.motors import ALL_CODES
+from toon.motors import ALL_CODES, MIRROR_PAIRS
 
 FORMAT = "toonface.mapping/1"
 COMBINES = ("max", "mean", "min", "weighted")
@@ -55,7 +56,9 @@ COMBINES = ("max", "mean", "min", "weighted")
 ONLY = ("increase", "decrease")
 CLAMPS = ("hard", "soft", "none")
 NORMALISES = ("profile", "scale", "calibrated", "score")
-POLICIES = ("hold", "ease", "idle")
+POLICIES = ("hold", "ease", "idle", "pair")
+#: Each motor with one on the other side of the face (``MIRROR_PAIRS`` both ways): the ``pair`` policy's.
+PARTNERS: dict[str, str] = {**dict(MIRROR_PAIRS), **{left: right for right, left in MIRROR_PAIRS}}
 FILTERS = {"one-euro": {"min_cutoff", "beta", "d_cutoff"}, "butterworth": {"cutoff", "order"},
            "savitzky-golay": {"window", "order"}}
 _MOTOR_KEYS = {"sources", "combine", "normalise", "scale", "invert", "gain", "offset", "curve", "clamp", "limits",
@@ -185,6 +188,13 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
         for i, other in enumerate(rule.decouple):
             check.require(other in mapped, f"motor {other} has no [motor.{other}] table to measure its motion by",
                           at(at(f"motor.{rule.code}", "decouple"), i))
+        if rule.loss == "pair":
+            partner = PARTNERS.get(rule.code)
+            check.require(partner is not None, f"expected a motor with one on the other side ({', '.join(PARTNERS)}) "
+                          f"for the pair policy", at(f"motor.{rule.code}", "loss.policy"))
+            check.require(partner in mapped, f"the pair policy follows motor {partner}, which has no "
+                          f"[motor.{partner}] table",
+                          at(f"motor.{rule.code}", "loss.policy"))
     return Mapping(str(doc.get("name", Path(path).stem)), markerset, rules,
                    check.boolean(doc.get("mirror", False), "mirror"), copy_side,
                    tuple(tuple(p) for p in pairs), _style(check, doc.get("style", {})),

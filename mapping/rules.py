@@ -5,8 +5,10 @@ its sources is seen), :class:`MotorRules` applies, in this order:
 
 1. the **loss policy** of each motor with no source seen: ``hold`` the last value seen, ``ease``
    from it to the face's neutral over ``seconds`` counted from the last frame a source was seen,
-   or ``idle``: ease, plus a slow drift about neutral (:data:`IDLE_AMPLITUDE` at
-   :data:`IDLE_HZ`). Before anything is seen the last value is the neutral;
+   ``idle``: ease, plus a slow drift about neutral (:data:`IDLE_AMPLITUDE` at
+   :data:`IDLE_HZ`), or ``pair``: the other side's motor's move from its neutral where that one
+   is seen (a lid whose marker is lost blinks with the other eye's, a lost pupil looks where the
+   other looks), else ease. Before anything is seen the last value is the neutral;
 2. each motor's **filter** (One Euro, causal Butterworth or trailing Savitzky-Golay);
 3. the **speed limits**, then the **delays** (whole frames);
 4. the operations **across motors**: the eyes' pair of lids (:func:`eyes_pair`), symmetric
@@ -30,7 +32,7 @@ from collections import deque
 import numpy as np
 
 from mapping.filters import Butterworth, Delay, OneEuro, SavitzkyGolay, SpeedLimit
-from mapping.mapfile import Mapping, Style
+from mapping.mapfile import PARTNERS, Mapping, Style
 from toon import MOTOR_CODES, N_MOTORS, mirror_values, motor_index
 from toon.motors import MIRROR_PAIRS, N_CODES, code_index, extended_neutral
 
@@ -82,6 +84,7 @@ class MotorRules:
                                  np.random.default_rng([seed, 1]).uniform(0, 2 * np.pi, (N_CODES - N_MOTORS, 2)).T])
         self.mapped = np.array([code_index(r.code) for r in mapping.rules], dtype=int)
         self.loss = [(code_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
+        self.pairs = [(code_index(r.code), code_index(PARTNERS[r.code])) for r in mapping.rules if r.loss == "pair"]
         self.filters = [(code_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]
         speeds, delays = channel_limits(mapping, rate)
         self.limited = np.isfinite(speeds)  # only these pass the speed limit
@@ -105,7 +108,7 @@ class MotorRules:
     def step(self, values: np.ndarray, t: float) -> np.ndarray:
         """One frame: motor values ``(21,)`` (NaN: a mapped motor with no source seen) at ``t``
         seconds; returns the motors ``(21,)`` in [0, 1]."""
-        out = np.asarray(values, dtype=float).copy()
+        out = self._paired(np.asarray(values, dtype=float)[None])[0]
         self._first_t = t if self._first_t is None else self._first_t
         seen = np.isfinite(out)
         self._last[seen], self._seen_at[seen] = out[seen], t
@@ -131,7 +134,7 @@ class MotorRules:
     def apply(self, values: np.ndarray, times: np.ndarray) -> np.ndarray:
         """A whole take ``(F, 21)`` at ``times`` ``(F,)`` from a fresh state; what stepping it gives."""
         self.reset()
-        out = np.asarray(values, dtype=float).copy()
+        out = self._paired(np.asarray(values, dtype=float))
         times = np.asarray(times, dtype=float)
         for col, policy, seconds in self.loss:
             out[:, col] = self._fill_lost(out[:, col], col, policy, seconds, times)
@@ -147,6 +150,15 @@ class MotorRules:
             out[:, cols] = trailing_mean(out[:, cols], self.window)
         self.reset()
         return np.clip(self._tremble_and_sharpen(out, times), 0.0, 1.0)
+
+    def _paired(self, values: np.ndarray) -> np.ndarray:
+        """Motor values ``(F, C)`` (NaN: no source seen) with each ``pair`` motor's lost frames
+        given its partner's move from neutral where the partner is seen; a new array."""
+        out = values.copy()
+        for col, other in self.pairs:
+            taken = np.isnan(values[:, col]) & np.isfinite(values[:, other])
+            out[taken, col] = values[taken, other] - self.neutral[other] + self.neutral[col]
+        return out
 
     def _fill_lost(self, raw: np.ndarray, col: int, policy: str, seconds: float, times: np.ndarray) -> np.ndarray:
         """One motor's frames ``(F,)`` with the loss policy where it is NaN."""

@@ -7,7 +7,7 @@ from capture import Take, synthesize
 from capture.performance import default_performance
 from common import InputError, data_path
 from mapping import CleanSettings, calibrate, choose_mapping, load_profile, map_take, prepare, save_profile
-from toon import MOTOR_CODES, motor_index
+from toon import MOTOR_CODES, motor_index, standard_neutral
 from toonface import truth_track
 
 EXACT = CleanSettings(spikes=False, max_gap_seconds=2.0, cutoff_hz=0.0)
@@ -65,19 +65,20 @@ def test_calibration_that_cannot_be_made_says_why():
 
 
 def test_lost_markers_lower_confidence_and_ease_to_neutral():
+    """A brow's marker (toon32's lids and pupils follow the other eye's instead: test_pair_loss.py)."""
     syn, mapping, profile = _calibrated(seconds=8.0)
     pos = syn.take.positions.copy()
-    lid = syn.take.index("LID_R_UP")
+    brow = syn.take.index("BROW_R_LAT")
     start = int(17 * 30)
-    pos[start:start + 9, lid] = np.nan  # 0.3 s: filled
-    pos[start + 60:start + 150, lid] = np.nan  # 3 s: too long to fill, lost
+    pos[start:start + 9, brow] = np.nan  # 0.3 s: filled
+    pos[start + 60:start + 150, brow] = np.nan  # 3 s: too long to fill, lost
     track = map_take(Take(pos, syn.take.labels, 30.0), mapping, profile, settings=EXACT)
-    eru = motor_index("ERU")
-    assert (track.confidence[start:start + 9, eru] == 0.5).all()
-    lost = track.confidence[start + 60:start + 150, eru]
-    assert (lost == 0).all() and track.confidence[start - 5, eru] == 1
-    # ease to neutral (0.8) over half a second, then stay there
-    assert track.values[start + 60 + 15:start + 150, eru] == pytest.approx(0.8)
+    brl = motor_index("BRL")
+    assert (track.confidence[start:start + 9, brl] == 0.5).all()
+    lost = track.confidence[start + 60:start + 150, brl]
+    assert (lost == 0).all() and track.confidence[start - 5, brl] == 1
+    # ease to neutral over half a second, then stay there
+    assert track.values[start + 60 + 15:start + 150, brl] == pytest.approx(standard_neutral()[brl])
     assert track.meta["lost_frames"] == 90
 
 

@@ -12,7 +12,7 @@ from mapping.mapper import marker_quality
 from mapping.rules import WINK_BLEND, MotorRules, eyes_pair, trailing_mean
 from mapping.stepwise import LiveMapper
 from toon import motor_index, standard_neutral
-from toon.motors import N_CODES
+from toon.motors import N_CODES, extended_neutral
 
 RATE = 60.0
 
@@ -63,9 +63,10 @@ sources = [{ marker = "LID_R_UP", axis = "y" }]
 normalise = "scale"
 scale = 8.0
 invert = true
-loss = { policy = "hold" }
+loss = { policy = "pair", seconds = 0.3 }
 [motor.ELU]
 sources = [{ marker = "LID_L_UP", axis = "y", invert = true }]
+loss = { policy = "hold" }
 clamp = "none"
 max_speed = 4.0
 delay = 0.1
@@ -86,12 +87,12 @@ scale = 60.0
 @pytest.fixture(scope="module")
 def cleaned():
     """A synthetic take cleaned offline (gap filling off, so that markers go missing), with
-    long losses of a brow, a lid and the lips cut into it."""
+    long losses of a brow, the two upper lids (overlapping) and the lips cut into it."""
     syn = synthesize(seconds=8, rate=RATE, performance=default_performance(8), seed=3)
     take = syn.take
     positions = take.positions.copy()
     for label, frames in (("BROW_R_LAT", slice(200, 260)), ("LID_R_UP", slice(100, 180)),
-                          ("LIP_LOW", slice(300, 420)), ("BROW_L_LAT", slice(0, 40))):
+                          ("LID_L_UP", slice(150, 220)), ("LIP_LOW", slice(300, 420)), ("BROW_L_LAT", slice(0, 40))):
         positions[frames, take.index(label)] = np.nan
     take = type(take)(positions, take.labels, take.rate, take.times, take.dims, take.meta)
     mapping = parse_mapping(__import__("tomllib").loads(EVERYTHING))
@@ -141,6 +142,42 @@ def test_the_loss_policies_by_hand():
     np.testing.assert_allclose(out[:, brl], [neutral[brl], 0.8, 0.8, 0.8, 0.6, 0.6, 0.6])
     rest = neutral[bll]
     np.testing.assert_allclose(out[:, bll], [0.9, 0.9 + (rest - 0.9) * 0.5, rest, rest, rest, rest, 0.2])
+
+
+def test_a_lost_lid_follows_the_other_eyes_by_hand():
+    """pair: where ERU's source is lost and ELU's seen, ERU moves from its neutral as ELU moves
+    from its own (a blink stays a blink); where both are lost it eases from the last value it
+    had, as ease does; ELU, which holds, does not follow ERU."""
+    doc = {"format": "toonface.mapping/1", "markerset": "toon32",
+           "motor": {"ERU": {"sources": [{"marker": "LID_R_UP", "axis": "y"}],
+                             "loss": {"policy": "pair", "seconds": 0.5}},
+                     "ELU": {"sources": [{"marker": "LID_L_UP", "axis": "y"}], "loss": {"policy": "hold"}}}}
+    mapping = parse_mapping(doc)
+    neutral = extended_neutral(standard_neutral()).copy()  # the 21 and the extras, as a live frame has them
+    eru, elu = motor_index("ERU"), motor_index("ELU")
+    neutral[eru], neutral[elu] = 0.7, 0.8
+    raw = np.tile(neutral, (6, 1))
+    raw[:, eru] = [np.nan, np.nan, np.nan, np.nan, 0.3, np.nan]
+    raw[:, elu] = [0.75, 0.1, np.nan, np.nan, np.nan, 0.9]
+    times = np.arange(6) * 0.25
+    rules = MotorRules(mapping, 4.0, neutral)
+    out = rules.apply(raw, times)
+    np.testing.assert_allclose(out[:, eru], [0.65, 0.0, 0.0 + 0.7 * 0.5, 0.7, 0.3, 0.8])
+    np.testing.assert_allclose(out[:, elu], [0.75, 0.1, 0.1, 0.1, 0.1, 0.9])
+    rules.reset()
+    np.testing.assert_allclose([rules.step(row, t) for row, t in zip(raw, times, strict=True)], out, atol=1e-12)
+
+
+@pytest.mark.parametrize("motors, says", [
+    ({"MB": {"sources": [{"marker": "LIP_LOW", "axis": "y"}], "loss": {"policy": "pair"}}},
+     r"m.toml: motor.MB.loss.policy: expected a motor with one on the other side"),
+    ({"ERU": {"sources": [{"marker": "LID_R_UP", "axis": "y"}], "loss": {"policy": "pair"}}},
+     r"m.toml: motor.ERU.loss.policy: the pair policy follows motor ELU, which has no \[motor.ELU\] table")])
+def test_the_pair_policy_needs_a_mapped_motor_on_the_other_side(motors, says):
+    from common import InputError
+
+    with pytest.raises(InputError, match=says):
+        parse_mapping({"format": "toonface.mapping/1", "markerset": "toon32", "motor": motors}, "m.toml")
 
 
 def test_trailing_mean_by_hand():
