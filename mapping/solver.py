@@ -10,7 +10,10 @@ Theory of Blendshape Facial Models"). Here:
 mirror pair, or a whole brow) to each end while the rest of the face stays at rest. Over the
 sweep, the rules say how far along its way each motor is (its signed share, -1 at its low end,
 +1 at its high end: :func:`mapping.mapper.rule_shares`). In each frame the motors within
-:data:`TOGETHER` of the furthest along (at least :data:`MOVED` of its way) are the ones moving;
+:data:`TOGETHER` of the furthest along (at least :data:`MOVED` of its way) are the ones moving,
+a share past the end of its way counting as the end (a sweep takes each group to its ends, no
+further: a rule that reads more is reading another group's motion, and a lower lid read at 1.5
+while the jaw opened, the jaw at 1.0, took the jaw's markers as its own);
 each marker goes to the moving motor whose own markers (those its rule reads) are nearest, a
 tie (the midline between a mirror pair) half each; and every marker's head-frame displacement
 from rest is regressed through rest on its motor's share, one side of rest at a time: a basis
@@ -235,7 +238,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     d = local[:, cols] - rest[cols]
     ok = seen[:, cols] & np.isfinite(d).all(axis=2)
     d = np.where(ok[..., None], d, 0.0)
-    size = np.abs(np.nan_to_num(shares, nan=0.0))
+    size = np.minimum(np.abs(np.nan_to_num(shares, nan=0.0)), 1.0)  # past its end is at its end
     lead = size.max(axis=1, keepdims=True)
     movers = (lead >= MOVED) & (size >= TOGETHER * lead)  # (F, K): the motors the sweep moves in each frame
     learnable = [k for k in range(len(codes)) if any(m in columns for m in own_markers[k])]
