@@ -40,6 +40,14 @@ LAYOUT: dict[str, tuple[float, float, float]] = {
     "LIP_UP": (0.0, 0.0, 0.0), "LIP_LOW": (0.0, 0.0, 0.0), "CHIN": (0.0, -6.0, 0.0),
     "CHEEK_R": (-20.0, -25.0, -40.0), "CHEEK_L": (20.0, -25.0, -40.0),
 }
+#: A layout unlike every preset (docs/howto/own-layout.md, "roles from motion"): :data:`LAYOUT` with the
+#: brows up on the forehead, the mouth's markers wide and low and the chin under the jaw, so that no
+#: preset's mouth corners lie near this layout's.
+UNLIKE_PRESETS: dict[str, tuple[float, float, float]] = {
+    **LAYOUT, "BROW_R_CEN": (-4.0, 14.0, -3.0), "BROW_L_CEN": (4.0, 14.0, -3.0), "BROW_R_MED": (-3.0, 16.0, -2.0),
+    "BROW_L_MED": (3.0, 16.0, -2.0), "MOUTH_R": (-9.0, -6.0, -4.0), "MOUTH_L": (9.0, -6.0, -4.0),
+    "CHIN": (0.0, -18.0, -10.0), "LIP_UP": (0.0, 6.0, -3.0), "LIP_LOW": (0.0, -5.0, -3.0),
+}
 #: The skull markers the head's pose is found from (toon32's head references).
 SKULL = ("FOREHEAD", "TEMPLE_R", "TEMPLE_L", "NOSE_BRIDGE", "NOSE_TIP")
 TURN_DEGREES, TILT_DEGREES = 140.0, 12.0
@@ -96,12 +104,15 @@ def _poses(clean: Take) -> np.ndarray:
     return rigid_fit(ref, pos)[0]
 
 
-def foreign_take(clean: Take, seed: int = 0, jitter_mm: float = 0.3) -> ForeignTake:
-    """``clean`` (a take of toon32 markers without sensor faults, mm) as another lab's take."""
+def foreign_take(clean: Take, seed: int = 0, jitter_mm: float = 0.3,
+                 layout: dict[str, tuple[float, float, float]] | None = None) -> ForeignTake:
+    """``clean`` (a take of toon32 markers without sensor faults, mm) as another lab's take, its
+    markers moved as ``layout`` says (:data:`LAYOUT` by default)."""
     rng = np.random.default_rng(seed)
     turns = _poses(clean)
-    names = tuple(LAYOUT)
-    moved = np.stack([clean.positions[:, clean.labels.index(n)] + turns @ np.array(LAYOUT[n]) for n in names], axis=1)
+    layout = LAYOUT if layout is None else layout
+    names = tuple(layout)
+    moved = np.stack([clean.positions[:, clean.labels.index(n)] + turns @ np.array(layout[n]) for n in names], axis=1)
     camera = camera_turn()
     world = moved @ camera + PLACE_M * 1000.0
     world = world + rng.normal(0.0, jitter_mm, world.shape)

@@ -345,3 +345,35 @@ def test_a_head_reference_dropped_or_twitching_for_three_frames_does_not_twitch_
                 positions[2000:2003, column, :] += 3.0 * rig.axes[1]  # 3 mm up the face
             moved = map_take(replace(take, positions=positions), str(tmp_path / "map.toml")).values
             assert np.abs(moved - base).max() < limit, (name, change, np.abs(moved - base).max())
+
+
+@pytest.mark.slow
+def test_the_roles_from_motion_section_finds_the_corners_no_preset_places(tmp_path, capsys):
+    """The own-layout page's "roles from motion" example (bench.foreign_rig.UNLIKE_PRESETS): the
+    presets find no mouth corners and say so; with --take the corners come from the take's motion,
+    on the markers that are the corners, and follow the performer's own (r 0.99 across)."""
+    import tomllib
+
+    from bench.foreign_rig import UNLIKE_PRESETS
+
+    clean, truth = _performer("third", 4)
+    rig = foreign_take(clean, 4, layout=UNLIKE_PRESETS)
+    rig.write_csv(tmp_path / "lab2.csv")
+    assert main(["markerset", "draft", str(tmp_path / "lab2.csv"), "-o", str(tmp_path / "lab2.toml"), "--rate", "120",
+                 "--units", "m"]) == 0
+    assert main(["markerset", "mapping", str(tmp_path / "lab2.toml"), "-o", str(tmp_path / "plain.toml")]) == 0
+    said = capsys.readouterr()
+    assert "left out: MRH, MRV, MLH, MLV" in said.out and "not MLH, MRH" in said.err
+    assert main(["markerset", "mapping", str(tmp_path / "lab2.toml"), "--take", str(tmp_path / "lab2.csv"), "-o",
+                 str(tmp_path / "lab2-mapping.toml")]) == 0
+    assert "found from the take's motion: MLH, MLV, MRH, MRV" in capsys.readouterr().out
+    motors = tomllib.loads((tmp_path / "lab2-mapping.toml").read_text())["motor"]
+    name = dict(zip(rig.take.labels, rig.names, strict=True))
+    assert {code: name[motors[code]["sources"][0]["marker"]] for code in ("MRH", "MLH")} == \
+        {"MRH": "MOUTH_R", "MLH": "MOUTH_L"}
+    assert main(["map", str(tmp_path / "lab2.csv"), "--mapping", str(tmp_path / "lab2-mapping.toml"), "-o",
+                 str(tmp_path / "motors.csv")]) == 0
+    values = load_track(tmp_path / "motors.csv").values
+    for code in ("MRH", "MLH"):
+        i = MOTOR_CODES.index(code)
+        assert np.corrcoef(values[:, i], truth[:, i])[0, 1] > 0.98, code
