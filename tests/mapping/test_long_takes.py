@@ -71,3 +71,48 @@ def test_butterworth_smooths_a_long_take_a_block_at_a_time_as_scipy_does_each_ch
         expected[seen, c] = sosfiltfilt(flt.sos, x[seen, c])
     out = flt.smooth_offline(x.copy() if overwrite else x, overwrite=overwrite)
     np.testing.assert_array_equal(out, expected)
+
+
+def test_head_fits_a_block_of_frames_at_a_time_equal_the_fit_of_them_all(monkeypatch):
+    """An hour's fit of seven references at once held a few (F, 7, 3) working copies: 300 MB of the
+    hour's peak (issue 65). Each frame's fit stands alone, so blocks give the same fits (to the
+    last bit or two: numpy sums a block's frames in another order), with a reference lost, a spike
+    dropped and a frame too poorly pinned."""
+    import sys
+
+    from scipy.spatial.transform import Rotation
+
+    stabilise = sys.modules["mapping.stabilise"]  # mapping.stabilise is also the function's name
+    rng = np.random.default_rng(4)
+    shape = rng.normal(0.0, 40.0, (7, 3))
+    turns = Rotation.from_rotvec(rng.normal(0.0, 0.3, (500, 3))).as_matrix()
+    target = np.einsum("fij,kj->fki", turns, shape) + rng.normal(0.0, 0.3, (500, 7, 3))
+    target[rng.random((500, 7)) < 0.2] = np.nan
+    target[rng.random((500, 7)) < 0.02] += 9.0  # spikes: each frame's worst point dropped
+    whole = stabilise.robust_rigid_fit(shape, target)
+    monkeypatch.setattr(stabilise, "FIT_FRAMES", 64)
+    blocks = stabilise.robust_rigid_fit(shape, target)
+    assert (~whole[2]).any() and whole[2].any()
+    np.testing.assert_array_equal(whole[2], blocks[2])
+    for a, b in zip(whole[:2], blocks[:2], strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+
+
+def test_a_profile_measured_a_few_sources_at_a_time_is_the_one_measured_at_once(monkeypatch):
+    """An hour's every source at once, (F, 100), was 350 MB more of the take's peak (issue 65): the
+    ranges and jitters a few sources at a time are the same, with gaps filled and frames without a
+    head pose."""
+    from capture import Take
+    from mapping import calibrate, choose_mapping, prepare
+
+    syn = synthesize(seconds=6.0, rate=60.0, seed=2).take
+    positions = syn.positions.copy()
+    positions[60:240, [syn.index(r) for r in ("FOREHEAD", "TEMPLE_R", "TEMPLE_L", "NOSE_TIP", "EYE_R_IN")]] = np.nan
+    positions[260:300, syn.index("LID_R_UP")] = np.nan  # filled, and not believed as range
+    take = Take(positions, syn.labels, syn.rate, times=syn.times)
+    mapping, markerset = choose_mapping(take)
+    prepared = prepare(take, markerset)
+    assert not prepared.stable.ok.all() and prepared.stable.filled.any()
+    together = calibrate(mapping, prepared, (0.0, 1.0))
+    monkeypatch.setattr("mapping.robust.COLUMNS_AT_ONCE", 1000)
+    assert calibrate(mapping, prepared, (0.0, 1.0)).sources == together.sources
