@@ -35,6 +35,36 @@ def test_mp4_is_h264_with_every_frame(tmp_path):
     assert list(tmp_path.iterdir()) == [path]  # no temporary left behind
 
 
+def test_mp4_colours_are_bt601_limited_range_and_the_callers_array_is_free_at_once(tmp_path):
+    # flat 16x16 blocks, lossless (crf 0): the stored planes are the conversion itself, against
+    # BT.601's limited-range equations worked here (Rec. 601, as FFmpeg's scaler and players read
+    # untagged SD video); the frame array is overwritten straight after each write
+    colours = np.array([(0, 0, 0), (255, 255, 255), (255, 0, 0), (0, 255, 0), (0, 0, 255), (200, 60, 30),
+                        (17, 140, 230), (128, 128, 128)], float)
+    frame = np.zeros((32, 64, 3), np.uint8)
+    path = tmp_path / "c.mp4"
+    with Mp4Sink(path, 30.0, (64, 32), crf=0) as sink:
+        for _ in range(3):
+            for k, colour in enumerate(colours):
+                frame[16 * (k // 4):16 * (k // 4) + 16, 16 * (k % 4):16 * (k % 4) + 16] = colour
+            sink.write(frame)
+            frame[:] = 99  # reused by the caller before the encoder has the frame
+    r, g, b = colours.T
+    want_y = 16 + (65.481 * r + 128.553 * g + 24.966 * b) / 255
+    want_cb = 128 + (-37.797 * r - 74.203 * g + 112.0 * b) / 255
+    want_cr = 128 + (112.0 * r - 93.786 * g - 18.214 * b) / 255
+    with av.open(str(path)) as c:
+        planes = [f.to_ndarray() for f in c.decode(video=0)]  # yuv420p: (48, 64), Y then U then V
+    assert len(planes) == 3
+    for yuv in planes:
+        y, u, v = yuv[:32], yuv[32:40].reshape(16, 32), yuv[40:48].reshape(16, 32)
+        for k in range(len(colours)):
+            row, col = 16 * (k // 4) + 8, 16 * (k % 4) + 8
+            assert abs(int(y[row, col]) - want_y[k]) <= 1, (k, y[row, col], want_y[k])
+            assert abs(int(u[row // 2, col // 2]) - want_cb[k]) <= 1, (k, u[row // 2, col // 2], want_cb[k])
+            assert abs(int(v[row // 2, col // 2]) - want_cr[k]) <= 1, (k, v[row // 2, col // 2], want_cr[k])
+
+
 def test_failed_render_leaves_no_video(tmp_path):
     path = tmp_path / "v.mp4"
     with pytest.raises(RuntimeError):
