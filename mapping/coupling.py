@@ -28,7 +28,7 @@ from mapping.mapfile import Mapping, MotorRule
 from mapping.plan import reach_of
 from mapping.profile import Profile
 from mapping.sources import Source
-from toon.motors import MIRROR_PAIRS
+from toon.motors import MIRROR_OF
 
 #: A driver at least this far along its way to either end (a share) has moved enough to show
 #: what it carries; a rule's own sources this far along are being swept themselves.
@@ -72,10 +72,9 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
                     slope = float(np.sum(units[at] * d[at]) / np.sum(d[at] ** 2))
                     slopes.append(slope / (up if slope * side >= 0 else down))  # a share of the side it moves to
                 measured[(rule.code, i, code)] = slopes
-    mirror = {a: b for a, b in MIRROR_PAIRS} | {b: a for a, b in MIRROR_PAIRS}
     out: dict[str, dict[str, tuple[float, float]]] = {}
     for (code, i, driver_code), found in measured.items():
-        partner = measured.get((mirror.get(code, code), i, mirror.get(driver_code, driver_code)), [None, None])
+        partner = measured.get((MIRROR_OF.get(code, code), i, MIRROR_OF.get(driver_code, driver_code)), [None, None])
         kept = [s if s is not None else (p if p is not None else 0.0) for s, p in zip(found, partner, strict=True)]
         if any(kept):
             rule, (_, driver) = next(r for r in mapping.rules if r.code == code), driver_of(mapping, driver_code)

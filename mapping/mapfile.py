@@ -48,7 +48,7 @@ from common import read_document, resolve_builtin
 from common.validate import Validator, at, is_number
 from mapping.sources import AXES, BLENDSHAPE_NAMES, HEAD_AXES, KINDS, Source
 from toon import MOTOR_CODES
-from toon.motors import ALL_CODES, MIRROR_PAIRS
+from toon.motors import ALL_CODES, MIRROR_OF
 
 FORMAT = "toonface.mapping/1"
 COMBINES = ("max", "mean", "min", "weighted")
@@ -57,8 +57,6 @@ ONLY = ("increase", "decrease")
 CLAMPS = ("hard", "soft", "none")
 NORMALISES = ("profile", "scale", "calibrated", "score")
 POLICIES = ("hold", "ease", "idle", "pair")
-#: Each motor with one on the other side of the face (``MIRROR_PAIRS`` both ways): the ``pair`` policy's.
-PARTNERS: dict[str, str] = {**dict(MIRROR_PAIRS), **{left: right for right, left in MIRROR_PAIRS}}
 FILTERS = {"one-euro": {"min_cutoff", "beta", "d_cutoff"}, "butterworth": {"cutoff", "order"},
            "savitzky-golay": {"window", "order"}}
 _MOTOR_KEYS = {"sources", "combine", "normalise", "scale", "invert", "gain", "offset", "curve", "clamp", "limits",
@@ -189,8 +187,8 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
             check.require(other in mapped, f"motor {other} has no [motor.{other}] table to measure its motion by",
                           at(at(f"motor.{rule.code}", "decouple"), i))
         if rule.loss == "pair":
-            partner = PARTNERS.get(rule.code)
-            check.require(partner is not None, f"expected a motor with one on the other side ({', '.join(PARTNERS)}) "
+            partner = MIRROR_OF.get(rule.code)
+            check.require(partner is not None, f"expected a motor with one on the other side ({', '.join(MIRROR_OF)}) "
                           f"for the pair policy", at(f"motor.{rule.code}", "loss.policy"))
             check.require(partner in mapped, f"the pair policy follows motor {partner}, which has no "
                           f"[motor.{partner}] table",

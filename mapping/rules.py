@@ -32,9 +32,9 @@ from collections import deque
 import numpy as np
 
 from mapping.filters import Butterworth, Delay, OneEuro, SavitzkyGolay, SpeedLimit
-from mapping.mapfile import PARTNERS, Mapping, Style
+from mapping.mapfile import Mapping, Style
 from toon import MOTOR_CODES, N_MOTORS, mirror_values, motor_index
-from toon.motors import MIRROR_PAIRS, N_CODES, code_index, extended_neutral
+from toon.motors import MIRROR_OF, MIRROR_PAIRS, N_CODES, code_index, extended_neutral
 
 IDLE_AMPLITUDE = 0.03  # motor units of the idle drift
 IDLE_HZ = 0.25
@@ -84,7 +84,7 @@ class MotorRules:
                                  np.random.default_rng([seed, 1]).uniform(0, 2 * np.pi, (N_CODES - N_MOTORS, 2)).T])
         self.mapped = np.array([code_index(r.code) for r in mapping.rules], dtype=int)
         self.loss = [(code_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
-        self.pairs = [(code_index(r.code), code_index(PARTNERS[r.code])) for r in mapping.rules if r.loss == "pair"]
+        self.pairs = [(code_index(r.code), code_index(MIRROR_OF[r.code])) for r in mapping.rules if r.loss == "pair"]
         self.filters = [(code_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]
         speeds, delays = channel_limits(mapping, rate)
         self.limited = np.isfinite(speeds)  # only these pass the speed limit

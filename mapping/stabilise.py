@@ -97,7 +97,8 @@ def robust_rigid_fit(source: np.ndarray, target: np.ndarray, tolerance: float = 
     if len(target) > FIT_FRAMES:
         parts = [_robust_fit(source, target[start:start + FIT_FRAMES], tolerance)
                  for start in range(0, len(target), FIT_FRAMES)]
-        return tuple(np.concatenate(arrays) for arrays in zip(*parts, strict=True))  # type: ignore[return-value]
+        rotations, translations, posed = zip(*parts, strict=True)
+        return np.concatenate(rotations), np.concatenate(translations), np.concatenate(posed)
     return _robust_fit(source, target, tolerance)
 
 

@@ -25,7 +25,7 @@ from mapping.mapfile import Mapping
 from mapping.profile import Profile, SourceRange
 from mapping.sources import Source
 from mapping.stabilise import Stabilised
-from toon.motors import MIRROR_PAIRS
+from toon.motors import MIRROR_OF
 
 #: A mirror source this far along its way to one end (a share of that side's reach) holds it.
 HELD = 0.9
@@ -57,7 +57,7 @@ def mirror_lost_sides(mapping: Mapping, profile: Profile, stable: Stabilised, co
     made_up = stable.filled if stable.filled is not None else np.zeros(stable.local.shape[:2], bool)
     sources = dict(profile.sources)
     changed: list[str] = []
-    for a_code, b_code in (*MIRROR_PAIRS, *((b, a) for a, b in MIRROR_PAIRS)):
+    for a_code, b_code in MIRROR_OF.items():
         if a_code not in rules or b_code not in rules:
             continue
         a_rule, b_rule = rules[a_code], rules[b_code]

@@ -161,6 +161,8 @@ MIRROR_PAIRS: tuple[tuple[str, str], ...] = (
     ("BRL", "BLL"), ("BRC", "BLC"), ("BRM", "BLM"), ("ERU", "ELU"), ("ERL", "ELL"),
     ("PRH", "PLH"), ("PRV", "PLV"), ("MRH", "MLH"), ("MRV", "MLV"),
 )
+#: Each motor of :data:`MIRROR_PAIRS` to its partner on the other side of the face, both ways.
+MIRROR_OF: Mapping[str, str] = MappingProxyType({**dict(MIRROR_PAIRS), **{left: right for right, left in MIRROR_PAIRS}})
 #: Motors whose direction (toward the character's left) flips in a mirror image.
 MIRROR_REFLECTED: tuple[str, ...] = ("PLH", "PRH", "HH", "HT", "JS")  # HT, JS where values carry the extras
 
