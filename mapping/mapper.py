@@ -62,7 +62,7 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     neutral = extended_neutral(standard_neutral() if target_neutral is None else target_neutral)
     quality = marker_quality(stable.local, filled)
     raw, confidence = motor_values(mapping, stable, columns, quality, profile, neutral)
-    values = MotorRules(mapping, rate, neutral, seed).apply(raw, times)
+    values = MotorRules(mapping, rate, neutral, seed).apply(raw, times, made_up(confidence))
     if mapping.style.time_scale != 1.0:  # the one style operator with no live form: it changes the frame count
         scale = mapping.style.time_scale
         new_times = times[0] + np.arange(int(round(len(times) * scale))) / rate
@@ -74,6 +74,13 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
             "lost_frames": int(np.isnan(raw[:, :N_MOTORS]).any(axis=1).sum())}
     return MotorTrack(values[:, :N_MOTORS], rate, confidence=np.clip(confidence[:, :N_MOTORS], 0.0, 1.0), meta=meta,
                       extra_codes=extras, extra=values[:, [code_index(c) for c in extras]] if extras else None)
+
+
+def made_up(confidence: np.ndarray) -> np.ndarray:
+    """Where a motor's confidence (:func:`motor_values`, any shape) says that none of its sources
+    was measured and cleaning made them all up (filled, or held live): above 0, at most
+    :data:`FILLED_QUALITY`."""
+    return (confidence > 0.0) & (confidence <= FILLED_QUALITY + 1e-9)
 
 
 def marker_quality(local: np.ndarray, filled: np.ndarray | None = None) -> np.ndarray:

@@ -8,7 +8,11 @@ its sources is seen), :class:`MotorRules` applies, in this order:
    ``idle``: ease, plus a slow drift about neutral (:data:`IDLE_AMPLITUDE` at
    :data:`IDLE_HZ`), or ``pair``: the other side's motor's move from its neutral where that one
    is seen (a lid whose marker is lost blinks with the other eye's, a lost pupil looks where the
-   other looks), else ease. Before anything is seen the last value is the neutral;
+   other looks), else ease; a ``pair`` motor whose sources were all made up by cleaning (a gap
+   filled offline, a marker held live) while its partner's were measured takes its partner's move
+   as well: a fill regressed from other markers can blink far shallower (a regression on noisy
+   predictors shrinks: a quarter as deep on a third-performer take), a held marker not at all.
+   Before anything is seen the last value is the neutral;
 2. each motor's **filter** (One Euro, causal Butterworth or trailing Savitzky-Golay);
 3. the **speed limits**, then the **delays** (whole frames);
 4. the operations **across motors**: the eyes' pair of lids (:func:`eyes_pair`), symmetric
@@ -105,10 +109,11 @@ class MotorRules:
             if limiter is not None:
                 limiter.reset()
 
-    def step(self, values: np.ndarray, t: float) -> np.ndarray:
+    def step(self, values: np.ndarray, t: float, made_up: np.ndarray | None = None) -> np.ndarray:
         """One frame: motor values ``(21,)`` (NaN: a mapped motor with no source seen) at ``t``
-        seconds; returns the motors ``(21,)`` in [0, 1]."""
-        out = self._paired(np.asarray(values, dtype=float)[None])[0]
+        seconds, ``made_up`` (shaped as ``values``) where every source was made up by cleaning;
+        returns the motors ``(21,)`` in [0, 1]."""
+        out = self._paired(np.asarray(values, dtype=float)[None], None if made_up is None else made_up[None])[0]
         self._first_t = t if self._first_t is None else self._first_t
         seen = np.isfinite(out)
         self._last[seen], self._seen_at[seen] = out[seen], t
@@ -131,10 +136,11 @@ class MotorRules:
             out[cols] = np.mean(self._smooth, axis=0)[cols]
         return np.clip(self._tremble_and_sharpen(out[None], np.array([t]))[0], 0.0, 1.0)
 
-    def apply(self, values: np.ndarray, times: np.ndarray) -> np.ndarray:
-        """A whole take ``(F, 21)`` at ``times`` ``(F,)`` from a fresh state; what stepping it gives."""
+    def apply(self, values: np.ndarray, times: np.ndarray, made_up: np.ndarray | None = None) -> np.ndarray:
+        """A whole take ``(F, 21)`` at ``times`` ``(F,)`` from a fresh state (``made_up``, shaped as
+        ``values``: where every source of a motor was made up by cleaning); what stepping it gives."""
         self.reset()
-        out = self._paired(np.asarray(values, dtype=float))
+        out = self._paired(np.asarray(values, dtype=float), made_up)
         times = np.asarray(times, dtype=float)
         for col, policy, seconds in self.loss:
             out[:, col] = self._fill_lost(out[:, col], col, policy, seconds, times)
@@ -151,12 +157,16 @@ class MotorRules:
         self.reset()
         return np.clip(self._tremble_and_sharpen(out, times), 0.0, 1.0)
 
-    def _paired(self, values: np.ndarray) -> np.ndarray:
-        """Motor values ``(F, C)`` (NaN: no source seen) with each ``pair`` motor's lost frames
-        given its partner's move from neutral where the partner is seen; a new array."""
+    def _paired(self, values: np.ndarray, made_up: np.ndarray | None = None) -> np.ndarray:
+        """Motor values ``(F, C)`` (NaN: no source seen) with each ``pair`` motor's lost frames,
+        and those whose sources were all made up (``made_up`` ``(F, C)``) while its partner's
+        were not, given its partner's move from neutral where the partner is seen; a new array."""
         out = values.copy()
         for col, other in self.pairs:
-            taken = np.isnan(values[:, col]) & np.isfinite(values[:, other])
+            taken = np.isnan(values[:, col])
+            if made_up is not None:
+                taken |= made_up[:, col] & ~made_up[:, other]
+            taken &= np.isfinite(values[:, other])
             out[taken, col] = values[taken, other] - self.neutral[other] + self.neutral[col]
         return out
 

@@ -34,7 +34,7 @@ from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.life import LiveLife
 from mapping.mapfile import Mapping
-from mapping.mapper import FILLED_QUALITY, check_profile, marker_quality, motor_values
+from mapping.mapper import FILLED_QUALITY, check_profile, made_up, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
 from mapping.plan import MotorPlan
 from mapping.profile import Profile, SourceRange, merge_profile
@@ -273,6 +273,6 @@ class LiveMapper:
         self._plan_for = self.profile
         raw, confidence = motor_values(self.mapping, stable, self.columns, quality, self.profile, self.neutral,
                                        self._plan)
-        stepped = self.rules.step(raw[0], t)
+        stepped = self.rules.step(raw[0], t, made_up(confidence[0]))
         self.extra = stepped[self._extra_columns]  # the parameters beyond the 21, beside the motors returned
         return stepped[:N_MOTORS], np.clip(confidence[0, :N_MOTORS], 0.0, 1.0)

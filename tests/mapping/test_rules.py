@@ -107,10 +107,12 @@ def test_live_and_offline_map_the_same_cleaned_frames_equally_with_every_rule_on
     mapping, prepared, profile = cleaned
     stable, times = prepared.stable, prepared.take.times
     neutral = standard_neutral()
-    offline = map_stabilised(stable, prepared.columns, times, RATE, mapping, profile, neutral, seed=7)
+    filled = np.zeros(stable.local.shape[:2], bool)  # counted as made up by cleaning: ERU follows ELU there
+    filled[400:440, prepared.columns["LID_R_UP"]] = True
+    offline = map_stabilised(stable, prepared.columns, times, RATE, mapping, profile, neutral, filled, seed=7)
     live = LiveMapper(mapping, prepared.markerset, profile, prepared.take.labels, RATE, neutral, rest_seconds=0.0,
                       seed=7)
-    quality = marker_quality(stable.local)
+    quality = marker_quality(stable.local, filled)
     stepped = np.array([live.map_frame(Stabilised(stable.local[f:f + 1], stable.rotation[f:f + 1],
                                                   stable.translation[f:f + 1], stable.ok[f:f + 1], stable.reference),
                                        quality[f:f + 1], float(times[f]))[0] for f in range(len(times))])
@@ -119,6 +121,9 @@ def test_live_and_offline_map_the_same_cleaned_frames_equally_with_every_rule_on
                            dataclasses.replace(profile, couplings={}), neutral, seed=7)
     mirrored = motor_index("BRM")  # BLM shows on the other side: the mapping mirrors
     assert np.abs(plain.values[:, mirrored] - offline.values[:, mirrored]).max() > 0.01  # the decoupling acts
+    measured = map_stabilised(stable, prepared.columns, times, RATE, mapping, profile, neutral, seed=7).values
+    eru = motor_index("ERU")
+    assert np.abs(measured[400:440, eru] - offline.values[400:440, eru]).max() > 0.01  # the made-up frames follow
     np.testing.assert_allclose(stepped, offline.values, rtol=0, atol=1e-9)
     moving = offline.values.std(axis=0)
     assert (moving[[motor_index(c) for c in ("BRL", "BLC", "BRM", "ERU", "MB", "HH")]] > 0.01).all()
@@ -227,3 +232,32 @@ def test_an_eyes_table_names_two_lid_motors():
     doc["eyes"] = {"lids": ["ERU", "ELU"], "closed": 1.0}
     with pytest.raises(InputError, match=r"m.toml: eyes.closed: expected a number"):
         parse_mapping(doc, "m.toml")
+
+
+def test_a_made_up_lid_follows_the_other_eyes_measured_one_by_hand():
+    """pair: where every source of ERU was made up by cleaning (a filled gap, a held marker) and
+    ELU's was measured, ERU moves from its neutral as ELU moves from its own, as where lost;
+    where both were made up, or ELU is lost, ERU keeps its own value; without ``made_up``
+    nothing changes."""
+    doc = {"format": "toonface.mapping/1", "markerset": "toon32",
+           "motor": {"ERU": {"sources": [{"marker": "LID_R_UP", "axis": "y"}], "loss": {"policy": "pair"}},
+                     "ELU": {"sources": [{"marker": "LID_L_UP", "axis": "y"}], "loss": {"policy": "pair"}}}}
+    mapping = parse_mapping(doc)
+    neutral = extended_neutral(standard_neutral()).copy()
+    eru, elu = motor_index("ERU"), motor_index("ELU")
+    neutral[eru], neutral[elu] = 0.7, 0.8
+    raw = np.tile(neutral, (5, 1))
+    raw[:, eru] = [0.7, 0.5, 0.45, 0.6, 0.65]  # the fill's blink: half as deep
+    raw[:, elu] = [0.8, 0.1, 0.2, np.nan, 0.5]
+    made_up = np.zeros(raw.shape, bool)
+    made_up[1:5, eru] = True
+    made_up[2, elu] = True  # both made up at frame 2
+    times = np.arange(5) * 0.25
+    rules = MotorRules(mapping, 4.0, neutral)
+    out = rules.apply(raw, times, made_up)
+    np.testing.assert_allclose(out[:, eru], [0.7, 0.0, 0.45, 0.6, 0.4])
+    np.testing.assert_allclose(out[:, elu], [0.8, 0.1, 0.2, 0.7, 0.5])  # lost at 3: ERU's value, as before
+    np.testing.assert_allclose(rules.apply(raw, times)[:, eru], raw[:, eru])
+    rules.reset()
+    stepped = [rules.step(row, t, up) for row, t, up in zip(raw, times, made_up, strict=True)]
+    np.testing.assert_allclose(stepped, out, atol=1e-12)
