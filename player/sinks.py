@@ -57,8 +57,8 @@ class H264Encoder:
     recording, a file that plays up to its last second or two if the process is killed.
     ``background``: frames are encoded on a thread of the encoder's own, at most
     :data:`ENCODE_AHEAD` behind, so that drawing the next frame and encoding this one share the
-    machine's cores (an offline render: its encoding was 40 % of ``retarget``'s time); an encoding
-    error is raised by a later :meth:`write` or by :meth:`finish`.
+    machine's cores (an offline render: its encoding was 40 % of ``retarget``'s time), x264 taking
+    all of them but one; an encoding error is raised by a later :meth:`write` or by :meth:`finish`.
     """
 
     def __init__(self, target: str | os.PathLike | BinaryIO, fps: float, size: tuple[int, int], crf: int = 18,
