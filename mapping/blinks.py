@@ -53,11 +53,11 @@ class Blinks:
     closed: float
 
 
-def find_blinks(values: np.ndarray, rate: float, closing: float = -1.0) -> Blinks | None:
+def find_blinks(values: np.ndarray, rate: float, closing: float = -1.0, least: float = LEAST_MM) -> Blinks | None:
     """The full blinks in a lid's ``values`` ``(frames,)`` (mm, NaN where unseen) sampled at
     ``rate`` Hz, ``closing`` -1 where the lid's value falls as it shuts (+1 where it rises); None
     where fewer than :data:`FEWEST` show (see the module docstring). A blink's trough is also at
-    least :data:`LEAST_MM` from the baseline.
+    least ``least`` from the baseline (:data:`LEAST_MM`; another value for other units).
 
     >>> t = np.arange(600) / 60.0
     >>> lid = 0.05 * np.sin(7 * t) - 3.0 * (np.abs(t[:, None] - [2.0, 6.0, 8.0]).min(axis=1) < 0.06)
@@ -71,10 +71,10 @@ def find_blinks(values: np.ndarray, rate: float, closing: float = -1.0) -> Blink
     frames = np.flatnonzero(seen)
     level = np.interp(np.arange(len(values)), frames, values[frames])  # unseen frames bridged, not judged
     away = closing * (level - median_filter(level, size=max(3, int(BASELINE_SECONDS * rate) | 1), mode="nearest"))
-    spread = 1.4826 * float(np.median(np.abs(away - np.median(away))))
-    if spread <= 0:
+    spread = 1.4826 * float(np.median(np.abs(away - np.median(away))))  # 0 on a lid still between blinks
+    threshold = max(DEPTH_SIGMAS * spread, least)
+    if threshold <= 0:
         return None
-    threshold = max(DEPTH_SIGMAS * spread, LEAST_MM)
     high = np.concatenate([[False], away > threshold / 2, [False]])
     edges = np.flatnonzero(np.diff(high.astype(np.int8)))
     troughs = []

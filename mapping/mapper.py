@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mapping.blink_gaps import finish_blinks
 from mapping.coupling import decoupled, driver_of
 from mapping.mapfile import Mapping, MotorRule
 from mapping.plan import MODES, ONLY_SIGN, MotorPlan, combine_pairs, normalise_pairs, resolved_mode, span_of
@@ -62,7 +63,9 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     neutral = extended_neutral(standard_neutral() if target_neutral is None else target_neutral)
     quality = marker_quality(stable.local, filled)
     raw, confidence = motor_values(mapping, stable, columns, quality, profile, neutral)
-    values = MotorRules(mapping, rate, neutral, seed).apply(raw, times, made_up(confidence))
+    invented = made_up(confidence)
+    values = MotorRules(mapping, rate, neutral, seed).apply(raw, times, invented)
+    values, finished = finish_blinks(values, invented, rate)  # offline only: it reads past the gap
     if mapping.style.time_scale != 1.0:  # the one style operator with no live form: it changes the frame count
         scale = mapping.style.time_scale
         new_times = times[0] + np.arange(int(round(len(times) * scale))) / rate
@@ -71,7 +74,8 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     extras = mapping.extra_codes  # the standard extras the mapping drives (HT): columns after the 21
     meta = {"mapping": mapping.name, "profile": profile.performer or profile.markerset,
             "mapped": [r.code for r in mapping.rules if r.code not in extras], "mapped_extra": list(extras),
-            "lost_frames": int(np.isnan(raw[:, :N_MOTORS]).any(axis=1).sum())}
+            "lost_frames": int(np.isnan(raw[:, :N_MOTORS]).any(axis=1).sum()),
+            "blinks_finished_s": [round(float(times[0]) + t, 3) for t in finished]}
     return MotorTrack(values[:, :N_MOTORS], rate, confidence=np.clip(confidence[:, :N_MOTORS], 0.0, 1.0), meta=meta,
                       extra_codes=extras, extra=values[:, [code_index(c) for c in extras]] if extras else None)
 

@@ -92,6 +92,11 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
         units_text, detail = "none (no markers: the take's channels are scores)", {}
     warned = [n[len(WARNING):] for n in ready.notes if n.startswith(WARNING)]
     notes = [n for n in ready.notes if not n.startswith(WARNING)]
+    finished = track.meta.get("blinks_finished_s", [])
+    if finished:  # mapping.blink_gaps
+        notes.append(f"both upper lids' markers were lost together in {len(finished)} blink(s), at "
+                     f"{', '.join(f'{t:g}' for t in finished)} s: the lids finish them as the take's own blinks "
+                     "reopen, not as the gaps were filled")
     motors: dict[str, dict[str, float]] = {}
     mapped = [c for c in MOTOR_CODES if c in track.meta.get("mapped", MOTOR_CODES)]
     columns = [MOTOR_CODES.index(c) for c in mapped]
