@@ -147,11 +147,9 @@ def validate_gap(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, strai
     noisy sensors), so all are chosen on the take itself; ``fallback`` where the take is too
     short to spare the rows."""
     n = len(y)
-    count = min(8, (n - 60) // max(length, 1) - 1)  # stand-ins, as many as the rows allow, up to 8
-    if count < 2:
+    blocks = stand_ins(n, length)
+    if not blocks:
         return np.inf, fallback
-    blocks = [(middle - length // 2, middle - length // 2 + length)
-              for middle in (n * k // (count + 1) for k in range(1, count + 1))]
     truth = np.stack([y[lo:hi] for lo, hi in blocks])  # (blocks, length, dims)
     if straight:
         spline = np.stack([straight_line(y, t, lo, hi) for lo, hi in blocks])
@@ -182,6 +180,34 @@ def validate_gap(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, strai
             if error[pick] < best[0]:
                 best = (float(error[pick]), (ridge, SHARES[pick], edge))
     return best
+
+
+def stand_ins(rows: int, length: int) -> list[tuple[int, int]]:
+    """Stand-in gaps ``[lo, hi)`` of ``length`` rows centred at even steps along ``rows`` seen rows:
+    one fewer than fit in all but 60 of them, up to eight; none where fewer than two would.
+
+    >>> stand_ins(300, 30)
+    [(22, 52), (60, 90), (97, 127), (135, 165), (172, 202), (210, 240), (247, 277)]
+    """
+    count = min(8, (rows - 60) // max(length, 1) - 1)
+    if count < 2:
+        return []
+    return [(middle - length // 2, middle - length // 2 + length)
+            for middle in (rows * k // (count + 1) for k in range(1, count + 1))]
+
+
+def line_edge(y: np.ndarray, t: np.ndarray, length: int) -> int:
+    """The samples either side (one of :data:`EDGES`) whose median a straight line across a gap of
+    ``length`` rows best starts and ends at, judged on :func:`stand_ins` cut from a marker's own
+    seen rows ``y`` ``(n, dims)`` at times ``t`` ``(n,)``; 1 where the rows are too few to judge.
+    One sample follows a marker that moves up to the gap; more carry less of one sample's jitter,
+    or of a spike beside the gap that the spike tests could not judge, across it."""
+    blocks = stand_ins(len(y), length)
+    if not blocks:
+        return 1
+    errors = [sum(float(np.linalg.norm(_line(y, t, lo - 1, hi, t[lo:hi], edge) - y[lo:hi], axis=-1).mean())
+                  for lo, hi in blocks) for edge in EDGES]
+    return EDGES[int(np.argmin(errors))]
 
 
 def _median_rows(values: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ from scipy.interpolate import CubicSpline
 from mapping.gap_fit import (
     PREDICTOR_MEAN_SECONDS,
     bridge_residual,
+    line_edge,
     local_mean,
     regression_design,
     ridge_predict,
@@ -142,12 +143,23 @@ class GapFiller:
         out = pos  # already this call's own copy
         for m in map(int, np.flatnonzero(lined.any(axis=0))):
             for start, end in gap_runs(lined[:, m]):
-                out[start:end, m] = straight_line(out[:, m], times, start, end)
+                out[start:end, m] = self._line(out, times, m, start, end, rate)
         if short.any():  # first, so that brief dropouts do not disqualify a marker as a predictor
             self._splines(out, times, short)
         if long_.any():
             self._from_neighbours(out, times, long_, rate, set(apart), progress)
         return Filled(out, short | long_ | lined)
+
+    def _line(self, pos: np.ndarray, times: np.ndarray, m: int, start: int, end: int, rate: float) -> np.ndarray:
+        """Marker ``m``'s straight line across its gap ``[start, end)`` of ``pos`` ``(F, M, D)``:
+        from the median of the samples before it to that of the samples after, as many as
+        :func:`mapping.gap_fit.line_edge` finds best on the marker's own samples around it
+        (:attr:`window_seconds`, at least the gap's length, either side); ``(end - start, D)``."""
+        pad = max(int(self.window_seconds * rate), end - start)
+        near = np.arange(max(0, start - pad), min(len(pos), end + pad))
+        own = near[np.isfinite(pos[near, m]).all(axis=1)]
+        edge = line_edge(pos[own, m], times[own], end - start)
+        return bridge_residual(pos[own, m], own, start, end, times, edge)
 
     def _splines(self, pos: np.ndarray, times: np.ndarray, wanted: np.ndarray) -> None:
         """Cubic spline through each marker's seen samples, written where ``wanted``."""
