@@ -19,7 +19,9 @@ NaN (never invented), and the caller lowers the marker's confidence there.
 Markers ``apart`` from the face (a marker set's ``independent`` ones: the pupils, whose gaze the
 lips and brows do not foretell) are predicted only from each other, and never predict the rest;
 where none of them is seen across a gap (both irises behind blinking lids) the gap is bridged by
-a straight line, which neither dips with the lids nor overshoots as a spline through them does.
+a straight line, which neither dips with the lids nor overshoots as a spline through them does;
+it runs between the medians of one or five samples either side, whichever the marker's own
+stand-in gaps fill better (:func:`mapping.gap_fit.line_edge`).
 """
 
 from __future__ import annotations
