@@ -79,10 +79,10 @@ def blink_timing(values: np.ndarray, rate: float) -> BlinkTiming | None:
                       if f + reach < len(values) and np.isfinite(values[f:f + reach + 1]).all()], dtype=int)
     if len(whole) < FEWEST:
         return None
-    level = np.where(np.isfinite(values), values, 0.0)  # read only within whole blinks
-    baseline = median_filter(np.nan_to_num(values, nan=float(np.nanmedian(values))),
-                             size=max(3, int(BASELINE_SECONDS * rate) | 1), mode="nearest")[whole]
-    depth = baseline - level[whole]  # (blinks,)
+    seen = np.flatnonzero(np.isfinite(values))
+    level = np.interp(np.arange(len(values)), seen, values[seen])  # the baseline as find_blinks takes it
+    baseline = median_filter(level, size=max(3, int(BASELINE_SECONDS * rate) | 1), mode="nearest")[whole]
+    depth = baseline - level[whole]  # (blinks,): at least find_blinks's least
     after = level[whole[:, None] + np.arange(1, reach + 1)]  # (blinks, reach)
     reopening = np.median((after - level[whole, None]) / depth[:, None], axis=0)
     return BlinkTiming(float(level[whole].max()), float(np.median(depth)), reopening)
@@ -116,8 +116,9 @@ def finish_blinks(values: np.ndarray, made_up: np.ndarray, rate: float) -> tuple
 def _finished(before: float, speed: float, after: float, frames: int, timing: BlinkTiming) -> np.ndarray:
     """A blink's last ``frames`` from a lid at ``before`` moving ``speed`` a frame: on closing
     (``speed`` < 0) to ``timing.closed``, then back to ``after`` as the take's median blink
-    reopens (:attr:`BlinkTiming.reopening`, from wherever the lid is: a blink's lid moves faster
-    the further it goes, so its reopening lasts about as long from any depth), then ``after``.
+    reopens (:attr:`BlinkTiming.reopening` up to its baseline or its highest, from wherever the lid
+    is: a blink's lid moves faster the further it goes, so its reopening lasts about as long from
+    any depth), then ``after``.
     Where the stretch ends before the reopening does, the rest of it is squeezed into the frames
     left, so that the lid meets its measured value there."""
     out = np.full(frames, after)
@@ -126,8 +127,8 @@ def _finished(before: float, speed: float, after: float, frames: int, timing: Bl
         k = min(frames, int(np.ceil((before - timing.closed) / -speed - 1e-9)))
         out[:k] = np.maximum(before + speed * np.arange(1, k + 1), timing.closed)
         value = out[k - 1]
-    back = np.flatnonzero(timing.reopening >= 1.0)
-    shape = timing.reopening[:back[0] + 1] if len(back) else timing.reopening  # to the baseline, or all measured
+    back = np.flatnonzero(timing.reopening >= 1.0)  # to the baseline, or to the highest it reaches
+    shape = timing.reopening[:(back[0] if len(back) else int(np.argmax(timing.reopening))) + 1]
     steps = min(len(shape), frames - k)
     if steps:
         way = np.interp(np.linspace(0.0, len(shape) - 1, steps), np.arange(len(shape)), shape) if steps < len(shape) \
