@@ -94,8 +94,9 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
     notes = [n for n in ready.notes if not n.startswith(WARNING)]
     finished = track.meta.get("blinks_finished_s", [])
     if finished:  # mapping.blink_gaps
-        notes.append(f"both upper lids' markers were lost together in {len(finished)} blink(s), at "
-                     f"{', '.join(f'{t:g}' for t in finished)} s: the lids finish them as the take's own blinks "
+        blinks, them = ("a blink", "it") if len(finished) == 1 else (f"{len(finished)} blinks", "them")
+        notes.append(f"both upper lids' markers were lost together in {blinks}, at "
+                     f"{', '.join(f'{t:g}' for t in finished)} s: the lids finish {them} as the take's own blinks "
                      "reopen, not as the gaps were filled")
     motors: dict[str, dict[str, float]] = {}
     mapped = [c for c in MOTOR_CODES if c in track.meta.get("mapped", MOTOR_CODES)]

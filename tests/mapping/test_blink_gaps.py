@@ -129,5 +129,5 @@ def test_the_report_says_where_blinks_were_finished():
     for label in ("LID_L_UP", "LID_R_UP"):
         positions[(take.times >= 4.62) & (take.times < 5.1), take.index(label)] = np.nan
     notes = map_take(Take(positions, take.labels, take.rate, times=take.times)).meta["report"]["notes"]
-    said = [n for n in notes if "lost together in 1 blink(s), at 4.633 s" in n]
+    said = [n for n in notes if "lost together in a blink, at 4.633 s: the lids finish it as" in n]
     assert len(said) == 1, notes
