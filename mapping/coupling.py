@@ -26,7 +26,8 @@ import numpy as np
 
 from mapping.mapfile import Mapping, MotorRule
 from mapping.plan import reach_of
-from mapping.profile import Profile
+from mapping.profile import NOISE_FACTOR, Profile
+from mapping.robust import jitter
 from mapping.sources import Source
 from toon.motors import MIRROR_OF
 
@@ -44,27 +45,33 @@ def driver_of(mapping: Mapping, code: str) -> tuple[MotorRule, Source]:
     return rule, rule.sources[0]
 
 
-def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np.ndarray]
-                    ) -> dict[str, dict[str, tuple[float, float]]]:
+def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np.ndarray],
+                    noise: dict[str, float] | None = None) -> dict[str, dict[str, tuple[float, float]]]:
     """Couplings ``{source key: {driver source key: (below rest, above rest)}}`` for the rules
     that ask for them (``decouple``), from each source's values over the sweep's frames as a
     signed share of its range (``normalised``: source key -> ``(F,)``, as
     :func:`mapping.mapper.normalise` gives them, NaN unseen). A side the sweep did not show (the
-    source lost while the other motor moved) takes the mirror motor's, where that one was seen."""
+    source lost while the other motor moved) takes the mirror motor's, where that one was seen.
+    ``noise``: driver source key -> its jitter as recorded (a standard deviation in its units); a
+    side of a driver's range no longer than the jitter says (:func:`_sides_shown`) carries nothing."""
     measured: dict[tuple[str, int, str], list[float | None]] = {}  # (motor, source index, driver) -> sides
     for rule in mapping.rules:
         own = np.nan_to_num(np.abs(np.column_stack([normalised[s.key] for s in rule.sources])), nan=0.0).max(axis=1)
         for code in rule.decouple:
-            _, driver = driver_of(mapping, code)
+            driver_rule, driver = driver_of(mapping, code)
             if driver.key not in normalised or driver.key not in profile.sources:
                 continue
             d = normalised[driver.key]
+            shown = _sides_shown(reach_of(driver, driver_rule, profile), (noise or {}).get(driver.key))
             for i, source in enumerate(rule.sources):
                 x = normalised[source.key]
                 up, down = reach_of(source, rule, profile)
                 units = np.where(x >= 0, x * up, x * down)  # the source's own units
                 slopes: list[float | None] = []
-                for side in (-1.0, 1.0):
+                for side, seen in zip((-1.0, 1.0), shown, strict=True):
+                    if not seen:  # the driver goes no way there but its jitter: nothing to take away
+                        slopes.append(0.0)
+                        continue
                     at = (side * d >= MOVED) & (own < EXTREME) & np.isfinite(x)
                     if at.sum() < MIN_FRAMES:
                         slopes.append(None)
@@ -82,6 +89,39 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
     return out
 
 
+def recorded_jitter(mapping: Mapping, positions: np.ndarray, columns: dict[str, int]) -> dict[str, float]:
+    """Each decoupling driver's jitter as the take recorded it (``positions`` ``(F, M, 3)`` mm,
+    before cleaning smoothed it away; ``columns`` label -> column): the median over its markers'
+    axes, a standard deviation (mm), what a side of its range must exceed to have been shown
+    (:func:`learn_couplings`)."""
+    out: dict[str, float] = {}
+    for code in sorted({c for rule in mapping.rules for c in rule.decouple}):
+        _, driver = driver_of(mapping, code)
+        rows = [columns[m] for m in driver.markers if m in columns]
+        if driver.kind == "marker" and rows:
+            noise = jitter(positions[:, rows])
+            if np.isfinite(noise).any():
+                out[driver.key] = float(np.nanmedian(noise))
+    return out
+
+
+def _sides_shown(reach: tuple[float, float], noise: float | None) -> tuple[bool, bool]:
+    """Whether a driver's range (``reach``: its units per normalised unit above and below rest)
+    goes any way below and above rest beyond its jitter ``noise`` (a standard deviation in the
+    same units; None unknown): a side no longer than :data:`mapping.profile.NOISE_FACTOR` times
+    it is the jitter itself (a jaw closed at rest has no way up, 0.2 mm of its noise on the third
+    performer: measured there, the mouth corners learnt to rise and fall with the lower lip's
+    jitter).
+
+    >>> _sides_shown((20.6, 0.19), 0.3), _sides_shown((20.6, 0.19), None)
+    ((False, True), (True, True))
+    """
+    if noise is None or not np.isfinite(noise):
+        return True, True
+    up, down = reach
+    return down > NOISE_FACTOR * noise, up > NOISE_FACTOR * noise
+
+
 def decoupled(value: np.ndarray, source: Source, drivers: dict[str, np.ndarray], profile: Profile,
               reach: tuple[float, float] = (1.0, 1.0)) -> np.ndarray:
     """A source's normalised values ``(F,)`` less the share of each driver's normalised motion
@@ -96,3 +136,4 @@ def decoupled(value: np.ndarray, source: Source, drivers: dict[str, np.ndarray],
             carried = np.where(d < 0, below, above) * d  # a share of the side it moves the source to
             units = units - np.where(carried >= 0, carried * up, carried * down)
     return np.where(units >= 0, units / up, units / down)
+

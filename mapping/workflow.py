@@ -24,7 +24,7 @@ from capture.markerset import find_markerset
 from capture.take import SOUND_LEVEL
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
-from mapping.coupling import learn_couplings
+from mapping.coupling import learn_couplings, recorded_jitter
 from mapping.life import LifeSettings, add_life, take_cues
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, marker_quality, normalise, rule_shares
@@ -283,7 +283,9 @@ def _couplings(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile
             if source.markers:  # only what was seen: a filled gap would teach its own guess back
                 raw = np.where(made_up[:, [prepared.columns[m] for m in source.markers]].any(axis=1), np.nan, raw)
             values[source.key] = normalise(raw, source, rule, profile.sources.get(source.key), mode)[frames]
-    return learn_couplings(mapping, profile, values)
+    noise = recorded_jitter(mapping, prepared.take.positions[frames], prepared.columns)
+    return learn_couplings(mapping, profile, values, noise)
+
 
 
 def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,

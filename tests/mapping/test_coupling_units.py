@@ -63,3 +63,26 @@ def test_a_blink_under_raised_brows_reads_as_far_shut_as_it_is(lid):
     out = decoupled(seen, rule.sources[0], {brow.key: brows}, profile, reach_of(rule.sources[0], rule, profile))
     assert out == pytest.approx(_normalised(own))
     assert out[0] == pytest.approx(-3.0 / DOWN)
+
+
+def test_a_side_of_the_drivers_range_no_wider_than_its_jitter_teaches_nothing():
+    """A jaw closed at rest (the third performer's) opens 20.6 mm and closes no further than its
+    0.2 mm of jitter: the lower lip's noise above rest is no motion of the jaw, so whatever a
+    mouth corner happened to do then is not learnt as carried by it (it was: the corners then
+    rose and fell with the lower lip's jitter). The side the jaw opens on is learnt as before."""
+    mapping = load_mapping("toon32")
+    corner = next(r for r in mapping.rules if r.code == "MRV")
+    lip = next(r for r in mapping.rules if r.code == "MB").sources[0]  # inverted: opening is positive
+    profile = Profile("toon32", {corner.sources[0].key: SourceRange(-64.0, -71.0, -56.0),
+                                 lip.key: SourceRange(-72.0, -92.6, -71.8)}, np.eye(3), full_range=True)
+    assert reach_of(lip, next(r for r in mapping.rules if r.code == "MB"), profile) == pytest.approx((20.6, 0.2))
+    opening, jitter = np.linspace(0.0, 1.0, 40), -np.linspace(0.3, 1.5, 40)  # the lip's noise over 0.2 mm
+    values = {lip.key: np.concatenate([opening, jitter]),
+              corner.sources[0].key: np.concatenate([-3.0 / 7.0 * opening, 0.2 * jitter])}  # down 3 of 7 mm
+    for source in (s for r in mapping.rules for s in r.sources):
+        values.setdefault(source.key, np.zeros(80))
+    key = corner.sources[0].key
+    below, above = learn_couplings(mapping, profile, values, {lip.key: 0.3})[key][lip.key]
+    assert below == 0.0 and above == pytest.approx(-3.0 / 7.0)
+    unknown = learn_couplings(mapping, profile, values)[key][lip.key]  # no jitter given: both sides as measured
+    assert unknown[0] == pytest.approx(0.2) and unknown[1] == pytest.approx(-3.0 / 7.0)
