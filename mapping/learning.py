@@ -47,7 +47,7 @@ class RangeLearner:
                    for key, span in self.profile.sources.items()}
         self.profile = Profile(self.profile.markerset, sources, self.profile.rest_rotation, self.profile.performer,
                                {**self.profile.notes, "range": f"learned live over {self.freeze_after:g} s"},
-                               self.profile.source)
+                               self.profile.source, head_axes=self.profile.head_axes)
 
     def _side(self, key: str) -> float:
         return self.min_side * mm_scale(key)

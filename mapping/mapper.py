@@ -145,7 +145,7 @@ def rule_shares(mapping: Mapping, stable: Stabilised, columns: dict[str, int], q
     """Each rule's signed share of its motor's way (-1 at the performer's low end, 0 at rest, +1
     at the high end, inverted as the rule says; NaN where none of its sources is seen) and its
     confidence (its sources' mean quality), both ``(F, R)`` in ``mapping.rules`` order."""
-    head = head_angles(stable.rotation, profile.rest_rotation)
+    head = head_angles(stable.rotation, profile.rest_rotation, profile.head_axes)
     drivers = normalised_drivers(mapping, stable, columns, head, profile) if profile.couplings else {}
     raw, sure = _measure_all(plan, stable, columns, head, quality)
     normalised = normalise_pairs(raw[:, plan.key], plan.mode, plan.rest, plan.up, plan.down, plan.scale, plan.sign,

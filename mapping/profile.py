@@ -22,6 +22,7 @@ import numpy as np
 
 from common import Failure, read_versioned, resolve_builtin, write_document
 from common.validate import Validator
+from mapping.head_axes import axes_note
 from mapping.outliers import FRAMES_AT_ONCE
 from mapping.robust import as_rows, column_groups, column_nan_median
 from mapping.solver import Solver
@@ -82,6 +83,10 @@ class Profile:
         What each motor does to every marker, learned from a range-of-motion sweep
         (:mod:`mapping.solver`): the motors it knows are solved all at once. Saved with the
         profile (its ``[solver]`` table) and read back.
+    head_axes : ndarray, shape (3, 3), optional
+        The head's own turning axes in the head frame, learnt from a range-of-motion take's head
+        turns (:mod:`mapping.head_axes`): what the head's yaw and pitch are read about. Saved
+        with the profile (``head_axes``); None: the head frame's axes.
     """
 
     markerset: str
@@ -93,6 +98,7 @@ class Profile:
     full_range: bool = False
     couplings: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
     solver: Solver | None = None
+    head_axes: np.ndarray | None = None
 
 
 def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool,
@@ -122,7 +128,8 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
                   range_columns: dict[str, int], markerset: str, extra: Sequence[Source] = (),
                   percentiles: tuple[float, float] = (0.5, 99.5), performer: str = "",
                   notes: dict[str, str] | None = None, min_side: float = 0.0,
-                  require_motion: bool = True, kinds: dict[str, str] | None = None) -> Profile | Failure:
+                  require_motion: bool = True, kinds: dict[str, str] | None = None,
+                  head_axes: np.ndarray | None = None) -> Profile | Failure:
     """Measure a profile.
 
     Parameters
@@ -155,6 +162,9 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         source keeps, follow its kind. A source moves when its range is at least its kind's
         minimum (:data:`MIN_MOTION` without a kind), or :data:`NOISE_FACTOR` times its own jitter
         (the median frame-to-frame change, as a standard deviation), whichever is larger.
+    head_axes : ndarray, shape (3, 3), optional
+        The head's own turning axes (:func:`mapping.head_axes.turning_axes`): the head's angles
+        are read about them, and the profile keeps them (said in its notes).
 
     Returns
     -------
@@ -168,16 +178,17 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     if usable.sum() < 2:
         return Failure("fewer than 2 frames with a head pose in the range frames")
     rest = nearest_rotation(neutral_take.rotation[at_rest].mean(axis=0))
+    axes = head_axes
     labels = [m for m in columns if m in range_columns]
     wanted = [Source("marker", (m,), axis) for m in labels for axis in range(3)]
     wanted += [Source("head", axis=a) for a in (0, 1)]
     wanted += [s for s in extra if all(m in columns and m in range_columns for m in s.markers)]
     rest_values = _measure_all(wanted, neutral_take.local[at_rest], columns,
-                               head_angles(neutral_take.rotation[at_rest], rest),
+                               head_angles(neutral_take.rotation[at_rest], rest, axes),
                                {k: v[at_rest] for k, v in neutral_take.channels.items()})
     every = usable.all()  # the usual case: no copy of a long take's markers
     local = range_take.local if every else range_take.local[usable]
-    head = head_angles(range_take.rotation if every else range_take.rotation[usable], rest)
+    head = head_angles(range_take.rotation if every else range_take.rotation[usable], rest, axes)
     channels = {k: v if every else v[usable] for k, v in range_take.channels.items()}
     made_up = None if range_take.filled is None else range_take.filled if every else range_take.filled[usable]
     low, high, jitter = (np.empty(len(wanted)) for _ in range(3))
@@ -223,7 +234,9 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     notes = dict(notes or {})
     if still:
         notes["no_motion"] = ", ".join(still)
-    return Profile(markerset, ranges, rest, performer, notes)
+    if axes is not None:
+        notes["head_axes"] = axes_note(axes)
+    return Profile(markerset, ranges, rest, performer, notes, head_axes=axes)
 
 
 def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
@@ -233,7 +246,9 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
            "sources": {k: {"neutral": r.neutral, "low": r.low, "high": r.high} for k, r in profile.sources.items()},
            "full_range": profile.full_range,
            "couplings": {k: {d: list(v) for d, v in drivers.items()} for k, drivers in profile.couplings.items()},
-           **({"solver": profile.solver.to_dict()} if profile.solver is not None else {})}
+           **({"solver": profile.solver.to_dict()} if profile.solver is not None else {}),
+           **({"head_axes": [[float(v) for v in row] for row in profile.head_axes]}
+              if profile.head_axes is not None else {})}
     return write_document(doc, path, "profile")
 
 
@@ -245,10 +260,7 @@ def load_profile(path: str | os.PathLike) -> Profile:
     check = Validator(path)
     for key in ("markerset", "rest_rotation", "sources"):
         check.present(doc.get(key), key)
-    rot = np.asarray(doc["rest_rotation"], dtype=float) if _is_matrix(doc["rest_rotation"]) else None
-    check.require(rot is not None and np.allclose(rot @ rot.T, np.eye(3), atol=1e-4),
-                  "expected a 3x3 rotation matrix", "rest_rotation")
-    assert rot is not None
+    rot = _rotation(check, doc["rest_rotation"], "rest_rotation")
     sources = check.fields(doc["sources"], doc["sources"] if isinstance(doc["sources"], dict) else (), "sources",
                            "a table of sources")
     ranges = {}
@@ -265,7 +277,16 @@ def load_profile(path: str | os.PathLike) -> Profile:
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {}, str(path),
                    check.boolean(doc.get("full_range", False), "full_range"),
                    _couplings(check, doc.get("couplings", {})),
-                   Solver.from_dict(doc["solver"], check) if "solver" in doc else None)
+                   Solver.from_dict(doc["solver"], check) if "solver" in doc else None,
+                   _rotation(check, doc["head_axes"], "head_axes") if "head_axes" in doc else None)
+
+
+def _rotation(check: Validator, doc: object, where: str) -> np.ndarray:
+    rot = np.asarray(doc, dtype=float) if _is_matrix(doc) else None
+    check.require(rot is not None and np.allclose(rot @ rot.T, np.eye(3), atol=1e-4), "expected a 3x3 rotation matrix",
+                  where)
+    assert rot is not None
+    return rot
 
 
 def _couplings(check: Validator, doc: object) -> dict[str, dict[str, tuple[float, float]]]:

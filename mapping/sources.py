@@ -135,11 +135,15 @@ def measure(source: Source, local: np.ndarray, columns: dict[str, int], head: np
     return head[:, source.axis]
 
 
-def head_angles(rotation: np.ndarray, rest: np.ndarray) -> np.ndarray:
+def head_angles(rotation: np.ndarray, rest: np.ndarray, axes: np.ndarray | None = None) -> np.ndarray:
     """Yaw, pitch and roll (degrees) of head rotations ``(F, 3, 3)`` from the rest rotation
     ``(3, 3)``; ``(F, 3)``, NaN for frames without a pose. Roll is the head's up direction
     turned about the view axis, counter-clockwise as the camera sees it positive (the head
-    frame's x to the right of the picture, y up, z toward the camera)."""
+    frame's x to the right of the picture, y up, z toward the camera). ``axes`` ``(3, 3)``:
+    the head's own turning axes in the head frame (:func:`mapping.head_axes.turning_axes`),
+    about which the angles are read; the head frame's where None."""
+    if axes is not None:
+        rotation, rest = rotation @ axes, np.asarray(rest) @ axes
     ok = np.isfinite(rotation).all(axis=(1, 2))
     relative = np.asarray(rest).T @ np.where(ok[:, None, None], rotation, np.eye(3))
     yaw, pitch = yaw_pitch_degrees(relative)

@@ -242,14 +242,14 @@ class LiveMapper:
         rotations = np.array([f[1] for f in self._rest])
         channels = {name: np.concatenate([f[2][name] for f in self._rest]) for _, name in self._read}
         rest_rotation = nearest_rotation(rotations.mean(axis=0))
-        head = head_angles(rotations, rest_rotation)
+        head = head_angles(rotations, rest_rotation, self.profile.head_axes)
         rests = {}
         for source in self.mapping.sources():
             measured = measure(source, local, self.columns, head, channels)
             if np.isfinite(measured).any():
                 rest = float(np.nanmedian(measured))
                 rests[source.key] = SourceRange(rest, rest, rest)
-        own = Profile(self.profile.markerset, rests, rest_rotation)
+        own = Profile(self.profile.markerset, rests, rest_rotation, head_axes=self.profile.head_axes)
         if self.learn_seconds > 0:
             learner = self.learner = RangeLearner(own, freeze_after=self.learn_seconds)
             return learner.profile
@@ -261,7 +261,7 @@ class LiveMapper:
         learner = self.learner if self.learner is not None and not self.learner.frozen else None
         learning = learner is not None
         if learner is not None:
-            head = head_angles(stable.rotation, self.profile.rest_rotation)
+            head = head_angles(stable.rotation, self.profile.rest_rotation, self.profile.head_axes)
             learner.update({source.key: float(measure(source, stable.local, self.columns, head,
                                                            stable.channels)[0])
                                  for source in self.mapping.sources()}, t)

@@ -25,6 +25,7 @@ from capture.take import SOUND_LEVEL
 from common import InputError, data_path
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.coupling import learn_couplings, recorded_jitter
+from mapping.head_axes import turning_axes
 from mapping.life import LifeSettings, add_life, take_cues
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, marker_quality, normalise, rule_shares
@@ -184,7 +185,8 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     kinds = source_kinds(mapping) if full else None
     profile = build_profile(neutral.stable, neutral.take.times, window, source.stable, frames, neutral.columns,
                             source.columns, neutral.markerset.name, mapping.sources(), percentiles, performer, notes,
-                            min_side, require_motion, kinds)
+                            min_side, require_motion, kinds,
+                            turning_axes(source.stable.rotation, frames, source.take.rate) if full else None)
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
     _require_ranges(mapping, profile, neutral, window)
@@ -273,7 +275,7 @@ def _couplings(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile
                ) -> dict[str, dict[str, tuple[float, float]]]:
     """The couplings a range-of-motion take's ``frames`` show (:mod:`mapping.coupling`)."""
     stable = prepared.stable
-    head = head_angles(stable.rotation, profile.rest_rotation)
+    head = head_angles(stable.rotation, profile.rest_rotation, profile.head_axes)
     made_up = stable.filled if stable.filled is not None else np.zeros(stable.local.shape[:2], dtype=bool)
     values: dict[str, np.ndarray] = {}
     for rule in mapping.rules:

@@ -200,6 +200,8 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     if profile.solver is not None:
         click.echo(f"note: the solver learned {len(profile.solver.codes)} motors from {len(profile.solver.markers)} "
                    f"markers{profile.solver.left_out()}", err=True)
+    if profile.head_axes is not None:
+        click.echo(f"note: head angles are read about the head's own axes, {profile.notes['head_axes']}", err=True)
     for note in take_notes((rest, ranged), chosen):  # what map's report says of units, head fit, markers
         click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
     still = set(profile.notes.get("no_motion", "").split(", "))

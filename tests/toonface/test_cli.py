@@ -211,7 +211,10 @@ def test_calibrate_map_with_the_profile_and_score(tmp_path, capsys):
     exact = ["--cutoff", "0", "--no-spikes"]
     assert main(["synth", "-o", str(take), "--seconds", "1", "--noise", "0", "--calibration"]) == 0
     assert main(["calibrate", str(take), "-o", str(profile), "--neutral", "0:1", "--range", "1:15.4", *exact]) == 0
-    assert "neutral 0-1 s, range percentiles 0.5-99.5 of 1-15.4 s" in capsys.readouterr().out
+    said = capsys.readouterr()
+    assert "neutral 0-1 s, range percentiles 0.5-99.5 of 1-15.4 s" in said.out
+    assert "head angles are read about the head's own axes, learnt from the range's head turns and nods, 0.0 " \
+           "degrees from the head frame's" in said.err  # the synthetic head's markers sit where the set says
     assert main(["map", str(take), "-o", str(motors), "--profile", str(profile), *exact]) == 0
     truth = load_track(tmp_path / "t.truth.csv")
     np.testing.assert_allclose(load_track(motors).values, truth.values, atol=1e-6)

@@ -149,7 +149,7 @@ class MappingTuner:
         if rule is None:
             return {}
         stable = self.ready.prepared.stable
-        head = head_angles(stable.rotation, self.ready.profile.rest_rotation)
+        head = head_angles(stable.rotation, self.ready.profile.rest_rotation, self.ready.profile.head_axes)
         return {source.key: measure(source, stable.local, self.ready.prepared.columns, head, stable.channels)
                 for source in rule.sources}
 
