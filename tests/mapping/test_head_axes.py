@@ -121,3 +121,24 @@ def test_a_profile_s_head_axes_must_be_a_rotation(fourth, tmp_path):
     path.write_text(text[:start] + stretched + text[text.index("\n", start) + 1:])
     with pytest.raises(InputError, match="head_axes"):
         load_profile(path)
+
+
+def test_the_live_mapper_reads_the_head_about_the_profile_s_axes(fourth):
+    """Live, frame by frame, the head's angles are read about the profile's axes as offline: HV's
+    error after the sweep (the live filters' lag in both) at most four fifths of the one read
+    about the head frame's (2.7 against 3.9 %, one run)."""
+    from mapping.stepwise import LiveMapper
+
+    performed, mapping, prepared, profile = fourth
+    take, after, hv = performed.take, performed.take.times >= SWEEP_END, MOTOR_CODES.index("HV")
+
+    def error(p):
+        mapper = LiveMapper(mapping, prepared.markerset, p, take.labels, take.rate, rest_seconds=1.0)
+        values = np.array([mapper.step(take.positions[k], float(take.times[k]))[0][hv]
+                           for k in np.flatnonzero(after | (take.times < 1.0 + 2 / take.rate))])[-after.sum():]
+        design = np.column_stack([values, np.ones(len(values))])
+        truth = performed.motors[after, hv]
+        fit, *_ = np.linalg.lstsq(design, truth, rcond=None)
+        return float(np.sqrt(np.mean((design @ fit - truth) ** 2)))
+
+    assert error(profile) < 0.8 * error(dataclasses.replace(profile, head_axes=None))
