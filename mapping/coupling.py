@@ -136,4 +136,3 @@ def decoupled(value: np.ndarray, source: Source, drivers: dict[str, np.ndarray],
             carried = np.where(d < 0, below, above) * d  # a share of the side it moves the source to
             units = units - np.where(carried >= 0, carried * up, carried * down)
     return np.where(units >= 0, units / up, units / down)
-

@@ -178,17 +178,16 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     if usable.sum() < 2:
         return Failure("fewer than 2 frames with a head pose in the range frames")
     rest = nearest_rotation(neutral_take.rotation[at_rest].mean(axis=0))
-    axes = head_axes
     labels = [m for m in columns if m in range_columns]
     wanted = [Source("marker", (m,), axis) for m in labels for axis in range(3)]
     wanted += [Source("head", axis=a) for a in (0, 1)]
     wanted += [s for s in extra if all(m in columns and m in range_columns for m in s.markers)]
     rest_values = _measure_all(wanted, neutral_take.local[at_rest], columns,
-                               head_angles(neutral_take.rotation[at_rest], rest, axes),
+                               head_angles(neutral_take.rotation[at_rest], rest, head_axes),
                                {k: v[at_rest] for k, v in neutral_take.channels.items()})
     every = usable.all()  # the usual case: no copy of a long take's markers
     local = range_take.local if every else range_take.local[usable]
-    head = head_angles(range_take.rotation if every else range_take.rotation[usable], rest, axes)
+    head = head_angles(range_take.rotation if every else range_take.rotation[usable], rest, head_axes)
     channels = {k: v if every else v[usable] for k, v in range_take.channels.items()}
     made_up = None if range_take.filled is None else range_take.filled if every else range_take.filled[usable]
     low, high, jitter = (np.empty(len(wanted)) for _ in range(3))
@@ -234,9 +233,9 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     notes = dict(notes or {})
     if still:
         notes["no_motion"] = ", ".join(still)
-    if axes is not None:
-        notes["head_axes"] = axes_note(axes)
-    return Profile(markerset, ranges, rest, performer, notes, head_axes=axes)
+    if head_axes is not None:
+        notes["head_axes"] = axes_note(head_axes)
+    return Profile(markerset, ranges, rest, performer, notes, head_axes=head_axes)
 
 
 def save_profile(profile: Profile, path: str | os.PathLike) -> Path:

@@ -289,7 +289,6 @@ def _couplings(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profile
     return learn_couplings(mapping, profile, values, noise)
 
 
-
 def ready_take(take: Take, mapping: Mapping | str | None = None, profile: Profile | None = None,
                neutral_window: NeutralSpec = None, settings: CleanSettings = CleanSettings(),
                mirror: bool = False) -> ReadyTake:
