@@ -207,7 +207,8 @@ def rests_of(local: np.ndarray, columns: dict[str, int]) -> dict[str, np.ndarray
 
 
 def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], local: np.ndarray,
-                 columns: dict[str, int], seen: np.ndarray, shares: np.ndarray, rest: np.ndarray) -> Solver | None:
+                 columns: dict[str, int], seen: np.ndarray, shares: np.ndarray, rest: np.ndarray,
+                 references: Sequence[str] = ()) -> Solver | None:
     """A :class:`Solver` from a range-of-motion sweep (see the module docstring).
 
     Parameters
@@ -227,6 +228,11 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         Each motor's signed share of its way by the rules over the sweep (NaN unseen).
     rest : ndarray, shape (N, 3)
         Each marker at rest.
+    references : sequence of str
+        The head references: the head frame is fitted on them, so what they do in it is the
+        fit's wobble, and they are no motor's but one whose rule reads them (third performer,
+        a draw whose nose tip wobbled 0.5 mm in a lid's sweep: the lid then read the still nose
+        as held shut, ERU r 0.78).
 
     Returns
     -------
@@ -235,6 +241,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     """
     markers = tuple(sorted(columns, key=columns.__getitem__))
     cols = [columns[m] for m in markers]
+    fixed = np.isin(markers, list(references))  # (M,): the head references
     d = local[:, cols] - rest[cols]
     ok = seen[:, cols] & np.isfinite(d).all(axis=2)
     d = np.where(ok[..., None], d, 0.0)
@@ -270,6 +277,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
+            basis[fixed & (far[:, k] > 0.0)] = 0.0
         kept.append(k)
     up, down = np.nan_to_num(up), np.nan_to_num(down)
     motion = np.sqrt(np.maximum((up ** 2).sum(axis=(1, 2)), (down ** 2).sum(axis=(1, 2))))

@@ -250,7 +250,8 @@ def sweep_solver(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profi
     own = [sorted({m for s in r.sources for m in s.markers}) if all(s.markers for s in r.sources) else []
            for r in rules]
     return learn_solver([r.code for r in rules], own, stable.local[frames], prepared.columns,
-                        quality[frames] >= 1.0, shares[frames][:, [index[r.code] for r in rules]], rest)
+                        quality[frames] >= 1.0, shares[frames][:, [index[r.code] for r in rules]], rest,
+                        prepared.markerset.head_reference)
 
 
 def source_kinds(mapping: Mapping) -> dict[str, str]:
