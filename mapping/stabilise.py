@@ -111,16 +111,20 @@ def _robust_fit(source: np.ndarray, target: np.ndarray, tolerance: float) -> tup
     miss = np.nan_to_num(np.linalg.norm(target - fitted, axis=2), nan=-1.0)  # (F, K); -1 unseen or no pose
     worst = np.argmax(miss, axis=1)
     seen = (~np.isnan(target[..., 0])).sum(axis=1)
-    # only a point that already misses the fit on all by SHARED_MISS of the tolerance is tested
-    # against the others' fit: a clean frame costs no second fit
-    suspect = np.flatnonzero(ok & (miss[np.arange(len(miss)), worst] > SHARED_MISS * tolerance) & (seen > 3))
+    # a point that misses the fit on all by the tolerance is out; with at least OTHERS_JUDGE others
+    # seen, one that misses it by SHARED_MISS of the tolerance is tested against the others' fit
+    # (a clean frame costs no second fit)
+    worst_miss = miss[np.arange(len(miss)), worst]
+    suspect = np.flatnonzero(ok & (seen > 3) & ((worst_miss > tolerance) | (
+        (worst_miss > SHARED_MISS * tolerance) & (seen > OTHERS_JUDGE))))
     used = ~np.isnan(target[..., 0])
     if len(suspect):
         trimmed = target[suspect].copy()
         trimmed[np.arange(len(suspect)), worst[suspect]] = np.nan
         t_rot, t_trans, _ = rigid_fit(source, trimmed)
         alone = rotate(np.asarray(source, dtype=np.float64)[worst[suspect]][:, None], t_rot)[:, 0] + t_trans
-        out = np.linalg.norm(target[suspect, worst[suspect]] - alone, axis=1) > tolerance  # misses the others' head
+        out = (worst_miss[suspect] > tolerance) | (  # misses the others' head
+            np.linalg.norm(target[suspect, worst[suspect]] - alone, axis=1) > tolerance)
         redo = suspect[out]
         rot[redo], trans[redo] = t_rot[out], t_trans[out]
         used[redo, worst[redo]] = False
@@ -134,6 +138,9 @@ def _robust_fit(source: np.ndarray, target: np.ndarray, tolerance: float) -> tup
 #: fit on the others (:func:`robust_rigid_fit`): a spike on one of several references pulls the fit
 #: on all by a share of its miss that grows with the point's lever (the 5 mm temple spike: 2.4 mm
 #: left); one pinning the fit nearly alone may stay under it, and is kept, as before.
+#: Only where more than this many references are seen: three others are no judges (the glue-dot
+#: layout's four references sit on the cheeks and brows, and a smile moved two of them).
+OTHERS_JUDGE = 4
 SHARED_MISS = 0.5
 
 
