@@ -138,10 +138,10 @@ def _robust_fit(source: np.ndarray, target: np.ndarray, tolerance: float) -> tup
 #: fit on the others (:func:`robust_rigid_fit`): a spike on one of several references pulls the fit
 #: on all by a share of its miss that grows with the point's lever (the 5 mm temple spike: 2.4 mm
 #: left); one pinning the fit nearly alone may stay under it, and is kept, as before.
-#: Only where more than this many references are seen: three others are no judges (the glue-dot
-#: layout's four references sit on the cheeks and brows, and a smile moved two of them).
-OTHERS_JUDGE = 4
 SHARED_MISS = 0.5
+#: ... only where more than this many references are seen: three others are no judges (the
+#: glue-dot layout's four references sit on the cheeks and brows, and a smile moved two of them).
+OTHERS_JUDGE = 4
 
 
 #: A head fit stands where its seen references pin the worst-pinned rotation at least this share
