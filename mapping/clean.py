@@ -42,11 +42,11 @@ from mapping.gaps import GapFiller, gap_runs
 from mapping.holds import HoldSmoother
 from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
 from mapping.outliers import SpikeFilter, centred_spikes
+from mapping.reference_bridge import bridge_edge
 from mapping.robust import jitter
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
     Stabilised,
-    bridge_edge,
     express,
     fit_head,
     nearest_rotation,

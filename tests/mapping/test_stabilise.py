@@ -123,7 +123,7 @@ def test_a_lost_head_reference_does_not_make_the_head_jump():
     apart); over a 0.5 s loss the pose is bridged from the fits either side, so a point on the
     chin stays within a quarter of that jump of where the full fit puts it (on the AnimFace jaw
     take the markers' shift falls from 0.28 to 0.07 mm)."""
-    from mapping.stabilise import bridge_references
+    from mapping.reference_bridge import bridge_references
 
     shape, world = _skin()
     full_rot, full_trans, ok = robust_rigid_fit(shape, world)
@@ -149,7 +149,7 @@ def test_a_lost_head_reference_carries_no_single_frames_jitter_across_its_gap():
     average over a stretch, RMS over the stretches); averaged over the frames that hold steady
     near it, 0.09 mm, against 0.08 mm for the fit on four references alone (right here, where
     the references are rigid)."""
-    from mapping.stabilise import bridge_edge, bridge_references
+    from mapping.reference_bridge import bridge_edge, bridge_references
 
     ms = load_markerset("toon32")
     rows = [ms.labels.index(r) for r in ms.head_reference]
