@@ -16,13 +16,13 @@ the switch is widened and eased over half a period of the heavier cut-off so tha
 step. A marker that moves all the time (lips through a speech) cannot claim its motion as
 noise: each marker's noise is capped at twice the take's median over its markers.
 
-That cascade is symmetric: where a lid settles into a new pose after a quick move, its heavy
-low-pass reaches back across the move and rounds the new pose's first few tenths of a second
-(the third bench performer's upper lids, 1 mm into a squint, took 0.3 s to arrive). So where
-the cascade's first level did not keep the take's low-pass, half the result (:data:`ICI_SHARE`)
-is a second estimate that keeps such edges, by LPA-ICI (local approximation with the
-intersection of confidence intervals; Katkovnik, Egiazarian and Astola, *Local Approximation
-Techniques in Signal and Image Processing*, 2006): at each sample, the mean of the samples in
+That cascade is symmetric: where it judges a marker to hold next to a move (a saccade's
+landing, a lid settling into a squint, a move too small against the noise for the test to see),
+its heavy low-passes, half a second to a second long, reach across the move and round its start
+and end. So where the cascade's first level did not keep the take's low-pass, half the result
+(:data:`ICI_SHARE`) is a second estimate that keeps such edges, by LPA-ICI (local approximation
+with the intersection of confidence intervals; Katkovnik, Egiazarian and Astola, *Local
+Approximation Techniques in Signal and Image Processing*, 2006): at each sample, the mean of the samples in
 windows reaching back from it, reaching forward from it, and about it, each window grown
 (:data:`ICI_WINDOWS`) while its confidence interval (:data:`ICI_GAMMA` of its standard
 deviation, from the same noise) still meets those of all the shorter ones and of the sample
