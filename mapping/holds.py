@@ -22,8 +22,8 @@ its heavy low-passes, half a second to a second long, reach across the move and 
 and end. So where the cascade's first level did not keep the take's low-pass, half the result
 (:data:`ICI_SHARE`) is a second estimate that keeps such edges, by LPA-ICI (local approximation
 with the intersection of confidence intervals; Katkovnik, Egiazarian and Astola, *Local
-Approximation Techniques in Signal and Image Processing*, 2006): at each sample, the mean of the samples in
-windows reaching back from it, reaching forward from it, and about it, each window grown
+Approximation Techniques in Signal and Image Processing*, 2006): at each sample, the mean of the
+samples in windows reaching back from it, reaching forward from it, and about it, each window grown
 (:data:`ICI_WINDOWS`) while its confidence interval (:data:`ICI_GAMMA` of its standard
 deviation, from the same noise) still meets those of all the shorter ones and of the sample
 itself, the three means weighted by the inverse of their variances. At a pose's first samples
