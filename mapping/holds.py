@@ -142,7 +142,7 @@ class HoldSmoother:
         weight = judged / judged.sum(axis=1, keepdims=True)  # (K, D): the mean over the judged axes
         scale = np.where(judged, noise, 1.0)[..., None]
         current = x
-        moving = np.ones((len(x), x.shape[-1]))  # (K, n): where the lightest level is kept
+        moving = np.ones((len(x), x.shape[-1]))  # (K, n): where the first level keeps the lightest (no ICI)
         for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
             heavy = _signal().sosfiltfilt(sos, x)
             diff = current - heavy
@@ -157,7 +157,7 @@ class HoldSmoother:
             diff *= keep[:, None]
             heavy += diff
             current = heavy
-        if self.ici_share > 0 and current is not x:  # where the first level held: a share of LPA-ICI's
+        if self.ici_share > 0:  # where the first level held: a share of LPA-ICI's
             ici = self._ici(x, judged, noise)
             ici -= current
             ici *= (self.ici_share * (1.0 - moving))[:, None]
