@@ -236,6 +236,29 @@ def test_the_stand_ins_splines_at_once_are_a_spline_through_every_other_row():
         np.testing.assert_allclose(got[b], CubicSpline(t[keep], y[keep], axis=0)(t[lo:hi]), rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("count", [2, 9])
+def test_a_gaps_regression_design_is_its_formula_written_plainly(count):
+    """:func:`mapping.gap_fit.regression_design` gathers whole rows first and works in place
+    (issue 65: a third of its time): the same numbers as the design written one predictor and
+    one row at a time (each predictor about the row's centre of them, weighted, every column less
+    its mean; the centre itself appended where fewer than four predict)."""
+    from mapping.gap_fit import regression_design
+
+    rng = np.random.default_rng(6)
+    source = rng.normal(0.0, 20.0, (80, 12, 3))
+    rows, others = np.sort(rng.choice(80, 50, replace=False)), [int(k) for k in rng.choice(12, count, replace=False)]
+    weight = rng.uniform(0.1, 1.0, count)
+    centre, x = regression_design(source, rows, others, weight)
+    plain_centre = np.array([[np.mean([source[r, k, d] for k in others]) for d in range(3)] for r in rows])
+    plain = np.array([[(source[r, k, d] - plain_centre[i, d]) * weight[j]
+                       for j, k in enumerate(others) for d in range(3)] for i, r in enumerate(rows)])
+    if count < 4:
+        plain = np.hstack([plain, plain_centre])
+    np.testing.assert_allclose(centre, plain_centre, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(x, plain - plain.mean(axis=0), rtol=0, atol=1e-12)
+    assert not np.shares_memory(x, source)
+
+
 def test_a_predictors_relevance_is_the_r2_of_its_own_least_squares_fit():
     """:func:`mapping.gaps._relevance` (sums by matrix products, issue 65) against a plain fit of
     the target on each marker over the frames both are seen."""
