@@ -17,7 +17,7 @@ in the head frame (from both sides, and from the other markers for long ones; a 
 independent markers, the pupils, only from each other or straight across), then everything is
 smoothed with a zero-phase low-pass, which has no lag because it may look ahead, and more
 heavily where a marker holds still (:mod:`mapping.holds`: a held lid or gaze without its
-jitter, a blink as sharp as before, a new pose not rounded). The head pose is smoothed with
+jitter, a blink as sharp as before, a new pose less rounded). The head pose is smoothed with
 the low-pass alone. Samples left unseen (gaps too long to fill) stay NaN. A take's channels (a
 markerless tracker's blendshape scores) are filled across the same short gaps, straight from
 one side to the other, and smoothed by the same low-pass.

@@ -141,8 +141,7 @@ class HoldSmoother:
 
         weight = judged / judged.sum(axis=1, keepdims=True)  # (K, D): the mean over the judged axes
         scale = np.where(judged, noise, 1.0)[..., None]
-        current = x
-        moving = np.ones((len(x), x.shape[-1]))  # (K, n): where the first level keeps the lightest (no ICI)
+        current, moving = x, None  # moving (K, n): where the first level keeps the lightest (no ICI there)
         for (fc, sos), spread in zip(self.levels, self.spreads, strict=True):
             heavy = _signal().sosfiltfilt(sos, x)
             diff = current - heavy
@@ -152,12 +151,12 @@ class HoldSmoother:
             keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
             width = max(3, int(round(0.5 * self.rate / fc)))
             keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=-1), width, axis=-1)
-            if current is x:
+            if moving is None:
                 moving = keep
             diff *= keep[:, None]
             heavy += diff
             current = heavy
-        if self.ici_share > 0:  # where the first level held: a share of LPA-ICI's
+        if self.ici_share > 0 and moving is not None:  # where the first level held: a share of LPA-ICI's
             ici = self._ici(x, judged, noise)
             ici -= current
             ici *= (self.ici_share * (1.0 - moving))[:, None]

@@ -167,7 +167,7 @@ def test_each_marker_is_smoothed_on_its_own_by_the_rule_whatever_the_layout():
     assert np.abs(held - plain)[np.isfinite(held)].max() > 0.01  # the holds were steadied: the rule did something
 
 
-def test_a_lid_arrives_at_its_new_pose_unrounded_and_the_blocks_change_nothing(monkeypatch):
+def test_a_lid_arrives_at_its_new_pose_less_rounded_and_the_blocks_change_nothing(monkeypatch):
     """A lid moves 1 mm into a squint in 0.1 s, under 0.3 mm of jitter: too small a move for
     the cascade to see, so its heavy low-passes reach back across it and round the pose's first
     0.4 s. Half of LPA-ICI's estimate (whose window reaching forward from the pose's first
