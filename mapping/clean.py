@@ -39,7 +39,7 @@ from common.rotations import rigid_fit
 from mapping.filters import Butterworth
 from mapping.gap_fit import straight_line
 from mapping.gaps import GapFiller, gap_runs
-from mapping.holds import HoldSmoother
+from mapping.holds import HoldSmoother, fast_moves, put_back_moves
 from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.reference_bridge import bridge_edge
@@ -306,9 +306,11 @@ def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings,
         del result  # a long take's arrays are hundreds of MB: none kept past its use
     if settings.cutoff_hz > 0 and take.frames > 1:
         smoother = _smoother(settings, take.rate)
+        moves = fast_moves(pos, positions, take.rate, smoother.cutoff) if settings.holds else []
         pos = smoother.smooth_offline(pos.reshape(take.frames, -1), overwrite=pos is not positions).reshape(pos.shape)
         if settings.holds:
-            pos = HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions, overwrite=True)
+            pos = put_back_moves(HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions, overwrite=True),
+                                 moves)
     return pos, filled
 
 

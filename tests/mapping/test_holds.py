@@ -7,7 +7,7 @@ from capture.performance import default_performance
 from common import Failure
 from mapping.clean import CleanSettings, clean_stabilised
 from mapping.filters import Butterworth
-from mapping.holds import HoldSmoother
+from mapping.holds import HoldSmoother, fast_moves, put_back_moves
 
 RATE = 60.0
 
@@ -191,3 +191,37 @@ def test_a_lid_arrives_at_its_new_pose_less_rounded_and_the_blocks_change_nothin
     whole = smoother.smooth(plain, raw)
     monkeypatch.setattr("mapping.holds.ICI_FRAMES", 50)
     np.testing.assert_allclose(smoother.smooth(plain, raw), whole, rtol=0, atol=1e-9)
+
+
+def test_a_saccade_keeps_its_speed_and_a_hold_its_steadiness():
+    """A pupil at 120 Hz jumps 4 mm in 30 ms between held gazes, under 0.25 mm of jitter: the
+    take's 8 Hz low-pass turns each jump into a 100 ms ramp. Where the lighter low-pass departs
+    from it by more than the noise explains, :func:`fast_moves` puts the lighter one back: the
+    error around the jumps falls by more than a third, the holds stay as steady, and a marker
+    that only holds is left alone."""
+    rate = 120.0
+    t = np.arange(1440) / rate
+    gaze = np.zeros_like(t)
+    for at, to in ((2.0, 4.0), (4.5, -1.0), (7.0, 2.5), (9.5, 0.0)):
+        gaze = np.where(t >= at, np.interp(t, [at, at + 0.03], [gaze[int(at * rate) - 1], to]), gaze)
+    near = np.zeros(len(t), dtype=bool)
+    for at in (2.0, 4.5, 7.0, 9.5):
+        near |= np.abs(t - at - 0.015) < 0.1
+    hold = ~np.convolve(near, np.ones(121), "same").astype(bool)
+    hold[:60] = hold[-60:] = False
+    errors = {"holds": [], "fast": []}
+    for seed in range(4):
+        raw = np.random.default_rng(seed).normal(0.0, 0.25, (len(t), 2, 3))
+        raw[:, 0, 0] += gaze
+        plain = Butterworth(8.0, rate).smooth_offline(raw.reshape(len(t), -1)).reshape(raw.shape)
+        steady = HoldSmoother(rate, 8.0).smooth(plain, raw)
+        moves = fast_moves(raw, raw, rate, 8.0)
+        assert [m for m, _, _ in moves] == [0]  # the still marker has no fast moves
+        fast = put_back_moves(steady.copy(), moves)
+        for name, out in (("holds", steady), ("fast", fast)):
+            error = out[:, 0, 0] - gaze
+            errors[name].append([np.sqrt(np.mean(error[part] ** 2)) for part in (near, hold)])
+    before, after = np.mean(errors["holds"], axis=0), np.mean(errors["fast"], axis=0)
+    assert after[0] < 0.65 * before[0], (after, before)
+    assert after[1] < 1.05 * before[1], (after, before)
+    assert fast_moves(raw, raw, rate, 30.0) == []  # a take already smoothed lighter has nothing to put back
