@@ -39,7 +39,7 @@ from common.rotations import rigid_fit
 from mapping.filters import Butterworth
 from mapping.gap_fit import straight_line
 from mapping.gaps import GapFiller, gap_runs
-from mapping.holds import HoldSmoother, fast_moves, put_back_moves
+from mapping.holds import HoldSmoother, fast_moves, marker_noise, put_back_moves
 from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
 from mapping.outliers import SpikeFilter, centred_spikes
 from mapping.reference_bridge import bridge_edge
@@ -306,11 +306,12 @@ def _fill_and_smooth(positions: np.ndarray, take: Take, settings: CleanSettings,
         del result  # a long take's arrays are hundreds of MB: none kept past its use
     if settings.cutoff_hz > 0 and take.frames > 1:
         smoother = _smoother(settings, take.rate)
-        moves = fast_moves(pos, positions, take.rate, smoother.cutoff) if settings.holds else []
+        noise = marker_noise(positions) if settings.holds else None  # measured once, for both
+        moves = fast_moves(pos, positions, take.rate, smoother.cutoff, noise=noise) if settings.holds else []
         pos = smoother.smooth_offline(pos.reshape(take.frames, -1), overwrite=pos is not positions).reshape(pos.shape)
         if settings.holds:
-            pos = put_back_moves(HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions, overwrite=True),
-                                 moves)
+            pos = put_back_moves(HoldSmoother(take.rate, smoother.cutoff).smooth(pos, positions, overwrite=True,
+                                                                                 noise=noise), moves)
     return pos, filled
 
 

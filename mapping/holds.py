@@ -121,16 +121,18 @@ class HoldSmoother:
         self.light_variance = float(np.mean(light ** 2))
         self.windows = sorted({max(1, int(round(seconds * rate))) for seconds in ICI_WINDOWS})
 
-    def smooth(self, smoothed: np.ndarray, raw: np.ndarray, overwrite: bool = False) -> np.ndarray:
+    def smooth(self, smoothed: np.ndarray, raw: np.ndarray, overwrite: bool = False,
+               noise: np.ndarray | None = None) -> np.ndarray:
         """Markers ``(F, M, D)`` smoothed by the take's low-pass (NaN where unseen), made
         steadier where they hold; ``raw`` ``(F, M, D)``: the same markers before any smoothing
         or gap filling (NaN where not seen), to measure each one's noise on. ``overwrite``: the
         result may be written into ``smoothed`` (a float64 array the caller no longer needs: a
-        long take's copy saved)."""
+        long take's copy saved). ``noise`` ``(M, D)``: :func:`marker_noise` of ``raw``, where
+        already measured."""
         out = np.asarray(smoothed, dtype=np.float64)
         if not self.levels or len(out) < 2:
             return out if overwrite else out.copy()
-        noise = _noise(np.asarray(raw, dtype=np.float64))  # (M, D)
+        noise = marker_noise(raw) if noise is None else noise  # (M, D)
         judged = np.isfinite(noise) & (noise > 0)  # a flat axis (a 2-D tracker's depth) tells nothing
         usable = judged.any(axis=1)  # a marker never seen three times in a row, or without noise: left be
         whole = usable & np.isfinite(out).all(axis=(0, 2))
@@ -151,8 +153,6 @@ class HoldSmoother:
         """Seen stretches of ``K`` markers as rows ``(K, D, n)`` (C order: filtered along the last
         axis, scipy's filters copy no transposition), judged on the axes ``judged`` ``(K, D)``
         whose noise is ``noise`` ``(K, D)``; the same shape."""
-        from scipy import ndimage
-
         weight = judged / judged.sum(axis=1, keepdims=True)  # (K, D): the mean over the judged axes
         scale = np.where(judged, noise, 1.0)[..., None]
         current, moving = x, None  # moving (K, n): where the first level keeps the lightest (no ICI there)
@@ -162,9 +162,7 @@ class HoldSmoother:
             scaled = diff / (scale * spread)
             np.square(scaled, out=scaled)
             departure = np.sqrt(np.einsum("kdn,kd->kn", scaled, weight))  # (K, n): RMS over the judged axes
-            keep = np.clip(departure / self.threshold - 1.0, 0.0, 1.0)
-            width = max(3, int(round(0.5 * self.rate / fc)))
-            keep = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=-1), width, axis=-1)
+            keep = _kept(departure, self.threshold, self.rate, fc, axis=-1)
             if moving is None:
                 moving = keep
             diff *= keep[:, None]
@@ -238,7 +236,8 @@ class HoldSmoother:
 
 
 def fast_moves(filled: np.ndarray, raw: np.ndarray, rate: float, cutoff: float, fast: float = FAST_HZ,
-               threshold: float = FAST_THRESHOLD) -> list[tuple[int, np.ndarray, np.ndarray]]:
+               threshold: float = FAST_THRESHOLD, noise: np.ndarray | None = None
+               ) -> list[tuple[int, np.ndarray, np.ndarray]]:
     """What the take's low-pass takes off each marker's fastest moves, to be put back after smoothing.
 
     The take's low-pass (``cutoff``, Hz) turns a 30 ms saccade into a 100 ms ramp. Where a
@@ -254,9 +253,13 @@ def fast_moves(filled: np.ndarray, raw: np.ndarray, rate: float, cutoff: float, 
     filled : ndarray, shape (F, M, D)
         Positions after gap filling, before any smoothing (NaN where still unseen).
     raw : ndarray, shape (F, M, D)
-        The same before gap filling, to measure each marker's noise on (:func:`_noise`).
+        The same before gap filling, to measure each marker's noise on (:func:`marker_noise`; or give ``noise``).
     rate, cutoff : float
         Frame rate and the take's low-pass, Hz.
+    fast, threshold : float
+        The lighter low-pass (Hz) and its test's threshold (:data:`FAST_HZ`, :data:`FAST_THRESHOLD`).
+    noise : ndarray, shape (M, D), optional
+        Each marker's noise (:func:`marker_noise` of ``raw``), where already measured.
 
     Returns
     -------
@@ -264,8 +267,6 @@ def fast_moves(filled: np.ndarray, raw: np.ndarray, rate: float, cutoff: float, 
         Per marker with such moves: its index, the frames ``(k,)`` and the difference to add
         there ``(k, D)``.
     """
-    from scipy import ndimage
-
     from mapping.filters import Butterworth
 
     fast = min(fast, 0.45 * rate)
@@ -274,9 +275,8 @@ def fast_moves(filled: np.ndarray, raw: np.ndarray, rate: float, cutoff: float, 
     light_filter, base_filter = Butterworth(fast, rate), Butterworth(cutoff, rate)
     # the spread of the two zero-phase low-passes' difference on white noise of unit deviation
     spread = float(np.sqrt(np.mean((_power(light_filter.sos) - _power(base_filter.sos)) ** 2)))
-    noise = _noise(np.asarray(raw, dtype=np.float64))  # (M, D)
+    noise = marker_noise(raw) if noise is None else noise  # (M, D)
     judged = np.isfinite(noise) & (noise > 0)
-    width = max(3, int(round(0.5 * rate / cutoff)))
     frames, dims = filled.shape[0], filled.shape[2]
     out = []
     columns = np.flatnonzero(judged.any(axis=1))
@@ -286,11 +286,10 @@ def fast_moves(filled: np.ndarray, raw: np.ndarray, rate: float, cutoff: float, 
         diff = (light_filter.smooth_offline(block) - base_filter.smooth_offline(block)).reshape(frames, len(part), dims)
         scaled = diff / (np.where(judged[part], noise[part], np.inf) * spread)  # an axis not judged counts 0
         departure = np.sqrt(np.nan_to_num(np.sum(scaled ** 2, axis=2) / judged[part].sum(axis=1)))  # (F, K): RMS
-        keep = np.clip(departure / threshold - 1.0, 0.0, 1.0)
+        keep = _kept(departure, threshold, rate, cutoff, axis=0)
         for k in np.flatnonzero(keep.any(axis=0)):
-            eased = ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep[:, k], width), width)
-            at = np.flatnonzero(eased > 0)
-            out.append((int(part[k]), at, np.nan_to_num(eased[at, None] * diff[at, k])))
+            at = np.flatnonzero(keep[:, k] > 0)
+            out.append((int(part[k]), at, np.nan_to_num(keep[at, k, None] * diff[at, k])))
     return out
 
 
@@ -301,16 +300,28 @@ def put_back_moves(positions: np.ndarray, moves: list[tuple[int, np.ndarray, np.
     return positions
 
 
+def _kept(departure: np.ndarray, threshold: float, rate: float, cutoff: float, axis: int) -> np.ndarray:
+    """The share of the lighter low-pass kept, from each frame's ``departure`` (along ``axis``, in
+    units of the spread on noise alone): none below ``threshold``, all from twice it, widened and
+    eased over half a period of the heavier ``cutoff`` (Hz) so that the switch leaves no step."""
+    from scipy import ndimage
+
+    keep = np.clip(departure / threshold - 1.0, 0.0, 1.0)
+    width = max(3, int(round(0.5 * rate / cutoff)))
+    return ndimage.uniform_filter1d(ndimage.maximum_filter1d(keep, width, axis=axis), width, axis=axis)
+
+
 def _rows(markers: np.ndarray) -> np.ndarray:
     """Markers ``(n, K, D)`` as C-ordered rows ``(K, D, n)``."""
     return np.ascontiguousarray(markers.transpose(1, 2, 0))
 
 
-def _noise(raw: np.ndarray) -> np.ndarray:
+def marker_noise(raw: np.ndarray) -> np.ndarray:
     """Each marker's noise per axis ``(M, D)`` from raw positions ``(F, M, D)``: the median
     absolute second difference (seen samples three in a row) as a standard deviation, capped
-    at :data:`NOISE_CAP` times the median over the markers."""
-    spread = jitter(raw, least=10)
+    at :data:`NOISE_CAP` times the median over the markers. :class:`HoldSmoother` and
+    :func:`fast_moves` measure it each unless given it (cleaning measures it once for both)."""
+    spread = jitter(np.asarray(raw, dtype=np.float64), least=10)
     if np.isfinite(spread).any():
         spread = np.minimum(spread, NOISE_CAP * np.nanmedian(spread))
     return spread

@@ -148,7 +148,7 @@ def test_each_marker_is_smoothed_on_its_own_by_the_rule_whatever_the_layout():
     """Issue 65: the smoother works on rows (markers by frames) so that scipy's filters copy no
     transposition; its output is the rule's on each marker alone (to rounding), for markers seen
     throughout (taken four at a time) and for one with a gap (its seen stretches alone)."""
-    from mapping.holds import _noise
+    from mapping.holds import marker_noise
 
     rng = np.random.default_rng(5)
     t = np.arange(1200) / RATE
@@ -156,7 +156,7 @@ def test_each_marker_is_smoothed_on_its_own_by_the_rule_whatever_the_layout():
                     for m in range(7)], axis=1) + rng.normal(0.0, 0.2, (1200, 7, 3))
     raw[400:460, 6] = np.nan
     plain, held = _smoothed(raw)
-    smoother, noise = HoldSmoother(RATE, 8.0), _noise(raw)
+    smoother, noise = HoldSmoother(RATE, 8.0), marker_noise(raw)
     for m in (0, 2, 5):  # a sample at a time is slow: three of the six seen throughout
         assert np.allclose(held[:, m], _one_marker_by_the_definition(smoother, plain[:, m], noise[m]),
                            rtol=0, atol=1e-12)
