@@ -21,7 +21,9 @@ per motor and side, ``(markers, 3)``, which holds whatever the sweep showed that
 the markers near it (the lower lid a smile lifts, when no lid motor moves with the smile).
 Only samples that were seen count (a filled gap would teach the filler's guess back), and the
 regression is robust (:func:`mapping.solver_sides.side_basis`): a sweep has label swaps and spikes too. A marker that
-is a motor's in under :data:`mapping.solver_sides.MOSTLY` of the frames that see it is not its. A side the sweep did
+is a motor's in under :data:`mapping.solver_sides.MOSTLY` of the frames that see it is not its. A side the sweep
+showed without any of the motor's own markers in view, where its mirror motor's was seen, is the mirror's side
+mirrored (:func:`mapping.solver_sides.from_mirror`; the profile's notes say which). A side the sweep did
 not show, or a marker it did not see on one side, is the other side through rest (a marker
 scaled as the motor's own markers reach on the two sides, :func:`mapping.solver_sides.either_side`). A marker a
 motor moves by less than :data:`SMALL_SHARE` of its furthest one (:data:`WOBBLE_MM` at most), or
@@ -57,7 +59,7 @@ import numpy as np
 
 from common.validate import Validator
 from mapping.robust import column_nan_median
-from mapping.solver_sides import ROBUST_FLOOR_MM, ROBUST_SCALE, either_side, side_basis
+from mapping.solver_sides import ROBUST_FLOOR_MM, ROBUST_SCALE, either_side, from_mirror, side_basis
 
 #: A motor this far along its way (a share) and leading the face shows what it does.
 MOVED = 0.3
@@ -162,10 +164,14 @@ class Solver:
                    tuple(check.strings(table.get("unswept", []), "solver.unswept")))
 
     def left_out(self) -> str:
-        """What the solver leaves to the rules and why, for a note: ``""`` where nothing."""
+        """What the solver leaves to the rules and why, and the sides it took from a mirror motor's
+        (:func:`mapping.solver_sides.from_mirror`), for a note: ``""`` where nothing."""
         parts = ([f"{', '.join(self.unswept)} not moved alone by the sweep"] if self.unswept else []) + \
             ([f"{', '.join(self.unobservable)} not shown by the markers"] if self.unobservable else [])
-        return f"; {'; '.join(parts)} (left to the rules)" if parts else ""
+        mirrored = self.notes.get("from_mirror")
+        return (f"; {'; '.join(parts)} (left to the rules)" if parts else "") + (
+            f"; {mirrored} taken from the mirror motor's (the sweep never saw the motor's own markers there)"
+            if mirrored else "")
 
     def at_rest(self, rest: Mapping[str, np.ndarray]) -> Solver:
         """The same solver about another rest: ``rest`` (label -> head-frame position ``(3,)``,
@@ -261,14 +267,16 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     up = np.zeros((len(codes), len(markers), 3))
     down = np.zeros_like(up)
     kept: list[int] = []
+    learned: dict[int, list[tuple[np.ndarray, np.ndarray] | None]] = {}
     for k in learnable:
-        sides: list[tuple[np.ndarray, np.ndarray] | None] = []
+        learned[k] = []
         for sign in (1.0, -1.0):  # a side is what the frames where this motor moves that way show
             at = movers[:, k] & (sign * np.nan_to_num(shares[:, k]) >= MOVED)
-            if at.sum() < MIN_FRAMES:
-                sides.append(None)
-                continue
-            sides.append(side_basis(shares[at, k], ok[at], share[at, :, k], d[at]))
+            learned[k].append(side_basis(shares[at, k], ok[at], share[at, :, k], d[at]) if at.sum() >= MIN_FRAMES
+                              else None)
+    mirrored = from_mirror(codes, learned, far, rest[cols])
+    for k in learnable:
+        sides = learned[k]
         if sides[0] is None and sides[1] is None:
             continue
         up[k], down[k] = either_side(sides[0], sides[1], far[:, k] == 0.0)
@@ -286,8 +294,9 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         return None
     unswept = tuple(codes[k] for k in learnable if k not in kept)  # no side of it led the face long enough
     unobservable = tuple(codes[k] for k in kept if k not in observable)
+    notes = {"from_mirror": ", ".join(mirrored)} if mirrored else {}
     solver = Solver(tuple(codes[k] for k in observable), markers, rest[cols], up[observable], down[observable], 1.0,
-                    unobservable, unswept=unswept)
+                    unobservable, notes, unswept)
     fitted, _ = _solve(solver, d, ok.astype(float), robust=False)
     moved = fitted[..., None, None] * np.where(fitted[..., None, None] >= 0, solver.up, solver.down)
     residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]

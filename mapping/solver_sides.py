@@ -9,9 +9,14 @@ the motor's share, and a marker the side never saw is taken from the other side.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from mapping.robust import column_nan_median
+from mapping.roles import PARTNER_FRACTION
+from toon.motors import MIRROR_OF
 
 #: Robust weights fall to a half at this many times the sweep's residual per marker.
 ROBUST_SCALE = 3.0
@@ -83,3 +88,74 @@ def either_side(high: tuple[np.ndarray, np.ndarray] | None, low: tuple[np.ndarra
 def _shared_part(part: np.ndarray, seen: np.ndarray) -> np.ndarray:
     """Each marker's mean ``part`` ``(F, M)`` of the motion over the frames it is ``seen``, ``(M,)``."""
     return (part * seen).sum(axis=0) / np.maximum(seen.sum(axis=0), 1)
+
+
+Side = tuple[np.ndarray, np.ndarray] | None
+
+
+def from_mirror(codes: Sequence[str], learned: dict[int, list[Side]], far: np.ndarray, rest: np.ndarray
+                ) -> list[str]:
+    """Each side of a motor the sweep showed without its own markers in view, taken from its
+    mirror motor's side (mirrored across the face's midline, x = 0 of the head frame), in place
+    in ``learned`` (motor row -> its high and low sides, :func:`side_basis`'s pairs, or None);
+    the sides taken (``"ELU low"``), for a note.
+
+    Markers hide most at a face's extremes: on a draw of the fourth performer the left upper
+    lid's marker was lost for the whole of the left eye's closing, so that side was learned from
+    no seen sample of the lid and taken through rest from its opening (1.3 mm a share where its
+    closing is 6): every squint then read as a shut eye (ELU r 0.84). A sweep moves both sides of
+    a face together, and a face is closer to symmetric than an opening is to a closing. A side is
+    taken only where its mirror's saw the mirror motor's own markers, on the motor's own half of
+    the face and the midline, scaled as the two motors' other sides compare
+    (:func:`_other_side_ratio`). ``far`` ``(M, K)``: each marker's distance from each motor's own
+    markers (0: one its rule reads); ``rest`` ``(M, 3)``: where the markers rest (their mirror
+    partners are :func:`mirror_pairs`; one with none is left still)."""
+    flip = np.array([-1.0, 1.0, 1.0])
+    partner = mirror_pairs(rest)
+    own = far == 0.0
+    taken: list[str] = []
+    for k, sides in learned.items():
+        mirror = codes.index(MIRROR_OF[codes[k]]) if MIRROR_OF.get(codes[k]) in codes else -1
+        for i, side in enumerate(sides):
+            theirs = learned.get(mirror, [None, None])[i]
+            if mirror < 0 or theirs is None or not (theirs[1] & own[:, mirror]).any() or (
+                    side is not None and (side[1] & own[:, k]).any()):
+                continue  # no mirror, the mirror's side did not see its own markers, or this side saw its own
+            seen = np.where(partner >= 0, theirs[1][partner] & own[partner, mirror], False)  # (M,)
+            if not (seen & own[:, k]).any():
+                continue  # the mirror's own markers are not this motor's mirrored (a layout not symmetric)
+            mine = (partner >= 0) & (far[:, k] <= far[:, mirror])  # its own half of the face and the midline
+            scale = _other_side_ratio(sides[1 - i], learned[mirror][1 - i], own[:, k] & seen, partner)
+            sides[i] = (np.where(mine[:, None], theirs[0][partner] * flip * scale, 0.0),
+                        np.where(mine, theirs[1][partner], False))
+            taken.append(f"{codes[k]} {'high' if i == 0 else 'low'}")
+    return taken
+
+
+def mirror_pairs(rest: np.ndarray) -> np.ndarray:
+    """Each marker's mirror partner across the midline (x = 0) among markers resting at ``rest``
+    ``(M, 3)``, ``(M,)`` rows, -1 for none: the pairing of every marker with one whose mirror image
+    it is nearest, taken as a whole (an assignment), so that where markers lie close together a
+    lid's partner is the other lid, not the pupil beside it that a marker placed 2.5 mm off
+    happens to be nearer; a pair further apart than :data:`mapping.roles.PARTNER_FRACTION` of the
+    face's size is none. A marker on the midline is its own partner."""
+    size = float(np.sqrt(np.mean(np.sum((rest - rest.mean(axis=0)) ** 2, axis=1))))
+    cost = np.linalg.norm(rest[None, :] - (rest * np.array([-1.0, 1.0, 1.0]))[:, None], axis=2)  # (M, M)
+    rows, cols = linear_sum_assignment(cost)
+    partner = np.full(len(rest), -1)
+    near = cost[rows, cols] <= PARTNER_FRACTION * size
+    partner[rows[near]] = cols[near]
+    return partner
+
+
+def _other_side_ratio(mine: Side, theirs: Side, pairs: np.ndarray, partner: np.ndarray) -> float:
+    """How much further a motor's other side (``mine``) reaches than its mirror's (``theirs``) on
+    the markers ``pairs`` ``(M,)`` and their partners, both seen there (the median ratio; 1 where
+    none): two rules' shares need not have one scale (a side's range from a mirror's reach, the
+    other's from its own), and a basis is per unit of its own rule's share."""
+    if mine is None or theirs is None:
+        return 1.0
+    both = pairs & mine[1] & np.where(partner >= 0, theirs[1][partner], False)
+    reach = np.linalg.norm(mine[0][both], axis=1), np.linalg.norm(theirs[0][partner[both]], axis=1)
+    usable = reach[1] > 1e-9
+    return float(np.median(reach[0][usable] / reach[1][usable])) if usable.any() else 1.0

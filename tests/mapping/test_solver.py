@@ -132,6 +132,34 @@ def test_a_marker_never_seen_on_one_side_of_its_motor_takes_the_other_side():
     np.testing.assert_allclose(solver.up[solver.codes.index("ER"), lid], (0.0, 1.0, 0.0), atol=1e-9)
 
 
+def test_a_side_the_sweep_showed_without_its_marker_takes_the_mirror_motors():
+    """The right brow's marker hidden whenever the brows were lowered (on a draw of the fourth
+    performer, a lid's marker through all of its closing): through rest the brow's raise, 8 mm a
+    share, stood for its lowering, 6; the left brow lowered in view, so the right takes its side,
+    mirrored. The small face's codes have no mirror, so their learning shows the old way."""
+    sweep = _sweep()
+    local = _face(sweep)
+    seen = np.ones(local.shape[:2], bool)
+    seen[sweep[:, CODES.index("BR")] < 0, COLUMNS["BROW_R"]] = False
+    reading = _rule_reading(local)
+    paired = ("BRC", "BLC", "ERL", "MRH", "MB")  # the same motors under codes with mirrors (BRC <-> BLC)
+    solver = learn_solver(paired, OWN, local, COLUMNS, seen, reading, REST)
+    unpaired = learn_solver(CODES, OWN, local, COLUMNS, seen, reading, REST)
+    assert solver is not None and unpaired is not None
+    brow, nose = solver.markers.index("BROW_R"), solver.markers.index("NOSE")
+    np.testing.assert_allclose(unpaired.down[CODES.index("BR"), brow], (0.0, 8.0, 0.0), atol=1e-9)
+    np.testing.assert_allclose(solver.down[paired.index("BRC"), brow], (0.0, 6.0, 0.0), atol=1e-9)
+    np.testing.assert_allclose(solver.down[paired.index("BRC"), nose], (0.0, 1.0, 0.0), atol=1e-9)
+    np.testing.assert_allclose(solver.up[paired.index("BRC")], unpaired.up[CODES.index("BR")], atol=1e-9)
+    assert solver.notes == {"from_mirror": "BRC low"}
+    assert solver.left_out() == ("; BRC low taken from the mirror motor's (the sweep never saw the motor's own "
+                                 "markers there)")
+    lowered = np.zeros((1, len(CODES)))
+    lowered[0, :2] = -0.5
+    shares, _ = solver.solve(_face(lowered), COLUMNS)
+    assert shares[0, paired.index("BRC")] == pytest.approx(-0.5, abs=0.01)
+
+
 def test_a_marker_unseen_on_one_side_is_scaled_as_the_motors_own_seen_ones():
     """The jaw's chin hidden while the jaw opened: through rest alone its clench (1 mm a share)
     stood for its opening (8), and an opening with the chin seen read as eight times as wide.
