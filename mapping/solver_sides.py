@@ -138,10 +138,15 @@ def mirror_pairs(rest: np.ndarray) -> np.ndarray:
     it is nearest, taken as a whole (an assignment), so that where markers lie close together a
     lid's partner is the other lid, not the pupil beside it that a marker placed 2.5 mm off
     happens to be nearer; a pair further apart than :data:`mapping.roles.PARTNER_FRACTION` of the
-    face's size is none. A marker on the midline is its own partner."""
-    size = float(np.sqrt(np.mean(np.sum((rest - rest.mean(axis=0)) ** 2, axis=1))))
+    face's size is none. A marker on the midline is its own partner; one whose rest is not known
+    (NaN: never seen at rest) has none."""
+    known = np.isfinite(rest).all(axis=1)
+    if not known.any():
+        return np.full(len(rest), -1)
+    size = float(np.sqrt(np.mean(np.sum((rest[known] - rest[known].mean(axis=0)) ** 2, axis=1))))
     cost = np.linalg.norm(rest[None, :] - (rest * np.array([-1.0, 1.0, 1.0]))[:, None], axis=2)  # (M, M)
-    rows, cols = linear_sum_assignment(cost)
+    cost = np.where(np.isfinite(cost), cost, np.inf)
+    rows, cols = linear_sum_assignment(np.where(np.isfinite(cost), cost, 1e12))
     partner = np.full(len(rest), -1)
     near = cost[rows, cols] <= PARTNER_FRACTION * size
     partner[rows[near]] = cols[near]

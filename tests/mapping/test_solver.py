@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from mapping.solver import MIN_CONFIDENCE, learn_solver
+from mapping.solver_sides import mirror_pairs
 from tests.helpers.small_face import CODES, COLUMNS, MARKERS, OWN, REST
 from tests.helpers.small_face import face as _face
 from tests.helpers.small_face import motor_bases as _bases
@@ -158,6 +159,17 @@ def test_a_side_the_sweep_showed_without_its_marker_takes_the_mirror_motors():
     lowered[0, :2] = -0.5
     shares, _ = solver.solve(_face(lowered), COLUMNS)
     assert shares[0, paired.index("BRC")] == pytest.approx(-0.5, abs=0.01)
+
+
+def test_mirror_partners_are_paired_as_a_whole_and_an_unknown_rest_has_none():
+    """A lid placed 2.5 mm off lies nearer the mirror image of the pupil beside the other lid
+    than of that lid; paired as a whole, each lid gets the other."""
+    rest = np.array([[-30.0, 6.0, 10.0], [-34.0, 2.0, 10.0], [33.0, 4.0, 10.0], [34.5, 1.5, 10.0],
+                     [0.0, -60.0, 20.0], [0.0, 50.0, 10.0], [np.nan, np.nan, np.nan]])
+    # lid R, pupil R, lid L, pupil L, chin, forehead, a marker never seen at rest
+    image = rest[2] * (-1, 1, 1)  # the left lid's mirror image: nearer the right pupil than the right lid
+    assert np.linalg.norm(rest[1] - image) < np.linalg.norm(rest[0] - image)
+    assert mirror_pairs(rest).tolist() == [2, 3, 0, 1, 4, 5, -1]
 
 
 def test_a_marker_unseen_on_one_side_is_scaled_as_the_motors_own_seen_ones():
