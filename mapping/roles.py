@@ -20,6 +20,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from capture import MarkerSet
 
@@ -42,6 +43,26 @@ def mirror_partner(neutral: np.ndarray, i: int, within: float, itself: bool = Fa
         distance[i] = np.inf
     j = int(np.argmin(distance))
     return j if distance[j] <= within else None
+
+
+def mirror_pairs(rest: np.ndarray) -> np.ndarray:
+    """Each marker's mirror partner across the midline (x = 0) among markers resting at ``rest``
+    ``(M, 3)``, ``(M,)`` rows, -1 for none: the pairing of every marker with one whose mirror image
+    it is nearest, taken as a whole (an assignment), so that where markers lie close together a
+    lid's partner is the other lid, not the pupil beside it that a marker placed 2.5 mm off
+    happens to be nearer; a pair further apart than :data:`PARTNER_FRACTION` of the
+    face's size is none. A marker on the midline is its own partner; one whose rest is not known
+    (NaN: never seen at rest) has none."""
+    known = np.isfinite(rest).all(axis=1)
+    if not known.any():
+        return np.full(len(rest), -1)
+    size = float(np.sqrt(np.mean(np.sum((rest[known] - rest[known].mean(axis=0)) ** 2, axis=1))))
+    cost = np.linalg.norm(rest[None, :] - (rest * np.array([-1.0, 1.0, 1.0]))[:, None], axis=2)  # (M, M)
+    rows, cols = linear_sum_assignment(np.where(np.isfinite(cost), cost, 1e12))  # an unknown rest: never paired
+    partner = np.full(len(rest), -1)
+    near = cost[rows, cols] <= PARTNER_FRACTION * size
+    partner[rows[near]] = cols[near]
+    return partner
 
 
 def motion_roles(markerset: MarkerSet, local: np.ndarray) -> dict[str, dict]:

@@ -12,10 +12,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from mapping.robust import column_nan_median
-from mapping.roles import PARTNER_FRACTION
+from mapping.roles import mirror_pairs
 from toon.motors import MIRROR_OF
 
 #: Robust weights fall to a half at this many times the sweep's residual per marker.
@@ -109,7 +108,7 @@ def from_mirror(codes: Sequence[str], learned: dict[int, list[Side]], far: np.nd
     the face and the midline, scaled as the two motors' other sides compare
     (:func:`_other_side_ratio`). ``far`` ``(M, K)``: each marker's distance from each motor's own
     markers (0: one its rule reads); ``rest`` ``(M, 3)``: where the markers rest (their mirror
-    partners are :func:`mirror_pairs`; one with none is left still)."""
+    partners are :func:`mapping.roles.mirror_pairs`; one with none is left still)."""
     flip = np.array([-1.0, 1.0, 1.0])
     partner = mirror_pairs(rest)
     own = far == 0.0
@@ -130,27 +129,6 @@ def from_mirror(codes: Sequence[str], learned: dict[int, list[Side]], far: np.nd
                         np.where(mine, theirs[1][partner], False))
             taken.append(f"{codes[k]} {'high' if i == 0 else 'low'}")
     return taken
-
-
-def mirror_pairs(rest: np.ndarray) -> np.ndarray:
-    """Each marker's mirror partner across the midline (x = 0) among markers resting at ``rest``
-    ``(M, 3)``, ``(M,)`` rows, -1 for none: the pairing of every marker with one whose mirror image
-    it is nearest, taken as a whole (an assignment), so that where markers lie close together a
-    lid's partner is the other lid, not the pupil beside it that a marker placed 2.5 mm off
-    happens to be nearer; a pair further apart than :data:`mapping.roles.PARTNER_FRACTION` of the
-    face's size is none. A marker on the midline is its own partner; one whose rest is not known
-    (NaN: never seen at rest) has none."""
-    known = np.isfinite(rest).all(axis=1)
-    if not known.any():
-        return np.full(len(rest), -1)
-    size = float(np.sqrt(np.mean(np.sum((rest[known] - rest[known].mean(axis=0)) ** 2, axis=1))))
-    cost = np.linalg.norm(rest[None, :] - (rest * np.array([-1.0, 1.0, 1.0]))[:, None], axis=2)  # (M, M)
-    cost = np.where(np.isfinite(cost), cost, np.inf)
-    rows, cols = linear_sum_assignment(np.where(np.isfinite(cost), cost, 1e12))
-    partner = np.full(len(rest), -1)
-    near = cost[rows, cols] <= PARTNER_FRACTION * size
-    partner[rows[near]] = cols[near]
-    return partner
 
 
 def _other_side_ratio(mine: Side, theirs: Side, pairs: np.ndarray, partner: np.ndarray) -> float:

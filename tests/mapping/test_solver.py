@@ -5,8 +5,8 @@ rest, a smile that lifts the lower lid, a mirror pair of brows that lift the nos
 import numpy as np
 import pytest
 
+from mapping.roles import mirror_pairs
 from mapping.solver import MIN_CONFIDENCE, learn_solver
-from mapping.solver_sides import mirror_pairs
 from tests.helpers.small_face import CODES, COLUMNS, MARKERS, OWN, REST
 from tests.helpers.small_face import face as _face
 from tests.helpers.small_face import motor_bases as _bases
