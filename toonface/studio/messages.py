@@ -122,6 +122,8 @@ def _edit(session: StudioSession, op: str, message: dict, now: float) -> str | N
                         bool(message.get("loop")))
         else:
             editor.pause()
+            if message.get("at") is not None:  # where the page showed the cursor when Pause was pressed
+                editor.set_cursor(number(message["at"]))
     elif op == "duration":
         editor.set_duration(number(message["seconds"]))
     elif op == "new":

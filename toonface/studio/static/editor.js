@@ -375,7 +375,8 @@
     const [start, end] = editor.selection || [null, null];
     studio.send({op: "playback", action: "play", loop: el("loop").checked, start, end});
   });
-  el("pause").addEventListener("click", () => studio.send({op: "playback", action: "pause"}));
+  // paused where the page shows the cursor: frames reach a loaded page late, and the user stops what they see
+  el("pause").addEventListener("click", () => studio.send({op: "playback", action: "pause", at: editor.state.cursor}));
   el("zoom-in").addEventListener("click", () => { editor.zoom = Math.min(2000, editor.zoom * 1.5); render(); });
   el("show-all").addEventListener("click", () => {
     editor.hidden.clear();

@@ -5,6 +5,7 @@
   const studio = {
     socket: null,
     frames: 0,          // frames drawn since the page opened (tests read it)
+    received: 0,        // frames the server sent; a loaded page draws only the newest of those waiting
     rate: 0,            // frames drawn in the last second
     last: null,         // the last frame
     dragging: null,     // the control point being dragged
@@ -35,11 +36,28 @@
     studio.socket = socket;
     socket.onmessage = (event) => {
       const message = JSON.parse(event.data);
+      if (message.type === "frame") {
+        // one frame drawn between two paints, the rest wait and the newest is drawn at the paint: on a
+        // loaded machine frames queued behind slow draws, and the page showed (and paused at) a time
+        // the server had left a second before
+        studio.received += 1;
+        if (drawnSincePaint) {
+          pending = message;
+          return;
+        }
+        drawnSincePaint = true;
+        requestAnimationFrame(() => {
+          drawnSincePaint = false;
+          drawPending();
+        });
+        draw(message);
+        return;
+      }
+      drawPending();  // what came before this message is shown before it is taken
       if (message.type === "hello") {
         describe(message);
         if (studio.onHello) studio.onHello(message);
       }
-      else if (message.type === "frame") draw(message);
       else if (message.type === "animation" && studio.onAnimation) studio.onAnimation(message);
     else if (studio.handlers[message.type]) studio.handlers[message.type](message);
       else if (message.type === "error") {
@@ -113,6 +131,15 @@
     input.addEventListener("input", () => send({op: "motor", code: motor.code, value: Number(input.value)}));
     row.append(code, input, value);
     return row;
+  }
+
+  let pending = null;  // the newest frame not drawn yet
+  let drawnSincePaint = false;
+  function drawPending() {
+    if (pending === null) return;
+    const frame = pending;
+    pending = null;
+    draw(frame);
   }
 
   function draw(frame) {
