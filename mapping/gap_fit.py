@@ -139,7 +139,7 @@ PREDICTOR_MEAN_SECONDS = 0.0125
 
 
 def validate_gap(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, straight: bool,
-              fallback: tuple[float, float, int]) -> tuple[float, tuple[float, float, int]]:
+              fallback: tuple[float, float, int], one_side: int = 0) -> tuple[float, tuple[float, float, int]]:
     """The summed error of the best fill of the stand-ins (infinite where there are none) and
     its ridge penalty, the regression's share (against the marker's own spline, or its
     straight line where ``straight``) and the bridge's edge samples (:data:`EDGES`) that best
@@ -148,16 +148,21 @@ def validate_gap(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, strai
     them, each filled as a real gap is. Motion differs from take to take (a face's few tightly
     coupled markers, a body's many loosely coupled ones; slow drifts, quick syllables; clean and
     noisy sensors), so all are chosen on the take itself; ``fallback`` where the take is too
-    short to spare the rows."""
+    short to spare the rows. A gap at an end of the take, seen on ``one_side`` only (-1: before
+    it, 1: after it), has no spline or line across it: its regression's residual is held at its
+    level on that side (:func:`edge_level`), and the marker's own part is its nearest sample
+    there, held; each stand-in is judged as seen from the same side."""
     n = len(y)
     blocks = stand_ins(n, length)
     if not blocks:
         return np.inf, fallback
     truth = np.stack([y[lo:hi] for lo, hi in blocks])  # (blocks, length, dims)
-    if straight:
-        spline = np.stack([straight_line(y, t, lo, hi) for lo, hi in blocks])
+    if one_side:  # the marker's own part: held at its nearest sample on the seen side
+        near = np.array([lo - 1 if one_side < 0 else hi for lo, hi in blocks])
+        spline = np.repeat(y[near][:, None], length, axis=1)
     else:
-        spline = stand_in_splines(t, y, blocks)
+        spline = np.stack([straight_line(y, t, lo, hi) for lo, hi in blocks]) if straight \
+            else stand_in_splines(t, y, blocks)
     starts = np.array([lo for lo, _ in blocks])
     shares = np.asarray(SHARES)[:, None, None, None]
     best = (np.inf, fallback)
@@ -176,13 +181,20 @@ def validate_gap(x: np.ndarray, y: np.ndarray, t: np.ndarray, length: int, strai
         for edge, share in zip(EDGES, lines, strict=True):  # the stand-ins bridged row by row
             a = _median_rows(residual[:, reach - edge:reach])[:, None]
             b = _median_rows(residual[:, reach + length:reach + length + edge])[:, None]
-            regressed = truth - inside + a + share * (b - a)
+            regressed = truth - inside + ((a if one_side < 0 else b) if one_side else a + share * (b - a))
             miss = shares * regressed + own_part - truth  # (shares, blocks, length, dims)
             error = np.linalg.norm(miss, axis=-1).mean(axis=-1).sum(axis=-1)
             pick = int(np.argmin(error))
             if error[pick] < best[0]:
                 best = (float(error[pick]), (ridge, SHARES[pick], edge))
     return best
+
+
+def edge_level(residual: np.ndarray, one_side: int, edge: int) -> np.ndarray:
+    """The level a regression's ``residual`` ``(n, dims)`` (rows in time order) is held at across
+    a gap at an end of the take seen on ``one_side`` only (-1: the rows are all before it, 1: all
+    after): the median of the ``edge`` rows nearest the gap, ``(dims,)``."""
+    return np.median(residual[-edge:] if one_side < 0 else residual[:edge], axis=0)
 
 
 def stand_ins(rows: int, length: int) -> list[tuple[int, int]]:

@@ -14,7 +14,12 @@ of it could have told about is filled again once every gap has been filled once.
 
 Gaps of at most ``spline_frames`` frames use a cubic spline through the marker's own samples
 (never worse than a spline there, by construction); gaps longer than ``max_gap_seconds`` stay
-NaN (never invented), and the caller lowers the marker's confidence there.
+NaN (never invented), and the caller lowers the marker's confidence there. A gap longer than
+``spline_frames`` at the start or the end of the take (half a face turned away for the last
+second) is regressed on the markers seen through it as a long gap is, with what the regression
+misses held at its level beside the gap, blended with the marker's nearest sample held where its
+own stand-in gaps say so (no spline or line reaches past an end); a shorter one, one with too few
+frames to learn from, or one of a marker apart stays NaN.
 
 Markers ``apart`` from the face (a marker set's ``independent`` ones: the pupils, whose gaze the
 lips and brows do not foretell) are predicted only from each other, and never predict the rest;
@@ -35,6 +40,7 @@ from scipy.interpolate import CubicSpline
 from mapping.gap_fit import (
     PREDICTOR_MEAN_SECONDS,
     bridge_residual,
+    edge_level,
     line_edge,
     local_mean,
     regression_design,
@@ -135,8 +141,12 @@ class GapFiller:
         lasting = missing & ~brief  # what a partner cannot be bridged across
         for m in range(markers):
             for start, end in gap_runs(missing[:, m]):
-                if start == 0 or end == frames or end - start > max_frames:
-                    continue  # nothing on one side, or too long: left unseen
+                at_edge = start == 0 or end == frames
+                if end - start > max_frames or (at_edge and (m in apart or end - start == frames)):
+                    continue  # too long, or a pupil with nothing on one side: left unseen
+                if at_edge:  # the markers seen through it say where it went; no spline reaches past an end
+                    long_[start:end, m] = end - start > self.spline_frames
+                    continue
                 if m in apart:
                     partnered = any(k != m and not lasting[start:end, k].any() for k in apart)
                     (long_ if partnered and not brief[start, m] else lined)[start:end, m] = True
@@ -150,7 +160,7 @@ class GapFiller:
             self._splines(out, times, short)
         if long_.any():
             self._from_neighbours(out, times, long_, rate, set(apart), progress)
-        return Filled(out, short | long_ | lined)
+        return Filled(out, (short | long_ | lined) & np.isfinite(out).all(axis=2))  # an end's gap may stay unseen
 
     def _line(self, pos: np.ndarray, times: np.ndarray, m: int, start: int, end: int, rate: float) -> np.ndarray:
         """Marker ``m``'s straight line across its gap ``[start, end)`` of ``pos`` ``(F, M, D)``:
@@ -221,7 +231,10 @@ class GapFiller:
         others, rows, own = _predictors(pos, seen_all, m, start, end, lo, hi, candidates)
         during = seen_all[start:end, candidates]
         partly = bool((during.any(axis=0) & ~during.all(axis=0)).any())  # m itself is unseen throughout
+        one_side = 1 if start == 0 else -1 if end == frames else 0  # a gap at an end: seen on one side
         if len(own) < 8:  # too few frames to learn from: its own line (apart) or spline
+            if one_side:  # neither reaches past the take's end: left unseen
+                return None
             if m in apart:
                 pos[start:end, m] = straight_line(pos[:, m], times, start, end)
             else:
@@ -241,16 +254,21 @@ class GapFiller:
             for source in sources:
                 c, xs = (centre, x) if source is pos else regression_design(source, rows, others, weight)
                 error, params = validate_gap(xs[fit], pos[own, m] - c[fit], times[own], end - start,
-                                             m in apart, (ridge, share, edge))
+                                             m in apart, (ridge, share, edge), one_side)
                 if error < best:
                     best, (ridge, share, edge), centre, x, chosen = error, params, c, xs, source
         predicted = ridge_predict(x, fit, pos[own, m] - centre[fit], ridge) + centre
         gap = np.isin(rows, np.arange(start, end))
-        bridge = bridge_residual(pos[own, m] - predicted[fit], own, start, end, times, edge)
+        if one_side:  # what the regression misses, held at its level beside the gap
+            bridge = edge_level(pos[own, m] - predicted[fit], one_side, edge)
+        else:
+            bridge = bridge_residual(pos[own, m] - predicted[fit], own, start, end, times, edge)
         regressed = predicted[gap] + bridge
         if share < 1.0:  # the marker's own line or spline about the centre, as validate_gap judged it
             relative = pos[own, m] - centre[fit]
-            if m in apart:
+            if one_side:  # its nearest sample, held: nothing reaches past the take's end
+                spline = relative[-1 if one_side < 0 else 0]
+            elif m in apart:
                 spline = bridge_residual(relative, own, start, end, times)
             else:
                 spline = CubicSpline(times[own], relative, axis=0)(times[start:end])

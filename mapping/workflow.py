@@ -30,7 +30,7 @@ from mapping.life import LifeSettings, add_life, take_cues
 from mapping.mapfile import Mapping, load_mapping
 from mapping.mapper import map_stabilised, marker_quality, normalise, rule_shares
 from mapping.plan import MotorPlan, resolved_mode
-from mapping.profile import KIND_MOTION, Profile, build_profile, merge_profile
+from mapping.profile import KIND_MOTION, Profile, build_profile, merge_profile, seen_at
 from mapping.ready import Prepared, ReadyTake
 from mapping.report import take_report
 from mapping.rest import choose_rest, stillest_window
@@ -210,7 +210,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
 def marker_rests(prepared: Prepared, window: tuple[float, float]) -> dict[str, np.ndarray]:
     """Each marker's head-frame rest ``(3,)`` (mm): its median over the rest ``window`` (NaN
     where it was not seen there), by label."""
-    return rests_of(prepared.stable.local[prepared.take.window(*window)], prepared.columns)
+    return rests_of(seen_at(prepared.stable, prepared.take.window(*window)), prepared.columns)
 
 
 def _require_ranges(mapping: Mapping, profile: Profile, neutral: Prepared, window: tuple[float, float]) -> None:
@@ -223,7 +223,7 @@ def _require_ranges(mapping: Mapping, profile: Profile, neutral: Prepared, windo
     if not missing:
         return
     at_rest = neutral.take.window(*window)
-    seen = np.isfinite(neutral.stable.local[at_rest]).all(axis=2).any(axis=0)  # (N,): each marker seen at rest
+    seen = np.isfinite(seen_at(neutral.stable, at_rest)).all(axis=2).any(axis=0)  # (N,): each marker seen at rest
     unseen = [m for m in missing if not seen[neutral.columns[m]]]
     motors = sorted({r.code for r in mapping.rules for s in r.sources if set(s.markers) & set(missing)})
     where = (f"not seen in the neutral window {window[0]:g}-{window[1]:g} s" if unseen == missing else

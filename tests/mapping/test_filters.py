@@ -121,17 +121,45 @@ def test_spike_filter_rejects_one_frame_spikes_and_accepts_a_real_jump():
 
 def test_short_gaps_are_exactly_the_cubic_spline_and_long_or_open_ones_stay_unseen():
     t = np.arange(300) / 60.0
-    pos = np.stack([np.sin(t), np.cos(2 * t), t], axis=-1)[:, None, :].repeat(2, axis=1)
+    pos = np.stack([np.sin(t), np.cos(2 * t), t], axis=-1)[:, None, :].repeat(3, axis=1)
     cut = pos.copy()
     cut[100:104, 0] = np.nan  # short
-    cut[0:10, 1] = np.nan  # open at the start
+    cut[0:10, 1:] = np.nan  # open at the start
     cut[150:290, 1] = np.nan  # longer than max_gap_seconds
-    result = GapFiller(spline_frames=5, max_gap_seconds=2.0).apply(cut, t)
+    result = GapFiller(spline_frames=5, max_gap_seconds=2.0).apply(cut, t, apart=[2])
     seen = np.isfinite(cut[:, 0, 0])
     np.testing.assert_allclose(result.positions[100:104, 0], CubicSpline(t[seen], cut[seen, 0], axis=0)(t[100:104]))
-    assert np.isnan(result.positions[0:10, 1]).all() and np.isnan(result.positions[150:290, 1]).all()
-    assert result.filled.sum() == 4 and result.filled[100:104, 0].all()
+    assert np.isnan(result.positions[150:290, 1]).all()
+    # marker 1 moves as marker 0 does, which is seen there; marker 2 is apart (a pupil: the face
+    # does not tell its gaze), and no spline or line reaches past the take's start
+    np.testing.assert_allclose(result.positions[0:10, 1], pos[0:10, 1], atol=1e-3)
+    assert np.isnan(result.positions[0:10, 2]).all()
+    assert result.filled.sum() == 4 + 10 and result.filled[100:104, 0].all() and result.filled[0:10, 1].all()
     assert gap_runs(np.isnan(cut[:, 1, 0])) == [(0, 10), (150, 290)]
+
+
+def test_a_gap_at_either_end_of_the_take_is_filled_from_markers_that_move_with_it():
+    """Half a side of the face lost for the take's last second (a head turned away) was left
+    unseen, and its brow motor held still there; the markers still seen say where it went, and
+    what their regression misses is held at its level beside the gap."""
+    rng = np.random.default_rng(4)
+    t = np.arange(600) / 60.0
+    drive = np.cumsum(rng.normal(0, 0.3, (600, 2)), axis=0)
+    pos = (drive @ rng.normal(size=(2, 5 * 3))).reshape(600, 5, 3) + rng.normal(0, 0.02, (600, 5, 3))
+    cut = pos.copy()
+    cut[540:, 2:4] = np.nan  # the last second, two markers together
+    cut[:45, 0] = np.nan  # the first 0.75 s
+    result = GapFiller().apply(cut, t)
+    assert result.filled[540:, 2:4].all() and result.filled[:45, 0].all() and result.filled.sum() == 2 * 60 + 45
+    for gap, m in ((slice(540, 600), 2), (slice(540, 600), 3), (slice(0, 45), 0)):
+        error = np.abs(result.positions[gap, m] - pos[gap, m]).max()
+        held = np.abs(cut[539 if gap.start else 45, m] - pos[gap, m]).max()  # the motor held still
+        assert error < 0.15 < 1.0 < held, (m, error, held)
+    np.testing.assert_array_equal(result.positions[np.isfinite(cut)], cut[np.isfinite(cut)])
+    lone = cut[:, :1].copy()
+    lone[:100] = np.nan  # no other marker to learn from: left unseen, and not said to be filled
+    result = GapFiller().apply(lone, t)
+    assert np.isnan(result.positions[:100]).all() and not result.filled.any()
 
 
 def test_markers_apart_are_filled_from_each_other_or_straight_across():
