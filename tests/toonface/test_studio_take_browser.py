@@ -26,14 +26,18 @@ def page(tmp_path_factory):
         yield driver, session
 
 
+def _play_from_the_start(driver) -> None:
+    driver.execute_script("window.studio.send({op: 'cursor', t: 0})")
+    wait_for(driver, "window.editor.state.cursor === 0")
+    driver.find_element("id", "play").click()
+
+
 def test_pause_keeps_the_cursor_where_playback_was(page):
     """Every frame redrew every staff of the mapped take (hundreds of knots), and the page took a
     click seconds late: Pause at 3.2 s landed at 26.5 s, the end. On a loaded machine frames still
     reach the page late (CI: 0.9 s), so Pause says where the page showed the cursor."""
     driver, session = page
-    driver.execute_script("window.studio.send({op: 'cursor', t: 0})")
-    wait_for(driver, "window.editor.state.cursor === 0")
-    driver.find_element("id", "play").click()
+    _play_from_the_start(driver)
     wait_for(driver, "window.editor.state.cursor > 1.5", timeout=20)
     # read in the same turn of the page's loop as Pause is pressed: no frame comes between
     shown = driver.execute_script("const shown = window.editor.state.cursor;"
@@ -48,9 +52,7 @@ def test_a_page_held_up_draws_the_newest_frame_not_every_frame_it_missed(page):
     """Frames that queued while the page was busy are not drawn one by one (each a redraw of the
     face), so the page shows the server's time again at its next paint."""
     driver, session = page
-    driver.execute_script("window.studio.send({op: 'cursor', t: 0})")
-    wait_for(driver, "window.editor.state.cursor === 0")
-    driver.find_element("id", "play").click()
+    _play_from_the_start(driver)
     wait_for(driver, "window.editor.state.cursor > 0.2", timeout=20)
     before = driver.execute_script("const s = window.studio; const t = performance.now();"
                                    "while (performance.now() - t < 1500) {}"  # busy: the frames queue
