@@ -178,6 +178,56 @@ def test_a_component_is_dragged_restyled_and_moved_whole(tmp_path):
         assert session.face.components[hair].layer == -7
 
 
+def _hair_chosen(driver, session) -> int:
+    from selenium.webdriver.support.ui import Select
+
+    driver.execute_script("document.getElementById('face-panel').open = true;"
+                          "document.getElementById('slider-panel').open = false;"
+                          "document.getElementById('design').click();"
+                          "document.getElementById('target-component').click()")
+    hair = next(i for i, c in enumerate(session.faces.doc["components"]) if c.get("name") == "hair_back")
+    Select(driver.find_element("id", "polygon")).select_by_value(str(hair))
+    return hair
+
+
+def test_a_style_typed_and_not_applied_survives_a_document_coming_back():
+    # the echo of an earlier edit (a drag's last move, on a loaded machine) came back while the user
+    # typed a layer; the panel was redrawn from the document and Apply sent the old layer
+    session = StudioSession("round", folder=temp_folder())
+    with studio_page(session, READY, 1400, 1000) as driver:
+        hair = _hair_chosen(driver, session)
+        layer = driver.find_element("id", "layer")
+        layer.clear()
+        layer.send_keys("-7")
+        driver.execute_script("window.faces.edit({action: 'rename', name: 'renamed'})")
+        wait_for(driver, "window.faces.doc.name === 'renamed' && !window.faces.waiting")
+        assert layer.get_attribute("value") == "-7"
+        driver.find_element("id", "apply-style").click()
+        wait_for(driver, f"window.faces.doc.components[{hair}].layer === -7")
+        assert session.face.components[hair].layer == -7
+        driver.execute_script("window.faces.edit({action: 'undo'})")  # applied: the field follows the document again
+        wait_for(driver, f"window.faces.doc.components[{hair}].layer !== -7 && !window.faces.waiting")
+        assert layer.get_attribute("value") == str(session.faces.doc["components"][hair].get("layer", 1))
+
+
+def test_edits_made_while_one_is_in_flight_all_land_in_order():
+    # a second edit replaced a waiting one: a style applied mid-drag dropped the drag's last move,
+    # and a whole component dragged fast lost every move but the newest
+    session = StudioSession("round", folder=temp_folder())
+    with studio_page(session, READY, 1400, 1000) as driver:
+        hair = _hair_chosen(driver, session)
+        before = np.array(session.faces.doc["components"][hair]["points"], dtype=float)
+        driver.execute_script(f"""
+            const move = (dx) => window.faces.edit({{action: 'move_component', component: {hair}, dx, dy: 1}});
+            move(4); move(3); move(2);
+            window.faces.edit({{action: 'set_component', component: {hair}, fields: {{layer: -3}}}});
+            move(1);""")
+        wait_for(driver, f"window.faces.doc.components[{hair}].layer === -3 && !window.faces.waiting")
+        moved = np.array(session.faces.doc["components"][hair]["points"], dtype=float)
+        np.testing.assert_allclose(moved - before, np.broadcast_to([10.0, 4.0], before.shape), atol=1e-6)
+        assert session.face.components[hair].layer == -3
+
+
 def test_the_heads_range_is_edited_in_degrees(page):
     driver, session = page
     box = driver.find_element("id", "angle-HH-max")

@@ -4,22 +4,40 @@
 (() => {
   const el = (id) => document.getElementById(id);
   const KINDS = ["hole", "pupil", "face", "free", "point", "feature"];
+  const STYLE = ["fill", "stroke", "width", "layer", "filled", "kind", "attach"];  // applied by "apply-style"
   const ANGLES = new Set(["PLH", "PLV", "PRH", "PRV", "HH", "HV"]);
   const AXIS = {  // each position motor's control point and axis (toon/motors.py)
     BRL: ["BRL", "y"], BRC: ["BRC", "y"], BRM: ["BRM", "y"], BLL: ["BLL", "y"], BLC: ["BLC", "y"], BLM: ["BLM", "y"],
     ERU: ["ERU", "y"], ERL: ["ERL", "y"], ELU: ["ELU", "y"], ELL: ["ELL", "y"],
     MLH: ["ML", "x"], MLV: ["ML", "y"], MRH: ["MR", "x"], MRV: ["MR", "y"], MB: ["MB", "y"],
   };
-  const faces = {doc: null, selected: 0, chosen: [0], dragging: null, waiting: false, pending: null,
-                 target: "polygon"};
+  const faces = {doc: null, selected: 0, chosen: [0], dragging: null, waiting: false, queue: [],
+                 target: "polygon", typed: new Set(), shown: null};
   window.faces = faces;  // components.js adds the component tools to it
 
   const node = studio.svg;
 
+  // a drag's edits while one is in flight: an absolute move keeps only the newest, a relative one adds up
+  const NEWEST = new Set(["move_component_point", "move_vertex", "move_point", "set_range"]);
+  const SUMMED = new Set(["move_polygon", "move_component"]);
+  const WHERE = new Set(["x", "y", "dx", "dy", "value"]);
+
+  function merged(last, next) {
+    // one message doing what `last` then `next` do, or null where they are different edits
+    if (!last || last.action !== next.action) return null;
+    const what = (m) => JSON.stringify(Object.entries(m).filter(([key]) => !WHERE.has(key)));
+    if (what(last) !== what(next)) return null;
+    if (SUMMED.has(next.action)) return {...next, dx: last.dx + next.dx, dy: last.dy + next.dy};
+    return NEWEST.has(next.action) ? next : null;
+  }
+
   function edit(message) {
-    // one edit in flight: a drag sends its latest position when the previous edit has come back
+    // one edit in flight; the rest wait in order, a drag's moves merged so it sends its latest position
     if (faces.waiting) {
-      faces.pending = message;
+      const last = faces.queue.length - 1;
+      const both = merged(faces.queue[last], message);
+      if (both) faces.queue[last] = both;
+      else faces.queue.push(message);
       return;
     }
     faces.waiting = true;
@@ -28,11 +46,7 @@
 
   function settled() {
     faces.waiting = false;
-    if (faces.pending) {
-      const next = faces.pending;
-      faces.pending = null;
-      edit(next);
-    }
+    if (faces.queue.length) edit(faces.queue.shift());
   }
 
   faces.edit = edit;
@@ -74,18 +88,23 @@
     el("component-tools").hidden = !component;
     if (faces.componentPanel) faces.componentPanel(message);
     const spec = list[faces.selected];
+    const shown = `${faces.target} ${faces.selected}`;
+    if (shown !== faces.shown) faces.typed.clear();  // another item: its own style
+    faces.shown = shown;
+    // a field typed in and not yet applied keeps what was typed when the document comes back
+    const put = (id, field, value) => { if (!faces.typed.has(id)) el(id)[field] = value; };
     if (spec) {
-      el("fill").value = (spec.color || spec.fill || "#000000").slice(0, 7);
-      el("stroke").value = (spec.stroke || "#000000").slice(0, 7);
-      el("width").value = spec.width || 0;
+      put("fill", "value", (spec.color || spec.fill || "#000000").slice(0, 7));
+      put("stroke", "value", (spec.stroke || "#000000").slice(0, 7));
+      put("width", "value", spec.width || 0);
       if (component) {
-        el("layer").value = spec.layer ?? 1;
+        put("layer", "value", spec.layer ?? 1);
         const open = spec.kind === "polyline" && !spec.closed;
-        el("filled").checked = Boolean(spec.fill) && !open;
+        put("filled", "checked", Boolean(spec.fill) && !open);
         el("filled").disabled = open;
       } else {
-        el("kind").value = spec.kind;
-        el("attach").value = spec.attach || "";
+        put("kind", "value", spec.kind);
+        put("attach", "value", spec.attach || "");
       }
     }
     if (document.activeElement !== el("face-name")) el("face-name").value = faces.doc.name;
@@ -313,7 +332,11 @@
                                                                    kind: el("kind").value,
                                                                    attach: el("attach").value || null}});
     }
+    faces.typed.clear();  // applied: the document that comes back is what the fields show
   });
+  for (const id of STYLE) {
+    for (const kind of ["input", "change"]) el(id).addEventListener(kind, () => faces.typed.add(id));
+  }
   // the buttons act on the chosen polygon or component, as a unit
   const whole = (verb, extra = {}) => () => edit({action: `${verb}_${faces.target}`, [faces.target]: faces.selected,
                                                   ...extra});
