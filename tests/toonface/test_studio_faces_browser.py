@@ -208,6 +208,24 @@ def test_a_style_typed_and_not_applied_survives_a_document_coming_back():
         driver.execute_script("window.faces.edit({action: 'undo'})")  # applied: the field follows the document again
         wait_for(driver, f"window.faces.doc.components[{hair}].layer !== -7 && !window.faces.waiting")
         assert layer.get_attribute("value") == str(session.faces.doc["components"][hair].get("layer", 1))
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []
+
+
+def test_an_outline_typed_and_not_applied_survives_a_document_coming_back():
+    session = StudioSession("round", folder=temp_folder())
+    with studio_page(session, READY, 1400, 1000) as driver:
+        hair = _hair_chosen(driver, session)
+        driver.execute_script("for (const d of document.querySelectorAll('details')) d.open = true")
+        hidden = driver.find_element("id", "hidden-segments")
+        hidden.clear()
+        hidden.send_keys("1, 2")
+        driver.execute_script("window.faces.edit({action: 'rename', name: 'renamed'})")
+        wait_for(driver, "window.faces.doc.name === 'renamed' && !window.faces.waiting")
+        assert hidden.get_attribute("value") == "1, 2"
+        driver.find_element("id", "apply-outline").click()
+        wait_for(driver, f"(window.faces.doc.components[{hair}].hidden || []).length === 2")
+        assert session.faces.doc["components"][hair]["hidden"] == [1, 2]
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []
 
 
 def test_edits_made_while_one_is_in_flight_all_land_in_order():

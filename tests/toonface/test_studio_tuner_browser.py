@@ -68,3 +68,29 @@ def test_a_tuned_mapping_saved_from_the_page_maps_as_the_command(tmp_path):
     out = tmp_path / "motors.csv"
     assert main(["map", str(take), "-o", str(out), "--mapping", str(mapping), "--profile", str(profile)]) == 0
     np.testing.assert_allclose(load_track(out).values, session.tuner.track.values, atol=1e-6)
+
+
+def test_a_rule_typed_and_not_applied_survives_the_panel_being_redrawn(tmp_path):
+    # every tuner message redraws the rule's fields; one answering an earlier action (a range
+    # dragged) while the user typed a gain put the old gain back, and Apply then sent nothing
+    take = save_take(synthesize(seconds=2.0, rate=60.0).take, tmp_path / "take.npz")
+    session = StudioSession("classic", folder=temp_folder())
+    with studio_page(session, "window.tuner && window.studio.frames > 0", 1400, 1000) as driver:
+        driver.find_element("id", "tab-tuner").click()
+        driver.find_element("id", "tune-take").send_keys(str(take))
+        driver.find_element("id", "tune-open").click()
+        wait_for(driver, "window.tuner.state && window.studio.last.showing === 'tune'")
+        Select(driver.find_element("id", "tune-motor")).select_by_value("MB")
+        wait_for(driver, "window.tuner.state.motor === 'MB'")
+        gain = driver.find_element("id", "tune-gain")
+        gain.clear()
+        gain.send_keys("1.6")
+        driver.execute_script("window.tuner.state = null; window.studio.send({op: 'tune', action: 'motor', code: 'MB'})")
+        wait_for(driver, "window.tuner.state !== null")  # the panel redrawn from the server's answer
+        assert gain.get_attribute("value") == "1.6"
+        driver.find_element("id", "tune-apply").click()
+        wait_for(driver, "window.tuner.state.rules.MB.gain === 1.6")
+        Select(driver.find_element("id", "tune-motor")).select_by_value("BLL")  # another motor: its own gain
+        wait_for(driver, "window.tuner.state.motor === 'BLL'")
+        assert float(gain.get_attribute("value")) == session.tuner.doc["motor"]["BLL"].get("gain", 1)
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []

@@ -7,6 +7,7 @@
   const faces = window.faces;
   const node = studio.svg;
   const tools = {point: null};  // the chosen point: {part, index}
+  const outlineFields = studio.form(["smooth", "hidden-segments", "closed", "coupling", "clip"]);  // "apply-outline"
   const chosen = () => (faces.doc.components || [])[faces.selected];
   const outlinePart = (spec) => (spec.kind === "skeleton" ? "body" : "points");
   const closed = (spec) => spec.kind === "polygon" || spec.kind === "ellipse" || spec.kind === "image" || spec.closed
@@ -56,13 +57,14 @@
     options(el("cpoint"), values, values.includes(current) ? current : values[0], labels);
     pointFields();
     const smooth = spec.smooth === true ? "all" : (spec.smooth || []).map(([a, b]) => `${a}-${b}`).join(", ");
-    el("smooth").value = smooth;
-    el("hidden-segments").value = (spec.hidden || []).join(", ");
-    el("closed").checked = closed(spec);
+    outlineFields.showing(`${faces.target} ${faces.selected}`);  // what was typed and not applied stays
+    outlineFields.put("smooth", "value", smooth);
+    outlineFields.put("hidden-segments", "value", (spec.hidden || []).join(", "));
+    outlineFields.put("closed", "checked", closed(spec));
     el("closed").disabled = spec.kind === "polygon" || spec.kind === "ellipse";
     el("coupling-label").hidden = spec.kind !== "skeleton";
-    el("coupling").value = spec.coupling || "edge";
-    el("clip").value = spec.clip || "";
+    outlineFields.put("coupling", "value", spec.coupling || "edge");
+    outlineFields.put("clip", "value", spec.clip || "");
     const params = ["visible", "translate", "scale"].filter((key) => spec[key]).map((key) => {
       const p = spec[key];
       return key === "visible" ? `visible by ${p.motor} in [${p.range}]`
@@ -189,6 +191,7 @@
     if (spec.kind === "polyline" || spec.kind === "skeleton") fields.closed = el("closed").checked;
     if (spec.kind === "skeleton") fields.coupling = el("coupling").value;
     component(fields);
+    outlineFields.applied();
   });
   el("set-param").addEventListener("click", () => component(param()));
   el("clear-param").addEventListener("click", () => component({[el("param").value]: null}));

@@ -4,7 +4,7 @@
 (() => {
   const el = (id) => document.getElementById(id);
   const KINDS = ["hole", "pupil", "face", "free", "point", "feature"];
-  const STYLE = ["fill", "stroke", "width", "layer", "filled", "kind", "attach"];  // applied by "apply-style"
+  const styleFields = studio.form(["fill", "stroke", "width", "layer", "filled", "kind", "attach"]);  // "apply-style"
   const ANGLES = new Set(["PLH", "PLV", "PRH", "PRV", "HH", "HV"]);
   const AXIS = {  // each position motor's control point and axis (toon/motors.py)
     BRL: ["BRL", "y"], BRC: ["BRC", "y"], BRM: ["BRM", "y"], BLL: ["BLL", "y"], BLC: ["BLC", "y"], BLM: ["BLM", "y"],
@@ -12,7 +12,7 @@
     MLH: ["ML", "x"], MLV: ["ML", "y"], MRH: ["MR", "x"], MRV: ["MR", "y"], MB: ["MB", "y"],
   };
   const faces = {doc: null, selected: 0, chosen: [0], dragging: null, waiting: false, queue: [],
-                 target: "polygon", typed: new Set(), shown: null};
+                 target: "polygon"};
   window.faces = faces;  // components.js adds the component tools to it
 
   const node = studio.svg;
@@ -88,11 +88,8 @@
     el("component-tools").hidden = !component;
     if (faces.componentPanel) faces.componentPanel(message);
     const spec = list[faces.selected];
-    const shown = `${faces.target} ${faces.selected}`;
-    if (shown !== faces.shown) faces.typed.clear();  // another item: its own style
-    faces.shown = shown;
-    // a field typed in and not yet applied keeps what was typed when the document comes back
-    const put = (id, field, value) => { if (!faces.typed.has(id)) el(id)[field] = value; };
+    styleFields.showing(`${faces.target} ${faces.selected}`);  // a style typed and not applied stays
+    const put = styleFields.put;
     if (spec) {
       put("fill", "value", (spec.color || spec.fill || "#000000").slice(0, 7));
       put("stroke", "value", (spec.stroke || "#000000").slice(0, 7));
@@ -332,11 +329,8 @@
                                                                    kind: el("kind").value,
                                                                    attach: el("attach").value || null}});
     }
-    faces.typed.clear();  // applied: the document that comes back is what the fields show
+    styleFields.applied();
   });
-  for (const id of STYLE) {
-    for (const kind of ["input", "change"]) el(id).addEventListener(kind, () => faces.typed.add(id));
-  }
   // the buttons act on the chosen polygon or component, as a unit
   const whole = (verb, extra = {}) => () => edit({action: `${verb}_${faces.target}`, [faces.target]: faces.selected,
                                                   ...extra});

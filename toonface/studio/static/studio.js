@@ -25,6 +25,28 @@
     return node;
   };
 
+  studio.form = (ids) => {
+    // fields a panel redraws from each message the server sends, applied by a button: one the user
+    // typed in keeps what was typed until it is applied (or the panel shows another thing), so that
+    // a message answering an earlier action, coming while the user types, does not undo the typing
+    const typed = new Set();
+    let shown = null;
+    // "input" comes as the user types, ticks or picks; "change" may come after Apply, on the blur
+    for (const id of ids) $(id).addEventListener("input", () => typed.add(id));
+    return {
+      showing(key) {  // whose values the fields show now: another's drops what was typed
+        if (key !== shown) typed.clear();
+        shown = key;
+      },
+      put(id, field, value) {
+        if (!typed.has(id)) $(id)[field] = value;
+      },
+      applied() {  // sent: the next message shows what the fields hold
+        typed.clear();
+      },
+    };
+  };
+
   function send(message) {
     if (studio.socket && studio.socket.readyState === WebSocket.OPEN) {
       studio.socket.send(JSON.stringify(message));

@@ -7,20 +7,24 @@
   const tuner = {state: null};
   window.tuner = tuner;
   const send = (message) => studio.send({op: "tune", ...message});
+  const ruleFields = studio.form(["tune-gain", "tune-offset", "tune-scale", "tune-invert", "tune-clamp", "tune-max_speed",
+                              "tune-smoothing", "tune-curve-points"]);  // applied by "tune-apply"
 
   function show(state) {
     tuner.state = state;
     const code = state.motor;
     el("tune-motor").replaceChildren(...state.motors.map((c) => new Option(c, c, false, c === code)));
     const rule = state.rules[code] || {};
-    el("tune-gain").value = rule.gain ?? 1;
-    el("tune-offset").value = rule.offset ?? 0;
-    el("tune-scale").value = rule.scale ?? 1;
-    el("tune-invert").checked = Boolean(rule.invert);
-    el("tune-clamp").value = rule.clamp ?? "hard";
-    el("tune-max_speed").value = rule.max_speed ?? 0;
-    el("tune-smoothing").value = rule.filter && rule.filter.kind === "butterworth" ? rule.filter.cutoff : 0;
-    el("tune-curve-points").value = (rule.curve || []).map(([a, b]) => `${a},${b}`).join(" ");
+    ruleFields.showing(code);  // what was typed and not applied stays
+    const put = ruleFields.put;
+    put("tune-gain", "value", rule.gain ?? 1);
+    put("tune-offset", "value", rule.offset ?? 0);
+    put("tune-scale", "value", rule.scale ?? 1);
+    put("tune-invert", "checked", Boolean(rule.invert));
+    put("tune-clamp", "value", rule.clamp ?? "hard");
+    put("tune-max_speed", "value", rule.max_speed ?? 0);
+    put("tune-smoothing", "value", rule.filter && rule.filter.kind === "butterworth" ? rule.filter.cutoff : 0);
+    put("tune-curve-points", "value", (rule.curve || []).map(([a, b]) => `${a},${b}`).join(" "));
     el("tune-ranges").replaceChildren(...(state.sources[code] || []).filter((key) => state.ranges[key]).map(range));
     curve();
   }
@@ -167,6 +171,7 @@
     const curve = text ? text.split(/\s+/).map((pair) => pair.split(",").map(Number)) : null;
     if (JSON.stringify(rule.curve ?? null) !== JSON.stringify(curve)) send({action: "rule", code, field: "curve",
                                                                            value: curve});
+    ruleFields.applied();
   });
   el("tune-save-mapping").addEventListener("click", () => send({action: "save_mapping",
                                                                 path: el("tune-mapping-path").value}));
