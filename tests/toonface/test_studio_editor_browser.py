@@ -295,3 +295,17 @@ def test_the_studio_hears_the_words_and_phones_of_a_voice(blank, realdata, tmp_p
     assert height >= 3 * 16  # three rows fit
     assert "heard 6 words and" in driver.find_element("id", "message").text
     driver.find_element("id", "score").screenshot(str(tmp_path / "heard.png"))
+
+
+def test_a_duration_being_typed_is_not_overwritten_by_the_state_coming_back(page):
+    # every editor state redrew the duration field; one coming while the user typed (an answer to
+    # an earlier action) put the old duration back under the caret
+    driver, _ = page
+    box = driver.find_element("id", "duration")
+    box.clear()
+    box.send_keys("12")  # not yet applied: the field still has the focus
+    driver.execute_script("window.editor.state = null; window.studio.send({op: 'cursor', t: 0.5})")
+    wait_for(driver, "window.editor.state !== null && window.editor.state.cursor === 0.5")
+    assert box.get_attribute("value") == "12"
+    box.send_keys(Keys.TAB)  # applied as the focus leaves
+    wait_for(driver, "window.editor.state.duration === 12")

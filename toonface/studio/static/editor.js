@@ -138,7 +138,7 @@
       parts.push(svgNode("line", {class: "cursor", x1: xOf(state.cursor), x2: xOf(state.cursor), y1: 0, y2: STAFF_HEIGHT}));
       svg.replaceChildren(...parts);
     }
-    el("duration").value = state.duration;
+    if (document.activeElement !== el("duration")) el("duration").value = state.duration;  // not while typed in
     el("undo").disabled = state.undo === 0;
     el("redo").disabled = state.redo === 0;
     el("paste").disabled = state.clipboard === null;
