@@ -7,8 +7,8 @@
   const tuner = {state: null};
   window.tuner = tuner;
   const send = (message) => studio.send({op: "tune", ...message});
-  const ruleFields = studio.form(["tune-gain", "tune-offset", "tune-scale", "tune-invert", "tune-clamp", "tune-max_speed",
-                              "tune-smoothing", "tune-curve-points"]);  // applied by "tune-apply"
+  const ruleFields = studio.form(["tune-gain", "tune-offset", "tune-scale", "tune-invert", "tune-clamp",
+                                  "tune-max_speed", "tune-smoothing", "tune-curve-points"]);  // "tune-apply"
 
   function show(state) {
     tuner.state = state;
