@@ -144,12 +144,14 @@ def test_play_moves_the_cursor_and_the_face(blank):
     wait_for(driver, "window.editor.state.undo === 3")
     driver.execute_script("window.studio.send({op: 'cursor', t: 0})")
     wait_for(driver, "window.editor.state.cursor === 0")
-    frames = driver.execute_script("return window.studio.frames")
+    frames, came = driver.execute_script("return [window.studio.frames, window.studio.received]")
     driver.find_element("id", "play").click()
     wait_for(driver, "window.studio.last.values.MB > 0.8")  # the mouth opens as the cursor nears 1 s
     wait_for(driver, "window.editor.state.cursor > 1.5 && window.studio.last.values.MB < 0.5")
-    drawn = driver.execute_script("return window.studio.frames")
-    assert drawn > frames + 30, (frames, drawn)  # (it failed once in a parallel run: say by how much)
+    drawn, received = driver.execute_script("return [window.studio.frames, window.studio.received]")
+    # the server sent a frame at each step of 1.5 s of playing; a page held up by a loaded machine
+    # draws only the newest of those waiting at each paint, so it drew fewer, but drew along the way
+    assert received > came + 30 and drawn > frames + 10, (came, received, frames, drawn)
     driver.find_element("id", "pause").click()
     wait_for(driver, "!window.studio.last.playing")
     assert session.values[motor_index("MB")] == pytest.approx(session.editor.values()[motor_index("MB")])
