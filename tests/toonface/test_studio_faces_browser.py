@@ -190,18 +190,25 @@ def _hair_chosen(driver, session) -> int:
     return hair
 
 
+def _typed_as_a_document_comes_back(driver, field: str, text: str):
+    """Type ``text`` into the field ``field`` without applying it, then let another edit's
+    document come back (it redraws the panel); the field keeps ``text``. Returns the field."""
+    box = driver.find_element("id", field)
+    box.clear()
+    box.send_keys(text)
+    driver.execute_script("window.faces.edit({action: 'rename', name: 'renamed'})")
+    wait_for(driver, "window.faces.doc.name === 'renamed' && !window.faces.waiting")
+    assert box.get_attribute("value") == text
+    return box
+
+
 def test_a_style_typed_and_not_applied_survives_a_document_coming_back():
     # the echo of an earlier edit (a drag's last move, on a loaded machine) came back while the user
     # typed a layer; the panel was redrawn from the document and Apply sent the old layer
     session = StudioSession("round", folder=temp_folder())
     with studio_page(session, READY, 1400, 1000) as driver:
         hair = _hair_chosen(driver, session)
-        layer = driver.find_element("id", "layer")
-        layer.clear()
-        layer.send_keys("-7")
-        driver.execute_script("window.faces.edit({action: 'rename', name: 'renamed'})")
-        wait_for(driver, "window.faces.doc.name === 'renamed' && !window.faces.waiting")
-        assert layer.get_attribute("value") == "-7"
+        layer = _typed_as_a_document_comes_back(driver, "layer", "-7")
         driver.find_element("id", "apply-style").click()
         wait_for(driver, f"window.faces.doc.components[{hair}].layer === -7")
         assert session.face.components[hair].layer == -7
@@ -216,12 +223,7 @@ def test_an_outline_typed_and_not_applied_survives_a_document_coming_back():
     with studio_page(session, READY, 1400, 1000) as driver:
         hair = _hair_chosen(driver, session)
         driver.execute_script("for (const d of document.querySelectorAll('details')) d.open = true")
-        hidden = driver.find_element("id", "hidden-segments")
-        hidden.clear()
-        hidden.send_keys("1, 2")
-        driver.execute_script("window.faces.edit({action: 'rename', name: 'renamed'})")
-        wait_for(driver, "window.faces.doc.name === 'renamed' && !window.faces.waiting")
-        assert hidden.get_attribute("value") == "1, 2"
+        _typed_as_a_document_comes_back(driver, "hidden-segments", "1, 2")
         driver.find_element("id", "apply-outline").click()
         wait_for(driver, f"(window.faces.doc.components[{hair}].hidden || []).length === 2")
         assert session.faces.doc["components"][hair]["hidden"] == [1, 2]

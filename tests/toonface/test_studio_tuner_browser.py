@@ -85,7 +85,8 @@ def test_a_rule_typed_and_not_applied_survives_the_panel_being_redrawn(tmp_path)
         gain = driver.find_element("id", "tune-gain")
         gain.clear()
         gain.send_keys("1.6")
-        driver.execute_script("window.tuner.state = null; window.studio.send({op: 'tune', action: 'motor', code: 'MB'})")
+        driver.execute_script("window.tuner.state = null;"
+                              "window.studio.send({op: 'tune', action: 'motor', code: 'MB'})")
         wait_for(driver, "window.tuner.state !== null")  # the panel redrawn from the server's answer
         assert gain.get_attribute("value") == "1.6"
         driver.find_element("id", "tune-apply").click()
