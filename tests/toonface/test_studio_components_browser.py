@@ -157,3 +157,25 @@ def test_components_are_grouped_moved_as_one_saved_to_a_library_and_inserted_int
         assert inserted == {"kind": "composite", "name": "pair", "use": "pair", "library": str(library)}
         assert [c.kind for c in session.face.components[count].children] == ["ellipse", "polyline"]
         assert driver.execute_script("return window.faces.selected") == count
+
+
+def test_a_point_kind_picked_and_not_set_survives_a_document_coming_back():
+    # every document redrew the point row from the face; one answering an earlier edit while the
+    # user picked a kind put the old kind back, and Set then sent that
+    session = StudioSession("classic", folder=temp_folder())
+    with studio_page(session, READY, 1400, 1100) as driver:
+        _open(driver)
+        Select(driver.find_element("id", "new-kind")).select_by_visible_text("polygon")
+        _click(driver, "new-component")
+        index = len(session.faces.doc["components"]) - 1
+        corner = session.faces.doc["components"][index]["points"][2]
+        ActionChains(driver).click(_diamond(driver, 2)).perform()
+        Select(driver.find_element("id", "point-kind")).select_by_visible_text("slave")
+        Select(driver.find_element("id", "point-master")).select_by_value("MB")
+        driver.execute_script("window.faces.edit({action: 'rename', name: 'renamed'})")
+        wait_for(driver, "window.faces.doc.name === 'renamed' && !window.faces.waiting")
+        assert Select(driver.find_element("id", "point-kind")).first_selected_option.text == "slave"
+        assert driver.find_element("id", "point-master").get_attribute("value") == "MB"
+        _click(driver, "set-point")
+        assert session.faces.doc["components"][index]["points"][2] == {"slave": "MB", "at": corner}
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []

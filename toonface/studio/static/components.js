@@ -8,6 +8,7 @@
   const node = studio.svg;
   const tools = {point: null};  // the chosen point: {part, index}
   const outlineFields = studio.form(["smooth", "hidden-segments", "closed", "coupling", "clip"]);  // "apply-outline"
+  const pointKindFields = studio.form(["point-kind", "point-master"]);  // "set-point"
   const chosen = () => (faces.doc.components || [])[faces.selected];
   const outlinePart = (spec) => (spec.kind === "skeleton" ? "body" : "points");
   const closed = (spec) => spec.kind === "polygon" || spec.kind === "ellipse" || spec.kind === "image" || spec.closed
@@ -80,8 +81,9 @@
     const ref = (chosen()[part] || [])[Number(index)];
     if (ref === undefined) return;
     const [kind, master] = pointKind(ref);
-    el("point-kind").value = kind;
-    el("point-master").value = master;
+    pointKindFields.showing(`${faces.target} ${faces.selected} ${part}:${index}`);  // picked and not set: it stays
+    pointKindFields.put("point-kind", "value", kind);
+    pointKindFields.put("point-master", "value", master);
   }
 
   faces.choosePoint = (data) => {
@@ -180,6 +182,7 @@
     const message = {action: "set_point_kind", component: faces.selected, ...tools.point, kind: el("point-kind").value};
     if (el("point-master").value) message.master = el("point-master").value;
     faces.edit(message);
+    pointKindFields.applied();
   });
   el("delete-point").addEventListener("click", () => faces.edit({action: "delete_component_point",
                                                                  component: faces.selected, ...tools.point}));

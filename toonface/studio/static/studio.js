@@ -31,8 +31,10 @@
     // a message answering an earlier action, coming while the user types, does not undo the typing
     const typed = new Set();
     let shown = null;
-    // "input" comes as the user types, ticks or picks; "change" may come after Apply, on the blur
-    for (const id of ids) $(id).addEventListener("input", () => typed.add(id));
+    // "input" comes with each key; a pick in a list may come as a "change" alone
+    for (const id of ids) {
+      for (const kind of ["input", "change"]) $(id).addEventListener(kind, () => typed.add(id));
+    }
     return {
       showing(key) {  // whose values the fields show now: another's drops what was typed
         if (key !== shown) typed.clear();
