@@ -43,13 +43,18 @@ def _diamond(driver, index: int):
     return driver.find_element("css selector", f'#shape rect.vertex[data-drag="cpoint"][data-index="{index}"]')
 
 
+def _new_polygon(driver, session) -> int:
+    """Open the component tools and make a new polygon component; its index."""
+    _open(driver)
+    Select(driver.find_element("id", "new-kind")).select_by_visible_text("polygon")
+    _click(driver, "new-component")
+    return len(session.faces.doc["components"]) - 1
+
+
 def test_a_component_made_from_nothing_is_shaped_rekinded_smoothed_and_animated(tmp_path):
     session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY, 1400, 1100) as driver:
-        _open(driver)
-        Select(driver.find_element("id", "new-kind")).select_by_visible_text("polygon")
-        _click(driver, "new-component")
-        index = len(session.faces.doc["components"]) - 1
+        index = _new_polygon(driver, session)
         square = np.array(session.faces.doc["components"][index]["points"], dtype=float)
         assert square.shape == (4, 2)
         # a double-click halfway along side 0 adds a point there; a right-click deletes it
@@ -164,10 +169,7 @@ def test_a_point_kind_picked_and_not_set_survives_a_document_coming_back():
     # user picked a kind put the old kind back, and Set then sent that
     session = StudioSession("classic", folder=temp_folder())
     with studio_page(session, READY, 1400, 1100) as driver:
-        _open(driver)
-        Select(driver.find_element("id", "new-kind")).select_by_visible_text("polygon")
-        _click(driver, "new-component")
-        index = len(session.faces.doc["components"]) - 1
+        index = _new_polygon(driver, session)
         corner = session.faces.doc["components"][index]["points"][2]
         ActionChains(driver).click(_diamond(driver, 2)).perform()
         Select(driver.find_element("id", "point-kind")).select_by_visible_text("slave")
