@@ -286,3 +286,29 @@ def test_copy_and_paste_from_the_panel(page):
     assert session.face.polygons[-1].name == "nose 2" and session.face.polygons[-1].vertices == \
         session.face.polygons[nose].vertices
     assert driver.find_element("id", "polygon").get_attribute("value") == str(count)
+
+
+def test_another_pages_edit_does_not_send_this_pages_next_edit_before_its_own_is_done():
+    # every page gets the face any page's edit made; a page waiting for its own edit took another's
+    # face for its answer and sent the next one early, one more in flight than its drag merges allow
+    import asyncio
+
+    import aiohttp
+
+    session = StudioSession("round", folder=temp_folder())
+    with studio_page(session, READY, 1400, 1000) as driver:
+        driver.execute_script("window.faces.waiting = true;"  # as if an edit of this page's were on its way
+                              "window.faces.queue.push({action: 'rename', name: 'queued'})")
+        origin = driver.execute_script("return location.origin")
+
+        async def other_page() -> None:
+            async with aiohttp.ClientSession() as client, client.ws_connect(
+                    f"ws{origin[4:]}/ws", headers={"Origin": origin}) as ws:
+                await ws.send_json({"op": "faceedit", "action": "rename", "name": "elsewhere"})
+                while (await ws.receive_json(timeout=10)).get("type") != "answered":
+                    pass
+
+        asyncio.run(other_page())
+        wait_for(driver, "window.faces.doc.name === 'elsewhere'")
+        assert driver.execute_script("return [window.faces.waiting, window.faces.queue.length]") == [True, 1]
+        assert session.face.name == "elsewhere"

@@ -109,3 +109,38 @@ def test_a_client_that_never_reads_does_not_freeze_the_other_pages():
             await ws.close()
 
     asyncio.run(run())
+
+
+def test_a_face_edit_is_answered_to_the_page_that_made_it_and_its_face_goes_to_every_page():
+    """Every page gets the face an edit made, so a page that waits for its own edit to be done
+    before sending the next cannot go by the face: the page that made it is told, the others not
+    (a second page took the first one's faces as answers and sent its next edit early)."""
+    async def until_answered(page, count: int) -> list[tuple]:
+        seen: list[tuple] = []
+        while sum(kind == "answered" for kind, _ in seen) < count:
+            message = await asyncio.wait_for(page.receive_json(), timeout=10)
+            if message["type"] in ("face", "answered", "error"):
+                seen.append((message["type"], message.get("doc", {}).get("name", message.get("op"))))
+        return seen
+
+    async def run():
+        session = StudioSession("classic")
+        server = TestServer(make_app(session, set()))
+        async with TestClient(server) as client:
+            host = f"127.0.0.1:{server.port}"
+            client.app[HOSTS].add(host)
+            first, second = [await client.ws_connect("/ws", headers={"Origin": f"http://{host}"}) for _ in range(2)]
+            await first.send_json({"op": "faceedit", "action": "rename", "name": "one"})
+            await first.send_json({"op": "faceedit", "action": "nonsense"})  # refused: an error, no answer
+            await first.send_json({"op": "motor", "code": "MB", "value": 0.5})  # not an edit of the face: no answer
+            await first.send_json({"op": "faceedit", "action": "rename", "name": "two"})
+            mine = await until_answered(first, 2)
+            assert mine[-5:] == [("face", "one"), ("answered", "faceedit"), ("error", None), ("face", "two"),
+                                 ("answered", "faceedit")]
+            await second.send_json({"op": "faceedit", "action": "rename", "name": "three"})
+            theirs = await until_answered(second, 1)  # what the first page's edits sent it came before
+            assert theirs[-4:] == [("face", "one"), ("face", "two"), ("face", "three"), ("answered", "faceedit")]
+            for page in (first, second):
+                await page.close()
+
+    asyncio.run(run())

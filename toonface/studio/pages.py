@@ -17,7 +17,7 @@ from aiohttp import web
 
 #: Messages a page must get, each of them: what it asked for was done, or why not. Every other
 #: kind (a frame, the animation, the face...) says all that an earlier one of its kind said.
-UNIQUE = frozenset({"said", "error", "rendered"})
+UNIQUE = frozenset({"said", "error", "rendered", "answered"})
 #: Messages a page may lose even with no later one queued: the next tick sends another.
 TRANSIENT = frozenset({"frame", "quality", "rendering"})
 #: The messages waiting for one page before its frames are dropped.

@@ -198,6 +198,8 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
                 page.send({"type": "said", "message": said})
             for state in _state(session, changed):
                 broadcast(app[PAGES], state)
+            if isinstance(parsed, dict) and parsed.get("op") == "faceedit":  # every page gets the face; this one
+                page.send({"type": "answered", "op": "faceedit"})  # is told its edit was done, the next may go
             app[WAKE].set()
     finally:
         app[PAGES].discard(page)

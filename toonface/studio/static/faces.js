@@ -63,7 +63,6 @@
     }
     el("face-error").textContent = "";
     panel();
-    settled();
     draw();
   }
   faces.draw = () => draw();
@@ -367,6 +366,10 @@
   el("face-name").addEventListener("change", (event) => edit({action: "rename", name: event.target.value}));
   el("face-save").addEventListener("click", () => edit({action: "save", path: el("face-path").value}));
   studio.handlers.face = show;
+  // this page's edit was done (every page gets the face it made, so the face alone does not say whose)
+  studio.handlers.answered = (message) => {
+    if (message.op === "faceedit") settled();
+  };
   studio.onError = (message) => {  // a refused edit: said next to the face panel too, and the next one may go
     if (faces.waiting) {
       el("face-error").textContent = message;
