@@ -1,8 +1,10 @@
 """Each page's own queue: a page that stops reading loses frames, nobody else does."""
 
 import asyncio
+import contextlib
 import json
 import socket
+from collections.abc import AsyncIterator
 
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
@@ -79,19 +81,25 @@ def test_nan_is_never_sent_to_a_page():
     asyncio.run(run())
 
 
+@contextlib.asynccontextmanager
+async def _served() -> AsyncIterator[tuple[TestClient, str]]:
+    """A studio on the classic face served on a free port: its test client and its host, allowed."""
+    server = TestServer(make_app(StudioSession("classic"), set()))
+    async with TestClient(server) as client:
+        host = f"127.0.0.1:{server.port}"
+        client.app[HOSTS].add(host)
+        yield client, host
+
+
 @pytest.mark.slow
 def test_a_client_that_never_reads_does_not_freeze_the_other_pages():
     """Over real sockets: one client completes the handshake and never reads; the other page
     goes on getting frames at the loop's rate while the first one's buffers fill."""
     async def run():
-        session = StudioSession("classic")
-        server = TestServer(make_app(session, set()))
-        async with TestClient(server) as client:
-            host = f"127.0.0.1:{server.port}"
-            client.app[HOSTS].add(host)
+        async with _served() as (client, host):
             silent = socket.socket()
             silent.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-            silent.connect(("127.0.0.1", server.port))
+            silent.connect(("127.0.0.1", client.port))
             silent.sendall((f"GET /ws HTTP/1.1\r\nHost: {host}\r\nOrigin: http://{host}\r\nUpgrade: websocket\r\n"
                             "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
                             "Sec-WebSocket-Version: 13\r\n\r\n").encode())
@@ -124,11 +132,7 @@ def test_a_face_edit_is_answered_to_the_page_that_made_it_and_its_face_goes_to_e
         return seen
 
     async def run():
-        session = StudioSession("classic")
-        server = TestServer(make_app(session, set()))
-        async with TestClient(server) as client:
-            host = f"127.0.0.1:{server.port}"
-            client.app[HOSTS].add(host)
+        async with _served() as (client, host):
             first, second = [await client.ws_connect("/ws", headers={"Origin": f"http://{host}"}) for _ in range(2)]
             await first.send_json({"op": "faceedit", "action": "rename", "name": "one"})
             await first.send_json({"op": "faceedit", "action": "nonsense"})  # refused: an error, no answer
