@@ -312,3 +312,7 @@ def test_another_pages_edit_does_not_send_this_pages_next_edit_before_its_own_is
         wait_for(driver, "window.faces.doc.name === 'elsewhere'")
         assert driver.execute_script("return [window.faces.waiting, window.faces.queue.length]") == [True, 1]
         assert session.face.name == "elsewhere"
+        # nor does a refusal of something else this page asked for (only a refused face edit is one)
+        driver.execute_script("window.studio.send({op: 'motor', code: 'nonsense', value: 0.5})")
+        wait_for(driver, "document.getElementById('message').classList.contains('bad')")
+        assert driver.execute_script("return [window.faces.waiting, window.faces.queue.length]") == [True, 1]

@@ -137,10 +137,11 @@ def test_a_face_edit_is_answered_to_the_page_that_made_it_and_its_face_goes_to_e
             await first.send_json({"op": "faceedit", "action": "rename", "name": "one"})
             await first.send_json({"op": "faceedit", "action": "nonsense"})  # refused: an error, no answer
             await first.send_json({"op": "motor", "code": "MB", "value": 0.5})  # not an edit of the face: no answer
+            await first.send_json({"op": "motor", "code": "nonsense", "value": 0.5})  # refused, and says whose
             await first.send_json({"op": "faceedit", "action": "rename", "name": "two"})
             mine = await until_answered(first, 2)
-            assert mine[-5:] == [("face", "one"), ("answered", "faceedit"), ("error", None), ("face", "two"),
-                                 ("answered", "faceedit")]
+            assert mine[-6:] == [("face", "one"), ("answered", "faceedit"), ("error", "faceedit"), ("error", "motor"),
+                                 ("face", "two"), ("answered", "faceedit")]
             await second.send_json({"op": "faceedit", "action": "rename", "name": "three"})
             theirs = await until_answered(second, 1)  # what the first page's edits sent it came before
             assert theirs[-4:] == [("face", "one"), ("face", "two"), ("face", "three"), ("answered", "faceedit")]

@@ -173,33 +173,36 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
             if message.type != WSMsgType.TEXT:
                 continue
             said: str | None
+            op = None  # a message that does not parse is refused as no op's
             try:
                 parsed = parse_message(message.data)
-                if isinstance(parsed, dict) and parsed.get("op") == "render":
-                    await _render(app, page, parsed)
+                asked = parsed if isinstance(parsed, dict) else {}  # apply says what is wrong with a non-object
+                op = asked.get("op")
+                if op == "render":
+                    await _render(app, page, asked)
                     continue
-                if isinstance(parsed, dict) and parsed.get("op") == "hear":  # recognising takes a while
+                if op == "hear":  # recognising takes a while
                     page.send({"type": "said", "message": "listening…"})
-                    labels = await asyncio.get_running_loop().run_in_executor(None, hear, parsed, session.sound)
+                    labels = await asyncio.get_running_loop().run_in_executor(None, hear, asked, session.sound)
                     said, changed = show_heard(session, labels), "sound"
-                elif isinstance(parsed, dict) and parsed.get("op") == "tune" and parsed.get("action") == "open":
+                elif op == "tune" and asked.get("action") == "open":
                     # a take is cleaned and mapped, a video tracked first, while the server goes on serving
-                    page.send({"type": "said", "message": f"opening {parsed.get('take')}…"})
+                    page.send({"type": "said", "message": f"opening {asked.get('take')}…"})
                     loop = asyncio.get_running_loop()
-                    tuner = await loop.run_in_executor(None, open_tuner, parsed, session.neutral, session.folder)
+                    tuner = await loop.run_in_executor(None, open_tuner, asked, session.neutral, session.folder)
                     said = show_tuner(session, tuner, loop.time())
                     changed = "tune"
                 else:
                     changed, said = apply(session, parsed, asyncio.get_running_loop().time())
             except (ValueError, KeyError, TypeError, IndexError, InputError) as exc:
-                page.send({"type": "error", "message": reason(exc)})
+                page.send({"type": "error", "message": reason(exc), "op": op})  # the page knows which ask failed
                 continue
             if said:
                 page.send({"type": "said", "message": said})
             for state in _state(session, changed):
                 broadcast(app[PAGES], state)
-            if isinstance(parsed, dict) and parsed.get("op") == "faceedit":  # every page gets the face; this one
-                page.send({"type": "answered", "op": "faceedit"})  # is told its edit was done, the next may go
+            if op == "faceedit":  # every page gets the face; this one is told its edit was done
+                page.send({"type": "answered", "op": "faceedit"})
             app[WAKE].set()
     finally:
         app[PAGES].discard(page)

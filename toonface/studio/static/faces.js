@@ -370,8 +370,8 @@
   studio.handlers.answered = (message) => {
     if (message.op === "faceedit") settled();
   };
-  studio.onError = (message) => {  // a refused edit: said next to the face panel too, and the next one may go
-    if (faces.waiting) {
+  studio.onError = (message, op) => {  // a refused edit: said next to the face panel too, and the next one may go
+    if (faces.waiting && op === "faceedit") {
       el("face-error").textContent = message;
       const named = /(polygons|components)\[(\d+)\]/.exec(message);  // the validator names the offending item
       if (named) choose(named[1] === "polygons" ? "polygon" : "component", Number(named[2]));

@@ -86,7 +86,7 @@
     else if (studio.handlers[message.type]) studio.handlers[message.type](message);
       else if (message.type === "error") {
       say(`error: ${message.message}`, true);
-      if (studio.onError) studio.onError(message.message);
+      if (studio.onError) studio.onError(message.message, message.op);
     }
     else if (message.type === "said") say(message.message, false);
     else if (message.type === "quality") quality(message);
