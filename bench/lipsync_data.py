@@ -7,7 +7,9 @@ between the outer eye corners (so that a head coming nearer does not open the mo
 sound's 100 Hz clock. Clips are grouped by speaker (two VoxCeleb clips show the same man) and by
 corpus: ``grid`` (GRID, a studio), ``studio`` (video-retalking's inputs: a person addressing a
 camera, studio sound) and ``wild`` (VoxCeleb2 crops: interviews and television, noise and music).
-Other GRID speakers are kept for an outside check and are never read here.
+Other GRID speakers are kept for an outside check and are never read here. Beside the shared
+clips, ``bench/talking`` holds two more VoxCeleb2 crops of two more speakers, found for the voice's
+model (their source and licence: ``bench/talking/SOURCES.md``); they count as ``wild``.
 """
 
 from __future__ import annotations
@@ -20,13 +22,18 @@ import numpy as np
 from bench.core import REALDATA
 
 VIDEO = REALDATA / "video"
+#: Talking-face clips found beside the shared ones (``SOURCES.md`` there).
+OURS = Path(__file__).resolve().parent / "talking"
 #: Clips of one speaker under another name.
 SAME_SPEAKER = {"vox-741400163": "vox-00104"}
 
 
-def clips() -> list[Path]:
-    """Every shared talking-face clip with sound, in a fixed order (empty where the folder is absent)."""
-    return sorted((VIDEO / "talking").glob("*.mp4")) + sorted((VIDEO / "grid").glob("*.mpg"))
+def clips(ours: bool = False) -> list[Path]:
+    """Every shared talking-face clip with sound, in a fixed order (empty where the folder is
+    absent); with ``ours``, then those of :data:`OURS` (after the shared ones, so that each shared
+    clip's seeded augmentation stays what it was)."""
+    shared = sorted((VIDEO / "talking").glob("*.mp4")) + sorted((VIDEO / "grid").glob("*.mpg"))
+    return shared + (sorted(OURS.glob("*.mp4")) if ours and shared else [])
 
 
 def speaker(clip: Path | str) -> str:

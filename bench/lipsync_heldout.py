@@ -65,7 +65,7 @@ def run(quick: bool = False) -> list[Figure]:
     from capture.voice_sound import sound_mouth
     from capture.voice_words import words_mouth
 
-    paths = clips()[:6] if quick else clips()
+    paths = clips(ours=True)[:6] if quick else clips(ours=True)
     if not paths:
         return []
     shipped, shipped_words = shipped_model(), shipped_words_model()

@@ -1,8 +1,8 @@
 """Learn the voice's mouth (:mod:`capture.voice_model`) from the shared talking-face clips.
 
 ``python -m bench.lipsync_train`` (``make lipsync-model``) rebuilds ``data/models/voice_mouth.json``
-bit for bit from ``../shared/realdata/video``: the same clips, the same seeded augmentation, the
-same choices, the same arithmetic.
+bit for bit from ``../shared/realdata/video`` and ``bench/talking``: the same clips, the same
+seeded augmentation, the same choices, the same arithmetic.
 
 1. Each clip's truth is the lip gap its face tracker measured (:mod:`bench.lipsync_data`). Its
    sound is heard as it is and in seven copies (seeded): 20 dB quieter, white noise at 30, 20
@@ -264,7 +264,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--corpus", choices=("grid", "studio", "wild"), default=None,
                         help="only this corpus's clips (a quick check)")
     args = parser.parse_args(argv)
-    paths = [p for p in clips() if args.corpus is None or corpus(p) == args.corpus][:args.clips]
+    paths = [p for p in clips(ours=True) if args.corpus is None or corpus(p) == args.corpus][:args.clips]
     if not paths:
         print("no shared talking-face clips found (../shared/realdata/video)", file=sys.stderr)
         return 2
