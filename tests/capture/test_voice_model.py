@@ -84,3 +84,29 @@ def test_the_training_command_rebuilds_the_same_weights_bit_for_bit(tmp_path, re
     sound, words = (model_from_dict(json.loads(doc)) for doc in outputs[0])
     assert sound.notes["trained_on"] == words.notes["trained_on"] == ["bbaf2n", "lbax4n"]
     assert not sound.phones and words.phones == PHONES and words.notes["phone_scale"] in PHONE_SCALES
+
+
+def test_the_clips_found_beside_the_shared_ones_are_sourced_new_speakers_with_a_face_and_its_sound():
+    """``bench/talking`` (issue 61: more speakers): each clip is named in ``SOURCES.md``, is a
+    224x224 face at 25 fps with as long a sound, shows no speaker another clip shows, and the
+    shipped models were trained on it."""
+    import av
+
+    from bench.lipsync_data import OURS, SAME_SPEAKER
+    from capture.voice import decode_voice_at
+    from capture.voice_model import shipped_words_model
+
+    found = sorted(OURS.glob("*.mp4"))
+    sources = (OURS / "SOURCES.md").read_text(encoding="utf-8")
+    assert [clip.name for clip in found] == ["vox-00373.mp4", "vox-681600002.mp4"]
+    for clip in found:
+        assert f"`{clip.name}`" in sources and (OURS / "LICENSE.CC-BY-4.0").is_file()
+        with av.open(str(clip)) as container:
+            video = container.streams.video[0]
+            frames = sum(1 for _ in container.decode(video))
+            assert (video.width, video.height, video.average_rate) == (224, 224, 25)
+        sound, _ = decode_voice_at(clip)
+        assert abs(len(sound) / 16000 - frames / 25) < 0.1, (clip.name, len(sound) / 16000, frames / 25)
+        assert clip.stem not in SAME_SPEAKER and clip.stem not in SAME_SPEAKER.values()
+        for model in (shipped_model(), shipped_words_model()):
+            assert clip.stem in model.notes["trained_on"] and model.notes["corpus"][clip.stem] == "wild"
