@@ -1,4 +1,5 @@
-"""Lip sync judged on speakers it never heard (issue 61), on every shared talking-face clip:
+"""Lip sync judged on speakers it never heard (issue 61), on every shared talking-face clip and
+the two of ``bench/talking`` (:func:`bench.lipsync_data.clips`):
 Pearson r of the mouth's opening against the tracked lip gap, the best within ±120 ms, per clip
 and as the median per corpus (GRID; studio: a person addressing a camera; wild: interviews and
 television). ``ours`` is English lip sync as ``lipsync --listen words`` ships it

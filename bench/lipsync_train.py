@@ -1,4 +1,4 @@
-"""Learn the voice's mouth (:mod:`capture.voice_model`) from the shared talking-face clips.
+"""Learn the voice's mouth (:mod:`capture.voice_model`) from the talking-face clips.
 
 ``python -m bench.lipsync_train`` (``make lipsync-model``) rebuilds ``data/models/voice_mouth.json``
 bit for bit from ``../shared/realdata/video`` and ``bench/talking``: the same clips, the same
