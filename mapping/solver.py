@@ -43,6 +43,9 @@ sweep's own residual) down-weight a marker that the motors cannot explain (an ou
 label), and the frame is solved again. Each motor's confidence is the share of its basis's
 motion on markers that counted; below :data:`MIN_CONFIDENCE` the motor is unseen that frame
 (NaN: the loss policy of :mod:`mapping.rules` takes over, as for a rule with no source seen).
+Where the take lost a head reference, the head fitted on the others turns with the slide of
+those left; the sweep's slides of the references, where the take bears them out, say by how
+much, and those frames are solved again without it (:mod:`mapping.solver_slide`).
 
 The solver gives each solved motor's share; the rest of a rule (gain, offset, curve, clamp) and
 the per-frame rules (filters, loss) stay as they are, offline and live alike. A profile keeps its
@@ -60,6 +63,7 @@ import numpy as np
 from common.validate import Validator
 from mapping.robust import column_nan_median
 from mapping.solver_sides import ROBUST_FLOOR_MM, ROBUST_SCALE, either_side, from_mirror, side_basis
+from mapping.solver_slide import MIN_WHOLE, reference_motion, take_out
 
 #: A motor this far along its way (a share) and leading the face shows what it does.
 MOVED = 0.3
@@ -92,6 +96,9 @@ MIN_CONFIDENCE = 0.25
 #: A motor whose basis moves the markers less than this (mm, summed in quadrature) is not
 #: observable from the markers the take has.
 MIN_MOTION_MM = 0.5
+#: A lost reference's slide (:mod:`mapping.solver_slide`) that moves no marker by more than this
+#: (mm) leaves the frame as it was solved.
+SHIFT_MM = 0.02
 #: Frames solved at once (bounds the memory: a (chunk, 2K, 2K) Gram).
 CHUNK = 2048
 ROBUST_PASSES = 2
@@ -119,6 +126,12 @@ class Solver:
     unswept : tuple of str
         Motors read from markers that the sweep never moved alone (left to the rules).
     notes : dict
+    references : tuple of str, length R
+        The head references among ``markers`` (the head frame is fitted on them).
+    slide_up, slide_down : ndarray, shape (K, R, 3)
+        What each motor does to them, per unit of share on each side, in the head fitted on all
+        of them (what the sweep showed, none of it left out): how a head fitted on fewer sits
+        (:mod:`mapping.solver_slide`). ``(K, 0, 3)`` where the profile predates them.
     """
 
     codes: tuple[str, ...]
@@ -130,26 +143,36 @@ class Solver:
     unobservable: tuple[str, ...] = ()
     notes: dict[str, str] = field(default_factory=dict)
     unswept: tuple[str, ...] = ()
+    references: tuple[str, ...] = ()
+    slide_up: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 3)))
+    slide_down: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 3)))
 
     def to_dict(self) -> dict[str, Any]:
         """The solver as a profile's ``[solver]`` table (:func:`from_dict` reads it back equal)."""
         return {"codes": list(self.codes), "markers": list(self.markers), "noise": float(self.noise),
                 "unobservable": list(self.unobservable), "unswept": list(self.unswept), "notes": dict(self.notes),
                 "rest": np.round(self.rest, 6).tolist(), "up": np.round(self.up, 6).tolist(),
-                "down": np.round(self.down, 6).tolist()}
+                "down": np.round(self.down, 6).tolist()} | ({} if not self.references else {
+                    "references": list(self.references), "slide_up": np.round(self.slide_up, 6).tolist(),
+                    "slide_down": np.round(self.slide_down, 6).tolist()})
 
     @classmethod
     def from_dict(cls, doc: Any, check: Validator) -> Solver:
         """A profile's ``[solver]`` table as a solver; a field that cannot be one raises
         :class:`InputError` naming it (through ``check``)."""
         table = check.fields(doc, {"codes", "markers", "noise", "unobservable", "unswept", "notes", "rest",
-                                   "up", "down"},
+                                   "up", "down", "references", "slide_up", "slide_down"},
                              "solver", "a table")
         codes, markers = check.strings(table.get("codes", []), "solver.codes"), check.strings(
             table.get("markers", []), "solver.markers")
-        arrays = {}
+        references = check.strings(table.get("references", []), "solver.references")
+        check.require(set(references) <= set(markers), "expected markers the solver reads", "solver.references")
+        slides = (("slide_up", (len(codes), len(references), 3)),
+                  ("slide_down", (len(codes), len(references), 3))) if references else ()
+        # a profile written before the slides has none: its references are taken as still
+        arrays: dict[str, np.ndarray] = {name: np.zeros((len(codes), 0, 3)) for name in ("slide_up", "slide_down")}
         for name, shape in (("rest", (len(markers), 3)), ("up", (len(codes), len(markers), 3)),
-                            ("down", (len(codes), len(markers), 3))):
+                            ("down", (len(codes), len(markers), 3)), *slides):
             try:
                 arrays[name] = np.asarray(table.get(name), dtype=float)
             except (TypeError, ValueError):
@@ -161,7 +184,8 @@ class Solver:
                    check.number(table.get("noise", 0.0), "solver.noise", 0.0),
                    tuple(check.strings(table.get("unobservable", []), "solver.unobservable")),
                    {str(k): str(v) for k, v in notes.items()} if isinstance(notes, dict) else {},
-                   tuple(check.strings(table.get("unswept", []), "solver.unswept")))
+                   tuple(check.strings(table.get("unswept", []), "solver.unswept")), tuple(references),
+                   arrays["slide_up"], arrays["slide_down"])
 
     def left_out(self) -> str:
         """What the solver leaves to the rules and why, and the sides it took from a mirror motor's
@@ -193,14 +217,26 @@ class Solver:
         cols = [columns[m] for m in self.markers]
         shares = np.empty((len(local), len(self.codes)))
         confidence = np.empty_like(shares)
-        for start in range(0, len(local), CHUNK):
-            part = slice(start, start + CHUNK)
-            d = local[part][:, cols] - self.rest
-            ok = np.isfinite(d).all(axis=2)
-            weight = ok if trust is None else np.where(ok, trust[part][:, cols], 0.0)
-            counts = weight if quality is None else np.where(ok, quality[part][:, cols], 0.0)
-            shares[part], confidence[part] = _solve(self, np.where(ok[..., None], d, 0.0), weight.astype(float),
-                                                    counts.astype(float))
+        frames, motion = np.arange(len(local)), np.zeros((len(local), 6))
+        for again in (False, True):  # again where a lost reference's slide moved the head (mapping.solver_slide)
+            for start in range(0, len(frames), CHUNK):
+                part = frames[start:start + CHUNK]
+                d = local[part][:, cols] - self.rest
+                d = take_out(d, self.rest, motion[part]) if again else d
+                ok = np.isfinite(d).all(axis=2)
+                weight = ok if trust is None else np.where(ok, trust[part][:, cols], 0.0)
+                counts = weight if quality is None else np.where(ok, quality[part][:, cols], 0.0)
+                shares[part], confidence[part] = _solve(self, np.where(ok[..., None], d, 0.0),
+                                                        weight.astype(float), counts.astype(float))
+            if again or not self.references or len(local) < MIN_WHOLE:  # too few frames to bear slides out: live
+                break
+            refs, at = [columns[m] for m in self.references], [self.markers.index(m) for m in self.references]
+            seen = np.isfinite(local[:, refs]).all(axis=2) & (True if quality is None else quality[:, refs] >= 1.0)
+            motion = reference_motion(shares, self.slide_up, self.slide_down, self.rest[at], seen,
+                                      local[:, refs] - self.rest[at])
+            lever = float(np.abs(self.rest).max(initial=0.0))  # (mm) the furthest marker from the origin
+            frames = np.flatnonzero(np.linalg.norm(motion[:, :3], axis=1) * lever
+                                    + np.linalg.norm(motion[:, 3:], axis=1) > SHIFT_MM)
         return np.where(confidence >= MIN_CONFIDENCE, shares, np.nan), confidence
 
 
@@ -266,6 +302,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     share = share / np.maximum(share.sum(axis=2, keepdims=True), 1)
     up = np.zeros((len(codes), len(markers), 3))
     down = np.zeros_like(up)
+    slide_up, slide_down = np.zeros((len(codes), int(fixed.sum()), 3)), np.zeros((len(codes), int(fixed.sum()), 3))
     kept: list[int] = []
     learned: dict[int, list[tuple[np.ndarray, np.ndarray] | None]] = {}
     for k in learnable:
@@ -280,6 +317,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         if sides[0] is None and sides[1] is None:
             continue
         up[k], down[k] = either_side(sides[0], sides[1], far[:, k] == 0.0)
+        slide_up[k], slide_down[k] = up[k][fixed], down[k][fixed]  # all of it: the head fit's share-out
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
@@ -296,7 +334,8 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     unobservable = tuple(codes[k] for k in kept if k not in observable)
     notes = {"from_mirror": ", ".join(mirrored)} if mirrored else {}
     solver = Solver(tuple(codes[k] for k in observable), markers, rest[cols], up[observable], down[observable], 1.0,
-                    unobservable, notes, unswept)
+                    unobservable, notes, unswept, tuple(m for m, f in zip(markers, fixed, strict=True) if f),
+                    np.nan_to_num(slide_up[observable]), np.nan_to_num(slide_down[observable]))
     fitted, _ = _solve(solver, d, ok.astype(float), robust=False)
     moved = fitted[..., None, None] * np.where(fitted[..., None, None] >= 0, solver.up, solver.down)
     residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]
