@@ -115,9 +115,12 @@ def test_slides_the_take_does_not_bear_out_are_not_taken_out():
     local = _local(world)
     still = replace(solver, references=(), slide_up=np.zeros((3, 0, 3)), slide_down=np.zeros((3, 0, 3)))
     np.testing.assert_array_equal(solver.solve(local, COLUMNS)[0], still.solve(local, COLUMNS)[0])
-    predicted = np.random.default_rng(62).normal(0.0, 0.3, (150, 2, 3))
+    rng = np.random.default_rng(62)
+    predicted = rng.normal(0.0, 0.3, (150, 2, 3))
     every = np.ones(150, bool)
-    assert slide_gain(predicted, 0.5 * predicted + 3.0, every) == pytest.approx(0.5)  # resting 3 mm off: no slide
+    assert slide_gain(predicted, 0.5 * predicted + 3.0, every) == pytest.approx(0.5)  # 3 mm off rest is no slide
+    jitter = 0.3 * predicted + rng.normal(0.0, 0.5, predicted.shape)  # in step, but explaining a tenth of it
+    assert slide_gain(predicted, jitter, every) == 0.0 and slide_gain(predicted, jitter / 5.0, every) == 0.0
     assert slide_gain(predicted, 2.0 * predicted, every) == 1.0 and slide_gain(predicted, -predicted, every) == 0.0
     assert slide_gain(predicted, np.zeros((150, 2, 3)), every) == 0.0
     assert slide_gain(predicted, predicted, np.arange(150) < 99) == 0.0  # too few whole frames to bear them out
@@ -138,5 +141,5 @@ def test_the_small_rigid_motion_matches_a_full_rigid_fit_and_the_bridge_is_not_c
     seen[1:4] = keep  # a stretch of 3 frames between two whole ones
     steady = np.tile(departures[:1], (5, 1, 1))  # the slide as at the edges throughout: the bridge has it all
     assert np.abs(reference_shift(rest, steady, seen)).max() == pytest.approx(0.0, abs=1e-12)
-    alone = reference_shift(rest, steady, np.tile(keep, (5, 1)))  # no edge seen whole: live, no bridge
+    alone = reference_shift(rest, steady, np.tile(keep, (5, 1)))  # no frame seen whole: the bridge had none either
     np.testing.assert_allclose(alone, np.tile(np.hstack([w[0], t[0]]), (5, 1)), atol=1e-12)
