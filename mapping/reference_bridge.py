@@ -53,9 +53,7 @@ def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarra
     rot, trans = rotation.copy(), translation.copy()
     frames = len(target)
     whole = ok & np.isfinite(target[..., 0]).all(axis=1)  # frames fitted on every reference
-    pattern = np.packbits(missing, axis=1, bitorder="little")  # one code per set of missing references
-    changes = np.flatnonzero(np.any(np.diff(pattern, axis=0) != 0, axis=1)) + 1
-    for start, end in zip(np.r_[0, changes], np.r_[changes, frames], strict=True):
+    for start, end in stretches(missing):
         keep = ~missing[start]
         if keep.all() or keep.sum() < 3:
             continue
@@ -66,13 +64,34 @@ def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarra
         if not corrections:
             continue
         (first_rot, first_trans), (last_rot, last_trans) = corrections[0], corrections[-1]
-        share = (np.arange(start, end) - (start - 1)) / (end - start + 1)
-        w = share[:, None, None]
+        w = across(start, end)[:, None, None]
         c_rot = best_rotation((1 - w) * first_rot + w * last_rot)
         c_trans = (1 - w[:, :, 0]) * first_trans + w[:, :, 0] * last_trans
         rot[start:end] = rotation[start:end] @ c_rot
         trans[start:end] = np.einsum("fij,fj->fi", rotation[start:end], c_trans) + translation[start:end]
     return rot, trans
+
+
+def stretches(missing: np.ndarray) -> list[tuple[int, int]]:
+    """The runs of frames ``[start, end)``, in order, over which the same references are missing
+    (``missing`` ``(F, K)``, bool), every frame in one.
+
+    >>> stretches(np.array([[0, 0], [1, 0], [1, 0], [0, 1]], bool))
+    [(0, 1), (1, 3), (3, 4)]
+    """
+    pattern = np.packbits(missing, axis=1, bitorder="little")  # one code per set of missing references
+    changes = np.flatnonzero(np.any(np.diff(pattern, axis=0) != 0, axis=1)) + 1
+    return [(int(a), int(b)) for a, b in zip(np.r_[0, changes], np.r_[changes, len(missing)], strict=True)]
+
+
+def across(start: int, end: int) -> np.ndarray:
+    """How far each frame of the stretch ``[start, end)`` is across it, ``(end - start,)``: 0 at
+    the frame before it, 1 at the frame after (the bridge blends the two sides' differences so).
+
+    >>> across(1, 4).tolist()
+    [0.25, 0.5, 0.75]
+    """
+    return (np.arange(start, end) - (start - 1)) / (end - start + 1)
 
 
 def _correction(shape: np.ndarray, keep: np.ndarray, target: np.ndarray, rotation: np.ndarray,

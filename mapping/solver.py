@@ -302,7 +302,8 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     share = share / np.maximum(share.sum(axis=2, keepdims=True), 1)
     up = np.zeros((len(codes), len(markers), 3))
     down = np.zeros_like(up)
-    slide_up, slide_down = np.zeros((len(codes), int(fixed.sum()), 3)), np.zeros((len(codes), int(fixed.sum()), 3))
+    slide_up = np.zeros((len(codes), int(fixed.sum()), 3))
+    slide_down = np.zeros_like(slide_up)
     kept: list[int] = []
     learned: dict[int, list[tuple[np.ndarray, np.ndarray] | None]] = {}
     for k in learnable:

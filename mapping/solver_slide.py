@@ -39,6 +39,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from mapping.reference_bridge import across, stretches
+
 #: Frames that see every reference needed to bear the sweep's slides out (:func:`slide_gain`).
 MIN_WHOLE = 100
 #: ... and the share of the references' departures there that the slides must explain.
@@ -89,20 +91,18 @@ def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray) 
     """
     frames = len(seen)
     out = np.zeros((frames, 6))
-    lost = ~seen.all(axis=1) & (seen.sum(axis=1) >= 3)
+    whole = np.asarray(seen.all(axis=1), dtype=bool)
+    lost = ~whole & (seen.sum(axis=1) >= 3)
     if not lost.any():
         return out
-    whole = np.asarray(seen.all(axis=1), dtype=bool)
-    codes = np.packbits(seen, axis=1, bitorder="little")
-    changes = np.flatnonzero(np.any(np.diff(codes, axis=0) != 0, axis=1)) + 1
-    for start, end in zip(np.r_[0, changes], np.r_[changes, frames], strict=True):
+    for start, end in stretches(~seen):
         if not lost[start]:
             continue
         edges = [f for f in (start - 1, end) if 0 <= f < frames and whole[f]]
         motion = np.hstack(rigid_shift(rest, departures[[*range(start, end), *edges]], seen[start]))
         inside = motion[:end - start]
         if edges:  # the bridge carried the edges' difference across: blended as it blends
-            share = ((np.arange(start, end) - (start - 1)) / (end - start + 1))[:, None]
+            share = across(start, end)[:, None]
             inside = inside - ((1 - share) * motion[end - start] + share * motion[-1])
         out[start:end] = inside
     return out
