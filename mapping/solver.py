@@ -37,8 +37,8 @@ near it.
 **Solving** (:meth:`Solver.solve`). Each frame's displacements are explained by all motors at
 once: least squares over every seen marker, each motor's basis the one of the side its share is
 on (chosen by a first solve with the two sides' mean), a little ridge towards rest, shares
-clipped to ±:data:`REACH`. Markers the take lost that frame, or that cleaning filled, are absent
-from it, not believed. Then twice, robust weights (Cauchy, at :data:`ROBUST_SCALE` times the
+clipped to ±:data:`mapping.solver_frames.REACH`. Markers the take lost that frame, or that cleaning filled, are absent
+from it, not believed. Then twice, robust weights (Cauchy, at :data:`mapping.solver_sides.ROBUST_SCALE` times the
 sweep's own residual) down-weight a marker that the motors cannot explain (an outlier, a swapped
 label), and the frame is solved again. Each motor's confidence is the share of its basis's
 motion on markers that counted; below :data:`MIN_CONFIDENCE` the motor is unseen that frame
@@ -56,13 +56,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
 from common.validate import Validator
 from mapping.robust import column_nan_median
-from mapping.solver_sides import ROBUST_FLOOR_MM, ROBUST_SCALE, either_side, from_mirror, side_basis
+from mapping.solver_frames import Layout, solve_frames
+from mapping.solver_sides import either_side, from_mirror, side_basis
 from mapping.solver_slide import MIN_WHOLE, reference_motion, take_out
 
 #: A motor this far along its way (a share) and leading the face shows what it does.
@@ -87,10 +89,6 @@ WOBBLE_MM = 1.0
 OTHERS_MM = 0.5
 #: Frames on a side of rest needed to learn that side.
 MIN_FRAMES = 8
-#: Shares are clipped to this far past either end.
-REACH = 1.25
-#: The ridge towards rest, as a share of the basis's mean energy.
-RIDGE = 1e-3
 #: A motor whose seen share of its basis's motion is below this is unseen in that frame.
 MIN_CONFIDENCE = 0.25
 #: A motor whose basis moves the markers less than this (mm, summed in quadrature) is not
@@ -101,7 +99,6 @@ MIN_MOTION_MM = 0.5
 SHIFT_MM = 0.02
 #: Frames solved at once (bounds the memory: a (chunk, 2K, 2K) Gram).
 CHUNK = 2048
-ROBUST_PASSES = 2
 
 
 @dataclass(frozen=True, eq=False)
@@ -207,6 +204,11 @@ class Solver:
                 moved[k] = rest[name]
         return replace(self, rest=moved)
 
+    @cached_property
+    def layout(self) -> Layout:
+        """What every solve with these bases shares (:class:`mapping.solver_frames.Layout`), made once."""
+        return Layout.of(self.up, self.down)
+
     def solve(self, local: np.ndarray, columns: dict[str, int], trust: np.ndarray | None = None,
               quality: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Each solved motor's share and confidence, both ``(F, K)``, from head-frame markers
@@ -214,20 +216,22 @@ class Solver:
         fit believes each sample, 0 to 1 (default: 1 where finite); ``quality`` ``(F, N)``: what
         each sample counts for in the confidence (default: ``trust``). A share is NaN where its
         confidence is below :data:`MIN_CONFIDENCE`."""
-        cols = [columns[m] for m in self.markers]
+        used = self.layout.used  # the markers some motor moves: no other adds to a frame's equations
+        cols, rest = np.array([columns[m] for m in self.markers])[used], self.rest[used]
         shares = np.empty((len(local), len(self.codes)))
         confidence = np.empty_like(shares)
         frames, motion = np.arange(len(local)), np.zeros((len(local), 6))
         for again in (False, True):  # again where a lost reference's slide moved the head (mapping.solver_slide)
             for start in range(0, len(frames), CHUNK):
                 part = frames[start:start + CHUNK]
-                d = local[part][:, cols] - self.rest
-                d = take_out(d, self.rest, motion[part]) if again else d
+                rows = part[:, None]  # with ``cols``: each frame's used markers
+                d = local[rows, cols] - rest
+                d = take_out(d, rest, motion[part]) if again else d
                 ok = np.isfinite(d).all(axis=2)
-                weight = ok if trust is None else np.where(ok, trust[part][:, cols], 0.0)
-                counts = weight if quality is None else np.where(ok, quality[part][:, cols], 0.0)
-                shares[part], confidence[part] = _solve(self, np.where(ok[..., None], d, 0.0),
-                                                        weight.astype(float), counts.astype(float))
+                weight = ok if trust is None else np.where(ok, trust[rows, cols], 0.0)
+                counts = weight if quality is None else np.where(ok, quality[rows, cols], 0.0)
+                shares[part], confidence[part] = solve_frames(self.layout, self.noise, np.where(ok[..., None], d, 0.0),
+                                                              weight.astype(float), counts.astype(float))
             if again or not self.references or len(local) < MIN_WHOLE:  # too few frames to bear slides out: live
                 break
             refs, at = [columns[m] for m in self.references], [self.markers.index(m) for m in self.references]
@@ -337,59 +341,9 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     solver = Solver(tuple(codes[k] for k in observable), markers, rest[cols], up[observable], down[observable], 1.0,
                     unobservable, notes, unswept, tuple(m for m, f in zip(markers, fixed, strict=True) if f),
                     np.nan_to_num(slide_up[observable]), np.nan_to_num(slide_down[observable]))
-    fitted, _ = _solve(solver, d, ok.astype(float), robust=False)
+    used = solver.layout.used
+    fitted, _ = solve_frames(solver.layout, solver.noise, d[:, used], ok[:, used].astype(float), robust=False)
     moved = fitted[..., None, None] * np.where(fitted[..., None, None] >= 0, solver.up, solver.down)
     residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]
     noise = max(float(np.median(residual)), 0.05) if residual.size else 1.0
     return replace(solver, noise=noise)
-
-
-def _solve(solver: Solver, d: np.ndarray, weight: np.ndarray, counts: np.ndarray | None = None, robust: bool = True
-           ) -> tuple[np.ndarray, np.ndarray]:
-    """Shares and confidence ``(F, K)`` for displacements ``d`` ``(F, M, 3)`` (0 where unseen)
-    with per-marker weights ``weight`` ``(F, M)`` (0 unseen); ``counts`` ``(F, M)``: each
-    marker's part in the confidence (default ``weight``).
-
-    Every frame's normal equations are made from the two sides' bases alone: each marker's Gram
-    of the 2K bases (symmetric: each pair once), weighted and summed once per set of weights (the
-    first two passes share theirs), then each frame's K x K system picked from it by the side each
-    motor is on (the first pass: the two sides' mean, its own Gram alike)."""
-    k, m = len(solver.codes), len(solver.markers)
-    frames = len(d)
-    sides = np.concatenate([solver.up, solver.down])  # (2K, M, 3): high, low
-    pairs = np.triu_indices(2 * k)
-    per_marker = np.einsum("imc,jmc->mij", sides, sides)[:, pairs[0], pairs[1]]  # (M, P): each marker's Gram
-    where = np.empty((2 * k, 2 * k), dtype=np.intp)  # each (row, column) of a Gram: its pair's column
-    where[pairs] = where[pairs[::-1]] = np.arange(len(pairs[0]))
-    energy = np.einsum("imc,imc->im", sides, sides)  # (2K, M)
-    mean_basis = (solver.up - solver.down) / 2
-    per_mean = np.einsum("imc,jmc->mij", mean_basis, mean_basis).reshape(m, -1)  # (M, K²)
-    ridge = RIDGE * float(np.mean((mean_basis ** 2).sum(axis=(1, 2)))) * np.eye(k)
-    flat = sides.reshape(2 * k, -1)
-    w = weight
-    high: np.ndarray | None = None  # the side each motor is on (None: the mean of the two, the first pass)
-    s = np.zeros((frames, k))
-    passes = 2 + (ROBUST_PASSES if robust else 0)
-    for step in range(passes):
-        if step != 1:  # the second pass has the first's weights
-            g = w @ per_marker  # (F, P)
-            r = ((d * w[..., None]).reshape(frames, -1) @ flat.T).reshape(frames, 2, k)
-        if high is None:
-            gram = (w @ per_mean).reshape(frames, k, k)
-            rhs = (r[:, 0] - r[:, 1]) / 2
-        else:  # each frame's K x K picked from its pairs by the sides: one gather
-            basis = np.where(high, np.arange(k), np.arange(k) + k)  # (F, K): row of each motor's side
-            picked = where[basis[:, :, None], basis[:, None, :]] + (np.arange(frames) * g.shape[1])[:, None, None]
-            gram = g.reshape(-1)[picked]
-            rhs = np.where(high, r[:, 0], r[:, 1])
-        s = np.clip(np.linalg.solve(gram + ridge, rhs[..., None])[..., 0], -REACH, REACH)
-        high = s >= 0
-        if robust and 1 <= step < passes - 1:
-            moved = (np.where(high, s, 0.0) @ flat[:k] + np.where(high, 0.0, s) @ flat[k:]).reshape(frames, m, 3)
-            residual = np.linalg.norm(d - moved, axis=2)
-            w = weight / (1.0 + (residual / max(ROBUST_SCALE * solver.noise, ROBUST_FLOOR_MM)) ** 2)
-    assert high is not None
-    counted = weight if counts is None else counts
-    confidence = np.where(high, counted @ energy[:k].T, counted @ energy[k:].T) \
-        / np.maximum(np.where(high, energy[:k].sum(axis=1), energy[k:].sum(axis=1)), 1e-12)
-    return s, confidence
