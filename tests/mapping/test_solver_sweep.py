@@ -4,6 +4,7 @@ more than its own motor's whole way (the small face of ``tests/helpers/small_fac
 import numpy as np
 import pytest
 
+from mapping.roles import mirror_pairs
 from mapping.solver import learn_solver
 from tests.helpers.small_face import CODES, COLUMNS, OWN, REST, face, rule_reading, sweep
 
@@ -27,3 +28,28 @@ def test_a_rule_read_past_its_end_while_another_group_moves_does_not_take_that_g
         assert np.abs(solver.up[er, solver.markers.index(name)]).max() < 0.01, name  # the jaw's, not the lid's
     np.testing.assert_allclose(solver.up[mb, solver.markers.index("CHIN")], [0.0, -8.0, -2.0], atol=0.05)
     assert solver.up[er, solver.markers.index("LID_R"), 1] == pytest.approx(3.0, abs=0.5)
+
+
+def test_a_motors_own_markers_pair_with_its_mirror_motors_where_their_placement_does_not():
+    """The left brow's marker placed 12 mm out and 4 up of the right's mirror image (on a draw of
+    the fourth performer, lower lids' mirror images 14 mm apart): no pair by geometry, but the two
+    brows' own markers are each other's by their motors. The right brow's marker hidden while the
+    brows were lowered, that side is still the left's mirrored (6 mm a share), not its raise
+    through rest (8)."""
+    shares = sweep()
+    local = face(shares)
+    reading = rule_reading(local)
+    placed = np.array([12.0, 4.0, 3.0])
+    local[:, COLUMNS["BROW_L"]] += placed
+    rest = REST.copy()
+    rest[COLUMNS["BROW_L"]] += placed
+    assert mirror_pairs(rest)[COLUMNS["BROW_R"]] == -1
+    seen = np.ones(local.shape[:2], bool)
+    seen[shares[:, CODES.index("BR")] < 0, COLUMNS["BROW_R"]] = False
+    paired = ("BRC", "BLC", "ERL", "MRH", "MB")  # the small face's motors under codes with mirrors
+    solver = learn_solver(paired, OWN, local, COLUMNS, seen, reading, rest)
+    assert solver is not None
+    assert solver.notes == {"from_mirror": "BRC low"}
+    brow = solver.markers.index("BROW_R")
+    np.testing.assert_allclose(solver.down[paired.index("BRC"), brow], (0.0, 6.0, 0.0), atol=1e-9)
+    np.testing.assert_allclose(solver.up[paired.index("BRC"), brow], (0.0, 8.0, 0.0), atol=1e-9)
