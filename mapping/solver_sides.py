@@ -142,7 +142,7 @@ def _own_partners(partner: np.ndarray, mine: np.ndarray, theirs: np.ndarray, res
 
     The two motors are each other's mirror by their roles, so their own markers are too, where
     the face or the markers' placement is not: on a draw of the fourth performer, with its left
-    eye 2.5 mm further out than its right and each lower lid's marker placed 5 mm off the other
+    eye 2.5 mm further out than its right and each lower lid's marker placed 5-6 mm off the other
     way, the lower lids' mirror images lay 14 mm apart, no pair by geometry alone, and a right
     lower lid lost through its raise took its lowering through rest (the lid solved at twice its
     truth's travel, ERL r 0.94)."""

@@ -6,7 +6,7 @@ import pytest
 
 from mapping.roles import mirror_pairs
 from mapping.solver import learn_solver
-from tests.helpers.small_face import CODES, COLUMNS, OWN, REST, face, rule_reading, sweep
+from tests.helpers.small_face import CODES, COLUMNS, OWN, REST, face, motor_bases, rule_reading, sweep
 
 
 def test_a_rule_read_past_its_end_while_another_group_moves_does_not_take_that_groups_markers():
@@ -53,3 +53,23 @@ def test_a_motors_own_markers_pair_with_its_mirror_motors_where_their_placement_
     brow = solver.markers.index("BROW_R")
     np.testing.assert_allclose(solver.down[paired.index("BRC"), brow], (0.0, 6.0, 0.0), atol=1e-9)
     np.testing.assert_allclose(solver.up[paired.index("BRC"), brow], (0.0, 8.0, 0.0), atol=1e-9)
+
+
+def test_a_mirror_motor_that_moves_the_same_way_across_is_not_mirrored():
+    """Two pupils turn together: a right pupil's turn mirrored read every glance of the left
+    backwards (PLH r 0.37 on a draw of the fourth performer). Here the brows swing out to the
+    same side as they rise and fall; the right brow's lowering, its marker hidden, is the left's
+    as it is (4 mm across a share), not mirrored (-4)."""
+    up, down = motor_bases()
+    for code, marker in (("BR", "BROW_R"), ("BL", "BROW_L")):
+        up[CODES.index(code), COLUMNS[marker]] = (3.0, 8.0, 0.0)
+        down[CODES.index(code), COLUMNS[marker]] = (4.0, 6.0, 0.0)
+    shares = sweep()
+    local = face(shares, (up, down))
+    seen = np.ones(local.shape[:2], bool)
+    seen[shares[:, CODES.index("BR")] < 0, COLUMNS["BROW_R"]] = False
+    paired = ("BRC", "BLC", "ERL", "MRH", "MB")
+    solver = learn_solver(paired, OWN, local, COLUMNS, seen, rule_reading(local, (up, down)), REST)
+    assert solver is not None and solver.notes == {"from_mirror": "BRC low"}
+    np.testing.assert_allclose(solver.down[paired.index("BRC"), solver.markers.index("BROW_R")], (4.0, 6.0, 0.0),
+                               atol=1e-9)
