@@ -37,11 +37,13 @@ near it.
 **Solving** (:meth:`Solver.solve`). Each frame's displacements are explained by all motors at
 once: least squares over every seen marker, each motor's basis the one of the side its share is
 on (chosen by a first solve with the two sides' mean), a little ridge towards rest, shares
-clipped to ±:data:`mapping.solver_frames.REACH`. Markers the take lost that frame, or that cleaning filled, are absent
-from it, not believed. Then twice, robust weights (Cauchy, at :data:`mapping.solver_sides.ROBUST_SCALE` times the
-sweep's own residual) down-weight a marker that the motors cannot explain (an outlier, a swapped
-label), and the frame is solved again. Each motor's confidence is the share of its basis's
-motion on markers that counted; below :data:`MIN_CONFIDENCE` the motor is unseen that frame
+clipped to ±:data:`mapping.solver_frames.REACH`. Markers the take lost that frame, or that
+cleaning filled, are absent from it, not believed. Then twice, robust weights (Cauchy, at
+:data:`mapping.solver_sides.ROBUST_SCALE` times the sweep's own residual) down-weight a marker
+that the motors cannot explain (an outlier, a swapped label), and the frame is solved again
+(:mod:`mapping.solver_frames`: motors that share no marker are solved apart). Each motor's
+confidence is the share of its basis's motion on markers that counted; below
+:data:`MIN_CONFIDENCE` the motor is unseen that frame
 (NaN: the loss policy of :mod:`mapping.rules` takes over, as for a rule with no source seen).
 Where the take lost a head reference, the head fitted on the others turns with the slide of
 those left; the sweep's slides of the references, where the take bears them out, say by how
@@ -97,7 +99,7 @@ MIN_MOTION_MM = 0.5
 #: A lost reference's slide (:mod:`mapping.solver_slide`) that moves no marker by more than this
 #: (mm) leaves the frame as it was solved.
 SHIFT_MM = 0.02
-#: Frames solved at once (bounds the memory: a (chunk, 2K, 2K) Gram).
+#: Frames solved at once (bounds the memory: each frame's sums of its markers' Grams).
 CHUNK = 2048
 
 
