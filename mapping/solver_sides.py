@@ -105,10 +105,10 @@ def from_mirror(codes: Sequence[str], learned: dict[int, list[Side]], far: np.nd
     no seen sample of the lid and taken through rest from its opening (1.3 mm a share where its
     closing is 6): every squint then read as a shut eye (ELU r 0.84). A sweep moves both sides of
     a face together, and a face is closer to symmetric than an opening is to a closing (mirrored,
-    or the same way across where the motors' other sides move so, :func:`_across`). A side is
+    or the same way across where the motors' other sides move so). A side is
     taken only where its mirror's saw the mirror motor's own markers, on the motor's own half of
     the face and the midline, scaled as the two motors' other sides compare
-    (:func:`_other_side_ratio`). ``far`` ``(M, K)``: each marker's distance from each motor's own
+    (:func:`_as_other_sides`). ``far`` ``(M, K)``: each marker's distance from each motor's own
     markers (0: one its rule reads); ``rest`` ``(M, 3)``: where the markers rest (their mirror
     partners are :func:`mapping.roles.mirror_pairs`, the motor's own markers the mirror motor's,
     :func:`_own_partners`; one with none is left still)."""
@@ -127,8 +127,7 @@ def from_mirror(codes: Sequence[str], learned: dict[int, list[Side]], far: np.nd
             if not (seen & own[:, k]).any():
                 continue  # the mirror's own markers are not this motor's mirrored (a layout not symmetric)
             mine = (partner >= 0) & (far[:, k] <= far[:, mirror])  # its own half of the face and the midline
-            scale = _other_side_ratio(sides[1 - i], learned[mirror][1 - i], own[:, k] & seen, partner)
-            flip = _across(sides[1 - i], learned[mirror][1 - i], own[:, k] & seen, partner)
+            scale, flip = _as_other_sides(sides[1 - i], learned[mirror][1 - i], own[:, k] & seen, partner)
             sides[i] = (np.where(mine[:, None], theirs[0][partner] * flip * scale, 0.0),
                         np.where(mine, theirs[1][partner], False))
             taken.append(f"{codes[k]} {'high' if i == 0 else 'low'}")
@@ -161,28 +160,22 @@ def _own_partners(partner: np.ndarray, mine: np.ndarray, theirs: np.ndarray, res
     return out
 
 
-def _across(mine: Side, theirs: Side, pairs: np.ndarray, partner: np.ndarray) -> np.ndarray:
-    """How a mirror motor's motion stands for a motor's, ``(3,)``: mirrored across the midline (x
-    flipped), or the same where the two motors' other sides (``mine``, ``theirs``) move the markers
-    ``pairs`` ``(M,)`` and their partners the same way across: two pupils turn together (PRH and
-    PLH are mirror motors by name, and a right pupil's turn mirrored read every glance of the left
-    backwards, PLH r 0.37 on a draw of the fourth performer). Mirrored where the other sides do not
-    say."""
-    if mine is not None and theirs is not None:
-        both = pairs & mine[1] & np.where(partner >= 0, theirs[1][partner], False)
-        if float(np.sum(mine[0][both, 0] * theirs[0][partner[both], 0])) > 0.0:
-            return np.ones(3)
-    return np.array([-1.0, 1.0, 1.0])
-
-
-def _other_side_ratio(mine: Side, theirs: Side, pairs: np.ndarray, partner: np.ndarray) -> float:
-    """How much further a motor's other side (``mine``) reaches than its mirror's (``theirs``) on
-    the markers ``pairs`` ``(M,)`` and their partners, both seen there (the median ratio; 1 where
-    none): two rules' shares need not have one scale (a side's range from a mirror's reach, the
-    other's from its own), and a basis is per unit of its own rule's share."""
+def _as_other_sides(mine: Side, theirs: Side, pairs: np.ndarray, partner: np.ndarray) -> tuple[float, np.ndarray]:
+    """How a mirror motor's side stands for a motor's, as their other sides (``mine``, ``theirs``)
+    compare on the markers ``pairs`` ``(M,)`` and their partners, both seen there: how much further
+    the motor's reaches (the median ratio; 1 where none: two rules' shares need not have one
+    scale, a side's range from a mirror's reach, the other's from its own, and a basis is per unit
+    of its own rule's share), and ``(3,)``, mirrored across the midline (x flipped), or the same
+    where the two move their markers the same way across. Two pupils turn together (PRH and PLH
+    are mirror motors by name, and a right pupil's turn mirrored read every glance of the left
+    backwards, PLH r 0.37 on a draw of the fourth performer). Mirrored where the other sides do
+    not say."""
+    mirrored = np.array([-1.0, 1.0, 1.0])
     if mine is None or theirs is None:
-        return 1.0
+        return 1.0, mirrored
     both = pairs & mine[1] & np.where(partner >= 0, theirs[1][partner], False)
     reach = np.linalg.norm(mine[0][both], axis=1), np.linalg.norm(theirs[0][partner[both]], axis=1)
     usable = reach[1] > 1e-9
-    return float(np.median(reach[0][usable] / reach[1][usable])) if usable.any() else 1.0
+    scale = float(np.median(reach[0][usable] / reach[1][usable])) if usable.any() else 1.0
+    same_way = float(np.sum(mine[0][both, 0] * theirs[0][partner[both], 0])) > 0.0
+    return scale, np.ones(3) if same_way else mirrored
