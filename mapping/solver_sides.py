@@ -117,12 +117,12 @@ def from_mirror(codes: Sequence[str], learned: dict[int, list[Side]], far: np.nd
     taken: list[str] = []
     for k, sides in learned.items():
         mirror = codes.index(MIRROR_OF[codes[k]]) if MIRROR_OF.get(codes[k]) in codes else -1
-        partner = everyone if mirror < 0 else _own_partners(everyone, own[:, k], own[:, mirror], rest)
         for i, side in enumerate(sides):
             theirs = learned.get(mirror, [None, None])[i]
             if mirror < 0 or theirs is None or not (theirs[1] & own[:, mirror]).any() or (
                     side is not None and (side[1] & own[:, k]).any()):
                 continue  # no mirror, the mirror's side did not see its own markers, or this side saw its own
+            partner = _own_partners(everyone, own[:, k], own[:, mirror], rest)  # only for a side to take
             seen = np.where(partner >= 0, theirs[1][partner] & own[partner, mirror], False)  # (M,)
             if not (seen & own[:, k]).any():
                 continue  # the mirror's own markers are not this motor's mirrored (a layout not symmetric)
@@ -140,10 +140,10 @@ def _own_partners(partner: np.ndarray, mine: np.ndarray, theirs: np.ndarray, res
     ``rest`` ``(M, 3)``, however far apart (a marker these displace loses its partner).
 
     The two motors are each other's mirror by their roles, so their own markers are too, where
-    the face or the markers' placement is not: on a draw of the fourth performer, with its left
-    eye 2.5 mm further out than its right and each lower lid's marker placed 5-6 mm off the other
-    way, the lower lids' mirror images lay 14 mm apart, no pair by geometry alone, and a right
-    lower lid lost through its raise took its lowering through rest (the lid solved at twice its
+    the face or the markers' placement is not: on a draw of the fourth performer, with its eyes'
+    centres 2.4 mm from symmetric and each lower lid's marker placed 5-6 mm off the other way,
+    the lower lids' mirror images lay 14 mm apart, no pair by geometry alone, and a right lower
+    lid lost through its raise took its lowering through rest (the lid solved at twice its
     truth's travel, ERL r 0.94)."""
     a, b = np.flatnonzero(mine & ~theirs), np.flatnonzero(theirs & ~mine)
     known = np.isfinite(rest[a]).all(axis=1)[:, None] & np.isfinite(rest[b]).all(axis=1)[None, :]
