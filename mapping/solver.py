@@ -27,7 +27,15 @@ mirrored (:func:`mapping.solver_sides.from_mirror`; the profile's notes say whic
 not show, or a marker it did not see on one side, is the other side through rest (a marker
 scaled as the motor's own markers reach on the two sides, :func:`mapping.solver_sides.either_side`). A marker a
 motor moves by less than :data:`SMALL_SHARE` of its furthest one (:data:`WOBBLE_MM` at most), or
-by less than :data:`SMALL_MM` (:data:`OTHERS_MM` for a marker its rule does not read), is not its.
+by less than :data:`SMALL_MM` (:data:`OTHERS_MM` for a marker its rule does not read), is not its;
+and a side that then moves none of its own markers is not learned (a jaw's closing past rest that
+moved only a corner by 0.16 mm read every frame as the jaw clenched far past its end). Where a
+mapping says a rule's markers show another motor's motion (``decouple``: raised brows lift the
+upper lids), that motor takes those markers while it moves in the sweep (and their own motor does
+not), however near another mover's markers are, and keeps what it does to them down to
+:data:`SMALL_MM`: a whole brow swept at once gave the lid's lift to the nearest of its three
+motors, not the one the mapping names, or dropped it below the wobble's threshold, and every
+raised brow then read as the lid opening.
 
 The rules' shares tell the moving motors apart only while no rule reads another group's motion
 as more than :data:`TOGETHER` of its own range: a rule that reads a jaw's opening as a full
@@ -256,7 +264,7 @@ def rests_of(local: np.ndarray, columns: dict[str, int]) -> dict[str, np.ndarray
 
 def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], local: np.ndarray,
                  columns: dict[str, int], seen: np.ndarray, shares: np.ndarray, rest: np.ndarray,
-                 references: Sequence[str] = ()) -> Solver | None:
+                 references: Sequence[str] = (), couples: Sequence[Sequence[str]] = ()) -> Solver | None:
     """A :class:`Solver` from a range-of-motion sweep (see the module docstring).
 
     Parameters
@@ -281,6 +289,11 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         fit's wobble, and they are no motor's but one whose rule reads them (third performer,
         a draw whose nose tip wobbled 0.5 mm in a lid's sweep: the lid then read the still nose
         as held shut, ERU r 0.78).
+    couples : sequence of sequence of str, length K or empty
+        The motors whose motion each motor's rule says its markers show (a mapping's
+        ``decouple``: raised brows lift the upper lids): while such a motor moves in the sweep,
+        those markers are its, however near another mover's markers are, and what it does to
+        them is kept down to :data:`SMALL_MM`.
 
     Returns
     -------
@@ -306,6 +319,12 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     nearest = reach.min(axis=2, keepdims=True)
     share = (reach <= nearest + TIE_MM) & np.isfinite(reach)
     share = share / np.maximum(share.sum(axis=2, keepdims=True), 1)
+    driven = _driven(codes, own_markers, couples, markers)  # (M, K)
+    if driven.any():  # such a marker is its driver's while the driver moves and its own motor does not
+        own_moves = (movers[:, None, :] & (far == 0.0)[None]).any(axis=2, keepdims=True)  # (F, M, 1)
+        forced = movers[:, None, :] & driven[None] & ~own_moves  # (F, M, K)
+        share = np.where(forced.any(axis=2, keepdims=True), forced / np.maximum(forced.sum(axis=2, keepdims=True), 1),
+                         share)
     up = np.zeros((len(codes), len(markers), 3))
     down = np.zeros_like(up)
     slide_up = np.zeros((len(codes), int(fixed.sum()), 3))
@@ -328,9 +347,12 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
+        small = np.where(driven[:, k], SMALL_MM, small)  # (M,): as its own
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
             basis[fixed & (far[:, k] > 0.0)] = 0.0
+            if not np.linalg.norm(basis[far[:, k] == 0.0], axis=1).any():  # a side that moves none of its own
+                basis[:] = 0.0  # markers is not the motor's: its share would run wild on another's tenths of a mm
         kept.append(k)
     up, down = np.nan_to_num(up), np.nan_to_num(down)
     motion = np.sqrt(np.maximum((up ** 2).sum(axis=(1, 2)), (down ** 2).sum(axis=(1, 2))))
@@ -349,3 +371,16 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     residual = np.linalg.norm(d - moved.sum(axis=1), axis=2)[ok]
     noise = max(float(np.median(residual)), 0.05) if residual.size else 1.0
     return replace(solver, noise=noise)
+
+
+def _driven(codes: Sequence[str], own_markers: Sequence[Sequence[str]], couples: Sequence[Sequence[str]],
+            markers: Sequence[str]) -> np.ndarray:
+    """``(M, K)``: whether a motor's rule says its marker shows another motor's motion (``couples``,
+    a mapping's ``decouple``): the marker's row, the driving motor's column."""
+    out = np.zeros((len(markers), len(codes)), bool)
+    for j, drivers in enumerate(couples):
+        rows = [markers.index(m) for m in own_markers[j] if m in markers]
+        for code in drivers:
+            if code in codes:
+                out[rows, list(codes).index(code)] = True
+    return out

@@ -251,7 +251,7 @@ def sweep_solver(mapping: Mapping, prepared: Prepared, frames: np.ndarray, profi
            for r in rules]
     return learn_solver([r.code for r in rules], own, stable.local[frames], prepared.columns,
                         quality[frames] >= 1.0, shares[frames][:, [index[r.code] for r in rules]], rest,
-                        prepared.markerset.head_reference)
+                        prepared.markerset.head_reference, [r.decouple for r in rules])
 
 
 def source_kinds(mapping: Mapping) -> dict[str, str]:

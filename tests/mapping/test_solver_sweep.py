@@ -73,3 +73,52 @@ def test_a_mirror_motor_that_moves_the_same_way_across_is_not_mirrored():
     assert solver is not None and solver.notes == {"from_mirror": "BRC low"}
     np.testing.assert_allclose(solver.down[paired.index("BRC"), solver.markers.index("BROW_R")], (4.0, 6.0, 0.0),
                                atol=1e-9)
+
+
+def test_a_marker_a_mapping_says_shows_another_motor_is_that_motors_while_it_moves():
+    """The third performer's lids rise 0.9 mm with the brow's centre, and its whole brow is swept
+    at once: the lift went to the nearest of the brow's motors, or under the wobble's threshold to
+    none, and every raised brow read as the lid opening (ERU 3.0 % where the rules, which decouple
+    the lid from the brow's centre as the mapping says, had 2.6). Here the left brow lifts the
+    right lid 0.6 mm, under the threshold, and the right brow is nearer it."""
+    up, down = motor_bases()
+    up[CODES.index("BL"), COLUMNS["LID_R"]] = (0.0, 0.6, 0.0)
+    bases = (up, down)
+    local = face(sweep(), bases)
+    seen = np.ones(local.shape[:2], bool)
+    reading = rule_reading(local, bases)
+    couples = [(), (), ("BL",), (), ()]  # the lid's rule decouples the left brow
+    plain = learn_solver(CODES, OWN, local, COLUMNS, seen, reading, REST)
+    taught = learn_solver(CODES, OWN, local, COLUMNS, seen, reading, REST, couples=couples)
+    assert plain is not None and taught is not None
+    lid = plain.markers.index("LID_R")
+    assert not plain.up[:2, lid].any()  # neither brow's: under the threshold
+    np.testing.assert_allclose(taught.up[CODES.index("BL"), lid], (0.0, 0.6, 0.0), atol=1e-9)
+    assert not taught.up[CODES.index("BR"), lid].any()
+    raised = np.zeros((1, len(CODES)))
+    raised[0, CODES.index("BL")] = 1.0
+    er = CODES.index("ER")
+    assert plain.solve(face(raised, bases), COLUMNS)[0][0, er] == pytest.approx(0.2, abs=0.01)  # read as the lid
+    shares = taught.solve(face(raised, bases), COLUMNS)[0][0]
+    assert abs(shares[er]) < 0.01 and shares[CODES.index("BL")] == pytest.approx(1.0, abs=0.01)
+
+
+def test_a_side_that_moves_none_of_its_own_markers_is_not_learned():
+    """A jaw's closing past rest in the third performer's sweep moved its own markers by under
+    0.15 mm and a mouth corner (whose rule decouples the jaw) by 0.16: that side alone, the jaw
+    read every frame's tenths of a millimetre at the corner as clenched far past its end (MB
+    13 % where it had 1)."""
+    up, down = motor_bases()
+    mb = CODES.index("MB")
+    down[mb] = 0.0
+    down[mb, COLUMNS["CHIN"]] = (0.0, -0.1, 0.0)  # the rule still reads its low end
+    down[mb, COLUMNS["MOUTH_R"]] = (0.0, 0.3, 0.0)
+    bases = (up, down)
+    local = face(sweep(), bases)
+    couples = [(), (), (), ("MB",), ()]  # the corner's rule decouples the jaw
+    solver = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), rule_reading(local, bases),
+                          REST, couples=couples)
+    assert solver is not None
+    assert not solver.down[solver.codes.index("MB")].any()
+    np.testing.assert_allclose(solver.up[solver.codes.index("MB"), solver.markers.index("MOUTH_R")], (0, -5, 0),
+                               atol=1e-9)
