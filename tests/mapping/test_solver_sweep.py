@@ -78,8 +78,8 @@ def test_a_mirror_motor_that_moves_the_same_way_across_is_not_mirrored():
 def test_a_marker_a_mapping_says_shows_another_motor_is_that_motors_while_it_moves():
     """The third performer's lids rise 0.9 mm with the brow's centre, and its whole brow is swept
     at once: the lift went to the nearest of the brow's motors, or under the wobble's threshold to
-    none, and every raised brow read as the lid opening (ERU 3.0 % where the rules, which decouple
-    the lid from the brow's centre as the mapping says, had 2.6). Here the left brow lifts the
+    none, and every raised brow read as the lid opening (seed 2: ELU 3.0 % where the rules, which
+    decouple the lid from the brow's centre as the mapping says, had 2.6). Here the left brow lifts the
     right lid 0.6 mm, under the threshold, and the right brow is nearer it."""
     up, down = motor_bases()
     up[CODES.index("BL"), COLUMNS["LID_R"]] = (0.0, 0.6, 0.0)
