@@ -347,7 +347,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
-        small = np.where(driven[:, k], SMALL_MM, small)  # (M,): as its own
+        small = np.where(driven[:, k], SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
             basis[fixed & (far[:, k] > 0.0)] = 0.0
