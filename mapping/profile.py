@@ -136,8 +136,13 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     ----------
     neutral_take, range_take : Stabilised
         Cleaned, head-stabilised takes (may be the same one) for the rest pose and the range;
-        the range is measured on samples seen, not on gaps filled (``filled``), and a rest
-        needs a sample seen in the rest window (:func:`seen_at`).
+        the range is measured on samples seen, not on gaps filled (``filled``), unless the gaps'
+        guesses reach further: then the end itself was hidden, and a guess from neighbouring
+        markers comes nearer it than the seen samples either side of the gap (the fourth
+        performer's bench seed 5 lost both mouth corners at their widest: seen, the right one reached
+        4.1 mm of its 8; guessed, 7.7). The notes' ``from_guesses`` lists the ends of the mapping's sources
+        (``extra``) that guesses took :data:`MIN_RANGE` or more further. A rest needs a sample seen
+        in the rest window (:func:`seen_at`).
     neutral_times : ndarray, shape (F,)
         ``neutral_take``'s frame times.
     neutral_window : tuple of float
@@ -192,22 +197,32 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     channels = {k: v if every else v[usable] for k, v in range_take.channels.items()}
     made_up = None if range_take.filled is None else range_take.filled if every else range_take.filled[usable]
     low, high, jitter = (np.empty(len(wanted)) for _ in range(3))
+    guessed_ends: set[str] = set()  # the ends of sources the mapping reads that guesses took further
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # sources never seen: all-NaN columns
         rest_value = column_nan_median(rest_values)
         for part in column_groups(len(wanted)):  # a few sources at a time: an hour's every source at once was
             group = [wanted[i] for i in part]   # 350 MB more of the take's peak memory
             values = _measure_all(group, local, range_columns, head, channels)
+            guesses: dict[int, np.ndarray] = {}  # index in the group -> its values, guesses kept
             if made_up is not None:  # a range is what the performer was seen to do, not a gap's guess
                 for i, source in enumerate(group):
                     if source.markers and np.isfinite(values[:, i]).any():
                         guessed = made_up[:, [range_columns[m] for m in source.markers]].any(axis=1)
-                        if guessed.mean() < 0.5:  # a source seen so little keeps its guesses rather than nothing
+                        if 0 < guessed.mean() < 0.5:  # a source seen so little keeps its guesses rather than nothing
+                            guesses[i] = values[:, i].copy()
                             values[guessed, i] = np.nan
             low[part], high[part] = _nan_percentiles(values, percentiles)
             everything = np.arange(len(part))
             steps = np.abs(np.diff(as_rows(values, everything), axis=1)).T  # (F - 1, part), each column in order
             jitter[part] = 1.4826 * column_nan_median(steps) / np.sqrt(2)
+            if guesses:  # unless the guesses reach further: then the end itself was hidden, and guessed
+                at = part[list(guesses)]
+                guess_low, guess_high = _nan_percentiles(np.column_stack(list(guesses.values())), percentiles)
+                beyond = np.array([MIN_RANGE * mm_scale(wanted[i].key) for i in at])
+                for which, grew in (("low", low[at] - guess_low > beyond), ("high", guess_high - high[at] > beyond)):
+                    guessed_ends |= {f"{wanted[i].key} {which}" for i in at[grew] if wanted[i] in extra}
+                low[at], high[at] = np.fmin(low[at], guess_low), np.fmax(high[at], guess_high)
     ranges: dict[str, SourceRange] = {}
     still: list[str] = []
     moving: list[str] = []  # face sources that move at all (a static take cannot be calibrated)
@@ -234,6 +249,8 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
     notes = dict(notes or {})
     if still:
         notes["no_motion"] = ", ".join(still)
+    if guessed_ends:
+        notes["from_guesses"] = ", ".join(sorted(guessed_ends))
     if head_axes is not None:
         notes["head_axes"] = axes_note(head_axes)
     return Profile(markerset, ranges, rest, performer, notes, head_axes=head_axes)

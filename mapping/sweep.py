@@ -3,16 +3,18 @@ the mirror motor's.
 
 Markers drop out most at a face's extremes (a lid marker hidden by the fold of a raised brow,
 a lip marker swallowed by a wide mouth), which are what a range-of-motion sweep is for. Gap
-filling guesses those samples; a guess from well-coupled markers comes near the extreme, one
-from loosely coupled ones falls short (regressing on other markers shrinks toward their mean),
-and the motor then overshoots on that side for the rest of the take. Where a source was unseen
-for most of the frames in which its mirror source (the same source of the mirror motor's rule,
-``toon.MIRROR_PAIRS``) held that side's extreme in view, and its range (its guesses in it)
-reaches less far than the mirror's seen samples do, that side takes the mirror's seen reach
-from rest (:func:`mirror_lost_sides`): a sweep moves both sides of the face together, and a face
-is closer to symmetric than a short guess is to the truth. Otherwise the range stays as
-measured (taking the mirror's reach wherever a side was lost cost more on the project's own
-performer, whose both lids drop out in its sweep, than it gained).
+filling guesses those samples. The profile takes a guess that reaches further than the seen
+samples (:func:`mapping.profile.build_profile`), but a guess can miss either way: one from
+loosely coupled markers falls short (regressing on other markers shrinks toward their mean),
+and one overshot the second performer's upper lid by a quarter of its 1.9 mm. Where a source
+was unseen for most of the frames in which its mirror source (the same source of the mirror
+motor's rule, ``toon.MIRROR_PAIRS``) held that side's end in view, and its own seen samples
+reach less far than the mirror's do, that side takes the mirror's seen reach from rest
+(:func:`mirror_lost_sides`), whatever the guesses said: a sweep moves both sides of the face
+together, and a face is closer to symmetric than a guess is to the truth. A mirror whose end
+was itself guessed (its range reaching further than it was seen) did not hold it in view.
+Otherwise the range stays as measured (taking the mirror's reach wherever a side was lost cost
+more on the project's own performer, whose both lids drop out in its sweep, than it gained).
 """
 
 from __future__ import annotations
@@ -43,7 +45,8 @@ def mirror_lost_sides(mapping: Mapping, profile: Profile, stable: Stabilised, co
     Parameters
     ----------
     profile : Profile
-        Ranges measured over the range frames, filled samples included.
+        Ranges measured over the range frames (seen samples, and gap filling's guesses where they
+        reach further: :func:`mapping.profile.build_profile`).
     stable : Stabilised
         The range take, cleaned (``filled`` says which samples were made up).
     columns : dict
@@ -81,21 +84,32 @@ def _lost_reach(a_range: SourceRange, b_range: SourceRange, a: Source, b: Source
                 stable: Stabilised, columns: dict[str, int], made_up: np.ndarray, frames: np.ndarray,
                 percentiles: tuple[float, float]) -> float | None:
     """The mirror's seen reach from rest on its side (mm), where source ``a`` lost that side
-    while ``b`` held it in view and ``a``'s range (its guesses in it) reaches less far; None
-    otherwise."""
+    while ``b`` held it in view and ``a``'s seen samples reach less far; None otherwise. ``b``
+    holds the end of its range as measured (:func:`mapping.profile.build_profile`): where gap
+    filling's guesses took that further than ``b`` was seen, ``b`` lost the end too, and its
+    seen reach says nothing of it."""
     b_col, a_col = columns[b.markers[0]], columns[a.markers[0]]
     value = stable.local[:, b_col, b.axis]
     seen = frames & ~made_up[:, b_col] & np.isfinite(value)
     if seen.sum() < MIN_FRAMES:
         return None
-    sign = 1.0 if b_high else -1.0
-    end = float(np.percentile(value[seen], percentiles[1] if b_high else percentiles[0]))
-    b_reach = (end - b_range.neutral) * sign
-    a_reach = a_range.high - a_range.neutral if a_high else a_range.neutral - a_range.low
+    b_reach = _seen_reach(value[seen], b_range.neutral, b_high, percentiles)
+    a_value = stable.local[:, a_col, a.axis]
+    a_seen = frames & ~made_up[:, a_col] & np.isfinite(a_value)
+    a_reach = _seen_reach(a_value[a_seen], a_range.neutral, a_high, percentiles) if a_seen.any() else 0.0
     if b_reach <= a_reach:
         return None
-    held = seen & ((value - b_range.neutral) * sign >= HELD * b_reach)
+    sign = 1.0 if b_high else -1.0
+    held = seen & ((value - b_range.neutral) * sign >= HELD * (b_range.high - b_range.neutral if b_high
+                                                              else b_range.neutral - b_range.low))
     if held.sum() < MIN_FRAMES:
         return None
     lost = made_up[held, a_col] | ~np.isfinite(stable.local[held, a_col, a.axis])
     return b_reach if lost.mean() > LOST_SHARE else None
+
+
+def _seen_reach(values: np.ndarray, neutral: float, high: bool, percentiles: tuple[float, float]) -> float:
+    """How far ``values`` (a source's seen samples) reach from ``neutral`` toward its high or low
+    end: the profile's percentile of them."""
+    end = float(np.percentile(values, percentiles[1] if high else percentiles[0]))
+    return (end - neutral) * (1.0 if high else -1.0)

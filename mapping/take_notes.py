@@ -96,3 +96,13 @@ def solver_note(profile: Profile, mapping: Mapping) -> str | None:
     solved = [r.code for r in mapping.rules if r.code in solver.codes]
     return (f"motors {', '.join(solved)} solved all at once by the profile's solver ({len(solver.markers)} markers, "
             f"learned from its range of motion){solver.left_out()}")
+
+
+def range_notes(profile: Profile) -> list[str]:
+    """What a calibration's ranges took from something other than the samples seen at their
+    ends: ends the gap filler's guesses took further (the marker hidden at that end) and sides
+    taken from the mirror side's (:mod:`mapping.sweep`); empty where neither."""
+    said = {"from_guesses": "range ends as far as gap filling guessed, further than any sample seen (the marker "
+                            "was hidden at that end)",
+            "from_mirror": "range ends from the mirror side's (lost in the sweep while the mirror's was seen)"}
+    return [f"{what}: {profile.notes[key]}" for key, what in said.items() if profile.notes.get(key)]

@@ -178,7 +178,7 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
     it is reused with every mapping and face of the same marker set.
     """
     from mapping import calibrate, choose_mapping, prepare, save_profile
-    from mapping.take_notes import still_warning, take_notes
+    from mapping.take_notes import range_notes, still_warning, take_notes
 
     try:
         low, high = (float(p) for p in percentiles.split(","))
@@ -204,6 +204,8 @@ def calibrate_cmd(take: str, output: str, mapping: str | None, neutral: str | No
         click.echo(f"note: head angles are read about the head's own axes, {profile.notes['head_axes']}", err=True)
     for note in take_notes((rest, ranged), chosen):  # what map's report says of units, head fit, markers
         click.echo(note if note.startswith("warning:") else f"note: {note}", err=True)
+    for note in range_notes(profile):
+        click.echo(f"note: {note}", err=True)
     still = set(profile.notes.get("no_motion", "").split(", "))
     moving = sum(1 for key in profile.sources if key not in still)
     click.echo(f"wrote {path}: {len(profile.sources)} sources ({moving} moving), neutral {profile.notes['neutral']}, "
