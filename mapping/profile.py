@@ -139,10 +139,10 @@ def build_profile(neutral_take: Stabilised, neutral_times: np.ndarray, neutral_w
         the range is measured on samples seen, not on gaps filled (``filled``), unless the gaps'
         guesses reach further: then the end itself was hidden, and a guess from neighbouring
         markers comes nearer it than the seen samples either side of the gap (the fourth
-        performer's bench seed 5 lost both mouth corners at their widest: seen, the right one reached
-        4.1 mm of its 8; guessed, 7.7). The notes' ``from_guesses`` lists the ends of the mapping's sources
-        (``extra``) that guesses took :data:`MIN_RANGE` or more further. A rest needs a sample seen
-        in the rest window (:func:`seen_at`).
+        performer's bench seed 5 lost both mouth corners at their widest: seen, the right one
+        reached 4.1 mm of its 7.8; guessed, 7.7). The notes' ``from_guesses`` lists the ends of
+        the mapping's sources (``extra``) that guesses took :data:`MIN_RANGE` or more further. A
+        rest needs a sample seen in the rest window (:func:`seen_at`).
     neutral_times : ndarray, shape (F,)
         ``neutral_take``'s frame times.
     neutral_window : tuple of float

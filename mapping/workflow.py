@@ -193,11 +193,12 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     profile = replace(profile, full_range=full)
     if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
         profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames, percentiles)
-        if lost:  # an end the mirror's gives is no longer the guesses'
-            guessed = [end for end in profile.notes.get("from_guesses", "").split(", ") if end and end not in lost]
-            notes = {k: v for k, v in profile.notes.items() if k != "from_guesses"}
-            profile = replace(profile, notes={**notes, "from_mirror": ", ".join(lost)}
-                              | ({"from_guesses": ", ".join(guessed)} if guessed else {}))
+        if lost:
+            notes = {**profile.notes, "from_mirror": ", ".join(lost)}
+            guessed = [end for end in notes.pop("from_guesses", "").split(", ") if end and end not in lost]
+            if guessed:  # an end the mirror's gives is no longer the guesses'
+                notes["from_guesses"] = ", ".join(guessed)
+            profile = replace(profile, notes=notes)
     if full and any(r.decouple for r in mapping.rules):  # each group moved alone: couplings show
         profile = replace(profile, couplings=_couplings(mapping, source, frames, profile))
     if full and solve:  # the rest from the neutral take, in the range take's marker order

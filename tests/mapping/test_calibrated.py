@@ -235,7 +235,7 @@ def test_a_range_end_hidden_and_guessed_further_than_seen_is_the_guess(guessed_m
 def test_mouth_corners_hidden_at_their_widest_keep_their_reach():
     """The fourth performer's bench seed 5 (its seed 25, faults as the bench draws them) loses both mouth corners
     for the whole of their widest in the sweep (19.5-20.8 s): the seen samples reached 4.1 mm of
-    the right corner's 7.7 and the left took that from it, so the corners read their half-way out
+    the right corner's 7.8 and the left took that from it, so the corners read their half-way out
     as all the way for the rest of the take (MRH's and MLH's raw errors 8.3 % and 8.8 % of their
     range). The gap filler's guesses reach the end; the calibration takes them and says so."""
     from bench import fourth_performer as fp
