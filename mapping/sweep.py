@@ -24,6 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from mapping.mapfile import Mapping
+from mapping.plan import span_of
 from mapping.profile import Profile, SourceRange
 from mapping.sources import Source
 from mapping.stabilise import Stabilised
@@ -88,24 +89,27 @@ def _lost_reach(a_range: SourceRange, b_range: SourceRange, a: Source, b: Source
     holds the end of its range as measured (:func:`mapping.profile.build_profile`): where gap
     filling's guesses took that further than ``b`` was seen, ``b`` lost the end too, and its
     seen reach says nothing of it."""
-    b_col, a_col = columns[b.markers[0]], columns[a.markers[0]]
-    value = stable.local[:, b_col, b.axis]
-    seen = frames & ~made_up[:, b_col] & np.isfinite(value)
-    if seen.sum() < MIN_FRAMES:
+    b_value, b_seen = _seen(stable, made_up, frames, columns[b.markers[0]], b.axis)
+    if b_seen.sum() < MIN_FRAMES:
         return None
-    b_reach = _seen_reach(value[seen], b_range.neutral, b_high, percentiles)
-    a_value = stable.local[:, a_col, a.axis]
-    a_seen = frames & ~made_up[:, a_col] & np.isfinite(a_value)
+    b_reach = _seen_reach(b_value[b_seen], b_range.neutral, b_high, percentiles)
+    a_value, a_seen = _seen(stable, made_up, frames, columns[a.markers[0]], a.axis)
     a_reach = _seen_reach(a_value[a_seen], a_range.neutral, a_high, percentiles) if a_seen.any() else 0.0
     if b_reach <= a_reach:
         return None
-    sign = 1.0 if b_high else -1.0
-    held = seen & ((value - b_range.neutral) * sign >= HELD * (b_range.high - b_range.neutral if b_high
-                                                              else b_range.neutral - b_range.low))
+    _, above, below = span_of(b_range)
+    held = b_seen & ((b_value - b_range.neutral) * (1.0 if b_high else -1.0) >= HELD * (above if b_high else below))
     if held.sum() < MIN_FRAMES:
         return None
-    lost = made_up[held, a_col] | ~np.isfinite(stable.local[held, a_col, a.axis])
-    return b_reach if lost.mean() > LOST_SHARE else None
+    return b_reach if (~a_seen[held]).mean() > LOST_SHARE else None  # held frames are range frames
+
+
+def _seen(stable: Stabilised, made_up: np.ndarray, frames: np.ndarray, column: int, axis: int
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """A marker axis's values ``(F,)`` and which of ``frames`` saw them, ``(F,)`` bool (not
+    guessed, not NaN)."""
+    value = stable.local[:, column, axis]
+    return value, frames & ~made_up[:, column] & np.isfinite(value)
 
 
 def _seen_reach(values: np.ndarray, neutral: float, high: bool, percentiles: tuple[float, float]) -> float:
