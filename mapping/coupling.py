@@ -12,6 +12,12 @@ motor has moved (beyond 0.3 of its way) and the rule's own sources are not being
 then subtracts that share of the other motor's measured motion from each source before the
 sources combine, offline and live alike.
 
+A rule may name several drivers (an upper lid under the three parts of its brow): they are
+fitted together, each on its own side. A sweep that moves them one at a time shows what each
+carries; one that moves them at once cannot tell them apart, and the driver named first carries
+it all (``toon32`` names the centre of the brow first). Fitted one by one, each driver took the
+whole lift, and a lid under a whole brow lost three times its millimetre.
+
 The motion a driver carries is the same distance whichever side of rest the source stands
 (raised brows lift a lid by a millimetre, open or shut), but a source's range may differ
 either side (an upper lid shuts by 3.5 mm and opens by 0.6): so the coupling is measured and
@@ -37,6 +43,14 @@ MOVED = 0.3
 EXTREME = 0.9
 #: Frames at an extreme needed on one side before a coupling is measured there.
 MIN_FRAMES = 10
+#: Drivers within this share of rest are still: the source's level while all of them are (and it
+#: is not being swept itself) is what it reads with none of their motion, and the slopes are
+#: measured from that level. The project's own performer's lids sat 0.1 mm above their rest
+#: through its whole sweep, and measured from rest each part of the brow seemed to lift them.
+STILL = 0.1
+#: A driver that moved in this share of its frames with one the mapping names before it is not
+#: told apart from that one, which carries what both do (a whole brow swept at once).
+TOGETHER = 0.5
 
 
 def driver_of(mapping: Mapping, code: str) -> tuple[MotorRule, Source]:
@@ -57,28 +71,20 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
     measured: dict[tuple[str, int, str], list[float | None]] = {}  # (motor, source index, driver) -> sides
     for rule in mapping.rules:
         own = np.nan_to_num(np.abs(np.column_stack([normalised[s.key] for s in rule.sources])), nan=0.0).max(axis=1)
+        drivers: dict[str, np.ndarray] = {}  # the drivers' shares, by code
+        shown: dict[str, tuple[bool, bool]] = {}  # and whether each side goes further than the jitter
         for code in rule.decouple:
             driver_rule, driver = driver_of(mapping, code)
-            if driver.key not in normalised or driver.key not in profile.sources:
-                continue
-            d = normalised[driver.key]
-            shown = _sides_shown(reach_of(driver, driver_rule, profile), (noise or {}).get(driver.key))
-            for i, source in enumerate(rule.sources):
-                x = normalised[source.key]
-                up, down = reach_of(source, rule, profile)
-                units = np.where(x >= 0, x * up, x * down)  # the source's own units
-                slopes: list[float | None] = []
-                for side, seen in zip((-1.0, 1.0), shown, strict=True):
-                    if not seen:  # the driver goes no way there but its jitter: nothing to take away
-                        slopes.append(0.0)
-                        continue
-                    at = (side * d >= MOVED) & (own < EXTREME) & np.isfinite(x)
-                    if at.sum() < MIN_FRAMES:
-                        slopes.append(None)
-                        continue
-                    slope = float(np.sum(units[at] * d[at]) / np.sum(d[at] ** 2))
-                    slopes.append(slope / (up if slope * side >= 0 else down))  # a share of the side it moves to
-                measured[(rule.code, i, code)] = slopes
+            if driver.key in normalised and driver.key in profile.sources:
+                drivers[code] = normalised[driver.key]
+                shown[code] = _sides_shown(reach_of(driver, driver_rule, profile), (noise or {}).get(driver.key))
+        for i, source in enumerate(rule.sources):
+            x = normalised[source.key]
+            up, down = reach_of(source, rule, profile)
+            units = np.where(x >= 0, x * up, x * down)  # the source's own units
+            for code, found in _slopes(units, own, drivers, shown).items():
+                measured[(rule.code, i, code)] = [None if v is None else v / (up if v * side >= 0 else down)
+                                                  for v, side in zip(found, (-1.0, 1.0), strict=True)]  # a share
     out: dict[str, dict[str, tuple[float, float]]] = {}
     for (code, i, driver_code), found in measured.items():
         partner = measured.get((MIRROR_OF.get(code, code), i, MIRROR_OF.get(driver_code, driver_code)), [None, None])
@@ -87,6 +93,61 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
             rule, (_, driver) = next(r for r in mapping.rules if r.code == code), driver_of(mapping, driver_code)
             out.setdefault(rule.sources[i].key, {})[driver.key] = (kept[0], kept[1])
     return out
+
+
+def _slopes(units: np.ndarray, own: np.ndarray, drivers: dict[str, np.ndarray], shown: dict[str, tuple[bool, bool]]
+            ) -> dict[str, list[float | None]]:
+    """Each driver's slope below and above rest (the source's ``units`` ``(F,)`` per unit of the
+    driver's share, ``drivers``: code -> ``(F,)``, NaN unseen, in the mapping's order), None for a
+    side not shown (the mirror motor's then); ``own`` ``(F,)``: how far the rule's own sources
+    are along their way (being swept at :data:`EXTREME`); ``shown``: whether each side of a driver
+    goes further than its jitter (one that does not carries nothing, 0.0)."""
+    free = (own < EXTREME) & np.isfinite(units)
+    columns: list[tuple[str, int]] = []  # (driver, side) fitted together
+    sides: dict[str, list[float | None]] = {code: [0.0, 0.0] for code in drivers}
+    frames = np.zeros(len(units), bool)
+    for s, side in enumerate((-1.0, 1.0)):
+        moved = {code: (side * d >= MOVED) & free for code, d in drivers.items() if shown[code][s]}
+        order = list(moved)  # the mapping's: one that moved with an earlier one is that one's
+        for n, code in enumerate(order):
+            together = [_together(moved[code], moved[c], drivers[c]) for c in order[:n]]
+            if True in together:
+                continue  # carries nothing of its own (0.0)
+            if None in together or moved[code].sum() < MIN_FRAMES:
+                sides[code][s] = None
+                continue
+            columns.append((code, s))
+            frames |= moved[code]
+    still = free & (own < MOVED) & np.all([np.abs(np.nan_to_num(d, nan=1.0)) < STILL for d in drivers.values()], axis=0)
+    level = float(np.median(units[still])) if still.sum() >= MIN_FRAMES else 0.0
+    for (code, s), slope in zip(columns, _joint_slopes(units - level, drivers, columns, frames), strict=True):
+        sides[code][s] = slope
+    return sides
+
+
+def _together(at: np.ndarray, other: np.ndarray, values: np.ndarray) -> bool | None:
+    """Whether a driver that moved at ``at`` ``(F,)`` moved with another, which moved at
+    ``other`` ``(F,)``: in at least :data:`TOGETHER` of the frames where it moved and the other
+    was seen (``values`` ``(F,)``, NaN unseen); None where the other was seen in none of them.
+    A third-performer brow's centre was lost while its whole brow rose, and the inner part,
+    fitted alone there, took the lift the centre had taken where it was seen: the lid lost it
+    twice. A fourth-performer brow's centre was lost while its outer part rose alone."""
+    both = at & np.isfinite(values)
+    return bool((at & other).sum() >= TOGETHER * both.sum()) if both.any() else None
+
+
+def _joint_slopes(units: np.ndarray, drivers: dict[str, np.ndarray],
+                  columns: list[tuple[str, int]], at: np.ndarray) -> list[float]:
+    """The slope of each ``(driver, side)`` of ``columns`` (side 0 below rest, 1 above): the
+    source's ``units`` ``(F,)`` per unit of the driver's share (``drivers``: code -> its shares
+    ``(F,)``, NaN unseen), on that side only, all fitted together through
+    rest over the frames ``at`` ``(F,)`` where any of them moved: where one driver's frames also
+    hold another's motion (a brow part still raised as the next one sweeps), each takes only its own."""
+    if not columns:
+        return []
+    design = np.column_stack([np.where((2 * s - 1) * drivers[code][at] > 0, drivers[code][at], 0.0)
+                              for code, s in columns])
+    return [float(v) for v in np.linalg.lstsq(design, units[at], rcond=None)[0]]
 
 
 def recorded_jitter(mapping: Mapping, positions: np.ndarray, columns: dict[str, int]) -> dict[str, float]:

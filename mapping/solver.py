@@ -32,7 +32,8 @@ and a side that then moves none of its own markers is not learned (a jaw's closi
 moved only a corner by 0.16 mm read every frame as the jaw clenched far past its end). Where a
 mapping says a rule's markers show another motor's motion (``decouple``: raised brows lift the
 upper lids), that motor takes those markers while it moves in the sweep (and their own motor does
-not), however near another mover's markers are, and keeps what it does to them down to
+not; of several it names moving at once, the one named first), however near another mover's
+markers are, and keeps what it does to them down to
 :data:`SMALL_MM`: a whole brow swept at once gave the lid's lift to the nearest of its three
 motors, not the one the mapping names, or dropped it below the wobble's threshold, and every
 raised brow then read as the lid opening.
@@ -292,8 +293,8 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     couples : sequence of sequence of str, length K or empty
         The motors whose motion each motor's rule says its markers show (a mapping's
         ``decouple``: raised brows lift the upper lids): while such a motor moves in the sweep,
-        those markers are its, however near another mover's markers are, and what it does to
-        them is kept down to :data:`SMALL_MM`.
+        those markers are its (of several moving at once, the first named's), however near
+        another mover's markers are, and what it does to them is kept down to :data:`SMALL_MM`.
 
     Returns
     -------
@@ -320,9 +321,11 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     share = (reach <= nearest + TIE_MM) & np.isfinite(reach)
     share = share / np.maximum(share.sum(axis=2, keepdims=True), 1)
     driven = _driven(codes, own_markers, couples, markers)  # (M, K)
-    if driven.any():  # such a marker is its driver's while the driver moves and its own motor does not
+    if (driven > 0).any():  # such a marker is its driver's while the driver moves and its own motor does not
         own_moves = (movers[:, None, :] & (far == 0.0)[None]).any(axis=2, keepdims=True)  # (F, M, 1)
-        forced = movers[:, None, :] & driven[None] & ~own_moves  # (F, M, K)
+        forced = movers[:, None, :] & (driven > 0)[None] & ~own_moves  # (F, M, K)
+        first = np.where(forced, driven[None], np.iinfo(np.int64).max).min(axis=2, keepdims=True)
+        forced &= driven[None] == first  # drivers moving together: the one the mapping names first
         share = np.where(forced.any(axis=2, keepdims=True), forced / np.maximum(forced.sum(axis=2, keepdims=True), 1),
                          share)
     up = np.zeros((len(codes), len(markers), 3))
@@ -347,7 +350,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
-        small = np.where(driven[:, k], SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
+        small = np.where(driven[:, k] > 0, SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
             basis[fixed & (far[:, k] > 0.0)] = 0.0
@@ -375,12 +378,13 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
 
 def _driven(codes: Sequence[str], own_markers: Sequence[Sequence[str]], couples: Sequence[Sequence[str]],
             markers: Sequence[str]) -> np.ndarray:
-    """``(M, K)``: whether a motor's rule says its marker shows another motor's motion (``couples``,
-    a mapping's ``decouple``): the marker's row, the driving motor's column."""
-    out = np.zeros((len(markers), len(codes)), bool)
+    """``(M, K)``: where a motor's rule says its marker shows another motor's motion (``couples``,
+    a mapping's ``decouple``), the driving motor's place in that list (1 for the first named) in
+    the marker's row and the driver's column; 0 elsewhere."""
+    out = np.zeros((len(markers), len(codes)), np.int64)
     for j, drivers in enumerate(couples):
         rows = [markers.index(m) for m in own_markers[j] if m in markers]
-        for code in drivers:
+        for rank, code in enumerate(drivers, 1):
             if code in codes:
-                out[rows, list(codes).index(code)] = True
+                out[rows, list(codes).index(code)] = rank
     return out

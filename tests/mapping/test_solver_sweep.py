@@ -122,3 +122,21 @@ def test_a_side_that_moves_none_of_its_own_markers_is_not_learned():
     assert not solver.down[solver.codes.index("MB")].any()
     np.testing.assert_allclose(solver.up[solver.codes.index("MB"), solver.markers.index("MOUTH_R")], (0, -5, 0),
                                atol=1e-9)
+
+
+def test_of_several_motors_a_mapping_names_moving_at_once_the_first_named_takes_the_marker():
+    """``toon32`` lifts each upper lid with the three parts of its brow. A sweep that moves them
+    at once cannot tell which carries the lift: shared among all named, each part's raise lifted
+    the lid by a third, where the third performer lifts it with the centre alone. The first
+    named takes it, as the rules' couplings do (:mod:`mapping.coupling`). Here both brows are
+    named for the right lid and swept together: the left, named first, takes all 0.6 mm."""
+    up, down = motor_bases()
+    up[CODES.index("BL"), COLUMNS["LID_R"]] = (0.0, 0.6, 0.0)
+    bases = (up, down)
+    local = face(sweep(), bases)
+    taught = learn_solver(CODES, OWN, local, COLUMNS, np.ones(local.shape[:2], bool), rule_reading(local, bases),
+                          REST, couples=[(), (), ("BL", "BR"), (), ()])
+    assert taught is not None
+    lid = taught.markers.index("LID_R")
+    np.testing.assert_allclose(taught.up[CODES.index("BL"), lid], (0.0, 0.6, 0.0), atol=1e-9)
+    assert not taught.up[CODES.index("BR"), lid].any()
