@@ -6,9 +6,10 @@ brows lift the upper lids. A mapping rule names the motors whose motion it shoul
 (``decouple = ["MB"]`` on a mouth corner). A range-of-motion calibration moves each group of
 motors in turn while the rest stay at rest, so it shows how far each of the rule's sources
 moves, as a share of its own range, per share of the other motor's range (its first
-source's), on each side of rest: least squares through rest over the frames where the other
-motor has moved (beyond 0.3 of its way) and the rule's own sources are not being swept (within
-0.9), only where both were seen (a filled gap would teach the filler's guess back). Mapping
+source's), on each side of rest: least squares over the frames where the other motor has
+moved (beyond 0.3 of its way) and the rule's own sources are not being swept (within 0.9), only
+where both were seen (a filled gap would teach the filler's guess back), through the source's
+level while no driver moves (:data:`STILL`). Mapping
 then subtracts that share of the other motor's measured motion from each source before the
 sources combine, offline and live alike.
 
@@ -16,7 +17,8 @@ A rule may name several drivers (an upper lid under the three parts of its brow)
 fitted together, each on its own side. A sweep that moves them one at a time shows what each
 carries; one that moves them at once cannot tell them apart, and the driver named first carries
 it all (``toon32`` names the centre of the brow first). Fitted one by one, each driver took the
-whole lift, and a lid under a whole brow lost three times its millimetre.
+whole lift, and a lid under a whole brow lost three times its millimetre. A driver that moved
+only while one named before it was lost is not measured (:func:`_together`).
 
 The motion a driver carries is the same distance whichever side of rest the source stands
 (raised brows lift a lid by a millimetre, open or shut), but a source's range may differ
@@ -78,6 +80,8 @@ def learn_couplings(mapping: Mapping, profile: Profile, normalised: dict[str, np
             if driver.key in normalised and driver.key in profile.sources:
                 drivers[code] = normalised[driver.key]
                 shown[code] = _sides_shown(reach_of(driver, driver_rule, profile), (noise or {}).get(driver.key))
+        if not drivers:
+            continue
         for i, source in enumerate(rule.sources):
             x = normalised[source.key]
             up, down = reach_of(source, rule, profile)
@@ -118,10 +122,12 @@ def _slopes(units: np.ndarray, own: np.ndarray, drivers: dict[str, np.ndarray], 
                 continue
             columns.append((code, s))
             frames |= moved[code]
-    still = free & (own < MOVED) & np.all([np.abs(np.nan_to_num(d, nan=1.0)) < STILL for d in drivers.values()], axis=0)
-    level = float(np.median(units[still])) if still.sum() >= MIN_FRAMES else 0.0
-    for (code, s), slope in zip(columns, _joint_slopes(units - level, drivers, columns, frames), strict=True):
-        sides[code][s] = slope
+    if columns:
+        still = free & (own < MOVED) & np.all([np.abs(np.nan_to_num(d, nan=1.0)) < STILL for d in drivers.values()],
+                                               axis=0)
+        level = float(np.median(units[still])) if still.sum() >= MIN_FRAMES else 0.0
+        for (code, s), slope in zip(columns, _joint_slopes(units - level, drivers, columns, frames), strict=True):
+            sides[code][s] = slope
     return sides
 
 
@@ -139,12 +145,11 @@ def _together(at: np.ndarray, other: np.ndarray, values: np.ndarray) -> bool | N
 def _joint_slopes(units: np.ndarray, drivers: dict[str, np.ndarray],
                   columns: list[tuple[str, int]], at: np.ndarray) -> list[float]:
     """The slope of each ``(driver, side)`` of ``columns`` (side 0 below rest, 1 above): the
-    source's ``units`` ``(F,)`` per unit of the driver's share (``drivers``: code -> its shares
-    ``(F,)``, NaN unseen), on that side only, all fitted together through
-    rest over the frames ``at`` ``(F,)`` where any of them moved: where one driver's frames also
-    hold another's motion (a brow part still raised as the next one sweeps), each takes only its own."""
-    if not columns:
-        return []
+    source's ``units`` ``(F,)`` (from its level with every driver still) per unit of the driver's
+    share (``drivers``: code -> its shares ``(F,)``, NaN unseen), on that side only, all fitted
+    together through 0 over the frames ``at`` ``(F,)`` where any of them moved: where one driver's
+    frames also hold another's motion (a brow part still raised as the next one sweeps), each
+    takes only its own."""
     design = np.column_stack([np.where((2 * s - 1) * drivers[code][at] > 0, drivers[code][at], 0.0)
                               for code, s in columns])
     return [float(v) for v in np.linalg.lstsq(design, units[at], rcond=None)[0]]
