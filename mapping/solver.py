@@ -320,10 +320,11 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     nearest = reach.min(axis=2, keepdims=True)
     share = (reach <= nearest + TIE_MM) & np.isfinite(reach)
     share = share / np.maximum(share.sum(axis=2, keepdims=True), 1)
-    driven = _driven(codes, own_markers, couples, markers)  # (M, K)
-    if (driven > 0).any():  # such a marker is its driver's while the driver moves and its own motor does not
+    driven = _driven(codes, own_markers, couples, markers)  # (M, K): 1 for the first named, 0 for none
+    coupled = driven > 0
+    if coupled.any():  # such a marker is its driver's while the driver moves and its own motor does not
         own_moves = (movers[:, None, :] & (far == 0.0)[None]).any(axis=2, keepdims=True)  # (F, M, 1)
-        forced = movers[:, None, :] & (driven > 0)[None] & ~own_moves  # (F, M, K)
+        forced = movers[:, None, :] & coupled[None] & ~own_moves  # (F, M, K)
         first = np.where(forced, driven[None], np.iinfo(np.int64).max).min(axis=2, keepdims=True)
         forced &= driven[None] == first  # drivers moving together: the one the mapping names first
         share = np.where(forced.any(axis=2, keepdims=True), forced / np.maximum(forced.sum(axis=2, keepdims=True), 1),
@@ -350,7 +351,7 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
         small = np.where(far[:, k] > 0.0, max(least, OTHERS_MM), max(least, SMALL_MM))  # (M,): others, own
-        small = np.where(driven[:, k] > 0, SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
+        small = np.where(coupled[:, k], SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
             basis[fixed & (far[:, k] > 0.0)] = 0.0
