@@ -229,8 +229,10 @@ class DotTracker:
             self._prev_gray = cv2.cvtColor(self._prev_image, cv2.COLOR_BGR2GRAY)
         self._gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
         start = points.astype(np.float32).reshape(-1, 1, 2)
-        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, start, None,  # type: ignore[call-overload]
-                                                  winSize=(15, 15), maxLevel=2)  # OpenCV's stubs lack nextPts=None
+        # nextPts is an output buffer here (no OPTFLOW_USE_INITIAL_FLOW); a real array type-checks under every
+        # OpenCV's stubs, where None was refused by 4.x's and accepted by 5.1's
+        new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, start, start.copy(),
+                                                  winSize=(15, 15), maxLevel=2)
         new = new.reshape(-1, 2).astype(np.float64)
         new[status.ravel() == 0] = np.nan
         return new
