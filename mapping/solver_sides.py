@@ -85,6 +85,19 @@ def either_side(high: tuple[np.ndarray, np.ndarray] | None, low: tuple[np.ndarra
             np.where((seen_up & ~seen_down)[:, None], up / ratio, down))
 
 
+def own_motion(up: np.ndarray, down: np.ndarray, own: np.ndarray) -> np.ndarray:
+    """How far each marker moves per unit of share, at most, for a motor whose rule reads it,
+    ``(M,)``, 0 for a marker no rule reads; ``up`` and ``down`` ``(K, M, 3)``: the motors' sides,
+    ``own`` ``(M, K)``: which markers each motor's rule reads.
+
+    >>> up = np.zeros((2, 2, 3)); up[0, 0, 1], up[1, 0, 1], up[1, 1, 1] = 3.0, 0.9, 8.9
+    >>> own_motion(up, np.zeros_like(up), np.array([[True, False], [False, True]])).tolist()
+    [3.0, 8.9]
+    """
+    motion = np.maximum(np.linalg.norm(up, axis=2), np.linalg.norm(down, axis=2)).T  # (M, K)
+    return np.where(own, np.nan_to_num(motion), 0.0).max(axis=1, initial=0.0)
+
+
 def _shared_part(part: np.ndarray, seen: np.ndarray) -> np.ndarray:
     """Each marker's mean ``part`` ``(F, M)`` of the motion over the frames it is ``seen``, ``(M,)``."""
     return (part * seen).sum(axis=0) / np.maximum(seen.sum(axis=0), 1)
