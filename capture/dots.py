@@ -229,8 +229,8 @@ class DotTracker:
             self._prev_gray = cv2.cvtColor(self._prev_image, cv2.COLOR_BGR2GRAY)
         self._gray = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
         start = points.astype(np.float32).reshape(-1, 1, 2)
-        # nextPts is an output buffer here (no OPTFLOW_USE_INITIAL_FLOW); a real array type-checks under every
-        # OpenCV's stubs, where None was refused by 4.x's and accepted by 5.1's
+        # nextPts is only an output buffer here (no OPTFLOW_USE_INITIAL_FLOW). An array type-checks under
+        # OpenCV 4.x's stubs and 5.1's alike; None was refused by the first and accepted by the second
         new, status, _ = cv2.calcOpticalFlowPyrLK(self._prev_gray, self._gray, start, start.copy(),
                                                   winSize=(15, 15), maxLevel=2)
         new = new.reshape(-1, 2).astype(np.float64)
