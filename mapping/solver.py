@@ -357,9 +357,9 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
         slide_up[k], slide_down[k] = up[k][fixed], down[k][fixed]  # all of it: the head fit's share-out
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
-        others = np.where(own_reach > 0.0, np.maximum(np.minimum(least, OTHERS_SHARE * own_reach), OTHERS_MM),
-                          max(least, OTHERS_MM))
-        small = np.where(far[:, k] > 0.0, others, max(least, SMALL_MM))  # (M,): others, own
+        share_of_own = np.where(own_reach > 0.0, OTHERS_SHARE * own_reach, np.inf)  # (M,): no rule's, no cap
+        small = np.where(far[:, k] > 0.0, np.maximum(np.minimum(least, share_of_own), OTHERS_MM),
+                         max(least, SMALL_MM))  # (M,): others, own
         small = np.where(coupled[:, k], SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
         for basis in (up[k], down[k]):  # what a motor does to a marker is what stands above the sweep's wobble
             basis[np.linalg.norm(basis, axis=1) < small] = 0.0
