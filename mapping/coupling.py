@@ -143,16 +143,28 @@ def _together(at: np.ndarray, other: np.ndarray, values: np.ndarray) -> bool | N
 
 
 def _joint_slopes(units: np.ndarray, drivers: dict[str, np.ndarray],
-                  columns: list[tuple[str, int]], at: np.ndarray) -> list[float]:
+                  columns: list[tuple[str, int]], at: np.ndarray) -> list[float | None]:
     """The slope of each ``(driver, side)`` of ``columns`` (side 0 below rest, 1 above): the
     source's ``units`` ``(F,)`` (from its level with every driver still) per unit of the driver's
     share (``drivers``: code -> its shares ``(F,)``, NaN unseen), on that side only, all fitted
     together through 0 over the frames ``at`` ``(F,)`` where any of them moved: where one driver's
     frames also hold another's motion (a brow part still raised as the next one sweeps), each
-    takes only its own."""
-    design = np.column_stack([np.where((2 * s - 1) * drivers[code][at] > 0, drivers[code][at], 0.0)
+    takes only its own. A frame where one of them is unseen is left out (read as still, its
+    motion went to the others moving with it); a side left with fewer than :data:`MIN_FRAMES`
+    frames of its own is None, as one not shown.
+
+    >>> t = np.linspace(0.0, 1.0, 40)
+    >>> a, b = np.r_[t, t], np.r_[0 * t, t]  # A rises alone, then both
+    >>> units, a[65:] = 2 * a + b, np.nan  # A lost while both rose
+    >>> [round(v, 6) for v in _joint_slopes(units, {"A": a, "B": b}, [("A", 1), ("B", 1)], np.r_[t, t] > 0.3)]
+    [2.0, 1.0]
+    """
+    rows = np.flatnonzero(at & np.all([np.isfinite(drivers[code]) for code, _ in columns], axis=0))
+    design = np.column_stack([np.where((2 * s - 1) * drivers[code][rows] > 0, drivers[code][rows], 0.0)
                               for code, s in columns])
-    return [float(v) for v in np.linalg.lstsq(design, units[at], rcond=None)[0]]
+    slopes = np.linalg.lstsq(design, units[rows], rcond=None)[0] if len(rows) else np.zeros(len(columns))
+    enough = (design != 0.0).sum(axis=0) >= MIN_FRAMES
+    return [float(v) if shown else None for v, shown in zip(slopes, enough, strict=True)]
 
 
 def recorded_jitter(mapping: Mapping, positions: np.ndarray, columns: dict[str, int]) -> dict[str, float]:
