@@ -19,7 +19,7 @@ noise: each marker's noise is capped at twice the take's median over its markers
 That cascade is symmetric: where it judges a marker to hold next to a move (a saccade's
 landing, a lid settling into a squint, a move too small against the noise for the test to see),
 its heavy low-passes, half a second to a second long, reach across the move and round its start
-and end. So where the cascade's first level did not keep the take's low-pass, half the result
+and end. So where the cascade's first level did not keep the take's low-pass, most of the result
 (:data:`ICI_SHARE`) is a second estimate that keeps such edges, by LPA-ICI (local approximation
 with the intersection of confidence intervals; Katkovnik, Egiazarian and Astola, *Local
 Approximation Techniques in Signal and Image Processing*, 2006): at each sample, the mean of the
@@ -29,7 +29,7 @@ deviation, from the same noise) still meets those of all the shorter ones and of
 itself, the three means weighted by the inverse of their variances. At a pose's first samples
 the window reaching forward grows long and the one reaching back stays short; along a slow,
 smooth motion the cascade's low-passes are the better guess, and the two errors differ enough
-that their mean beats either. Where the cascade sees motion (a blink, a saccade) the take's
+that a blend of the two beats either. Where the cascade sees motion (a blink, a saccade) the take's
 low-pass is kept as before: ICI accepts a window whose mean misses by up to its interval, which
 took 0.13 mm off a 3.5 mm blink's depth.
 
