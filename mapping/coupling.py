@@ -149,8 +149,8 @@ def _joint_slopes(units: np.ndarray, drivers: dict[str, np.ndarray],
     share (``drivers``: code -> its shares ``(F,)``, NaN unseen), on that side only, all fitted
     together through 0 over the frames ``at`` ``(F,)`` where any of them moved: where one driver's
     frames also hold another's motion (a brow part still raised as the next one sweeps), each
-    takes only its own. A frame where one of them is unseen is left out (read as still, its
-    motion went to the others moving with it); a side left with fewer than :data:`MIN_FRAMES`
+    takes only its own. A frame where one of them is unseen is left out: read as still there, its
+    motion went to the others moving with it. A side left with fewer than :data:`MIN_FRAMES`
     frames of its own is None, as one not shown.
 
     >>> t = np.linspace(0.0, 1.0, 40)
