@@ -6,6 +6,11 @@ the profile (given, calibrated, typical, from the take), per mapped motor the sh
 pinned at 0 and at 1 and the share of its range used, and every warning. A motor pinned at a
 bound it does not rest at for more than :data:`PINNED_SHARE` of the take is a warning: its range
 is narrower than the take's motion (or the rest is wrong), and the cartoon holds still there.
+A motor that no seen marker drove for :data:`GUESSED_SECONDS` or more at a stretch (its markers
+hidden, filled from the others or left to the loss policy) is named in a note with its longest
+stretch: there it moves as the other markers foretell, and a motion of its own is lost (a head
+turned away hid one brow's outer marker while that brow alone was raised: the fourth bench
+performer's outer brow read 0.63 where it was at 0.88).
 """
 
 from __future__ import annotations
@@ -16,6 +21,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from mapping.gaps import gap_runs
+from mapping.mapper import FILLED_QUALITY
 from toon import MOTOR_CODES, MotorTrack
 
 if TYPE_CHECKING:
@@ -27,6 +34,8 @@ PINNED_WITHIN = 0.005
 PINNED_SHARE = 0.10
 #: A motor rests at a bound when its neutral is within this of it.
 RESTS_AT = 0.05
+#: A motor driven by no seen marker for this long (s) at a stretch is named in a note.
+GUESSED_SECONDS = 1.0
 WARNING = "warning: "
 
 
@@ -98,8 +107,17 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
         notes.append(f"both upper lids' markers were lost together in {blinks}, at "
                      f"{', '.join(f'{t:g}' for t in finished)} s: the lids finish {them} as the take's own blinks "
                      "reopen, not as the gaps were filled")
-    motors: dict[str, dict[str, float]] = {}
     mapped = [c for c in MOTOR_CODES if c in track.meta.get("mapped", MOTOR_CODES)]
+    if track.confidence is not None and ready.prepared.take.markers:
+        times = ready.prepared.take.times
+        stretches = guessed_stretches(track.confidence[:, [MOTOR_CODES.index(c) for c in mapped]], track.rate,
+                                      mapped, float(times[0]) if len(times) else 0.0)
+        if stretches:
+            notes.append(f"no seen marker drove these for {GUESSED_SECONDS:g} s or more at a stretch (their markers "
+                         "hidden: filled from the others, or the loss policy): there they move as the other markers "
+                         "foretell, and a motion of their own (one brow raised alone) is lost; the longest stretch "
+                         "and the share of the take in all: " + ", ".join(stretches))
+    motors: dict[str, dict[str, float]] = {}
     columns = [MOTOR_CODES.index(c) for c in mapped]
     values = track.values[:, columns]
     seen = np.isfinite(values)
@@ -122,3 +140,27 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
                                 "not a rest); a calibration (--calibrate) or --neutral may fit it")
     return TakeReport(take or ready.prepared.take.meta.get("file", "the take"), units_text, ready.rest or "given",
                       ready.profile_kind or "given", motors, warned, notes, detail)
+
+
+def guessed_stretches(confidence: np.ndarray, rate: float, codes: list[str], start: float = 0.0) -> list[str]:
+    """Each motor (``codes``, the columns of ``confidence`` ``(F, K)``) that no seen marker drove
+    (confidence at most :data:`mapping.mapper.FILLED_QUALITY`: made up, or lost) for at least
+    :data:`GUESSED_SECONDS` at a stretch, as "code, its longest stretch (s) and when it began (s,
+    the first frame at ``start``), its share of the frames in all"; frames at ``rate`` per second.
+
+    >>> conf = np.ones((300, 2))
+    >>> conf[30:150, 0], conf[200:210, 0], conf[10:40, 1] = 0.5, 0.0, 0.5
+    >>> guessed_stretches(conf, 100.0, ["BLL", "BLC"], start=2.0)
+    ['BLL 1.2 s at 2.3 s (43%)']
+    """
+    unseen = np.asarray(confidence) <= FILLED_QUALITY + 1e-9
+    out = []
+    for k, code in enumerate(codes):
+        runs = gap_runs(unseen[:, k])
+        if not runs:
+            continue
+        first, end = max(runs, key=lambda run: run[1] - run[0])
+        seconds = (end - first) / rate
+        if seconds >= GUESSED_SECONDS:
+            out.append(f"{code} {seconds:.1f} s at {start + first / rate:.1f} s ({unseen[:, k].mean():.0%})")
+    return out

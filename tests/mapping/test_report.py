@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from capture import Take, load_markerset, save_take, synthesize
-from mapping import calibrate, choose_mapping, prepare
+from mapping import calibrate, choose_mapping, map_take, prepare
 from mapping.report import TakeReport, take_report
 from mapping.workflow import map_ready, ready_take
 from toon import MOTOR_CODES, MotorTrack, motor_index, standard_neutral
@@ -140,3 +140,17 @@ def test_the_blinks_a_take_shows_shut_the_cartoons_eyes(realdata):
         assert np.median(lid) > 0.75  # open between them
     told = next(n for n in track.meta["notes"] if n.startswith("lids shut where the take's own blinks"))
     assert "Reye_Up.y" in told and "Leye_Up.y" in told and "4 blinks" in told
+
+
+def test_the_report_names_a_motor_that_no_seen_marker_drove_for_a_second_or_more():
+    """The left outer brow's marker hidden for 1.5 s of 8 (19 %): BLL is named with that stretch;
+    the right one's hidden for 0.5 s is not (a short gap filled from its neighbours is no news)."""
+    take = synthesize(seconds=8.0, rate=60.0, noise_mm=0.0, seed=5).take
+    positions = take.positions.copy()
+    positions[(take.times >= 3.0) & (take.times < 4.5), take.index("BROW_L_LAT")] = np.nan
+    positions[(take.times >= 6.0) & (take.times < 6.5), take.index("BROW_R_LAT")] = np.nan
+    track = map_take(Take(positions, take.labels, take.rate, times=take.times))
+    said = [n for n in track.meta["report"]["notes"] if n.startswith("no seen marker drove these for 1 s")]
+    assert len(said) == 1 and said[0].endswith(": BLL 1.5 s at 3.0 s (19%)"), track.meta["report"]["notes"]
+    full = map_take(take).meta["report"]["notes"]
+    assert not [n for n in full if n.startswith("no seen marker")], full
