@@ -155,7 +155,8 @@ def _joint_slopes(units: np.ndarray, drivers: dict[str, np.ndarray],
 
     >>> t = np.linspace(0.0, 1.0, 40)
     >>> a, b = np.r_[t, t], np.r_[0 * t, t]  # A rises alone, then both
-    >>> units, a[65:] = 2 * a + b, np.nan  # A lost while both rose
+    >>> units = 2 * a + b
+    >>> a[65:] = np.nan  # A lost while both rose
     >>> [round(v, 6) for v in _joint_slopes(units, {"A": a, "B": b}, [("A", 1), ("B", 1)], np.r_[t, t] > 0.3)]
     [2.0, 1.0]
     """
