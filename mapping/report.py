@@ -109,9 +109,10 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
                      "reopen, not as the gaps were filled")
     mapped = [c for c in MOTOR_CODES if c in track.meta.get("mapped", MOTOR_CODES)]
     if track.confidence is not None and ready.prepared.take.markers:
-        times = ready.prepared.take.times
-        stretches = guessed_stretches(track.confidence[:, [MOTOR_CODES.index(c) for c in mapped]], track.rate,
-                                      mapped, float(times[0]) if len(times) else 0.0)
+        times = ready.prepared.take.times  # the track's frames: the take's, stretched by style's time_scale
+        stretches = guessed_stretches(track.confidence[:, [MOTOR_CODES.index(c) for c in mapped]],
+                                      track.rate * ready.mapping.style.time_scale, mapped,
+                                      float(times[0]) if len(times) else 0.0)
         if stretches:
             notes.append(f"no seen marker drove these for {GUESSED_SECONDS:g} s or more at a stretch (their markers "
                          "hidden: filled from the others, or the loss policy): there they move as the other markers "
@@ -146,7 +147,8 @@ def guessed_stretches(confidence: np.ndarray, rate: float, codes: list[str], sta
     """Each motor (``codes``, the columns of ``confidence`` ``(F, K)``) that no seen marker drove
     (confidence at most :data:`mapping.mapper.FILLED_QUALITY`: made up, or lost) for at least
     :data:`GUESSED_SECONDS` at a stretch, as "code, its longest stretch (s) and when it began (s,
-    the first frame at ``start``), its share of the frames in all"; frames at ``rate`` per second.
+    the first frame at ``start``), its share of the frames in all"; frames at ``rate`` per second of
+    the take (a track's rate times the time scale that stretched it).
 
     >>> conf = np.ones((300, 2))
     >>> conf[30:150, 0], conf[200:210, 0], conf[10:40, 1] = 0.5, 0.0, 0.5

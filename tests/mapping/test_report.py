@@ -154,3 +154,7 @@ def test_the_report_names_a_motor_that_no_seen_marker_drove_for_a_second_or_more
     assert len(said) == 1 and said[0].endswith(": BLL 1.5 s at 3.0 s (19%)"), track.meta["report"]["notes"]
     full = map_take(take).meta["report"]["notes"]
     assert not [n for n in full if n.startswith("no seen marker")], full
+    mapping, _ = choose_mapping(take)  # played at half speed: the stretch is still said in the take's seconds
+    slow = replace(mapping, style=replace(mapping.style, time_scale=2.0))
+    notes = map_take(Take(positions, take.labels, take.rate, times=take.times), slow).meta["report"]["notes"]
+    assert [n for n in notes if n.startswith("no seen marker")][0].endswith(": BLL 1.5 s at 3.0 s (19%)"), notes
