@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mapping.gaps import gap_runs
-from mapping.mapper import FILLED_QUALITY
+from mapping.mapper import made_up
 from toon import MOTOR_CODES, MotorTrack
 
 if TYPE_CHECKING:
@@ -108,18 +108,17 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
                      f"{', '.join(f'{t:g}' for t in finished)} s: the lids finish {them} as the take's own blinks "
                      "reopen, not as the gaps were filled")
     mapped = [c for c in MOTOR_CODES if c in track.meta.get("mapped", MOTOR_CODES)]
+    columns = [MOTOR_CODES.index(c) for c in mapped]
     if track.confidence is not None and ready.prepared.take.markers:
         times = ready.prepared.take.times  # the track's frames: the take's, stretched by style's time_scale
-        stretches = guessed_stretches(track.confidence[:, [MOTOR_CODES.index(c) for c in mapped]],
-                                      track.rate * ready.mapping.style.time_scale, mapped,
-                                      float(times[0]) if len(times) else 0.0)
+        stretches = guessed_stretches(track.confidence[:, columns], track.rate * ready.mapping.style.time_scale,
+                                      mapped, float(times[0]) if len(times) else 0.0)
         if stretches:
             notes.append(f"no seen marker drove these for {GUESSED_SECONDS:g} s or more at a stretch (their markers "
                          "hidden: filled from the others, or the loss policy): there they move as the other markers "
                          "foretell, and a motion of their own (one brow raised alone) is lost; the longest stretch "
                          "and the share of the take in all: " + ", ".join(stretches))
     motors: dict[str, dict[str, float]] = {}
-    columns = [MOTOR_CODES.index(c) for c in mapped]
     values = track.values[:, columns]
     seen = np.isfinite(values)
     count = np.maximum(seen.sum(axis=0), 1)
@@ -145,7 +144,7 @@ def take_report(ready: ReadyTake, track: MotorTrack, neutral: np.ndarray, take: 
 
 def guessed_stretches(confidence: np.ndarray, rate: float, codes: list[str], start: float = 0.0) -> list[str]:
     """Each motor (``codes``, the columns of ``confidence`` ``(F, K)``) that no seen marker drove
-    (confidence at most :data:`mapping.mapper.FILLED_QUALITY`: made up, or lost) for at least
+    (:func:`mapping.mapper.made_up`, or lost: confidence 0) for at least
     :data:`GUESSED_SECONDS` at a stretch, as "code, its longest stretch (s) and when it began (s,
     the first frame at ``start``), its share of the frames in all"; frames at ``rate`` per second of
     the take (a track's rate times the time scale that stretched it).
@@ -155,7 +154,8 @@ def guessed_stretches(confidence: np.ndarray, rate: float, codes: list[str], sta
     >>> guessed_stretches(conf, 100.0, ["BLL", "BLC"], start=2.0)
     ['BLL 1.2 s at 2.3 s (43%)']
     """
-    unseen = np.asarray(confidence) <= FILLED_QUALITY + 1e-9
+    confidence = np.asarray(confidence)
+    unseen = made_up(confidence) | (confidence <= 0.0)
     out = []
     for k, code in enumerate(codes):
         runs = gap_runs(unseen[:, k])

@@ -353,11 +353,11 @@ def learn_solver(codes: Sequence[str], own_markers: Sequence[Sequence[str]], loc
     for k in shown:
         up[k], down[k] = either_side(learned[k][0], learned[k][1], far[:, k] == 0.0)
     own_reach = own_motion(up, down, far == 0.0)  # (M,): what each marker's own motor moves it by
+    share_of_own = np.where(own_reach > 0.0, OTHERS_SHARE * own_reach, np.inf)  # (M,): no rule's, no cap
     for k in shown:
         slide_up[k], slide_down[k] = up[k][fixed], down[k][fixed]  # all of it: the head fit's share-out
         furthest = float(np.linalg.norm(np.concatenate([up[k], down[k]]), axis=1).max())
         least = min(SMALL_SHARE * furthest, WOBBLE_MM)
-        share_of_own = np.where(own_reach > 0.0, OTHERS_SHARE * own_reach, np.inf)  # (M,): no rule's, no cap
         small = np.where(far[:, k] > 0.0, np.maximum(np.minimum(least, share_of_own), OTHERS_MM),
                          max(least, SMALL_MM))  # (M,): others, own
         small = np.where(coupled[:, k], SMALL_MM, small)  # (M,): a coupling the mapping declares, down to the noise
