@@ -85,6 +85,29 @@ def _talk(messages, origin="http://{host}", host=None):
     return asyncio.run(run())
 
 
+def test_another_face_carries_the_motors_at_every_step_of_the_switch(monkeypatch):
+    """The page's test thread (or a frame) reading the session during a switch sees the motors as
+    set, never the new face at rest: the new face's animators start at the carried values."""
+    import toonface.studio.session as studio_session
+
+    session = StudioSession("classic")
+    session.set_motor("MB", 0.7)
+    session.set_motor("HT", 0.8)  # a parameter both faces have
+    session.set_motor("HAIR", 0.9)  # classic's alone: cat has no hair
+    seen = []
+    made = studio_session.FaceEditor
+
+    def watched(face):  # made after the face is loaded, while the switch is under way
+        seen.append((session.face.name, float(session.values[motor_index("MB")]), session.extra_values()["HT"]))
+        return made(face)
+
+    monkeypatch.setattr(studio_session, "FaceEditor", watched)
+    session.set_face("cat")
+    assert seen == [("cat", 0.7, 0.8)]
+    assert session.values[motor_index("MB")] == 0.7 and session.extra_values()["HT"] == 0.8
+    assert "HAIR" not in session.extra_values() and session.extra_values()["WHISK"] == 0.5  # cat's own at rest
+
+
 def test_the_server_serves_its_page_and_applies_messages():
     status, replies, session = _talk([{"op": "motor", "code": "MB", "value": 0.8}, {"op": "play", "name": "nope"},
                                       {"op": "jump"}, "not json", {"op": "drag", "point": "MB"}])

@@ -113,13 +113,17 @@ class StudioSession:
         self.looping: str | None = None  # an expression played to and from neutral until a slider moves
         self._back = False  # the looping expression's next move: back to neutral
 
-    def _load(self, face: str | Face) -> None:
+    def _load(self, face: str | Face, values: np.ndarray | None = None, extra: dict[str, float] | None = None) -> None:
+        """The face and what is made from it, its motors at ``values`` ``(21,)`` (its neutral if
+        None) and its parameters beyond the 21 at ``extra``'s where it names them: each animator
+        starts there, so no moment shows the new face at rest (the test thread of a page, or a
+        frame, reading between two steps of a switch)."""
         self.face = load_face(face) if isinstance(face, str) else face
         self.rig = FaceRig(self.face)
         self.neutral = self.face.neutral()
-        self.animator = Animator(self.neutral, self.loop_time)
-        rests = self.face.extra_neutral()  # the face's parameters beyond the 21, moved as the motors are
-        self.moved = Animator(np.array([rests[c] for c in self.face.extra_codes]), self.loop_time,
+        self.animator = Animator(self.neutral if values is None else np.clip(values, 0.0, 1.0), self.loop_time)
+        rests = {**self.face.extra_neutral(), **(extra or {})}  # the face's parameters beyond the 21
+        self.moved = Animator(np.clip([rests[c] for c in self.face.extra_codes], 0.0, 1.0), self.loop_time,
                               self.face.extra_codes)
         self.motion = SecondaryMotion(self.face)  # the face's physics, live: drag the head, the hair swings
         self.handles = tuple(Handle(p, tuple((m.code, m.axis) for m in MOTORS if m.point == p))
@@ -128,13 +132,10 @@ class StudioSession:
     def set_face(self, face: str | Face) -> None:
         """Show another face (a name or file, which the face editor starts from, or the face
         editor's latest) with the same motor values."""
-        values, extra = self.animator.values(), self.extra_values()
-        self._load(face)
+        self._load(face, self.animator.values(), self.extra_values())
         if isinstance(face, str):
             self.face_name = face
             self.faces = FaceEditor(self.face)
-        self.animator.set_values(values)
-        self.moved.jump({code: v for code, v in extra.items() if code in self.face.extra_codes})
         self.editor.neutral = self.neutral
         self.editor.declared = self.face.extra_neutral()
         if self.tuner is not None:
