@@ -10,7 +10,8 @@ import sys
 import numpy as np
 import pytest
 
-from bench.lipsync_train import PHONE_SCALES
+from bench.lipsync_data import Clip
+from bench.lipsync_train import LAGS, PHONE_SCALES, lag_rs, shifted
 from capture.voice import LOOKAHEAD, blend
 from capture.voice_model import MEL_BANDS, in_context, mel_filters, model_from_dict, shipped_model
 from capture.voice_sound import learned_opening, sound_units
@@ -70,6 +71,26 @@ def test_the_learned_opening_follows_the_syllables_of_a_voice_it_never_heard_and
 
 
 @pytest.mark.slow  # two GRID clips tracked, heard and learned from, twice (about a minute)
+def test_a_clips_truth_is_put_in_step_with_its_sound_by_the_lag_its_opening_follows_best():
+    """A clip whose sound comes 50 ms after its mouth (the lip gap now is the opening the sound
+    gives 50 ms later): its opening follows the gap best read 5 frames later, and the truth
+    shifted by that lag follows the opening itself frame for frame (as sampled at 25 frames/s),
+    what training fits; unshifted or shifted the other way, it does not."""
+    rng = np.random.default_rng(4)
+    frames = 400
+    opening = blend(blend((rng.random(frames) < 0.1).astype(float)))  # (frames,) at 100 Hz, smooth
+    video_times = np.arange(0.0, (frames - 10) / 100.0, 0.04)  # 25 frames/s
+    gap = np.interp(video_times + 0.05, np.arange(frames) / 100.0, opening)
+    clip = Clip("c", "c", "grid", np.zeros(frames * 160), video_times, gap)
+    lag = int(LAGS[int(np.argmax(lag_rs(opening, clip)))])
+    assert lag == 5
+    truth = np.interp(np.arange(frames) / 100.0, video_times, gap)  # the gap on the sound's clock
+    inside = slice(10, int(video_times[-1] * 100) - 10)
+    step = np.corrcoef(shifted(truth, lag)[inside], opening[inside])[0, 1]
+    late, early = (np.corrcoef(shifted(truth, k)[inside], opening[inside])[0, 1] for k in (0, -lag))
+    assert step > 0.98 and step > late + 0.1 and step > early + 0.2, (step, late, early)
+
+
 def test_the_training_command_rebuilds_the_same_weights_bit_for_bit(tmp_path, realdata):
     """On a small subset (the two GRID clips, two speakers): two runs of the command, in two
     processes, write the same bytes for both models, models that load."""
