@@ -56,8 +56,8 @@ def rigid_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray) -> t
 
     >>> rest = np.array([[-60.0, 10, -30], [60, 10, -30], [0, 50, 10], [0, -40, 30]])
     >>> w, t = rigid_shift(rest, np.tile([0.0, 1.0, 0.0], (1, 4, 1)), np.ones(4, bool))
-    >>> np.round(w, 6).tolist(), np.round(t, 6).tolist()  # all moved up by 1: the fit moves them back
-    ([[0.0, -0.0, -0.0]], [[-0.0, -1.0, -0.0]])
+    >>> (np.round(w, 6) + 0.0).tolist(), (np.round(t, 6) + 0.0).tolist()  # all up by 1: the fit moves them back
+    ([[0.0, 0.0, 0.0]], [[0.0, -1.0, 0.0]])
     """
     p = rest[seen]
     design = np.zeros((len(p), 3, 6))  # (k, coordinate, [w, t]): w x p = -p x w
