@@ -114,7 +114,8 @@ def prepare(clip: Clip, rng: np.random.Generator, words: bool = False) -> Prepar
     from capture.voice_sound import sound_units
     from capture.voice_words import presence
 
-    targets = np.stack([shifted(clip.target(), int(lag)) for lag in LAGS], axis=1)  # (frames, len(LAGS))
+    target = clip.target()
+    targets = np.stack([shifted(target, int(lag)) for lag in LAGS], axis=1)  # (frames, len(LAGS))
     phones = recognise_words(clip.sound) if words else None
     heard_phones = presence(phones, clip.frames, speaking(clip.sound, clip.frames)) if phones is not None else None
     keys = [(context, scale) for context in CONTEXTS for scale in ((0.0, *PHONE_SCALES) if words else (0.0,))]
@@ -134,9 +135,11 @@ def prepare(clip: Clip, rng: np.random.Generator, words: bool = False) -> Prepar
 
 def shifted(target: np.ndarray, lag: int) -> np.ndarray:
     """``target`` ``(frames,)`` ``lag`` frames later (its value at frame ``i - lag`` at ``i``, the
-    ends held): the truth of a clip whose sound comes ``lag`` frames after its mouth, put in step."""
-    at = np.arange(len(target), dtype=float) - lag
-    return np.interp(at, np.arange(len(target), dtype=float), target)
+    ends held, as :func:`capture.voice_model.in_context` reads a frame's neighbours): the truth of a
+    clip whose sound comes ``lag`` frames after its mouth, put in step."""
+    from capture.voice_model import in_context
+
+    return in_context(target[:, None], (-lag,))[:, 0]
 
 
 def fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float, scale: float = 0.0

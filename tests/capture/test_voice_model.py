@@ -70,7 +70,6 @@ def test_the_learned_opening_follows_the_syllables_of_a_voice_it_never_heard_and
     assert np.corrcoef(curve[20:-20], syllables[20:-20])[0, 1] > 0.5
 
 
-@pytest.mark.slow  # two GRID clips tracked, heard and learned from, twice (about a minute)
 def test_a_clips_truth_is_put_in_step_with_its_sound_by_the_lag_its_opening_follows_best():
     """A clip whose sound comes 50 ms after its mouth (the lip gap now is the opening the sound
     gives 50 ms later): its opening follows the gap best read 5 frames later, and the truth
@@ -91,6 +90,7 @@ def test_a_clips_truth_is_put_in_step_with_its_sound_by_the_lag_its_opening_foll
     assert step > 0.98 and step > late + 0.1 and step > early + 0.2, (step, late, early)
 
 
+@pytest.mark.slow  # two GRID clips tracked, heard and learned from, twice (about a minute)
 def test_the_training_command_rebuilds_the_same_weights_bit_for_bit(tmp_path, realdata):
     """On a small subset (the two GRID clips, two speakers): two runs of the command, in two
     processes, write the same bytes for both models, models that load."""
