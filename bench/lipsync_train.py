@@ -91,13 +91,13 @@ class Prepared:
     units: np.ndarray  # (frames, 3 + MEL_BANDS) the sound as heard (capture.voice_sound.sound_units)
     # n, sum x, sum xx^T, then sum y (len(LAGS),) and sum xy (len(LAGS), D) with the truth shifted by each lag
     sums: dict[tuple[tuple[int, ...], float], tuple[np.ndarray, ...]]
-    presence: np.ndarray | None = None  # (frames, len(PHONES)) the words' phones heard in it, for the words model
+    presence: np.ndarray | None = None  # (frames, len(WORDS_READ)) what the words model reads of the words heard in it
     phones: list | None = None  # the phones of the words heard in it (capture.voice.Phone), for the words model
 
 
 def rows(units: np.ndarray, presence: np.ndarray | None, context: tuple[int, ...], scale: float) -> np.ndarray:
-    """A clip's feature rows: its spectra in ``context``, then (``scale`` > 0) its phones'
-    presence times ``scale``."""
+    """A clip's feature rows: its spectra in ``context``, then (``scale`` > 0) what the words
+    model reads of its words (:func:`capture.voice_words.words_read`) times ``scale``."""
     from capture.voice_model import in_context
 
     x = in_context(units[:, 3:], context)
@@ -112,12 +112,12 @@ def prepare(clip: Clip, rng: np.random.Generator, words: bool = False) -> Prepar
     ``words``, each of :data:`PHONE_SCALES` with the words heard in it), with its target."""
     from capture.voice import recognise_words, speaking
     from capture.voice_sound import sound_units
-    from capture.voice_words import presence
+    from capture.voice_words import words_read
 
     target = clip.target()
     targets = np.stack([shifted(target, int(lag)) for lag in LAGS], axis=1)  # (frames, len(LAGS))
     phones = recognise_words(clip.sound) if words else None
-    heard_phones = presence(phones, clip.frames, speaking(clip.sound, clip.frames)) if phones is not None else None
+    heard_phones = words_read(phones, clip.frames, speaking(clip.sound, clip.frames)) if phones is not None else None
     keys = [(context, scale) for context in CONTEXTS for scale in ((0.0, *PHONE_SCALES) if words else (0.0,))]
     sums: dict[tuple[tuple[int, ...], float], tuple[np.ndarray, ...]] = {}
     heard = None
@@ -168,7 +168,7 @@ def lags(prepared: Sequence[Prepared], model) -> dict[str, int]:
 def _fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float, scale: float, by_clip: dict[str, int]
          ) -> tuple[np.ndarray, np.ndarray, float]:
     """:func:`fit`'s ridge with each clip's truth shifted by its lag in ``by_clip`` (0 where absent)."""
-    from capture.voice_words import PHONES
+    from capture.voice_words import WORDS_READ
 
     key = (context, scale)
     at = {p.clip.name: int(np.flatnonzero(LAGS == by_clip.get(p.clip.name, 0))[0]) for p in prepared}
@@ -185,17 +185,17 @@ def _fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float, s
     mean = np.asarray(mean, float)
     unscale = np.ones(len(mean))
     if scale:
-        unscale[len(mean) - len(PHONES):] = scale
+        unscale[len(mean) - len(WORDS_READ):] = scale
     return mean / unscale, weights * unscale / span, (y_mean - float(low)) / span
 
 
 def model_of(parts: tuple[np.ndarray, np.ndarray, float], context: tuple[int, ...], notes: dict | None = None,
              words: bool = False):
     from capture.voice_model import MouthModel
-    from capture.voice_words import PHONES
+    from capture.voice_words import WORDS_READ
 
     mean, weights, bias = parts
-    return MouthModel(tuple(context), mean, weights, bias, notes or {}, PHONES if words else ())
+    return MouthModel(tuple(context), mean, weights, bias, notes or {}, WORDS_READ if words else ())
 
 
 def opening_of(prepared: Prepared, model) -> np.ndarray:

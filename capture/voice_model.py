@@ -17,8 +17,9 @@ page "The voice's mouth model").
 
 A second model (``data/models/voice_mouth_words.json``, :func:`shipped_words_model`) reads, beside
 the spectrum, the phones of the words an English recogniser heard (:mod:`capture.voice_words`):
-each phone's presence per frame, blended over time as shapes are (:attr:`MouthModel.phones`), so
-that it knows an "i" from an "a" where the words were heard.
+each phone's presence per frame, blended over time as shapes are, and how long the vowel lasts
+(:attr:`MouthModel.phones`), so that it knows an "i" from an "a", and a drawn-out "a" from a
+short one, where the words were heard.
 
 The weights are package data and numpy is the whole of the inference: no download, no GPU.
 """
@@ -91,8 +92,10 @@ class MouthModel:
     notes : dict
         What the weights file says of itself (training speakers, held-out figures...).
     phones : tuple of str
-        The phones whose presence it reads after the spectra (``mean`` and ``weights`` then have
-        ``len(phones)`` more values, the last phone being silence); empty for a spectrum alone.
+        The names of what it reads of the words after the spectra (``mean`` and ``weights`` then
+        have ``len(phones)`` more values): each phone's presence, silence ("SIL") among them, and
+        possibly the vowel's length (:func:`capture.voice_words.words_read`); empty for a spectrum
+        alone.
     """
 
     offsets: tuple[int, ...]
@@ -118,19 +121,19 @@ class MouthModel:
 
     def features(self, unit_mel: np.ndarray, presence: np.ndarray | None = None) -> np.ndarray:
         """What the model reads of each frame, ``(frames, len(weights))``: the normalised spectra
-        ``(frames, MEL_BANDS)`` in context, then (for a model of :attr:`phones`) each phone's
-        presence ``(frames, len(phones))``."""
+        ``(frames, MEL_BANDS)`` in context, then (for a model of :attr:`phones`) what it reads of
+        the words ``(frames, len(phones))`` (:func:`capture.voice_words.words_read`)."""
         context = in_context(unit_mel, self.offsets)
         if not self.phones:
             return context
         if presence is None or presence.shape != (len(unit_mel), len(self.phones)):
-            raise ValueError(f"this model reads the presence of {len(self.phones)} phones in each of "
-                             f"{len(unit_mel)} frames")
+            raise ValueError(f"this model reads {len(self.phones)} values of the words "
+                             f"in each of {len(unit_mel)} frames")
         return np.concatenate([context, presence], axis=1)
 
     def opening(self, unit_mel: np.ndarray, presence: np.ndarray | None = None) -> np.ndarray:
         """The opening (0..1) of each frame of normalised spectra ``(frames, MEL_BANDS)`` (and, for
-        a model of :attr:`phones`, their presence ``(frames, len(phones))``)."""
+        a model of :attr:`phones`, what it reads of the words ``(frames, len(phones))``)."""
         return self.open_context(self.features(unit_mel, presence))
 
     def to_dict(self) -> dict:
@@ -150,6 +153,8 @@ def model_from_dict(doc: dict, source: str = "") -> MouthModel:
         mean, weights = np.asarray(doc["mean"], float), np.asarray(doc["weights"], float)
         if mean.shape != weights.shape or len(weights) != len(offsets) * MEL_BANDS + len(phones):
             raise ValueError("mean and weights must each have a value per offset and band, and per phone")
+        if phones and "SIL" not in phones:
+            raise ValueError("a model of the words must read silence (SIL) among its phones")
         notes = {k: v for k, v in doc.items() if k not in ("format", "mel_bands", "mel_range", "offsets", "phones",
                                                             "mean", "weights", "bias")}
         return MouthModel(offsets, mean, weights, float(doc["bias"]), notes, phones)

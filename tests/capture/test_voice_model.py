@@ -15,7 +15,7 @@ from bench.lipsync_train import LAGS, PHONE_SCALES, lag_rs, shifted
 from capture.voice import LOOKAHEAD, blend
 from capture.voice_model import MEL_BANDS, in_context, mel_filters, model_from_dict, shipped_model
 from capture.voice_sound import learned_opening, sound_units
-from capture.voice_words import PHONES
+from capture.voice_words import WORDS_READ
 from common import InputError
 
 
@@ -104,7 +104,7 @@ def test_the_training_command_rebuilds_the_same_weights_bit_for_bit(tmp_path, re
     assert outputs[0] == outputs[1]
     sound, words = (model_from_dict(json.loads(doc)) for doc in outputs[0])
     assert sound.notes["trained_on"] == words.notes["trained_on"] == ["bbaf2n", "lbax4n"]
-    assert not sound.phones and words.phones == PHONES and words.notes["phone_scale"] in PHONE_SCALES
+    assert not sound.phones and words.phones == WORDS_READ and words.notes["phone_scale"] in PHONE_SCALES
 
 
 def test_the_clips_found_beside_the_shared_ones_are_sourced_new_speakers_with_a_face_and_its_sound():

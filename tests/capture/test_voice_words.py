@@ -9,7 +9,18 @@ import pytest
 from capture.voice import KERNEL, VISEMES, Phone, blend, openness
 from capture.voice_model import MEL_BANDS, MouthModel, model_from_dict, shipped_words_model
 from capture.voice_sound import BANDS, GATE
-from capture.voice_words import PHONES, presence, words_mouth, words_opening
+from capture.voice_words import (
+    LENGTH,
+    LONG_VOWEL,
+    PHONES,
+    WORDS_READ,
+    presence,
+    vowel_length,
+    words_mouth,
+    words_opening,
+    words_read,
+)
+from common import InputError
 from toonface.cli import main
 
 
@@ -24,6 +35,21 @@ def test_presence_is_each_phone_a_frame_blended_and_silence_the_rest():
     speech = np.ones(60, bool)
     speech[:25] = False  # no voice heard there: silence, whatever the phones say
     assert presence([Phone("AA", 0.10, 0.30)], 60, speech)[15, sil] == pytest.approx(1.0)
+
+
+def test_a_vowels_length_is_read_beside_the_phones_and_an_older_models_names_read_only_the_phones():
+    phones = [Phone("AA", 0.10, 0.25), Phone("M", 0.25, 0.35), Phone("IY", 0.35, 0.95)]
+    length = vowel_length(phones, 100)
+    assert length[17] == pytest.approx(0.15 / LONG_VOWEL)  # well inside AA: its 150 ms of the 300
+    assert length[60] == pytest.approx(1.0) and length[0] == 0.0  # a long IY reads 1; silence 0
+    assert length[27] == pytest.approx(0.5 * KERNEL[:3].sum())  # in M: AA's last 3 frames in the blend's reach
+    speech = np.ones(100, bool)
+    speech[:30] = False
+    assert vowel_length(phones, 100, speech)[17] == 0.0  # no voice there: no vowel
+    read = words_read(phones, 100)
+    assert WORDS_READ == (*PHONES, LENGTH) and read.shape == (100, len(WORDS_READ))
+    assert np.array_equal(read[:, :-1], presence(phones, 100)) and np.array_equal(read[:, -1], length)
+    assert np.array_equal(words_read(phones, 100, names=PHONES), presence(phones, 100))
 
 
 def _model_of_aa() -> MouthModel:
@@ -48,7 +74,7 @@ def test_the_opening_is_the_models_and_shuts_only_after_a_pause_with_neither_wor
     assert np.allclose(words_opening(loud, heard, always), 0.5)
     quiet = words_opening(units, heard, always)  # 200 ms either side of the word held, shut beyond
     assert np.allclose(quiet[25:75], 0.5) and np.allclose(quiet[:14], 0.0) and np.allclose(quiet[86:], 0.0)
-    with pytest.raises(ValueError, match="presence of"):
+    with pytest.raises(ValueError, match="values of the words"):
         model.opening(units[:, BANDS:])
 
 
@@ -66,13 +92,16 @@ def test_the_shapes_follow_the_phones_and_the_opening():
     assert openness(blend(weights))[30:40].min() > 0.8
 
 
-def test_the_shipped_words_model_reads_every_phone_and_says_how_it_was_made():
+def test_the_shipped_words_model_reads_every_phone_and_the_vowels_length_and_says_how_it_was_made():
     model = shipped_words_model()
-    assert model.phones == PHONES and len(model.weights) == len(model.offsets) * MEL_BANDS + len(PHONES)
+    assert model.phones == WORDS_READ and len(model.weights) == len(model.offsets) * MEL_BANDS + len(WORDS_READ)
     assert model.notes["command"] == "python -m bench.lipsync_train" and model.notes["phone_scale"] > 0
     assert set(model.notes["final_speakers"]) <= set(model.notes["trained_on"])
     again = model_from_dict(model.to_dict())
-    assert again.phones == PHONES and again.weights.tolist() == model.weights.tolist()
+    assert again.phones == WORDS_READ and again.weights.tolist() == model.weights.tolist()
+    doc = model.to_dict()
+    with pytest.raises(InputError, match="must read silence"):  # words_opening shuts on it
+        model_from_dict({**doc, "phones": [p if p != "SIL" else "QUIET" for p in doc["phones"]]})
 
 
 @pytest.mark.slow  # over a second: make test runs it, test-fast does not
