@@ -76,6 +76,12 @@ class Phone:
     end: float
     word: str = ""
 
+    @property
+    def frames(self) -> slice:
+        """The 10 ms frames it spans (:data:`FRAME_RATE`), the nearest to its start and end, none
+        before the first."""
+        return slice(max(int(round(self.start * FRAME_RATE)), 0), max(int(round(self.end * FRAME_RATE)), 0))
+
 
 def decode_voice(path: str | os.PathLike) -> np.ndarray:
     """The sound of ``path`` (a sound file or a video with sound), mono, 16 kHz, float32 in

@@ -51,8 +51,7 @@ def presence(phones: list[Phone], frames: int, speech: np.ndarray | None = None,
     index = np.full(frames, len(names) - 1)
     for phone in phones:
         if phone.name in names[:-1]:
-            index[max(int(round(phone.start * 100)), 0):max(int(round(phone.end * 100)), 0)] = \
-                names.index(phone.name)
+            index[phone.frames] = names.index(phone.name)
     if speech is not None:
         index[~speech[:frames]] = len(names) - 1
     rows = np.zeros((frames, len(names)))
@@ -74,8 +73,7 @@ def vowel_length(phones: list[Phone], frames: int, speech: np.ndarray | None = N
     length = np.zeros(frames)
     for phone in phones:
         if phone.name in VOWELS:
-            length[max(int(round(phone.start * 100)), 0):max(int(round(phone.end * 100)), 0)] = \
-                min((phone.end - phone.start) / LONG_VOWEL, 1.0)
+            length[phone.frames] = min((phone.end - phone.start) / LONG_VOWEL, 1.0)
     if speech is not None:
         length[~speech[:frames]] = 0.0
     return blend(length[:, None])[:, 0]
