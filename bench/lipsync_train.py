@@ -147,8 +147,8 @@ def fit(prepared: Sequence[Prepared], context: tuple[int, ...], alpha: float, sc
     """Ridge regression on ``prepared``'s rows, each clip's truth put in step with its sound
     (:func:`lags`), rescaled so that its openings over those clips as heard span 0 to 1 between
     their 5th and 95th percentiles (a ridge's predictions shrink towards their mean; the mouth
-    should still shut and open wide): ``(mean, weights, bias)`` of features whose phones
-    (``scale`` > 0) are their presence unscaled."""
+    should still shut and open wide): ``(mean, weights, bias)`` of features whose columns of the
+    words (``scale`` > 0: :data:`capture.voice_words.WORDS_READ`) are unscaled."""
     first = _fit(prepared, context, alpha, scale, {})
     return _fit(prepared, context, alpha, scale, lags(prepared, model_of(first, context, words=scale > 0)))
 
