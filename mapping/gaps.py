@@ -23,10 +23,15 @@ frames to learn from, or one of a marker apart stays NaN.
 
 Markers ``apart`` from the face (a marker set's ``independent`` ones: the pupils, whose gaze the
 lips and brows do not foretell) are predicted only from each other, and never predict the rest;
-where none of them is seen across a gap (both irises behind blinking lids) the gap is bridged by
-a straight line, which neither dips with the lids nor overshoots as a spline through them does;
-it runs between the medians of one or five samples either side, whichever the marker's own
-stand-in gaps fill better (:func:`mapping.gap_fit.line_edge`).
+where none of them is seen at any moment of a gap (both irises behind blinking lids) the gap is
+bridged by a straight line, which neither dips with the lids nor overshoots as a spline through
+them does; it runs between the medians of one or five samples either side, whichever the
+marker's own stand-in gaps fill better (:func:`mapping.gap_fit.line_edge`). Where another is seen
+through part of the gap, the gap is regressed on it as the face's are on theirs, once that one's
+own gap has been bridged: the eyes move together, and a look that starts after one pupil is lost
+and before the other is shows in the other (a straight line across held the lost one where it
+was: on one take of the own bench performer a glance aside of half a second read as none, fitted error
+1.77 -> 1.30 %).
 """
 
 from __future__ import annotations
@@ -147,8 +152,8 @@ class GapFiller:
                 if at_edge:  # the markers seen through it say where it went; no spline reaches past an end
                     long_[start:end, m] = end - start > self.spline_frames
                     continue
-                if m in apart:
-                    partnered = any(k != m and not lasting[start:end, k].any() for k in apart)
+                if m in apart:  # another seen at some moment of the gap tells where this one went
+                    partnered = any(k != m and not lasting[start:end, k].all() for k in apart)
                     (long_ if partnered and not brief[start, m] else lined)[start:end, m] = True
                     continue
                 (short if end - start <= self.spline_frames else long_)[start:end, m] = True

@@ -40,3 +40,28 @@ def test_a_pupils_line_across_a_blink_does_not_start_at_one_stray_sample():
     assert off.max() < 0.5, off.max()  # the single sample's line started 1.3 mm off
     one_sample = 1.3 + (positions[430, 0, 1] - 1.3) * np.arange(1, 31) / 31
     assert np.abs(one_sample).max() > 1.2
+
+
+def test_a_pupil_lost_before_a_look_follows_the_other_seen_through_part_of_its_gap():
+    """The right pupil lost for a second, the left for half of it; the eyes look 6 mm aside just
+    after the right is lost, while the left is still seen. The left's seen part says where both
+    went, so the right's gap follows it; a straight line across (how the gap was bridged while only
+    a partner seen throughout it counted) held the right one near where it was for most of a
+    second."""
+    rng = np.random.default_rng(5)
+    t = np.arange(900) / RATE
+    gaze = np.zeros((900, 3))
+    for start, end, aside in ((100, 180, -4.0), (305, 400, 6.0), (500, 560, 6.0), (640, 700, -3.0)):
+        gaze[start:end, 0] = aside  # looks aside and back (mm), the eyes together
+    right = gaze + [30.0, 0.0, 10.0] + rng.normal(0.0, 0.1, (900, 3))
+    left = gaze + [-30.0, 0.0, 10.0] + rng.normal(0.0, 0.1, (900, 3))
+    positions = np.stack([right, left], axis=1)
+    positions[300:360, 0] = np.nan  # the right: lost at 300, the look at 305
+    positions[320:350, 1] = np.nan  # the left: seen through the look, lost a little after
+    filled = GapFiller().apply(positions, t, apart=[0, 1])
+    assert filled.filled[300:360, 0].all() and filled.filled[320:350, 1].all()
+    truth = right[310:360, 0]
+    off = np.abs(filled.positions[310:360, 0, 0] - truth)
+    assert off.max() < 1.0, off.max()
+    line = right[299, 0] + (right[360, 0] - right[299, 0]) * np.arange(11, 61) / 61
+    assert np.abs(line - truth).max() > 4.0  # what the straight line missed by
