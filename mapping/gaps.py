@@ -30,8 +30,8 @@ marker's own stand-in gaps fill better (:func:`mapping.gap_fit.line_edge`). Wher
 through part of the gap, the gap is regressed on it as the face's are on theirs, once that one's
 own gap has been bridged: the eyes move together, and a look that starts after one pupil is lost
 and before the other is shows in the other (a straight line across held the lost one where it
-was: on one take of the own bench performer a glance aside of half a second read as none, fitted error
-1.77 -> 1.30 %).
+was: on one take of the own bench performer a glance aside of half a second read as none,
+fitted error 1.77 -> 1.30 %).
 """
 
 from __future__ import annotations
