@@ -52,6 +52,8 @@ FINAL = ("lbax4n", "retalking-5", "vox-796100172")
 #: How strongly the phones count against the spectrum in the words model: their presence (0..1)
 #: times this before the ridge, whose one strength then shrinks them less.
 PHONE_SCALES = (3.0, 10.0, 30.0)
+#: Both models read the spectra's magnitudes too (:attr:`capture.voice_model.MouthModel.magnitude`).
+MAGNITUDE = True
 #: The augmentation's seed.
 SEED = 61
 LAGS = np.arange(-12, 13)
@@ -96,11 +98,12 @@ class Prepared:
 
 
 def rows(units: np.ndarray, presence: np.ndarray | None, context: tuple[int, ...], scale: float) -> np.ndarray:
-    """A clip's feature rows: its spectra in ``context``, then (``scale`` > 0) what the words
-    model reads of its words (:func:`capture.voice_words.words_read`) times ``scale``."""
-    from capture.voice_model import in_context
+    """A clip's feature rows: its spectra in ``context`` and their magnitudes
+    (:func:`capture.voice_model.spectra_read`), then (``scale`` > 0) what the words model reads of
+    its words (:func:`capture.voice_words.words_read`) times ``scale``."""
+    from capture.voice_model import spectra_read
 
-    x = in_context(units[:, 3:], context)
+    x = spectra_read(units[:, 3:], context, MAGNITUDE)
     if not scale:
         return x
     assert presence is not None, "a words model's rows need the phones heard"
@@ -195,7 +198,7 @@ def model_of(parts: tuple[np.ndarray, np.ndarray, float], context: tuple[int, ..
     from capture.voice_words import WORDS_READ
 
     mean, weights, bias = parts
-    return MouthModel(tuple(context), mean, weights, bias, notes or {}, WORDS_READ if words else ())
+    return MouthModel(tuple(context), mean, weights, bias, notes or {}, WORDS_READ if words else (), MAGNITUDE)
 
 
 def opening_of(prepared: Prepared, model) -> np.ndarray:

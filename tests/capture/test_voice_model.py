@@ -13,7 +13,7 @@ import pytest
 from bench.lipsync_data import Clip
 from bench.lipsync_train import LAGS, PHONE_SCALES, lag_rs, shifted
 from capture.voice import LOOKAHEAD, blend
-from capture.voice_model import MEL_BANDS, in_context, mel_filters, model_from_dict, shipped_model
+from capture.voice_model import MEL_BANDS, MouthModel, in_context, mel_filters, model_from_dict, shipped_model
 from capture.voice_sound import learned_opening, sound_units
 from capture.voice_words import WORDS_READ
 from common import InputError
@@ -21,12 +21,36 @@ from common import InputError
 
 def test_the_shipped_model_reads_the_spectrum_no_further_ahead_than_a_live_voice_waits():
     model = shipped_model()
-    assert model.lookahead <= LOOKAHEAD and len(model.weights) == len(model.offsets) * MEL_BANDS
+    assert model.magnitude and model.lookahead <= LOOKAHEAD  # the spectra in context, then their magnitudes
+    assert len(model.weights) == 2 * len(model.offsets) * MEL_BANDS
     assert model.notes["command"] == "python -m bench.lipsync_train"
     assert set(model.notes["final_speakers"]) <= set(model.notes["trained_on"])
-    assert model_from_dict(model.to_dict()).weights.tolist() == model.weights.tolist()  # (round trip, exactly)
+    again = model_from_dict(model.to_dict())
+    assert again.weights.tolist() == model.weights.tolist() and again.magnitude  # (round trip, exactly)
     with pytest.raises(InputError, match="not a voice mouth model"):
         model_from_dict({**model.to_dict(), "weights": [1.0]})
+    with pytest.raises(InputError, match="magnitude must be true or false"):
+        model_from_dict({**model.to_dict(), "magnitude": "yes"})
+    with pytest.raises(InputError, match="twice with magnitude"):  # the weights of a model without them
+        model_from_dict({**model.to_dict(), "magnitude": False})
+
+
+def test_a_model_that_reads_a_bands_magnitude_opens_as_the_band_departs_from_the_voices_level_either_way():
+    """One weight on the magnitude of one band: the opening grows with the band's distance from 0
+    (the voice's level), whether the band swells or falls silent; on the band itself it would
+    open one way only. A file of before, without the key, reads the spectra alone."""
+    band = 7
+    weights = np.zeros(2 * MEL_BANDS)
+    weights[MEL_BANDS + band] = 0.25
+    model = MouthModel((0,), np.zeros(2 * MEL_BANDS), weights, 0.0, {}, (), magnitude=True)
+    spectra = np.zeros((5, MEL_BANDS))
+    spectra[:, band] = [-3.0, -1.0, 0.0, 1.0, 3.0]
+    assert model.opening(spectra).tolist() == [0.75, 0.25, 0.0, 0.25, 0.75]
+    plain = MouthModel((0,), np.zeros(MEL_BANDS), weights[MEL_BANDS:], 0.0, {})
+    assert plain.opening(spectra).tolist() == [0.0, 0.0, 0.0, 0.25, 0.75]
+    doc = {**plain.to_dict(), "notes": "a file of before"}
+    assert "magnitude" not in doc and not model_from_dict(doc).magnitude
+    assert model_from_dict(model.to_dict()).opening(spectra).tolist() == [0.75, 0.25, 0.0, 0.25, 0.75]
 
 
 def test_mel_filters_cover_their_range_once_and_context_clamps_at_the_ends():

@@ -94,11 +94,12 @@ def test_the_shapes_follow_the_phones_and_the_opening():
 
 def test_the_shipped_words_model_reads_every_phone_and_the_vowels_length_and_says_how_it_was_made():
     model = shipped_words_model()
-    assert model.phones == WORDS_READ and len(model.weights) == len(model.offsets) * MEL_BANDS + len(WORDS_READ)
+    assert model.magnitude  # the spectra and their magnitudes, then the words
+    assert model.phones == WORDS_READ and len(model.weights) == 2 * len(model.offsets) * MEL_BANDS + len(WORDS_READ)
     assert model.notes["command"] == "python -m bench.lipsync_train" and model.notes["phone_scale"] > 0
     assert set(model.notes["final_speakers"]) <= set(model.notes["trained_on"])
     again = model_from_dict(model.to_dict())
-    assert again.phones == WORDS_READ and again.weights.tolist() == model.weights.tolist()
+    assert again.phones == WORDS_READ and again.weights.tolist() == model.weights.tolist() and again.magnitude
     doc = model.to_dict()
     with pytest.raises(InputError, match="must read silence"):  # words_opening shuts on it
         model_from_dict({**doc, "phones": [p if p != "SIL" else "QUIET" for p in doc["phones"]]})
