@@ -74,9 +74,9 @@ def voice_scale(mel: np.ndarray) -> np.ndarray:
 
 
 def spectra_read(unit_mel: np.ndarray, offsets: tuple[int, ...], magnitude: bool) -> np.ndarray:
-    """What a model reads of normalised spectra ``(frames, MEL_BANDS)``: them :func:`in_context`
-    of ``offsets``, then, with ``magnitude``, their magnitudes; ``(frames, len(offsets) *
-    MEL_BANDS)``, twice as wide with ``magnitude``.
+    """The normalised spectra ``unit_mel`` ``(frames, MEL_BANDS)`` as a model reads them: at the
+    frames ``offsets`` from each (:func:`in_context`), then, with ``magnitude``, each of those
+    values' magnitude; ``(frames, len(offsets) * MEL_BANDS)``, twice as wide with ``magnitude``.
 
     >>> spectra_read(np.array([[-1.0, 2.0], [0.5, -3.0]]), (0,), True).tolist()
     [[-1.0, 2.0, 1.0, 2.0], [0.5, -3.0, 0.5, 3.0]]
@@ -114,7 +114,7 @@ class MouthModel:
         possibly the vowel's length (:func:`capture.voice_words.words_read`); empty for a spectrum
         alone.
     magnitude : bool
-        Whether it reads each value of the spectra's magnitude beside it (:func:`spectra_read`).
+        Whether it reads, beside each value of the spectra, that value's magnitude (:func:`spectra_read`).
         Chosen on the 16 training speakers by leave-one-speaker-out (each model's choices as
         shipped then): the spectrum's model alone 0.363 -> 0.405 mean r (up on 16 clips of 17),
         the words' 0.550 -> 0.561 (12 of 17); squares instead gave 0.559 for the words', one bend
