@@ -30,6 +30,7 @@ from capture import synthesize
 from capture.performance import default_performance
 from mapping.filters import OneEuro
 from mapping.gaps import GapFiller
+from mapping.reference_bridge import fade_frames
 from mapping.stepwise import LIVE_BETA, LIVE_MIN_CUTOFF
 
 LIVE = {"min_cutoff": LIVE_MIN_CUTOFF, "beta": LIVE_BETA}  # the live sender's marker filter
@@ -55,9 +56,9 @@ def _solve_rate(quick: bool) -> Figure:
     solver, stable = profile.solver, prepared.stable
     assert solver is not None, "the sweep taught no solver"
     quality = marker_quality(stable.local, stable.filled)
-    trust = (quality > 0).astype(float)
+    trust, fade = (quality > 0).astype(float), fade_frames(syn.take.rate)
     with one_core() as pinned:
-        fps, runs = median_rate(lambda: len(solver.solve(stable.local, prepared.columns, trust, quality)[0]),
+        fps, runs = median_rate(lambda: len(solver.solve(stable.local, prepared.columns, trust, quality, fade)[0]),
                                 1 if quick else 5, warmup=1)
     return Figure("fidelity.solve_fps", fps, "frames/s", 20_000.0, True,
                   {"frames": len(stable.local), "rate_hz": 120.0, "motors": len(solver.codes),

@@ -42,7 +42,7 @@ from mapping.gaps import GapFiller, gap_runs
 from mapping.holds import HoldSmoother, fast_moves, marker_noise, put_back_moves
 from mapping.lost_poses import bridge_lost_poses, refine_poses, weak_references
 from mapping.outliers import SpikeFilter, centred_spikes
-from mapping.reference_bridge import bridge_edge
+from mapping.reference_bridge import bridge_edge, fade_frames
 from mapping.robust import jitter
 from mapping.settings import CleanSettings
 from mapping.stabilise import (
@@ -116,8 +116,8 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
     fit = fit_head(positions, rows, neutral)
     if isinstance(fit, Failure):
         return fit
-    edge = bridge_edge(take.rate)
-    first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows,
+    edge, fade = bridge_edge(take.rate), fade_frames(take.rate)
+    first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge, fade), positions, take.times, rows,
                                         settings.max_gap_seconds)
     rejected, swaps = 0, []
     if settings.spikes:
@@ -142,7 +142,7 @@ def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings =
         fit = refit_head(fit, positions, rows, new_references)
         if isinstance(fit, Failure):
             return fit
-        first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge), positions, take.times, rows,
+        first, bridged = _bridge_lost_poses(express(positions, rows, fit, edge, fade), positions, take.times, rows,
                                             settings.max_gap_seconds)
     del positions  # the world positions are done with
     found = markerset.match(take.labels)

@@ -24,6 +24,7 @@ from mapping.coupling import decoupled, driver_of
 from mapping.mapfile import Mapping, MotorRule
 from mapping.plan import MODES, ONLY_SIGN, MotorPlan, combine_pairs, normalise_pairs, resolved_mode, span_of
 from mapping.profile import Profile, SourceRange
+from mapping.reference_bridge import fade_frames
 from mapping.rules import MotorRules
 from mapping.solver import Solver
 from mapping.sources import Source, head_angles, measure
@@ -62,7 +63,7 @@ def map_stabilised(stable: Stabilised, columns: dict[str, int], times: np.ndarra
     check_profile(mapping, profile)
     neutral = extended_neutral(standard_neutral() if target_neutral is None else target_neutral)
     quality = marker_quality(stable.local, filled)
-    raw, confidence = motor_values(mapping, stable, columns, quality, profile, neutral)
+    raw, confidence = motor_values(mapping, stable, columns, quality, profile, neutral, fade=fade_frames(rate))
     invented = made_up(confidence)
     values = MotorRules(mapping, rate, neutral, seed).apply(raw, times, invented)
     values, finished = finish_blinks(values, invented, rate)  # offline only: it reads past the gap
@@ -97,7 +98,7 @@ def marker_quality(local: np.ndarray, filled: np.ndarray | None = None) -> np.nd
 
 
 def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], quality: np.ndarray,
-                 profile: Profile, neutral: np.ndarray, plan: MotorPlan | None = None
+                 profile: Profile, neutral: np.ndarray, plan: MotorPlan | None = None, fade: float = np.inf
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Each motor's value before the per-frame rules (:class:`mapping.rules.MotorRules`) and its
     confidence, both ``(F, 21)``: NaN where a mapped motor sees none of its sources, the face's
@@ -107,7 +108,8 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
     every (rule, source) pair is normalised in one pass, and the rules' sources are combined
     side by side, so that a single frame (the live sender's) costs a few dozen array
     operations, not a few per rule. ``plan``: the plan of the mapping's rules under ``profile``
-    for ``columns``, where the caller keeps one (made here otherwise)."""
+    for ``columns``, where the caller keeps one (made here otherwise); ``fade``: as
+    :meth:`mapping.solver.Solver.solve` has it."""
     frames = len(stable.local)
     neutral = extended_neutral(neutral)
     values = np.tile(neutral, (frames, 1))
@@ -120,7 +122,7 @@ def motor_values(mapping: Mapping, stable: Stabilised, columns: dict[str, int], 
         part = slice(first, first + FRAMES_AT_ONCE)
         combined[part], sure[part] = rule_shares(mapping, stable.frames(part), columns, quality[part], profile, plan)
     if profile.solver is not None:  # learned from a range-of-motion sweep: all motors at once (mapping.solver)
-        combined, sure = solved_shares(profile.solver, mapping, stable.local, columns, quality, combined, sure)
+        combined, sure = solved_shares(profile.solver, mapping, stable.local, columns, quality, combined, sure, fade)
     rest = np.asarray(neutral, dtype=float)[plan.columns]
     for first in range(0, frames, FRAMES_AT_ONCE):
         part = slice(first, first + FRAMES_AT_ONCE)
@@ -159,13 +161,13 @@ def rule_shares(mapping: Mapping, stable: Stabilised, columns: dict[str, int], q
 
 
 def solved_shares(solver: Solver, mapping: Mapping, local: np.ndarray, columns: dict[str, int], quality: np.ndarray,
-                  combined: np.ndarray, sure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                  combined: np.ndarray, sure: np.ndarray, fade: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
     """The rules' shares and confidence ``(F, R)`` with the motors ``solver`` knows solved all at
     once; the others' as the rules gave them. The fit believes a sample the gap filler made as
     it does a seen one (measured on the three synthetic performers: left out of the fit, or at a
     third, their frames solved from too few markers and erred two to three times as much); it
-    counts for half in the confidence, as in the rules'."""
-    shares, confidence = solver.solve(local, columns, (quality > 0).astype(float), quality)
+    counts for half in the confidence, as in the rules'. ``fade``: as :meth:`Solver.solve` has it."""
+    shares, confidence = solver.solve(local, columns, (quality > 0).astype(float), quality, fade)
     order = {code: k for k, code in enumerate(solver.codes)}
     combined, sure = combined.copy(), sure.copy()
     for r, rule in enumerate(mapping.rules):

@@ -229,11 +229,13 @@ class Solver:
         return Layout.of(self.up, self.down)
 
     def solve(self, local: np.ndarray, columns: dict[str, int], trust: np.ndarray | None = None,
-              quality: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+              quality: np.ndarray | None = None, fade: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
         """Each solved motor's share and confidence, both ``(F, K)``, from head-frame markers
         ``local`` ``(F, N, 3)`` (``columns``: label -> column); ``trust`` ``(F, N)``: how far the
         fit believes each sample, 0 to 1 (default: 1 where finite); ``quality`` ``(F, N)``: what
-        each sample counts for in the confidence (default: ``trust``). A share is NaN where its
+        each sample counts for in the confidence (default: ``trust``); ``fade``: the frames over
+        which cleaning's bridge faded what it carried into a lost reference's stretch
+        (:func:`mapping.reference_bridge.fade_frames` of the take's rate). A share is NaN where its
         confidence is below :data:`MIN_CONFIDENCE`."""
         used = self.layout.used  # the markers some motor moves: no other adds to a frame's equations
         cols, rest = np.array([columns[m] for m in self.markers])[used], self.rest[used]
@@ -256,7 +258,7 @@ class Solver:
             refs, at = [columns[m] for m in self.references], [self.markers.index(m) for m in self.references]
             seen = np.isfinite(local[:, refs]).all(axis=2) & (True if quality is None else quality[:, refs] >= 1.0)
             motion = reference_motion(shares, self.slide_up, self.slide_down, self.rest[at], seen,
-                                      local[:, refs] - self.rest[at])
+                                      local[:, refs] - self.rest[at], fade)
             lever = float(np.abs(self.rest).max(initial=0.0))  # (mm) the furthest marker from the origin
             frames = np.flatnonzero(np.linalg.norm(motion[:, :3], axis=1) * lever
                                     + np.linalg.norm(motion[:, 3:], axis=1) > SHIFT_MM)

@@ -18,9 +18,9 @@ are lost, the departures the motors solved there give the seen ones imply how fa
 those alone sits from the fit on all (a small rigid motion, by least squares over the seen
 references: :func:`rigid_shift`); that motion, less the one the bridge already carried across
 (the same motion at the nearest frames either side that saw every reference, blended across the
-stretch as the bridge blends; a stretch with no such neighbour the bridge left alone, and the
-whole motion is taken out), is taken out of every marker, and the frame is solved again. The
-motion is the solved motors' alone, never the markers' jitter.
+stretch and faded into it as the bridge blends and fades them; a stretch with no such neighbour
+the bridge left alone, and the whole motion is taken out), is taken out of every marker, and the
+frame is solved again. The motion is the solved motors' alone, never the markers' jitter.
 
 A sweep also teaches references that do not slide some motion (the head fit's jitter), so the
 take must bear the slides out first (:func:`slide_gain`): over its frames that see every
@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mapping.reference_bridge import across, stretches
+from mapping.reference_bridge import across, held, stretches
 
 #: Frames that see every reference needed to bear the sweep's slides out (:func:`slide_gain`).
 MIN_WHOLE = 100
@@ -69,7 +69,7 @@ def rigid_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray) -> t
     return solution[:, :3], solution[:, 3:]
 
 
-def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray) -> np.ndarray:
+def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray, fade: float = np.inf) -> np.ndarray:
     """How far the head fitted on the references seen sits from the one fitted on all of them,
     less what the bridge carried across, in each frame: the small rigid motion ``(F, 6)`` (a
     rotation vector, radians, and a translation, mm: :func:`rigid_shift`) to take out of the
@@ -83,6 +83,9 @@ def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray) 
         Where the solved motors put each reference, from its rest, in each frame.
     seen : ndarray of bool, shape (F, K)
         The references seen in each frame.
+    fade : float
+        Over how many frames the bridge faded what it carried
+        (:func:`mapping.reference_bridge.held`; ``np.inf``: carried whole).
 
     Returns
     -------
@@ -101,9 +104,9 @@ def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray) 
         edges = [f for f in (start - 1, end) if 0 <= f < frames and whole[f]]
         motion = np.hstack(rigid_shift(rest, departures[[*range(start, end), *edges]], seen[start]))
         inside = motion[:end - start]
-        if edges:  # the bridge carried the edges' difference across: blended as it blends
-            share = across(start, end)[:, None]
-            inside = inside - ((1 - share) * motion[end - start] + share * motion[-1])
+        if edges:  # the bridge carried the edges' difference across: blended and faded as it does
+            share, kept = across(start, end)[:, None], held(start, end, fade)[:, None]
+            inside = inside - kept * ((1 - share) * motion[end - start] + share * motion[-1])
         out[start:end] = inside
     return out
 
@@ -138,7 +141,7 @@ def slide_gain(predicted: np.ndarray, observed: np.ndarray, whole: np.ndarray) -
 
 
 def reference_motion(shares: np.ndarray, up: np.ndarray, down: np.ndarray, rest: np.ndarray, seen: np.ndarray,
-                     observed: np.ndarray) -> np.ndarray:
+                     observed: np.ndarray, fade: float = np.inf) -> np.ndarray:
     """:func:`reference_shift` of the departures that motors at ``shares`` ``(F, K)`` give the
     references, times :func:`slide_gain`, ``(F, 6)``.
 
@@ -151,8 +154,10 @@ def reference_motion(shares: np.ndarray, up: np.ndarray, down: np.ndarray, rest:
     seen : ndarray of bool, shape (F, R)
     observed : ndarray, shape (F, R, 3)
         The references' head-frame departures from ``rest`` as the take has them.
+    fade : float
+        As :func:`reference_shift` has it.
     """
     flat_up, flat_down = up.reshape(len(up), -1), down.reshape(len(down), -1)
     departures = (np.maximum(shares, 0.0) @ flat_up + np.minimum(shares, 0.0) @ flat_down).reshape(len(shares), -1, 3)
     gain = slide_gain(departures, observed, np.asarray(seen.all(axis=1), dtype=bool))
-    return reference_shift(rest, gain * departures, seen) if gain > 0 else np.zeros((len(shares), 6))
+    return reference_shift(rest, gain * departures, seen, fade) if gain > 0 else np.zeros((len(shares), 6))

@@ -280,12 +280,13 @@ def refit_head(fit: HeadFit, positions: np.ndarray, reference_rows: list[int], f
     return HeadFit(fit.shape, rot, trans, ok)
 
 
-def express(positions: np.ndarray, reference_rows: list[int], fit: HeadFit, edge: int = 1) -> Stabilised:
+def express(positions: np.ndarray, reference_rows: list[int], fit: HeadFit, edge: int = 1,
+            fade: float = np.inf) -> Stabilised:
     """The take in the head frame of ``fit``, the pose kept continuous where a reference drops
-    out (:func:`bridge_references`, reading up to ``edge`` frames either side); the lost
-    reference itself is left to gap filling."""
+    out (:func:`bridge_references`, reading up to ``edge`` frames either side, fading over
+    ``fade`` frames); the lost reference itself is left to gap filling."""
     rot, trans = bridge_references(positions[:, reference_rows], fit.shape, fit.rotation, fit.translation, fit.ok,
-                                   edge)
+                                   edge, fade)
     return Stabilised(to_head_frame(positions, rot, trans), rot, trans, fit.ok, fit.shape)
 
 

@@ -143,3 +143,20 @@ def test_the_small_rigid_motion_matches_a_full_rigid_fit_and_the_bridge_is_not_c
     assert np.abs(reference_shift(rest, steady, seen)).max() == pytest.approx(0.0, abs=1e-12)
     alone = reference_shift(rest, steady, np.tile(keep, (5, 1)))  # no frame seen whole: the bridge had none either
     np.testing.assert_allclose(alone, np.tile(np.hstack([w[0], t[0]]), (5, 1)), atol=1e-12)
+
+
+def test_the_slide_the_bridge_faded_is_taken_out_where_it_faded():
+    """The bridge fades what it carries into a stretch (:func:`mapping.reference_bridge.held`): a
+    slide steady through the stretch is left, inside it, as much as the bridge let go of."""
+    rest = REST[ROWS]
+    departures = np.random.default_rng(62).normal(0.0, 0.3, (1, len(rest), 3))
+    keep = np.ones(len(rest), bool)
+    keep[list(REFS).index("TEMPLE_L")] = False
+    seen = np.ones((7, len(rest)), bool)
+    seen[1:6] = keep  # a stretch of 5 frames between two whole ones
+    w, t = rigid_shift(rest, departures, keep)
+    whole = np.hstack([w[0], t[0]])
+    shift = reference_shift(rest, np.tile(departures, (7, 1, 1)), seen, fade=2.0)
+    let_go = 1.0 - np.exp(-np.array([1.0, 2.0, 3.0, 2.0, 1.0]) / 2.0)  # 1, 2, 3 frames from the nearer edge
+    np.testing.assert_allclose(shift[1:6], let_go[:, None] * whole, atol=1e-12)
+    assert np.abs(shift[[0, 6]]).max() == 0.0

@@ -172,6 +172,39 @@ def test_a_lost_head_reference_carries_no_single_frames_jitter_across_its_gap():
     assert np.sqrt(np.mean(bias ** 2)) < 0.13, bias
 
 
+def test_a_slide_read_at_a_lost_references_edge_fades_into_its_stretch():
+    """The forehead slides 2 mm up (raised brows) until a third of a second into a 2 s stretch
+    where a temple is lost, then the face rests. Where it rests, the fit on the references still
+    seen is right; the bridge carried the edge's difference (read while the forehead slid, a
+    point on the chin 0.33 mm off there) straight across, and the chin sat 0.10-0.17 mm off
+    where the face rests. Faded over a quarter second (30 frames), it is carried near the edge
+    alone: 0.008 mm at most where the face rests."""
+    from mapping.reference_bridge import bridge_edge, bridge_references, fade_frames
+
+    ms = load_markerset("toon32")
+    rows = [ms.labels.index(r) for r in ms.head_reference]
+    shape = ms.neutral[rows]
+    t = np.arange(960) / 120.0
+    rotation = rotation_yaw_pitch(np.radians(15 * np.sin(0.5 * t)), np.radians(5 * np.sin(0.3 * t)))
+    translation = np.column_stack([20 * np.sin(0.2 * t), 3 * t, np.zeros_like(t)])
+    local = np.tile(shape, (len(t), 1, 1))
+    local[300:400, ms.head_reference.index("FOREHEAD"), 1] += 2.0  # slid up, until 40 frames in
+    world = np.einsum("fij,fkj->fki", rotation, local) + translation[:, None, :]
+    world[360:600, ms.head_reference.index("TEMPLE_R")] = np.nan
+    rot, trans, ok = robust_rigid_fit(shape, world)
+    probe = np.array([0.0, -80.0, 20.0])
+
+    def chin_error(fade: float) -> np.ndarray:
+        r, tr = bridge_references(world, shape, rot, trans, ok, bridge_edge(120.0), fade)
+        error = np.einsum("fij,j->fi", r, probe) + tr - (np.einsum("fij,j->fi", rotation, probe) + translation)
+        return np.linalg.norm(error, axis=1)
+
+    carried, faded = chin_error(np.inf), chin_error(fade_frames(120.0))
+    assert carried[450:510].mean() > 0.1, carried[450:510].mean()  # the old bridge, for scale
+    assert faded[450:510].max() < 0.02, faded[450:510].max()
+    assert faded[362] == pytest.approx(carried[362], rel=0.1)  # near the edge, what was read there holds
+
+
 @pytest.mark.slow
 def test_clean_keeps_the_markers_cut_with_a_head_reference_close_to_a_spline(realdata):
     """The AnimFace jaw take, three markers cut for 250 ms, one of them a head reference: the
