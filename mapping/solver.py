@@ -233,10 +233,9 @@ class Solver:
         """Each solved motor's share and confidence, both ``(F, K)``, from head-frame markers
         ``local`` ``(F, N, 3)`` (``columns``: label -> column); ``trust`` ``(F, N)``: how far the
         fit believes each sample, 0 to 1 (default: 1 where finite); ``quality`` ``(F, N)``: what
-        each sample counts for in the confidence (default: ``trust``); ``fade``: the frames over
-        which cleaning's bridge faded what it carried into a lost reference's stretch
-        (:func:`mapping.reference_bridge.fade_frames` of the take's rate). A share is NaN where its
-        confidence is below :data:`MIN_CONFIDENCE`."""
+        each sample counts for in the confidence (default: ``trust``); ``fade``: the frames the bridge
+        faded over (:func:`mapping.reference_bridge.fade_frames` of the take's rate). A share is NaN
+        where its confidence is below :data:`MIN_CONFIDENCE`."""
         used = self.layout.used  # the markers some motor moves: no other adds to a frame's equations
         cols, rest = np.array([columns[m] for m in self.markers])[used], self.rest[used]
         shares = np.empty((len(local), len(self.codes)))
