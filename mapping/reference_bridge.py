@@ -122,8 +122,8 @@ def across(start: int, end: int) -> np.ndarray:
 
 def held(start: int, end: int, fade: float) -> np.ndarray:
     """How much of the edges' difference each frame of the stretch ``[start, end)`` keeps,
-    ``(end - start,)``: ``exp(-n / fade)``, ``n`` the frames to the nearer frame outside it (1
-    inside: the whole difference carried where ``fade`` is ``np.inf``).
+    ``(end - start,)``: ``exp(-n / fade)``, ``n`` the frames to the nearer frame outside it; 1
+    throughout where ``fade`` is ``np.inf`` (the whole difference carried, as before the fade).
 
     >>> held(1, 6, 2.0).round(3).tolist()
     [0.607, 0.368, 0.223, 0.368, 0.607]
