@@ -23,6 +23,11 @@ the true motors, on :data:`SEEDS` seeds each (each seed a new performance, face 
     with the motors solved all at once by what the sweep taught (:mod:`mapping.solver`;
     ``calibrate(..., solve=True)``), beside the rules on the same takes (issue 62's goals are
     every seed's: the worst seed's fitted error 1.5, the lowest r 0.95; not yet the default).
+``fidelity.fourth_live_fitted_pct``
+    The fourth performer's fitted error live (:class:`mapping.stepwise.LiveMapper`, with the
+    solver's profile, fed the frames after the sweep one at a time), the mean over the seeds; each
+    seed's and the lowest r in the detail, beside the offline solver's (no goal: live cannot look
+    ahead to fill a gap or smooth both ways).
 ``fidelity.second_head_range_error``
     How far HV's travel is from its truth's, as a share of it (the second performer's pitch
     range is ±20°, its HV's 0..1; goal 0.05), the worst seed's.
@@ -54,6 +59,7 @@ from capture import Take, load_take, synthesize
 from capture.faults import Faults, apply_faults
 from capture.performance import CALIBRATION_GROUPS, default_performance
 from mapping import calibrate, choose_mapping, map_stabilised, prepare
+from mapping.stepwise import LiveMapper
 from toon import MOTOR_CODES, standard_neutral
 from toonface import truth_track
 
@@ -115,8 +121,11 @@ def _in_metres(seconds: float) -> Figure:
                   1e-6, False, {"units_in_file": metres.meta.get("units_in_file")})
 
 
-def _one(take: Take, truth: np.ndarray, rest: np.ndarray, sweep_end: float) -> tuple[dict, dict, dict, np.ndarray]:
-    """Our scores, the peer's and the solver's on one take, and our motors after the sweep."""
+def _one(take: Take, truth: np.ndarray, rest: np.ndarray, sweep_end: float, live: bool = False
+         ) -> tuple[dict, dict, dict, np.ndarray, dict | None]:
+    """Our scores, the peer's and the solver's on one take, our motors after the sweep, and with
+    ``live`` the live mapper's scores (the solver's profile, its rest, fed the frames after the
+    sweep one by one, as ``send --profile`` maps them)."""
     mapping, markerset = choose_mapping(take)
     prepared = prepare(take, markerset)
     profile = calibrate(mapping, prepared, (0.0, REST_SECONDS), range_window=(REST_SECONDS, sweep_end), solve=True)
@@ -125,17 +134,24 @@ def _one(take: Take, truth: np.ndarray, rest: np.ndarray, sweep_end: float) -> t
                                    filled=prepared.stable.filled).values[after]
                     for p in (replace(profile, solver=None), profile))
     peer = plain_pipeline(take, mapping, markerset, (0.0, REST_SECONDS), (REST_SECONDS, sweep_end))
+    stepped = None
+    if live:
+        mapper = LiveMapper(mapping, markerset, profile, take.labels, take.rate, rest, rest_seconds=0.0)
+        frames = np.flatnonzero(after)
+        stepped = scores(np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in frames]),
+                         truth[after], rest)
     return (scores(ours, truth[after], rest), scores(peer[after], truth[after], rest),
-            scores(solved, truth[after], rest), ours)
+            scores(solved, truth[after], rest), ours, stepped)
 
 
 def _figures(prefix: str, runs: list[Performance], raw_goal: float = 2.5) -> list[Figure]:
-    mine, theirs, solved, hv_error = [], [], [], []
+    mine, theirs, solved, hv_error, live = [], [], [], [], []
     for take, truth, rest, sweep_end, _ in runs:
-        ours_scores, peer_scores, solver_scores, ours = _one(take, truth, rest, sweep_end)
+        ours_scores, peer_scores, solver_scores, ours, stepped = _one(take, truth, rest, sweep_end, prefix == "fourth")
         mine.append(ours_scores)
         theirs.append(peer_scores)
         solved.append(solver_scores)
+        live += [stepped] if stepped is not None else []
         if prefix == "second":
             hv = MOTOR_CODES.index("HV")
             after = take.times >= sweep_end
@@ -173,6 +189,11 @@ def _figures(prefix: str, runs: list[Performance], raw_goal: float = 2.5) -> lis
                        False, {"seed": SEEDS[int(np.argmax([s["fitted_pct"] for s in solved]))]}),
                 Figure(f"fidelity.{prefix}_solver_min_r", min(solver_lowest.values()), "r", 0.95, True,
                        {"motor": min(solver_lowest, key=lambda k: solver_lowest[k])})]
+    if live:
+        figures.append(Figure(f"fidelity.{prefix}_live_fitted_pct", _mean(live, "fitted_pct"), "%", None, False,
+                              {"fitted_pct_each": each(live, "fitted_pct"),
+                               "min_r": min(min(s["r"].values()) for s in live),
+                               "solver_fitted_pct_each": each(solved, "fitted_pct")}))
     if hv_error:
         figures.append(Figure("fidelity.second_head_range_error", max(hv_error), "share", 0.05, False,
                               {"each": [round(e, 4) for e in hv_error], "truth": "HV 0..1 is +-20 deg of pitch"}))

@@ -4,7 +4,7 @@ A profile belongs to a performer, not to a character: one profile is re-used wit
 and every face. It holds, for every source a mapping may read (each marker coordinate in the
 head frame, the head's yaw and pitch, and any derived measurement named when it was made), the
 value at rest (``neutral``) and the range of motion (``low``, ``high``), plus the head's rest
-rotation. Saved as TOML (``format = "toonface.profile/1"``).
+rotation and the shape of the performer's head references. Saved as TOML (``format = "toonface.profile/1"``).
 
 The neutral comes from a time range, a separate take, or the stillest window of the take; the
 range from a calibration take (or a window of one) or from percentiles of the take itself.
@@ -87,6 +87,11 @@ class Profile:
         The head's own turning axes in the head frame, learnt from a range-of-motion take's head
         turns (:mod:`mapping.head_axes`): what the head's yaw and pitch are read about. Saved
         with the profile (``head_axes``); None: the head frame's axes.
+    references : dict of str to ndarray, shape (3,)
+        The performer's head references in the head frame (marker set label -> position, mm):
+        the shape the calibration's head fit measured (:func:`mapping.stabilise.fit_head`), so
+        that a live sender fits the head as the calibration did (:class:`mapping.stepwise.LiveMapper`).
+        Saved with the profile (``references``); empty: the marker set's own shape.
     """
 
     markerset: str
@@ -99,6 +104,7 @@ class Profile:
     couplings: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
     solver: Solver | None = None
     head_axes: np.ndarray | None = None
+    references: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def merge_profile(profile: Profile, own: Profile, missing: list[str], rest_from_take: bool,
@@ -265,7 +271,9 @@ def save_profile(profile: Profile, path: str | os.PathLike) -> Path:
            "couplings": {k: {d: list(v) for d, v in drivers.items()} for k, drivers in profile.couplings.items()},
            **({"solver": profile.solver.to_dict()} if profile.solver is not None else {}),
            **({"head_axes": [[float(v) for v in row] for row in profile.head_axes]}
-              if profile.head_axes is not None else {})}
+              if profile.head_axes is not None else {}),
+           **({"references": {k: [float(v) for v in p] for k, p in profile.references.items()}}
+              if profile.references else {})}
     return write_document(doc, path, "profile")
 
 
@@ -295,7 +303,8 @@ def load_profile(path: str | os.PathLike) -> Profile:
                    check.boolean(doc.get("full_range", False), "full_range"),
                    _couplings(check, doc.get("couplings", {})),
                    Solver.from_dict(doc["solver"], check) if "solver" in doc else None,
-                   _rotation(check, doc["head_axes"], "head_axes") if "head_axes" in doc else None)
+                   _rotation(check, doc["head_axes"], "head_axes") if "head_axes" in doc else None,
+                   _references(check, doc.get("references", {})))
 
 
 def _rotation(check: Validator, doc: object, where: str) -> np.ndarray:
@@ -304,6 +313,11 @@ def _rotation(check: Validator, doc: object, where: str) -> np.ndarray:
                   where)
     assert rot is not None
     return rot
+
+
+def _references(check: Validator, doc: object) -> dict[str, np.ndarray]:
+    tables = check.fields(doc, doc if isinstance(doc, dict) else (), "references", "a table of markers")
+    return {str(label): np.array(check.numbers(point, 3, f'references."{label}"')) for label, point in tables.items()}
 
 
 def _couplings(check: Validator, doc: object) -> dict[str, dict[str, tuple[float, float]]]:

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from capture import MarkerSet, Take
 from mapping.mapfile import Mapping
 from mapping.profile import Profile
@@ -23,6 +25,13 @@ class Prepared:
     stable: Stabilised
     columns: dict[str, int]
     units: Units | None = None
+
+    def reference_shape(self) -> dict[str, np.ndarray]:
+        """The performer's head references as the take's head fit measured them, by marker set
+        label (``(3,)`` each, head frame, mm); empty where the take has no head references."""
+        present = [label for label in self.markerset.head_reference if label in self.columns]
+        shape = self.stable.reference
+        return {label: shape[k].copy() for k, label in enumerate(present)} if len(present) == len(shape) else {}
 
 
 @dataclass(frozen=True)

@@ -248,24 +248,34 @@ def fit_head(positions: np.ndarray, reference_rows: list[int], reference_neutral
     target = positions[:, reference_rows]
     shape = np.asarray(reference_neutral, dtype=np.float64)
     if own_shape:  # measured on frames spread over the take: a median of thousands is no surer
-        sample = target[::max(1, len(target) // SHAPE_FRAMES)]
-        for _ in range(SHAPE_ROUNDS):
-            rot, trans, ok = robust_rigid_fit(shape, sample)
-            if not ok.any():
-                break
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
-                own = np.nanmedian(to_head_frame(sample[ok], rot[ok], trans[ok]), axis=0)
-            own = np.where(np.isnan(own), shape, own)
-            own = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
-            moved = float(np.abs(own - shape).max())
-            shape = own
-            if moved < SHAPE_SETTLED_MM:
-                break
+        shape = measured_shape(target[::max(1, len(target) // SHAPE_FRAMES)], shape)
     rot, trans, ok = robust_rigid_fit(shape, target)
     if not ok.any():
         return Failure("fewer than 3 head reference markers are seen in every frame")
     return HeadFit(shape, rot, trans, ok)
+
+
+def measured_shape(target: np.ndarray, shape: np.ndarray) -> np.ndarray:
+    """The performer's own head references ``(K, 3)``, measured on their world positions ``target``
+    ``(F, K, 3)`` (NaN unseen) starting from the marker set's ``shape`` ``(K, 3)``: their median in
+    the head fitted with the shape so far, until it settles (:data:`SHAPE_SETTLED_MM`, at most
+    :data:`SHAPE_ROUNDS` rounds); a reference never seen keeps the set's place, and the origin is
+    kept (see :func:`fit_head`; a live sender measures it on its rest, :class:`mapping.stepwise.LiveMapper`)."""
+    shape = np.asarray(shape, dtype=np.float64)
+    for _ in range(SHAPE_ROUNDS):
+        rot, trans, ok = robust_rigid_fit(shape, target)
+        if not ok.any():
+            break
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a reference never seen keeps the set's shape
+            own = np.nanmedian(to_head_frame(target[ok], rot[ok], trans[ok]), axis=0)
+        own = np.where(np.isnan(own), shape, own)
+        own = own - (own.mean(axis=0) - shape.mean(axis=0))  # keep the origin
+        moved = float(np.abs(own - shape).max())
+        shape = own
+        if moved < SHAPE_SETTLED_MM:
+            break
+    return shape
 
 
 def refit_head(fit: HeadFit, positions: np.ndarray, reference_rows: list[int], frames: np.ndarray

@@ -1,7 +1,8 @@
 """Cleaning and mapping one frame at a time, for a live sender: the ``step`` form of the pipeline.
 
 Per frame, in the offline order where the future is not needed: the robust head fit (on the
-performer's reference shape once it is known), spikes rejected in the head frame and the head
+performer's reference shape: the profile's, kept when it was calibrated, or else measured on the
+rest as offline cleaning measures it, :meth:`LiveMapper._own_shape_at_rest`), spikes rejected in the head frame and the head
 fitted again without them, short gaps held at the marker's last head-frame position (counted as
 filled; a channel such as a blendshape score likewise), One Euro smoothing of the head-frame
 markers and of the head pose, then the mapping's
@@ -41,7 +42,7 @@ from mapping.profile import Profile, SourceRange, merge_profile
 from mapping.rules import MotorRules
 from mapping.solver import rests_of
 from mapping.sources import head_angles, measure
-from mapping.stabilise import Stabilised, nearest_rotation, robust_rigid_fit, to_head_frame
+from mapping.stabilise import Stabilised, measured_shape, nearest_rotation, robust_rigid_fit, to_head_frame
 from toon import N_MOTORS, standard_neutral
 from toon.motors import code_index, extended_neutral
 
@@ -94,11 +95,18 @@ class LiveMapper:
         self.columns = {label: list(labels).index(name) for label, name in markerset.match(labels).items()}
         self.rows: list[int] = []
         self.shape = np.empty((0, 3))
+        #: Whether the head is fitted on the performer's own reference shape (the profile's, or
+        #: measured on the rest: :meth:`_own_shape_at_rest`); until then, on the marker set's.
+        self.own_shape = True
         if markerset.labels:  # a set with markers has a head to find; a voice has none (nothing to stabilise)
             references = head_references(labels, markerset)
             if not references:
                 raise ValueError(str(references))
             self.rows, self.shape = references
+            named = [label for label in markerset.head_reference if label in self.columns]  # in the rows' order
+            self.own_shape = bool(profile.references) and all(label in profile.references for label in named)
+            if self.own_shape:
+                self.shape = np.array([profile.references[label] for label in named])  # as calibration fitted
         self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
         self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
         self.spikes = SpikeFilter() if spikes else None
@@ -113,7 +121,7 @@ class LiveMapper:
         self._read = [(i, name) for i, name in enumerate(self.channel_names) if name in read]  # the rest: unused
         self._last_channels = np.full(len(self.channel_names), np.nan)
         self._channel_seen = np.full(len(self.channel_names), -np.inf)
-        self._rest: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]] = []
+        self._rest: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray], np.ndarray]] = []
         self._rest_start: float | None = None
         self._ready = rest_seconds <= 0
         #: The parameters beyond the 21 the mapping drives (HT...), and their values in the frame
@@ -154,7 +162,7 @@ class LiveMapper:
         stable = Stabilised(local[None], rotation[None], translation[None], np.array([ok]), self.shape,
                             channels=self._hold_channels(channels, t))
         if not self._ready:
-            self._collect_rest(stable, t)
+            self._collect_rest(stable, t, positions)
             return self.neutral.copy(), np.zeros(N_MOTORS)
         values, confidence = self.map_frame(stable, quality[None], t)
         confidence = confidence * min(max(trust, 0.0), 1.0)
@@ -227,11 +235,11 @@ class LiveMapper:
         held = np.where(~seen & (t - self._channel_seen <= self.max_gap), self._last_channels, values)
         return {name: held[i:i + 1] for i, name in self._read}
 
-    def _collect_rest(self, stable: Stabilised, t: float) -> None:
+    def _collect_rest(self, stable: Stabilised, t: float, positions: np.ndarray) -> None:
         if not stable.ok[0]:
             return
         self._rest_start = t if self._rest_start is None else self._rest_start
-        self._rest.append((stable.local[0], stable.rotation[0], stable.channels))
+        self._rest.append((stable.local[0], stable.rotation[0], stable.channels, np.asarray(positions, dtype=float)))
         if t - self._rest_start + 1.0 / self.rate >= self.rest_seconds:
             self.profile = self._profile_at_rest()
             self._ready = True
@@ -240,6 +248,8 @@ class LiveMapper:
         """The profile with its ranges kept around the rest measured at the start."""
         local = np.array([f[0] for f in self._rest])
         rotations = np.array([f[1] for f in self._rest])
+        if not self.own_shape:  # the head fitted on the performer's references from here on, the rest too
+            local, rotations = self._own_shape_at_rest(np.array([f[3] for f in self._rest]), local, rotations)
         channels = {name: np.concatenate([f[2][name] for f in self._rest]) for _, name in self._read}
         rest_rotation = nearest_rotation(rotations.mean(axis=0))
         head = head_angles(rotations, rest_rotation, self.profile.head_axes)
@@ -254,6 +264,22 @@ class LiveMapper:
             learner = self.learner = RangeLearner(own, freeze_after=self.learn_seconds)
             return learner.profile
         return merge_profile(self.profile, own, [], rest_from_take=True, rest=rests_of(local, self.columns))
+
+    def _own_shape_at_rest(self, world: np.ndarray, local: np.ndarray, rotations: np.ndarray
+                           ) -> tuple[np.ndarray, np.ndarray]:
+        """The performer's head references measured on the rest's world markers ``world`` ``(F, M, 3)``
+        (:func:`mapping.stabilise.measured_shape`, as offline cleaning measures them) and fitted
+        on from now on; the rest's head-frame markers ``(F, M, 3)`` and head rotations ``(F, 3, 3)``
+        with it (``local``, ``rotations``: as the marker set's shape gave them, kept where the
+        fit fails). The filters start again in the new head frame."""
+        self.shape, self.own_shape = measured_shape(world[:, self.rows], self.shape), True
+        rotation, translation, ok = robust_rigid_fit(self.shape, world[:, self.rows])
+        local, rotations = local.copy(), rotations.copy()
+        local[ok], rotations[ok] = to_head_frame(world[ok], rotation[ok], translation[ok]), rotation[ok]
+        for reset in (self.markers, self.pose, self.spikes):
+            if reset is not None:
+                reset.reset()
+        return local, rotations
 
     def map_frame(self, stable: Stabilised, quality: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The mapping of one cleaned frame (``stable`` holds one frame; ``quality`` ``(1, M)``):

@@ -190,7 +190,7 @@ def calibrate(mapping: Mapping, neutral: Prepared, neutral_window: NeutralSpec =
     if not profile:
         raise InputError(f"cannot calibrate: {profile}")
     _require_ranges(mapping, profile, neutral, window)
-    profile = replace(profile, full_range=full)
+    profile = replace(profile, full_range=full, references=neutral.reference_shape())
     if full:  # a range-of-motion take: a side lost where the mirror's was seen takes the mirror's (mapping.sweep)
         profile, lost = mirror_lost_sides(mapping, profile, source.stable, source.columns, frames, percentiles)
         if lost:

@@ -79,6 +79,10 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
                             learn_seconds=learn, channel_names=source.channel_names)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+    if notes is not None and not mapper.own_shape and rest_seconds <= 0:
+        notes.append(f"profile {profile.source or profile.performer or markerset.name} holds no head-reference shape "
+                     f"and no rest is taken: the head is fitted on marker set {markerset.name}'s shape (calibrate "
+                     "again to keep the performer's)")
     if life is None:
         life = source.meta.get("source") == "voice"
     if life:
