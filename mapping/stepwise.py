@@ -2,10 +2,10 @@
 
 Per frame, in the offline order where the future is not needed: the robust head fit (on the
 performer's reference shape: the profile's, kept when it was calibrated, or else measured on the
-rest as offline cleaning measures it, :meth:`LiveMapper._own_shape_at_rest`), spikes rejected in the head frame and the head
-fitted again without them, short gaps held at the marker's last head-frame position (counted as
-filled; a channel such as a blendshape score likewise), One Euro smoothing of the head-frame
-markers and of the head pose, then the mapping's
+rest as offline cleaning measures it, :meth:`LiveMapper._own_shape_at_rest`), spikes rejected in
+the head frame and the head fitted again without them, short gaps held at the marker's last
+head-frame position (counted as filled; a channel such as a blendshape score likewise), One Euro
+smoothing of the head-frame markers and of the head pose, then the mapping's
 motor values (:func:`mapping.mapper.motor_values`) on that one frame and the per-frame rules
 (:class:`mapping.rules.MotorRules`), the same code offline mapping runs. Only cleaning differs:
 offline it looks ahead (zero-phase smoothing, gap filling from both sides); live it cannot, so
