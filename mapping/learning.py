@@ -11,7 +11,7 @@ learned ranges are an ordinary :class:`~mapping.profile.Profile`, saved and reus
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from mapping.profile import Profile, SourceRange
 from mapping.sources import mm_scale
@@ -45,9 +45,8 @@ class RangeLearner:
         sources = {key: SourceRange(span.neutral, min(span.low, span.neutral - self._side(key)),
                                     max(span.high, span.neutral + self._side(key)))
                    for key, span in self.profile.sources.items()}
-        self.profile = Profile(self.profile.markerset, sources, self.profile.rest_rotation, self.profile.performer,
-                               {**self.profile.notes, "range": f"learned live over {self.freeze_after:g} s"},
-                               self.profile.source, head_axes=self.profile.head_axes)
+        self.profile = replace(self.profile, sources=sources,
+                               notes={**self.profile.notes, "range": f"learned live over {self.freeze_after:g} s"})
 
     def _side(self, key: str) -> float:
         return self.min_side * mm_scale(key)

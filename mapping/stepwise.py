@@ -25,6 +25,8 @@ about the markers' rest taken at the start.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from capture import MarkerSet
@@ -95,6 +97,7 @@ class LiveMapper:
         self.columns = {label: list(labels).index(name) for label, name in markerset.match(labels).items()}
         self.rows: list[int] = []
         self.shape = np.empty((0, 3))
+        self._named: list[str] = []  # the head references' labels, in the order of ``rows``
         #: Whether the head is fitted on the performer's own reference shape (the profile's, or
         #: measured on the rest: :meth:`_own_shape_at_rest`); until then, on the marker set's.
         self.own_shape = True
@@ -103,10 +106,10 @@ class LiveMapper:
             if not references:
                 raise ValueError(str(references))
             self.rows, self.shape = references
-            named = [label for label in markerset.head_reference if label in self.columns]  # in the rows' order
-            self.own_shape = bool(profile.references) and all(label in profile.references for label in named)
+            self._named = [label for label in markerset.head_reference if label in self.columns]  # rows' order
+            self.own_shape = bool(profile.references) and all(label in profile.references for label in self._named)
             if self.own_shape:
-                self.shape = np.array([profile.references[label] for label in named])  # as calibration fitted
+                self.shape = np.array([profile.references[label] for label in self._named])  # as calibration fitted
         self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
         self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
         self.spikes = SpikeFilter() if spikes else None
@@ -259,11 +262,14 @@ class LiveMapper:
             if np.isfinite(measured).any():
                 rest = float(np.nanmedian(measured))
                 rests[source.key] = SourceRange(rest, rest, rest)
-        own = Profile(self.profile.markerset, rests, rest_rotation, head_axes=self.profile.head_axes)
+        references = dict(zip(self._named, self.shape, strict=True))  # kept, should the profile be saved
+        own = Profile(self.profile.markerset, rests, rest_rotation, head_axes=self.profile.head_axes,
+                      references=references)
         if self.learn_seconds > 0:
             learner = self.learner = RangeLearner(own, freeze_after=self.learn_seconds)
             return learner.profile
-        return merge_profile(self.profile, own, [], rest_from_take=True, rest=rests_of(local, self.columns))
+        merged = merge_profile(self.profile, own, [], rest_from_take=True, rest=rests_of(local, self.columns))
+        return replace(merged, references=references)
 
     def _own_shape_at_rest(self, world: np.ndarray, local: np.ndarray, rotations: np.ndarray
                            ) -> tuple[np.ndarray, np.ndarray]:

@@ -55,6 +55,8 @@ def test_a_still_face_on_a_turning_head_stays_still_live_on_the_performer_s_refe
         mapper = LiveMapper(mapping, markerset, profile, take.labels, take.rate, rest_seconds=rest_seconds)
         out = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in range(take.frames)])
         settled = out[90:, FACE]  # past the rest and the filters' start
+        if mapper.own_shape:  # the profile it maps with keeps the shape, should it be saved
+            assert sorted(mapper.profile.references) == sorted(markerset.head_reference)
         return float(np.abs(settled - np.median(settled, axis=0)).max()), mapper.own_shape
 
     (marker_set, set_own), (profiled, profile_own), (rested, rest_own) = (
