@@ -24,7 +24,8 @@ One ``[motor.CODE]`` table per mapped motor::
     max_speed = 6.0          # motor units per second
     delay = 0.0              # seconds
     loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle | pair (follow the other
-                             # side's motor where it is seen, else ease: lids blink and eyes look together)
+                             # side's motor where it is seen, else ease: lids blink and eyes look together;
+                             # made_up = false: not where cleaning made this side's sources up)
     decouple = ["MB"]        # motors whose motion this one should not show (mapping.coupling)
 
 Across motors (top level): ``mirror`` (swap sides), ``copy_side = "right"|"left"`` (one side
@@ -86,6 +87,7 @@ class MotorRule:
     loss: str = "hold"
     loss_seconds: float = 0.5
     decouple: tuple[str, ...] = ()
+    loss_made_up: bool = True
 
 
 @dataclass(frozen=True)
@@ -235,7 +237,11 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
     low, high = check.numbers(limits, 2, at(where, "limits"))
     check.require(0 <= low < high <= 1, f"expected [low, high] with 0 <= low < high <= 1, got {limits!r}",
                   at(where, "limits"))
-    loss = check.fields(spec.get("loss", {}), {"policy", "seconds"}, at(where, "loss"), "a table { policy, seconds }")
+    loss = check.fields(spec.get("loss", {}), {"policy", "seconds", "made_up"}, at(where, "loss"),
+                        "a table { policy, seconds }")
+    made_up = check.boolean(loss.get("made_up", True), at(where, "loss.made_up"))
+    check.require(made_up or loss.get("policy") == "pair", "made_up = false is for the pair policy",
+                  at(where, "loss.made_up"))
     invert = check.boolean(spec.get("invert", False), at(where, "invert"))
     decouple = tuple(check.strings(spec.get("decouple", []), at(where, "decouple")))
     for i, other in enumerate(decouple):
@@ -249,7 +255,7 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
                      check.number(spec.get("max_speed", 0.0), at(where, "max_speed"), 0.0),
                      check.number(spec.get("delay", 0.0), at(where, "delay"), 0.0),
                      check.choice(loss.get("policy", "hold"), POLICIES, at(where, "loss.policy")),
-                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0), decouple)
+                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0), decouple, made_up)
 
 
 def _source(check: Validator, spec: object, where: str) -> Source:

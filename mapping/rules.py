@@ -10,8 +10,10 @@ its sources is seen), :class:`MotorRules` applies, in this order:
    is seen (a lid whose marker is lost blinks with the other eye's, a lost pupil looks where the
    other looks), else ease; a ``pair`` motor whose sources were all made up by cleaning (a gap
    filled offline, a marker held live) while its partner's were measured takes its partner's move
-   as well: a fill regressed from other markers can blink far shallower (a regression on noisy
-   predictors shrinks: a quarter as deep on a third-performer take), a held marker not at all.
+   as well, unless its rule says ``made_up = false``: a fill regressed from other markers can
+   blink far shallower (a regression on noisy predictors shrinks: a quarter as deep on a
+   third-performer take), a held marker not at all; but a brow's fill follows its own side (an
+   eyebrow raised alone), which the other brow's move would not.
    Before anything is seen the last value is the neutral;
 2. each motor's **filter** (One Euro, causal Butterworth or trailing Savitzky-Golay);
 3. the **speed limits**, then the **delays** (whole frames);
@@ -88,7 +90,8 @@ class MotorRules:
                                  np.random.default_rng([seed, 1]).uniform(0, 2 * np.pi, (N_CODES - N_MOTORS, 2)).T])
         self.mapped = np.array([code_index(r.code) for r in mapping.rules], dtype=int)
         self.loss = [(code_index(r.code), r.loss, r.loss_seconds) for r in mapping.rules]
-        self.pairs = [(code_index(r.code), code_index(MIRROR_OF[r.code])) for r in mapping.rules if r.loss == "pair"]
+        self.pairs = [(code_index(r.code), code_index(MIRROR_OF[r.code]), r.loss_made_up)
+                      for r in mapping.rules if r.loss == "pair"]
         self.filters = [(code_index(r.code), make_filter(r.filter, rate)) for r in mapping.rules if r.filter]
         speeds, delays = channel_limits(mapping, rate)
         self.limited = np.isfinite(speeds)  # only these pass the speed limit
@@ -159,12 +162,13 @@ class MotorRules:
 
     def _paired(self, values: np.ndarray, made_up: np.ndarray | None = None) -> np.ndarray:
         """Motor values ``(F, C)`` (NaN: no source seen) with each ``pair`` motor's lost frames,
-        and those whose sources were all made up (``made_up`` ``(F, C)``) while its partner's
-        were not, given its partner's move from neutral where the partner is seen; a new array."""
+        and (unless its rule says ``made_up = false``) those whose sources were all made up
+        (``made_up`` ``(F, C)``) while its partner's were not, given its partner's move from
+        neutral where the partner is seen; a new array."""
         out = values.copy()
-        for col, other in self.pairs:
+        for col, other, made_up_too in self.pairs:
             taken = np.isnan(values[:, col])
-            if made_up is not None:
+            if made_up is not None and made_up_too:
                 taken |= made_up[:, col] & ~made_up[:, other]
             taken &= np.isfinite(values[:, other])
             out[taken, col] = values[taken, other] - self.neutral[other] + self.neutral[col]

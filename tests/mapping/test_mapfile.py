@@ -50,6 +50,8 @@ def test_bad_top_level_and_source_fields_are_named(change, field, message):
      "unknown field (known: beta, d_cutoff, kind, min_cutoff)"),
     ({"max_speed": -1}, "motor.ERU.max_speed", "expected a number of at least 0, got -1"),
     ({"loss": {"policy": "panic"}}, "motor.ERU.loss.policy", "hold, ease, idle"),
+    ({"loss": {"policy": "ease", "made_up": False}}, "motor.ERU.loss.made_up", "is for the pair policy"),
+    ({"loss": {"policy": "pair", "made_up": "no"}}, "motor.ERU.loss.made_up", "expected true or false"),
 ])
 def test_bad_motor_fields_are_named(motor, field, message):
     with pytest.raises(InputError) as err:

@@ -65,20 +65,21 @@ def test_calibration_that_cannot_be_made_says_why():
 
 
 def test_lost_markers_lower_confidence_and_ease_to_neutral():
-    """A brow's marker (toon32's lids and pupils follow the other eye's instead: test_pair_loss.py)."""
+    """A mouth corner's marker (toon32's lids, pupils and brows follow the other side's instead:
+    test_pair_loss.py)."""
     syn, mapping, profile = _calibrated(seconds=8.0)
     pos = syn.take.positions.copy()
-    brow = syn.take.index("BROW_R_LAT")
+    corner = syn.take.index("MOUTH_R")
     start = int(17 * 30)
-    pos[start:start + 9, brow] = np.nan  # 0.3 s: filled
-    pos[start + 60:start + 150, brow] = np.nan  # 3 s: too long to fill, lost
+    pos[start:start + 9, corner] = np.nan  # 0.3 s: filled
+    pos[start + 60:start + 150, corner] = np.nan  # 3 s: too long to fill, lost
     track = map_take(Take(pos, syn.take.labels, 30.0), mapping, profile, settings=EXACT)
-    brl = motor_index("BRL")
-    assert (track.confidence[start:start + 9, brl] == 0.5).all()
-    lost = track.confidence[start + 60:start + 150, brl]
-    assert (lost == 0).all() and track.confidence[start - 5, brl] == 1
+    mrh = motor_index("MRH")
+    assert (track.confidence[start:start + 9, mrh] == 0.5).all()
+    lost = track.confidence[start + 60:start + 150, mrh]
+    assert (lost == 0).all() and track.confidence[start - 5, mrh] == 1
     # ease to neutral over half a second, then stay there
-    assert track.values[start + 60 + 15:start + 150, brl] == pytest.approx(standard_neutral()[brl])
+    assert track.values[start + 60 + 15:start + 150, mrh] == pytest.approx(standard_neutral()[mrh])
     assert track.meta["lost_frames"] == 90
 
 

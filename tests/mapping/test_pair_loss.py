@@ -1,15 +1,19 @@
 """toon32's lids and pupils follow the other eye's while their own marker is lost, or made up by
 cleaning while the other's is measured (loss policy ``pair``): a blink or a glance behind a lost
-marker is not lost with it."""
+marker is not lost with it. Its brows follow the other brow while their own markers are lost,
+but not where cleaning made them up (``made_up = false``)."""
 
 import numpy as np
+import pytest
 
 from capture import Take, synthesize
 from capture.performance import Cue, Performance
 from mapping import calibrate, choose_mapping, map_stabilised, prepare
+from mapping.rules import MotorRules
 from mapping.stabilise import Stabilised
 from mapping.stepwise import LiveMapper
 from toon import MOTOR_CODES
+from toon.motors import extended_neutral
 
 
 def _mapped(take: Take) -> tuple[np.ndarray, np.ndarray]:
@@ -85,3 +89,40 @@ def test_offline_a_blink_that_gap_filling_missed_shows_as_the_other_eyes():
         values = map_stabilised(moved, prepared.columns, take.times, take.rate, mapping, profile, filled=made).values
         depths.append(values[take.times < 2.2, elu].mean() - values[lost, elu].min())
     assert depths[0] > 0.5 and abs(depths[1] - depths[0]) < 0.1 * depths[0], depths
+
+
+def test_a_raised_brow_whose_markers_are_lost_rises_with_the_other():
+    """The right brow's three markers are lost for 2.5 s (longer than gap filling fills: the far
+    brow of a head turned away) while both brows rise: the right brow rises with the left, where
+    before it eased to rest and missed the raise."""
+    cues = (Cue("expression", 2.0, 2.5, name="surprise", strength=1.0),)
+    syn = synthesize(seconds=6.0, rate=60.0, noise_mm=0.0, performance=Performance(6.0, cues), seed=4)
+    positions = syn.take.positions.copy()
+    lost = (syn.take.times >= 1.8) & (syn.take.times < 4.3)
+    for label in ("BROW_R_LAT", "BROW_R_CEN", "BROW_R_MED"):
+        positions[lost, syn.take.index(label)] = np.nan
+    seen, _ = _mapped(syn.take)
+    values, _ = _mapped(Take(positions, syn.take.labels, syn.take.rate, times=syn.take.times))
+    for code in ("BRL", "BRC", "BRM"):
+        j = MOTOR_CODES.index(code)
+        moved = np.abs(seen[lost, j] - seen[0, j]).max()
+        missed = np.abs(values[lost, j] - seen[lost, j]).max()
+        assert moved > 0.1 and missed < 0.2 * moved, (code, moved, missed)
+
+
+def test_a_brow_made_up_by_cleaning_keeps_its_own_value_and_a_lid_takes_the_other_s():
+    """Steady frames where the right outer brow and the right upper lid were made up by cleaning
+    and their partners measured: the brow keeps its own 0.8 (an eyebrow raised alone; its fill
+    follows its own side), the lid takes the left lid's move from its neutral."""
+    mapping, _ = choose_mapping(synthesize(seconds=0.1, rate=60.0).take)
+    face = np.full(len(MOTOR_CODES), 0.5)
+    face[MOTOR_CODES.index("ELU")], face[MOTOR_CODES.index("ERU")] = 0.6, 0.7
+    neutral = extended_neutral(face)  # with the parameters beyond the 21 (HT...)
+    values = np.tile(neutral, (120, 1))
+    brl, bll, eru, elu = (MOTOR_CODES.index(c) for c in ("BRL", "BLL", "ERU", "ELU"))
+    values[:, brl], values[:, eru], values[:, elu] = 0.8, 0.3, 0.9
+    made_up = np.zeros_like(values, dtype=bool)
+    made_up[:, [brl, eru]] = True
+    out = MotorRules(mapping, 60.0, face).apply(values, np.arange(120) / 60.0, made_up)[-1]
+    assert out[brl] == pytest.approx(0.8, abs=1e-6) and out[bll] == pytest.approx(0.5, abs=1e-6)
+    assert out[eru] == pytest.approx(0.9 - 0.6 + 0.7, abs=1e-6)
