@@ -89,12 +89,19 @@ def head_references(labels: tuple[str, ...], markerset: MarkerSet) -> tuple[list
     references and their rest positions ``(K, 3)`` in the head frame, or why they cannot be used
     (fewer than three)."""
     found = markerset.match(labels)
-    present = [r for r in markerset.head_reference if r in found]
+    present = reference_labels(labels, markerset)
     if len(present) < 3:
         missing = [r for r in markerset.head_reference if r not in found]
         return Failure(f"fewer than 3 of marker set {markerset.name}'s head reference markers are present "
                        f"(missing: {', '.join(missing)})")
     return [list(labels).index(found[r]) for r in present], np.array([markerset.neutral_of(r) for r in present])
+
+
+def reference_labels(labels: tuple[str, ...], markerset: MarkerSet) -> list[str]:
+    """``markerset``'s head references that ``labels`` (a take's or a stream's markers) hold, by
+    the marker set's names, in the order of :func:`head_references`' columns and shape."""
+    found = markerset.match(labels)
+    return [r for r in markerset.head_reference if r in found]
 
 
 def clean_stabilised(take: Take, markerset: MarkerSet, settings: CleanSettings = CleanSettings()

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from capture import MarkerSet, Take
+from mapping.clean import reference_labels
 from mapping.mapfile import Mapping
 from mapping.profile import Profile
 from mapping.stabilise import Stabilised
@@ -29,7 +30,7 @@ class Prepared:
     def reference_shape(self) -> dict[str, np.ndarray]:
         """The performer's head references as the take's head fit measured them, by marker set
         label (``(3,)`` each, head frame, mm); empty where the take has no head references."""
-        present = [label for label in self.markerset.head_reference if label in self.columns]
+        present = reference_labels(self.take.labels, self.markerset)
         shape = self.stable.reference
         return {label: shape[k].copy() for k, label in enumerate(present)} if len(present) == len(shape) else {}
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from capture import MarkerSet
 from capture.sources import Frame
-from mapping.clean import head_references
+from mapping.clean import head_references, reference_labels
 from mapping.eye_contact import LiveEyeContact
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
@@ -106,7 +106,7 @@ class LiveMapper:
             if not references:
                 raise ValueError(str(references))
             self.rows, self.shape = references
-            self._named = [label for label in markerset.head_reference if label in self.columns]  # rows' order
+            self._named = reference_labels(labels, markerset)
             self.own_shape = bool(profile.references) and all(label in profile.references for label in self._named)
             if self.own_shape:
                 self.shape = np.array([profile.references[label] for label in self._named])  # as calibration fitted
