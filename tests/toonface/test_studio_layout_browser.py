@@ -6,6 +6,7 @@ axe-core finds no serious or critical accessibility violation in any panel."""
 import pytest
 from browser import chromium, studio_server, wait_for
 from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.actions.action_builder import ActionBuilder
 from selenium.webdriver.common.keys import Keys
 from studios import temp_folder
 
@@ -132,36 +133,54 @@ def _nose_in_the_editor(driver, url: str, session) -> int:
     return nose
 
 
+#: The first vertex's handle: its centre on the page and its width, read in one script. A frame
+#: redraws the editor's overlay (a new handle each time), so the test holds no element across waits:
+#: one found and then used could be gone by then (StaleElementReferenceException under load).
+VERTEX = ("const b = document.querySelector('#shape rect.vertex[data-index=\"0\"]').getBoundingClientRect(); "
+          "return [b.left + b.width / 2, b.top + b.height / 2, b.width]")
+
+
+def _drag_from(driver, x: float, y: float) -> None:
+    """Press at page point ``(x, y)``, move 10 pixels right twice, release."""
+    actions = ActionBuilder(driver)
+    actions.pointer_action.move_to_location(round(x), round(y)).pointer_down().move_by(10, 0).move_by(10, 0) \
+        .pointer_up()
+    actions.perform()
+
+
+def _dragged(driver, nose: int, before: float) -> None:
+    """Wait until the drag moved the vertex and the studio answered every edit it sent (so the
+    session holds the drag's end, and no answer of it redraws the handles later)."""
+    wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices[0][0] > {before + 5} && !window.faces.waiting")
+
+
 def test_the_nearest_handle_is_taken_and_the_face_zooms_about_the_pointer(served):
     url, session = served
     with chromium(1366, 768) as driver:
         nose = _nose_in_the_editor(driver, url, session)
-        vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
-        size = vertex.size["width"]
+        x, y, size = driver.execute_script(VERTEX)
         # beside the vertex, not on it: the pointer is nearer it than any other handle
-        ActionChains(driver).move_to_element_with_offset(vertex, size / 2 + 5, 0).perform()
+        hover = ActionBuilder(driver)
+        hover.pointer_action.move_to_location(round(x + size / 2 + 5), round(y))
+        hover.perform()
         wait_for(driver, "document.querySelector('#shape rect.vertex[data-index=\"0\"]').classList.contains('near')"
                          " && document.getElementById('shape').classList.contains('picking')")
         before = list(session.faces.face.polygons[nose].vertices[0])
-        ActionChains(driver).click_and_hold().move_by_offset(10, 0).move_by_offset(10, 0).release().perform()
-        wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices[0][0] > {before[0] + 5}")
+        _drag_from(driver, x + size / 2 + 5, y)
+        _dragged(driver, nose, before[0])
         before = list(session.faces.face.polygons[nose].vertices[0])
         # zoom: the wheel over the face, about the pointer; the handle under it stays under it
-        vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
-        centre = driver.execute_script("const b = arguments[0].getBoundingClientRect(); "
-                                       "return [b.left + b.width / 2, b.top + b.height / 2]", vertex)
+        centre = driver.execute_script(VERTEX)[:2]
         driver.execute_script("document.getElementById('stage').dispatchEvent(new WheelEvent('wheel', "
                               "{deltaY: -400, clientX: arguments[0], clientY: arguments[1], bubbles: true, "
                               "cancelable: true}))", *centre)
         scale = driver.execute_script("return window.stageView.scale")
-        after = driver.execute_script("const b = document.querySelector('#shape rect.vertex[data-index=\"0\"]')"
-                                      ".getBoundingClientRect(); return [b.left + b.width / 2, b.top + b.height / 2]")
+        after = driver.execute_script(VERTEX)[:2]
         assert scale == pytest.approx(2.718, abs=0.01)
         assert abs(after[0] - centre[0]) < 1 and abs(after[1] - centre[1]) < 1
         per_pixel = driver.execute_script("return 1 / document.getElementById('shape').getScreenCTM().a")
-        vertex = driver.find_element("css selector", '#shape rect.vertex[data-index="0"]')
-        ActionChains(driver).click_and_hold(vertex).move_by_offset(10, 0).move_by_offset(10, 0).release().perform()
-        wait_for(driver, f"window.faces.doc.polygons[{nose}].vertices[0][0] > {before[0] + 5}")
+        _drag_from(driver, *after)
+        _dragged(driver, nose, before[0])
         moved = session.faces.face.polygons[nose].vertices[0][0] - before[0]
         assert moved == pytest.approx(20 * per_pixel, abs=2 * per_pixel)  # finer steps, zoomed in
         driver.find_element("tag name", "body").send_keys("0")
