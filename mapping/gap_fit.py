@@ -18,15 +18,29 @@ def regression_design(source: np.ndarray, rows: np.ndarray, others: list[int], w
     """The centre of the predictors ``others`` at ``rows`` of ``source`` ``(F, M, D)``, ``(rows,
     D)``, and the regression's design about it, ``(rows, features)``, each predictor weighted by
     ``weight`` and every feature centred."""
-    picked = source[rows][:, others]  # (rows, predictors, D): whole rows first, a quicker gather
+    centre, x = features(source[rows][:, others], weight)  # whole rows first, a quicker gather
+    x -= x.mean(axis=0)
+    return centre, x
+
+
+def features(picked: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The centre ``(rows, D)`` of the predictors ``picked`` ``(rows, P, D)`` (a copy of their own:
+    it is overwritten) and their features about it, each weighted by ``weight`` ``(P,)``, not
+    centred over the rows: ``(rows, features)``. A live fill makes one frame's so."""
     centre = picked.mean(axis=1)  # the frame moving with the subject
     picked -= centre[:, None]
     picked *= weight[None, :, None]
-    x = picked.reshape(len(rows), -1)
-    if len(others) < 4:  # a centre of so few is mostly the predictors: keep its motion too
+    x = picked.reshape(len(picked), -1)
+    if picked.shape[1] < 4:  # a centre of so few is mostly the predictors: keep its motion too
         x = np.hstack([x, centre])
-    x -= x.mean(axis=0)
     return centre, x
+
+
+def nearness(target: np.ndarray, others: np.ndarray, sigma: float) -> np.ndarray:
+    """Each predictor's weight ``exp(-d^2 / (2 sigma^2))`` from its mean distance ``d`` to the
+    target over the rows seen, ``target`` ``(rows, D)``, ``others`` ``(rows, P, D)``: ``(P,)``."""
+    distance = np.mean(np.linalg.norm(others - target[:, None], axis=2), axis=0)
+    return np.exp(-distance ** 2 / (2 * sigma ** 2))
 
 
 def local_mean(pos: np.ndarray, half: int) -> np.ndarray:
@@ -233,15 +247,22 @@ def _median_rows(values: np.ndarray) -> np.ndarray:
 
 def ridge_predict(x: np.ndarray, fit: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
     """Ridge regression of ``y`` on the rows ``fit`` of ``x`` ``(rows, features)``, predicted for
-    every row ``(rows, dims)``. ``ridge`` is relative to the mean feature variance, so it does not
-    depend on units; the intercept is not penalised."""
-    xf = x[fit]
-    centre = xf.mean(axis=0)
-    xc = xf - centre
+    every row ``(rows, dims)`` (:func:`ridge_fit`)."""
+    centre, coef, mean = ridge_fit(x[fit], y, ridge)
+    return (x - centre) @ coef + mean
+
+
+def ridge_fit(x: np.ndarray, y: np.ndarray, ridge: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Ridge regression of ``y`` ``(rows, dims)`` on ``x`` ``(rows, features)``: the features'
+    mean ``(features,)``, the weights ``(features, dims)`` and ``y``'s mean ``(dims,)``, which
+    predict ``(x' - mean_x) @ weights + mean_y``. ``ridge`` is relative to the mean feature
+    variance, so it does not depend on units; the intercept is not penalised."""
+    centre = x.mean(axis=0)
+    xc = x - centre
     gram = xc.T @ xc
     penalty = ridge * np.trace(gram) / max(len(gram), 1)
-    coef = np.linalg.solve(gram + penalty * np.eye(len(gram)), xc.T @ (y - y.mean(axis=0)))
-    return (x - centre) @ coef + y.mean(axis=0)
+    mean = y.mean(axis=0)
+    return centre, np.linalg.solve(gram + penalty * np.eye(len(gram)), xc.T @ (y - mean)), mean
 
 
 class Moments:

@@ -48,6 +48,7 @@ from mapping.gap_fit import (
     edge_level,
     line_edge,
     local_mean,
+    nearness,
     regression_design,
     ridge_predict,
     straight_line,
@@ -233,7 +234,7 @@ class GapFiller:
         candidates = [k for k in range(markers) if (k in apart) == (m in apart)]
         pad = max(int(self.window_seconds * rate), end - start)
         lo, hi = max(0, start - pad), min(frames, end + pad)
-        others, rows, own = _predictors(pos, seen_all, m, start, end, lo, hi, candidates)
+        others, rows, own = predictors(pos, seen_all, m, start, end, lo, hi, candidates)
         during = seen_all[start:end, candidates]
         partly = bool((during.any(axis=0) & ~during.all(axis=0)).any())  # m itself is unseen throughout
         one_side = 1 if start == 0 else -1 if end == frames else 0  # a gap at an end: seen on one side
@@ -246,8 +247,7 @@ class GapFiller:
                 self._splines(pos, times, _only(seen_all, start, end, m))
             state.filled(start, end, m)
             return pos if partly else None
-        near = pos[own][:, others] - pos[own, m][:, None]
-        weight = np.exp(-np.mean(np.linalg.norm(near, axis=2), axis=0) ** 2 / (2 * self.sigma_mm ** 2))
+        weight = nearness(pos[own, m], pos[own][:, others], self.sigma_mm)
         fit = np.isin(rows, own)
         low, high = self.blend_seconds
         ridge, share = self.ridge, float(np.clip((times[end - 1] - times[start] - low) / (high - low), 0, 1))
@@ -283,20 +283,22 @@ class GapFiller:
         return chosen if partly else None
 
 
-def _predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
-                candidates: list[int]) -> tuple[list[int], np.ndarray, np.ndarray]:
+def predictors(pos: np.ndarray, seen: np.ndarray, m: int, start: int, end: int, lo: int, hi: int,
+               candidates: list[int], most: int | None = None) -> tuple[list[int], np.ndarray, np.ndarray]:
     """Markers to predict marker ``m``'s gap ``[start, end)`` from, and the rows of ``[lo, hi)``
     where they are all seen (``rows``) and ``m`` too (``own``).
 
-    Candidates (among ``candidates``) are the markers seen throughout the gap; while the rows
+    Candidates (among ``candidates``) are the markers seen throughout the gap, at most ``most``
+    of them (those that tell most about ``m``, :func:`_relevance`) where given; while the rows
     where all are seen are too few for a regression (under 9 per predictor, or 60), the one
-    that tells least about ``m`` (:func:`_relevance`) is dropped: the other brow, which moves
-    with a missing one, stays; a marker that hardly moves with it goes first."""
+    that tells least about ``m`` is dropped: the other brow, which moves with a missing one,
+    stays; a marker that hardly moves with it goes first."""
     others = [k for k in candidates if k != m and seen[start:end, k].all()]
     window = seen[lo:hi]
     share = _relevance(pos[lo:hi, m], pos[lo:hi][:, others], window[:, [m]] & window[:, others])
     score = dict(zip(others, share.tolist(), strict=True))
     others.sort(key=lambda k: score[k], reverse=True)
+    del others[len(others) if most is None else most:]
     while others:
         rows = np.flatnonzero(window[:, others].all(axis=1)) + lo
         own = rows[seen[rows, m]]
