@@ -3,13 +3,14 @@
 Per frame, in the offline order where the future is not needed: the robust head fit (on the
 performer's reference shape: the profile's, kept when it was calibrated, or else measured on the
 rest as offline cleaning measures it, :meth:`LiveMapper._own_shape_at_rest`), spikes rejected in
-the head frame and the head fitted again without them, short gaps held at the marker's last
-head-frame position (counted as filled; a channel such as a blendshape score likewise), One Euro
-smoothing of the head-frame markers and of the head pose, then the mapping's
-motor values (:func:`mapping.mapper.motor_values`) on that one frame and the per-frame rules
-(:class:`mapping.rules.MotorRules`), the same code offline mapping runs. Only cleaning differs:
+the head frame and the head fitted again without them, lost markers filled from the markers seen
+now, or held at their last head-frame position (:mod:`mapping.live_gaps`; counted as filled; a
+channel such as a blendshape score held likewise), One Euro smoothing of the head-frame markers
+and of the head pose, then the mapping's motor values (:func:`mapping.mapper.motor_values`) on
+that one frame and the per-frame rules (:class:`mapping.rules.MotorRules`), the same code
+offline mapping runs. Only cleaning differs:
 offline it looks ahead (zero-phase smoothing, gap filling from both sides); live it cannot, so
-live motors lag the offline ones by a frame or two and fill gaps by holding.
+live motors lag the offline ones by a frame or two and fill gaps from the past alone.
 
 Two ways round work that would change nothing: a tracker that reports the head's rotation (a
 bridge, whose frames are the head references it turned) gives the pose the fit would find, so
@@ -36,6 +37,7 @@ from mapping.eye_contact import LiveEyeContact
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.life import LiveLife
+from mapping.live_gaps import REGRESS_SECONDS, LiveGapFiller
 from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, made_up, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
@@ -68,7 +70,11 @@ class LiveMapper:
     rest_seconds : float
         Seconds at the start taken as the performer's rest (0: the profile's rest as it is).
     max_gap_seconds : float
-        A marker unseen for up to this long holds its last head-frame position.
+        A marker unseen for up to this long holds its last head-frame position, where it is not
+        regressed on the markers seen (:mod:`mapping.live_gaps`).
+    regress_seconds : float
+        A lost marker that no ``pair`` rule reads is regressed on the markers seen for up to this
+        long (0: held as the others).
     spikes : bool
     seed : int
         Seeds the idle drift and the tremble.
@@ -82,7 +88,7 @@ class LiveMapper:
     def __init__(self, mapping: Mapping, markerset: MarkerSet, profile: Profile, labels: tuple[str, ...],
                  rate: float, target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
                  max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0,
-                 channel_names: tuple[str, ...] = ()) -> None:
+                 channel_names: tuple[str, ...] = (), regress_seconds: float = REGRESS_SECONDS) -> None:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
         if learn_seconds > 0 and rest_seconds <= 0:
@@ -116,8 +122,10 @@ class LiveMapper:
         self.markers = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
         self.pose = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
         self.rules = MotorRules(mapping, rate, self.neutral, seed)
-        self._last_local = np.full((len(labels), 3), np.nan)
-        self._last_seen = np.full(len(labels), -np.inf)
+        paired = {m for rule in mapping.rules if rule.loss == "pair" for source in rule.sources for m in source.markers}
+        self.gaps = LiveGapFiller(len(labels), rate, [c for label, c in self.columns.items() if label not in paired],
+                                  max_gap_seconds, regress_seconds,
+                                  [self.columns[label] for label in markerset.independent if label in self.columns])
         self.reads_markers = any(source.markers for source in mapping.sources())
         self.channel_names = tuple(channel_names)
         read = {source.channel for source in mapping.sources() if source.kind == "blendshape"}
@@ -153,7 +161,7 @@ class LiveMapper:
         head references it turned), taken as the pose instead of one fitted to the references."""
         local, rotation, translation, ok = self._head_frame(np.asarray(positions, dtype=float), t, head)
         if self.reads_markers:
-            local, held = self._hold(local, t)
+            local, held = self.gaps.step(local, t)
             quality = marker_quality(local)
             quality[held] = FILLED_QUALITY
             local = self.markers.step(local.reshape(-1), t).reshape(local.shape)
@@ -220,13 +228,6 @@ class LiveMapper:
             local = kept
         return local, rotation[0], translation[0], True
 
-    def _hold(self, local: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """Markers unseen for at most ``max_gap`` seconds at their last position; which were held."""
-        seen = np.isfinite(local).all(axis=1)
-        self._last_local[seen], self._last_seen[seen] = local[seen], t
-        held = ~seen & (t - self._last_seen <= self.max_gap)
-        return np.where(held[:, None], self._last_local, local), held
-
     def _hold_channels(self, channels: np.ndarray | None, t: float) -> dict[str, np.ndarray]:
         """This frame's channels that the mapping reads, by name, ``(1,)`` each, a missing value
         held for ``max_gap``."""
@@ -282,7 +283,7 @@ class LiveMapper:
         rotation, translation, ok = robust_rigid_fit(self.shape, world[:, self.rows])
         local, rotations = local.copy(), rotations.copy()
         local[ok], rotations[ok] = to_head_frame(world[ok], rotation[ok], translation[ok]), rotation[ok]
-        for reset in (self.markers, self.pose, self.spikes):
+        for reset in (self.markers, self.pose, self.spikes, self.gaps):
             if reset is not None:
                 reset.reset()
         return local, rotations
