@@ -43,8 +43,8 @@ def _run(filler: LiveGapFiller, times: np.ndarray, seen: np.ndarray, lost: dict[
 
 def test_a_lost_marker_follows_the_others_motion_and_is_lost_after_two_seconds():
     """Marker 0 lost from 11 s to the end: regressed on the other seven, it is within 0.3 mm of
-    where it went for two seconds (held, it is 4 mm and more off), then lost; marker 1, not
-    regressed, is held for half a second, then lost."""
+    where it went for two seconds (held, it would be more than 4 mm off at worst), then lost;
+    marker 1, not regressed, is held for half a second, then lost."""
     times, seen, truth = _moving()
     filler = LiveGapFiller(8, RATE, regressed=[0, 2, 3, 4, 5, 6, 7], hold_seconds=0.5)
     out, filled = _run(filler, times, seen, {0: 11.0, 1: 11.0})
@@ -63,8 +63,8 @@ def test_a_lost_marker_follows_the_others_motion_and_is_lost_after_two_seconds()
 
 def test_a_predictor_lost_in_turn_refits_on_those_left_and_too_little_past_holds():
     """Marker 0 lost at 11 s and marker 2 at 11.5 s: from then on marker 0 is regressed on the six
-    left, still within 0.3 mm. Lost in the first 0.4 s (under 60 frames to learn from), a marker
-    is held as it was last seen."""
+    left, still within 0.3 mm. Lost 0.3 s into the stream (36 frames to learn from, under 60), a
+    marker is held as it was last seen."""
     times, seen, truth = _moving(seed=1)
     out, _ = _run(LiveGapFiller(8, RATE, regressed=range(8)), times, seen, {0: 11.0, 2: 11.5})
     late = (times >= 11.5) & (times < 13.0)
