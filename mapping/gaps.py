@@ -77,6 +77,12 @@ def gap_runs(missing: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(), strict=True))
 
 
+#: The defaults of :class:`GapFiller` that a live fill (:mod:`mapping.live_gaps`) shares: the longest
+#: gap filled (s), the ridge penalty without validation, the seconds learned from either side and
+#: the predictors' nearness scale (mm).
+MAX_GAP_SECONDS, RIDGE, WINDOW_SECONDS, SIGMA_MM = 2.0, 3e-2, 10.0, 200.0
+
+
 class GapFiller:
     """Fill the gaps of marker trajectories (see the module docstring).
 
@@ -113,9 +119,9 @@ class GapFiller:
     predictor where fewer than four predict.
     """
 
-    def __init__(self, spline_frames: int = 5, max_gap_seconds: float = 2.0, ridge: float = 3e-2,
-                 window_seconds: float = 10.0, blend_seconds: tuple[float, float] = (0.1, 0.5),
-                 sigma_mm: float = 200.0, validate: bool = True, predictor_mean_seconds: float | None = None
+    def __init__(self, spline_frames: int = 5, max_gap_seconds: float = MAX_GAP_SECONDS, ridge: float = RIDGE,
+                 window_seconds: float = WINDOW_SECONDS, blend_seconds: tuple[float, float] = (0.1, 0.5),
+                 sigma_mm: float = SIGMA_MM, validate: bool = True, predictor_mean_seconds: float | None = None
                  ) -> None:
         if spline_frames < 0 or max_gap_seconds <= 0 or window_seconds <= 0:
             raise ValueError("spline_frames must be >= 0, max_gap_seconds and window_seconds > 0")

@@ -36,20 +36,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from mapping.gap_fit import edge_level, features, nearness, ridge_fit
-from mapping.gaps import predictors
+from mapping.gaps import MAX_GAP_SECONDS, RIDGE, SIGMA_MM, WINDOW_SECONDS, predictors
 
-#: Seconds of past frames a fill learns from (offline's window either side of a gap).
-WINDOW_SECONDS = 10.0
-#: The longest a marker is regressed, seconds (offline's longest fill).
-REGRESS_SECONDS = 2.0
-#: The ridge penalty, relative to the mean feature variance (offline's without validation).
-RIDGE = 0.03
+#: The longest a marker is regressed, seconds (offline's longest fill). Offline's window either
+#: side of a gap is the seconds of past frames a fill learns from, and its ridge penalty without
+#: validation and nearness scale are the fill's (:mod:`mapping.gaps`).
+REGRESS_SECONDS = MAX_GAP_SECONDS
 #: The last seen samples whose median miss is held across the gap.
 EDGE = 5
 #: The most predictors a fill uses: those that tell most about the lost marker.
 MOST = 8
-#: Predictors' nearness scale, mm (offline's).
-SIGMA_MM = 200.0
 
 
 @dataclass(frozen=True)

@@ -92,6 +92,18 @@ def fourth():
     return performed, mapping, markerset, prepared, profile
 
 
+def _live(fourth, profile, **options) -> dict:
+    """The fourth performer's scores mapped live with ``profile`` (the frames after the sweep, one
+    at a time, on the profile's rest; ``options`` for :class:`LiveMapper`)."""
+    performed, mapping, markerset, _, _ = fourth
+    take = performed.take
+    after = np.flatnonzero(take.times >= SWEEP_END)
+    mapper = LiveMapper(mapping, markerset, profile, take.labels, take.rate, target_neutral=performed.rest,
+                        rest_seconds=0.0, **options)
+    out = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in after])
+    return scores(out, performed.motors[after], performed.rest)
+
+
 @pytest.mark.slow
 def test_calibration_keeps_the_reference_shape_its_head_fit_measured(fourth, tmp_path):
     _, _, markerset, prepared, profile = fourth
@@ -122,17 +134,9 @@ def test_a_profile_s_reference_must_be_three_numbers(fourth, tmp_path):
 def test_the_fourth_performer_maps_live_on_its_own_references(fourth):
     """Live, after the sweep, the fourth performer's motors against the truth (gain and offset
     fitted): 2.67 % on the profile's references, 4.62 % on toon32's shape (one run, lost markers held)."""
-    performed, mapping, markerset, _, profile = fourth
-    take = performed.take
-    after = np.flatnonzero(take.times >= SWEEP_END)
-
-    def fitted(p) -> float:
-        mapper = LiveMapper(mapping, markerset, p, take.labels, take.rate, target_neutral=performed.rest,
-                            rest_seconds=0.0)
-        out = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in after])
-        return scores(out, performed.motors[after], performed.rest)["fitted_pct"]
-
-    assert fitted(profile) < 0.7 * fitted(dataclasses.replace(profile, references={}))
+    profile = fourth[4]
+    own, marker_set = (_live(fourth, p)["fitted_pct"] for p in (profile, dataclasses.replace(profile, references={})))
+    assert own < 0.7 * marker_set
 
 
 @pytest.mark.slow
@@ -140,16 +144,6 @@ def test_the_fourth_performer_s_lost_mouth_markers_are_regressed_live(fourth):
     """Live, the same seed's mouth with lost markers regressed on those seen (mapping.live_gaps)
     against held for half a second and then lost: the right corner's r 0.936 against 0.889, all
     motors' fitted error 2.89 % against 2.94 (one run)."""
-    performed, mapping, markerset, _, profile = fourth
-    take = performed.take
-    after = np.flatnonzero(take.times >= SWEEP_END)
-
-    def mapped(regress_seconds: float) -> dict:
-        mapper = LiveMapper(mapping, markerset, profile, take.labels, take.rate, target_neutral=performed.rest,
-                            rest_seconds=0.0, regress_seconds=regress_seconds)
-        out = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in after])
-        return scores(out, performed.motors[after], performed.rest)
-
-    regressed, held = mapped(2.0), mapped(0.0)
+    regressed, held = (_live(fourth, fourth[4], regress_seconds=seconds) for seconds in (2.0, 0.0))
     assert regressed["r"]["MRH"] > 0.92 and held["r"]["MRH"] < 0.9
     assert regressed["fitted_pct"] < held["fitted_pct"] - 0.03
