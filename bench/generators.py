@@ -29,6 +29,11 @@ the true motors, on :data:`SEEDS` seeds each (each seed a new performance, face 
     solver's profile, fed the frames after the sweep one at a time), the mean over the seeds; each
     seed's and the lowest r in the detail, beside the offline solver's (no goal: live cannot look
     ahead to fill a gap or smooth both ways).
+``fidelity.fourth_live_step_p99_ms``
+    What one frame costs that live mapper (its ``step``, timed frame by frame over every seed):
+    the 99th percentile (goal: the live loop's 40 ms, issue 62's "live within the live latency
+    goal"); the median, the slowest and the share of frames slower than the take's frame interval
+    (8.3 ms at 120 Hz: a stream falls behind on those) in the detail.
 ``fidelity.second_head_range_error``
     How far HV's travel is from its truth's, as a share of it (the second performer's pitch
     range is ±20°, its HV's 0..1; goal 0.05), the worst seed's.
@@ -46,6 +51,7 @@ motors, to 1e-6).
 from __future__ import annotations
 
 import tempfile
+import time
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -54,6 +60,7 @@ import numpy as np
 
 from bench import fourth_performer, third_performer
 from bench.core import Figure
+from bench.live import LOOP_TIME
 from bench.peer import plain_pipeline, scores
 from bench.second_performer import REST_SECONDS, SWEEP_END, perform
 from capture import Take, load_take, synthesize
@@ -138,9 +145,12 @@ def _one(take: Take, truth: np.ndarray, rest: np.ndarray, sweep_end: float, live
     stepped = None
     if live:
         mapper = LiveMapper(mapping, markerset, profile, take.labels, take.rate, rest, rest_seconds=0.0)
-        frames = np.flatnonzero(after)
-        stepped = scores(np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in frames]),
-                         truth[after], rest)
+        values, took = [], []
+        for k in np.flatnonzero(after):
+            start = time.perf_counter()
+            values.append(mapper.step(take.positions[k], float(take.times[k]))[0])
+            took.append(time.perf_counter() - start)
+        stepped = {**scores(np.array(values), truth[after], rest), "step_ms": 1000 * np.array(took)}
     return (scores(ours, truth[after], rest), scores(peer[after], truth[after], rest),
             scores(solved, truth[after], rest), ours, stepped)
 
@@ -197,6 +207,13 @@ def _figures(prefix: str, runs: list[Performance], raw_goal: float = 2.5) -> lis
                               {"fitted_pct_each": each(live, "fitted_pct"),
                                "min_r": min(min(s["r"].values()) for s in live),
                                "solver_fitted_pct_each": each(solved, "fitted_pct")}))
+        took = np.concatenate([s["step_ms"] for s in live])
+        interval = 1000 / runs[0][0].rate
+        figures.append(Figure(f"fidelity.{prefix}_live_step_p99_ms", float(np.percentile(took, 99)), "ms",
+                              LOOP_TIME * 1000, False,
+                              {"median_ms": round(float(np.median(took)), 3), "max_ms": round(float(took.max()), 3),
+                               "frames": len(took), "frame_interval_ms": round(interval, 3),
+                               "over_interval_share": round(float(np.mean(took > interval)), 4)}))
     if hv_error:
         figures.append(Figure("fidelity.second_head_range_error", max(hv_error), "share", 0.05, False,
                               {"each": [round(e, 4) for e in hv_error], "truth": "HV 0..1 is +-20 deg of pitch"}))
