@@ -28,12 +28,14 @@ all, 2.77, 2.96, 5.00, 2.95 (a mouth corner worse on 31); on the eight that tell
 3.24 -> 2.79, 2.89, 3.43, 2.56, 3.14; the other three performers' first seeds 2.86 -> 2.79,
 3.55 -> 3.42, 4.02 -> 3.73. A fit costs about 3.5 ms (a 120 Hz frame's mapping about 4): the
 slowest frame of a fourth-performer take, where several markers were lost at once, took 26 ms
-against 13. A fit was remade on 268 frames of that take's 2400 (seed 3), 145 of them because a
-predictor dropped out for a frame or two; reusing a recent fit and reading a briefly lost
-predictor where it was last seen, 167 (``fidelity.fourth_live_step_p99_ms``, the bench's two quick
-seeds: 11.8 -> 8.0 ms, the slowest frame 20.8 -> 13.5, frames slower than the 8.3 ms frame interval
-2.4 -> 0.8 %), the live fitted error the same (choice seeds 31, 32, 34: 2.605, 2.960, 2.949 ->
-2.605, 2.960, 2.949; the other performers' seed 31: 3.62 -> 3.55, 4.33 -> 4.33, 2.79 -> 2.79).
+against 13. Fits were made 268 times in that take's 2400 frames (seed 3, on 143 of them), 145 of
+them again because a predictor dropped out for a frame or two; reusing a recent fit and reading
+a briefly lost predictor where it was last seen, 167 times. Every frame of seeds 1-5 timed, two
+runs each way: the 99th percentile 14.7, 13.6 -> 9.6, 8.5 ms, frames slower than the 8.3 ms
+frame interval 4.3, 3.0 -> 1.5, 1.1 % (``fidelity.fourth_live_step_p99_ms``); the live fitted
+error the same (``fidelity.fourth_live_fitted_pct`` 2.964 -> 2.965; choice seeds 31, 32, 34:
+2.605, 2.960, 2.949 -> 2.605, 2.960, 2.949; the other performers' seed 31: 3.62 -> 3.55, 4.33 ->
+4.33, 2.79 -> 2.79).
 """
 
 from __future__ import annotations
