@@ -191,6 +191,7 @@ def _figures(prefix: str, runs: list[Performance], raw_goal: float = 2.5) -> lis
                       {"motor": min(lowest, key=lambda k: lowest[k])}),
                Figure(f"fidelity.{prefix}_vs_peer_ratio", max(ratios), "ratio", 1.0, False, peer_detail)]
     solver_lowest = {code: min(s["r"][code] for s in solved if code in s["r"]) for code in lowest}
+    solver_each = _lowest_each(solved)
     figures += [Figure(f"fidelity.{prefix}_solver_fitted_pct", _mean(solved, "fitted_pct"), "%", None, False,
                        {"fitted_pct_each": each(solved, "fitted_pct"),
                         "rules_fitted_pct_each": fitted["fitted_pct_each"], "rmse_pct_each": each(solved, "raw_pct"),
@@ -200,8 +201,7 @@ def _figures(prefix: str, runs: list[Performance], raw_goal: float = 2.5) -> lis
                        False, {"seed": SEEDS[int(np.argmax([s["fitted_pct"] for s in solved]))]}),
                 Figure(f"fidelity.{prefix}_solver_min_r", min(solver_lowest.values()), "r", 0.95, True,
                        {"motor": min(solver_lowest, key=lambda k: solver_lowest[k]),
-                        "seed": SEEDS[int(np.argmin([min(s["r"].values()) for s in solved]))],
-                        **_lowest_each(solved)})]
+                        "seed": SEEDS[int(np.argmin(solver_each["r_each"]))], **solver_each})]
     if live:
         figures.append(Figure(f"fidelity.{prefix}_live_fitted_pct", _mean(live, "fitted_pct"), "%", None, False,
                               {"fitted_pct_each": each(live, "fitted_pct"),
