@@ -87,10 +87,11 @@ class _Fit:
         centre, x = features(frames[:, self.others], self.weight)  # a copy: indexed by a list
         return (x - self.mean_x) @ self.coef + self.mean_y + centre
 
-    def again(self, past: np.ndarray, known: np.ndarray, m: int) -> _Fit | None:
-        """This fit for marker ``m`` lost again, its miss measured on its last seen samples with
-        every predictor in the frames kept ``past`` ``(n, M, 3)`` (``known`` ``(n, M)``: where
-        each was seen); None where there are none."""
+    def with_miss(self, past: np.ndarray, known: np.ndarray, m: int) -> _Fit | None:
+        """This fit for marker ``m`` with the miss held across its gap: what the regression
+        missed on the last :data:`EDGE` samples of ``m`` seen with every predictor in the frames
+        kept ``past`` ``(n, M, 3)`` (``known`` ``(n, M)``: where each was seen), the median; None
+        where there are none. A new fit's, and a reused one's measured afresh."""
         rows = np.flatnonzero(known[:, m] & known[:, self.others].all(axis=1))[-EDGE:]
         if not len(rows):
             return None
@@ -145,7 +146,7 @@ class LiveGapFiller:
         out, filled = local.copy(), np.zeros(len(local), dtype=bool)
         since = t - self._seen_at
         usable = since <= BRIEF_SECONDS  # a predictor lost this briefly is read where it was last seen
-        reading = np.where(seen[:, None], local, self._last)
+        reading: np.ndarray | None = None  # the frame with those, made once a frame where a fit reads it
         window: tuple[np.ndarray, np.ndarray] | None = None  # the frames kept, gathered once a frame
         for m in map(int, np.flatnonzero(~seen & (since <= max(self.hold_seconds, self.regress_seconds)))):
             fit = None
@@ -156,6 +157,7 @@ class LiveGapFiller:
                     self._fits[m] = self._refit(m, seen, usable, t, *window)  # (None: nothing to learn from)
                 fit = self._fits[m]
             if fit is not None:
+                reading = np.where(seen[:, None], local, self._last) if reading is None else reading
                 out[m] = fit.predict(reading)
             elif since[m] <= self.hold_seconds:
                 out[m] = self._last[m]
@@ -175,7 +177,7 @@ class LiveGapFiller:
         afresh), a new one on those ``seen`` (:meth:`_fit`) otherwise."""
         recent = self._recent.get(m)
         if recent is not None and t - recent[0] <= REUSE_SECONDS and usable[recent[1].others].all():
-            again = recent[1].again(past, known, m)
+            again = recent[1].with_miss(past, known, m)
             if again is not None:
                 return again
         fit = self._fit(m, seen, past, known)
@@ -195,5 +197,4 @@ class LiveGapFiller:
         centre, x = features(past[own][:, others], weight)
         target = past[own, m] - centre
         mean_x, coef, mean_y = ridge_fit(x, target, RIDGE)
-        miss = edge_level(target - ((x - mean_x) @ coef + mean_y), -1, EDGE)
-        return _Fit(others, mean_x, coef, mean_y, weight, miss)
+        return _Fit(others, mean_x, coef, mean_y, weight, np.zeros(3)).with_miss(past, known, m)
