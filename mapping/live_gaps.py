@@ -52,6 +52,8 @@ from mapping.gaps import MAX_GAP_SECONDS, RIDGE, SIGMA_MM, WINDOW_SECONDS, predi
 #: side of a gap is the seconds of past frames a fill learns from, and its ridge penalty without
 #: validation and nearness scale are the fill's (:mod:`mapping.gaps`).
 REGRESS_SECONDS = MAX_GAP_SECONDS
+#: The longest a marker that is not regressed (or has nothing to regress on) is held, seconds.
+HOLD_SECONDS = 0.5
 #: The last seen samples whose median miss is held across the gap.
 EDGE = 5
 #: The most predictors a fill uses: those that tell most about the lost marker.
@@ -117,7 +119,7 @@ class LiveGapFiller:
         Markers predicted only from each other.
     """
 
-    def __init__(self, markers: int, rate: float, regressed: Collection[int], hold_seconds: float = 0.5,
+    def __init__(self, markers: int, rate: float, regressed: Collection[int], hold_seconds: float = HOLD_SECONDS,
                  regress_seconds: float = REGRESS_SECONDS, apart: Sequence[int] = ()) -> None:
         self.rows = max(int(round(WINDOW_SECONDS * rate)), 2)
         self.regressed, self.apart = frozenset(regressed), frozenset(apart)

@@ -37,7 +37,7 @@ from mapping.eye_contact import LiveEyeContact
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.life import LiveLife
-from mapping.live_gaps import REGRESS_SECONDS, LiveGapFiller
+from mapping.live_gaps import HOLD_SECONDS, REGRESS_SECONDS, LiveGapFiller
 from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, made_up, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
@@ -87,7 +87,7 @@ class LiveMapper:
 
     def __init__(self, mapping: Mapping, markerset: MarkerSet, profile: Profile, labels: tuple[str, ...],
                  rate: float, target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
-                 max_gap_seconds: float = 0.5, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0,
+                 max_gap_seconds: float = HOLD_SECONDS, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0,
                  channel_names: tuple[str, ...] = (), regress_seconds: float = REGRESS_SECONDS) -> None:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")

@@ -15,6 +15,7 @@ import click
 
 from common import InputError
 from common.limits import read_regular
+from mapping.live_gaps import HOLD_SECONDS, REGRESS_SECONDS
 from toonface.cli_options import (
     BACKGROUND,
     EYE_CONTACT,
@@ -105,6 +106,12 @@ def _key(path: str | None) -> bytes | None:
               help="At the end, write the profile used (with ranges learned live, for a camera) to reuse with "
                    "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
+@click.option("--max-gap", default=REGRESS_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
+              help="A lost marker is filled for up to this many seconds, regressed on the markers seen (as map "
+                   "--max-gap fills, from the past alone); longer it is lost (0: none is filled).")
+@click.option("--hold-gap", default=HOLD_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
+              help="A lost marker that is not regressed (a brow, lid or pupil, which follows the other side once "
+                   "lost) or a lost blendshape channel holds its last value this long, at most --max-gap.")
 @click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
               help="This performer's stream id, for a receiver showing several [default: a random one].")
 @EYE_CONTACT
@@ -114,8 +121,8 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
          ca_file: str | None, mapping: str | None,
          profile_path: str | None, seconds: float | None, repeat: bool, frames_per_packet: int,
          keyframe_seconds: float, colour: str, key_file: str | None, record: str | None, save_profile: str | None,
-         stats: bool, stream_id: int | None, eye_contact: bool, life: bool | None, force: bool,
-         reading: TakeReading) -> None:
+         stats: bool, max_gap: float, hold_gap: float, stream_id: int | None, eye_contact: bool, life: bool | None,
+         force: bool, reading: TakeReading) -> None:
     """Stream a performer's face as motor values: SOURCE is a take file (played in real time),
     a video with dot markers (tracked as it plays), camera:N, `synthetic` (the synthetic
     performer), or instead --vmc HOST:PORT (a face-tracking app over the VMC protocol) or
@@ -143,7 +150,8 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
     src = open_source(spec, read_take=lambda path: read_take(path, reading), repeat=repeat, colour=colour,
                       seconds=seconds)
     notes: list[str] = []
-    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes, life=life)
+    mapper = build_mapper(src, mapping, load_profile(profile_path) if profile_path else None, notes=notes, life=life,
+                          regress_seconds=max_gap, hold_seconds=hold_gap)
     for note in notes:
         click.echo(f"note: {note}", err=True)
     if eye_contact:

@@ -22,6 +22,7 @@ from capture.sources import Source, paced
 from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
 from mapping.life import LiveLife
+from mapping.live_gaps import HOLD_SECONDS, REGRESS_SECONDS
 from mapping.stepwise import LiveMapper
 from mapping.take_notes import solver_note
 from mapping.typical import typical_profile
@@ -36,13 +37,17 @@ LEARN_SECONDS = 60.0
 
 def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: Profile | None = None,
                  target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
-                 notes: list[str] | None = None, life: bool | None = None) -> LiveMapper:
+                 notes: list[str] | None = None, life: bool | None = None, regress_seconds: float = REGRESS_SECONDS,
+                 hold_seconds: float = HOLD_SECONDS) -> LiveMapper:
     """The live mapper for a source: the named mapping (or the one the source names, or the preset
     its labels match), and the given profile or the marker set's typical one, with the rest taken
     from the first ``rest_seconds``. Where the marker set has no typical profile, a take's own first
     :data:`CALIBRATION_SECONDS` make one; what was chosen is appended to ``notes``. ``life``: the
     life layer (:mod:`mapping.life`) on the motors the mapping does not drive or loses (None: on
-    for a voice alone, as offline)."""
+    for a voice alone, as offline). A lost marker is regressed on those seen for up to
+    ``regress_seconds``, or held for up to ``hold_seconds`` where it is not regressed (a ``pair``
+    rule's, and a blendshape channel), never longer than ``regress_seconds``
+    (:mod:`mapping.live_gaps`)."""
     if notes is not None and source.meta.get("note"):
         notes.append(source.meta["note"])  # how the source read what it was given
     mapping = mapping or source.meta.get("mapping")  # a bridge names the mapping its data needs
@@ -76,7 +81,8 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
         notes.extend(filter(None, [solver_note(profile, chosen)]))
     try:
         mapper = LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
-                            learn_seconds=learn, channel_names=source.channel_names)
+                            max_gap_seconds=min(hold_seconds, regress_seconds), learn_seconds=learn,
+                            channel_names=source.channel_names, regress_seconds=regress_seconds)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     if notes is not None and not mapper.own_shape and rest_seconds <= 0:

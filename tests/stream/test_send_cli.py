@@ -1,15 +1,22 @@
 """`toonface send` as a person runs it: to several receivers, stopped by --seconds when nothing
 arrives, and Ctrl-C ending as a normal end does (issue 44)."""
 
+import dataclasses
 import json
 import time
 
+import numpy as np
 import pytest
 
+import capture.sources
+from capture.sources import take_source
+from capture.synthetic import synthesize
+from capture.takefile import save_take
 from stream.playout import Playout
 from stream.receiver import StreamReceiver
-from toon import standard_neutral
+from toon import MOTOR_CODES, load_track, standard_neutral
 from toonface.cli import main
+from toonface.send import build_mapper
 
 
 @pytest.mark.slow  # two sends: make test runs it (make test-fast stays under a minute)
@@ -37,8 +44,6 @@ def test_send_from_a_bridge_nobody_sends_to_stops_after_its_seconds(capsys):
 
 def test_ctrl_c_ends_send_with_its_summary_and_stats(monkeypatch, capsys):
     """Ctrl-C printed nothing of --stats."""
-    import capture.sources
-
     real = capture.sources.paced
 
     def interrupted(source, clock, sleep):
@@ -98,3 +103,31 @@ def test_receive_stats_count_each_frame_drawn_once(capsys):
     shown = sum(summary["frames"].values())
     assert 36 <= shown <= 41  # 40 loops of 50 ms (two seconds at 20 fps), each counted once
     assert summary["frames"]["live"] > 10  # the performer was shown
+
+
+@pytest.mark.slow  # three sends of an 8 s take, unpaced: make test runs it
+def test_send_fills_a_lost_marker_for_max_gap_seconds_and_holds_for_hold_gap(monkeypatch, tmp_path, capsys):
+    """`send` filled a lost marker live for 2 s (regressed) and held a paired one 0.5 s, with no way
+    to say otherwise, where `map` has --max-gap: a mouth corner lost for 1.5 s while the mouth
+    moves follows the truth filled, and drifts from it once it is lost after --max-gap."""
+    real = capture.sources.paced
+    monkeypatch.setattr("toonface.send.paced", lambda source, clock, sleep: real(source, clock, lambda s: None))
+    made = synthesize(seconds=8.0, rate=60.0, seed=4)
+    positions = made.take.positions.copy()
+    gap = (made.take.times >= 4.0) & (made.take.times < 5.5)
+    positions[gap, made.take.labels.index("MOUTH_R")] = np.nan
+    take = save_take(dataclasses.replace(made.take, positions=positions), tmp_path / "lost.npz")
+    mrh = MOTOR_CODES.index("MRH")
+    errors = []
+    for options in ([], ["--max-gap", "0.3"]):
+        record = tmp_path / f"sent{len(options)}.csv"
+        assert main(["send", str(take), "--to", "127.0.0.1:9", "--record", str(record), *options]) == 0
+        sent = load_track(record).values
+        errors.append(float(np.abs(sent[gap, mrh] - made.motors[gap, mrh]).mean()))
+    capsys.readouterr()
+    assert errors[0] < 0.015 and errors[1] > 3 * errors[0]  # 0.006 filled; 0.058 lost after 0.3 s
+    source = take_source(made.take)
+    held = [build_mapper(source, **given).gaps for given in ({}, {"hold_seconds": 0.2}, {"regress_seconds": 0.1})]
+    assert [(gaps.regress_seconds, gaps.hold_seconds) for gaps in held] == [(2.0, 0.5), (2.0, 0.2), (0.1, 0.1)]
+    assert main(["send", str(take), "--to", "127.0.0.1:9", "--max-gap", "-1"]) == 2
+    assert "--max-gap" in capsys.readouterr().err
