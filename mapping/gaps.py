@@ -54,6 +54,7 @@ from mapping.gap_fit import (
     straight_line,
     validate_gap,
 )
+from mapping.settings import MAX_GAP_SECONDS
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,10 +78,10 @@ def gap_runs(missing: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(), strict=True))
 
 
-#: The defaults of :class:`GapFiller` that a live fill (:mod:`mapping.live_gaps`) shares: the longest
-#: gap filled (s), the ridge penalty without validation, the seconds learned from either side and
-#: the predictors' nearness scale (mm).
-MAX_GAP_SECONDS, RIDGE, WINDOW_SECONDS, SIGMA_MM = 2.0, 3e-2, 10.0, 200.0
+#: The defaults of :class:`GapFiller` that a live fill (:mod:`mapping.live_gaps`) shares: the ridge
+#: penalty without validation, the seconds learned from either side and the predictors' nearness
+#: scale (mm); the longest gap filled is :data:`mapping.settings.MAX_GAP_SECONDS`.
+RIDGE, WINDOW_SECONDS, SIGMA_MM = 3e-2, 10.0, 200.0
 
 
 class GapFiller:

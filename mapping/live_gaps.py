@@ -46,14 +46,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mapping.gap_fit import edge_level, features, nearness, ridge_fit
-from mapping.gaps import MAX_GAP_SECONDS, RIDGE, SIGMA_MM, WINDOW_SECONDS, predictors
+from mapping.gaps import RIDGE, SIGMA_MM, WINDOW_SECONDS, predictors
+from mapping.settings import HOLD_SECONDS, MAX_GAP_SECONDS
 
 #: The longest a marker is regressed, seconds (offline's longest fill). Offline's window either
 #: side of a gap is the seconds of past frames a fill learns from, and its ridge penalty without
 #: validation and nearness scale are the fill's (:mod:`mapping.gaps`).
 REGRESS_SECONDS = MAX_GAP_SECONDS
-#: The longest a marker that is not regressed (or has nothing to regress on) is held, seconds.
-HOLD_SECONDS = 0.5
 #: The last seen samples whose median miss is held across the gap.
 EDGE = 5
 #: The most predictors a fill uses: those that tell most about the lost marker.

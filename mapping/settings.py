@@ -5,6 +5,13 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+#: The longest gap filled, seconds: offline (:class:`CleanSettings`, :class:`mapping.gaps.GapFiller`)
+#: and live, where a lost marker is regressed on those seen (:mod:`mapping.live_gaps`).
+MAX_GAP_SECONDS = 2.0
+#: Live, how long a lost marker that is not regressed (a ``pair`` rule's: a brow, a lid, a pupil)
+#: or a lost blendshape channel is held at its last value, seconds (:mod:`mapping.live_gaps`).
+HOLD_SECONDS = 0.5
+
 
 @dataclass(frozen=True)
 class CleanSettings:
@@ -29,7 +36,7 @@ class CleanSettings:
     """
 
     spikes: bool = True
-    max_gap_seconds: float = 2.0
+    max_gap_seconds: float = MAX_GAP_SECONDS
     cutoff_hz: float = 8.0
     holds: bool = True
     progress: Callable[[int], Callable[[int], None]] | None = field(default=None, compare=False, repr=False)

@@ -37,13 +37,14 @@ from mapping.eye_contact import LiveEyeContact
 from mapping.filters import OneEuro
 from mapping.learning import RangeLearner
 from mapping.life import LiveLife
-from mapping.live_gaps import HOLD_SECONDS, REGRESS_SECONDS, LiveGapFiller
+from mapping.live_gaps import REGRESS_SECONDS, LiveGapFiller
 from mapping.mapfile import Mapping
 from mapping.mapper import FILLED_QUALITY, check_profile, made_up, marker_quality, motor_values
 from mapping.outliers import SpikeFilter
 from mapping.plan import MotorPlan
 from mapping.profile import Profile, SourceRange, merge_profile
 from mapping.rules import MotorRules
+from mapping.settings import HOLD_SECONDS
 from mapping.solver import rests_of
 from mapping.sources import head_angles, measure
 from mapping.stabilise import Stabilised, measured_shape, nearest_rotation, robust_rigid_fit, to_head_frame

@@ -15,7 +15,7 @@ import click
 
 from common import InputError
 from common.limits import read_regular
-from mapping.live_gaps import HOLD_SECONDS, REGRESS_SECONDS
+from mapping.settings import HOLD_SECONDS, MAX_GAP_SECONDS
 from toonface.cli_options import (
     BACKGROUND,
     EYE_CONTACT,
@@ -106,7 +106,7 @@ def _key(path: str | None) -> bytes | None:
               help="At the end, write the profile used (with ranges learned live, for a camera) to reuse with "
                    "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
-@click.option("--max-gap", default=REGRESS_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
+@click.option("--max-gap", default=MAX_GAP_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
               help="A lost marker is filled for up to this many seconds, regressed on the markers seen (as map "
                    "--max-gap fills, from the past alone); longer it is lost (0: none is filled).")
 @click.option("--hold-gap", default=HOLD_SECONDS, show_default=True, type=FiniteFloat(min=0.0),

@@ -22,7 +22,8 @@ from capture.sources import Source, paced
 from common import InputError
 from mapping import Mapping, Profile, calibrate, choose_mapping, prepare
 from mapping.life import LiveLife
-from mapping.live_gaps import HOLD_SECONDS, REGRESS_SECONDS
+from mapping.live_gaps import REGRESS_SECONDS
+from mapping.settings import HOLD_SECONDS
 from mapping.stepwise import LiveMapper
 from mapping.take_notes import solver_note
 from mapping.typical import typical_profile
