@@ -147,3 +147,22 @@ def test_the_fourth_performer_s_lost_mouth_markers_are_regressed_live(fourth):
     regressed, held = (_live(fourth, fourth[4], regress_seconds=seconds) for seconds in (2.0, 0.0))
     assert regressed["r"]["MRH"] > 0.92 and held["r"]["MRH"] < 0.9
     assert regressed["fitted_pct"] < held["fitted_pct"] - 0.03
+
+
+def test_the_live_head_motors_follow_a_turn_without_lag():
+    """The head's pose was filtered live by the markers' One Euro, its rotation matrix's unitless
+    entries read as millimetres: a turn moved them at a hundredth of a marker's speed, the filter
+    stayed near its 1 Hz floor, and the head's turn motor trailed a 25-degree turn by 6 frames at
+    60 Hz (100 ms; one run). Read as the motion of a point 100 mm out, it trails it by one frame at most."""
+    take = _still_face_turning(slice(0, 0))
+    mapping, markerset = choose_mapping(take)
+    mapper = LiveMapper(mapping, markerset, typical_profile("toon32"), take.labels, take.rate, rest_seconds=1.0)
+    hh = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in range(take.frames)])[:, 19]
+    yaw = np.sin(0.9 * take.times)  # the turn, as _still_face_turning makes it
+    frames = np.flatnonzero((take.times > 1.5) & (hh > 0.02) & (hh < 0.98))  # past the rest, not at a limit
+
+    def miss(lag: int) -> float:  # HH against the turn ``lag`` frames before, gain and offset fitted
+        x = yaw[frames - lag]
+        return float(np.linalg.lstsq(np.column_stack([x, np.ones_like(x)]), hh[frames], rcond=None)[1][0])
+
+    assert min(range(15), key=miss) <= 1
