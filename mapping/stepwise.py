@@ -53,9 +53,9 @@ from toon.motors import code_index, extended_neutral
 
 #: One Euro settings (Hz, and per mm/s) for head-frame markers live: 1 frame of lag at 60 Hz
 #: (``python -m bench fidelity`` measures this filter). A speed coefficient of 1 (no lag; a still
-#: marker's jitter 2.21 times smaller against 2.68), with the pose filtered as below, lowered the live
-#: fitted error summed over the choice takes of :data:`POSE_LEVER_MM` 33.77 -> 33.51 %, but raised
-#: the second and third performers' (6.48 -> 6.52, 9.16 -> 9.20): kept at 0.5.
+#: marker's jitter 2.21 times smaller against 2.68), with the pose filtered as :data:`POSE_LEVER_MM`
+#: says, lowered the live fitted error summed over its choice takes 33.77 -> 33.51 %, but raised the
+#: second and third performers' (6.48 -> 6.52, 9.16 -> 9.20): kept at 0.5.
 LIVE_MIN_CUTOFF, LIVE_BETA = 1.0, 0.5
 #: The head's pose is filtered by the same One Euro as the markers, its rotation as the motion it
 #: gives a point this many mm from the head's origin (its matrix's entries times this), so that the

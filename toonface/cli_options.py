@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -11,6 +12,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
+
+from mapping.settings import HOLD_SECONDS, MAX_GAP_SECONDS
 
 if TYPE_CHECKING:
     from capture import Take
@@ -306,6 +309,15 @@ EYE_CONTACT = click.option(
     help="After the rest (the first second), look at the middle of your screen for a second: that look becomes "
          "the pupils' centre, so that the cartoon looks at its viewer while you look at the screen (a camera above "
          "it sees you look down) and still looks away when you do. Said when taken, or why not.")
+LIVE_MAX_GAP = click.option(
+    "--max-gap", default=MAX_GAP_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
+    help="A lost marker is filled for up to this many seconds, regressed on the markers seen (as map --max-gap "
+         "fills, from the past alone); longer it is lost (0: none is filled).")
+LIVE_HOLD_GAP = click.option(
+    "--hold-gap", default=HOLD_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
+    help="A lost marker that is not regressed (one a 'pair' rule reads, as toon32's brows, lids and pupils, which "
+         "then follow the other side) or a lost blendshape channel holds its last value this long, at most "
+         "--max-gap.")
 NO_PHYSICS = click.option(
     "--no-physics", is_flag=True,
     help="Draw without the face's physics: nothing swings or settles after the motors (hair, beard, hat).")
@@ -349,3 +361,21 @@ def bridge_spec(source: str | None, vmc: str | None, openseeface: str | None = N
         raise click.UsageError("give a SOURCE (a take, a video, camera:N, synthetic), --vmc HOST:PORT or "
                                "--openseeface HOST:PORT")
     return given[0] if given else None
+
+
+def stream_key(path: str | None) -> bytes | None:
+    """The stream's shared secret: the bytes of the --key-file ``path`` (16 or more), else
+    ``TOONFACE_STREAM_KEY``'s, else None (an open stream)."""
+    from common import InputError
+    from common.limits import read_regular
+
+    if path:
+        try:
+            secret = read_regular(path, 4096, "key file").strip()
+        except InputError as exc:
+            raise click.BadParameter(str(exc), param_hint="--key-file") from None
+        if len(secret) < 16:
+            raise click.BadParameter(f"{path}: a key needs at least 16 bytes", param_hint="--key-file")
+        return secret
+    env = os.environ.get("TOONFACE_STREAM_KEY")
+    return env.encode() if env else None

@@ -17,9 +17,9 @@ import click
 from common import InputError
 from common.atomic import atomic_path
 from common.limits import read_regular_text
-from toonface.cli_options import FACE, FiniteFloat
+from toonface.cli_options import FACE, FiniteFloat, stream_key
 from toonface.cli_player import _required_address
-from toonface.cli_stream import KEY, _key
+from toonface.cli_stream import KEY
 from toonface.room.pubsub import shown as uncredentialed
 from toonface.stopping import stop_within
 
@@ -133,7 +133,7 @@ def room(listen: str, names: tuple[str, ...], tokens_path: str, tls_cert: str | 
         if not origin.startswith(("http://", "https://")) or origin.rstrip("/").count("/") != 2:
             raise click.BadParameter(f"{origin}: expected an origin, http(s)://NAME[:PORT]",
                                      param_hint="--allow-origin")
-    settings = Settings(host, port, tokens, max_viewers, face, _key(key_file), tls_cert, tls_key, pubsub,
+    settings = Settings(host, port, tokens, max_viewers, face, stream_key(key_file), tls_cert, tls_key, pubsub,
                         workers > 1, seconds, tuple(o.rstrip("/") for o in origins), stats)
     spawn = multiprocessing.get_context("spawn")
     readies = [spawn.Event() for _ in range(workers - 1)]

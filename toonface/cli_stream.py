@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import json
-import os
 import secrets
 import threading
 import time
@@ -13,15 +12,14 @@ from typing import Any
 
 import click
 
-from common import InputError
-from common.limits import read_regular
-from mapping.settings import HOLD_SECONDS, MAX_GAP_SECONDS
 from toonface.cli_options import (
     BACKGROUND,
     EYE_CONTACT,
     FACE,
     FORCE_RECORD,
     LIFE,
+    LIVE_HOLD_GAP,
+    LIVE_MAX_GAP,
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
@@ -35,6 +33,7 @@ from toonface.cli_options import (
     fresh_recording,
     parse_size,
     read_take,
+    stream_key,
     take_options,
     with_background,
     without_physics,
@@ -62,19 +61,6 @@ def _warn(text: str) -> None:
 def page_key(key: bytes) -> str:
     """``key`` as the viewer page reads it from its link's fragment: base64url, unpadded."""
     return base64.urlsafe_b64encode(key).decode("ascii").rstrip("=")
-
-
-def _key(path: str | None) -> bytes | None:
-    if path:
-        try:
-            secret = read_regular(path, 4096, "key file").strip()
-        except InputError as exc:
-            raise click.BadParameter(str(exc), param_hint="--key-file") from None
-        if len(secret) < 16:
-            raise click.BadParameter(f"{path}: a key needs at least 16 bytes", param_hint="--key-file")
-        return secret
-    env = os.environ.get("TOONFACE_STREAM_KEY")
-    return env.encode() if env else None
 
 
 @click.command()
@@ -106,12 +92,8 @@ def _key(path: str | None) -> bytes | None:
               help="At the end, write the profile used (with ranges learned live, for a camera) to reuse with "
                    "--profile next time (.toml).")
 @click.option("--stats", is_flag=True, help="Print bit rates and the mapping's cost per frame at the end.")
-@click.option("--max-gap", default=MAX_GAP_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
-              help="A lost marker is filled for up to this many seconds, regressed on the markers seen (as map "
-                   "--max-gap fills, from the past alone); longer it is lost (0: none is filled).")
-@click.option("--hold-gap", default=HOLD_SECONDS, show_default=True, type=FiniteFloat(min=0.0),
-              help="A lost marker that is not regressed (a brow, lid or pupil, which follows the other side once "
-                   "lost) or a lost blendshape channel holds its last value this long, at most --max-gap.")
+@LIVE_MAX_GAP
+@LIVE_HOLD_GAP
 @click.option("--id", "stream_id", default=None, type=click.IntRange(0, 65535),
               help="This performer's stream id, for a receiver showing several [default: a random one].")
 @EYE_CONTACT
@@ -156,7 +138,7 @@ def send(source: str | None, vmc: str | None, openseeface: str | None, targets: 
         click.echo(f"note: {note}", err=True)
     if eye_contact:
         mapper.eye_contact = LiveEyeContact(mapper.neutral, after=0.0, say=lambda text: click.echo(f"note: {text}"))
-    key = _key(key_file)
+    key = stream_key(key_file)
     if key is None:
         click.echo(OPEN_STREAM, err=True)
     with Outputs() as outputs:
@@ -275,7 +257,7 @@ def receive(listen: str, room_url: str | None, token: str | None, ca_file: str |
         return made
 
     playout = fresh()
-    key = _key(key_file)
+    key = stream_key(key_file)
     link = None
     if room_url is not None:
         from stream.websocket import LinkError, WebSocketLink

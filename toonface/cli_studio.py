@@ -42,7 +42,7 @@ def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...]
     import asyncio
     import contextlib
 
-    from toonface.cli_stream import _key
+    from toonface.cli_options import stream_key
     from toonface.stopping import stop_within
     from toonface.studio.live import ReceivedStream
     from toonface.studio.server import serve
@@ -54,7 +54,8 @@ def studio(animation: str | None, face: str, listen: str, allow: tuple[str, ...]
         if receive is not None:
             where = _required_address(receive, "--receive", 7710)
             try:
-                session.live = stack.enter_context(ReceivedStream(where, session.neutral, conceal, key=_key(None)))
+                received = ReceivedStream(where, session.neutral, conceal, key=stream_key(None))
+                session.live = stack.enter_context(received)
             except OSError as exc:
                 raise click.BadParameter(f"cannot receive on {receive}: {exc.strerror or exc}",
                                          param_hint="--receive") from None
