@@ -25,7 +25,8 @@ One ``[motor.CODE]`` table per mapped motor::
     delay = 0.0              # seconds
     loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle | pair (follow the other
                              # side's motor where it is seen, else ease: lids blink and eyes look together;
-                             # made_up = false: not where cleaning made this side's sources up)
+                             # made_up = false: not where cleaning made this side's sources up;
+                             # near = ["BRC"]: this side's motors followed first, where one is seen)
     decouple = ["MB"]        # motors whose motion this one should not show (mapping.coupling)
 
 Across motors (top level): ``mirror`` (swap sides), ``copy_side = "right"|"left"`` (one side
@@ -88,6 +89,7 @@ class MotorRule:
     loss_seconds: float = 0.5
     decouple: tuple[str, ...] = ()
     loss_made_up: bool = True
+    loss_near: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -188,6 +190,10 @@ def parse_mapping(doc: dict, path: str | os.PathLike = "<mapping>") -> Mapping:
         for i, other in enumerate(rule.decouple):
             check.require(other in mapped, f"motor {other} has no [motor.{other}] table to measure its motion by",
                           at(at(f"motor.{rule.code}", "decouple"), i))
+        for i, other in enumerate(rule.loss_near):
+            check.require(other in mapped and other != rule.code and MIRROR_OF.get(other) != rule.code,
+                          f"expected a mapped motor other than this one and its partner, got {other}",
+                          at(at(f"motor.{rule.code}", "loss.near"), i))
         if rule.loss == "pair":
             partner = MIRROR_OF.get(rule.code)
             check.require(partner is not None, f"expected a motor with one on the other side ({', '.join(MIRROR_OF)}) "
@@ -237,11 +243,13 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
     low, high = check.numbers(limits, 2, at(where, "limits"))
     check.require(0 <= low < high <= 1, f"expected [low, high] with 0 <= low < high <= 1, got {limits!r}",
                   at(where, "limits"))
-    loss = check.fields(spec.get("loss", {}), {"policy", "seconds", "made_up"}, at(where, "loss"),
+    loss = check.fields(spec.get("loss", {}), {"policy", "seconds", "made_up", "near"}, at(where, "loss"),
                         "a table { policy, seconds }")
     made_up = check.boolean(loss.get("made_up", True), at(where, "loss.made_up"))
     check.require(made_up or loss.get("policy") == "pair", "made_up = false is for the pair policy",
                   at(where, "loss.made_up"))
+    near = tuple(check.strings(loss.get("near", []), at(where, "loss.near")))
+    check.require(not near or loss.get("policy") == "pair", "near is for the pair policy", at(where, "loss.near"))
     invert = check.boolean(spec.get("invert", False), at(where, "invert"))
     decouple = tuple(check.strings(spec.get("decouple", []), at(where, "decouple")))
     for i, other in enumerate(decouple):
@@ -255,7 +263,7 @@ def _rule(check: Validator, code: str, spec: object) -> MotorRule:
                      check.number(spec.get("max_speed", 0.0), at(where, "max_speed"), 0.0),
                      check.number(spec.get("delay", 0.0), at(where, "delay"), 0.0),
                      check.choice(loss.get("policy", "hold"), POLICIES, at(where, "loss.policy")),
-                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0), decouple, made_up)
+                     check.number(loss.get("seconds", 0.5), at(where, "loss.seconds"), 0.0), decouple, made_up, near)
 
 
 def _source(check: Validator, spec: object, where: str) -> Source:

@@ -52,6 +52,9 @@ def test_bad_top_level_and_source_fields_are_named(change, field, message):
     ({"loss": {"policy": "panic"}}, "motor.ERU.loss.policy", "hold, ease, idle"),
     ({"loss": {"policy": "ease", "made_up": False}}, "motor.ERU.loss.made_up", "is for the pair policy"),
     ({"loss": {"policy": "pair", "made_up": "no"}}, "motor.ERU.loss.made_up", "expected true or false"),
+    ({"loss": {"policy": "ease", "near": ["BRC"]}}, "motor.ERU.loss.near", "near is for the pair policy"),
+    ({"loss": {"policy": "pair", "near": "BRC"}}, "motor.ERU.loss.near", "expected a list of names"),
+    ({"loss": {"policy": "pair", "near": ["ELU"]}}, "motor.ERU.loss.near[0]", "other than this one and its partner"),
 ])
 def test_bad_motor_fields_are_named(motor, field, message):
     with pytest.raises(InputError) as err:

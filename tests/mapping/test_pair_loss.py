@@ -1,7 +1,8 @@
 """toon32's lids and pupils follow the other eye's while their own marker is lost, or made up by
 cleaning while the other's is measured (loss policy ``pair``): a blink or a glance behind a lost
 marker is not lost with it. Its brows follow the other brow while their own markers are lost,
-but not where cleaning made them up (``made_up = false``)."""
+but not where cleaning made them up (``made_up = false``), and a lost brow part follows the
+other side only as far as its own brow's seen parts move with the other's (``near``)."""
 
 import numpy as np
 import pytest
@@ -126,3 +127,25 @@ def test_a_brow_made_up_by_cleaning_keeps_its_own_value_and_a_lid_takes_the_othe
     out = MotorRules(mapping, 60.0, face).apply(values, np.arange(120) / 60.0, made_up)[-1]
     assert out[brl] == pytest.approx(0.8, abs=1e-6) and out[bll] == pytest.approx(0.5, abs=1e-6)
     assert out[eru] == pytest.approx(0.9 - 0.6 + 0.7, abs=1e-6)
+
+
+@pytest.mark.parametrize("left, right, expected", [
+    ((0.9, 0.9, 0.9), (None, 0.5, 0.5), 0.5),  # the left brow raised alone: the right one rests
+    ((0.9, 0.9, 0.9), (None, 0.9, 0.9), 0.9),  # both raised: the lost part rises with the rest
+    ((0.5, 0.5, 0.9), (None, 0.5, 0.9), 0.5),  # both inner parts raised, the outer ones still
+    ((None, 0.5, 0.5), (None, 0.7, 0.5), 0.7),  # its partner lost too: its own brow's centre
+])
+def test_a_lost_brow_part_follows_the_other_brow_as_far_as_its_own_brow_does(left, right, expected):
+    """The right outer brow lost (the far brow of a turned head) with the rest of its brow seen:
+    it took the left outer brow's move whole, and a raise of the left brow alone raised it by 0.4
+    (fourth performer live, bench seed 2: BRL at r 0.44). It now takes its partner's move plus how
+    far its brow's centre moved beyond the other centre, or, with its partner lost too, its own
+    centre's move (``loss.near``; every brow motor's neutral 0.5 here)."""
+    mapping, _ = choose_mapping(synthesize(seconds=0.1, rate=60.0).take)
+    face = np.full(len(MOTOR_CODES), 0.5)
+    values = np.tile(extended_neutral(face), (30, 1))
+    for codes, parts in ((("BLL", "BLC", "BLM"), left), (("BRL", "BRC", "BRM"), right)):
+        for code, value in zip(codes, parts, strict=True):
+            values[:, MOTOR_CODES.index(code)] = np.nan if value is None else value
+    out = MotorRules(mapping, 60.0, face).apply(values, np.arange(30) / 60.0)[-1]
+    assert out[MOTOR_CODES.index("BRL")] == pytest.approx(expected, abs=1e-6)
