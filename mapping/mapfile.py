@@ -26,7 +26,8 @@ One ``[motor.CODE]`` table per mapped motor::
     loss = { policy = "ease", seconds = 0.5 }   # hold | ease (to neutral) | idle | pair (follow the other
                              # side's motor where it is seen, else ease: lids blink and eyes look together;
                              # made_up = false: not where cleaning made this side's sources up;
-                             # near = ["BRC"]: this side's motors followed first, where one is seen)
+                             # near = ["BRC"]: this side's motors, whose moves beyond their partners'
+                             # say how far this one moves with its own; theirs alone with it lost too)
     decouple = ["MB"]        # motors whose motion this one should not show (mapping.coupling)
 
 Across motors (top level): ``mirror`` (swap sides), ``copy_side = "right"|"left"`` (one side

@@ -189,7 +189,7 @@ class MotorRules:
         apart = moves - (values[:, pairs.across] - neutral[pairs.across])  # this side's near moves less the other's
         both = np.isfinite(apart)
         lead = np.where(both, apart, 0.0).sum(axis=2) / np.maximum(both.sum(axis=2), 1)
-        followed = taken & both.any(axis=2) & np.isfinite(partner)  # the partner's move, less how this side lags
+        followed = taken & both.any(axis=2) & np.isfinite(partner)  # the partner's move, plus this side's lead
         near_only = taken & ~followed & seen.any(axis=2)  # the partner lost too: this side's near moves
         plain = taken & ~followed & ~near_only
         if made_up is not None:  # a made-up side takes its measured partner's move, unless the rule says not
