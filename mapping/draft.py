@@ -148,6 +148,11 @@ def draft_mapping(markerset: MarkerSet, markerset_ref: str) -> MappingDraft:
             if "decouple" in rule:
                 kept = [other for other in rule["decouple"] if other in motors]
                 motors[code] = {k: v for k, v in rule.items() if k != "decouple"} | ({"decouple": kept} if kept else {})
+            loss = motors[code].get("loss")
+            if isinstance(loss, dict) and "near" in loss:  # ... or lost near one left out: nothing to read it by
+                near = [other for other in loss["near"] if other in motors]
+                loss = {k: v for k, v in loss.items() if k != "near"} | ({"near": near} if near else {})
+                motors[code] = motors[code] | {"loss": loss}
         new = {**doc, "name": f"{markerset.name}", "markerset": markerset_ref, "motor": motors,
                "description": f"drafted from the {preset} preset"}
         used = set().union(*markers.values())
