@@ -18,6 +18,7 @@ from common import InputError
 from mapping import calibrate, choose_mapping, prepare
 from mapping.profile import load_profile, save_profile
 from mapping.stepwise import LiveMapper
+from toon import MOTOR_CODES
 from toonface.send import build_mapper, typical_profile
 
 FACE = slice(0, 19)  # the face's motors: the head's two (HH, HV) turn with the head
@@ -157,7 +158,8 @@ def test_the_live_head_motors_follow_a_turn_without_lag():
     take = _still_face_turning(slice(0, 0))
     mapping, markerset = choose_mapping(take)
     mapper = LiveMapper(mapping, markerset, typical_profile("toon32"), take.labels, take.rate, rest_seconds=1.0)
-    hh = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in range(take.frames)])[:, 19]
+    out = np.array([mapper.step(take.positions[k], float(take.times[k]))[0] for k in range(take.frames)])
+    hh = out[:, MOTOR_CODES.index("HH")]
     yaw = np.sin(0.9 * take.times)  # the turn, as _still_face_turning makes it
     frames = np.flatnonzero((take.times > 1.5) & (hh > 0.02) & (hh < 0.98))  # past the rest, not at a limit
 
