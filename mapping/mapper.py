@@ -166,14 +166,19 @@ def solved_shares(solver: Solver, mapping: Mapping, local: np.ndarray, columns: 
     once; the others' as the rules gave them. The fit believes a sample the gap filler made as
     it does a seen one (measured on the three synthetic performers: left out of the fit, or at a
     third, their frames solved from too few markers and erred two to three times as much); it
-    counts for half in the confidence, as in the rules'. ``fade``: as :meth:`Solver.solve` has it."""
+    counts for half in the confidence, as in the rules'. A solved motor whose own sources were all
+    made up (the rules' confidence ``sure``: :func:`made_up`) is made up, at most
+    :data:`FILLED_QUALITY`, whatever seen markers it moves a little add: the fourth performer's
+    outer brow, its marker filled, lifts a seen upper lid 0.2 mm a share, and at 0.5002 it read as
+    measured, so the loss rules (``pair``) let its fill stand. ``fade``: as :meth:`Solver.solve` has it."""
     shares, confidence = solver.solve(local, columns, (quality > 0).astype(float), quality, fade)
     order = {code: k for k, code in enumerate(solver.codes)}
     combined, sure = combined.copy(), sure.copy()
     for r, rule in enumerate(mapping.rules):
         if rule.code in order:
             combined[:, r] = shares[:, order[rule.code]]
-            sure[:, r] = confidence[:, order[rule.code]]
+            sure[:, r] = np.where(made_up(sure[:, r]), np.minimum(confidence[:, order[rule.code]], FILLED_QUALITY),
+                                  confidence[:, order[rule.code]])
     return combined, sure
 
 

@@ -9,11 +9,11 @@ its sources is seen), :class:`MotorRules` applies, in this order:
    :data:`IDLE_HZ`), or ``pair``: the other side's motor's move from its neutral where that one
    is seen (a lid whose marker is lost blinks with the other eye's, a lost pupil looks where the
    other looks), else ease; a ``pair`` motor whose sources were all made up by cleaning (a gap
-   filled offline, a marker held live) while its partner's were measured takes its partner's move
-   as well, unless its rule says ``made_up = false``: a fill regressed from other markers can
-   blink far shallower (a regression on noisy predictors shrinks: a quarter as deep on a
-   third-performer take), a held marker not at all; but a brow's fill follows its own side (an
-   eyebrow raised alone), which the other brow's move would not. A rule's ``near`` motors (the
+   filled offline, a marker held live) while its partner's were measured is taken as a lost one,
+   unless its rule says ``made_up = false``: a fill regressed from other markers can blink far
+   shallower (a regression on noisy predictors shrinks: a quarter as deep on a third-performer
+   take), a held marker not at all, and the fourth performer's far outer brow, filled over 1.5 s
+   of a head turned away, read a raise of its own brow alone at a quarter of its height. A rule's ``near`` motors (the
    other parts of the same brow) say how this side differs from the other: the lost motor takes its
    partner's move plus the mean of how far each near motor moved beyond its own partner (both
    seen), or, with its partner lost too, the near motors' mean move. The far brow's outer part,
@@ -172,7 +172,7 @@ class MotorRules:
     def _paired(self, values: np.ndarray, made_up: np.ndarray | None = None) -> np.ndarray:
         """Motor values ``(F, C)`` (NaN: no source seen) with each ``pair`` motor's lost frames,
         and (unless its rule says ``made_up = false``) those whose sources were all made up
-        (``made_up`` ``(F, C)``) while its partner's were not, given its partner's move from
+        (``made_up`` ``(F, C)``) while its partner's were not, taken as lost: given its partner's move from
         neutral where the partner is seen (plus how far the rule's ``near`` motors moved beyond
         theirs, where one of them and its partner are seen; the near motors' mean move where the
         partner is lost and one of them is seen); a new array."""
@@ -183,6 +183,8 @@ class MotorRules:
         neutral = self.neutral
         own, partner = values[:, pairs.col], values[:, pairs.other] - neutral[pairs.other]  # (F, P)
         taken = np.isnan(own)
+        if made_up is not None:  # a made-up side whose partner was measured is lost, unless its rule says not
+            taken |= pairs.made_up & made_up[:, pairs.col] & ~made_up[:, pairs.other] & np.isfinite(partner)
         moves = np.where(pairs.has, values[:, pairs.near] - neutral[pairs.near], np.nan)  # (F, P, N)
         seen = np.isfinite(moves)
         mean = np.where(seen, moves, 0.0).sum(axis=2) / np.maximum(seen.sum(axis=2), 1)
@@ -191,10 +193,7 @@ class MotorRules:
         lead = np.where(both, apart, 0.0).sum(axis=2) / np.maximum(both.sum(axis=2), 1)
         followed = taken & both.any(axis=2) & np.isfinite(partner)  # the partner's move, plus this side's lead
         near_only = taken & ~followed & seen.any(axis=2)  # the partner lost too: this side's near moves
-        plain = taken & ~followed & ~near_only
-        if made_up is not None:  # a made-up side takes its measured partner's move, unless the rule says not
-            plain |= pairs.made_up & made_up[:, pairs.col] & ~made_up[:, pairs.other]
-        plain &= np.isfinite(partner)
+        plain = taken & ~followed & ~near_only & np.isfinite(partner)
         moved = np.where(followed, partner + lead, np.where(near_only, mean, np.where(plain, partner, np.nan)))
         out[:, pairs.col] = np.where(followed | near_only | plain, moved + neutral[pairs.col], own)
         return out

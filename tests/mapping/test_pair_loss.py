@@ -1,8 +1,7 @@
 """toon32's lids and pupils follow the other eye's while their own marker is lost, or made up by
 cleaning while the other's is measured (loss policy ``pair``): a blink or a glance behind a lost
-marker is not lost with it. Its brows follow the other brow while their own markers are lost,
-but not where cleaning made them up (``made_up = false``), and a lost brow part follows the
-other side only as far as its own brow's seen parts move with the other's (``near``)."""
+marker is not lost with it. Its brows follow the other brow while their own markers are lost or
+made up, but only as far as their own brow's other parts move with the other's (``near``)."""
 
 import numpy as np
 import pytest
@@ -10,7 +9,9 @@ import pytest
 from capture import Take, synthesize
 from capture.performance import Cue, Performance
 from mapping import calibrate, choose_mapping, map_stabilised, prepare
+from mapping.mapper import FILLED_QUALITY, made_up, solved_shares
 from mapping.rules import MotorRules
+from mapping.solver import Solver
 from mapping.stabilise import Stabilised
 from mapping.stepwise import LiveMapper
 from toon import MOTOR_CODES
@@ -111,22 +112,53 @@ def test_a_raised_brow_whose_markers_are_lost_rises_with_the_other():
         assert moved > 0.1 and missed < 0.2 * moved, (code, moved, missed)
 
 
-def test_a_brow_made_up_by_cleaning_keeps_its_own_value_and_a_lid_takes_the_other_s():
-    """Steady frames where the right outer brow and the right upper lid were made up by cleaning
-    and their partners measured: the brow keeps its own 0.8 (an eyebrow raised alone; its fill
-    follows its own side), the lid takes the left lid's move from its neutral."""
+@pytest.mark.parametrize("left_made_up, expected", [
+    (False, 0.9),  # the left outer brow measured: the right one takes its move plus its centre's lead
+    (True, 0.6),  # both made up: the right keeps its fill
+])
+def test_a_brow_made_up_by_cleaning_follows_the_other_as_far_as_its_own_brow_does(left_made_up, expected):
+    """Steady frames where the right outer brow was made up by cleaning (a fill that rose a quarter
+    as far as it should: the fourth performer's far outer brow, lost for 1.5 s as the head turned,
+    filled from the markers seen then, read a raise of that brow alone at 0.62 for 0.88) while
+    the right brow's centre rose alone (0.9, the left brow at rest, neutrals 0.5): the made-up part
+    is taken as a lost one, its partner's move plus how far its brow's centre moved beyond the other
+    centre, 0.9 (it kept its fill, 0.6, before: ``made_up = false``); where its partner was made up
+    too, it keeps its fill. The right upper lid, made up, takes the left lid's move."""
     mapping, _ = choose_mapping(synthesize(seconds=0.1, rate=60.0).take)
     face = np.full(len(MOTOR_CODES), 0.5)
     face[MOTOR_CODES.index("ELU")], face[MOTOR_CODES.index("ERU")] = 0.6, 0.7
     neutral = extended_neutral(face)  # with the parameters beyond the 21 (HT...)
     values = np.tile(neutral, (120, 1))
-    brl, bll, eru, elu = (MOTOR_CODES.index(c) for c in ("BRL", "BLL", "ERU", "ELU"))
-    values[:, brl], values[:, eru], values[:, elu] = 0.8, 0.3, 0.9
+    brl, bll, brc, eru, elu = (MOTOR_CODES.index(c) for c in ("BRL", "BLL", "BRC", "ERU", "ELU"))
+    values[:, brl], values[:, brc], values[:, eru], values[:, elu] = 0.6, 0.9, 0.3, 0.9
     made_up = np.zeros_like(values, dtype=bool)
     made_up[:, [brl, eru]] = True
+    made_up[:, bll] = left_made_up
     out = MotorRules(mapping, 60.0, face).apply(values, np.arange(120) / 60.0, made_up)[-1]
-    assert out[brl] == pytest.approx(0.8, abs=1e-6) and out[bll] == pytest.approx(0.5, abs=1e-6)
+    assert out[brl] == pytest.approx(expected, abs=1e-6) and out[bll] == pytest.approx(0.5, abs=1e-6)
     assert out[eru] == pytest.approx(0.9 - 0.6 + 0.7, abs=1e-6)
+
+
+def test_a_solved_brow_whose_own_marker_was_filled_is_made_up_though_a_marker_it_nudges_was_seen():
+    """The solver's confidence in the right outer brow is its basis's motion on the markers that
+    counted: its own marker filled (quality 0.5) and the upper lid it lifts 0.2 mm a share seen
+    made it 0.5002, which read as measured, so the made-up brow kept its fill. A solved motor
+    whose own sources were all made up (the rules' confidence) is made up: at most 0.5."""
+    mapping, _ = choose_mapping(synthesize(seconds=0.1, rate=60.0).take)
+    basis = np.array([[[0.0, 10.0, 0.0], [0.0, 0.2, 0.0]]])  # (K=1, M=2, 3): the brow, the lid
+    solver = Solver(("BRL",), ("BROW_R_LAT", "LID_R_UP"), np.zeros((2, 3)), basis, basis, 0.1)
+    local = np.array([[[0.0, 5.0, 0.0], [0.0, 0.1, 0.0]]])  # half its way up
+    quality = np.array([[FILLED_QUALITY, 1.0]])
+    r = [rule.code for rule in mapping.rules].index("BRL")
+    combined, sure = np.zeros((1, len(mapping.rules))), np.ones((1, len(mapping.rules)))
+    sure[0, r] = FILLED_QUALITY  # its rule's one source, filled
+    shares, confidence = solved_shares(solver, mapping, local, {"BROW_R_LAT": 0, "LID_R_UP": 1}, quality,
+                                       combined, sure)
+    assert shares[0, r] == pytest.approx(0.5, abs=1e-3)
+    assert confidence[0, r] == pytest.approx(FILLED_QUALITY) and made_up(confidence[:, r]).all()
+    sure[0, r] = 1.0  # measured: the solver's own confidence stands
+    assert solved_shares(solver, mapping, local, {"BROW_R_LAT": 0, "LID_R_UP": 1}, quality, combined,
+                         sure)[1][0, r] > FILLED_QUALITY
 
 
 @pytest.mark.parametrize("left, right, expected", [
