@@ -84,9 +84,11 @@ class LiveMapper:
     target_neutral : ndarray, shape (21,), optional
     rest_seconds : float
         Seconds at the start taken as the performer's rest (0: the profile's rest as it is).
-    max_gap_seconds : float
+    hold_seconds : float
         A marker unseen for up to this long holds its last head-frame position, where it is not
-        regressed on the markers seen (:mod:`mapping.live_gaps`).
+        regressed on the markers seen (:mod:`mapping.live_gaps`), and a blendshape channel its last
+        value (offline cleaning's ``max_gap_seconds`` is ``regress_seconds`` here: how long a gap
+        is filled at all).
     regress_seconds : float
         A lost marker that no ``pair`` rule reads is regressed on the markers seen for up to this
         long (0: held as the others).
@@ -102,7 +104,7 @@ class LiveMapper:
 
     def __init__(self, mapping: Mapping, markerset: MarkerSet, profile: Profile, labels: tuple[str, ...],
                  rate: float, target_neutral: np.ndarray | None = None, rest_seconds: float = 1.0,
-                 max_gap_seconds: float = HOLD_SECONDS, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0,
+                 hold_seconds: float = HOLD_SECONDS, spikes: bool = True, seed: int = 0, learn_seconds: float = 0.0,
                  channel_names: tuple[str, ...] = (), regress_seconds: float = REGRESS_SECONDS) -> None:
         if mapping.style.time_scale != 1.0:
             raise ValueError(f"mapping {mapping.name}: a live stream cannot change the time scale")
@@ -132,14 +134,14 @@ class LiveMapper:
             if self.own_shape:
                 self.shape = np.array([profile.references[label] for label in self._named])  # as calibration fitted
         self.neutral = standard_neutral() if target_neutral is None else np.asarray(target_neutral, dtype=float)
-        self.max_gap, self.rest_seconds = max_gap_seconds, rest_seconds
+        self.hold_seconds, self.rest_seconds = hold_seconds, rest_seconds
         self.spikes = SpikeFilter() if spikes else None
         self.markers = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
         self.pose = OneEuro(LIVE_MIN_CUTOFF, LIVE_BETA, rate=rate)
         self.rules = MotorRules(mapping, rate, self.neutral, seed)
         paired = {m for rule in mapping.rules if rule.loss == "pair" for source in rule.sources for m in source.markers}
         self.gaps = LiveGapFiller(len(labels), rate, [c for label, c in self.columns.items() if label not in paired],
-                                  max_gap_seconds, regress_seconds,
+                                  hold_seconds, regress_seconds,
                                   [self.columns[label] for label in markerset.independent if label in self.columns])
         self.reads_markers = any(source.markers for source in mapping.sources())
         self.channel_names = tuple(channel_names)
@@ -245,13 +247,13 @@ class LiveMapper:
 
     def _hold_channels(self, channels: np.ndarray | None, t: float) -> dict[str, np.ndarray]:
         """This frame's channels that the mapping reads, by name, ``(1,)`` each, a missing value
-        held for ``max_gap``."""
+        held for ``hold_seconds``."""
         if not self._read:
             return {}
         values = np.full(len(self.channel_names), np.nan) if channels is None else np.asarray(channels, dtype=float)
         seen = np.isfinite(values)
         self._last_channels[seen], self._channel_seen[seen] = values[seen], t
-        held = np.where(~seen & (t - self._channel_seen <= self.max_gap), self._last_channels, values)
+        held = np.where(~seen & (t - self._channel_seen <= self.hold_seconds), self._last_channels, values)
         return {name: held[i:i + 1] for i, name in self._read}
 
     def _collect_rest(self, stable: Stabilised, t: float, positions: np.ndarray) -> None:

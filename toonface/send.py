@@ -82,7 +82,7 @@ def build_mapper(source: Source, mapping: Mapping | str | None = None, profile: 
         notes.extend(filter(None, [solver_note(profile, chosen)]))
     try:
         mapper = LiveMapper(chosen, markerset, profile, source.labels, source.rate, target_neutral, rest_seconds,
-                            max_gap_seconds=min(hold_seconds, regress_seconds), learn_seconds=learn,
+                            hold_seconds=min(hold_seconds, regress_seconds), learn_seconds=learn,
                             channel_names=source.channel_names, regress_seconds=regress_seconds)
     except ValueError as exc:
         raise InputError(str(exc)) from None

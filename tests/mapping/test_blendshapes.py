@@ -141,12 +141,12 @@ def test_a_take_without_the_channel_is_refused_by_name(performer):
 
 def test_live_channels_are_held_over_a_short_loss_and_match_offline(performer):
     """Stepping frames with their channels gives the offline MB (a blendshape-only motor needs no
-    marker smoothing); a score missing for a moment is held, then lost after max_gap."""
+    marker smoothing); a score missing for a moment is held, then lost after hold_seconds."""
     mapping = parse_mapping(tomllib.loads(JAW))
     profile = calibrate(mapping, prepare(performer, load_markerset("toon32"), RAW))
     offline = map_take(performer, mapping, profile, settings=RAW).values[:, motor_index("MB")]
     live = LiveMapper(mapping, load_markerset("toon32"), profile, performer.labels, RATE, rest_seconds=0.0,
-                      max_gap_seconds=0.1, channel_names=performer.channel_names)
+                      hold_seconds=0.1, channel_names=performer.channel_names)
     frames = list(take_source(performer).frames)
     stepped = [live.step(f.positions, f.t, f.channels)[0][motor_index("MB")] for f in frames[:200]]
     np.testing.assert_allclose(stepped, offline[:200], atol=1e-9)
