@@ -363,6 +363,11 @@ def bridge_spec(source: str | None, vmc: str | None, openseeface: str | None = N
     return given[0] if given else None
 
 
+KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
+                   help="Shared secret (the file's bytes, 16 or more): packets are encrypted and authenticated "
+                        "(AES-256-GCM-SIV), others and replays are dropped. Or set TOONFACE_STREAM_KEY.")
+
+
 def stream_key(path: str | None) -> bytes | None:
     """The stream's shared secret: the bytes of the --key-file ``path`` (16 or more), else
     ``TOONFACE_STREAM_KEY``'s, else None (an open stream)."""

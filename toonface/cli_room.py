@@ -17,9 +17,8 @@ import click
 from common import InputError
 from common.atomic import atomic_path
 from common.limits import read_regular_text
-from toonface.cli_options import FACE, FiniteFloat, stream_key
+from toonface.cli_options import FACE, KEY, FiniteFloat, stream_key
 from toonface.cli_player import _required_address
-from toonface.cli_stream import KEY
 from toonface.room.pubsub import shown as uncredentialed
 from toonface.stopping import stop_within
 

@@ -17,6 +17,7 @@ from toonface.cli_options import (
     EYE_CONTACT,
     FACE,
     FORCE_RECORD,
+    KEY,
     LIFE,
     LIVE_HOLD_GAP,
     LIVE_MAX_GAP,
@@ -40,9 +41,6 @@ from toonface.cli_options import (
 )
 from toonface.cli_player import _address, _required_address
 
-KEY = click.option("--key-file", default=None, type=click.Path(dir_okay=False, exists=True),
-                   help="Shared secret (the file's bytes, 16 or more): packets are encrypted and authenticated "
-                        "(AES-256-GCM-SIV), others and replays are dropped. Or set TOONFACE_STREAM_KEY.")
 ROOM_TOKEN = click.option("--token", default=None, envvar="TOONFACE_ROOM_TOKEN",
                           help="A room's token (to perform, for send; to watch, for receive), as toonface room "
                                "prints it. Or set TOONFACE_ROOM_TOKEN.")
