@@ -6,12 +6,15 @@ import sys
 
 import click
 
+from mapping.settings import HOLD_SECONDS, MAX_GAP_SECONDS
 from player.animator import DEFAULT_LOOP_TIME
 from toonface.cli_options import (
     BACKGROUND,
     EYE_CONTACT,
     FACE,
     LIFE,
+    LIVE_HOLD_GAP,
+    LIVE_MAX_GAP,
     NO_PHYSICS,
     OPENSEEFACE,
     SIZE,
@@ -78,13 +81,15 @@ def _required_address(value: str, option: str, port: int) -> tuple[str, int]:
 @click.option("--stream-to", default=None, metavar="HOST:PORT",
               help="Also send the motors shown as a motor stream (`toonface receive`, `toonface studio --receive`).")
 @EYE_CONTACT
+@LIVE_MAX_GAP
+@LIVE_HOLD_GAP
 @LIFE
 @NO_PHYSICS
 def play(face: str, listen: str, udp: str | None, preview: str | None, output: str | None, loop_ms: float,
          size: str, track_path: str | None, once: bool, source_spec: str | None, camera: str | None,
          vmc: str | None, openseeface: str | None, vmc_out: str | None, providers_path: str | None,
-         seconds: float | None, stream_to: str | None, eye_contact: bool, life: bool | None, no_physics: bool,
-         background: str | None, virtual_camera: bool) -> None:
+         seconds: float | None, stream_to: str | None, eye_contact: bool, max_gap: float, hold_gap: float,
+         life: bool | None, no_physics: bool, background: str | None, virtual_camera: bool) -> None:
     """The live Animator: a face that moves as commanded over a socket, at a constant loop time.
 
     Commands, one per line, each answered "ok ..." or "error: ...":
@@ -134,13 +139,17 @@ def play(face: str, listen: str, udp: str | None, preview: str | None, output: s
     if eye_contact and source_spec is None:
         raise click.BadParameter("eye contact is for a performer: give --source, --camera, --vmc or --openseeface",
                                  param_hint="--eye-contact")
+    if source_spec is None and (max_gap, hold_gap) != (MAX_GAP_SECONDS, HOLD_SECONDS):
+        hint = "--max-gap" if max_gap != MAX_GAP_SECONDS else "--hold-gap"
+        raise click.BadParameter("filling lost markers is for a performer: give --source, --camera, --vmc or "
+                                 "--openseeface", param_hint=hint)
     if source_spec is not None:
         if track_path:
             raise click.BadParameter("give --motors or --source, not both", param_hint="--source")
         from toonface.send import Follower
 
         follower = Follower.open(source_spec, face_obj.neutral(), say, repeat=not once, eye_contact=eye_contact,
-                                 life=life)
+                                 life=life, regress_seconds=max_gap, hold_seconds=hold_gap)
         settings.tracking = follower.latest.newest
         settings.extra = lambda t: follower.latest.extra() if follower is not None else {}
     settings.say = lambda text: click.echo(f"toonface: warning: {text}", err=True)

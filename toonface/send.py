@@ -177,17 +177,20 @@ class Follower:
 
     @classmethod
     def open(cls, spec: str, neutral: np.ndarray, say: Callable[[str], None] = lambda _: None,
-             repeat: bool = False, eye_contact: bool = False, life: bool | None = None) -> Follower:
+             repeat: bool = False, eye_contact: bool = False, life: bool | None = None,
+             regress_seconds: float = REGRESS_SECONDS, hold_seconds: float = HOLD_SECONDS) -> Follower:
         """The follower of the source ``spec`` names (as ``send`` takes it; a file played again and
         again with ``repeat``), mapped onto a face whose neutral is ``neutral``; the choices made are
         said through ``say``; ``eye_contact``: calibrated in the second after the rest
-        (:mod:`mapping.eye_contact`); ``life``: as :func:`build_mapper` takes it."""
+        (:mod:`mapping.eye_contact`); ``life``, ``regress_seconds`` and ``hold_seconds``: as
+        :func:`build_mapper` takes them."""
         from capture.sources import open_source
         from mapping.eye_contact import LiveEyeContact
 
         source = open_source(spec, repeat=repeat)
         notes: list[str] = []
-        mapper = build_mapper(source, target_neutral=neutral, notes=notes, life=life)
+        mapper = build_mapper(source, target_neutral=neutral, notes=notes, life=life, regress_seconds=regress_seconds,
+                              hold_seconds=hold_seconds)
         for note in notes:
             say(f"note: {note}")
         if eye_contact:

@@ -16,7 +16,7 @@ from stream.playout import Playout
 from stream.receiver import StreamReceiver
 from toon import MOTOR_CODES, load_track, standard_neutral
 from toonface.cli import main
-from toonface.send import build_mapper
+from toonface.send import Follower, build_mapper
 
 
 @pytest.mark.slow  # two sends: make test runs it (make test-fast stays under a minute)
@@ -131,3 +131,14 @@ def test_send_fills_a_lost_marker_for_max_gap_seconds_and_holds_for_hold_gap(mon
     assert [(gaps.regress_seconds, gaps.hold_seconds) for gaps in held] == [(2.0, 0.5), (2.0, 0.2), (0.1, 0.1)]
     assert main(["send", str(take), "--to", "127.0.0.1:9", "--max-gap", "-1"]) == 2
     assert "--max-gap" in capsys.readouterr().err
+
+
+def test_play_source_fills_and_holds_for_as_long_as_it_is_told():
+    """`play --source` maps a performer live as `send` does, but had no --max-gap or --hold-gap:
+    its follower filled for 2 s and held for 0.5 whatever was asked (without a performer the two
+    are refused: ``tests/toonface/test_cli.py``)."""
+    follower = Follower.open("synthetic", standard_neutral(), regress_seconds=0.4, hold_seconds=0.1)
+    try:
+        assert (follower.mapper.gaps.regress_seconds, follower.mapper.gaps.hold_seconds) == (0.4, 0.1)
+    finally:
+        follower.source.close()

@@ -63,6 +63,7 @@ def test_each_subcommand_has_help(capsys, name):
     (["send", "--vmc", "127.0.0.1:99999", "--to", "127.0.0.1:7710"], "port must be 0..65535"),
     (["play", "--vmc", "1:2:x", "--seconds", "1"], "expected HOST:PORT"),
     (["play", "--eye-contact", "--seconds", "1"], "eye contact is for a performer"),
+    (["play", "--max-gap", "1", "--seconds", "1"], "filling lost markers is for a performer"),
 ])
 def test_bad_input_is_one_line_and_nonzero(tmp_path, monkeypatch, capsys, argv, fragment):
     monkeypatch.chdir(tmp_path)
