@@ -13,10 +13,11 @@ its sources is seen), :class:`MotorRules` applies, in this order:
    unless its rule says ``made_up = false``: a fill regressed from other markers can blink far
    shallower (a regression on noisy predictors shrinks: a quarter as deep on a third-performer
    take), a held marker not at all, and the fourth performer's far outer brow, filled over 1.5 s
-   of a head turned away, read a raise of its own brow alone at a quarter of its height. A rule's ``near`` motors (the
-   other parts of the same brow) say how this side differs from the other: the lost motor takes its
-   partner's move plus the mean of how far each near motor moved beyond its own partner (both
-   seen), or, with its partner lost too, the near motors' mean move. The far brow's outer part,
+   of a head turned away, read a raise of its own brow alone at a quarter of its height. A rule's
+   ``near`` motors (the other parts of the same brow) say how this side differs from the other:
+   the lost motor takes its partner's move plus the mean of how far each near motor moved beyond
+   its own partner (both seen), or, with its partner lost too, the near motors' mean move. The
+   far brow's outer part,
    lost as the head turned, had risen with the other brow's in a raise of that brow alone; a
    brow's inner part raised on both sides, the outer parts still, still follows the other side.
    On the four bench performers' choice seeds, live: the fourth's four 13.25 -> 12.72 % summed
@@ -172,8 +173,8 @@ class MotorRules:
     def _paired(self, values: np.ndarray, made_up: np.ndarray | None = None) -> np.ndarray:
         """Motor values ``(F, C)`` (NaN: no source seen) with each ``pair`` motor's lost frames,
         and (unless its rule says ``made_up = false``) those whose sources were all made up
-        (``made_up`` ``(F, C)``) while its partner's were not, taken as lost: given its partner's move from
-        neutral where the partner is seen (plus how far the rule's ``near`` motors moved beyond
+        (``made_up`` ``(F, C)``) while its partner's were not, taken as lost: given its partner's
+        move from neutral where the partner is seen (plus how far the rule's ``near`` motors moved beyond
         theirs, where one of them and its partner are seen; the near motors' mean move where the
         partner is lost and one of them is seen); a new array."""
         out = values.copy()
