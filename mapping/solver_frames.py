@@ -123,7 +123,7 @@ class Layout:
         rows, cols = rows[inside], cols[inside]
         where = np.zeros((2 * k, 2 * k), dtype=np.intp)  # each pair of sides in one block: its column
         where[rows, cols] = where[cols, rows] = np.arange(len(rows))
-        mean_basis = (up + down)[:, used] / 2  # a share s moves a marker by s * up or s * down
+        mean_basis = (up - down)[:, used] / 2
         return cls(used, groups, first, second, places, np.einsum("imc,jmc->mij", sides, sides)[:, rows, cols],
                    np.stack([where[first + k * a, second + k * b] for a in (0, 1) for b in (0, 1)], axis=1),
                    np.einsum("imc,jmc->mij", mean_basis, mean_basis)[:, first, second], sides.reshape(2 * k, -1),
@@ -173,7 +173,7 @@ def solve_frames(layout: Layout, noise: float, d: np.ndarray, weight: np.ndarray
             r = ((d * w[..., None]).reshape(frames, -1) @ flat.T).reshape(frames, 2, k)
         if high is None:
             entries = w @ layout.per_mean  # (F, Q)
-            rhs = (r[:, 0] + r[:, 1]) / 2
+            rhs = (r[:, 0] - r[:, 1]) / 2
         else:  # each frame's entries picked from its pairs of sides by the side each motor is on: one gather
             low = (~high).astype(np.intp)
             entries = np.take_along_axis(g, layout.choice[pairs, 2 * low[:, layout.first] + low[:, layout.second]],
