@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mapping.reference_bridge import across, held, stretches
+from mapping.reference_bridge import across, enclosing, held, stretches
 
 #: Frames that see every reference needed to bear the sweep's slides out (:func:`slide_gain`).
 MIN_WHOLE = 100
@@ -101,11 +101,13 @@ def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray, 
     for start, end in stretches(~seen):
         if not lost[start]:
             continue
-        edges = [f for f in (start - 1, end) if 0 <= f < frames and whole[f]]
+        first, last = enclosing(whole, start, end)
+        edges = [f for f in (first - 1, last) if 0 <= f < frames and whole[f]]
         motion = np.hstack(rigid_shift(rest, departures[[*range(start, end), *edges]], seen[start]))
         inside = motion[:end - start]
         if edges:  # the bridge carried the edges' difference across: blended and faded as it does
-            share, kept = across(start, end)[:, None], held(start, end, fade)[:, None]
+            part = slice(start - first, end - first)
+            share, kept = across(first, last)[part, None], held(first, last, fade)[part, None]
             inside = inside - kept * ((1 - share) * motion[end - start] + share * motion[-1])
         out[start:end] = inside
     return out

@@ -107,3 +107,22 @@ def test_a_slide_read_at_a_lost_references_edge_fades_into_its_stretch():
     assert carried[450:510].mean() > 0.1, carried[450:510].mean()  # the old bridge, for scale
     assert faded[450:510].max() < 0.02, faded[450:510].max()
     assert faded[362] == pytest.approx(carried[362], rel=0.1)  # near the edge, what was read there holds
+
+
+def test_a_reference_lost_for_a_frame_inside_a_longer_loss_does_not_bring_back_its_edge():
+    """As above, and the nose tip lost for one frame (a spike taken out) where the face rests,
+    halfway through the temple's loss. That splits the stretch in three; each part bridged from
+    its own edges carried the first edge's slide at full weight again beside the lost frame (a
+    point on the chin 0.26 mm off); bridged from the edges of the whole loss, it stays faded."""
+    names, shape = _references()
+    rotation, translation = _turning(960, 120.0)
+    local = np.tile(shape, (960, 1, 1))
+    local[300:400, names.index("FOREHEAD"), 1] += 2.0
+    world = np.einsum("fij,fkj->fki", rotation, local) + translation[:, None, :]
+    world[360:600, names.index("TEMPLE_R")] = np.nan
+    world[480, names.index("NOSE_TIP")] = np.nan
+    rot, trans, ok = robust_rigid_fit(shape, world)
+    bridged = bridge_references(world, shape, rot, trans, ok, bridge_edge(120.0), fade_frames(120.0))
+    error = np.linalg.norm(_chin(*bridged) - _chin(rotation, translation), axis=1)
+    assert error[450:510].max() < 0.02, error[450:510].max()
+    assert error[362] > 0.1  # near the loss's own edge, the slide read there is carried as before

@@ -145,6 +145,20 @@ def test_the_small_rigid_motion_matches_a_full_rigid_fit_and_the_bridge_is_not_c
     np.testing.assert_allclose(alone, np.tile(np.hstack([w[0], t[0]]), (5, 1)), atol=1e-12)
 
 
+def test_a_reference_lost_for_a_frame_inside_a_longer_loss_is_bridged_from_the_whole_loss():
+    """A second reference lost for a frame inside the temple's loss: the bridge carries what the
+    edges of the whole loss read into that frame too (:func:`mapping.reference_bridge.enclosing`),
+    so a slide as at the edges throughout leaves nothing to take out there either; read as a
+    stretch with no whole neighbour, the frame had its whole slide taken out again."""
+    rest = REST[ROWS]
+    departures = np.random.default_rng(62).normal(0.0, 0.3, (1, len(rest), 3))
+    seen = np.ones((7, len(rest)), bool)
+    seen[1:6, list(REFS).index("TEMPLE_L")] = False
+    seen[3, list(REFS).index("NOSE_TIP")] = False
+    shift = reference_shift(rest, np.tile(departures, (7, 1, 1)), seen)
+    assert np.abs(shift).max() == pytest.approx(0.0, abs=1e-12)
+
+
 def test_the_slide_the_bridge_faded_is_taken_out_where_it_faded():
     """The bridge fades what it carries into a stretch (:func:`mapping.reference_bridge.held`): a
     slide steady through the stretch is left, inside it, as much as the bridge let go of."""
