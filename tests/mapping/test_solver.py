@@ -33,8 +33,7 @@ def test_the_sweep_teaches_each_motor_its_markers_on_each_side():
 
 
 def test_every_motor_is_solved_at_once_and_a_smile_is_not_a_lid_raise(monkeypatch):
-    """Exact data, solved without the ridge's pull towards rest (which shrinks this face's small
-    motors by up to 0.045: ``test_solver_frames.py`` holds the solve to its ridge)."""
+    """Exact data, solved without the ridge (it pulls this face's small motors up to 0.045 towards rest)."""
     monkeypatch.setattr("mapping.solver_frames.RIDGE", 1e-9)
     solver = _learned()
     rng = np.random.default_rng(62)
