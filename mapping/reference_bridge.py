@@ -81,11 +81,12 @@ def bridge_references(target: np.ndarray, shape: np.ndarray, rotation: np.ndarra
     rot, trans = rotation.copy(), translation.copy()
     frames = len(target)
     whole = ok & np.isfinite(target[..., 0]).all(axis=1)  # frames fitted on every reference
+    whole_at = np.flatnonzero(whole)
     for start, end in stretches(missing):
         keep = ~missing[start]
         if keep.all() or keep.sum() < 3:
             continue
-        first, last = enclosing(whole, start, end)
+        first, last = enclosing(whole_at, frames, start, end)
         near = [np.arange(first - 1, max(first - edge, 0) - 1, -1), np.arange(last, min(last + edge, frames))]
         sides = [side[whole[side]] for side in near]  # nearest first, every reference seen
         corrections = [_correction(shape, keep, target[side][:, keep], rotation[side], translation[side])
@@ -114,9 +115,11 @@ def stretches(missing: np.ndarray) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(np.r_[0, changes], np.r_[changes, len(missing)], strict=True)]
 
 
-def enclosing(whole: np.ndarray, start: int, end: int) -> tuple[int, int]:
-    """The run of frames ``[first, last)`` that holds the stretch ``[start, end)`` and has no
-    frame that sees every reference (``whole`` ``(F,)``): a stretch is bridged from that run's
+def enclosing(whole_at: np.ndarray, frames: int, start: int, end: int) -> tuple[int, int]:
+    """The run of frames ``[first, last)`` that holds the stretch ``[start, end)`` of a take of
+    ``frames`` frames and has no frame that sees every reference (those are ``whole_at``, in
+    order: ``np.flatnonzero`` of a whole-frame mask, found once per take, since a take has a
+    stretch for every spike taken out of a reference): a stretch is bridged from that run's
     edges, and blended across and faded into from them, not from its own. A reference lost for a
     frame (a spike taken out) inside a longer loss of another splits that loss in three; bridged
     from their own edges, the parts either side took the difference read where the whole loss
@@ -124,13 +127,12 @@ def enclosing(whole: np.ndarray, start: int, end: int) -> tuple[int, int]:
     faded to (the fourth performer's bench seeds, solved: 1.151, 1.300, 1.400, 1.387, 1.204 ->
     1.126, 1.302, 1.369, 1.376, 1.205 % fitted, seed 1's lowest r 0.927 -> 0.941).
 
-    >>> whole = np.array([1, 0, 0, 0, 0, 1, 0], bool)
-    >>> enclosing(whole, 2, 3), enclosing(whole, 1, 5), enclosing(whole, 6, 7)
+    >>> whole_at = np.flatnonzero(np.array([1, 0, 0, 0, 0, 1, 0], bool))
+    >>> enclosing(whole_at, 7, 2, 3), enclosing(whole_at, 7, 1, 5), enclosing(whole_at, 7, 6, 7)
     ((1, 5), (1, 5), (6, 7))
     """
-    before = np.flatnonzero(whole[:start])
-    after = np.flatnonzero(whole[end:])
-    return (int(before[-1]) + 1 if len(before) else 0), (end + int(after[0]) if len(after) else len(whole))
+    i, j = np.searchsorted(whole_at, start), np.searchsorted(whole_at, end)
+    return (int(whole_at[i - 1]) + 1 if i > 0 else 0), (int(whole_at[j]) if j < len(whole_at) else frames)
 
 
 def across(start: int, end: int) -> np.ndarray:

@@ -28,9 +28,9 @@ from mapping.solver_sides import ROBUST_FLOOR_MM, ROBUST_SCALE
 REACH = 1.25
 #: The ridge towards rest, as a share of the sides' mean energy (what a side moves all markers
 #: by, squared, averaged over the sides). It was this share of the first pass's basis when that
-#: basis was, wrongly, half the sides' difference: a fifth to two fifths of this base on the bench's
-#: performers. Chosen on the choice seeds (31-34, offline, solved; the
-#: mean fitted % of own, second, third, fourth) among 1e-4 (1.092, 1.089, 1.419, 1.786), 3e-4
+#: basis was, wrongly, half the sides' difference: a fifth to two fifths of this base on the
+#: bench's performers. Chosen on the choice seeds (31-34, offline, solved; the mean fitted % of
+#: own, second, third, fourth) among 1e-4 (1.092, 1.089, 1.419, 1.786), 3e-4
 #: (1.091, 1.089, 1.414, 1.775), 1e-3 (1.089, 1.087, 1.401, 1.748), 3e-3 (1.103, 1.090, 1.386,
 #: 1.722) and 1e-2 (1.230, 1.185, 1.396, 1.851), against 1.091, 1.087, 1.415, 1.769 before: 1e-3
 #: is no worse for any performer; 3e-3 sums lower but costs the own and second performers (their

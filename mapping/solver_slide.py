@@ -98,10 +98,11 @@ def reference_shift(rest: np.ndarray, departures: np.ndarray, seen: np.ndarray, 
     lost = ~whole & (seen.sum(axis=1) >= 3)
     if not lost.any():
         return out
+    whole_at = np.flatnonzero(whole)
     for start, end in stretches(~seen):
         if not lost[start]:
             continue
-        first, last = enclosing(whole, start, end)
+        first, last = enclosing(whole_at, frames, start, end)
         edges = [f for f in (first - 1, last) if 0 <= f < frames and whole[f]]
         motion = np.hstack(rigid_shift(rest, departures[[*range(start, end), *edges]], seen[start]))
         inside = motion[:end - start]

@@ -145,8 +145,8 @@ def test_a_solved_brow_whose_own_marker_was_filled_is_made_up_though_a_marker_it
     made it 0.5002, which read as measured, so the made-up brow kept its fill. A solved motor
     whose own sources were all made up (the rules' confidence) is made up: at most 0.5."""
     mapping, _ = choose_mapping(synthesize(seconds=0.1, rate=60.0).take)
-    up = np.array([[[0.0, 10.0, 0.0], [0.0, 0.2, 0.0]]])  # (K=1, M=2, 3): the brow, the lid; raised
-    solver = Solver(("BRL",), ("BROW_R_LAT", "LID_R_UP"), np.zeros((2, 3)), up, up / 2, 0.1)  # lowered half as far
+    basis = np.array([[[0.0, 10.0, 0.0], [0.0, 0.2, 0.0]]])  # (K=1, M=2, 3): the brow, the lid
+    solver = Solver(("BRL",), ("BROW_R_LAT", "LID_R_UP"), np.zeros((2, 3)), basis, basis, 0.1)
     local = np.array([[[0.0, 5.0, 0.0], [0.0, 0.1, 0.0]]])  # half its way up
     quality = np.array([[FILLED_QUALITY, 1.0]])
     r = [rule.code for rule in mapping.rules].index("BRL")
